@@ -1,0 +1,4 @@
+//! The commands, one module each, over the pipeline's library modules. Argument parsing lives in
+//! [`crate::cli`]; these take plain structs.
+
+pub mod simulate;

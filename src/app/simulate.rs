@@ -1,0 +1,303 @@
+//! `impactsweep simulate`: one run of one system, printed for a person or as JSON, with an
+//! optional sampled trace for waveform plots.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+
+use crate::error::InputError;
+use crate::model::{SYSTEM_KEYS, System, fmt_value};
+use crate::sim::{self, NoProbe, Probe, Record, Request, SolverKind, SolverSettings, State, Wall};
+
+/// What `simulate` was asked.
+#[derive(Clone, Debug, Default)]
+pub struct SimulateArgs {
+    /// `KEY=VALUE` settings, applied in order over the Table I defaults.
+    pub sets: Vec<String>,
+    pub json: bool,
+    pub trace: Option<PathBuf>,
+    pub dt: Option<f64>,
+    pub t_end: Option<f64>,
+}
+
+/// A fully resolved single run.
+#[derive(Clone, Debug)]
+pub struct Setup {
+    pub system: System,
+    pub solver: SolverSettings,
+    pub request: Request,
+}
+
+impl Default for Setup {
+    fn default() -> Self {
+        Setup {
+            system: System::TABLE_I,
+            solver: SolverSettings::default(),
+            request: Request::default(),
+        }
+    }
+}
+
+fn all_keys() -> String {
+    let mut keys: Vec<&str> = SYSTEM_KEYS.to_vec();
+    keys.extend(SolverSettings::KEYS);
+    keys.push("t_end");
+    keys.join(" ")
+}
+
+impl Setup {
+    /// Applies `KEY=VALUE` settings; the error names the key, the value and what is allowed.
+    pub fn apply(&mut self, sets: &[String]) -> Result<(), InputError> {
+        for item in sets {
+            let Some((key, raw)) = item.split_once('=') else {
+                return Err(InputError::new(format!(
+                    "--set {item}: expected KEY=VALUE, with KEY one of: {}",
+                    all_keys()
+                )));
+            };
+            let (key, raw) = (key.trim(), raw.trim());
+            if key == "solver" {
+                self.solver.kind = SolverKind::parse(raw).ok_or_else(|| {
+                    let names: Vec<&str> = SolverKind::ALL.iter().map(|k| k.name()).collect();
+                    InputError::new(format!(
+                        "--set solver={raw}: unknown solver; allowed: {}",
+                        names.join(", ")
+                    ))
+                })?;
+                continue;
+            }
+            let known = SYSTEM_KEYS.contains(&key)
+                || SolverSettings::KEYS.contains(&key)
+                || key == "t_end";
+            if !known {
+                return Err(InputError::new(format!(
+                    "--set {key}={raw}: unknown key '{key}'; allowed keys: {}",
+                    all_keys()
+                )));
+            }
+            let value: f64 = raw.parse().map_err(|_| {
+                InputError::new(format!("--set {key}={raw}: '{raw}' is not a number"))
+            })?;
+            let integer = |v: f64| -> Result<u64, InputError> {
+                if v.fract() == 0.0 && v >= 0.0 && v <= 9.0e15 {
+                    Ok(v as u64)
+                } else {
+                    Err(InputError::new(format!(
+                        "--set {key}={raw}: must be a whole number >= 0"
+                    )))
+                }
+            };
+            match key {
+                "tol" => self.solver.tol = value,
+                "chatter_tol" => self.solver.chatter_tol = value,
+                "max_impacts" => self.solver.max_impacts = integer(value)?,
+                "max_steps" => self.solver.max_steps = integer(value)?,
+                "t_max_periods" => self.solver.t_max_periods = value,
+                "peaks" => self.request.peaks = integer(value)? as usize,
+                "t_end" => self.request.t_end = Some(value),
+                _ => {
+                    self.system.set(key, value);
+                }
+            }
+        }
+        self.validate()
+    }
+
+    pub fn validate(&self) -> Result<(), InputError> {
+        let wrap = |e: crate::model::RangeError| InputError::new(format!("--set {e}"));
+        self.system.validate().map_err(wrap)?;
+        self.solver.validate().map_err(wrap)?;
+        self.request.validate().map_err(wrap)?;
+        Ok(())
+    }
+
+    /// Runs the simulation without noise.
+    pub fn run<P: Probe>(&self, probe: &mut P) -> Record {
+        sim::simulate(&self.system, &self.solver, &self.request, None, probe)
+    }
+}
+
+/// Collects trace rows: samples every `dt` and every impact.
+#[derive(Default)]
+pub struct TraceProbe {
+    pub rows: Vec<(f64, State)>,
+}
+
+impl Probe for TraceProbe {
+    fn impact(&mut self, t: f64, _wall: Wall, before: &State, _after: &State) {
+        self.rows.push((t, *before));
+    }
+    fn sample(&mut self, t: f64, state: &State) {
+        self.rows.push((t, *state));
+    }
+}
+
+/// Simulates with a trace sampled every `dt` (plus every impact) up to `t_end`.
+pub fn trace(setup: &Setup, dt: f64, t_end: Option<f64>) -> (Record, Vec<(f64, State)>) {
+    let mut s = setup.clone();
+    s.request.trace_dt = Some(dt);
+    if t_end.is_some() {
+        s.request.t_end = t_end;
+    }
+    let mut probe = TraceProbe::default();
+    let rec = s.run(&mut probe);
+    (rec, probe.rows)
+}
+
+fn write_trace(path: &Path, rows: &[(f64, State)]) -> anyhow::Result<()> {
+    let file =
+        std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    let mut out = std::io::BufWriter::new(file);
+    writeln!(out, "t,x,y")?;
+    for (t, s) in rows {
+        writeln!(out, "{t:e},{:e},{:e}", s.x, s.y)?;
+    }
+    out.flush()
+        .with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
+
+/// The record as one JSON object (SI units; NaN becomes null).
+pub fn record_json(setup: &Setup, rec: &Record) -> serde_json::Value {
+    let num = |v: f64| {
+        serde_json::Number::from_f64(v)
+            .map(serde_json::Value::Number)
+            .unwrap_or(serde_json::Value::Null)
+    };
+    let mut map = serde_json::Map::new();
+    map.insert("outcome".into(), rec.outcome.name().into());
+    for (k, v) in [
+        ("x1", rec.x1),
+        ("t1", rec.t1),
+        ("x2", rec.x2),
+        ("t2", rec.t2),
+        ("xmax", rec.xmax),
+        ("di", rec.di),
+        ("energy_impact", rec.energy_impact),
+        ("energy_viscous", rec.energy_viscous),
+        ("t_stop", rec.t_stop),
+    ] {
+        map.insert(k.into(), num(v));
+    }
+    map.insert("impacts".into(), rec.impacts.into());
+    map.insert("sticks".into(), rec.sticks.into());
+    map.insert("steps".into(), rec.steps.into());
+    map.insert(
+        "peaks".into(),
+        rec.peaks
+            .iter()
+            .map(|(x, t)| serde_json::json!({"x": num(*x), "t": num(*t)}))
+            .collect::<Vec<_>>()
+            .into(),
+    );
+    let mut system = serde_json::Map::new();
+    for k in SYSTEM_KEYS {
+        system.insert(k.into(), num(setup.system.get(k).unwrap_or(f64::NAN)));
+    }
+    map.insert("system".into(), system.into());
+    map.insert(
+        "solver".into(),
+        serde_json::to_value(setup.solver).unwrap_or_default(),
+    );
+    serde_json::Value::Object(map)
+}
+
+/// A short summary for a person, with units.
+pub fn record_text(setup: &Setup, rec: &Record) -> String {
+    let s = &setup.system;
+    let cm = |v: f64| {
+        if v.is_nan() {
+            "-".to_string()
+        } else {
+            format!("{:.4} cm", v * 100.0)
+        }
+    };
+    let sec = |v: f64| {
+        if v.is_nan() {
+            "-".to_string()
+        } else {
+            format!("{v:.5} s")
+        }
+    };
+    let mut out = String::new();
+    out.push_str(&format!(
+        "system   M = {} kg, m = {} kg, K = {} N/m, C = {} N s/m, d = {} m, e = {}\n",
+        fmt_value(s.M),
+        fmt_value(s.m),
+        fmt_value(s.K),
+        fmt_value(s.C),
+        fmt_value(s.d),
+        fmt_value(s.e)
+    ));
+    out.push_str(&format!(
+        "start    x0 = {} m, v0 = {} m/s, y0 = {} m, w0 = {} m/s\n",
+        fmt_value(s.x0),
+        fmt_value(s.v0),
+        fmt_value(s.y0),
+        fmt_value(s.w0)
+    ));
+    out.push_str(&format!(
+        "solver   {} (tol {} of the period)\n",
+        setup.solver.kind.name(),
+        fmt_value(setup.solver.tol)
+    ));
+    out.push_str(&format!("outcome  {}\n", rec.outcome));
+    out.push_str(&format!("X1       {} at t1 = {}\n", cm(rec.x1), sec(rec.t1)));
+    out.push_str(&format!("X2       {} at t2 = {}\n", cm(rec.x2), sec(rec.t2)));
+    out.push_str(&format!("xmax     {}\n", cm(rec.xmax)));
+    out.push_str(&format!(
+        "DI       {}\n",
+        if rec.di.is_nan() {
+            "-".to_string()
+        } else {
+            format!("{:.5} m/s", rec.di)
+        }
+    ));
+    out.push_str(&format!(
+        "impacts  {} ({} sticking phases)\n",
+        rec.impacts, rec.sticks
+    ));
+    out.push_str(&format!(
+        "energy   {:.4e} J lost in impacts, {:.4e} J in the damper (of {:.4e} J)\n",
+        rec.energy_impact,
+        rec.energy_viscous,
+        s.energy(s.x0, s.v0, s.w0)
+    ));
+    out.push_str(&format!("stopped  at t = {}\n", sec(rec.t_stop)));
+    out
+}
+
+/// The `simulate` command.
+pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    let mut setup = Setup::default();
+    setup.apply(&args.sets)?;
+    if let Some(t_end) = args.t_end {
+        setup.request.t_end = Some(t_end);
+    }
+    let dt = args.dt.unwrap_or(1e-4);
+    let check = Request {
+        trace_dt: Some(dt),
+        ..setup.request
+    };
+    check
+        .validate()
+        .map_err(|e| InputError::new(format!("--{e}")))?;
+    let rec = match &args.trace {
+        Some(path) => {
+            let (rec, rows) = trace(&setup, dt, args.t_end);
+            write_trace(path, &rows)?;
+            rec
+        }
+        None => setup.run(&mut NoProbe),
+    };
+    if args.json {
+        println!("{}", record_json(&setup, &rec));
+    } else {
+        print!("{}", record_text(&setup, &rec));
+        if let Some(path) = &args.trace {
+            println!("trace    {}", path.display());
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,229 @@
+//! The physical system of `../shared/spec/model.md` §1: a main mass `M` on a spring `K` and a
+//! viscous damper `C`, with a cavity of total clearance `d` in which a loose inner mass `m`
+//! moves freely. All quantities are SI.
+//!
+//! [`System`] is the validated form: every constructor path goes through [`System::validate`],
+//! so later stages (the simulator above all) never see an unvalidated value.
+
+use serde::{Deserialize, Serialize};
+
+/// One impact damper and its initial state. SI units throughout.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct System {
+    /// Main mass `M` (kg), `> 0`. Table I: 0.1.
+    pub M: f64,
+    /// Inner (impact) mass `m` (kg), `>= 0`; `0` is the system without a damper. Table I: 0.02.
+    pub m: f64,
+    /// Spring stiffness `K` (N/m), `> 0`. Table I: 400.
+    pub K: f64,
+    /// Viscous damping `C` (N s/m), `>= 0`. Table I: 0.1.
+    pub C: f64,
+    /// Total clearance of the cavity `d` (m), `> 0`; the walls sit at `y - x = ±d/2`. Table I: 0.01.
+    pub d: f64,
+    /// Coefficient of restitution `e`, in `[0, 1]`. Table I sweeps it; default 0.9.
+    pub e: f64,
+    /// Initial displacement of the main mass `x0` (m). Table I: 0.
+    pub x0: f64,
+    /// Initial velocity of the main mass `v0` (m/s). Table I: 2.
+    pub v0: f64,
+    /// Initial displacement of the inner mass `y0` (m); `|y0 - x0| <= d/2`. Table I: 0.
+    pub y0: f64,
+    /// Initial velocity of the inner mass `w0` (m/s). Table I: 0.
+    pub w0: f64,
+}
+
+/// The names of the system keys, in the order used by tables and Parquet columns.
+pub const SYSTEM_KEYS: [&str; 10] = ["M", "m", "K", "C", "d", "e", "x0", "v0", "y0", "w0"];
+
+/// A value outside its allowed range: names the key, the value and what is allowed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{key} = {value}: {allowed}")]
+pub struct RangeError {
+    pub key: String,
+    pub value: String,
+    pub allowed: String,
+}
+
+impl RangeError {
+    pub fn new(key: &str, value: f64, allowed: impl Into<String>) -> Self {
+        RangeError {
+            key: key.to_string(),
+            value: fmt_value(value),
+            allowed: allowed.into(),
+        }
+    }
+}
+
+/// Formats a number the way a user typed it (shortest round-trip form).
+pub fn fmt_value(v: f64) -> String {
+    format!("{v}")
+}
+
+impl Default for System {
+    /// The paper's Table I system with `e = 0.9` (the case of its Table II).
+    fn default() -> Self {
+        System::TABLE_I
+    }
+}
+
+impl System {
+    /// Table I of the paper, with `e = 0.9`.
+    pub const TABLE_I: System = System {
+        M: 0.1,
+        m: 0.02,
+        K: 400.0,
+        C: 0.1,
+        d: 0.01,
+        e: 0.9,
+        x0: 0.0,
+        v0: 2.0,
+        y0: 0.0,
+        w0: 0.0,
+    };
+
+    /// Reads a key by its model.md name.
+    pub fn get(&self, key: &str) -> Option<f64> {
+        Some(match key {
+            "M" => self.M,
+            "m" => self.m,
+            "K" => self.K,
+            "C" => self.C,
+            "d" => self.d,
+            "e" => self.e,
+            "x0" => self.x0,
+            "v0" => self.v0,
+            "y0" => self.y0,
+            "w0" => self.w0,
+            _ => return None,
+        })
+    }
+
+    /// Sets a key by its model.md name; `false` when the key is not a system key.
+    /// The result is not validated: call [`System::validate`] afterwards.
+    pub fn set(&mut self, key: &str, value: f64) -> bool {
+        let slot = match key {
+            "M" => &mut self.M,
+            "m" => &mut self.m,
+            "K" => &mut self.K,
+            "C" => &mut self.C,
+            "d" => &mut self.d,
+            "e" => &mut self.e,
+            "x0" => &mut self.x0,
+            "v0" => &mut self.v0,
+            "y0" => &mut self.y0,
+            "w0" => &mut self.w0,
+            _ => return false,
+        };
+        *slot = value;
+        true
+    }
+
+    /// The allowed range of one key, as a sentence (used in error messages and `--help`).
+    pub fn allowed(key: &str) -> &'static str {
+        match key {
+            "M" => "the main mass must be a finite number > 0 (kg)",
+            "m" => "the inner mass must be a finite number >= 0 (kg; 0 means no damper)",
+            "K" => "the stiffness must be a finite number > 0 (N/m)",
+            "C" => "the damping must be a finite number >= 0 (N s/m)",
+            "d" => "the clearance must be a finite number > 0 (m)",
+            "e" => "the coefficient of restitution must be in [0, 1]",
+            "x0" | "v0" | "y0" | "w0" => "the initial state must be finite (SI units)",
+            _ => "unknown key",
+        }
+    }
+
+    /// Checks every range of model.md §1: `M > 0`, `m >= 0`, `K > 0`, `C >= 0`, `d > 0`,
+    /// `0 <= e <= 1`, `|y0 - x0| <= d/2`, every number finite.
+    pub fn validate(&self) -> Result<(), RangeError> {
+        for key in SYSTEM_KEYS {
+            let v = self.get(key).unwrap_or(f64::NAN);
+            let ok = v.is_finite()
+                && match key {
+                    "M" | "K" | "d" => v > 0.0,
+                    "m" | "C" => v >= 0.0,
+                    "e" => (0.0..=1.0).contains(&v),
+                    _ => true,
+                };
+            if !ok {
+                return Err(RangeError::new(key, v, Self::allowed(key)));
+            }
+        }
+        let gap = (self.y0 - self.x0).abs();
+        if gap > 0.5 * self.d {
+            return Err(RangeError::new(
+                "y0",
+                self.y0,
+                format!(
+                    "the inner mass must start inside the cavity: |y0 - x0| = {} exceeds d/2 = {}",
+                    fmt_value(gap),
+                    fmt_value(0.5 * self.d)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Undamped natural angular frequency of the main mass alone, `sqrt(K/M)` (rad/s).
+    pub fn omega(&self) -> f64 {
+        (self.K / self.M).sqrt()
+    }
+
+    /// Undamped natural period of the main mass alone, `2 pi sqrt(M/K)` (s).
+    pub fn period(&self) -> f64 {
+        std::f64::consts::TAU / self.omega()
+    }
+
+    /// Damping ratio of the main mass alone, `zeta = C / (2 sqrt(K M))`.
+    pub fn zeta(&self) -> f64 {
+        self.C / (2.0 * (self.K * self.M).sqrt())
+    }
+
+    /// Total mechanical energy (J) of a state of this system: both kinetic energies and the
+    /// spring's potential energy.
+    pub fn energy(&self, x: f64, v: f64, w: f64) -> f64 {
+        0.5 * (self.M * v * v + self.m * w * w + self.K * x * x)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_i_is_valid() {
+        System::TABLE_I.validate().unwrap();
+    }
+
+    #[test]
+    fn errors_name_key_value_and_range() {
+        let mut s = System::TABLE_I;
+        s.e = 1.3;
+        assert_eq!(
+            s.validate().unwrap_err().to_string(),
+            "e = 1.3: the coefficient of restitution must be in [0, 1]"
+        );
+        let mut s = System::TABLE_I;
+        s.M = f64::NAN;
+        assert_eq!(
+            s.validate().unwrap_err().to_string(),
+            "M = NaN: the main mass must be a finite number > 0 (kg)"
+        );
+        let mut s = System::TABLE_I;
+        s.y0 = 0.006;
+        assert_eq!(
+            s.validate().unwrap_err().to_string(),
+            "y0 = 0.006: the inner mass must start inside the cavity: |y0 - x0| = 0.006 exceeds d/2 = 0.005"
+        );
+    }
+
+    #[test]
+    fn set_and_get_round_trip_every_key() {
+        let mut s = System::TABLE_I;
+        for (i, k) in SYSTEM_KEYS.iter().enumerate() {
+            assert!(s.set(k, i as f64 * 0.001));
+            assert_eq!(s.get(k), Some(i as f64 * 0.001));
+        }
+        assert!(!s.set("bogus", 1.0));
+    }
+}

@@ -1,0 +1,451 @@
+//! The event loop shared by every solver: impact law, chatter and sticking, observables,
+//! horizon and outcomes. A solver only moves the main mass through one smooth phase and reports
+//! the first watched event ([`PhaseSolver`]).
+//!
+//! # Phases
+//! * **Free**: the main mass is the oscillator `(M, K, C)`; the inner mass moves at constant
+//!   velocity; events are the walls, `x = 0`, `v = 0` (in positive half-cycles) and time limits.
+//! * **Stuck** on a wall: the pair is the oscillator `(M + m, K, C)` with `y = x ± d/2`; it
+//!   separates when the contact force would have to pull: on the right wall contact holds while
+//!   the pair's acceleration is `<= 0`, i.e. while `C v + K x >= 0`; on the left wall the reverse.
+//!
+//! # Chatter rule
+//! After an impact on a wall, let `u >= 0` be the speed at which the inner mass leaves it and
+//! `a` the acceleration with which the wall moves toward the inner mass (`a = -x''` on the right
+//! wall, `+x''` on the left, the free main mass's acceleration). If `a > 0` the inner mass comes
+//! back after `2u/a`, the next rebound is `e` times slower, and the impacts accumulate at a
+//! finite time `2u / (a (1 - e))` later (a Zeno point). When that remaining time is below
+//! `chatter_tol * period`, the rest of the sequence is replaced by its limit: a plastic impact
+//! (relative velocity to zero, momentum conserved, the remaining relative kinetic energy
+//! `mu u^2 / 2`, `mu = M m / (M + m)`, counted as impact loss) and a sticking phase. The
+//! neglected motion lasts at most `chatter_tol * period`, during which the inner mass is never
+//! more than `u^2 / (2a)` from the wall; the main mass's displacement error is of order
+//! `(m / (M + m)) a (chatter_tol * period)^2`, about `4 pi^2 chatter_tol^2` of the amplitude.
+//! `e = 0` gives `u = 0` and sticks at the first impact where the force allows. For `e` near 1
+//! the denominator uses `max(1 - e, chatter_tol)`, so a rebound slower than
+//! `a chatter_tol^2 period / 2` also sticks and `e = 1` cannot chatter forever. The number of
+//! impacts in one chatter sequence is therefore at most about
+//! `ln(chatter_tol period a (1 - e) / 2 u0) / ln e`; the impact cap bounds the rest.
+//!
+//! # Energy
+//! The total mechanical energy `(M v^2 + m w^2 + K x^2) / 2` drops at impacts by
+//! `mu (1 - e^2) (v - w)^2 / 2` (counted in `energy_impact`) and between events by the viscous
+//! work (counted in `energy_viscous` as the drop of energy over each phase piece).
+
+use super::exact::ExactPhase;
+use super::linear::Oscillator;
+use super::noise::NoiseStream;
+use super::{
+    NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings, State, Wall,
+    impact,
+};
+use crate::model::System;
+
+/// The inner mass's free motion `y(t) = y0 + w (t - t0)` and the half clearance.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Walls {
+    pub t0: f64,
+    pub y0: f64,
+    pub w: f64,
+    pub half_d: f64,
+}
+
+/// What a solver watches during one call of [`PhaseSolver::next_event`]. Each `*_side` is the
+/// sign the quantity has now (`+1`/`-1`); the solver reports when it reaches zero.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Watch {
+    /// The walls, during free flight.
+    pub walls: Option<Walls>,
+    /// Sign of `x`.
+    pub x_side: f64,
+    /// Sign of `v`, when maxima are being looked for.
+    pub v_side: Option<f64>,
+    /// Sign of the contact condition `C v + K x` times the wall sign, while stuck (+1).
+    pub sep_side: Option<f64>,
+    /// Stop here at the latest.
+    pub t_limit: f64,
+}
+
+/// The first event a solver found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Event {
+    Wall(Wall),
+    XZero,
+    VZero,
+    Separation,
+    Limit,
+    NonFinite,
+}
+
+/// The solver's step cap was hit.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StepCap;
+
+/// Moves the main mass through one smooth phase (free, or the stuck pair).
+pub(crate) trait PhaseSolver {
+    /// Starts a phase of oscillator `osc` at time `t` in state `(x, v)`.
+    fn begin(&mut self, osc: &Oscillator, t: f64, x: f64, v: f64);
+    /// Advances to the first watched event (or `watch.t_limit`) and stops there.
+    fn next_event(&mut self, watch: &Watch) -> Result<Event, StepCap>;
+    /// The current time, displacement and velocity.
+    fn state(&self) -> (f64, f64, f64);
+    /// Steps taken so far.
+    fn steps(&self) -> u64;
+}
+
+/// Runs one simulation. Pure: the same inputs give the same bits. `noise` carries the noise
+/// settings and the run's own random stream; without it no random number is drawn.
+pub fn simulate<P: Probe>(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    noise: Option<(&NoiseSettings, &mut NoiseStream)>,
+    probe: &mut P,
+) -> Record {
+    let tol_t = settings.tol * sys.period();
+    match settings.kind {
+        SolverKind::Exact => {
+            let mut solver = ExactPhase::new(tol_t, settings.max_steps);
+            Run::new(sys, settings, req, noise, probe).go(&mut solver)
+        }
+    }
+}
+
+enum Phase {
+    Free,
+    Stuck(Wall),
+}
+
+struct Run<'a, P: Probe> {
+    sys: &'a System,
+    settings: &'a SolverSettings,
+    req: &'a Request,
+    noise: Option<(&'a NoiseSettings, &'a mut NoiseStream)>,
+    probe: &'a mut P,
+    free: Oscillator,
+    pair: Oscillator,
+    period: f64,
+    // state
+    phase: Phase,
+    t: f64,
+    s: State,
+    // observables
+    peaks: Vec<(f64, f64)>,
+    running: Option<(f64, f64)>,
+    x_side: f64,
+    v_side: f64,
+    impacts: u64,
+    sticks: u64,
+    energy: f64,
+    energy_impact: f64,
+    energy_viscous: f64,
+    next_trace: u64,
+    next_noise: u64,
+}
+
+impl<'a, P: Probe> Run<'a, P> {
+    fn new(
+        sys: &'a System,
+        settings: &'a SolverSettings,
+        req: &'a Request,
+        noise: Option<(&'a NoiseSettings, &'a mut NoiseStream)>,
+        probe: &'a mut P,
+    ) -> Self {
+        let s = State {
+            x: sys.x0,
+            v: sys.v0,
+            y: sys.y0,
+            w: sys.w0,
+        };
+        let free = Oscillator::new(sys.M, sys.K, sys.C);
+        // The sign x has, or is about to have, at t = 0.
+        let x_side = side_of(sys.x0, sys.v0, free.accel(sys.x0, sys.v0));
+        let v_side = side_of(sys.v0, free.accel(sys.x0, sys.v0), 0.0);
+        Run {
+            sys,
+            settings,
+            req,
+            noise,
+            probe,
+            free,
+            pair: Oscillator::new(sys.M + sys.m, sys.K, sys.C),
+            period: sys.period(),
+            phase: Phase::Free,
+            t: 0.0,
+            s,
+            peaks: Vec::with_capacity(req.peaks),
+            running: (x_side > 0.0).then_some((sys.x0, 0.0)),
+            x_side,
+            v_side,
+            impacts: 0,
+            sticks: 0,
+            energy: sys.energy(sys.x0, sys.v0, sys.w0),
+            energy_impact: 0.0,
+            energy_viscous: 0.0,
+            next_trace: 0,
+            // A sample exactly at a zero of x is not inside a positive half-cycle.
+            next_noise: u64::from(sys.x0 == 0.0),
+        }
+    }
+
+    fn horizon(&self) -> f64 {
+        self.req
+            .t_end
+            .unwrap_or(self.settings.t_max_periods * self.period)
+    }
+
+    fn noisy(&self) -> bool {
+        self.noise.is_some()
+    }
+
+    /// Next time the loop must stop for a sample or the horizon.
+    fn t_limit(&self) -> f64 {
+        let mut lim = self.horizon();
+        if let Some(dt) = self.req.trace_dt {
+            lim = lim.min(self.next_trace as f64 * dt);
+        }
+        if let Some((ns, _)) = &self.noise
+            && self.x_side > 0.0
+        {
+            lim = lim.min(self.next_noise as f64 * ns.sample_time);
+        }
+        lim
+    }
+
+    fn watch(&self) -> super::driver::Watch {
+        let (walls, sep_side) = match self.phase {
+            Phase::Free => (
+                Some(Walls {
+                    t0: self.t,
+                    y0: self.s.y,
+                    w: self.s.w,
+                    half_d: 0.5 * self.sys.d,
+                }),
+                None,
+            ),
+            Phase::Stuck(wall) => (None, Some(wall.sign())),
+        };
+        Watch {
+            walls,
+            x_side: self.x_side,
+            v_side: (self.x_side > 0.0 && !self.noisy()).then_some(self.v_side),
+            sep_side,
+            t_limit: self.t_limit(),
+        }
+    }
+
+    fn begin_phase<S: PhaseSolver>(&self, solver: &mut S) {
+        let osc = match self.phase {
+            Phase::Free => &self.free,
+            Phase::Stuck(_) => &self.pair,
+        };
+        solver.begin(osc, self.t, self.s.x, self.s.v);
+    }
+
+    /// Brings the run's state to the solver's current point, booking the viscous loss.
+    fn sync<S: PhaseSolver>(&mut self, solver: &S, walls: &Option<Walls>) {
+        let (t, x, v) = solver.state();
+        self.t = t;
+        self.s.x = x;
+        self.s.v = v;
+        match (&self.phase, walls) {
+            (Phase::Free, Some(wl)) => {
+                self.s.y = wl.y0 + wl.w * (t - wl.t0);
+            }
+            (Phase::Stuck(wall), _) => {
+                self.s.y = x + wall.sign() * 0.5 * self.sys.d;
+                self.s.w = v;
+            }
+            _ => {}
+        }
+        let e = self.sys.energy(self.s.x, self.s.v, self.s.w);
+        // The closed form keeps energy non-increasing up to rounding; never book a gain.
+        self.energy_viscous += (self.energy - e).max(0.0);
+        self.energy = e.min(self.energy);
+        self.probe.energy(t, e);
+    }
+
+    fn candidate(&mut self, x: f64, t: f64) {
+        if let Some((best, _)) = self.running
+            && x <= best
+        {
+            return;
+        }
+        self.running = Some((x, t));
+    }
+
+    fn go<S: PhaseSolver>(mut self, solver: &mut S) -> Record {
+        let want = self.req.peaks.max(1);
+        self.begin_phase(solver);
+        let outcome = loop {
+            let watch = self.watch();
+            let ev = match solver.next_event(&watch) {
+                Ok(ev) => ev,
+                Err(super::driver::StepCap) => {
+                    self.sync(solver, &watch.walls);
+                    break Outcome::StepCap;
+                }
+            };
+            self.sync(solver, &watch.walls);
+            match ev {
+                Event::NonFinite => break Outcome::NonFinite,
+                Event::Wall(wall) => {
+                    if self.x_side > 0.0 && !self.noisy() {
+                        self.candidate(self.s.x, self.t);
+                    }
+                    if self.impacts >= self.settings.max_impacts {
+                        break Outcome::EventCap;
+                    }
+                    self.collide(wall);
+                    self.begin_phase(solver);
+                }
+                Event::Separation => {
+                    if let Phase::Stuck(wall) = self.phase {
+                        self.probe.separate(self.t, wall, &self.s);
+                    }
+                    self.phase = Phase::Free;
+                    self.begin_phase(solver);
+                }
+                Event::VZero => {
+                    if self.v_side > 0.0 && !self.noisy() {
+                        self.candidate(self.s.x, self.t);
+                    }
+                    self.v_side = -self.v_side;
+                }
+                Event::XZero => {
+                    if self.x_side > 0.0 {
+                        if let Some(peak) = self.running.take() {
+                            self.peaks.push(peak);
+                        }
+                        if self.peaks.len() >= want && self.req.t_end.is_none() {
+                            break Outcome::Ok;
+                        }
+                        self.x_side = -1.0;
+                    } else {
+                        self.x_side = 1.0;
+                        self.v_side = 1.0;
+                        if let Some((ns, _)) = &self.noise {
+                            self.next_noise = (self.t / ns.sample_time).ceil() as u64;
+                        }
+                    }
+                }
+                Event::Limit => {
+                    let horizon = self.t >= self.horizon();
+                    self.samples();
+                    if horizon {
+                        break self.outcome_at_horizon(want);
+                    }
+                }
+            }
+        };
+        self.finish(outcome, solver.steps())
+    }
+
+    /// Handles the trace and noise samples due at the current time.
+    fn samples(&mut self) {
+        if let Some(dt) = self.req.trace_dt
+            && self.next_trace as f64 * dt <= self.t
+        {
+            self.probe.sample(self.t, &self.s);
+            self.next_trace += 1;
+        }
+        if self.x_side > 0.0
+            && let Some((ns, stream)) = &mut self.noise
+        {
+            let k = self.next_noise;
+            if k as f64 * ns.sample_time <= self.t {
+                let measured = self.s.x + stream.sample(k, ns);
+                let t = self.t;
+                self.next_noise = k + 1;
+                self.candidate(measured, t);
+            }
+        }
+    }
+
+    fn outcome_at_horizon(&self, want: usize) -> Outcome {
+        match self.peaks.len() {
+            n if n >= want => Outcome::Ok,
+            n if n >= 2 => Outcome::FewPeaks,
+            _ => Outcome::NoSecondPeak,
+        }
+    }
+
+    /// Applies the impact law on `wall`, then decides between rebound and sticking.
+    fn collide(&mut self, wall: Wall) {
+        let sys = self.sys;
+        let sign = wall.sign();
+        // Put the inner mass exactly on the wall: the event is located within tolerance.
+        self.s.y = self.s.x + sign * 0.5 * sys.d;
+        let before = self.s;
+        let (va, wa) = impact(sys.M, sys.m, sys.e, before.v, before.w);
+        self.s.v = va;
+        self.s.w = wa;
+        self.impacts += 1;
+        self.book_impact_loss();
+        self.probe.impact(self.t, wall, &before, &self.s);
+        // Speed away from the wall and the wall's acceleration toward the inner mass.
+        let u = (sign * (self.s.v - self.s.w)).max(0.0);
+        let a = -sign * self.free.accel(self.s.x, self.s.v);
+        let ct = self.settings.chatter_tol;
+        let remaining = 2.0 * u / (a * (1.0 - sys.e).max(ct));
+        let sticks = a > 0.0 && remaining <= ct * self.period || (u == 0.0 && a >= 0.0);
+        if sticks {
+            let common = (sys.M * self.s.v + sys.m * self.s.w) / (sys.M + sys.m);
+            self.s.v = common;
+            self.s.w = common;
+            self.book_impact_loss();
+            self.sticks += 1;
+            self.phase = Phase::Stuck(wall);
+            self.probe.stick(self.t, wall, &self.s);
+        } else {
+            self.phase = Phase::Free;
+        }
+        self.probe.energy(self.t, self.energy);
+    }
+
+    fn book_impact_loss(&mut self) {
+        let e = self.sys.energy(self.s.x, self.s.v, self.s.w);
+        self.energy_impact += (self.energy - e).max(0.0);
+        self.energy = e.min(self.energy);
+    }
+
+    fn finish(self, outcome: Outcome, steps: u64) -> Record {
+        let nan = f64::NAN;
+        let (x1, t1) = self.peaks.first().copied().unwrap_or((nan, nan));
+        let (x2, t2) = self.peaks.get(1).copied().unwrap_or((nan, nan));
+        let xmax = self
+            .peaks
+            .iter()
+            .map(|p| p.0)
+            .fold(nan, |m: f64, x| if m.is_nan() || x > m { x } else { m });
+        Record {
+            outcome,
+            x1,
+            t1,
+            x2,
+            t2,
+            xmax,
+            di: (x1 - x2) / (t2 - t1),
+            peaks: self.peaks,
+            impacts: self.impacts,
+            sticks: self.sticks,
+            energy_impact: self.energy_impact,
+            energy_viscous: self.energy_viscous,
+            t_stop: self.t,
+            steps,
+        }
+    }
+}
+
+/// The sign a quantity has now or, when exactly zero, is about to take from its derivatives.
+fn side_of(f: f64, f1: f64, f2: f64) -> f64 {
+    for g in [f, f1, f2] {
+        if g > 0.0 {
+            return 1.0;
+        }
+        if g < 0.0 {
+            return -1.0;
+        }
+    }
+    -1.0
+}

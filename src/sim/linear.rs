@@ -1,0 +1,212 @@
+//! Closed-form motion of the free linear oscillator `mass x'' + c x' + k x = 0`.
+//!
+//! With `alpha = c / (2 mass)`, `w2 = k / mass` and `q = w2 - alpha^2` (the square of the
+//! damped frequency, negative when over-damped), the motion from `(x0, v0)` after a time `tau` is
+//!
+//! ```text
+//! x(tau) = e^{-alpha tau} [ x0 c(tau) + (v0 + alpha x0) s(tau) ]
+//! v(tau) = e^{-alpha tau} [ v0 c(tau) - (alpha v0 + w2 x0) s(tau) ]
+//! ```
+//!
+//! where `c = cos(sqrt(q) tau)`, `s = sin(sqrt(q) tau) / sqrt(q)` when under-damped,
+//! `c = 1`, `s = tau` at critical damping and `c = cosh`, `s = sinh / sqrt(-q)` when
+//! over-damped. Both `c` and `s` are entire functions of `q tau^2`, so the motion is continuous
+//! across critical damping and no formula divides by a vanishing damped frequency:
+//! `sin(theta) / omega_d = tau sin(theta) / theta` keeps full relative precision as
+//! `omega_d -> 0`. `q` itself is formed as `(4 k mass - c^2) / (4 mass^2)` with a fused
+//! multiply-add, so near `zeta = 1` it carries only the rounding of the inputs.
+//!
+//! Far into the over-damped regime `e^{-alpha tau}` underflows while `cosh(beta tau)` overflows;
+//! there the motion is evaluated as the sum of the two real exponential modes
+//! `e^{r1 tau}`, `e^{r2 tau}` with the slow root formed without cancellation,
+//! `r1 = -w2 / (alpha + beta)`, `r2 = -(alpha + beta)`.
+
+/// A free linear oscillator; `mass > 0`, `k > 0`, `c >= 0` (checked by the caller).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Oscillator {
+    pub mass: f64,
+    pub k: f64,
+    pub c: f64,
+    /// `c / (2 mass)` (1/s).
+    pub alpha: f64,
+    /// `k / mass` (1/s^2).
+    pub w2: f64,
+    /// `w2 - alpha^2` (1/s^2): > 0 under-damped, 0 critical, < 0 over-damped.
+    pub q: f64,
+    /// `sqrt(|q|)` (1/s).
+    pub root: f64,
+}
+
+/// Displacement, velocity and acceleration at one instant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Kinematics {
+    pub x: f64,
+    pub v: f64,
+    pub a: f64,
+}
+
+impl Oscillator {
+    pub fn new(mass: f64, k: f64, c: f64) -> Self {
+        let alpha = c / (2.0 * mass);
+        let w2 = k / mass;
+        // 4 k mass - c^2 with one rounding (fma), then scaled: no cancellation beyond the inputs'.
+        let q = c.mul_add(-c, 4.0 * k * mass) / (4.0 * mass * mass);
+        Oscillator {
+            mass,
+            k,
+            c,
+            alpha,
+            w2,
+            q,
+            root: q.abs().sqrt(),
+        }
+    }
+
+    /// Acceleration of the free oscillator in state `(x, v)`.
+    #[inline]
+    pub fn accel(&self, x: f64, v: f64) -> f64 {
+        -(self.c * v + self.k * x) / self.mass
+    }
+
+    /// The two mode functions `(e^{-alpha tau} c(tau), e^{-alpha tau} s(tau))`.
+    #[inline]
+    fn modes(&self, tau: f64) -> (f64, f64) {
+        if self.q > 0.0 {
+            let th = self.root * tau;
+            let (sn, cs) = th.sin_cos();
+            let env = if self.alpha == 0.0 {
+                1.0
+            } else {
+                (-self.alpha * tau).exp()
+            };
+            (env * cs, env * sn / self.root)
+        } else if self.q == 0.0 {
+            let env = (-self.alpha * tau).exp();
+            (env, env * tau)
+        } else {
+            let beta = self.root;
+            let bt = beta * tau;
+            if bt < 1.0 {
+                let env = (-self.alpha * tau).exp();
+                (env * bt.cosh(), env * bt.sinh() / beta)
+            } else {
+                let sum = self.alpha + beta;
+                let e1 = (-self.w2 / sum * tau).exp();
+                let e2 = (-sum * tau).exp();
+                (0.5 * (e1 + e2), (e1 - e2) / (2.0 * beta))
+            }
+        }
+    }
+
+    /// The motion a time `tau >= 0` after the state `(x0, v0)`.
+    #[inline]
+    pub fn eval(&self, x0: f64, v0: f64, tau: f64) -> Kinematics {
+        let (c, s) = self.modes(tau);
+        let x = x0 * c + (v0 + self.alpha * x0) * s;
+        let v = v0 * c - (self.alpha * v0 + self.w2 * x0) * s;
+        Kinematics {
+            x,
+            v,
+            a: self.accel(x, v),
+        }
+    }
+
+    /// Energy `(mass v^2 + k x^2) / 2` (J); it never increases along a free motion.
+    #[inline]
+    pub fn energy(&self, x: f64, v: f64) -> f64 {
+        0.5 * (self.mass * v * v + self.k * x * x)
+    }
+
+    /// Bounds `B[j] >= |x^(j)(t)|`, `j = 0..=5`, valid for all later times of the free motion
+    /// that starts with energy `energy`: `|x| <= sqrt(2E/k)`, `|v| <= sqrt(2E/mass)` because the
+    /// energy never increases, and the equation of motion bounds each higher derivative,
+    /// `|x^(j+2)| <= (c |x^(j+1)| + k |x^(j)|) / mass`.
+    pub fn derivative_bounds(&self, energy: f64) -> [f64; 6] {
+        let mut b = [0.0; 6];
+        b[0] = (2.0 * energy / self.k).sqrt();
+        b[1] = (2.0 * energy / self.mass).sqrt();
+        for j in 2..6 {
+            b[j] = 2.0 * self.alpha * b[j - 1] + self.w2 * b[j - 2];
+        }
+        b
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// RK4 with a small step as an independent reference.
+    fn rk4(o: &Oscillator, x0: f64, v0: f64, t: f64, n: usize) -> (f64, f64) {
+        let h = t / n as f64;
+        let (mut x, mut v) = (x0, v0);
+        let f = |x: f64, v: f64| (v, o.accel(x, v));
+        for _ in 0..n {
+            let (k1x, k1v) = f(x, v);
+            let (k2x, k2v) = f(x + 0.5 * h * k1x, v + 0.5 * h * k1v);
+            let (k3x, k3v) = f(x + 0.5 * h * k2x, v + 0.5 * h * k2v);
+            let (k4x, k4v) = f(x + h * k3x, v + h * k3v);
+            x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+            v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        }
+        (x, v)
+    }
+
+    #[test]
+    fn agrees_with_rk4_in_every_regime() {
+        let crit = 2.0 * (400.0f64 * 0.1).sqrt();
+        for c in [0.0, 0.1, crit * 0.5, crit, crit * 2.0, crit * 50.0] {
+            let o = Oscillator::new(0.1, 400.0, c);
+            for t in [1e-3, 0.02, 0.1] {
+                let exact = o.eval(0.003, 2.0, t);
+                let (x, v) = rk4(&o, 0.003, 2.0, t, 200_000);
+                let scale = 2.0 / o.w2.sqrt();
+                assert!((exact.x - x).abs() <= 1e-9 * scale, "c={c} t={t}: {} vs {x}", exact.x);
+                assert!((exact.v - v).abs() <= 1e-8 * 2.0, "c={c} t={t}: {} vs {v}", exact.v);
+            }
+        }
+    }
+
+    #[test]
+    fn continuous_across_critical_damping() {
+        // zeta = 1 - 1e-12, 1, 1 + 1e-12 must agree to near machine precision.
+        let (mass, k) = (0.1, 400.0);
+        let crit = 2.0 * (k * mass as f64).sqrt();
+        let at = |c: f64| Oscillator::new(mass, k, c).eval(0.0, 2.0, 0.05);
+        let below = at(crit * (1.0 - 1e-12));
+        let exactly = at(crit);
+        let above = at(crit * (1.0 + 1e-12));
+        for other in [below, above] {
+            assert!((other.x - exactly.x).abs() <= 1e-11 * exactly.x.abs());
+            assert!((other.v - exactly.v).abs() <= 1e-10 * exactly.v.abs().max(1e-3));
+        }
+        // Critical damping closed form: x = v0 t e^{-w t}.
+        let w = (k / mass).sqrt();
+        let expect = 2.0 * 0.05 * (-w * 0.05).exp();
+        assert!((exactly.x - expect).abs() <= 1e-15 * expect.abs() * 4.0);
+    }
+
+    #[test]
+    fn heavy_damping_far_in_time_is_finite() {
+        let crit = 2.0 * (400.0f64 * 0.1).sqrt();
+        let o = Oscillator::new(0.1, 400.0, 50.0 * crit);
+        let k = o.eval(0.01, 2.0, 100.0);
+        assert!(k.x.is_finite() && k.v.is_finite());
+        assert!(k.x > 0.0 && k.x < 0.011);
+    }
+
+    #[test]
+    fn energy_never_increases_and_bounds_hold() {
+        let o = Oscillator::new(0.1, 400.0, 0.1);
+        let e0 = o.energy(0.0, 2.0);
+        let b = o.derivative_bounds(e0);
+        let mut last = e0;
+        for i in 1..1000 {
+            let k = o.eval(0.0, 2.0, i as f64 * 1e-3);
+            let e = o.energy(k.x, k.v);
+            assert!(e <= last * (1.0 + 1e-14));
+            last = e;
+            assert!(k.x.abs() <= b[0] && k.v.abs() <= b[1] && k.a.abs() <= b[2]);
+        }
+    }
+}

@@ -1,0 +1,333 @@
+//! The simulator: one system + solver settings + what is asked → one [`Record`].
+//!
+//! A pure function ([`simulate`]): no I/O, no global state, the noise generator passed in.
+//! The physics is `../shared/spec/model.md` §1–3:
+//!
+//! * between impacts the main mass is a free damped oscillator `M x'' + C x' + K x = 0` and the
+//!   inner mass moves at constant velocity (`y'' = 0`), see [`linear`];
+//! * an impact happens when `|y - x| = d/2` and obeys the momentum-conserving law (eq. 3–4)
+//!   ```text
+//!   x'_a = ((M - m e) x'_b + m (1 + e) y'_b) / (M + m)
+//!   y'_a = (M (1 + e) x'_b + (m - M e) y'_b) / (M + m)
+//!   ```
+//!   see [`impact`];
+//! * chatter (an accumulation of impacts on a wall that accelerates into the inner mass) is
+//!   detected and replaced by sticking: the pair moves as one oscillator of mass `M + m` until the
+//!   contact force would have to pull (see [`driver`] for the rule and its error);
+//! * observables: positive half-cycle maxima `X_k, t_k`, `xmax`, the damping inclination
+//!   `DI = (X1 - X2) / (t2 - t1)` (eq. 5, m/s), impact and sticking counts, energy lost in
+//!   impacts and in the damper.
+//!
+//! Solvers share all of that and differ only in how they move the main mass between events and
+//! locate those events: [`SolverKind::Exact`] uses the closed form and a root bracket that cannot
+//! miss an impact (see [`exact`]).
+
+pub mod driver;
+pub mod exact;
+pub mod linear;
+pub mod noise;
+
+use serde::Serialize;
+
+use crate::model::{RangeError, fmt_value};
+
+pub use driver::simulate;
+
+/// Which solver moves the main mass between events.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SolverKind {
+    /// Closed form between events, guaranteed root brackets, impact times to `tol`.
+    Exact,
+}
+
+impl SolverKind {
+    pub const ALL: [SolverKind; 1] = [SolverKind::Exact];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SolverKind::Exact => "exact",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<SolverKind> {
+        SolverKind::ALL.into_iter().find(|k| k.name() == s)
+    }
+}
+
+/// Solver settings. Every field documents its unit, default and valid range.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SolverSettings {
+    /// The solver. Default `exact`.
+    pub kind: SolverKind,
+    /// Event-location tolerance of `exact`, relative to the undamped period `2 pi sqrt(M/K)`:
+    /// every event time is located within `tol * period` of the true root. Default `1e-12`,
+    /// range `[1e-15, 1e-3]`.
+    pub tol: f64,
+    /// Chatter tolerance, relative to the undamped period: an accumulation of impacts whose
+    /// predicted remaining duration `2 u / (a (1 - e))` is below `chatter_tol * period` is replaced by
+    /// sticking (see [`driver`]). Default `1e-6`, range `[1e-12, 1e-2]`.
+    pub chatter_tol: f64,
+    /// At most this many impacts, then the run ends with outcome `event_cap`. Default `100000`.
+    pub max_impacts: u64,
+    /// At most this many solver steps, then the run ends with outcome `step_cap`. Default `10^7`.
+    pub max_steps: u64,
+    /// Longest simulated time without a fixed horizon, in undamped periods; a run that has not
+    /// found its peaks by then ends with `no_second_peak` (or `few_peaks`). Default `200`.
+    pub t_max_periods: f64,
+}
+
+impl SolverSettings {
+    /// The solver keys `simulate --set` and a study's `[solver]` table accept.
+    pub const KEYS: [&'static str; 7] = [
+        "solver",
+        "tol",
+        "chatter_tol",
+        "max_impacts",
+        "max_steps",
+        "t_max_periods",
+        "peaks",
+    ];
+
+    /// Checks every knob's range; the error names the key, the value and the range.
+    pub fn validate(&self) -> Result<(), RangeError> {
+        let check = |key: &str, v: f64, lo: f64, hi: f64| {
+            if v.is_finite() && v >= lo && v <= hi {
+                Ok(())
+            } else {
+                Err(RangeError::new(
+                    key,
+                    v,
+                    format!("must be in [{}, {}]", fmt_value(lo), fmt_value(hi)),
+                ))
+            }
+        };
+        check("tol", self.tol, 1e-15, 1e-3)?;
+        check("chatter_tol", self.chatter_tol, 1e-12, 1e-2)?;
+        check("max_impacts", self.max_impacts as f64, 1.0, 1e9)?;
+        check("max_steps", self.max_steps as f64, 1.0, 1e12)?;
+        check("t_max_periods", self.t_max_periods, 1.0, 1e6)?;
+        Ok(())
+    }
+}
+
+impl Request {
+    /// Checks `peaks >= 1`, `t_end > 0` and `trace_dt > 0` when given.
+    pub fn validate(&self) -> Result<(), RangeError> {
+        if self.peaks < 1 || self.peaks > 1_000_000 {
+            return Err(RangeError::new(
+                "peaks",
+                self.peaks as f64,
+                "must be an integer in [1, 1000000]",
+            ));
+        }
+        for (key, v) in [("t_end", self.t_end), ("dt", self.trace_dt)] {
+            if let Some(v) = v
+                && !(v.is_finite() && v > 0.0)
+            {
+                return Err(RangeError::new(key, v, "must be a finite time > 0 (s)"));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl NoiseSettings {
+    /// Checks `power >= 0` and `sample_time > 0`, both finite.
+    pub fn validate(&self) -> Result<(), RangeError> {
+        if !(self.power.is_finite() && self.power >= 0.0) {
+            return Err(RangeError::new(
+                "power",
+                self.power,
+                "the noise power must be a finite number >= 0 (m^2 s)",
+            ));
+        }
+        if !(self.sample_time.is_finite() && self.sample_time > 0.0) {
+            return Err(RangeError::new(
+                "sample_time",
+                self.sample_time,
+                "the sample time must be a finite number > 0 (s)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        SolverSettings {
+            kind: SolverKind::Exact,
+            tol: 1e-12,
+            chatter_tol: 1e-6,
+            max_impacts: 100_000,
+            max_steps: 10_000_000,
+            t_max_periods: 200.0,
+        }
+    }
+}
+
+/// What a run must produce; the horizon follows from it (model.md §3, "model only what a scene
+/// requires").
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Request {
+    /// Positive half-cycle maxima wanted (>= 1). Default 2 (what `DI` needs): the run stops at
+    /// the end of the `peaks`-th positive half-cycle.
+    pub peaks: usize,
+    /// A fixed horizon (s): the run goes to `t_end` whatever the peaks. Default none.
+    pub t_end: Option<f64>,
+    /// Emit the state every `trace_dt` seconds to the probe (for waveform plots). Default none.
+    pub trace_dt: Option<f64>,
+}
+
+impl Default for Request {
+    fn default() -> Self {
+        Request {
+            peaks: 2,
+            t_end: None,
+            trace_dt: None,
+        }
+    }
+}
+
+/// Band-limited white noise on the measured displacement, Simulink style (model.md §4):
+/// independent Gaussian samples every `sample_time` seconds with variance `power / sample_time`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct NoiseSettings {
+    /// Noise power `P` (m^2 s), `>= 0`.
+    pub power: f64,
+    /// Sample time `Ts` (s), `> 0`.
+    pub sample_time: f64,
+}
+
+/// How a run ended. Stored as a column; a failed run never stops a sweep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outcome {
+    /// Every requested observable is known.
+    Ok,
+    /// Fewer than two positive half-cycle maxima before the horizon: `x2`, `t2`, `di` are NaN.
+    NoSecondPeak,
+    /// At least two maxima but fewer than `peaks` asked.
+    FewPeaks,
+    /// The impact cap was reached first.
+    EventCap,
+    /// The solver step cap was reached first.
+    StepCap,
+    /// The state left the finite numbers (a solver diverged).
+    NonFinite,
+}
+
+impl Outcome {
+    pub const ALL: [Outcome; 6] = [
+        Outcome::Ok,
+        Outcome::NoSecondPeak,
+        Outcome::FewPeaks,
+        Outcome::EventCap,
+        Outcome::StepCap,
+        Outcome::NonFinite,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Outcome::Ok => "ok",
+            Outcome::NoSecondPeak => "no_second_peak",
+            Outcome::FewPeaks => "few_peaks",
+            Outcome::EventCap => "event_cap",
+            Outcome::StepCap => "step_cap",
+            Outcome::NonFinite => "non_finite",
+        }
+    }
+}
+
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A wall of the cavity: `Right` is `y - x = +d/2`, `Left` is `y - x = -d/2`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Wall {
+    Left,
+    Right,
+}
+
+impl Wall {
+    /// `+1` for the right wall, `-1` for the left.
+    #[inline]
+    pub fn sign(self) -> f64 {
+        match self {
+            Wall::Right => 1.0,
+            Wall::Left => -1.0,
+        }
+    }
+}
+
+/// Positions and velocities of both masses (m, m/s).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct State {
+    pub x: f64,
+    pub v: f64,
+    pub y: f64,
+    pub w: f64,
+}
+
+/// The result of one run. Times in s, displacements in m, energies in J.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Record {
+    pub outcome: Outcome,
+    /// Positive half-cycle maxima `(X_k, t_k)`, at most `peaks` of them.
+    pub peaks: Vec<(f64, f64)>,
+    pub x1: f64,
+    pub t1: f64,
+    pub x2: f64,
+    pub t2: f64,
+    /// Largest of the computed half-cycle maxima.
+    pub xmax: f64,
+    /// Damping inclination `(X1 - X2) / (t2 - t1)` (m/s).
+    pub di: f64,
+    /// Impacts up to `t_stop` (a chatter sequence ended by sticking counts its impacts).
+    pub impacts: u64,
+    /// Sticking phases entered.
+    pub sticks: u64,
+    /// Energy dissipated by impacts (J).
+    pub energy_impact: f64,
+    /// Energy dissipated by the viscous damper (J).
+    pub energy_viscous: f64,
+    /// Time the run stopped (s).
+    pub t_stop: f64,
+    /// Solver steps taken (root-finding iterations of `exact`, integration steps otherwise).
+    pub steps: u64,
+}
+
+/// The impact law (eq. 3–4): velocities just after an impact from those just before.
+/// Conserves momentum `M v + m w` exactly up to rounding and reverses the relative velocity
+/// scaled by `e`.
+#[inline]
+#[allow(non_snake_case)]
+pub fn impact(M: f64, m: f64, e: f64, v: f64, w: f64) -> (f64, f64) {
+    let total = M + m;
+    let va = ((M - m * e) * v + m * (1.0 + e) * w) / total;
+    let wa = (M * (1.0 + e) * v + (m - M * e) * w) / total;
+    (va, wa)
+}
+
+/// Observer of a run's events, for traces and tests. Every method defaults to doing nothing, so
+/// a sweep pays nothing for it.
+pub trait Probe {
+    /// An impact at `t` on `wall`; states just before and after.
+    fn impact(&mut self, _t: f64, _wall: Wall, _before: &State, _after: &State) {}
+    /// A sticking phase begins at `t` on `wall` (after the plastic closing of a chatter).
+    fn stick(&mut self, _t: f64, _wall: Wall, _state: &State) {}
+    /// The inner mass leaves `wall` at `t`.
+    fn separate(&mut self, _t: f64, _wall: Wall, _state: &State) {}
+    /// A trace sample (only with [`Request::trace_dt`]).
+    fn sample(&mut self, _t: f64, _state: &State) {}
+    /// Any event, with the total mechanical energy after it (J).
+    fn energy(&mut self, _t: f64, _energy: f64) {}
+}
+
+/// A probe that observes nothing.
+pub struct NoProbe;
+impl Probe for NoProbe {}
