@@ -35,6 +35,171 @@ pub enum Command {
     /// Simulate one system (Table I with e = 0.9 unless --set says otherwise).
     #[command(after_help = SIMULATE_HELP)]
     Simulate(SimulateCmd),
+    /// Validate a study and print its size, output location, time and disk estimate.
+    Plan(PlanCmd),
+    /// Run one or more studies: every design point and case, streamed to Parquet.
+    Run(RunCmd),
+    /// Run every study file in a directory in name order; finished ones are skipped.
+    Queue(QueueCmd),
+    /// Report per shard what a run directory holds and what is missing.
+    Status(StatusCmd),
+    /// Turn a run directory into reliability, zones, a ranking, a report and charts.
+    Reduce(ReduceCmd),
+    /// Draw charts that need their own simulations (waveforms).
+    #[command(subcommand)]
+    Plot(PlotCmd),
+    /// Measure every solver's cost and error against `exact` on a reference set of runs.
+    Tradeoff(TradeoffCmd),
+    /// Submit a study to Slurm as a job array plus a dependent reduce job.
+    Slurm(SlurmCmd),
+}
+
+#[derive(Args, Debug)]
+pub struct PlanCmd {
+    /// The study file.
+    pub study: PathBuf,
+    /// Output root: the dataset would go to OUT/<study name>/.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Accept a grid beyond the size guard.
+    #[arg(long)]
+    pub allow_large: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct RunCmd {
+    /// Study files, run one after another.
+    #[arg(required = true)]
+    pub studies: Vec<PathBuf>,
+    /// Output root: each study writes OUT/<study name>/.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Run only shard I of N (0-based): the chunks k with k % N == I.
+    #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+    pub shard: Option<(u64, u64)>,
+    /// Continue an interrupted run: finished chunks are kept, the rest is run.
+    #[arg(long)]
+    pub resume: bool,
+    /// No progress bar and no summary line.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Accept a grid beyond the size guard.
+    #[arg(long)]
+    pub allow_large: bool,
+    /// Design points per Parquet part file (overrides [run].chunk_points).
+    #[arg(long)]
+    pub chunk_points: Option<u64>,
+    /// Re-run K points with `exact` at tight tolerance and record the realised error
+    /// (overrides [run].audit; 0 disables).
+    #[arg(long, value_name = "K")]
+    pub audit: Option<u64>,
+}
+
+/// Parses `I/N` with `0 <= I < N`.
+fn parse_shard(s: &str) -> Result<(u64, u64), String> {
+    let err = || format!("'{s}': expected I/N with whole numbers 0 <= I < N, e.g. 0/4");
+    let (i, n) = s.split_once('/').ok_or_else(err)?;
+    let i: u64 = i.trim().parse().map_err(|_| err())?;
+    let n: u64 = n.trim().parse().map_err(|_| err())?;
+    if n == 0 || i >= n {
+        return Err(err());
+    }
+    Ok((i, n))
+}
+
+#[derive(Args, Debug)]
+pub struct QueueCmd {
+    /// Directory of study files (*.toml), run in name order.
+    pub dir: PathBuf,
+    /// Output root.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// No progress bars.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct StatusCmd {
+    /// A run directory (OUT/<study name>).
+    pub dir: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct ReduceCmd {
+    /// A run directory (OUT/<study name>), finished or partly finished.
+    pub dir: PathBuf,
+    /// Use the paper's small-C_n safety factor instead of Shigley's exact relation.
+    #[arg(long)]
+    pub paper_safety: bool,
+    /// DI as the mean over the cases instead of the ideal case.
+    #[arg(long)]
+    pub di_mean: bool,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum PlotCmd {
+    /// Main-mass displacement with and without the damper, and for two values of e with the
+    /// first peak magnified (the paper's Figures 2 and 5).
+    Waveform(WaveformCmd),
+}
+
+#[derive(Args, Debug)]
+pub struct WaveformCmd {
+    /// Set a system key, as for `simulate`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    /// Output directory for the SVG and PNG files.
+    #[arg(long, default_value = "out/waveform")]
+    pub out: PathBuf,
+    /// The two coefficients of restitution to compare.
+    #[arg(long, num_args = 2, default_values_t = [0.45, 0.9])]
+    pub e: Vec<f64>,
+    /// Simulated time (s).
+    #[arg(long = "t-end", default_value_t = 0.5)]
+    pub t_end: f64,
+}
+
+#[derive(Args, Debug)]
+pub struct TradeoffCmd {
+    /// Reference runs: this study's design points (default: the paper system, e in [0.45, 0.95]).
+    pub study: Option<PathBuf>,
+    /// Where tradeoff.parquet and the chart go.
+    #[arg(long, default_value = "out/tradeoff")]
+    pub out: PathBuf,
+    /// A shorter knob ladder and fewer repetitions.
+    #[arg(long)]
+    pub quick: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct SlurmCmd {
+    /// The study file.
+    pub study: PathBuf,
+    /// Array tasks (shards).
+    #[arg(long)]
+    pub tasks: u64,
+    /// Output root (must be visible to the compute nodes).
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Slurm partition.
+    #[arg(long)]
+    pub partition: Option<String>,
+    /// Time limit per task, in Slurm's format (e.g. 02:00:00).
+    #[arg(long)]
+    pub time: Option<String>,
+    /// CPUs per task (each task runs that many threads).
+    #[arg(long)]
+    pub cpus_per_task: Option<u32>,
+    /// Print the sbatch script instead of submitting it.
+    #[arg(long)]
+    pub dry_run: bool,
 }
 
 const SIMULATE_HELP: &str = "\
@@ -83,6 +248,56 @@ pub fn main() -> anyhow::Result<()> {
             trace: c.trace,
             dt: Some(c.dt),
             t_end: c.t_end,
+        }),
+        Command::Plan(c) => app::sweep::plan(&app::sweep::PlanArgs {
+            study: c.study,
+            out: c.out,
+            allow_large: c.allow_large,
+        }),
+        Command::Run(c) => app::sweep::run(&app::sweep::RunArgs {
+            studies: c.studies,
+            out: c.out,
+            threads: c.threads,
+            shard: c.shard,
+            resume: c.resume,
+            quiet: c.quiet,
+            allow_large: c.allow_large,
+            chunk_points: c.chunk_points,
+            audit: c.audit,
+        }),
+        Command::Queue(c) => app::sweep::queue(&app::sweep::QueueArgs {
+            dir: c.dir,
+            out: c.out,
+            threads: c.threads,
+            quiet: c.quiet,
+        }),
+        Command::Status(c) => app::sweep::status(&app::sweep::StatusArgs { dir: c.dir }),
+        Command::Reduce(c) => app::reduce::reduce(&app::reduce::ReduceArgs {
+            dir: c.dir,
+            paper_safety: c.paper_safety,
+            di_mean: c.di_mean,
+        }),
+        Command::Plot(PlotCmd::Waveform(c)) => {
+            app::reduce::waveform(&app::reduce::WaveformArgs {
+                sets: c.sets,
+                out: c.out,
+                e: c.e,
+                t_end: c.t_end,
+            })
+        }
+        Command::Tradeoff(c) => app::tradeoff::tradeoff(&app::tradeoff::TradeoffArgs {
+            study: c.study,
+            out: c.out,
+            quick: c.quick,
+        }),
+        Command::Slurm(c) => app::slurm::slurm(&app::slurm::SlurmArgs {
+            study: c.study,
+            tasks: c.tasks,
+            out: c.out,
+            partition: c.partition,
+            time: c.time,
+            cpus_per_task: c.cpus_per_task,
+            dry_run: c.dry_run,
         }),
     }
 }

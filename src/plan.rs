@@ -1,0 +1,108 @@
+//! Plan: a [`Study`] expanded into design points, runs and chunks, each with its identity and
+//! seed. Pure and cheap: nothing is materialised, every run is computed from its index.
+//!
+//! CONTRACT (shared by the sweep engine, the store and the reducer):
+//! * design point `p` in `0..n_points`: mixed-radix index over the axes, last axis fastest;
+//! * run `(p, c)` with case `c` in `0..n_cases`; its stable `point_id = p * n_cases + c`;
+//! * chunk `k` holds design points `k * chunk_points .. min((k + 1) * chunk_points, n_points)`
+//!   and all their cases, in `point_id` order; shard `i/N` takes the chunks with `k % N == i`;
+//! * the noise stream of a run is `NoiseStream::new(study.seed, noise_seed, p)`: cases sharing
+//!   a noise seed at one design point share their noise (as the paper's Table II rows do).
+
+use crate::model::System;
+use crate::sim::noise::NoiseStream;
+use crate::study::{Case, Study};
+
+/// One run to simulate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunSpec {
+    /// `point * n_cases + case`.
+    pub point_id: u64,
+    /// Design point index.
+    pub point: u64,
+    /// Case index into `Study::cases`.
+    pub case: u32,
+    /// The system of this run: the design point's axis values over the base, then `dm`, `dd`.
+    pub system: System,
+    /// The case (`dm`, `dd`, `noise_seed`, `ideal`).
+    pub spec: Case,
+}
+
+/// The expansion of a study.
+#[derive(Clone, Debug)]
+pub struct Plan<'a> {
+    pub study: &'a Study,
+}
+
+impl<'a> Plan<'a> {
+    pub fn new(study: &'a Study) -> Self {
+        Plan { study }
+    }
+
+    pub fn n_points(&self) -> u64 {
+        self.study.n_points()
+    }
+
+    pub fn n_cases(&self) -> u64 {
+        self.study.cases.len() as u64
+    }
+
+    pub fn n_runs(&self) -> u64 {
+        self.n_points() * self.n_cases()
+    }
+
+    pub fn n_chunks(&self) -> u64 {
+        self.n_points().div_ceil(self.study.run.chunk_points.max(1))
+    }
+
+    /// The axis values of design point `p` (one per axis, in axis order).
+    pub fn point_values(&self, p: u64) -> Vec<f64> {
+        let mut rest = p;
+        let mut vals = vec![0.0; self.study.axes.len()];
+        for (i, axis) in self.study.axes.iter().enumerate().rev() {
+            let n = axis.values.len() as u64;
+            vals[i] = axis.values[(rest % n) as usize];
+            rest /= n;
+        }
+        vals
+    }
+
+    /// The system of design point `p` (no perturbation).
+    pub fn point_system(&self, p: u64) -> System {
+        let mut sys = self.study.system;
+        for (axis, v) in self.study.axes.iter().zip(self.point_values(p)) {
+            sys.set(&axis.key, v);
+        }
+        sys
+    }
+
+    /// Run `(p, c)`.
+    pub fn run(&self, p: u64, c: u32) -> RunSpec {
+        let spec = self.study.cases[c as usize];
+        let mut system = self.point_system(p);
+        system.m += spec.dm;
+        system.d += spec.dd;
+        RunSpec {
+            point_id: p * self.n_cases() + u64::from(c),
+            point: p,
+            case: c,
+            system,
+            spec,
+        }
+    }
+
+    /// The noise stream of a run, `None` when the run has no noise.
+    pub fn noise_stream(&self, run: &RunSpec) -> Option<NoiseStream> {
+        match (self.study.noise, run.spec.noise_seed) {
+            (Some(_), Some(seed)) => Some(NoiseStream::new(self.study.seed, seed, run.point)),
+            _ => None,
+        }
+    }
+
+    /// Design points of chunk `k`.
+    pub fn chunk_points(&self, k: u64) -> std::ops::Range<u64> {
+        let per = self.study.run.chunk_points.max(1);
+        let start = (k * per).min(self.n_points());
+        start..((k + 1) * per).min(self.n_points())
+    }
+}

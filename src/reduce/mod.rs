@@ -1,0 +1,2 @@
+//! Reduce: per design point statistics, reliability, safety factor, zones and ranking
+//! (model.md §5–6). STUB: owned by the reducer work.

@@ -1,0 +1,2 @@
+//! Report: markdown tables and charts (the only module that knows plotters).
+//! STUB: owned by the reducer work.
