@@ -1,2 +1,3 @@
 //! Reduce: per design point statistics, reliability, safety factor, zones and ranking
-//! (model.md §5–6). STUB: owned by the reducer work.
+//! (model.md §5–6).
+pub mod stats;
