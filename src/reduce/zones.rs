@@ -1,0 +1,413 @@
+//! Zones found from the data (model.md §6), or declared in the study.
+//!
+//! 1. **Jumps.** Along each swept axis, the first differences of `xmax` and of `DI`
+//!    between neighbouring design points (every line of the grid along that axis, pooled) are
+//!    compared with their median and their median absolute deviation: the robust z-score is
+//!    `|Δ - median(Δ)| / (1.4826 MAD(Δ))`, and `z > jump_k` (`[zones].jump_k`, default 6) is a
+//!    jump. 1.4826 MAD estimates the SD of normal differences; a smooth curve has differences
+//!    that drift slowly, so they stay within a few MADs of their median, while a jump stands out
+//!    however large the smooth drift is. The scale is floored at `1e-3 median(|Δ|)` so that
+//!    exactly linear data (MAD = 0) does not turn rounding into jumps. `xmax` is the ideal
+//!    case's (noise-free, unperturbed: the design's own behaviour, which noise would blur) when
+//!    every point has one, else the mean over the cases; DI is the point's DI.
+//! 2. **Labels.** Every design point gets one label:
+//!    * `unreliable around a jump` — it is on either side of a jump: a small error in the design
+//!      variable changes the behaviour abruptly (the paper's zone II);
+//!    * `strong damping, reliable` — `R >= r_min` and `DI >= di_strong` (the paper's zone I);
+//!    * `reliable, weak damping` — `R >= r_min`, `DI < di_strong` (zone III);
+//!    * `unreliable, strong damping` / `unreliable, weak damping` — `R < r_min`;
+//!    * `no data` — R or DI unknown (no ok run, or no ok ideal run).
+//!
+//!    `r_min` is `[zones].r_min` (default 0.98), `di_strong` is `[zones].di_strong` (default: the
+//!    median DI of the sweep, so "strong" means "better than half of the designs").
+//! 3. **Zones.** With one swept axis, contiguous runs of one label are the zones, named I, II,
+//!    … along the axis; a run shorter than [`MIN_ZONE_POINTS`] points that is not around a jump
+//!    is merged into its longer neighbour (one stray point does not make a zone). With two or
+//!    more axes, the points of one label form one region of the map (its ranges are the
+//!    bounding box). Each zone gets its mean R, mean DI and the perfectibility of eq. 11 applied
+//!    to those means, normalised by the best zone means (as in the paper's Table III).
+//! 4. **Declared zones** (`[zones].declared`) replace steps 2–3: a point belongs to the first
+//!    declared zone whose range on its axis holds the point's value. Jumps are still reported.
+
+use super::PointStats;
+use super::stats::{mad, median, perfectibility};
+use crate::study::{Ranking, Zones};
+
+/// Zones shorter than this (in design points, along one axis) are merged into a neighbour
+/// unless they sit around a jump.
+pub const MIN_ZONE_POINTS: usize = 3;
+
+pub const LABEL_JUMP: &str = "unreliable around a jump";
+pub const LABEL_STRONG: &str = "strong damping, reliable";
+pub const LABEL_WEAK: &str = "reliable, weak damping";
+pub const LABEL_UNREL_STRONG: &str = "unreliable, strong damping";
+pub const LABEL_UNREL_WEAK: &str = "unreliable, weak damping";
+pub const LABEL_NO_DATA: &str = "no data";
+
+/// Every automatic label, in the order regions are listed with two or more axes.
+pub const LABELS: [&str; 6] = [
+    LABEL_STRONG,
+    LABEL_JUMP,
+    LABEL_WEAK,
+    LABEL_UNREL_STRONG,
+    LABEL_UNREL_WEAK,
+    LABEL_NO_DATA,
+];
+
+/// A jump between two neighbouring design points along one axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Jump {
+    pub axis: String,
+    /// `xmax` or `di`.
+    pub quantity: &'static str,
+    /// The axis values on either side.
+    pub from: f64,
+    pub to: f64,
+    /// The two design points.
+    pub points: (u64, u64),
+    /// The difference (m or m/s) and its robust z-score.
+    pub delta: f64,
+    pub z: f64,
+}
+
+/// A zone: a contiguous range of the axis (one axis) or a region of the map (two or more).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Zone {
+    /// "I", "II", … or the declared name.
+    pub name: String,
+    /// What the zone is good for (one of [`LABELS`]), or "declared".
+    pub label: String,
+    pub declared: bool,
+    /// Per axis: key, smallest and largest value of the zone's points.
+    pub ranges: Vec<(String, f64, f64)>,
+    pub n_points: usize,
+    /// Means over the zone's points with known R and DI.
+    pub mean_r: f64,
+    pub mean_di: f64,
+    /// Eq. 11 on the zone means, normalised by the best zone means (%).
+    pub perfectibility: f64,
+}
+
+/// What [`find`] returns.
+#[derive(Clone, Debug)]
+pub struct Found {
+    pub zones: Vec<Zone>,
+    pub jumps: Vec<Jump>,
+    pub di_strong: f64,
+}
+
+/// Roman numeral of `n >= 1`.
+pub fn roman(mut n: usize) -> String {
+    const T: [(usize, &str); 13] = [
+        (1000, "M"),
+        (900, "CM"),
+        (500, "D"),
+        (400, "CD"),
+        (100, "C"),
+        (90, "XC"),
+        (50, "L"),
+        (40, "XL"),
+        (10, "X"),
+        (9, "IX"),
+        (5, "V"),
+        (4, "IV"),
+        (1, "I"),
+    ];
+    let mut s = String::new();
+    for (v, r) in T {
+        while n >= v {
+            s.push_str(r);
+            n -= v;
+        }
+    }
+    s
+}
+
+/// Robust z-scores of differences: `|Δ - median| / max(1.4826 MAD, 1e-3 median|Δ|)`.
+pub fn robust_z(diffs: &[f64]) -> Vec<f64> {
+    if diffs.is_empty() {
+        return Vec::new();
+    }
+    let med = median(diffs);
+    let abs: Vec<f64> = diffs.iter().map(|d| d.abs()).collect();
+    let scale = (1.4826 * mad(diffs))
+        .max(1e-3 * median(&abs))
+        .max(f64::MIN_POSITIVE);
+    diffs.iter().map(|d| (d - med).abs() / scale).collect()
+}
+
+/// Finds jumps along every axis; `points` must be sorted by point index.
+pub fn jumps(axes: &[(String, Vec<f64>)], points: &[PointStats], jump_k: f64) -> Vec<Jump> {
+    let n_total: usize = axes.iter().map(|a| a.1.len()).product();
+    let mut at = vec![usize::MAX; n_total];
+    for (i, p) in points.iter().enumerate() {
+        if (p.point as usize) < n_total {
+            at[p.point as usize] = i;
+        }
+    }
+    let mut out = Vec::new();
+    let ideal = points.iter().all(|p| p.xmax_ideal.is_finite());
+    for (a, (key, values)) in axes.iter().enumerate() {
+        // Stride of axis `a` in the point index (last axis fastest).
+        let stride: usize = axes[a + 1..].iter().map(|x| x.1.len()).product();
+        let len = values.len();
+        for quantity in ["xmax", "di"] {
+            let get = |p: &PointStats| match (quantity, ideal) {
+                ("xmax", true) => p.xmax_ideal,
+                ("xmax", false) => p.xmax_mean,
+                _ => p.di,
+            };
+            let mut pairs = Vec::new();
+            let mut diffs = Vec::new();
+            for base in 0..n_total {
+                // `base` starts a line when its index along `a` is 0.
+                if (base / stride) % len != 0 {
+                    continue;
+                }
+                for i in 0..len.saturating_sub(1) {
+                    let (u, v) = (base + i * stride, base + (i + 1) * stride);
+                    let (iu, iv) = (at[u], at[v]);
+                    if iu == usize::MAX || iv == usize::MAX {
+                        continue;
+                    }
+                    let d = get(&points[iv]) - get(&points[iu]);
+                    if d.is_finite() {
+                        pairs.push((iu, iv, i));
+                        diffs.push(d);
+                    }
+                }
+            }
+            for ((&(iu, iv, i), &d), z) in pairs.iter().zip(&diffs).zip(robust_z(&diffs)) {
+                if z > jump_k {
+                    out.push(Jump {
+                        axis: key.clone(),
+                        quantity,
+                        from: values[i],
+                        to: values[i + 1],
+                        points: (points[iu].point, points[iv].point),
+                        delta: d,
+                        z,
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The automatic label of a point.
+pub fn label(p: &PointStats, near_jump: bool, r_min: f64, di_strong: f64) -> &'static str {
+    if !(p.reliability.is_finite() && p.di.is_finite()) {
+        LABEL_NO_DATA
+    } else if near_jump {
+        LABEL_JUMP
+    } else if p.reliability >= r_min {
+        if p.di >= di_strong {
+            LABEL_STRONG
+        } else {
+            LABEL_WEAK
+        }
+    } else if p.di >= di_strong {
+        LABEL_UNREL_STRONG
+    } else {
+        LABEL_UNREL_WEAK
+    }
+}
+
+/// Labels the points, cuts the zones and fills `points[i].zone`; `points` sorted by index.
+pub fn find(
+    axes: &[(String, Vec<f64>)],
+    points: &mut [PointStats],
+    cfg: &Zones,
+    ranking: &Ranking,
+) -> Found {
+    let jumps = jumps(axes, points, cfg.jump_k);
+    let dis: Vec<f64> = points
+        .iter()
+        .map(|p| p.di)
+        .filter(|d| d.is_finite())
+        .collect();
+    let di_strong = cfg.di_strong.unwrap_or_else(|| median(&dis));
+    let mut members: Vec<(String, String, bool, Vec<usize>)> = Vec::new(); // name, label, declared, points
+    if !cfg.declared.is_empty() {
+        let mut lists: Vec<Vec<usize>> = vec![Vec::new(); cfg.declared.len()];
+        for (i, p) in points.iter().enumerate() {
+            let hit = cfg.declared.iter().position(|z| {
+                axes.iter()
+                    .position(|a| a.0 == z.axis)
+                    .is_some_and(|a| {
+                        let v = p.values[a];
+                        let tol = 1e-9 * (z.to - z.from).abs().max(f64::MIN_POSITIVE);
+                        v >= z.from.min(z.to) - tol && v <= z.from.max(z.to) + tol
+                    })
+            });
+            if let Some(k) = hit {
+                lists[k].push(i);
+            }
+        }
+        for (z, list) in cfg.declared.iter().zip(lists) {
+            members.push((z.name.clone(), "declared".into(), true, list));
+        }
+    } else {
+        let mut near = vec![false; points.len()];
+        let index: std::collections::HashMap<u64, usize> =
+            points.iter().enumerate().map(|(i, p)| (p.point, i)).collect();
+        for j in &jumps {
+            for p in [j.points.0, j.points.1] {
+                if let Some(&i) = index.get(&p) {
+                    near[i] = true;
+                }
+            }
+        }
+        let labels: Vec<&str> = points
+            .iter()
+            .zip(&near)
+            .map(|(p, &nj)| label(p, nj, cfg.r_min, di_strong))
+            .collect();
+        if axes.len() == 1 {
+            for run in merge_short(runs(&labels)) {
+                let name = roman(members.len() + 1);
+                members.push((name, run.0.to_string(), false, run.1));
+            }
+        } else {
+            for l in LABELS {
+                let list: Vec<usize> = (0..points.len()).filter(|&i| labels[i] == l).collect();
+                if !list.is_empty() {
+                    let name = roman(members.len() + 1);
+                    members.push((name, l.to_string(), false, list));
+                }
+            }
+        }
+    }
+    let mut zones: Vec<Zone> = members
+        .into_iter()
+        .map(|(name, label, declared, list)| {
+            for &i in &list {
+                points[i].zone = name.clone();
+            }
+            zone_of(axes, points, name, label, declared, &list)
+        })
+        .collect();
+    let r_max = zones
+        .iter()
+        .map(|z| z.mean_r)
+        .filter(|v| v.is_finite())
+        .fold(f64::NAN, f64::max);
+    let di_max = zones
+        .iter()
+        .map(|z| z.mean_di)
+        .filter(|v| v.is_finite())
+        .fold(f64::NAN, f64::max);
+    for z in &mut zones {
+        z.perfectibility = perfectibility(
+            z.mean_r,
+            z.mean_di,
+            r_max,
+            di_max,
+            ranking.wf1,
+            ranking.wf2,
+        );
+    }
+    Found {
+        zones,
+        jumps,
+        di_strong,
+    }
+}
+
+/// Contiguous runs of equal labels: (label, point positions).
+fn runs<'l>(labels: &[&'l str]) -> Vec<(&'l str, Vec<usize>)> {
+    let mut out: Vec<(&str, Vec<usize>)> = Vec::new();
+    for (i, &l) in labels.iter().enumerate() {
+        match out.last_mut() {
+            Some((last, list)) if *last == l => list.push(i),
+            _ => out.push((l, vec![i])),
+        }
+    }
+    out
+}
+
+/// Merges runs shorter than [`MIN_ZONE_POINTS`] (except jump runs) into their longer
+/// neighbour that is not around a jump, shortest first, then joins neighbours that ended up with
+/// the same label. A short run between jumps or at an end next to a jump stays.
+fn merge_short(mut runs: Vec<(&str, Vec<usize>)>) -> Vec<(&str, Vec<usize>)> {
+    let target = |runs: &[(&str, Vec<usize>)], i: usize| -> Option<usize> {
+        let ok = |j: usize| runs[j].0 != LABEL_JUMP;
+        let left = i.checked_sub(1).filter(|&j| ok(j));
+        let right = (i + 1 < runs.len()).then_some(i + 1).filter(|&j| ok(j));
+        match (left, right) {
+            (Some(l), Some(r)) => Some(if runs[r].1.len() > runs[l].1.len() { r } else { l }),
+            (l, r) => l.or(r),
+        }
+    };
+    loop {
+        let victim = runs
+            .iter()
+            .enumerate()
+            .filter(|(i, r)| {
+                r.0 != LABEL_JUMP && r.1.len() < MIN_ZONE_POINTS && target(&runs, *i).is_some()
+            })
+            .min_by_key(|(i, r)| (r.1.len(), *i))
+            .map(|(i, _)| i);
+        let Some(i) = victim else { break };
+        let Some(into) = target(&runs, i) else { break };
+        let (_, moved) = runs.remove(i);
+        let into = if into > i { into - 1 } else { into };
+        runs[into].1.extend(moved);
+        runs[into].1.sort_unstable();
+        // Join equal neighbours.
+        let mut joined: Vec<(&str, Vec<usize>)> = Vec::new();
+        for r in runs {
+            match joined.last_mut() {
+                Some(last) if last.0 == r.0 => last.1.extend(r.1),
+                _ => joined.push(r),
+            }
+        }
+        runs = joined;
+    }
+    runs
+}
+
+fn zone_of(
+    axes: &[(String, Vec<f64>)],
+    points: &[PointStats],
+    name: String,
+    label: String,
+    declared: bool,
+    list: &[usize],
+) -> Zone {
+    let ranges = axes
+        .iter()
+        .enumerate()
+        .map(|(a, (key, _))| {
+            let vals = list.iter().map(|&i| points[i].values[a]);
+            let lo = vals.clone().fold(f64::INFINITY, f64::min);
+            let hi = vals.fold(f64::NEG_INFINITY, f64::max);
+            (key.clone(), lo, hi)
+        })
+        .collect();
+    let known: Vec<&PointStats> = list
+        .iter()
+        .map(|&i| &points[i])
+        .filter(|p| p.reliability.is_finite() && p.di.is_finite())
+        .collect();
+    let nk = known.len() as f64;
+    let (mean_r, mean_di) = if known.is_empty() {
+        (f64::NAN, f64::NAN)
+    } else {
+        (
+            known.iter().map(|p| p.reliability).sum::<f64>() / nk,
+            known.iter().map(|p| p.di).sum::<f64>() / nk,
+        )
+    };
+    Zone {
+        name,
+        label,
+        declared,
+        ranges,
+        n_points: list.len(),
+        mean_r,
+        mean_di,
+        perfectibility: f64::NAN,
+    }
+}
