@@ -45,3 +45,33 @@ pub struct RunRow {
     /// The record; `peaks` holds at most `(x1, t1), (x2, t2)` when read back.
     pub record: Record,
 }
+
+// ---------------------------------------------------------------------------------------------
+// Reader. STUB in the `reducer` branch so that `reduce` compiles before the sweep engine lands:
+// the engine's branch implements `part_files` and `read_part` with these signatures. On merge,
+// keep the engine's versions and drop these.
+
+/// The part files of a run directory, `RUN_DIR/points/part-*.parquet`, in name (= chunk) order.
+pub fn part_files(run_dir: &std::path::Path) -> anyhow::Result<Vec<std::path::PathBuf>> {
+    let dir = run_dir.join("points");
+    let mut out = Vec::new();
+    let entries = std::fs::read_dir(&dir)
+        .map_err(|e| anyhow::anyhow!("{}: cannot list the part files: {e}", dir.display()))?;
+    for entry in entries {
+        let path = entry?.path();
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        if name.starts_with("part-") && name.ends_with(".parquet") {
+            out.push(path);
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
+/// Reads one part file back (STUB, see above).
+pub fn read_part(path: &std::path::Path) -> anyhow::Result<Vec<RunRow>> {
+    anyhow::bail!(
+        "{}: reading part files lands with the sweep engine",
+        path.display()
+    )
+}

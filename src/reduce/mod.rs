@@ -17,6 +17,7 @@
 
 pub mod rank;
 pub mod stats;
+pub mod table;
 pub mod zones;
 
 use rayon::prelude::*;
@@ -135,6 +136,8 @@ pub struct Summary {
     /// `3 E r / L^2`: stress per metre of `xmax` (Pa/m).
     pub stress_per_m: f64,
     pub options: Options,
+    /// Confidence level of the bootstrap interval of R.
+    pub confidence: f64,
     /// Best R and DI over the sweep (the eq. 11 denominators).
     pub r_max: f64,
     pub di_max: f64,
@@ -324,6 +327,7 @@ impl<'a> Reducer<'a> {
             strength: self.strength,
             stress_per_m: self.stress_per_m,
             options: self.options,
+            confidence: self.study.reliability.confidence,
             r_max,
             di_max,
         }
