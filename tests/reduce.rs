@@ -1,0 +1,252 @@
+//! The reducer end to end: statistics on synthetic and simulated runs, zones, flags, the
+//! output files (Parquet, CSV, report, charts) and the `plot waveform` command.
+
+use std::path::Path;
+
+use impactsweep::app::reduce::{WaveformArgs, waveform_files, write_outputs};
+use impactsweep::reduce::testing::{paper_study, row, simulate_chunks, study};
+use impactsweep::reduce::zones::LABEL_JUMP;
+use impactsweep::reduce::{Options, Summary, reduce};
+use impactsweep::sim::Outcome;
+use impactsweep::study::Study;
+
+fn run(study: &Study, chunks: Vec<Vec<impactsweep::store::RunRow>>) -> Summary {
+    reduce::<_, std::convert::Infallible>(study, Options::from_study(study), chunks.into_iter().map(Ok))
+        .unwrap()
+}
+
+/// The paper study with the strength this project recommends for it.
+fn paper() -> Study {
+    let mut s = paper_study();
+    s.reliability.strength_mean = 270e6;
+    s.reliability.strength_sd = 13.5e6;
+    s
+}
+
+/// 41 points along e, 5 cases each, xmax smooth (quadratic) with `jump` added from index 21 on.
+fn synthetic(jump: f64) -> (Study, Summary) {
+    let e: Vec<f64> = (0..41).map(|i| 0.5 + i as f64 * 0.01).collect();
+    let s = study(vec![("e", e.clone())], 5);
+    let mut rows = Vec::new();
+    for (p, &ev) in e.iter().enumerate() {
+        for c in 0..5u32 {
+            let smooth = 0.027 + 0.004 * (ev - 0.5) * (ev - 0.5) + 1e-5 * f64::from(c);
+            let x = smooth + if p >= 21 { jump } else { 0.0 };
+            let di = 0.04 - 0.03 * (ev - 0.5);
+            rows.push(row(&s, p as u64, c, Outcome::Ok, x, di));
+        }
+    }
+    let chunks: Vec<Vec<_>> = rows.chunks(5 * 7).map(|c| c.to_vec()).collect();
+    let sum = run(&s, chunks);
+    (s, sum)
+}
+
+#[test]
+fn planted_jump_is_found_at_the_right_place() {
+    let (_, sum) = synthetic(0.002);
+    let xj: Vec<_> = sum.jumps.iter().filter(|j| j.quantity == "xmax").collect();
+    assert_eq!(xj.len(), 1, "{:?}", sum.jumps);
+    assert!((xj[0].from - 0.70).abs() < 1e-9 && (xj[0].to - 0.71).abs() < 1e-9);
+    assert_eq!(xj[0].points, (20, 21));
+    let jz: Vec<_> = sum.zones.iter().filter(|z| z.label == LABEL_JUMP).collect();
+    assert_eq!(jz.len(), 1);
+    assert!((jz[0].ranges[0].1 - 0.70).abs() < 1e-9 && (jz[0].ranges[0].2 - 0.71).abs() < 1e-9);
+}
+
+#[test]
+fn smooth_data_has_no_jump() {
+    let (_, sum) = synthetic(0.0);
+    assert!(sum.jumps.is_empty(), "{:?}", sum.jumps);
+    assert!(sum.zones.iter().all(|z| z.label != LABEL_JUMP));
+}
+
+#[test]
+fn failed_outcomes_are_flagged_and_left_out() {
+    let s = study(vec![("e", vec![0.6, 0.7, 0.8])], 4);
+    let mut rows = Vec::new();
+    for p in 0..3u64 {
+        for c in 0..4u32 {
+            let bad = p == 1 && c == 2;
+            let (o, x) = if bad {
+                (Outcome::EventCap, 1.0) // a wild xmax that must not be averaged in
+            } else {
+                (Outcome::Ok, 0.028 + 1e-4 * f64::from(c))
+            };
+            rows.push(row(&s, p, c, o, x, 0.02));
+        }
+    }
+    let sum = run(&s, vec![rows]);
+    let p1 = &sum.points[1];
+    assert!(!p1.all_ok);
+    assert_eq!((p1.n_cases, p1.n_ok), (4, 3));
+    assert_eq!(p1.outcomes[3], 1, "event_cap counted");
+    assert!(p1.xmax_mean < 0.03, "the failed run was averaged in: {}", p1.xmax_mean);
+    assert!(sum.points[0].all_ok && sum.points[2].all_ok);
+    assert_eq!(sum.outcome_totals[0], 11);
+    assert_eq!(sum.outcome_totals[3], 1);
+    // The flag reaches the CSV and the report.
+    let dir = tempfile::tempdir().unwrap();
+    write_outputs(&s, &sum, dir.path(), None).unwrap();
+    let csv = std::fs::read_to_string(dir.path().join("summary.csv")).unwrap();
+    let line = csv.lines().nth(2).unwrap();
+    assert!(line.contains("false") && line.contains("event_cap:1"), "{line}");
+    let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    assert!(md.contains("1 design points have runs that did not end `ok`"), "{md}");
+}
+
+#[test]
+fn bootstrap_and_summary_are_deterministic_across_chunkings() {
+    let s = paper();
+    let chunks = simulate_chunks(&s);
+    let a = run(&s, chunks.clone());
+    // Same rows, one point per chunk, pushed in reverse order.
+    let mut single: Vec<Vec<_>> = chunks
+        .concat()
+        .chunk_by(|x, y| x.point == y.point)
+        .map(|c| c.to_vec())
+        .collect();
+    single.reverse();
+    let b = run(&s, single);
+    assert_eq!(a.points.len(), b.points.len());
+    for (x, y) in a.points.iter().zip(&b.points) {
+        assert_eq!(x.reliability_lo.to_bits(), y.reliability_lo.to_bits());
+        assert_eq!(x.reliability_hi.to_bits(), y.reliability_hi.to_bits());
+        assert_eq!(x.perfectibility.to_bits(), y.perfectibility.to_bits());
+        assert_eq!(x.zone, y.zone);
+    }
+}
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{} is not a PNG", path.display());
+    // IHDR is the first chunk: width and height big-endian at bytes 16..24.
+    let w = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+    let h = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+    (w, h)
+}
+
+#[test]
+fn paper_study_reduces_to_zones_report_and_charts() {
+    let s = paper();
+    let sum = run(&s, simulate_chunks(&s));
+    assert_eq!(sum.points.len(), 51);
+    assert!(sum.points.iter().all(|p| p.all_ok && p.n_ok == 12));
+    // Nominal design: e = 0.9 (the base system), 12 cases.
+    let (np, rows) = sum.nominal.as_ref().unwrap();
+    assert_eq!(*np, 45);
+    assert_eq!(rows.len(), 12);
+    // Ranks are a permutation of 1..=51; P of the best is the maximum.
+    let mut ranks: Vec<u64> = sum.points.iter().map(|p| p.rank.unwrap()).collect();
+    ranks.sort_unstable();
+    assert_eq!(ranks, (1..=51).collect::<Vec<_>>());
+    assert!(sum.points.iter().any(|p| p.pareto));
+    // Three or more zones along e, and a jump found between 0.73 and 0.85.
+    assert!(sum.zones.len() >= 3, "{:?}", sum.zones);
+    assert!(
+        sum.jumps.iter().any(|j| j.from >= 0.73 - 1e-9 && j.to <= 0.85 + 1e-9),
+        "{:?}",
+        sum.jumps
+    );
+    let out = std::env::var_os("IMPACTSWEEP_KEEP_CHARTS")
+        .map(std::path::PathBuf::from);
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = out.as_deref().unwrap_or(tmp.path());
+    write_outputs(&s, &sum, dir, None).unwrap();
+    for stem in ["di", "design_chart", "xmax_spread"] {
+        let svg = dir.join(format!("{stem}.svg"));
+        let png = dir.join(format!("{stem}.png"));
+        let svg_len = std::fs::metadata(&svg).unwrap().len();
+        let png_len = std::fs::metadata(&png).unwrap().len();
+        assert!(svg_len > 5_000, "{stem}.svg is {svg_len} bytes");
+        assert!(png_len > 20_000, "{stem}.png is {png_len} bytes");
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert!(text.starts_with("<svg") && text.contains("</svg>"));
+    }
+    assert_eq!(png_size(&dir.join("design_chart.png")), (1000, 620));
+    assert_eq!(png_size(&dir.join("di.png")), (900, 560));
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    for needle in ["## Zones (Table III)", "## Top 10", "## Pareto set", "Table II", "The largest jump"] {
+        assert!(md.contains(needle), "report lacks {needle}");
+    }
+    // Parquet files start and end with the magic.
+    for f in ["summary.parquet", "zones.parquet"] {
+        let b = std::fs::read(dir.join(f)).unwrap();
+        assert!(b.starts_with(b"PAR1") && b.ends_with(b"PAR1"), "{f}");
+    }
+    // The outputs are deterministic: a second write gives the same bytes.
+    let again = tempfile::tempdir().unwrap();
+    write_outputs(&s, &sum, again.path(), None).unwrap();
+    for f in ["summary.parquet", "summary.csv", "zones.parquet", "report.md", "design_chart.svg", "design_chart.png"] {
+        assert_eq!(
+            std::fs::read(dir.join(f)).unwrap(),
+            std::fs::read(again.path().join(f)).unwrap(),
+            "{f} differs between two writes"
+        );
+    }
+}
+
+#[test]
+fn two_axes_give_a_map() {
+    let mut s = paper();
+    s.axes = vec![
+        impactsweep::study::Axis {
+            key: "m".into(),
+            values: vec![0.015, 0.02, 0.025],
+        },
+        impactsweep::study::Axis {
+            key: "e".into(),
+            values: (0..8).map(|i| 0.5 + 0.05 * i as f64).collect(),
+        },
+    ];
+    let sum = run(&s, simulate_chunks(&s));
+    assert_eq!(sum.points.len(), 24);
+    assert!(sum.points.iter().all(|p| !p.zone.is_empty()));
+    let dir = tempfile::tempdir().unwrap();
+    let files = write_outputs(&s, &sum, dir.path(), None).unwrap();
+    for stem in ["perfectibility_map", "zone_map"] {
+        assert!(files.iter().any(|f| f.ends_with(format!("{stem}.png"))), "{stem}");
+        assert!(std::fs::metadata(dir.path().join(format!("{stem}.png"))).unwrap().len() > 10_000);
+    }
+}
+
+#[test]
+fn declared_zones_override() {
+    let mut s = paper();
+    s.zones.declared = vec![
+        impactsweep::study::DeclaredZone { name: "I".into(), axis: "e".into(), from: 0.45, to: 0.70 },
+        impactsweep::study::DeclaredZone { name: "II".into(), axis: "e".into(), from: 0.70, to: 0.77 },
+        impactsweep::study::DeclaredZone { name: "III".into(), axis: "e".into(), from: 0.77, to: 0.90 },
+    ];
+    let sum = run(&s, simulate_chunks(&s));
+    let names: Vec<&str> = sum.zones.iter().map(|z| z.name.as_str()).collect();
+    assert_eq!(names, ["I", "II", "III"]);
+    assert_eq!(sum.zones[0].n_points, 26); // 0.45..=0.70, 0.70 goes to the first zone
+    assert_eq!(sum.zones[1].n_points, 7); // 0.71..=0.77
+    assert_eq!(sum.zones[2].n_points, 13); // 0.78..=0.90
+    let best = sum.zones.iter().map(|z| z.perfectibility).fold(f64::MIN, f64::max);
+    assert!(best <= 100.0 + 1e-9);
+    assert!(sum.points.iter().filter(|p| p.values[0] > 0.905).all(|p| p.zone.is_empty()));
+}
+
+#[test]
+fn waveform_command_draws_both_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = waveform_files(&WaveformArgs {
+        sets: vec![],
+        out: dir.path().to_path_buf(),
+        e: vec![0.45, 0.9],
+        t_end: 0.3,
+    })
+    .unwrap();
+    assert_eq!(files.len(), 4);
+    assert_eq!(png_size(&dir.path().join("waveform_e.png")), (1000, 820));
+    assert_eq!(png_size(&dir.path().join("waveform_damper.png")), (1000, 520));
+    assert!(std::fs::metadata(dir.path().join("waveform_e.svg")).unwrap().len() > 20_000);
+    let bad = waveform_files(&WaveformArgs {
+        sets: vec![],
+        out: dir.path().to_path_buf(),
+        e: vec![0.45, 1.3],
+        t_end: 0.3,
+    });
+    assert!(format!("{:#}", bad.unwrap_err()).contains("e = 1.3"));
+}
