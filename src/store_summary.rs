@@ -11,8 +11,8 @@ use arrow::array::{ArrayRef, BooleanArray, Float64Array, StringArray, UInt64Arra
 use arrow::datatypes::{DataType, Field, Schema};
 use arrow::record_batch::RecordBatch;
 use parquet::arrow::ArrowWriter;
-use parquet::file::properties::WriterProperties;
 use parquet::file::metadata::KeyValue;
+use parquet::file::properties::WriterProperties;
 
 use crate::reduce::table::{Column, Table};
 

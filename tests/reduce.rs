@@ -11,8 +11,12 @@ use impactsweep::sim::Outcome;
 use impactsweep::study::Study;
 
 fn run(study: &Study, chunks: Vec<Vec<impactsweep::store::RunRow>>) -> Summary {
-    reduce::<_, std::convert::Infallible>(study, Options::from_study(study), chunks.into_iter().map(Ok))
-        .unwrap()
+    reduce::<_, std::convert::Infallible>(
+        study,
+        Options::from_study(study),
+        chunks.into_iter().map(Ok),
+    )
+    .unwrap()
 }
 
 /// The paper study with the strength this project recommends for it.
@@ -80,7 +84,11 @@ fn failed_outcomes_are_flagged_and_left_out() {
     assert!(!p1.all_ok);
     assert_eq!((p1.n_cases, p1.n_ok), (4, 3));
     assert_eq!(p1.outcomes[3], 1, "event_cap counted");
-    assert!(p1.xmax_mean < 0.03, "the failed run was averaged in: {}", p1.xmax_mean);
+    assert!(
+        p1.xmax_mean < 0.03,
+        "the failed run was averaged in: {}",
+        p1.xmax_mean
+    );
     assert!(sum.points[0].all_ok && sum.points[2].all_ok);
     assert_eq!(sum.outcome_totals[0], 11);
     assert_eq!(sum.outcome_totals[3], 1);
@@ -89,9 +97,15 @@ fn failed_outcomes_are_flagged_and_left_out() {
     write_outputs(&s, &sum, dir.path(), None).unwrap();
     let csv = std::fs::read_to_string(dir.path().join("summary.csv")).unwrap();
     let line = csv.lines().nth(2).unwrap();
-    assert!(line.contains("false") && line.contains("event_cap:1"), "{line}");
+    assert!(
+        line.contains("false") && line.contains("event_cap:1"),
+        "{line}"
+    );
     let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
-    assert!(md.contains("1 design points have runs that did not end `ok`"), "{md}");
+    assert!(
+        md.contains("1 design points have runs that did not end `ok`"),
+        "{md}"
+    );
 }
 
 #[test]
@@ -118,7 +132,12 @@ fn bootstrap_and_summary_are_deterministic_across_chunkings() {
 
 fn png_size(path: &Path) -> (u32, u32) {
     let bytes = std::fs::read(path).unwrap();
-    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{} is not a PNG", path.display());
+    assert_eq!(
+        &bytes[..8],
+        b"\x89PNG\r\n\x1a\n",
+        "{} is not a PNG",
+        path.display()
+    );
     // IHDR is the first chunk: width and height big-endian at bytes 16..24.
     let w = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
     let h = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
@@ -143,12 +162,13 @@ fn paper_study_reduces_to_zones_report_and_charts() {
     // Three or more zones along e, and a jump found between 0.73 and 0.85.
     assert!(sum.zones.len() >= 3, "{:?}", sum.zones);
     assert!(
-        sum.jumps.iter().any(|j| j.from >= 0.73 - 1e-9 && j.to <= 0.85 + 1e-9),
+        sum.jumps
+            .iter()
+            .any(|j| j.from >= 0.73 - 1e-9 && j.to <= 0.85 + 1e-9),
         "{:?}",
         sum.jumps
     );
-    let out = std::env::var_os("IMPACTSWEEP_KEEP_CHARTS")
-        .map(std::path::PathBuf::from);
+    let out = std::env::var_os("IMPACTSWEEP_KEEP_CHARTS").map(std::path::PathBuf::from);
     let tmp = tempfile::tempdir().unwrap();
     let dir = out.as_deref().unwrap_or(tmp.path());
     write_outputs(&s, &sum, dir, None).unwrap();
@@ -165,7 +185,13 @@ fn paper_study_reduces_to_zones_report_and_charts() {
     assert_eq!(png_size(&dir.join("design_chart.png")), (1000, 620));
     assert_eq!(png_size(&dir.join("di.png")), (900, 560));
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
-    for needle in ["## Zones (Table III)", "## Top 10", "## Pareto set", "Table II", "The largest jump"] {
+    for needle in [
+        "## Zones (Table III)",
+        "## Top 10",
+        "## Pareto set",
+        "Table II",
+        "The largest jump",
+    ] {
         assert!(md.contains(needle), "report lacks {needle}");
     }
     // Parquet files start and end with the magic.
@@ -176,7 +202,14 @@ fn paper_study_reduces_to_zones_report_and_charts() {
     // The outputs are deterministic: a second write gives the same bytes.
     let again = tempfile::tempdir().unwrap();
     write_outputs(&s, &sum, again.path(), None).unwrap();
-    for f in ["summary.parquet", "summary.csv", "zones.parquet", "report.md", "design_chart.svg", "design_chart.png"] {
+    for f in [
+        "summary.parquet",
+        "summary.csv",
+        "zones.parquet",
+        "report.md",
+        "design_chart.svg",
+        "design_chart.png",
+    ] {
         assert_eq!(
             std::fs::read(dir.join(f)).unwrap(),
             std::fs::read(again.path().join(f)).unwrap(),
@@ -204,8 +237,16 @@ fn two_axes_give_a_map() {
     let dir = tempfile::tempdir().unwrap();
     let files = write_outputs(&s, &sum, dir.path(), None).unwrap();
     for stem in ["perfectibility_map", "zone_map"] {
-        assert!(files.iter().any(|f| f.ends_with(format!("{stem}.png"))), "{stem}");
-        assert!(std::fs::metadata(dir.path().join(format!("{stem}.png"))).unwrap().len() > 10_000);
+        assert!(
+            files.iter().any(|f| f.ends_with(format!("{stem}.png"))),
+            "{stem}"
+        );
+        assert!(
+            std::fs::metadata(dir.path().join(format!("{stem}.png")))
+                .unwrap()
+                .len()
+                > 10_000
+        );
     }
 }
 
@@ -213,9 +254,24 @@ fn two_axes_give_a_map() {
 fn declared_zones_override() {
     let mut s = paper();
     s.zones.declared = vec![
-        impactsweep::study::DeclaredZone { name: "I".into(), axis: "e".into(), from: 0.45, to: 0.70 },
-        impactsweep::study::DeclaredZone { name: "II".into(), axis: "e".into(), from: 0.70, to: 0.77 },
-        impactsweep::study::DeclaredZone { name: "III".into(), axis: "e".into(), from: 0.77, to: 0.90 },
+        impactsweep::study::DeclaredZone {
+            name: "I".into(),
+            axis: "e".into(),
+            from: 0.45,
+            to: 0.70,
+        },
+        impactsweep::study::DeclaredZone {
+            name: "II".into(),
+            axis: "e".into(),
+            from: 0.70,
+            to: 0.77,
+        },
+        impactsweep::study::DeclaredZone {
+            name: "III".into(),
+            axis: "e".into(),
+            from: 0.77,
+            to: 0.90,
+        },
     ];
     let sum = run(&s, simulate_chunks(&s));
     let names: Vec<&str> = sum.zones.iter().map(|z| z.name.as_str()).collect();
@@ -223,9 +279,18 @@ fn declared_zones_override() {
     assert_eq!(sum.zones[0].n_points, 26); // 0.45..=0.70, 0.70 goes to the first zone
     assert_eq!(sum.zones[1].n_points, 7); // 0.71..=0.77
     assert_eq!(sum.zones[2].n_points, 13); // 0.78..=0.90
-    let best = sum.zones.iter().map(|z| z.perfectibility).fold(f64::MIN, f64::max);
+    let best = sum
+        .zones
+        .iter()
+        .map(|z| z.perfectibility)
+        .fold(f64::MIN, f64::max);
     assert!(best <= 100.0 + 1e-9);
-    assert!(sum.points.iter().filter(|p| p.values[0] > 0.905).all(|p| p.zone.is_empty()));
+    assert!(
+        sum.points
+            .iter()
+            .filter(|p| p.values[0] > 0.905)
+            .all(|p| p.zone.is_empty())
+    );
 }
 
 #[test]
@@ -240,8 +305,16 @@ fn waveform_command_draws_both_figures() {
     .unwrap();
     assert_eq!(files.len(), 4);
     assert_eq!(png_size(&dir.path().join("waveform_e.png")), (1000, 820));
-    assert_eq!(png_size(&dir.path().join("waveform_damper.png")), (1000, 520));
-    assert!(std::fs::metadata(dir.path().join("waveform_e.svg")).unwrap().len() > 20_000);
+    assert_eq!(
+        png_size(&dir.path().join("waveform_damper.png")),
+        (1000, 520)
+    );
+    assert!(
+        std::fs::metadata(dir.path().join("waveform_e.svg"))
+            .unwrap()
+            .len()
+            > 20_000
+    );
     let bad = waveform_files(&WaveformArgs {
         sets: vec![],
         out: dir.path().to_path_buf(),

@@ -56,9 +56,9 @@ pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
         );
     }
     let opts = options(&study, args);
-    let chunks = parts.iter().map(|p| {
-        crate::store::read_part(p).with_context(|| format!("reading {}", p.display()))
-    });
+    let chunks = parts
+        .iter()
+        .map(|p| crate::store::read_part(p).with_context(|| format!("reading {}", p.display())));
     let summary = reduce::reduce(&study, opts, chunks)?;
     let audit = read_audit(dir)?;
     let files = write_outputs(&study, &summary, dir, audit.as_ref())?;
@@ -199,7 +199,12 @@ pub fn waveform_files(args: &WaveformArgs) -> anyhow::Result<Vec<PathBuf>> {
         let (rec, rows) = trace(&s, dt / 4.0, Some(args.t_end));
         t1s.push(rec.t1);
         traces.push(charts::Trace {
-            name: format!("e = {}: X1 = {:.3} cm at {:.4} s", fmt(e), rec.x1 * 100.0, rec.t1),
+            name: format!(
+                "e = {}: X1 = {:.3} cm at {:.4} s",
+                fmt(e),
+                rec.x1 * 100.0,
+                rec.t1
+            ),
             points: xs(rows),
         });
     }

@@ -563,9 +563,20 @@ mod tests {
         for p in &sum.points {
             eprintln!(
                 "{:.2} n={} xm={:.4} sd={:.4} R={:.5} [{:.5},{:.5}] mu={:.3} ad_p={:.3} di={:.5} P={:.2} rank={:?} par={} zone={}",
-                p.values[0], p.n_ok, p.xmax_mean * 100.0, p.xmax_sd * 100.0, p.reliability,
-                p.reliability_lo, p.reliability_hi, p.safety_factor, p.ad_p, p.di,
-                p.perfectibility, p.rank, p.pareto, p.zone
+                p.values[0],
+                p.n_ok,
+                p.xmax_mean * 100.0,
+                p.xmax_sd * 100.0,
+                p.reliability,
+                p.reliability_lo,
+                p.reliability_hi,
+                p.safety_factor,
+                p.ad_p,
+                p.di,
+                p.perfectibility,
+                p.rank,
+                p.pareto,
+                p.zone
             );
         }
         for j in &sum.jumps {

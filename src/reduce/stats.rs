@@ -219,7 +219,7 @@ pub fn anderson_darling(xs: &[f64]) -> (f64, f64) {
         return (f64::NAN, f64::NAN);
     }
     let (mean, sd) = mean_sd(xs);
-    if !(sd > 0.0) || !sd.is_finite() {
+    if sd.is_nan() || sd <= 0.0 || !sd.is_finite() {
         return (f64::NAN, f64::NAN);
     }
     let mut v = xs.to_vec();
@@ -333,7 +333,9 @@ mod tests {
 
     #[test]
     fn bootstrap_is_deterministic_and_brackets_r() {
-        let xs: Vec<f64> = (0..12).map(|i| 2.6 + 0.01 * ((i * 7) % 12) as f64).collect();
+        let xs: Vec<f64> = (0..12)
+            .map(|i| 2.6 + 0.01 * ((i * 7) % 12) as f64)
+            .collect();
         let strength = LogNormal::from_mean_sd(2.9, 0.1);
         let (m, s) = mean_sd(&xs);
         let r = reliability(&strength, &LogNormal::from_mean_sd(m, s));
@@ -342,7 +344,10 @@ mod tests {
         let c = bootstrap_reliability(&xs, &strength, 2000, 0.95, 43);
         assert_eq!(a.0.to_bits(), b.0.to_bits());
         assert_eq!(a.1.to_bits(), b.1.to_bits());
-        assert_ne!((a.0.to_bits(), a.1.to_bits()), (c.0.to_bits(), c.1.to_bits()));
+        assert_ne!(
+            (a.0.to_bits(), a.1.to_bits()),
+            (c.0.to_bits(), c.1.to_bits())
+        );
         assert!(a.0 < r && r < a.1, "{a:?} vs {r}");
         assert!(a.1 - a.0 > 1e-4);
     }

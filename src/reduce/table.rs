@@ -87,13 +87,25 @@ pub fn summary_table(s: &Summary) -> Table {
     let p = &s.points;
     let f = |g: &dyn Fn(&super::PointStats) -> f64| Column::F64(p.iter().map(g).collect());
     let mut t = Table::default();
-    t.push("point", Column::U64(p.iter().map(|x| Some(x.point)).collect()));
+    t.push(
+        "point",
+        Column::U64(p.iter().map(|x| Some(x.point)).collect()),
+    );
     for (a, (key, _)) in s.axes.iter().enumerate() {
         t.push(key.clone(), f(&|x| x.values[a]));
     }
-    t.push("n", Column::U64(p.iter().map(|x| Some(u64::from(x.n_ok))).collect()));
-    t.push("n_cases", Column::U64(p.iter().map(|x| Some(u64::from(x.n_cases))).collect()));
-    t.push("n_ok", Column::U64(p.iter().map(|x| Some(u64::from(x.n_ok))).collect()));
+    t.push(
+        "n",
+        Column::U64(p.iter().map(|x| Some(u64::from(x.n_ok))).collect()),
+    );
+    t.push(
+        "n_cases",
+        Column::U64(p.iter().map(|x| Some(u64::from(x.n_cases))).collect()),
+    );
+    t.push(
+        "n_ok",
+        Column::U64(p.iter().map(|x| Some(u64::from(x.n_ok))).collect()),
+    );
     t.push("all_ok", Column::Bool(p.iter().map(|x| x.all_ok).collect()));
     t.push(
         "failed",
@@ -123,7 +135,10 @@ pub fn summary_table(s: &Summary) -> Table {
     t.push("perfectibility", f(&|x| x.perfectibility));
     t.push("rank", Column::U64(p.iter().map(|x| x.rank).collect()));
     t.push("pareto", Column::Bool(p.iter().map(|x| x.pareto).collect()));
-    t.push("zone", Column::Str(p.iter().map(|x| x.zone.clone()).collect()));
+    t.push(
+        "zone",
+        Column::Str(p.iter().map(|x| x.zone.clone()).collect()),
+    );
     t
 }
 
@@ -131,9 +146,18 @@ pub fn summary_table(s: &Summary) -> Table {
 pub fn zones_table(s: &Summary) -> Table {
     let z = &s.zones;
     let mut t = Table::default();
-    t.push("zone", Column::Str(z.iter().map(|x| x.name.clone()).collect()));
-    t.push("label", Column::Str(z.iter().map(|x| x.label.clone()).collect()));
-    t.push("declared", Column::Bool(z.iter().map(|x| x.declared).collect()));
+    t.push(
+        "zone",
+        Column::Str(z.iter().map(|x| x.name.clone()).collect()),
+    );
+    t.push(
+        "label",
+        Column::Str(z.iter().map(|x| x.label.clone()).collect()),
+    );
+    t.push(
+        "declared",
+        Column::Bool(z.iter().map(|x| x.declared).collect()),
+    );
     for (a, (key, _)) in s.axes.iter().enumerate() {
         t.push(
             format!("{key}_from"),
@@ -144,9 +168,18 @@ pub fn zones_table(s: &Summary) -> Table {
             Column::F64(z.iter().map(|x| x.ranges[a].2).collect()),
         );
     }
-    t.push("n_points", Column::U64(z.iter().map(|x| Some(x.n_points as u64)).collect()));
-    t.push("mean_reliability", Column::F64(z.iter().map(|x| x.mean_r).collect()));
-    t.push("mean_di", Column::F64(z.iter().map(|x| x.mean_di).collect()));
+    t.push(
+        "n_points",
+        Column::U64(z.iter().map(|x| Some(x.n_points as u64)).collect()),
+    );
+    t.push(
+        "mean_reliability",
+        Column::F64(z.iter().map(|x| x.mean_r).collect()),
+    );
+    t.push(
+        "mean_di",
+        Column::F64(z.iter().map(|x| x.mean_di).collect()),
+    );
     t.push(
         "perfectibility",
         Column::F64(z.iter().map(|x| x.perfectibility).collect()),

@@ -161,7 +161,7 @@ pub fn jumps(axes: &[(String, Vec<f64>)], points: &[PointStats], jump_k: f64) ->
             let mut diffs = Vec::new();
             for base in 0..n_total {
                 // `base` starts a line when its index along `a` is 0.
-                if (base / stride) % len != 0 {
+                if !(base / stride).is_multiple_of(len) {
                     continue;
                 }
                 for i in 0..len.saturating_sub(1) {
@@ -233,13 +233,11 @@ pub fn find(
         let mut lists: Vec<Vec<usize>> = vec![Vec::new(); cfg.declared.len()];
         for (i, p) in points.iter().enumerate() {
             let hit = cfg.declared.iter().position(|z| {
-                axes.iter()
-                    .position(|a| a.0 == z.axis)
-                    .is_some_and(|a| {
-                        let v = p.values[a];
-                        let tol = 1e-9 * (z.to - z.from).abs().max(f64::MIN_POSITIVE);
-                        v >= z.from.min(z.to) - tol && v <= z.from.max(z.to) + tol
-                    })
+                axes.iter().position(|a| a.0 == z.axis).is_some_and(|a| {
+                    let v = p.values[a];
+                    let tol = 1e-9 * (z.to - z.from).abs().max(f64::MIN_POSITIVE);
+                    v >= z.from.min(z.to) - tol && v <= z.from.max(z.to) + tol
+                })
             });
             if let Some(k) = hit {
                 lists[k].push(i);
@@ -250,8 +248,11 @@ pub fn find(
         }
     } else {
         let mut near = vec![false; points.len()];
-        let index: std::collections::HashMap<u64, usize> =
-            points.iter().enumerate().map(|(i, p)| (p.point, i)).collect();
+        let index: std::collections::HashMap<u64, usize> = points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (p.point, i))
+            .collect();
         for j in &jumps {
             for p in [j.points.0, j.points.1] {
                 if let Some(&i) = index.get(&p) {
@@ -299,14 +300,8 @@ pub fn find(
         .filter(|v| v.is_finite())
         .fold(f64::NAN, f64::max);
     for z in &mut zones {
-        z.perfectibility = perfectibility(
-            z.mean_r,
-            z.mean_di,
-            r_max,
-            di_max,
-            ranking.wf1,
-            ranking.wf2,
-        );
+        z.perfectibility =
+            perfectibility(z.mean_r, z.mean_di, r_max, di_max, ranking.wf1, ranking.wf2);
     }
     Found {
         zones,
@@ -336,7 +331,11 @@ fn merge_short(mut runs: Vec<(&str, Vec<usize>)>) -> Vec<(&str, Vec<usize>)> {
         let left = i.checked_sub(1).filter(|&j| ok(j));
         let right = (i + 1 < runs.len()).then_some(i + 1).filter(|&j| ok(j));
         match (left, right) {
-            (Some(l), Some(r)) => Some(if runs[r].1.len() > runs[l].1.len() { r } else { l }),
+            (Some(l), Some(r)) => Some(if runs[r].1.len() > runs[l].1.len() {
+                r
+            } else {
+                l
+            }),
             (l, r) => l.or(r),
         }
     };

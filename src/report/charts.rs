@@ -52,20 +52,29 @@ trait Chart {
 }
 
 /// Writes `<dir>/<stem>.svg` and `<dir>/<stem>.png`; returns both paths.
-fn render<C: Chart>(dir: &Path, stem: &str, size: (u32, u32), chart: &C) -> anyhow::Result<Vec<PathBuf>> {
+fn render<C: Chart>(
+    dir: &Path,
+    stem: &str,
+    size: (u32, u32),
+    chart: &C,
+) -> anyhow::Result<Vec<PathBuf>> {
     register_fonts();
     let svg = dir.join(format!("{stem}.svg"));
     let png = dir.join(format!("{stem}.png"));
     {
         let root = SVGBackend::new(&svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
-        chart.draw(&root).with_context(|| format!("drawing {}", svg.display()))?;
+        chart
+            .draw(&root)
+            .with_context(|| format!("drawing {}", svg.display()))?;
         root.present().map_err(err)?;
     }
     {
         let root = BitMapBackend::new(&png, size).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
-        chart.draw(&root).with_context(|| format!("drawing {}", png.display()))?;
+        chart
+            .draw(&root)
+            .with_context(|| format!("drawing {}", png.display()))?;
         root.present().map_err(err)?;
     }
     Ok(vec![svg, png])
@@ -210,7 +219,9 @@ impl Chart for DiChart<'_> {
                 .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
                 .map_err(err)?
                 .label(name.clone())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+                });
             chart
                 .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
                 .map_err(err)?;
@@ -275,14 +286,19 @@ impl Chart for DesignChart<'_> {
         let s = self.0;
         let key = &s.axes[0].0;
         let (x0, x1) = minmax(s.points.iter().map(|p| p.values[0]));
-        let (ly0, ly1) = minmax(s.points.iter().flat_map(|p| {
-            [p.reliability, p.reliability_lo, p.safety_factor]
-        }));
+        let (ly0, ly1) = minmax(
+            s.points
+                .iter()
+                .flat_map(|p| [p.reliability, p.reliability_lo, p.safety_factor]),
+        );
         let (ly0, ly1) = pad(ly0, ly1, 0.12);
         let (dy0, dy1) = minmax(s.points.iter().map(|p| p.di));
         let (dy0, dy1) = pad(dy0.min(0.0), dy1, 0.12);
         let mut chart = ChartBuilder::on(root)
-            .caption("Design chart: reliability, safety factor and damping by zone", TITLE)
+            .caption(
+                "Design chart: reliability, safety factor and damping by zone",
+                TITLE,
+            )
             .margin(12)
             .x_label_area_size(48)
             .y_label_area_size(72)
@@ -323,13 +339,12 @@ impl Chart for DesignChart<'_> {
                 .draw_series(std::iter::once(Text::new(
                     name.clone(),
                     ((lo + hi) / 2.0, ytext),
-                    ("sans-serif", 18)
-                        .into_font()
-                        .color(&BLACK)
-                        .pos(plotters::style::text_anchor::Pos::new(
+                    ("sans-serif", 18).into_font().color(&BLACK).pos(
+                        plotters::style::text_anchor::Pos::new(
                             plotters::style::text_anchor::HPos::Center,
                             plotters::style::text_anchor::VPos::Top,
-                        )),
+                        ),
+                    ),
                 )))
                 .map_err(err)?;
         }
@@ -354,15 +369,25 @@ impl Chart for DesignChart<'_> {
             .points
             .iter()
             .map(|p| (p.values[0], p.reliability_hi))
-            .chain(s.points.iter().rev().map(|p| (p.values[0], p.reliability_lo)))
+            .chain(
+                s.points
+                    .iter()
+                    .rev()
+                    .map(|p| (p.values[0], p.reliability_lo)),
+            )
             .filter(|p| p.1.is_finite())
             .collect();
         if !band.is_empty() {
             chart
                 .draw_series(std::iter::once(Polygon::new(band, blue.mix(0.25).filled())))
                 .map_err(err)?
-                .label(format!("R, {:.0} % bootstrap interval", 100.0 * confidence(s)))
-                .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 18, y + 6)], blue.mix(0.3).filled()));
+                .label(format!(
+                    "R, {:.0} % bootstrap interval",
+                    100.0 * confidence(s)
+                ))
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 6), (x + 18, y + 6)], blue.mix(0.3).filled())
+                });
         }
         let line = |f: &dyn Fn(&crate::reduce::PointStats) -> f64| -> Vec<(f64, f64)> {
             s.points
@@ -372,29 +397,41 @@ impl Chart for DesignChart<'_> {
                 .collect()
         };
         chart
-            .draw_series(LineSeries::new(line(&|p| p.reliability), blue.stroke_width(2)))
+            .draw_series(LineSeries::new(
+                line(&|p| p.reliability),
+                blue.stroke_width(2),
+            ))
             .map_err(err)?
             .label("reliability R")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], blue.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], blue.stroke_width(2))
+            });
         let green = RGBColor(44, 160, 44);
         chart
-            .draw_series(LineSeries::new(line(&|p| p.safety_factor), green.stroke_width(2)))
+            .draw_series(LineSeries::new(
+                line(&|p| p.safety_factor),
+                green.stroke_width(2),
+            ))
             .map_err(err)?
             .label("safety factor μn")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], green.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], green.stroke_width(2))
+            });
         let orange = RGBColor(214, 39, 40);
         let di = line(&|p| p.di);
         chart
             .draw_secondary_series(LineSeries::new(di.clone(), orange.stroke_width(2)))
             .map_err(err)?
             .label("DI (right axis)")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], orange.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], orange.stroke_width(2))
+            });
         chart
             .draw_secondary_series(di.iter().map(|&p| Circle::new(p, 3, orange.filled())))
             .map_err(err)?;
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::LowerLeft)
+            .position(SeriesLabelPosition::MiddleLeft)
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.4))
             .label_font(SMALL)
@@ -430,7 +467,11 @@ impl Chart for SpreadChart<'_> {
         };
         let (x0, x1) = (x0 - step, x1 + step);
         let cm = 100.0;
-        let (y0, y1) = minmax(s.points.iter().flat_map(|p| [p.xmax_min * cm, p.xmax_max * cm]));
+        let (y0, y1) = minmax(
+            s.points
+                .iter()
+                .flat_map(|p| [p.xmax_min * cm, p.xmax_max * cm]),
+        );
         let (y0, y1) = pad(y0, y1, 0.08);
         let mut chart = ChartBuilder::on(root)
             .caption("Spread of xmax over the cases of each design point", TITLE)
@@ -488,8 +529,9 @@ impl Chart for SpreadChart<'_> {
                 )))
                 .map_err(err)?;
             if first {
-                med.label("median")
-                    .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(2)));
+                med.label("median").legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(2))
+                });
             }
             let ideal = chart
                 .draw_series(
@@ -636,7 +678,11 @@ impl Chart for MapChart<'_> {
                     format!("{}: {}", z.name, z.label)
                 };
                 legend
-                    .draw(&Text::new(text, (22, y + 2), ("sans-serif", 11).into_font()))
+                    .draw(&Text::new(
+                        text,
+                        (22, y + 2),
+                        ("sans-serif", 11).into_font(),
+                    ))
                     .map_err(err)?;
             }
         } else {
@@ -644,7 +690,10 @@ impl Chart for MapChart<'_> {
             for k in 0..h {
                 let t = 1.0 - k as f64 / h as f64;
                 legend
-                    .draw(&Rectangle::new([(0, 20 + k), (24, 21 + k)], heat(t).filled()))
+                    .draw(&Rectangle::new(
+                        [(0, 20 + k), (24, 21 + k)],
+                        heat(t).filled(),
+                    ))
                     .map_err(err)?;
             }
             legend
@@ -654,7 +703,11 @@ impl Chart for MapChart<'_> {
                 .draw(&Text::new(format!("{p1:.1}"), (30, 14), SMALL.into_font()))
                 .map_err(err)?;
             legend
-                .draw(&Text::new(format!("{p0:.1}"), (30, 14 + h), SMALL.into_font()))
+                .draw(&Text::new(
+                    format!("{p0:.1}"),
+                    (30, 14 + h),
+                    SMALL.into_font(),
+                ))
                 .map_err(err)?;
         }
         Ok(())
@@ -679,7 +732,12 @@ pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
             (900, 640),
             &MapChart { s, zones: false },
         )?);
-        files.extend(render(dir, "zone_map", (1000, 640), &MapChart { s, zones: true })?);
+        files.extend(render(
+            dir,
+            "zone_map",
+            (1000, 640),
+            &MapChart { s, zones: true },
+        )?);
     }
     Ok(files)
 }
@@ -709,13 +767,18 @@ impl WaveChart<'_> {
     {
         let inside = |t: f64| window.is_none_or(|(a, b)| t >= a && t <= b);
         let (t0, t1) = window.unwrap_or_else(|| {
-            minmax(self.traces.iter().flat_map(|tr| tr.points.iter().map(|p| p.0)))
+            minmax(
+                self.traces
+                    .iter()
+                    .flat_map(|tr| tr.points.iter().map(|p| p.0)),
+            )
         });
-        let (y0, y1) = minmax(
-            self.traces
+        let (y0, y1) = minmax(self.traces.iter().flat_map(|tr| {
+            tr.points
                 .iter()
-                .flat_map(|tr| tr.points.iter().filter(|p| inside(p.0)).map(|p| p.1 * 100.0)),
-        );
+                .filter(|p| inside(p.0))
+                .map(|p| p.1 * 100.0)
+        }));
         let (y0, y1) = pad(y0, y1, 0.06);
         let mut chart = ChartBuilder::on(area)
             .caption(title, if window.is_some() { LABEL } else { TITLE })
@@ -750,7 +813,9 @@ impl WaveChart<'_> {
                 ))
                 .map_err(err)?
                 .label(tr.name.clone())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                });
         }
         chart
             .configure_series_labels()
@@ -794,7 +859,11 @@ pub fn waveforms(
     traces: &[Trace],
     zoom: Option<(f64, f64)>,
 ) -> anyhow::Result<Vec<PathBuf>> {
-    let size = if zoom.is_some() { (1000, 820) } else { (1000, 520) };
+    let size = if zoom.is_some() {
+        (1000, 820)
+    } else {
+        (1000, 520)
+    };
     render(
         dir,
         stem,

@@ -250,11 +250,7 @@ pub fn report(
         if s.jumps.len() > 40 {
             let _ = writeln!(o, "\n… and {} more.", s.jumps.len() - 40);
         }
-        if let Some(big) = s
-            .jumps
-            .iter()
-            .max_by(|a, b| a.z.total_cmp(&b.z))
-        {
+        if let Some(big) = s.jumps.iter().max_by(|a, b| a.z.total_cmp(&b.z)) {
             let _ = writeln!(
                 o,
                 "\nThe largest jump: {} between {} = {} and {} (robust z = {:.1}).\n",
@@ -337,7 +333,11 @@ pub fn report(
         let _ = writeln!(o, "{}", row(p));
     }
     if pareto.len() > 30 {
-        let _ = writeln!(o, "\n… and {} more (column `pareto` of the summary).", pareto.len() - 30);
+        let _ = writeln!(
+            o,
+            "\n… and {} more (column `pareto` of the summary).",
+            pareto.len() - 30
+        );
     }
 
     // Normality.
