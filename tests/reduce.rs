@@ -323,3 +323,49 @@ fn waveform_command_draws_both_figures() {
     });
     assert!(format!("{:#}", bad.unwrap_err()).contains("e = 1.3"));
 }
+
+/// Throughput of the reducer alone on 10^6 synthetic runs (83,334 points × 12 cases) pushed in
+/// chunks of 65,532 runs, as the store's part files would deliver them. Not a timed assert:
+/// run with `cargo test --release --test reduce -- --ignored --nocapture million` and read the
+/// figure (BENCHMARKS.md).
+#[test]
+#[ignore]
+fn million_runs_throughput() {
+    let n_points = 83_334u64;
+    let e: Vec<f64> = (0..n_points)
+        .map(|i| 0.45 + 0.5 * i as f64 / n_points as f64)
+        .collect();
+    let mut s = study(vec![("e", e.clone())], 12);
+    if let Some(b) = std::env::var("IMPACTSWEEP_BOOTSTRAP")
+        .ok()
+        .and_then(|b| b.parse().ok())
+    {
+        s.reliability.bootstrap = b;
+    }
+    let start = std::time::Instant::now();
+    let mut r = impactsweep::reduce::Reducer::new(&s, Options::from_study(&s));
+    let per_chunk = 5_461u64;
+    let mut p0 = 0;
+    while p0 < n_points {
+        let p1 = (p0 + per_chunk).min(n_points);
+        let mut rows = Vec::with_capacity(((p1 - p0) * 12) as usize);
+        for p in p0..p1 {
+            for c in 0..12u32 {
+                let x = 0.028 + 1e-4 * f64::from(c) + 1e-3 * e[p as usize];
+                rows.push(row(&s, p, c, Outcome::Ok, x, 0.02 - 0.01 * e[p as usize]));
+            }
+        }
+        r.push(rows);
+        p0 = p1;
+    }
+    let sum = r.finish();
+    let dir = tempfile::tempdir().unwrap();
+    let reduced = start.elapsed();
+    write_outputs(&s, &sum, dir.path(), None).unwrap();
+    eprintln!(
+        "reduced {} points from 10^6 runs in {:.2?} (incl. building the rows); outputs in {:.2?} more",
+        sum.points.len(),
+        reduced,
+        start.elapsed() - reduced
+    );
+}

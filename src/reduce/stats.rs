@@ -175,10 +175,11 @@ pub fn bootstrap_reliability(
     let mut rng = Pcg64Mcg::new(u128::from(seed) << 1 | 1);
     let mut betas = Vec::with_capacity(resamples);
     let nf = n as f64;
+    let s_var = strength.sigma_ln * strength.sigma_ln;
+    // Shift by the first value to keep the sum of squares accurate.
+    let shift = xs[0];
     for _ in 0..resamples {
         let (mut s, mut s2) = (0.0, 0.0);
-        // Shift by the first value to keep the sum of squares accurate.
-        let shift = xs[0];
         for _ in 0..n {
             let i = ((u64::from(rng.next_u32()) * n as u64) >> 32) as usize;
             let v = xs[i] - shift;
@@ -187,15 +188,39 @@ pub fn bootstrap_reliability(
         }
         let mean = shift + s / nf;
         let var = ((s2 - s * s / nf) / (nf - 1.0)).max(0.0);
-        let stress = LogNormal::from_mean_sd(mean, var.sqrt());
-        betas.push(reliability_index(strength, &stress));
+        // `reliability_index` of `LogNormal::from_mean_sd(mean, var.sqrt())`, inlined: this
+        // loop runs `resamples` times per design point.
+        let l = (var / (mean * mean)).ln_1p();
+        let num = strength.mu_ln - (mean.ln() - l / 2.0);
+        let den = (s_var + l).sqrt();
+        betas.push(if den > 0.0 {
+            num / den
+        } else {
+            num.signum() * f64::INFINITY
+        });
     }
-    betas.sort_by(f64::total_cmp);
     let alpha = (1.0 - confidence) / 2.0;
     (
-        phi(quantile_sorted(&betas, alpha)),
-        phi(quantile_sorted(&betas, 1.0 - alpha)),
+        phi(quantile_select(&mut betas, alpha)),
+        phi(quantile_select(&mut betas, 1.0 - alpha)),
     )
+}
+
+/// [`quantile_sorted`] without sorting: two selections, O(n). Reorders `v`; no NaN allowed.
+pub fn quantile_select(v: &mut [f64], q: f64) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    let h = (v.len() - 1) as f64 * q.clamp(0.0, 1.0);
+    let lo = h.floor() as usize;
+    let (_, a, rest) = v.select_nth_unstable_by(lo, f64::total_cmp);
+    let a = *a;
+    let frac = h - lo as f64;
+    if frac == 0.0 || rest.is_empty() {
+        return a;
+    }
+    let b = rest.iter().copied().fold(f64::INFINITY, f64::min);
+    a + frac * (b - a)
 }
 
 /// Anderson–Darling test of normality with mean and variance estimated from the sample
@@ -350,6 +375,45 @@ mod tests {
         );
         assert!(a.0 < r && r < a.1, "{a:?} vs {r}");
         assert!(a.1 - a.0 > 1e-4);
+    }
+
+    #[test]
+    fn quantile_select_matches_sorting() {
+        let xs: Vec<f64> = (0..2000)
+            .map(|i| ((i * 7919) % 2003) as f64 * 0.37)
+            .collect();
+        for q in [0.0, 0.025, 0.5, 0.975, 1.0] {
+            let mut sorted = xs.clone();
+            sorted.sort_by(f64::total_cmp);
+            let mut v = xs.clone();
+            assert_eq!(
+                quantile_select(&mut v, q),
+                quantile_sorted(&sorted, q),
+                "q = {q}"
+            );
+        }
+    }
+
+    #[test]
+    fn bootstrap_index_agrees_with_the_lognormal_route() {
+        // The inlined index in the bootstrap equals reliability_index on the same sample: with
+        // all resamples equal to the sample itself (n values all equal but one), compare R.
+        let strength = LogNormal::from_mean_sd(2.9, 0.1);
+        let xs = [2.7, 2.8];
+        let (lo, hi) = bootstrap_reliability(&xs, &strength, 4000, 0.5, 1);
+        // Resamples are {2.7,2.7}, {2.8,2.8} (SD 0) or {2.7,2.8}: R of the mixed one lies
+        // between the two extremes, and the interval's ends are among the three values.
+        let r = |a: f64, b: f64| {
+            let (m, s) = mean_sd(&[a, b]);
+            reliability(&strength, &LogNormal::from_mean_sd(m, s))
+        };
+        let cands = [r(2.7, 2.7), r(2.8, 2.8), r(2.7, 2.8)];
+        for v in [lo, hi] {
+            assert!(
+                cands.iter().any(|c| (c - v).abs() < 1e-12),
+                "{v} not in {cands:?}"
+            );
+        }
     }
 
     #[test]
