@@ -19,12 +19,9 @@ fn run(study: &Study, chunks: Vec<Vec<impactsweep::store::RunRow>>) -> Summary {
     .unwrap()
 }
 
-/// The paper study with the strength this project recommends for it.
+/// The paper study as configs/paper.toml states it.
 fn paper() -> Study {
-    let mut s = paper_study();
-    s.reliability.strength_mean = 270e6;
-    s.reliability.strength_sd = 13.5e6;
-    s
+    paper_study()
 }
 
 /// 41 points along e, 5 cases each, xmax smooth (quadratic) with `jump` added from index 21 on.

@@ -3,7 +3,7 @@
 //! `reduce RUN_DIR` streams the part files of a run directory through
 //! [`crate::reduce::Reducer`] one at a time (each holds whole design points, so memory stays
 //! O(design points)), then writes into the run directory: `summary.parquet`, `summary.csv`,
-//! `zones.parquet`, `report.md` and the charts (SVG and PNG).
+//! `zones.parquet`, `zones.csv`, `jumps.csv`, `report.md` and the charts (SVG and PNG).
 
 use std::path::{Path, PathBuf};
 
@@ -107,6 +107,13 @@ pub fn write_outputs(
     files.push(p);
     let p = dir.join("zones.parquet");
     crate::store_summary::write_table(&p, "zones", &zt)?;
+    files.push(p);
+    let p = dir.join("zones.csv");
+    std::fs::write(&p, zt.to_csv()).with_context(|| format!("writing {}", p.display()))?;
+    files.push(p);
+    let p = dir.join("jumps.csv");
+    std::fs::write(&p, table::jumps_table(summary).to_csv())
+        .with_context(|| format!("writing {}", p.display()))?;
     files.push(p);
     let chart_files = charts::summary_charts(summary, dir)?;
     let names: Vec<String> = chart_files

@@ -198,3 +198,23 @@ pub fn outcome_text<T: Copy + Into<u64>>(counts: &[T; 6], failed_only: bool) -> 
         .collect::<Vec<_>>()
         .join(" ")
 }
+
+/// One row per jump: axis, the values either side, quantity (`xmax` in m or `di` in m/s), the
+/// difference and its robust z-score.
+pub fn jumps_table(s: &Summary) -> Table {
+    let j = &s.jumps;
+    let mut t = Table::default();
+    t.push(
+        "axis",
+        Column::Str(j.iter().map(|x| x.axis.clone()).collect()),
+    );
+    t.push("from", Column::F64(j.iter().map(|x| x.from).collect()));
+    t.push("to", Column::F64(j.iter().map(|x| x.to).collect()));
+    t.push(
+        "quantity",
+        Column::Str(j.iter().map(|x| x.quantity.to_string()).collect()),
+    );
+    t.push("delta", Column::F64(j.iter().map(|x| x.delta).collect()));
+    t.push("z", Column::F64(j.iter().map(|x| x.z).collect()));
+    t
+}

@@ -295,7 +295,7 @@ pub fn report(
     }
     let _ = writeln!(
         o,
-        "\nZone perfectibility is eq. 11 on the zone means, normalised by the best zone means (as the paper's Table III).\n"
+        "\nZone perfectibility is eq. 11 on the zone means, normalised by the best zone means (as the paper's Table III). A zone \"around a jump\" is not recommended whatever its R: there a small error in the design variable changes the behaviour abruptly (the paper's zone II).\n"
     );
 
     // Top 10 and Pareto.
@@ -322,7 +322,8 @@ pub fn report(
     for p in ranked.iter().take(10) {
         let _ = writeln!(o, "{}", row(p));
     }
-    let pareto: Vec<_> = s.points.iter().filter(|p| p.pareto).collect();
+    let mut pareto: Vec<_> = s.points.iter().filter(|p| p.pareto).collect();
+    pareto.sort_by_key(|p| p.rank);
     let _ = writeln!(
         o,
         "\n## Pareto set on (R, DI)\n\n{} design points are not beaten on both R and DI by any other:\n",
