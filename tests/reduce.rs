@@ -231,15 +231,17 @@ fn two_axes_give_a_map() {
     let sum = run(&s, simulate_chunks(&s));
     assert_eq!(sum.points.len(), 24);
     assert!(sum.points.iter().all(|p| !p.zone.is_empty()));
-    let dir = tempfile::tempdir().unwrap();
-    let files = write_outputs(&s, &sum, dir.path(), None).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let keep = std::env::var_os("IMPACTSWEEP_KEEP_CHARTS").map(|d| Path::new(&d).join("map"));
+    let dir = keep.as_deref().unwrap_or(tmp.path());
+    let files = write_outputs(&s, &sum, dir, None).unwrap();
     for stem in ["perfectibility_map", "zone_map"] {
         assert!(
             files.iter().any(|f| f.ends_with(format!("{stem}.png"))),
             "{stem}"
         );
         assert!(
-            std::fs::metadata(dir.path().join(format!("{stem}.png")))
+            std::fs::metadata(dir.join(format!("{stem}.png")))
                 .unwrap()
                 .len()
                 > 10_000
@@ -365,4 +367,40 @@ fn million_runs_throughput() {
         reduced,
         start.elapsed() - reduced
     );
+}
+
+#[test]
+fn cli_plot_waveform_writes_svg_and_png() {
+    let dir = tempfile::tempdir().unwrap();
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .args(["plot", "waveform", "--out"])
+        .arg(dir.path())
+        .args(["--e", "0.5", "0.8", "--t-end", "0.2"])
+        .assert()
+        .success()
+        .stdout(predicates::str::contains("waveform_e.png"));
+    for f in [
+        "waveform_damper.svg",
+        "waveform_damper.png",
+        "waveform_e.svg",
+        "waveform_e.png",
+    ] {
+        assert!(
+            std::fs::metadata(dir.path().join(f)).unwrap().len() > 10_000,
+            "{f}"
+        );
+    }
+}
+
+#[test]
+fn cli_reduce_names_the_missing_study_file() {
+    let dir = tempfile::tempdir().unwrap();
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("reduce")
+        .arg(dir.path().join("nothing"))
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("study.toml"));
 }

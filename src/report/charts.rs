@@ -137,8 +137,8 @@ fn axis_desc(key: &str) -> String {
 }
 
 const TITLE: (&str, u32) = ("sans-serif", 22);
-const LABEL: (&str, u32) = ("sans-serif", 16);
-const SMALL: (&str, u32) = ("sans-serif", 13);
+const LABEL: (&str, u32) = ("sans-serif", 18);
+const SMALL: (&str, u32) = ("sans-serif", 15);
 
 /// Zone spans along axis 0 (1-axis sweeps): (from, to, name, label), boundaries halfway
 /// between neighbouring points.
@@ -605,7 +605,8 @@ impl Chart for MapChart<'_> {
             e
         };
         let (ea, eb) = (edges(va), edges(vb));
-        let (area, legend_area) = root.split_horizontally(root.dim_in_pixel().0 as i32 - 190);
+        let legend_w = if self.zones { 300 } else { 190 };
+        let (area, legend_area) = root.split_horizontally(root.dim_in_pixel().0 as i32 - legend_w);
         let title = if self.zones {
             "Zones over the design map"
         } else {
@@ -660,7 +661,7 @@ impl Chart for MapChart<'_> {
                 .map_err(err)?;
         }
         // Legend: colour bar or zone list.
-        let legend = legend_area.margin(60, 60, 10, 10);
+        let legend = legend_area.margin(60, 60, 10, 6);
         if self.zones {
             for (i, z) in s.zones.iter().enumerate() {
                 let c = if z.declared {
@@ -675,13 +676,13 @@ impl Chart for MapChart<'_> {
                 let text = if z.declared {
                     z.name.clone()
                 } else {
-                    format!("{}: {}", z.name, z.label)
+                    format!("{} – {}", z.name, z.label)
                 };
                 legend
                     .draw(&Text::new(
                         text,
                         (22, y + 2),
-                        ("sans-serif", 11).into_font(),
+                        ("sans-serif", 17).into_font(),
                     ))
                     .map_err(err)?;
             }

@@ -36,7 +36,8 @@ use super::exact::ExactPhase;
 use super::linear::Oscillator;
 use super::noise::NoiseStream;
 use super::{
-    NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings, State, Wall, impact,
+    NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings, State, Wall,
+    impact,
 };
 use crate::model::System;
 
