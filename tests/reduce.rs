@@ -404,3 +404,34 @@ fn cli_reduce_names_the_missing_study_file() {
         .code(2)
         .stderr(predicates::str::contains("study.toml"));
 }
+
+#[test]
+fn paper_safety_form_and_mean_di_are_options() {
+    use impactsweep::reduce::stats;
+    use impactsweep::study::{DiSource, SafetyForm};
+    let s = paper();
+    let chunks = simulate_chunks(&s);
+    let exact = run(&s, chunks.clone());
+    let opts = Options {
+        safety_form: SafetyForm::Paper,
+        di_source: DiSource::Mean,
+    };
+    let paper = reduce::<_, std::convert::Infallible>(&s, opts, chunks.clone().into_iter().map(Ok))
+        .unwrap();
+    for (a, b) in exact.points.iter().zip(&paper.points) {
+        assert_eq!(a.reliability.to_bits(), b.reliability.to_bits());
+        let want = stats::safety_factor_paper(a.reliability_index, a.cn);
+        assert!((b.safety_factor - want).abs() < 1e-12);
+        assert!((a.safety_factor - b.safety_factor).abs() > 1e-6);
+    }
+    // Mean DI over the cases at the nominal point, from the runs themselves.
+    let rows: Vec<_> = chunks
+        .concat()
+        .into_iter()
+        .filter(|r| r.point == 45)
+        .collect();
+    let mean = rows.iter().map(|r| r.record.di).sum::<f64>() / rows.len() as f64;
+    assert!((paper.points[45].di - mean).abs() < 1e-15);
+    let ideal = rows.iter().find(|r| r.ideal).unwrap().record.di;
+    assert_eq!(exact.points[45].di, ideal);
+}
