@@ -556,37 +556,75 @@ pub mod testing {
 mod tests {
     use super::testing::*;
     use super::*;
+    use crate::sim::Outcome;
+
+    fn points(rs_dis: &[(f64, f64)]) -> Vec<PointStats> {
+        let s = study(
+            vec![("e", (0..rs_dis.len()).map(|i| i as f64).collect())],
+            1,
+        );
+        let r = Reducer::new(&s, Options::from_study(&s));
+        rs_dis
+            .iter()
+            .enumerate()
+            .map(|(i, &(rel, di))| {
+                let mut p = r.point_stats(&[row(&s, i as u64, 0, Outcome::Ok, 0.028, di)]);
+                p.reliability = rel;
+                p
+            })
+            .collect()
+    }
 
     #[test]
-    fn paper_study_explore() {
-        let s = paper_study();
-        let chunks = simulate_chunks(&s);
-        let sum = reduce::<_, ()>(&s, Options::from_study(&s), chunks.into_iter().map(Ok)).unwrap();
-        for p in &sum.points {
-            eprintln!(
-                "{:.2} n={} xm={:.4} sd={:.4} R={:.5} [{:.5},{:.5}] mu={:.3} ad_p={:.3} di={:.5} P={:.2} rank={:?} par={} zone={}",
-                p.values[0],
-                p.n_ok,
-                p.xmax_mean * 100.0,
-                p.xmax_sd * 100.0,
-                p.reliability,
-                p.reliability_lo,
-                p.reliability_hi,
-                p.safety_factor,
-                p.ad_p,
-                p.di,
-                p.perfectibility,
-                p.rank,
-                p.pareto,
-                p.zone
-            );
+    fn pareto_front_keeps_exactly_the_undominated() {
+        // (R, DI): 0 and 1 trade off, 2 is dominated by 0, 3 equals 1, 4 has no DI.
+        let mut pts = points(&[
+            (0.99, 0.02),
+            (0.95, 0.03),
+            (0.98, 0.015),
+            (0.95, 0.03),
+            (0.999, f64::NAN),
+        ]);
+        assert_eq!(rank::pareto_front(&pts), vec![0, 1, 3]);
+        let (rmax, dmax) = rank::apply(&mut pts, 0.5, 0.5);
+        assert_eq!((rmax, dmax), (0.99, 0.03));
+        assert_eq!(pts[4].rank, None);
+        assert!(pts[4].perfectibility.is_nan() && !pts[4].pareto);
+        // P(1) = 0.5 * 0.95/0.99 + 0.5 = 97.98 % beats P(0) = 50 + 33.3 = 83.3 %.
+        assert_eq!(pts[1].rank, Some(1));
+        assert_eq!(pts[3].rank, Some(2));
+        assert_eq!(pts[0].rank, Some(3));
+    }
+
+    #[test]
+    fn nominal_point_is_nearest_the_base_system() {
+        let mut s = study(
+            vec![("m", vec![0.01, 0.019, 0.03]), ("e", vec![0.5, 0.88, 0.95])],
+            1,
+        );
+        s.system.e = 0.9;
+        s.system.m = 0.02;
+        // m -> 0.019 (index 1), e -> 0.88 (index 1): point 1 * 3 + 1.
+        assert_eq!(nominal_point(&s), 4);
+    }
+
+    #[test]
+    fn a_missing_point_is_left_out_not_invented() {
+        let s = study(vec![("e", vec![0.5, 0.6, 0.7, 0.8])], 2);
+        let mut rows = Vec::new();
+        for p in [0u64, 1, 3] {
+            for c in 0..2 {
+                rows.push(row(&s, p, c, Outcome::Ok, 0.028, 0.02));
+            }
         }
-        for j in &sum.jumps {
-            eprintln!("{j:?}");
-        }
-        for z in &sum.zones {
-            eprintln!("{z:?}");
-        }
-        eprintln!("{:?}", sum.nominal);
+        let sum = reduce::<_, ()>(&s, Options::from_study(&s), [Ok(rows)]).unwrap();
+        assert_eq!(sum.n_points_planned, 4);
+        let found: Vec<u64> = sum.points.iter().map(|p| p.point).collect();
+        assert_eq!(found, vec![0, 1, 3]);
+        let md = crate::report::markdown::report(&s, &sum, &[], None);
+        assert!(
+            md.contains("3 of 4 design points") && md.contains("incomplete"),
+            "{md}"
+        );
     }
 }

@@ -410,3 +410,55 @@ fn zone_of(
         perfectibility: f64::NAN,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn roman_numerals() {
+        let r: Vec<String> = [1, 2, 3, 4, 9, 14, 40, 1994]
+            .iter()
+            .map(|&n| roman(n))
+            .collect();
+        assert_eq!(r, ["I", "II", "III", "IV", "IX", "XIV", "XL", "MCMXCIV"]);
+    }
+
+    #[test]
+    fn robust_z_singles_out_a_step() {
+        let mut d = vec![0.01; 20];
+        for (i, x) in d.iter_mut().enumerate() {
+            *x += 1e-4 * ((i * 7) % 5) as f64;
+        }
+        d[12] = 0.05;
+        let z = robust_z(&d);
+        let over: Vec<usize> = (0..d.len()).filter(|&i| z[i] > 6.0).collect();
+        assert_eq!(over, vec![12]);
+        // Exactly linear data: MAD 0, the floor keeps rounding from becoming a jump.
+        let lin: Vec<f64> = (0..20)
+            .map(|i| 0.1 * (i + 1) as f64 - 0.1 * i as f64)
+            .collect();
+        assert!(robust_z(&lin).iter().all(|&z| z < 6.0));
+    }
+
+    #[test]
+    fn short_runs_merge_into_the_longer_non_jump_neighbour() {
+        let l =
+            |s: &'static str, n: usize, start: usize| (s, (start..start + n).collect::<Vec<_>>());
+        // strong×5, weak×1, strong×4, jump×2, weak×1 (at the end, next to a jump: stays).
+        let runs = vec![
+            l(LABEL_STRONG, 5, 0),
+            l(LABEL_WEAK, 1, 5),
+            l(LABEL_STRONG, 4, 6),
+            l(LABEL_JUMP, 2, 10),
+            l(LABEL_WEAK, 1, 12),
+        ];
+        let out = merge_short(runs);
+        let shape: Vec<(&str, usize)> = out.iter().map(|r| (r.0, r.1.len())).collect();
+        assert_eq!(
+            shape,
+            vec![(LABEL_STRONG, 10), (LABEL_JUMP, 2), (LABEL_WEAK, 1)]
+        );
+        assert_eq!(out[0].1, (0..10).collect::<Vec<_>>());
+    }
+}
