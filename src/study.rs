@@ -257,7 +257,10 @@ impl Study {
     /// [`Study::load`] with options (`allow_large`).
     pub fn load_with(path: &Path, opts: LoadOptions) -> Result<Study, InputError> {
         let text = std::fs::read_to_string(path).map_err(|e| {
-            InputError::new(format!("{}: cannot read the study file: {e}", path.display()))
+            InputError::new(format!(
+                "{}: cannot read the study file: {e}",
+                path.display()
+            ))
         })?;
         Study::parse_with(path, &text, opts)
     }
@@ -629,7 +632,11 @@ fn serde_error(file: &str, text: &str, doc: &DeTable<'_>, err: &toml::de::Error)
     let out = if let Some(field) = quoted_after(msg, "unknown field ") {
         let allowed = msg
             .split_once(", expected ")
-            .map(|(_, e)| e.replace('`', "").replace(" or ", ", ").replace("one of ", ""))
+            .map(|(_, e)| {
+                e.replace('`', "")
+                    .replace(" or ", ", ")
+                    .replace("one of ", "")
+            })
             .unwrap_or_default();
         if path.len() <= 1 {
             format!("[{field}]: unknown table; allowed tables: {tables}")
@@ -674,7 +681,12 @@ struct Cx<'a> {
 }
 
 impl Cx<'_> {
-    fn err(&self, loc: &str, value: impl std::fmt::Display, allowed: impl std::fmt::Display) -> InputError {
+    fn err(
+        &self,
+        loc: &str,
+        value: impl std::fmt::Display,
+        allowed: impl std::fmt::Display,
+    ) -> InputError {
         InputError::new(format!("{}: {loc} = {value}: {allowed}", self.file))
     }
 
@@ -786,7 +798,13 @@ fn axis_values(cx: &Cx, key: &str, raw: &RawAxis) -> Result<Vec<f64>, InputError
 
 /// `start, start + step, ..., stop`: the count is `round((stop - start) / step) + 1` and the
 /// last value must land within `1e-9 * step` of `stop`.
-fn step_values(cx: &Cx, at: &str, start: f64, stop: f64, step: f64) -> Result<Vec<f64>, InputError> {
+fn step_values(
+    cx: &Cx,
+    at: &str,
+    start: f64,
+    stop: f64,
+    step: f64,
+) -> Result<Vec<f64>, InputError> {
     let at_step = format!("{at}.step");
     if !(step.is_finite() && step > 0.0) {
         return Err(cx.err(&at_step, num(step), "the step must be a finite number > 0"));
@@ -827,7 +845,13 @@ fn step_values(cx: &Cx, at: &str, start: f64, stop: f64, step: f64) -> Result<Ve
 }
 
 /// `num` values from `start` to `stop` inclusive, endpoints exact.
-fn linspace_values(cx: &Cx, at: &str, start: f64, stop: f64, n: u64) -> Result<Vec<f64>, InputError> {
+fn linspace_values(
+    cx: &Cx,
+    at: &str,
+    start: f64,
+    stop: f64,
+    n: u64,
+) -> Result<Vec<f64>, InputError> {
     let at_num = format!("{at}.num");
     if n == 0 || n > MAX_AXIS_VALUES {
         return Err(cx.err(
@@ -910,7 +934,10 @@ fn perturb_cases(cx: &Cx, raw: Option<&RawPerturb>) -> Result<Vec<SourcedCase>, 
         for (k, empty) in [
             ("dm", p.dm.as_ref().is_some_and(Vec::is_empty)),
             ("dd", p.dd.as_ref().is_some_and(Vec::is_empty)),
-            ("noise_seeds", p.noise_seeds.as_ref().is_some_and(Vec::is_empty)),
+            (
+                "noise_seeds",
+                p.noise_seeds.as_ref().is_some_and(Vec::is_empty),
+            ),
         ] {
             if empty {
                 return Err(cx.err(
@@ -974,8 +1001,7 @@ fn parse_unchecked(path: &Path, text: &str) -> Result<Study, InputError> {
     let name_ok = !h.name.is_empty()
         && h.name != "."
         && h.name != ".."
-        && h
-            .name
+        && h.name
             .chars()
             .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '-'));
     if !name_ok {
@@ -1059,7 +1085,11 @@ fn parse_unchecked(path: &Path, text: &str) -> Result<Study, InputError> {
     }
     let range = |key: &str| -> (f64, f64, String) {
         match axes.iter().find(|a| a.key == key) {
-            Some(a) => (a.values[0], a.values[a.values.len() - 1], format!("[sweep].{key}")),
+            Some(a) => (
+                a.values[0],
+                a.values[a.values.len() - 1],
+                format!("[sweep].{key}"),
+            ),
             None => {
                 let v = system.get(key).unwrap_or(f64::NAN);
                 (v, v, format!("[system].{key}"))
@@ -1483,7 +1513,9 @@ mod tests {
 
     #[test]
     fn axes_keep_file_order_and_the_grid_is_their_product() {
-        let s = study("[sweep]\nm = [0.01, 0.02]\ne = { start = 0.5, stop = 0.9, num = 5 }\nd = [0.01]\n");
+        let s = study(
+            "[sweep]\nm = [0.01, 0.02]\ne = { start = 0.5, stop = 0.9, num = 5 }\nd = [0.01]\n",
+        );
         let keys: Vec<&str> = s.axes.iter().map(|a| a.key.as_str()).collect();
         assert_eq!(keys, ["m", "e", "d"]);
         assert_eq!(s.n_points(), 10);
@@ -1506,7 +1538,9 @@ mod tests {
         assert!(s.cases[0].ideal);
         assert_eq!((s.cases[1].dm, s.cases[1].dd), (-0.001, -0.001));
         // With noise seeds no factorial row is ideal.
-        let s = study("[noise]\npower = 1e-10\nsample_time = 1e-3\n[perturb]\ndm = [0, 0.001]\nnoise_seeds = [1, 2]\n");
+        let s = study(
+            "[noise]\npower = 1e-10\nsample_time = 1e-3\n[perturb]\ndm = [0, 0.001]\nnoise_seeds = [1, 2]\n",
+        );
         assert_eq!(s.cases.len(), 5);
         assert_eq!(s.n_runs(), 5);
     }
@@ -1517,7 +1551,10 @@ mod tests {
         assert_eq!(study("outputs = [\"x1\", \"impacts\"]\n").request.peaks, 1);
         assert_eq!(study("outputs = [\"x1\"]\npeaks = 5\n").request.peaks, 5);
         assert_eq!(study("t_end = 0.5\n").request.t_end, Some(0.5));
-        assert!(err("outputs = [\"di\"]\npeaks = 1\n").contains("[study].peaks = 1: the outputs asked for need peaks >= 2"));
+        assert!(
+            err("outputs = [\"di\"]\npeaks = 1\n")
+                .contains("[study].peaks = 1: the outputs asked for need peaks >= 2")
+        );
     }
 
     #[test]
