@@ -701,8 +701,19 @@ impl Cx<'_> {
     }
 }
 
-fn num(v: f64) -> String {
-    fmt_value(v)
+/// A number as a user would write it: shortest round-trip digits, in exponent form when very
+/// small or very large (`5e-10`, not `0.0000000005`).
+pub fn num(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && (v.abs() < 1e-3 || v.abs() >= 1e7) {
+        format!("{v:e}")
+    } else {
+        fmt_value(v)
+    }
+}
+
+/// A [`RangeError`]'s value in the same form.
+fn range_value(e: &RangeError) -> String {
+    e.value.parse::<f64>().map_or_else(|_| e.value.clone(), num)
 }
 
 /// Rounds to 15 significant digits, so a grid computed as `start + i * step` gives the double
@@ -1046,7 +1057,7 @@ fn parse_unchecked(path: &Path, text: &str) -> Result<Study, InputError> {
     }
     request
         .validate()
-        .map_err(|e| cx.err(&format!("[study].{}", e.key), e.value, e.allowed))?;
+        .map_err(|e| cx.err(&format!("[study].{}", e.key), range_value(&e), e.allowed))?;
 
     // [system]
     let mut system = System::TABLE_I;
@@ -1106,7 +1117,7 @@ fn parse_unchecked(path: &Path, text: &str) -> Result<Study, InputError> {
                 sample_time: n.sample_time,
             };
             ns.validate()
-                .map_err(|e| cx.err(&format!("[noise].{}", e.key), e.value, e.allowed))?;
+                .map_err(|e| cx.err(&format!("[noise].{}", e.key), range_value(&e), e.allowed))?;
             Some(ns)
         }
     };
@@ -1210,7 +1221,7 @@ fn parse_unchecked(path: &Path, text: &str) -> Result<Study, InputError> {
     }
     solver
         .validate()
-        .map_err(|e| cx.err(&format!("[solver].{}", e.key), e.value, e.allowed))?;
+        .map_err(|e| cx.err(&format!("[solver].{}", e.key), range_value(&e), e.allowed))?;
 
     // [reliability]
     let rr = &raw.reliability;

@@ -11,10 +11,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::app::sweep::PlanArgs;
-use crate::model::fmt_value;
 use crate::plan::Plan;
 use crate::sim::{self, NoProbe};
-use crate::study::{LoadOptions, Study};
+use crate::study::{LoadOptions, Study, num as fmt_value};
 
 /// Runs simulated by the timed sample.
 pub const SAMPLE_RUNS: u64 = 200;
@@ -128,10 +127,10 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
             let sd = (ns.power / ns.sample_time).sqrt();
             let _ = writeln!(
                 w,
-                "noise:          on: power {} m^2 s, sample time {} s (sd {} m per sample)",
+                "noise:          on: power {} m^2 s, sample time {} s (sd {:.3e} m per sample)",
                 fmt_value(ns.power),
                 fmt_value(ns.sample_time),
-                fmt_value(sd)
+                sd
             );
         }
         None => {
@@ -185,7 +184,9 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
 
 /// `1.2 s`, `3 min 20 s`, `2 h 05 min`.
 pub fn fmt_duration(secs: f64) -> String {
-    if secs < 60.0 {
+    if secs < 1.0 {
+        format!("{:.0} ms", secs * 1e3)
+    } else if secs < 60.0 {
         format!("{secs:.1} s")
     } else if secs < 3600.0 {
         format!("{} min {:02} s", (secs / 60.0) as u64, (secs % 60.0) as u64)
@@ -221,6 +222,7 @@ mod tests {
     #[test]
     fn durations_and_sizes_read_well() {
         assert_eq!(fmt_duration(1.234), "1.2 s");
+        assert_eq!(fmt_duration(0.0123), "12 ms");
         assert_eq!(fmt_duration(200.0), "3 min 20 s");
         assert_eq!(fmt_duration(7500.0), "2 h 05 min");
         assert_eq!(fmt_bytes(512), "512 B");
