@@ -285,12 +285,13 @@ impl Study {
             return Ok(());
         }
         Err(InputError::new(format!(
-            "{}: [sweep] = {} runs ({} design points x {} cases): more than the size guard of {} \
+            "{}: [sweep] = {} runs ({} design points x {} case{}): more than the size guard of {} \
              runs; pass --allow-large to run it anyway",
             self.path.display(),
             runs,
             self.n_points(),
             self.cases.len(),
+            if self.cases.len() == 1 { "" } else { "s" },
             MAX_RUNS
         )))
     }
@@ -645,7 +646,8 @@ fn serde_error(file: &str, text: &str, doc: &DeTable<'_>, err: &toml::de::Error)
         }
     } else if let Some(field) = quoted_after(msg, "missing field ") {
         let mut p = path;
-        let Some(Seg::Key(_)) = p.first() else {
+        let top = tables.split(", ").any(|t| t == field);
+        let (Some(Seg::Key(_)), false) = (p.first(), top) else {
             return InputError::new(format!(
                 "{file}: [{field}]: missing table; every study needs [{field}] with at least a name"
             ));
@@ -677,6 +679,7 @@ fn serde_error(file: &str, text: &str, doc: &DeTable<'_>, err: &toml::de::Error)
 /// Error builder for one file.
 struct Cx<'a> {
     file: String,
+    text: &'a str,
     doc: &'a DeTable<'a>,
 }
 
@@ -688,6 +691,16 @@ impl Cx<'_> {
         allowed: impl std::fmt::Display,
     ) -> InputError {
         InputError::new(format!("{}: {loc} = {value}: {allowed}", self.file))
+    }
+
+    /// The source text of `[table].key`, on one line.
+    fn source(&self, table: &str, key: &str) -> String {
+        self.doc
+            .get(table)
+            .and_then(|t| t.get_ref().as_table())
+            .and_then(|t| t.get(key))
+            .map(|v| snippet(self.text, &v.span()))
+            .unwrap_or_default()
     }
 
     /// The position of a key in the file (for file order of `[sweep]`).
@@ -784,14 +797,14 @@ fn axis_values(cx: &Cx, key: &str, raw: &RawAxis) -> Result<Vec<f64>, InputError
                 (Some(_), Some(_)) => {
                     return Err(cx.err(
                         &at,
-                        "{start, stop, step, num}",
+                        cx.source("sweep", key),
                         "give either step or num, not both",
                     ));
                 }
                 (None, None) => {
                     return Err(cx.err(
                         &at,
-                        format!("{{start = {}, stop = {}}}", num(r.start), num(r.stop)),
+                        cx.source("sweep", key),
                         "a range needs a step ({start, stop, step}) or a count ({start, stop, num})",
                     ));
                 }
@@ -923,7 +936,7 @@ fn perturb_cases(cx: &Cx, raw: Option<&RawPerturb>) -> Result<Vec<SourcedCase>, 
             };
             return Err(cx.err(
                 &format!("[perturb].{k}"),
-                "[...]",
+                cx.source("perturb", k),
                 "give either explicit cases or the factorial lists dm, dd, noise_seeds, not both",
             ));
         }
@@ -1004,6 +1017,7 @@ fn parse_unchecked(path: &Path, text: &str) -> Result<Study, InputError> {
         toml::from_str(text).map_err(|e| serde_error(&file, text, doc.get_ref(), &e))?;
     let cx = Cx {
         file,
+        text,
         doc: doc.get_ref(),
     };
 
@@ -1077,7 +1091,7 @@ fn parse_unchecked(path: &Path, text: &str) -> Result<Study, InputError> {
         if !SYSTEM_KEYS.contains(&key.as_str()) {
             return Err(cx.err(
                 &at,
-                "...",
+                cx.source("sweep", key),
                 format!("unknown axis '{key}'; allowed: {}", SYSTEM_KEYS.join(", ")),
             ));
         }
@@ -1574,7 +1588,7 @@ mod tests {
         let e = parse(text).unwrap_err().to_string();
         assert_eq!(
             e,
-            "t.toml: [sweep] = 10005000 runs (10005000 design points x 1 cases): more than the size guard of 10000000 runs; pass --allow-large to run it anyway"
+            "t.toml: [sweep] = 10005000 runs (10005000 design points x 1 case): more than the size guard of 10000000 runs; pass --allow-large to run it anyway"
         );
         let s = Study::parse_with(Path::new("t.toml"), text, LoadOptions { allow_large: true })
             .unwrap();
