@@ -26,7 +26,7 @@ pub struct Study {
     pub source: String,
     /// `[study].name`: names the output directory `DIR/<name>/`. `[A-Za-z0-9_.-]+`.
     pub name: String,
-    /// `[study].seed`: root of every random stream (noise, bootstrap, audit choice).
+    /// `[study].seed`: root of every random stream (noise, bootstrap, audit choice). Default 0.
     pub seed: u64,
     /// What each run must produce (`[study].outputs` / `peaks` / `t_end`): sets the horizon.
     pub request: Request,
@@ -36,7 +36,8 @@ pub struct Study {
     /// the last axis varying fastest.
     pub axes: Vec<Axis>,
     /// `[perturb]`: per design point, the cases to run; `cases[0]` is always the ideal case
-    /// (`dm = dd = 0`, no noise) and is marked `ideal`.
+    /// (`dm = dd = 0`, no noise) and is marked `ideal`; a listed case equal to it is dropped,
+    /// other repeated cases are kept (the paper's Table II repeats one).
     pub cases: Vec<Case>,
     /// `[noise]`: off when absent.
     pub noise: Option<NoiseSettings>,
@@ -92,9 +93,11 @@ pub struct Reliability {
     pub r: f64,
     /// Cantilever length (m). Default 0.5.
     pub L: f64,
-    /// Mean strength (Pa); required (the paper does not state it).
+    /// Mean strength (Pa), `> 0`. The paper does not state it, so there is no default: without
+    /// `strength_mean` and `strength_sd` both hold NaN ([`Reliability::has_strength`] is false)
+    /// and the reducer reports reliability as unavailable.
     pub strength_mean: f64,
-    /// Standard deviation of strength (Pa); required.
+    /// Standard deviation of strength (Pa), `>= 0`; given together with `strength_mean`.
     pub strength_sd: f64,
     /// Safety-factor relation. Default exact.
     pub safety_form: SafetyForm,
