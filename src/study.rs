@@ -837,7 +837,7 @@ fn step_values(
         return Err(cx.err(&at_step, num(step), "the step must be a finite number > 0"));
     }
     let q = (stop - start) / step;
-    if !(q + 1.0 <= MAX_AXIS_VALUES as f64) {
+    if q + 1.0 > MAX_AXIS_VALUES as f64 {
         return Err(cx.err(
             &at_step,
             num(step),
@@ -1183,7 +1183,7 @@ fn parse_unchecked(path: &Path, text: &str) -> Result<Study, InputError> {
                 ),
             ));
         }
-        if !(d_lo + c.dd > 0.0) {
+        if d_lo + c.dd <= 0.0 {
             return Err(cx.err(
                 &row.dd_at,
                 num(c.dd),
