@@ -1614,4 +1614,32 @@ mod tests {
         assert_eq!(round15(-2.5e-7), -2.5e-7);
         assert_eq!(round15(0.0), 0.0);
     }
+
+    proptest::proptest! {
+        /// Whatever value lands on whatever key, parsing answers Ok or an error naming the
+        /// file; it never panics.
+        #[test]
+        fn any_value_on_any_key_never_panics(
+            key in proptest::sample::select(vec![
+                "[system]\ne", "[system]\nm", "[system]\nd", "[system]\ny0", "seed",
+                "peaks", "t_end", "outputs", "[sweep]\ne", "[sweep]\nd", "[sweep]\ny0",
+                "[perturb]\ndm", "[perturb]\ndd", "[perturb]\ncases", "[perturb]\nnoise_seeds",
+                "[noise]\npower", "[solver]\ntol", "[solver]\nmax_steps", "[reliability]\nE",
+                "[reliability]\nstrength_mean", "[zones]\nzone", "[ranking]\nwf1",
+                "[run]\nchunk_points", "[bogus]\nx",
+            ]),
+            value in proptest::sample::select(vec![
+                "nan", "inf", "-inf", "-0.0", "0", "1e308", "-1", "9223372036854775807", "\"x\"",
+                "[]", "{}", "[nan]", "[1, 0]", "[0.0, 1e-300]", "{ start = 0, stop = 1e300, step = 1e-300 }",
+                "{ start = 0, stop = 1, num = 0 }", "{ start = 1e-3, stop = 1e-3, num = 1 }",
+                "{ start = 0, stop = 1, step = nan }", "[{ dm = nan }]", "[{ dd = -1 }]",
+                "[{ name = \"a\", axis = \"e\", from = 1, to = 0 }]", "true", "1979-05-27",
+            ]),
+        ) {
+            let text = format!("[study]\nname = \"p\"\n{key} = {value}\n");
+            if let Err(e) = Study::parse(Path::new("p.toml"), &text) {
+                proptest::prop_assert!(e.to_string().starts_with("p.toml"), "{}", e);
+            }
+        }
+    }
 }
