@@ -156,7 +156,10 @@ impl Study {
     /// allowed range; TOML syntax errors give line and column.
     pub fn load(path: &Path) -> Result<Study, InputError> {
         let text = std::fs::read_to_string(path).map_err(|e| {
-            InputError::new(format!("{}: cannot read the study file: {e}", path.display()))
+            InputError::new(format!(
+                "{}: cannot read the study file: {e}",
+                path.display()
+            ))
         })?;
         Study::parse(path, &text)
     }

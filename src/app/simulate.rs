@@ -67,9 +67,8 @@ impl Setup {
                 })?;
                 continue;
             }
-            let known = SYSTEM_KEYS.contains(&key)
-                || SolverSettings::KEYS.contains(&key)
-                || key == "t_end";
+            let known =
+                SYSTEM_KEYS.contains(&key) || SolverSettings::KEYS.contains(&key) || key == "t_end";
             if !known {
                 return Err(InputError::new(format!(
                     "--set {key}={raw}: unknown key '{key}'; allowed keys: {}",
@@ -243,8 +242,16 @@ pub fn record_text(setup: &Setup, rec: &Record) -> String {
         fmt_value(setup.solver.tol)
     ));
     out.push_str(&format!("outcome  {}\n", rec.outcome));
-    out.push_str(&format!("X1       {} at t1 = {}\n", cm(rec.x1), sec(rec.t1)));
-    out.push_str(&format!("X2       {} at t2 = {}\n", cm(rec.x2), sec(rec.t2)));
+    out.push_str(&format!(
+        "X1       {} at t1 = {}\n",
+        cm(rec.x1),
+        sec(rec.t1)
+    ));
+    out.push_str(&format!(
+        "X2       {} at t2 = {}\n",
+        cm(rec.x2),
+        sec(rec.t2)
+    ));
     out.push_str(&format!("xmax     {}\n", cm(rec.xmax)));
     out.push_str(&format!(
         "DI       {}\n",

@@ -164,8 +164,24 @@ impl PhaseSolver for ExactPhase {
                 // z = y - x; right gap d/2 - z, left gap z + d/2; y'' = 0 so gap'' = ±x''.
                 let z = walls.y0 + walls.w * (self.t - walls.t0) - x;
                 let z1 = walls.w - v;
-                consider(Event::Wall(super::Wall::Right), walls.half_d - z, -z1, a, j, b[2], b[4]);
-                consider(Event::Wall(super::Wall::Left), z + walls.half_d, z1, -a, -j, b[2], b[4]);
+                consider(
+                    Event::Wall(super::Wall::Right),
+                    walls.half_d - z,
+                    -z1,
+                    a,
+                    j,
+                    b[2],
+                    b[4],
+                );
+                consider(
+                    Event::Wall(super::Wall::Left),
+                    z + walls.half_d,
+                    z1,
+                    -a,
+                    -j,
+                    b[2],
+                    b[4],
+                );
             }
             let s = w.x_side;
             consider(Event::XZero, s * x, s * v, s * a, s * j, b[2], b[4]);

@@ -161,8 +161,16 @@ mod tests {
                 let exact = o.eval(0.003, 2.0, t);
                 let (x, v) = rk4(&o, 0.003, 2.0, t, 200_000);
                 let scale = 2.0 / o.w2.sqrt();
-                assert!((exact.x - x).abs() <= 1e-9 * scale, "c={c} t={t}: {} vs {x}", exact.x);
-                assert!((exact.v - v).abs() <= 1e-8 * 2.0, "c={c} t={t}: {} vs {v}", exact.v);
+                assert!(
+                    (exact.x - x).abs() <= 1e-9 * scale,
+                    "c={c} t={t}: {} vs {x}",
+                    exact.x
+                );
+                assert!(
+                    (exact.v - v).abs() <= 1e-8 * 2.0,
+                    "c={c} t={t}: {} vs {v}",
+                    exact.v
+                );
             }
         }
     }
