@@ -178,7 +178,7 @@ mod tests {
     #[test]
     fn continuous_across_critical_damping() {
         // zeta = 1 - 1e-12, 1, 1 + 1e-12 must agree to near machine precision.
-        let (mass, k) = (0.1, 400.0);
+        let (mass, k): (f64, f64) = (0.1, 400.0);
         let crit = 2.0 * (k * mass).sqrt();
         let at = |c: f64| Oscillator::new(mass, k, c).eval(0.0, 2.0, 0.05);
         let below = at(crit * (1.0 - 1e-12));
