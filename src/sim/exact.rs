@@ -40,7 +40,7 @@ fn safe_step(g: f64, g1: f64, g2: f64, g3: f64, b2: f64, b4: f64) -> f64 {
 #[inline]
 fn quad_step(g: f64, g1: f64, b: f64) -> f64 {
     if b > 0.0 {
-        let disc = g1.mul_add(g1, 2.0 * b * g).sqrt();
+        let disc = (g1 * g1 + 2.0 * b * g).sqrt();
         if g1 >= 0.0 {
             (g1 + disc) / b
         } else {
