@@ -62,7 +62,7 @@ fn paper_plan_counts_and_location() {
     assert!(field(&text, "time estimate").contains("over a sample of 200 runs"));
     assert_eq!(
         field(&text, "disk estimate"),
-        "49.0 kB (rough: about 80 bytes of Parquet per run)"
+        "55.1 kB (rough: about 90 bytes of Parquet per run)"
     );
     // plan writes nothing.
     assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 0);
