@@ -720,11 +720,7 @@ impl Cx<'_> {
 /// A number as a user would write it: shortest round-trip digits, in exponent form when very
 /// small or very large (`5e-10`, not `0.0000000005`).
 pub fn num(v: f64) -> String {
-    if v != 0.0 && v.is_finite() && (v.abs() < 1e-3 || v.abs() >= 1e7) {
-        format!("{v:e}")
-    } else {
-        fmt_value(v)
-    }
+    fmt_value(v)
 }
 
 /// A [`RangeError`]'s value in the same form.
