@@ -833,7 +833,7 @@ fn step_values(
         return Err(cx.err(&at_step, num(step), "the step must be a finite number > 0"));
     }
     let q = (stop - start) / step;
-    if !(q + 1.0 <= MAX_AXIS_VALUES as f64) {
+    if q.is_nan() || q + 1.0 > MAX_AXIS_VALUES as f64 {
         return Err(cx.err(
             &at_step,
             num(step),
