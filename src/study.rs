@@ -1179,7 +1179,7 @@ fn parse_unchecked(path: &Path, text: &str) -> Result<Study, InputError> {
                 ),
             ));
         }
-        if !(d_lo + c.dd > 0.0) {
+        if d_lo + c.dd <= 0.0 || (d_lo + c.dd).is_nan() {
             return Err(cx.err(
                 &row.dd_at,
                 num(c.dd),
