@@ -93,7 +93,7 @@ fn overnight_plan_has_a_million_runs_within_the_size_guard() {
     );
     let runs: u64 = field(&text, "total runs").parse().unwrap();
     assert_eq!(runs, 1_247_148);
-    assert!(runs >= 1_000_000 && runs <= impactsweep::study::MAX_RUNS);
+    assert!((1_000_000..=impactsweep::study::MAX_RUNS).contains(&runs));
     let keys: Vec<&str> = text
         .lines()
         .skip_while(|l| !l.starts_with("axes:"))
