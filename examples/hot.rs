@@ -7,8 +7,17 @@ fn main() {
     let mut steps = 0;
     for _ in 0..reps {
         for i in 0..=50 {
-            let s = System { e: 0.45 + i as f64 * 0.01, ..System::TABLE_I };
-            let r = simulate(&s, &SolverSettings::default(), &Request::default(), None, &mut NoProbe);
+            let s = System {
+                e: 0.45 + i as f64 * 0.01,
+                ..System::TABLE_I
+            };
+            let r = simulate(
+                &s,
+                &SolverSettings::default(),
+                &Request::default(),
+                None,
+                &mut NoProbe,
+            );
             acc += r.xmax;
             steps += r.steps;
         }

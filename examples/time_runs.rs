@@ -39,7 +39,13 @@ fn main() {
             .map(|_| {
                 let start = Instant::now();
                 for _ in 0..reps {
-                    black_box(simulate(black_box(&sys), &settings, &req, None, &mut NoProbe));
+                    black_box(simulate(
+                        black_box(&sys),
+                        &settings,
+                        &req,
+                        None,
+                        &mut NoProbe,
+                    ));
                 }
                 start.elapsed().as_secs_f64() / reps as f64
             })

@@ -720,11 +720,7 @@ impl Cx<'_> {
 /// A number as a user would write it: shortest round-trip digits, in exponent form when very
 /// small or very large (`5e-10`, not `0.0000000005`).
 pub fn num(v: f64) -> String {
-    if v != 0.0 && v.is_finite() && (v.abs() < 1e-3 || v.abs() >= 1e7) {
-        format!("{v:e}")
-    } else {
-        fmt_value(v)
-    }
+    fmt_value(v)
 }
 
 /// A [`RangeError`]'s value in the same form.
@@ -837,7 +833,7 @@ fn step_values(
         return Err(cx.err(&at_step, num(step), "the step must be a finite number > 0"));
     }
     let q = (stop - start) / step;
-    if q + 1.0 > MAX_AXIS_VALUES as f64 {
+    if q.is_nan() || q + 1.0 > MAX_AXIS_VALUES as f64 {
         return Err(cx.err(
             &at_step,
             num(step),
@@ -1183,7 +1179,7 @@ fn parse_unchecked(path: &Path, text: &str) -> Result<Study, InputError> {
                 ),
             ));
         }
-        if d_lo + c.dd <= 0.0 {
+        if d_lo + c.dd <= 0.0 || (d_lo + c.dd).is_nan() {
             return Err(cx.err(
                 &row.dd_at,
                 num(c.dd),

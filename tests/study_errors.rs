@@ -82,7 +82,7 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "solver_tol.toml",
-        "solver_tol.toml: [solver].tol = 0.1: must be in [0.000000000000001, 0.001]",
+        "solver_tol.toml: [solver].tol = 0.1: must be in [1e-15, 0.001]",
     ),
     (
         "start_outside_cavity.toml",
