@@ -46,12 +46,36 @@ fn synthetic(jump: f64) -> (Study, Summary) {
 fn planted_jump_is_found_at_the_right_place() {
     let (_, sum) = synthetic(0.002);
     let xj: Vec<_> = sum.jumps.iter().filter(|j| j.quantity == "xmax").collect();
+    // The step, and no kink: a step is not a change of slope.
     assert_eq!(xj.len(), 1, "{:?}", sum.jumps);
+    assert_eq!(xj[0].kind, "step");
     assert!((xj[0].from - 0.70).abs() < 1e-9 && (xj[0].to - 0.71).abs() < 1e-9);
-    assert_eq!(xj[0].points, (20, 21));
+    assert_eq!(xj[0].points, vec![20, 21]);
     let jz: Vec<_> = sum.zones.iter().filter(|z| z.label == LABEL_JUMP).collect();
     assert_eq!(jz.len(), 1);
     assert!((jz[0].ranges[0].1 - 0.70).abs() < 1e-9 && (jz[0].ranges[0].2 - 0.71).abs() < 1e-9);
+}
+
+#[test]
+fn planted_kink_is_found_at_the_apex() {
+    // xmax rises gently (slightly curved) to e = 0.70, then falls steeply: a kink, no step.
+    let e: Vec<f64> = (0..41).map(|i| 0.5 + i as f64 * 0.01).collect();
+    let s = study(vec![("e", e.clone())], 1);
+    let rows: Vec<_> = e
+        .iter()
+        .enumerate()
+        .map(|(p, &ev)| {
+            let up = 0.027 + 0.01 * (ev - 0.5) - 0.002 * (ev - 0.5) * (ev - 0.5);
+            let x = if p <= 20 { up } else { up - 0.05 * (ev - 0.70) };
+            row(&s, p as u64, 0, Outcome::Ok, x, 0.03 - 0.02 * (ev - 0.5))
+        })
+        .collect();
+    let sum = run(&s, vec![rows]);
+    assert_eq!(sum.jumps.len(), 1, "{:?}", sum.jumps);
+    let j = &sum.jumps[0];
+    assert_eq!((j.kind, j.quantity), ("kink", "xmax"));
+    assert!((j.at - 0.70).abs() < 1e-9);
+    assert_eq!(j.points, vec![19, 20, 21]);
 }
 
 #[test]
@@ -156,12 +180,13 @@ fn paper_study_reduces_to_zones_report_and_charts() {
     ranks.sort_unstable();
     assert_eq!(ranks, (1..=51).collect::<Vec<_>>());
     assert!(sum.points.iter().any(|p| p.pareto));
-    // Three or more zones along e, and a jump found between 0.73 and 0.85.
+    // Three or more zones along e, and the kink of the first peak at e = 0.74 (model.md §7:
+    // a non-smooth change near 0.74; the paper: a jump between 0.73 and 0.77).
     assert!(sum.zones.len() >= 3, "{:?}", sum.zones);
     assert!(
         sum.jumps
             .iter()
-            .any(|j| j.from >= 0.73 - 1e-9 && j.to <= 0.85 + 1e-9),
+            .any(|j| j.quantity == "xmax" && j.kind == "kink" && (j.at - 0.74).abs() < 1e-9),
         "{:?}",
         sum.jumps
     );
@@ -187,7 +212,7 @@ fn paper_study_reduces_to_zones_report_and_charts() {
         "## Top 10",
         "## Pareto set",
         "Table II",
-        "The largest jump",
+        "| e | kink | at e = 0.74 | xmax |",
     ] {
         assert!(md.contains(needle), "report lacks {needle}");
     }

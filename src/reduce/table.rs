@@ -199,8 +199,9 @@ pub fn outcome_text<T: Copy + Into<u64>>(counts: &[T; 6], failed_only: bool) -> 
         .join(" ")
 }
 
-/// One row per jump: axis, the values either side, quantity (`xmax` in m or `di` in m/s), the
-/// difference and its robust z-score.
+/// One row per jump: axis, kind (`step` or `kink`), where (`at`) and the values spanned,
+/// quantity (`xmax` in m or `di` in m/s), the first (step) or second (kink) difference and its
+/// robust z-score.
 pub fn jumps_table(s: &Summary) -> Table {
     let j = &s.jumps;
     let mut t = Table::default();
@@ -208,6 +209,11 @@ pub fn jumps_table(s: &Summary) -> Table {
         "axis",
         Column::Str(j.iter().map(|x| x.axis.clone()).collect()),
     );
+    t.push(
+        "kind",
+        Column::Str(j.iter().map(|x| x.kind.to_string()).collect()),
+    );
+    t.push("at", Column::F64(j.iter().map(|x| x.at).collect()));
     t.push("from", Column::F64(j.iter().map(|x| x.from).collect()));
     t.push("to", Column::F64(j.iter().map(|x| x.to).collect()));
     t.push(

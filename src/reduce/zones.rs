@@ -1,18 +1,26 @@
 //! Zones found from the data (model.md §6), or declared in the study.
 //!
-//! 1. **Jumps.** Along each swept axis, the first differences of `xmax` and of `DI`
-//!    between neighbouring design points (every line of the grid along that axis, pooled) are
-//!    compared with their median and their median absolute deviation: the robust z-score is
-//!    `|Δ - median(Δ)| / (1.4826 MAD(Δ))`, and `z > jump_k` (`[zones].jump_k`, default 6) is a
-//!    jump. 1.4826 MAD estimates the SD of normal differences; a smooth curve has differences
-//!    that drift slowly, so they stay within a few MADs of their median, while a jump stands out
+//! 1. **Jumps.** Along each swept axis (every line of the grid along that axis, pooled), for
+//!    `xmax` and for `DI`:
+//!    * a **step** between neighbours `i`, `i+1`: the first difference `Δ_i` is an outlier,
+//!      `|Δ_i - median(Δ)| / (1.4826 MAD(Δ)) > jump_k` (`[zones].jump_k`, default 6);
+//!    * a **kink** at `i` (the curve turns abruptly, as the first peak does near e = 0.74,
+//!      model.md §7): the second difference `Δ²_i = Δ_i - Δ_{i-1}` is an outlier by the same
+//!      rule *and* the slope changes by more than [`KINK_STEPS`] typical steps,
+//!      `|Δ²_i - median(Δ²)| > KINK_STEPS · median(|Δ|)`. The second condition keeps the gentle
+//!      curvature of very smooth data (whose MAD is tiny) from counting as a kink. A step makes
+//!      two outlying second differences, one either side; those are not kinks.
+//!
+//!    1.4826 MAD estimates the SD of normal differences; a smooth curve has differences that
+//!    drift slowly, so they stay within a few MADs of their median, while a jump stands out
 //!    however large the smooth drift is. The scale is floored at `1e-3 median(|Δ|)` so that
 //!    exactly linear data (MAD = 0) does not turn rounding into jumps. `xmax` is the ideal
 //!    case's (noise-free, unperturbed: the design's own behaviour, which noise would blur) when
 //!    every point has one, else the mean over the cases; DI is the point's DI.
 //! 2. **Labels.** Every design point gets one label:
-//!    * `unreliable around a jump` — it is on either side of a jump: a small error in the design
-//!      variable changes the behaviour abruptly (the paper's zone II);
+//!    * `unreliable around a jump` — it is on either side of a step, or at a kink or next to
+//!      it: a small error in the design variable changes the behaviour abruptly (the paper's
+//!      zone II);
 //!    * `strong damping, reliable` — `R >= r_min` and `DI >= di_strong` (the paper's zone I);
 //!    * `reliable, weak damping` — `R >= r_min`, `DI < di_strong` (zone III);
 //!    * `unreliable, strong damping` / `unreliable, weak damping` — `R < r_min`;
@@ -37,6 +45,12 @@ use crate::study::{Ranking, Zones};
 /// unless they sit around a jump.
 pub const MIN_ZONE_POINTS: usize = 3;
 
+/// A kink must change the slope by more than this many typical steps (`median |Δ|`). A
+/// symmetric V (slopes +s, -s) changes it by 2 typical steps and is a kink; the gentle bends of
+/// the paper study's first peak (e = 0.51, 0.92) change it by about 1 and are not, its turns at
+/// e = 0.74 and 0.80 by about 4.6 and are.
+pub const KINK_STEPS: f64 = 1.5;
+
 pub const LABEL_JUMP: &str = "unreliable around a jump";
 pub const LABEL_STRONG: &str = "strong damping, reliable";
 pub const LABEL_WEAK: &str = "reliable, weak damping";
@@ -54,18 +68,23 @@ pub const LABELS: [&str; 6] = [
     LABEL_NO_DATA,
 ];
 
-/// A jump between two neighbouring design points along one axis.
+/// A jump along one axis: a step between two neighbouring design points, or a kink at one.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Jump {
     pub axis: String,
     /// `xmax` or `di`.
     pub quantity: &'static str,
-    /// The axis values on either side.
+    /// `step` or `kink`.
+    pub kind: &'static str,
+    /// The axis values spanned: the two sides of a step, the neighbours of a kink.
     pub from: f64,
     pub to: f64,
-    /// The two design points.
-    pub points: (u64, u64),
-    /// The difference (m or m/s) and its robust z-score.
+    /// Where it is: the middle of a step, the point of a kink.
+    pub at: f64,
+    /// The design points it marks (2 for a step, 3 for a kink).
+    pub points: Vec<u64>,
+    /// The first difference of a step or the second difference of a kink (m or m/s), and its
+    /// robust z-score.
     pub delta: f64,
     pub z: f64,
 }
@@ -136,7 +155,7 @@ pub fn robust_z(diffs: &[f64]) -> Vec<f64> {
     diffs.iter().map(|d| (d - med).abs() / scale).collect()
 }
 
-/// Finds jumps along every axis; `points` must be sorted by point index.
+/// Finds steps and kinks along every axis; `points` must be sorted by point index.
 pub fn jumps(axes: &[(String, Vec<f64>)], points: &[PointStats], jump_k: f64) -> Vec<Jump> {
     let n_total: usize = axes.iter().map(|a| a.1.len()).product();
     let mut at = vec![usize::MAX; n_total];
@@ -152,39 +171,73 @@ pub fn jumps(axes: &[(String, Vec<f64>)], points: &[PointStats], jump_k: f64) ->
         let stride: usize = axes[a + 1..].iter().map(|x| x.1.len()).product();
         let len = values.len();
         for quantity in ["xmax", "di"] {
-            let get = |p: &PointStats| match (quantity, ideal) {
-                ("xmax", true) => p.xmax_ideal,
-                ("xmax", false) => p.xmax_mean,
-                _ => p.di,
+            let get = |i: usize| -> f64 {
+                if i == usize::MAX {
+                    return f64::NAN;
+                }
+                let p = &points[i];
+                match (quantity, ideal) {
+                    ("xmax", true) => p.xmax_ideal,
+                    ("xmax", false) => p.xmax_mean,
+                    _ => p.di,
+                }
             };
-            let mut pairs = Vec::new();
-            let mut diffs = Vec::new();
+            // (positions in `points`, index along the axis, difference)
+            let mut steps: Vec<([usize; 2], usize, f64)> = Vec::new();
+            let mut kinks: Vec<([usize; 3], usize, f64)> = Vec::new();
             for base in 0..n_total {
                 // `base` starts a line when its index along `a` is 0.
                 if !(base / stride).is_multiple_of(len) {
                     continue;
                 }
-                for i in 0..len.saturating_sub(1) {
-                    let (u, v) = (base + i * stride, base + (i + 1) * stride);
-                    let (iu, iv) = (at[u], at[v]);
-                    if iu == usize::MAX || iv == usize::MAX {
-                        continue;
+                let line: Vec<usize> = (0..len).map(|i| at[base + i * stride]).collect();
+                let d: Vec<f64> = (0..len.saturating_sub(1))
+                    .map(|i| get(line[i + 1]) - get(line[i]))
+                    .collect();
+                for i in 0..d.len() {
+                    if d[i].is_finite() {
+                        steps.push(([line[i], line[i + 1]], i, d[i]));
                     }
-                    let d = get(&points[iv]) - get(&points[iu]);
-                    if d.is_finite() {
-                        pairs.push((iu, iv, i));
-                        diffs.push(d);
+                    if i > 0 && (d[i] - d[i - 1]).is_finite() {
+                        kinks.push(([line[i - 1], line[i], line[i + 1]], i, d[i] - d[i - 1]));
                     }
                 }
             }
-            for ((&(iu, iv, i), &d), z) in pairs.iter().zip(&diffs).zip(robust_z(&diffs)) {
+            let diffs: Vec<f64> = steps.iter().map(|s| s.2).collect();
+            let mut stepped = std::collections::HashSet::new();
+            for (&(pp, i, d), z) in steps.iter().zip(robust_z(&diffs)) {
                 if z > jump_k {
+                    stepped.insert(pp);
                     out.push(Jump {
                         axis: key.clone(),
                         quantity,
+                        kind: "step",
                         from: values[i],
                         to: values[i + 1],
-                        points: (points[iu].point, points[iv].point),
+                        at: (values[i] + values[i + 1]) / 2.0,
+                        points: pp.iter().map(|&k| points[k].point).collect(),
+                        delta: d,
+                        z,
+                    });
+                }
+            }
+            let abs: Vec<f64> = diffs.iter().map(|d| d.abs()).collect();
+            let typical = median(&abs);
+            let d2: Vec<f64> = kinks.iter().map(|k| k.2).collect();
+            let med2 = median(&d2);
+            for (&(pp, i, d), z) in kinks.iter().zip(robust_z(&d2)) {
+                // A step makes two outlying second differences, one either side: not kinks.
+                let by_step =
+                    stepped.contains(&[pp[0], pp[1]]) || stepped.contains(&[pp[1], pp[2]]);
+                if z > jump_k && (d - med2).abs() > KINK_STEPS * typical && !by_step {
+                    out.push(Jump {
+                        axis: key.clone(),
+                        quantity,
+                        kind: "kink",
+                        from: values[i - 1],
+                        to: values[i + 1],
+                        at: values[i],
+                        points: pp.iter().map(|&k| points[k].point).collect(),
                         delta: d,
                         z,
                     });
@@ -254,8 +307,8 @@ pub fn find(
             .map(|(i, p)| (p.point, i))
             .collect();
         for j in &jumps {
-            for p in [j.points.0, j.points.1] {
-                if let Some(&i) = index.get(&p) {
+            for p in &j.points {
+                if let Some(&i) = index.get(p) {
                     near[i] = true;
                 }
             }

@@ -229,7 +229,7 @@ impl Chart for DiChart<'_> {
         // Jumps along the plotted axis.
         let mut first = true;
         for j in s.jumps.iter().filter(|j| &j.axis == key) {
-            let x = (j.from + j.to) / 2.0;
+            let x = j.at;
             let series = chart
                 .draw_series(std::iter::once(PathElement::new(
                     vec![(x, y0), (x, y1)],
@@ -238,7 +238,7 @@ impl Chart for DiChart<'_> {
                 .map_err(err)?;
             if first {
                 series
-                    .label("jump (xmax or DI)")
+                    .label("jump: step or kink of xmax or DI")
                     .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED.mix(0.6)));
                 first = false;
             }

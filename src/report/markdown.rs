@@ -35,6 +35,20 @@ fn values(s: &Summary, vals: &[f64]) -> String {
         .join(", ")
 }
 
+/// "between e = 0.73 and 0.74" for a step, "at e = 0.74" for a kink.
+fn jump_where(j: &crate::reduce::Jump) -> String {
+    if j.kind == "kink" {
+        format!("at {} = {}", j.axis, fmt_num(j.at))
+    } else {
+        format!(
+            "between {} = {} and {}",
+            j.axis,
+            fmt_num(j.from),
+            fmt_num(j.to)
+        )
+    }
+}
+
 /// The report text. `charts` are file names relative to the run directory; `audit` is the
 /// `audit` value of `manifest.json` when there is one.
 pub fn report(
@@ -224,11 +238,15 @@ pub fn report(
     // Jumps.
     let _ = writeln!(o, "## Jumps\n");
     if s.jumps.is_empty() {
-        let _ = writeln!(o, "No jump of xmax or DI along any axis.\n");
+        let _ = writeln!(o, "No step or kink of xmax or DI along any axis.\n");
     } else {
         let _ = writeln!(
             o,
-            "| axis | between | quantity | change | robust z |\n|---|---|---|---|---|"
+            "A step is an outlying first difference between neighbours; a kink an outlying change of slope at a point (second difference). xmax here is the ideal case's.\n"
+        );
+        let _ = writeln!(
+            o,
+            "| axis | kind | where | quantity | change | robust z |\n|---|---|---|---|---|---|"
         );
         for j in s.jumps.iter().take(40) {
             let change = if j.quantity == "xmax" {
@@ -238,10 +256,10 @@ pub fn report(
             };
             let _ = writeln!(
                 o,
-                "| {} | {} – {} | {} | {} | {:.1} |",
+                "| {} | {} | {} | {} | {} | {:.1} |",
                 j.axis,
-                fmt_num(j.from),
-                fmt_num(j.to),
+                j.kind,
+                jump_where(j),
                 j.quantity,
                 change,
                 j.z
@@ -253,11 +271,10 @@ pub fn report(
         if let Some(big) = s.jumps.iter().max_by(|a, b| a.z.total_cmp(&b.z)) {
             let _ = writeln!(
                 o,
-                "\nThe largest jump: {} between {} = {} and {} (robust z = {:.1}).\n",
+                "\nThe strongest: a {} of {} {} (robust z = {:.1}).\n",
+                big.kind,
                 big.quantity,
-                big.axis,
-                fmt_num(big.from),
-                fmt_num(big.to),
+                jump_where(big),
                 big.z
             );
         }
