@@ -460,3 +460,23 @@ fn paper_safety_form_and_mean_di_are_options() {
     let ideal = rows.iter().find(|r| r.ideal).unwrap().record.di;
     assert_eq!(exact.points[45].di, ideal);
 }
+
+#[test]
+fn audit_of_the_manifest_reaches_the_report() {
+    use impactsweep::app::reduce::read_audit;
+    let dir = tempfile::tempdir().unwrap();
+    assert_eq!(read_audit(dir.path()).unwrap(), None);
+    std::fs::write(dir.path().join("manifest.json"), r#"{"audit": null}"#).unwrap();
+    assert_eq!(read_audit(dir.path()).unwrap(), None);
+    std::fs::write(
+        dir.path().join("manifest.json"),
+        r#"{"audit": {"points": 4, "max_rel_error_xmax": 1.5e-13}}"#,
+    )
+    .unwrap();
+    let audit = read_audit(dir.path()).unwrap().unwrap();
+    let s = paper();
+    let sum = run(&s, simulate_chunks(&s));
+    write_outputs(&s, &sum, dir.path(), Some(&audit)).unwrap();
+    let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    assert!(md.contains("## Accuracy audit") && md.contains("\"max_rel_error_xmax\": 1.5e-13"));
+}

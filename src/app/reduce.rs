@@ -75,7 +75,8 @@ pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The `audit` value of `RUN_DIR/manifest.json`, when the file and the key exist.
+/// The `audit` value of `RUN_DIR/manifest.json`, when the file and the key exist and the value
+/// is not null.
 pub fn read_audit(dir: &Path) -> anyhow::Result<Option<serde_json::Value>> {
     let path = dir.join("manifest.json");
     if !path.exists() {
@@ -85,7 +86,7 @@ pub fn read_audit(dir: &Path) -> anyhow::Result<Option<serde_json::Value>> {
         std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
     let v: serde_json::Value =
         serde_json::from_str(&text).with_context(|| format!("parsing {}", path.display()))?;
-    Ok(v.get("audit").cloned())
+    Ok(v.get("audit").filter(|a| !a.is_null()).cloned())
 }
 
 /// Writes every output of a reduction into `dir`; returns the files written.

@@ -92,7 +92,7 @@ pub fn report(
     let _ = writeln!(o, "## Settings\n");
     let _ = writeln!(
         o,
-        "- Stress (eq. 10): S = 3 E r xmax / L², E = {} GPa, r = {} mm, L = {} m, i.e. {:.4} MPa per cm of xmax.",
+        "- Stress (eq. 10): S = 3 E r xmax / L², E = {} GPa, r = {} mm, L = {} m, i.e. {:.3} MPa per cm of xmax.",
         fmt_num(rel.E / 1e9),
         fmt_num(rel.r * 1e3),
         fmt_num(rel.L),
@@ -135,7 +135,8 @@ pub fn report(
     );
     let _ = writeln!(
         o,
-        "- Zones: jump when a first difference is more than {} robust SDs from the median difference; reliable when R ≥ {}; strong damping when DI ≥ {} m/s{}.{}\n",
+        "- Zones: a step when a first difference, a kink when a second difference (and the slope change exceeds {} typical steps) is more than {} robust SDs from the median; reliable when R ≥ {}; strong damping when DI ≥ {} m/s{}.{}\n",
+        fmt_num(crate::reduce::zones::KINK_STEPS),
         fmt_num(study.zones.jump_k),
         fmt_num(study.zones.r_min),
         f(s.di_strong, 5),
