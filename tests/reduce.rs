@@ -480,3 +480,31 @@ fn audit_of_the_manifest_reaches_the_report() {
     let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
     assert!(md.contains("## Accuracy audit") && md.contains("\"max_rel_error_xmax\": 1.5e-13"));
 }
+
+#[test]
+fn many_points_draw_bands_and_stay_small() {
+    // 2000 design points: lines and bands instead of markers and boxes, at most 30 jump lines.
+    let e: Vec<f64> = (0..2000).map(|i| 0.45 + 0.5 * i as f64 / 1999.0).collect();
+    let s = study(vec![("e", e.clone())], 4);
+    let mut rows = Vec::new();
+    for (p, &ev) in e.iter().enumerate() {
+        for c in 0..4u32 {
+            // A saw tooth: 40 steps, more than the chart marks.
+            let x = 0.028 + 1e-4 * f64::from(c) + 2e-3 * ((p / 50) % 2) as f64 + 1e-3 * ev;
+            rows.push(row(&s, p as u64, c, Outcome::Ok, x, 0.03 - 0.02 * ev));
+        }
+    }
+    let sum = run(&s, vec![rows]);
+    assert!(sum.jumps.len() > 30, "{}", sum.jumps.len());
+    let tmp = tempfile::tempdir().unwrap();
+    let keep = std::env::var_os("IMPACTSWEEP_KEEP_CHARTS").map(|d| Path::new(&d).join("many"));
+    let dir = keep.as_deref().unwrap_or(tmp.path());
+    write_outputs(&s, &sum, dir, None).unwrap();
+    for stem in ["di", "design_chart", "xmax_spread"] {
+        let svg = std::fs::metadata(dir.join(format!("{stem}.svg")))
+            .unwrap()
+            .len();
+        assert!(svg < 1_500_000, "{stem}.svg is {svg} bytes");
+        assert_eq!(png_size(&dir.join(format!("{stem}.png"))).0 >= 900, true);
+    }
+}

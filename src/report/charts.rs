@@ -14,6 +14,7 @@ use std::sync::Once;
 
 use anyhow::{Context, anyhow};
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
@@ -136,6 +137,12 @@ fn axis_desc(key: &str) -> String {
     }
 }
 
+/// Above this many design points, charts draw lines and bands instead of markers and boxes,
+/// and mark only the strongest jumps: a chart stays readable and an SVG stays small.
+const MANY: usize = 300;
+/// Jumps drawn at most.
+const MAX_JUMP_LINES: usize = 30;
+
 const TITLE: (&str, u32) = ("sans-serif", 22);
 const LABEL: (&str, u32) = ("sans-serif", 18);
 const SMALL: (&str, u32) = ("sans-serif", 15);
@@ -222,13 +229,24 @@ impl Chart for DiChart<'_> {
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
                 });
-            chart
-                .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
-                .map_err(err)?;
+            if pts.len() <= MANY {
+                chart
+                    .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                    .map_err(err)?;
+            }
         }
-        // Jumps along the plotted axis.
+        // Jumps along the plotted axis, the strongest first.
+        let mut jumps: Vec<_> = s.jumps.iter().filter(|j| &j.axis == key).collect();
+        let n_jumps = jumps.len();
+        jumps.sort_by(|a, b| b.z.total_cmp(&a.z));
+        jumps.truncate(MAX_JUMP_LINES);
+        let jump_label = if n_jumps > MAX_JUMP_LINES {
+            format!("jump: the {MAX_JUMP_LINES} strongest of {n_jumps} steps/kinks")
+        } else {
+            "jump: step or kink of xmax or DI".to_string()
+        };
         let mut first = true;
-        for j in s.jumps.iter().filter(|j| &j.axis == key) {
+        for j in jumps {
             let x = j.at;
             let series = chart
                 .draw_series(std::iter::once(PathElement::new(
@@ -238,7 +256,7 @@ impl Chart for DiChart<'_> {
                 .map_err(err)?;
             if first {
                 series
-                    .label("jump: step or kink of xmax or DI")
+                    .label(jump_label.clone())
                     .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED.mix(0.6)));
                 first = false;
             }
@@ -334,6 +352,9 @@ impl Chart for DesignChart<'_> {
                     });
                 seen.push(legend);
             }
+            if hi - lo < 0.03 * (x1 - x0) {
+                continue; // too narrow for its name
+            }
             let ytext = ly1 - 0.04 * (ly1 - ly0);
             chart
                 .draw_series(std::iter::once(Text::new(
@@ -426,9 +447,11 @@ impl Chart for DesignChart<'_> {
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 18, y)], orange.stroke_width(2))
             });
-        chart
-            .draw_secondary_series(di.iter().map(|&p| Circle::new(p, 3, orange.filled())))
-            .map_err(err)?;
+        if di.len() <= MANY {
+            chart
+                .draw_secondary_series(di.iter().map(|&p| Circle::new(p, 3, orange.filled())))
+                .map_err(err)?;
+        }
         chart
             .configure_series_labels()
             .position(SeriesLabelPosition::MiddleLeft)
@@ -495,6 +518,9 @@ impl Chart for SpreadChart<'_> {
             .map_err(err)?;
         let w = step * 0.35;
         let box_color = RGBColor(31, 119, 180);
+        if s.points.len() > MANY {
+            return self.bands(&mut chart, &xs);
+        }
         let mut first = true;
         for (p, &x) in s.points.iter().zip(&xs) {
             if !p.xmax_min.is_finite() {
@@ -547,6 +573,82 @@ impl Chart for SpreadChart<'_> {
             }
             first = false;
         }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .label_font(SMALL)
+            .draw()
+            .map_err(err)?;
+        Ok(())
+    }
+}
+
+impl SpreadChart<'_> {
+    /// Many points: min–max and quartile bands, the median and the ideal case as lines.
+    fn bands<'a, DB: DrawingBackend + 'a>(
+        &self,
+        chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+        xs: &[f64],
+    ) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let s = self.0;
+        let cm = 100.0;
+        let pts: Vec<(f64, &crate::reduce::PointStats)> = xs
+            .iter()
+            .copied()
+            .zip(&s.points)
+            .filter(|(_, p)| p.xmax_min.is_finite())
+            .collect();
+        let band = |lo: &dyn Fn(&crate::reduce::PointStats) -> f64,
+                    hi: &dyn Fn(&crate::reduce::PointStats) -> f64| {
+            pts.iter()
+                .map(|(x, p)| (*x, hi(p) * cm))
+                .chain(pts.iter().rev().map(|(x, p)| (*x, lo(p) * cm)))
+                .collect::<Vec<_>>()
+        };
+        let blue = RGBColor(31, 119, 180);
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                band(&|p| p.xmax_min, &|p| p.xmax_max),
+                blue.mix(0.2).filled(),
+            )))
+            .map_err(err)?
+            .label("min – max")
+            .legend(move |(x, y)| {
+                Rectangle::new([(x, y - 6), (x + 18, y + 6)], blue.mix(0.2).filled())
+            });
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                band(&|p| p.xmax_q1, &|p| p.xmax_q3),
+                blue.mix(0.5).filled(),
+            )))
+            .map_err(err)?
+            .label("quartiles")
+            .legend(move |(x, y)| {
+                Rectangle::new([(x, y - 6), (x + 18, y + 6)], blue.mix(0.5).filled())
+            });
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter().map(|(x, p)| (*x, p.xmax_median * cm)),
+                BLACK.stroke_width(1),
+            ))
+            .map_err(err)?
+            .label("median")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK));
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter()
+                    .filter(|(_, p)| p.xmax_ideal.is_finite())
+                    .map(|(x, p)| (*x, p.xmax_ideal * cm)),
+                RED.stroke_width(1),
+            ))
+            .map_err(err)?
+            .label("ideal case")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED));
         chart
             .configure_series_labels()
             .position(SeriesLabelPosition::UpperLeft)
