@@ -32,9 +32,12 @@
 //! `mu (1 - e^2) (v - w)^2 / 2` (counted in `energy_impact`) and between events by the viscous
 //! work (counted in `energy_viscous` as the drop of energy over each phase piece).
 
+use super::dense::Stepping;
+use super::dopri5::Dopri5;
 use super::exact::ExactPhase;
 use super::linear::Oscillator;
 use super::noise::NoiseStream;
+use super::rk4::Rk4;
 use super::{
     NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings, State, Wall,
     impact,
@@ -106,6 +109,15 @@ pub fn simulate<P: Probe>(
     match settings.kind {
         SolverKind::Exact => {
             let mut solver = ExactPhase::new(tol_t, settings.max_steps);
+            Run::new(sys, settings, req, noise, probe).go(&mut solver)
+        }
+        SolverKind::Rk4 => {
+            let mut solver = Stepping::new(Rk4 { h: settings.h }, tol_t, settings.max_steps);
+            Run::new(sys, settings, req, noise, probe).go(&mut solver)
+        }
+        SolverKind::Dopri5 => {
+            let inner = Dopri5::new(settings.rtol, settings.atol);
+            let mut solver = Stepping::new(inner, tol_t, settings.max_steps);
             Run::new(sys, settings, req, noise, probe).go(&mut solver)
         }
     }
