@@ -80,7 +80,7 @@ impl Setup {
                 InputError::new(format!("--set {key}={raw}: '{raw}' is not a number"))
             })?;
             let integer = |v: f64| -> Result<u64, InputError> {
-                if v.fract() == 0.0 && v >= 0.0 && v <= 9.0e15 {
+                if v.fract() == 0.0 && (0.0..=9.0e15).contains(&v) {
                     Ok(v as u64)
                 } else {
                     Err(InputError::new(format!(

@@ -36,9 +36,9 @@
 //! reported just past the zero of the contact force (the force's sign checked on re-integrated
 //! states), so the freed inner mass is not caught by the wall again at the same instant.
 
+use super::Wall;
 use super::driver::{Event, PhaseSolver, StepCap, Watch};
 use super::linear::Oscillator;
-use super::Wall;
 
 /// A polynomial `c[0] + c[1] s + ... + c[5] s^5` in the step fraction `s`.
 pub(crate) type Poly = [f64; 6];
@@ -197,6 +197,27 @@ fn roots_in(p: &Poly, a: f64, b: f64) -> Roots {
     out
 }
 
+/// The smallest Bernstein coefficient of `p` (degree 5) on `[0, 1]`:
+/// `b_k = sum_{i <= k} C(k, i) / C(5, i) c_i`, a lower bound of `p` there.
+#[inline]
+fn bernstein_min(p: &Poly) -> f64 {
+    // C(k, i) / C(5, i) for k = 0..=5, i = 0..=k.
+    const W: [[f64; 6]; 6] = [
+        [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [1.0, 0.2, 0.0, 0.0, 0.0, 0.0],
+        [1.0, 0.4, 0.1, 0.0, 0.0, 0.0],
+        [1.0, 0.6, 0.3, 0.1, 0.0, 0.0],
+        [1.0, 0.8, 0.6, 0.4, 0.2, 0.0],
+        [1.0, 1.0, 1.0, 1.0, 1.0, 1.0],
+    ];
+    let mut lo = f64::INFINITY;
+    for w in &W {
+        let b: f64 = (0..6).map(|i| w[i] * p[i]).sum();
+        lo = lo.min(b);
+    }
+    lo
+}
+
 /// Does a function at its zero head into it?
 #[inline]
 fn toward(g1: f64, g2: f64) -> bool {
@@ -207,9 +228,9 @@ fn toward(g1: f64, g2: f64) -> bool {
 /// doc), located to `tol_s`; the returned point is on the positive side of the root when the
 /// root is interior.
 pub(crate) fn first_crossing(g: &Poly, tol_s: f64) -> Option<f64> {
-    // Cheap exclusion: on [0, 1], g(s) >= g0 + sum of the negative coefficients.
-    let lower = g[0] + g[1..].iter().map(|c| c.min(0.0)).sum::<f64>();
-    if lower > 0.0 {
+    // Cheap exclusion: on [0, 1] a polynomial lies above the smallest of its Bernstein
+    // coefficients (the convex-hull property); most steps end here.
+    if bernstein_min(g) > 0.0 {
         return None;
     }
     if g[0] <= 0.0 && toward(g[1], g[2]) {
@@ -323,10 +344,7 @@ impl<I: Integrator> Stepping<I> {
         [
             (Event::Wall(Wall::Right), walls.map(|p| p.0)),
             (Event::Wall(Wall::Left), walls.map(|p| p.1)),
-            (
-                Event::XZero,
-                Some(combo(w.x_side, &xp, 0.0, &vp, 0.0, 0.0)),
-            ),
+            (Event::XZero, Some(combo(w.x_side, &xp, 0.0, &vp, 0.0, 0.0))),
             (
                 Event::VZero,
                 w.v_side.map(|s| combo(0.0, &xp, s, &vp, 0.0, 0.0)),
@@ -381,9 +399,9 @@ impl<I: Integrator> PhaseSolver for Stepping<I> {
                 return Ok(Event::Limit);
             }
             let osc = self.osc;
-            let st = self
-                .inner
-                .step(&osc, self.x, self.v, room, &mut self.steps, self.max_steps)?;
+            let st =
+                self.inner
+                    .step(&osc, self.x, self.v, room, &mut self.steps, self.max_steps)?;
             if !(st.x1.is_finite() && st.v1.is_finite()) {
                 self.t += st.h;
                 self.x = st.x1;
@@ -479,10 +497,19 @@ mod tests {
 
     #[test]
     fn start_at_zero_fires_only_when_heading_into_it() {
-        assert_eq!(first_crossing(&[0.0, -1.0, 0.0, 0.0, 0.0, 0.0], 1e-12), Some(0.0));
-        assert_eq!(first_crossing(&[0.0, 0.0, -1.0, 0.0, 0.0, 0.0], 1e-12), Some(0.0));
+        assert_eq!(
+            first_crossing(&[0.0, -1.0, 0.0, 0.0, 0.0, 0.0], 1e-12),
+            Some(0.0)
+        );
+        assert_eq!(
+            first_crossing(&[0.0, 0.0, -1.0, 0.0, 0.0, 0.0], 1e-12),
+            Some(0.0)
+        );
         // Slightly below zero but moving away: no event while it stays clear.
-        assert_eq!(first_crossing(&[-1e-19, 1.0, 0.0, 0.0, 0.0, 0.0], 1e-12), None);
+        assert_eq!(
+            first_crossing(&[-1e-19, 1.0, 0.0, 0.0, 0.0, 0.0], 1e-12),
+            None
+        );
         // Moving away from zero and coming back: the return is found.
         let s = first_crossing(&[-1e-19, 1.0, -2.0, 0.0, 0.0, 0.0], 1e-14).unwrap();
         assert!((s - 0.5).abs() < 1e-12, "{s}");
@@ -498,6 +525,19 @@ mod tests {
         for s in [0.0, 0.25, 0.5, 0.8, 1.0] {
             assert!((eval(&p, s) - y(s * h)).abs() < 1e-14, "{s}");
         }
+    }
+
+    #[test]
+    fn bernstein_bound_is_a_tight_lower_bound() {
+        let p = poly_from_roots(&[0.3, 0.7], 1.0); // min -0.04 at 0.5
+        let lo = bernstein_min(&p);
+        let min = (0..=1000)
+            .map(|i| eval(&p, i as f64 / 1000.0))
+            .fold(f64::INFINITY, f64::min);
+        assert!(lo <= min && lo > -0.2, "{lo} vs {min}");
+        let mut q = p;
+        q[0] += 0.3; // lifted clear: (s-0.3)(s-0.7)+0.3 > 0 on [0, 1]
+        assert!(bernstein_min(&q) > 0.0);
     }
 
     #[test]

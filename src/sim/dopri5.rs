@@ -80,12 +80,23 @@ fn stages(o: &Oscillator, y: Y, k1: Y, h: f64) -> (Y, [Y; 7]) {
     let k2 = f(o, lin(y, h, &[(A21, &k1)]));
     let k3 = f(o, lin(y, h, &[(A31, &k1), (A32, &k2)]));
     let k4 = f(o, lin(y, h, &[(A41, &k1), (A42, &k2), (A43, &k3)]));
-    let k5 = f(o, lin(y, h, &[(A51, &k1), (A52, &k2), (A53, &k3), (A54, &k4)]));
+    let k5 = f(
+        o,
+        lin(y, h, &[(A51, &k1), (A52, &k2), (A53, &k3), (A54, &k4)]),
+    );
     let k6 = f(
         o,
-        lin(y, h, &[(A61, &k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)]),
+        lin(
+            y,
+            h,
+            &[(A61, &k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
+        ),
     );
-    let y1 = lin(y, h, &[(A71, &k1), (A73, &k3), (A74, &k4), (A75, &k5), (A76, &k6)]);
+    let y1 = lin(
+        y,
+        h,
+        &[(A71, &k1), (A73, &k3), (A74, &k4), (A75, &k5), (A76, &k6)],
+    );
     let k7 = f(o, y1);
     (y1, [k1, k2, k3, k4, k5, k6, k7])
 }
@@ -186,7 +197,7 @@ impl Integrator for Dopri5 {
                 sum += (est / sk[i]).powi(2);
             }
             let err = (0.5 * sum).sqrt();
-            if !err.is_finite() || !(y1[0].is_finite() && y1[1].is_finite()) {
+            if !(err.is_finite() && y1[0].is_finite() && y1[1].is_finite()) {
                 if h <= f64::EPSILON * h_cap {
                     // Give up shrinking: let the caller see the non-finite state.
                     return Ok(Step {
