@@ -320,3 +320,195 @@ fn every_solver_passes_the_extremes_table() {
         }
     }
 }
+
+// ---- the commands -------------------------------------------------------------------------
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+
+#[test]
+fn simulate_takes_the_solver_and_its_knobs() {
+    let out = Command::cargo_bin("impactsweep")
+        .unwrap()
+        .args([
+            "simulate",
+            "--json",
+            "--set",
+            "solver=rk4",
+            "--set",
+            "h=1e-4",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["solver"]["kind"], "rk4");
+    assert_eq!(v["solver"]["h"], 1e-4);
+    assert_eq!(v["impacts"], 14);
+    let truth = exact(&System::TABLE_I);
+    let di = v["di"].as_f64().unwrap();
+    assert!(((di - truth.di) / truth.di).abs() < 1e-6, "{di}");
+
+    let out = Command::cargo_bin("impactsweep")
+        .unwrap()
+        .args(["simulate", "--json", "--set", "solver=dopri5"])
+        .args(["--set", "rtol=1e-9", "--set", "atol=1e-12"])
+        .output()
+        .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["solver"]["kind"], "dopri5");
+    assert_eq!(v["solver"]["rtol"], 1e-9);
+    assert_eq!(v["impacts"], 14);
+}
+
+#[test]
+fn solver_knobs_out_of_range_are_refused_by_name() {
+    for (set, msg) in [
+        ("h=0", "--set h = 0: must be in [0.000000001, 1]"),
+        (
+            "rtol=1",
+            "--set rtol = 1: must be in [0.00000000000001, 0.1]",
+        ),
+        (
+            "atol=-1",
+            "--set atol = -1: must be in [0.000000000000000001, 0.1]",
+        ),
+        (
+            "solver=euler",
+            "--set solver=euler: unknown solver; allowed: exact, rk4, dopri5",
+        ),
+    ] {
+        Command::cargo_bin("impactsweep")
+            .unwrap()
+            .args(["simulate", "--set", set])
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(msg));
+    }
+}
+
+#[test]
+fn tradeoff_quick_writes_its_table_chart_and_parquet_and_merges_a_peer() {
+    let dir = tempfile::tempdir().unwrap();
+    // A peer that reproduces exact's values, with one run stopped by its chatter guard.
+    let runs: Vec<serde_json::Value> = (0..=50)
+        .map(|i| {
+            let sys = System {
+                e: 0.45 + 0.01 * i as f64,
+                ..System::TABLE_I
+            };
+            let r = exact(&sys);
+            if i == 0 {
+                serde_json::json!({"e": sys.e, "outcome": "chatter", "xmax": null, "t1": null,
+                                   "di": null, "impacts": 1000})
+            } else {
+                serde_json::json!({"e": sys.e, "outcome": "ok", "xmax": r.xmax, "t1": r.t1,
+                                   "di": r.di, "impacts": r.impacts})
+            }
+        })
+        .collect();
+    let peer = serde_json::json!({"tool": "scipy", "version": "test", "methods": [{
+        "method": "DOP853", "rtol": 1e-10, "atol": 1e-12, "time_per_run_s": 1e-3,
+        "cpu_per_run_s": 1e-3, "reps": 1, "runs": runs}]});
+    std::fs::write(dir.path().join("peer_scipy.json"), peer.to_string()).unwrap();
+    let out = Command::cargo_bin("impactsweep")
+        .unwrap()
+        .args(["tradeoff", "--quick", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(out.status.success(), "{text}");
+    for needle in [
+        "| exact | tol = 1e-12 |",
+        "| rk4 | h = T/800 |",
+        "| dopri5 | rtol = 1e-9 |",
+        "| scipy-DOP853 | rtol = 1e-10 |",
+        "1 (1 unfinished)",
+        "Cheapest exact with DI error under 0.1 %",
+        "Cheapest rk4 with DI error under 0.1 %",
+        "Cheapest dopri5 with DI error under 0.1 %",
+    ] {
+        assert!(text.contains(needle), "missing {needle:?} in\n{text}");
+    }
+    for f in [
+        "tradeoff.parquet",
+        "tradeoff.md",
+        "tradeoff.svg",
+        "tradeoff.png",
+    ] {
+        let meta = std::fs::metadata(dir.path().join(f)).unwrap();
+        assert!(meta.len() > 500, "{f}");
+    }
+    let svg = std::fs::read_to_string(dir.path().join("tradeoff.svg")).unwrap();
+    for name in ["exact", "rk4", "dopri5", "scipy-DOP853"] {
+        assert!(svg.contains(name), "{name} not in the chart's legend");
+    }
+}
+
+#[test]
+fn quote_measures_a_setting_against_exact() {
+    use impactsweep::app::tradeoff::quote;
+    let fine = quote(&rk4(System::TABLE_I.period() / 800.0));
+    let coarse = quote(&rk4(System::TABLE_I.period() / 50.0));
+    assert_eq!(fine.runs, 11);
+    assert!(fine.time_per_run > 0.0 && fine.cpu_per_run > 0.0);
+    assert!(fine.di_err < 1e-8, "{fine}");
+    assert!(coarse.di_err > 100.0 * fine.di_err, "{coarse} vs {fine}");
+    assert_eq!(fine.changed_impacts, 0);
+}
+
+/// Collects trace samples `(t, x)`.
+#[derive(Default)]
+struct Samples(Vec<(f64, f64)>);
+
+impl Probe for Samples {
+    fn sample(&mut self, t: f64, s: &State) {
+        self.0.push((t, s.x));
+    }
+}
+
+#[test]
+fn issue_5_a_maximum_after_an_impact_that_reverses_v_is_found() {
+    // At e = 0.80..0.83 the first maximum is followed, inside the same positive half-cycle, by
+    // an impact that turns the main mass upward again and a second, higher maximum. Found by the
+    // SciPy peer: the driver kept the stale sign of v and never watched the second maximum.
+    // X1 must be at least every sampled x of the first positive half-cycle.
+    let amp = System::TABLE_I.v0 / System::TABLE_I.omega();
+    for e in [0.80, 0.81, 0.82, 0.83] {
+        let sys = System {
+            e,
+            ..System::TABLE_I
+        };
+        for s in [
+            SolverSettings::default(),
+            rk4(sys.period() / 1600.0),
+            dopri5(1e-10, 1e-10 * amp),
+        ] {
+            let mut probe = Samples::default();
+            let req = Request {
+                trace_dt: Some(1e-5),
+                ..Request::default()
+            };
+            let r = simulate(&sys, &s, &req, None, &mut probe);
+            let first_zero = probe
+                .0
+                .iter()
+                .find(|(t, x)| *t > 0.0 && *x < 0.0)
+                .map(|p| p.0)
+                .unwrap();
+            let sampled = probe
+                .0
+                .iter()
+                .filter(|(t, _)| *t < first_zero)
+                .map(|p| p.1)
+                .fold(f64::MIN, f64::max);
+            assert!(
+                r.x1 >= sampled - 1e-12 && r.x1 - sampled < 1e-6,
+                "e = {e}, {:?}: X1 = {} but x reached {sampled}",
+                s.kind,
+                r.x1
+            );
+        }
+    }
+}

@@ -309,6 +309,10 @@ impl<'a, P: Probe> Run<'a, P> {
                         break Outcome::EventCap;
                     }
                     self.collide(wall);
+                    // The impact changed v discontinuously; re-read its sign, or a maximum that
+                    // follows an impact reversing v inside a positive half-cycle goes unwatched
+                    // (found by the SciPy peer at e = 0.80..0.83, issue 5).
+                    self.v_side = self.v_sign();
                     self.begin_phase(solver);
                 }
                 Event::Separation => {
@@ -351,6 +355,15 @@ impl<'a, P: Probe> Run<'a, P> {
             }
         };
         self.finish(outcome, solver.steps())
+    }
+
+    /// The sign `v` has now or is about to take, in the current phase.
+    fn v_sign(&self) -> f64 {
+        let osc = match self.phase {
+            Phase::Free => &self.free,
+            Phase::Stuck(_) => &self.pair,
+        };
+        side_of(self.s.v, osc.accel(self.s.x, self.s.v), 0.0)
     }
 
     /// Handles the trace and noise samples due at the current time.
