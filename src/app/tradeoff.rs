@@ -757,12 +757,23 @@ pub fn chart_series(rows: &[Row]) -> Vec<crate::report::tradeoff_chart::Series> 
     let mut out: Vec<crate::report::tradeoff_chart::Series> = Vec::new();
     for r in rows {
         let point = (r.cpu_per_run, r.di.max);
-        match out.iter_mut().find(|s| s.name == r.solver) {
+        let peer = !SolverKind::ALL.iter().any(|k| k.name() == r.solver);
+        let name = if peer && r.unfinished > 0 {
+            format!(
+                "{} {} ({} of {} runs unfinished: chatter)",
+                r.solver, r.setting, r.unfinished, r.runs
+            )
+        } else if peer {
+            format!("{} {}", r.solver, r.setting)
+        } else {
+            r.solver.clone()
+        };
+        match out.iter_mut().find(|s| s.name == name) {
             Some(s) => s.points.push(point),
             None => out.push(crate::report::tradeoff_chart::Series {
-                name: r.solver.clone(),
+                name,
                 points: vec![point],
-                peer: !SolverKind::ALL.iter().any(|k| k.name() == r.solver),
+                peer,
             }),
         }
     }

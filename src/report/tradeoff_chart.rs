@@ -84,7 +84,8 @@ where
         (x0, x1) = (1e-6, 1e-3);
     }
     let (x0, x1) = (x0 / 2.0, x1 * 2.0);
-    let (y0, y1) = (y0 / 5.0, y1 * 5.0);
+    // Four decades of room above the highest point hold the legend.
+    let (y0, y1) = (y0 / 5.0, y1 * 1e4);
     let mut chart = ChartBuilder::on(&root)
         .caption(
             "Speed against accuracy (lower left is better)",
@@ -152,7 +153,7 @@ where
         .label_font(("sans-serif", 15))
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
+        .position(SeriesLabelPosition::UpperMiddle)
         .draw()?;
     root.present()?;
     Ok(())
