@@ -512,3 +512,47 @@ fn issue_5_a_maximum_after_an_impact_that_reverses_v_is_found() {
         }
     }
 }
+
+#[test]
+fn noisy_runs_agree_across_solvers() {
+    // With noise the peaks are the largest noisy samples in each positive half-cycle; the
+    // samples fall at fixed times k Ts, so every accurate solver sees the same noise at the
+    // same instants and must pick the same samples.
+    use impactsweep::sim::NoiseSettings;
+    use impactsweep::sim::noise::NoiseStream;
+    let ns = NoiseSettings {
+        power: 5e-12,
+        sample_time: 1e-3,
+    };
+    let period = System::TABLE_I.period();
+    let amp = System::TABLE_I.v0 / System::TABLE_I.omega();
+    for e in [0.45, 0.9] {
+        let sys = System {
+            e,
+            ..System::TABLE_I
+        };
+        let noisy = |s: &SolverSettings| {
+            let mut stream = NoiseStream::new(7, 3, 0);
+            simulate(
+                &sys,
+                s,
+                &Request::default(),
+                Some((&ns, &mut stream)),
+                &mut NoProbe,
+            )
+        };
+        let truth = noisy(&SolverSettings::default());
+        assert_eq!(truth.outcome, Outcome::Ok);
+        for s in [rk4(period / 800.0), dopri5(1e-10, 1e-10 * amp)] {
+            let got = noisy(&s);
+            assert_eq!(got.outcome, truth.outcome, "e = {e}, {:?}", s.kind);
+            assert_eq!(got.impacts, truth.impacts, "e = {e}, {:?}", s.kind);
+            assert_eq!(got.t1, truth.t1, "e = {e}, {:?}: same sample", s.kind);
+            assert!(
+                (got.xmax - truth.xmax).abs() < 1e-10,
+                "e = {e}, {:?}",
+                s.kind
+            );
+        }
+    }
+}
