@@ -89,6 +89,9 @@ impl Setup {
             };
             match key {
                 "tol" => self.solver.tol = value,
+                "h" => self.solver.h = value,
+                "rtol" => self.solver.rtol = value,
+                "atol" => self.solver.atol = value,
                 "chatter_tol" => self.solver.chatter_tol = value,
                 "max_impacts" => self.solver.max_impacts = integer(value)?,
                 "max_steps" => self.solver.max_steps = integer(value)?,

@@ -32,9 +32,12 @@
 //! `mu (1 - e^2) (v - w)^2 / 2` (counted in `energy_impact`) and between events by the viscous
 //! work (counted in `energy_viscous` as the drop of energy over each phase piece).
 
+use super::dense::Stepping;
+use super::dopri5::Dopri5;
 use super::exact::ExactPhase;
 use super::linear::Oscillator;
 use super::noise::NoiseStream;
+use super::rk4::Rk4;
 use super::{
     NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings, State, Wall, impact,
 };
@@ -105,6 +108,15 @@ pub fn simulate<P: Probe>(
     match settings.kind {
         SolverKind::Exact => {
             let mut solver = ExactPhase::new(tol_t, settings.max_steps);
+            Run::new(sys, settings, req, noise, probe).go(&mut solver)
+        }
+        SolverKind::Rk4 => {
+            let mut solver = Stepping::new(Rk4 { h: settings.h }, tol_t, settings.max_steps);
+            Run::new(sys, settings, req, noise, probe).go(&mut solver)
+        }
+        SolverKind::Dopri5 => {
+            let inner = Dopri5::new(settings.rtol, settings.atol);
+            let mut solver = Stepping::new(inner, tol_t, settings.max_steps);
             Run::new(sys, settings, req, noise, probe).go(&mut solver)
         }
     }
@@ -296,12 +308,11 @@ impl<'a, P: Probe> Run<'a, P> {
                         break Outcome::EventCap;
                     }
                     self.collide(wall);
-                    // The impact may have reversed the main mass: a maximum can follow it.
-                    let osc = match self.phase {
-                        Phase::Free => &self.free,
-                        Phase::Stuck(_) => &self.pair,
-                    };
-                    self.v_side = side_of(self.s.v, osc.accel(self.s.x, self.s.v), 0.0);
+                    // The impact changed v discontinuously; re-read its sign, or a maximum that
+                    // follows an impact reversing v inside a positive half-cycle goes unwatched
+                    // (found at e = 0.80..0.83 by a dense-trace test and by the SciPy peer;
+                    // regression tests in tests/simulator.rs and tests/solvers.rs).
+                    self.v_side = self.v_sign();
                     self.begin_phase(solver);
                 }
                 Event::Separation => {
@@ -344,6 +355,15 @@ impl<'a, P: Probe> Run<'a, P> {
             }
         };
         self.finish(outcome, solver.steps())
+    }
+
+    /// The sign `v` has now or is about to take, in the current phase.
+    fn v_sign(&self) -> f64 {
+        let osc = match self.phase {
+            Phase::Free => &self.free,
+            Phase::Stuck(_) => &self.pair,
+        };
+        side_of(self.s.v, osc.accel(self.s.x, self.s.v), 0.0)
     }
 
     /// Handles the trace and noise samples due at the current time.
