@@ -23,7 +23,9 @@
 //! `(m / (M + m)) a (chatter_tol * period)^2`, about `4 pi^2 chatter_tol^2` of the amplitude.
 //! `e = 0` gives `u = 0` and sticks at the first impact where the force allows. For `e` near 1
 //! the denominator uses `max(1 - e, chatter_tol)`, so a rebound slower than
-//! `a chatter_tol^2 period / 2` also sticks and `e = 1` cannot chatter forever. The number of
+//! `a chatter_tol^2 period / 2` also sticks and `e = 1` cannot chatter forever. The threshold
+//! used is `max(chatter_tol, 10 tol)`: rebounds shorter than the event tolerance cannot be
+//! resolved, and without this a loose `tol` left chatters running into the impact cap. The number of
 //! impacts in one chatter sequence is therefore at most about
 //! `ln(chatter_tol period a (1 - e) / 2 u0) / ln e`; the impact cap bounds the rest.
 //!
@@ -412,7 +414,9 @@ impl<'a, P: Probe> Run<'a, P> {
         // Speed away from the wall and the wall's acceleration toward the inner mass.
         let u = (sign * (self.s.v - self.s.w)).max(0.0);
         let a = -sign * self.free.accel(self.s.x, self.s.v);
-        let ct = self.settings.chatter_tol;
+        // A rebound shorter than the event tolerance cannot be resolved: the threshold is at
+        // least ten tolerances, so a loose `tol` cannot turn a chatter into an endless one.
+        let ct = self.settings.chatter_tol.max(10.0 * self.settings.tol);
         let remaining = 2.0 * u / (a * (1.0 - sys.e).max(ct));
         let sticks = a > 0.0 && remaining <= ct * self.period || (u == 0.0 && a >= 0.0);
         if sticks {
