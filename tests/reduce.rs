@@ -508,3 +508,42 @@ fn many_points_draw_bands_and_stay_small() {
         assert!(png_size(&dir.join(format!("{stem}.png"))).0 >= 900);
     }
 }
+
+#[test]
+fn command_line_flags_override_the_study() {
+    use impactsweep::app::reduce::{ReduceArgs, options};
+    use impactsweep::study::{DiSource, SafetyForm};
+    let s = paper();
+    let o = options(&s, &ReduceArgs::default());
+    assert_eq!(
+        (o.safety_form, o.di_source),
+        (SafetyForm::Exact, DiSource::Ideal)
+    );
+    let o = options(
+        &s,
+        &ReduceArgs {
+            paper_safety: true,
+            di_mean: true,
+            ..Default::default()
+        },
+    );
+    assert_eq!(
+        (o.safety_form, o.di_source),
+        (SafetyForm::Paper, DiSource::Mean)
+    );
+}
+
+#[test]
+fn a_study_without_axes_reduces_to_one_point() {
+    let s = study(vec![], 3);
+    let rows: Vec<_> = (0..3u32)
+        .map(|c| row(&s, 0, c, Outcome::Ok, 0.028 + 1e-4 * f64::from(c), 0.02))
+        .collect();
+    let sum = run(&s, vec![rows]);
+    assert_eq!(sum.points.len(), 1);
+    assert_eq!(sum.points[0].rank, Some(1));
+    assert_eq!(sum.zones.len(), 1);
+    let dir = tempfile::tempdir().unwrap();
+    write_outputs(&s, &sum, dir.path(), None).unwrap();
+    assert!(dir.path().join("report.md").exists());
+}
