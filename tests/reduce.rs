@@ -151,18 +151,28 @@ fn bootstrap_and_summary_are_deterministic_across_chunkings() {
     }
 }
 
+/// Decodes a PNG fully and returns its size; panics unless it decodes and has real content
+/// (at least 2 % of its pixels not white).
 fn png_size(path: &Path) -> (u32, u32) {
-    let bytes = std::fs::read(path).unwrap();
-    assert_eq!(
-        &bytes[..8],
-        b"\x89PNG\r\n\x1a\n",
-        "{} is not a PNG",
+    let file = std::fs::File::open(path).unwrap();
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let px = info.color_type.samples();
+    let pixels = &buf[..info.buffer_size()];
+    let inked = pixels
+        .chunks(px)
+        .filter(|p| p.iter().take(3).any(|&c| c < 250))
+        .count();
+    let total = (info.width * info.height) as usize;
+    assert!(
+        inked * 50 > total,
+        "{}: only {inked} of {total} pixels are not white",
         path.display()
     );
-    // IHDR is the first chunk: width and height big-endian at bytes 16..24.
-    let w = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
-    let h = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
-    (w, h)
+    (info.width, info.height)
 }
 
 #[test]
@@ -546,4 +556,90 @@ fn a_study_without_axes_reduces_to_one_point() {
     let dir = tempfile::tempdir().unwrap();
     write_outputs(&s, &sum, dir.path(), None).unwrap();
     assert!(dir.path().join("report.md").exists());
+}
+
+#[test]
+fn summary_parquet_reads_back_with_the_summary_values() {
+    use arrow::array::{Array, BooleanArray, Float64Array, StringArray, UInt64Array};
+    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+    let s = paper();
+    let sum = run(&s, simulate_chunks(&s));
+    let dir = tempfile::tempdir().unwrap();
+    write_outputs(&s, &sum, dir.path(), None).unwrap();
+    let file = std::fs::File::open(dir.path().join("summary.parquet")).unwrap();
+    let reader = ParquetRecordBatchReaderBuilder::try_new(file)
+        .unwrap()
+        .build()
+        .unwrap();
+    let batches: Vec<_> = reader.map(|b| b.unwrap()).collect();
+    assert_eq!(batches.len(), 1);
+    let b = &batches[0];
+    assert_eq!(b.num_rows(), 51);
+    let names: Vec<String> = b
+        .schema()
+        .fields()
+        .iter()
+        .map(|f| f.name().clone())
+        .collect();
+    for col in [
+        "e",
+        "n",
+        "xmax_mean",
+        "xmax_sd",
+        "stress_mean",
+        "stress_sd",
+        "reliability",
+        "reliability_lo",
+        "reliability_hi",
+        "safety_factor",
+        "di",
+        "perfectibility",
+        "rank",
+        "pareto",
+        "zone",
+        "ad_stat",
+        "ad_p",
+        "n_ok",
+        "all_ok",
+    ] {
+        assert!(
+            names.iter().any(|n| n == col),
+            "summary.parquet lacks {col}: {names:?}"
+        );
+    }
+    let col = |name: &str| {
+        b.column(names.iter().position(|n| n == name).unwrap())
+            .clone()
+    };
+    let f64s = |name: &str| {
+        col(name)
+            .as_any()
+            .downcast_ref::<Float64Array>()
+            .unwrap()
+            .values()
+            .to_vec()
+    };
+    let e = f64s("e");
+    let r = f64s("reliability");
+    let rank = col("rank");
+    let rank = rank.as_any().downcast_ref::<UInt64Array>().unwrap();
+    let pareto = col("pareto");
+    let pareto = pareto.as_any().downcast_ref::<BooleanArray>().unwrap();
+    let zone = col("zone");
+    let zone = zone.as_any().downcast_ref::<StringArray>().unwrap();
+    for (i, p) in sum.points.iter().enumerate() {
+        assert_eq!(e[i].to_bits(), p.values[0].to_bits());
+        assert_eq!(r[i].to_bits(), p.reliability.to_bits());
+        assert_eq!(Some(rank.value(i)), p.rank);
+        assert_eq!(pareto.value(i), p.pareto);
+        assert_eq!(zone.value(i), p.zone);
+    }
+    let zfile = std::fs::File::open(dir.path().join("zones.parquet")).unwrap();
+    let zrows: usize = ParquetRecordBatchReaderBuilder::try_new(zfile)
+        .unwrap()
+        .build()
+        .unwrap()
+        .map(|b| b.unwrap().num_rows())
+        .sum();
+    assert_eq!(zrows, sum.zones.len());
 }
