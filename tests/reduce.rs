@@ -643,3 +643,38 @@ fn summary_parquet_reads_back_with_the_summary_values() {
         .sum();
     assert_eq!(zrows, sum.zones.len());
 }
+
+#[test]
+fn a_point_whose_ideal_run_failed_has_no_di_and_no_rank() {
+    let s = study(vec![("e", vec![0.5, 0.6, 0.7, 0.8])], 3);
+    let mut rows = Vec::new();
+    for p in 0..4u64 {
+        for c in 0..3u32 {
+            let o = if p == 2 && c == 0 {
+                Outcome::NoSecondPeak
+            } else {
+                Outcome::Ok
+            };
+            rows.push(row(
+                &s,
+                p,
+                c,
+                o,
+                0.028 + 1e-4 * f64::from(c),
+                0.02 + 1e-3 * p as f64,
+            ));
+        }
+    }
+    let sum = run(&s, vec![rows]);
+    let p2 = &sum.points[2];
+    assert!(!p2.all_ok && p2.di.is_nan() && p2.rank.is_none() && !p2.pareto);
+    assert!(
+        p2.reliability.is_finite(),
+        "R still comes from the two ok cases"
+    );
+    assert_eq!(p2.outcomes[1], 1);
+    let ranks: Vec<Option<u64>> = sum.points.iter().map(|p| p.rank).collect();
+    assert_eq!(ranks, vec![Some(3), Some(2), None, Some(1)]);
+    let z = sum.zones.iter().find(|z| z.name == p2.zone).unwrap();
+    assert_eq!(z.label, impactsweep::reduce::zones::LABEL_NO_DATA);
+}

@@ -29,8 +29,9 @@
 //!    `r_min` is `[zones].r_min` (default 0.98), `di_strong` is `[zones].di_strong` (default: the
 //!    median DI of the sweep, so "strong" means "better than half of the designs").
 //! 3. **Zones.** With one swept axis, contiguous runs of one label are the zones, named I, II,
-//!    … along the axis; a run shorter than [`MIN_ZONE_POINTS`] points that is not around a jump
-//!    is merged into its longer neighbour (one stray point does not make a zone). With two or
+//!    … along the axis; a run shorter than [`MIN_ZONE_POINTS`] points that is neither around a
+//!    jump nor without data is merged into its longer neighbour (one stray point does not make
+//!    a zone; a failed one stays visible). With two or
 //!    more axes, the points of one label form one region of the map (its ranges are the
 //!    bounding box). Each zone gets its mean R, mean DI and the perfectibility of eq. 11 applied
 //!    to those means, normalised by the best zone means (as in the paper's Table III).
@@ -375,12 +376,18 @@ fn runs<'l>(labels: &[&'l str]) -> Vec<(&'l str, Vec<usize>)> {
     out
 }
 
-/// Merges runs shorter than [`MIN_ZONE_POINTS`] (except jump runs) into their longer
-/// neighbour that is not around a jump, shortest first, then joins neighbours that ended up with
-/// the same label. A short run between jumps or at an end next to a jump stays.
+/// Runs that are never merged away nor merged into: around a jump, and no data (a failed point
+/// must stay visible).
+fn sticky(label: &str) -> bool {
+    label == LABEL_JUMP || label == LABEL_NO_DATA
+}
+
+/// Merges runs shorter than [`MIN_ZONE_POINTS`] (except jump and no-data runs) into their
+/// longer neighbour that is not one of those, shortest first, then joins neighbours that ended
+/// up with the same label. A short run between such runs, or at an end next to one, stays.
 fn merge_short(mut runs: Vec<(&str, Vec<usize>)>) -> Vec<(&str, Vec<usize>)> {
     let target = |runs: &[(&str, Vec<usize>)], i: usize| -> Option<usize> {
-        let ok = |j: usize| runs[j].0 != LABEL_JUMP;
+        let ok = |j: usize| !sticky(runs[j].0);
         let left = i.checked_sub(1).filter(|&j| ok(j));
         let right = (i + 1 < runs.len()).then_some(i + 1).filter(|&j| ok(j));
         match (left, right) {
@@ -397,7 +404,7 @@ fn merge_short(mut runs: Vec<(&str, Vec<usize>)>) -> Vec<(&str, Vec<usize>)> {
             .iter()
             .enumerate()
             .filter(|(i, r)| {
-                r.0 != LABEL_JUMP && r.1.len() < MIN_ZONE_POINTS && target(&runs, *i).is_some()
+                !sticky(r.0) && r.1.len() < MIN_ZONE_POINTS && target(&runs, *i).is_some()
             })
             .min_by_key(|(i, r)| (r.1.len(), *i))
             .map(|(i, _)| i);
