@@ -27,7 +27,6 @@
 //! complete file. Their bytes are deterministic (no timestamps): the same rows give the same
 //! file. The manifest's checksum of a part is [`fnv1a64`] of its bytes.
 
-
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::Write;
@@ -163,10 +162,7 @@ pub fn encode_part(rows: &[RunRow], study_toml: &str) -> Result<Vec<u8>> {
             META_VERSION.to_string(),
             env!("CARGO_PKG_VERSION").to_string(),
         ),
-        KeyValue::new(
-            META_SCHEMA_VERSION.to_string(),
-            SCHEMA_VERSION.to_string(),
-        ),
+        KeyValue::new(META_SCHEMA_VERSION.to_string(), SCHEMA_VERSION.to_string()),
     ];
     let props = WriterProperties::builder()
         .set_compression(Compression::SNAPPY)
@@ -221,7 +217,9 @@ fn to_batch(rows: &[RunRow]) -> Result<RecordBatch> {
     let dict = |names: &[&str], f: &dyn Fn(&RunRow) -> i8| -> Result<ArrayRef> {
         let keys = Int8Array::from_iter_values(rows.iter().map(f));
         let values: ArrayRef = Arc::new(StringArray::from(names.to_vec()));
-        Ok(Arc::new(DictionaryArray::<Int8Type>::try_new(keys, values)?))
+        Ok(Arc::new(DictionaryArray::<Int8Type>::try_new(
+            keys, values,
+        )?))
     };
     let mut cols: Vec<ArrayRef> = vec![
         u64col(&|r| r.point_id),
@@ -356,10 +354,7 @@ fn read_batch(batch: &RecordBatch, rows: &mut Vec<RunRow>) -> Result<()> {
     let solver = dict_strings(batch, "solver")?;
     let tol = f64s("tol")?;
     let outcome = dict_strings(batch, "outcome")?;
-    let obs: Vec<&Float64Array> = OBSERVABLES
-        .iter()
-        .map(|k| f64s(k))
-        .collect::<Result<_>>()?;
+    let obs: Vec<&Float64Array> = OBSERVABLES.iter().map(|k| f64s(k)).collect::<Result<_>>()?;
     let counts: Vec<&UInt64Array> = COUNTS.iter().map(|k| u64s(k)).collect::<Result<_>>()?;
     let en: Vec<&Float64Array> = ENERGIES.iter().map(|k| f64s(k)).collect::<Result<_>>()?;
     for i in 0..batch.num_rows() {
