@@ -491,6 +491,21 @@ fn update_manifest(dir: &Path, fresh: &Manifest, f: impl FnOnce(&mut Manifest)) 
     write_atomic(&dir.join("manifest.json"), text.as_bytes())
 }
 
+/// Removes `*.tmp.PID` files (from [`write_atomic`]) whose writer no longer runs on this host.
+fn remove_dead_temp_files(dir: &Path) -> Result<()> {
+    for entry in std::fs::read_dir(dir).with_context(|| format!("listing {}", dir.display()))? {
+        let path = entry?.path();
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        let Some((_, pid)) = name.rsplit_once(".tmp.") else {
+            continue;
+        };
+        if pid.parse::<u32>().is_ok() && !Path::new(&format!("/proc/{pid}")).exists() {
+            std::fs::remove_file(&path).with_context(|| format!("removing {}", path.display()))?;
+        }
+    }
+    Ok(())
+}
+
 fn outcome_counts(rows: &[RunRow]) -> BTreeMap<String, u64> {
     let mut counts = BTreeMap::new();
     for r in rows {
@@ -598,6 +613,7 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
 
     // 2. What is already done: a part that matches the manifest, or a readable Parquet file
     // with the chunk's row count (then added to the manifest). Anything else is redone.
+    remove_dead_temp_files(&dir)?;
     let manifest = read_manifest(&dir)?.unwrap_or(fresh.clone());
     let mut pending = Vec::new();
     let mut kept = 0;

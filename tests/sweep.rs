@@ -342,6 +342,45 @@ fn shards_share_a_directory_and_match_an_unsharded_run() {
     assert_eq!(m.shards, vec!["0/3", "1/3", "2/3"]);
 }
 
+/// Slurm array tasks: every shard starts at once in the same directory, without --resume.
+#[test]
+fn concurrent_shards_build_one_dataset_and_one_manifest() {
+    let tmp = tempfile::tempdir().unwrap();
+    let s = write_study(tmp.path(), "conc", 30, 1);
+    let out = tmp.path().join("out");
+    let exe = assert_cmd::cargo::cargo_bin("impactsweep");
+    let children: Vec<_> = (0..3)
+        .map(|i| {
+            StdCommand::new(&exe)
+                .args(["run", s.to_str().unwrap(), "--quiet", "--threads", "1"])
+                .arg("--shard")
+                .arg(format!("{i}/3"))
+                .arg("--out")
+                .arg(&out)
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    for mut c in children {
+        assert!(c.wait().unwrap().success());
+    }
+    let whole = tmp.path().join("whole");
+    bin()
+        .args(["run", s.to_str().unwrap(), "--quiet", "--out"])
+        .arg(&whole)
+        .assert()
+        .success();
+    assert!(parts(&out.join("conc")) == parts(&whole.join("conc")));
+    let m = sweep::read_manifest(&out.join("conc")).unwrap().unwrap();
+    let w = sweep::read_manifest(&whole.join("conc")).unwrap().unwrap();
+    assert_eq!(
+        m.chunks, w.chunks,
+        "no shard lost another's manifest entries"
+    );
+    assert_eq!(m.chunks_done, 90);
+    assert_eq!(m.shards, vec!["0/3", "1/3", "2/3"]);
+}
+
 #[test]
 fn queue_skips_finished_resumes_partial_and_starts_new_studies() {
     let tmp = tempfile::tempdir().unwrap();
