@@ -48,8 +48,8 @@ pub struct StatusArgs {
     pub dir: PathBuf,
 }
 
-pub fn plan(_args: &PlanArgs) -> anyhow::Result<()> {
-    anyhow::bail!("plan is not implemented yet")
+pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
+    crate::app::plan::plan(args)
 }
 
 /// Runs each study in turn into `OUT/<name>/`.
