@@ -744,9 +744,15 @@ fn progress_bar(wanted: bool, len: u64) -> Option<ProgressBar> {
     }
     let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
     let style = ProgressStyle::with_template(
-        "{bar:40} {human_pos}/{human_len} runs  {per_sec}  ETA {eta}  ({elapsed})",
+        "{bar:40} {human_pos}/{human_len} runs  {rate} runs/s  ETA {eta}  ({elapsed})",
     )
-    .unwrap_or_else(|_| ProgressStyle::default_bar());
+    .unwrap_or_else(|_| ProgressStyle::default_bar())
+    .with_key(
+        "rate",
+        |state: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+            let _ = write!(w, "{:.0}", state.per_sec());
+        },
+    );
     pb.set_style(style);
     Some(pb)
 }

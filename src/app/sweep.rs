@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 
 use crate::error::InputError;
-use crate::study::Study;
+use crate::study::{LoadOptions, Study};
 use crate::sweep::{self, SweepOptions};
 
 /// `impactsweep plan STUDY.toml`.
@@ -56,7 +56,12 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let (si, sn) = args.shard.unwrap_or((0, 1));
     for path in &args.studies {
-        let study = Study::load(path)?;
+        let study = Study::load_with(
+            path,
+            LoadOptions {
+                allow_large: args.allow_large,
+            },
+        )?;
         let opts = SweepOptions {
             threads: args.threads,
             shard: (si, sn),
