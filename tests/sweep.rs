@@ -210,10 +210,10 @@ fn a_live_writer_lock_refuses_and_a_dead_one_does_not_block_resume() {
 #[test]
 fn kill_9_then_resume_gives_the_uninterrupted_dataset() {
     let tmp = tempfile::tempdir().unwrap();
-    // 200 values of e x 3 of m = 600 design points x 4 cases = 2400 runs in 200 chunks on one
+    // 500 values of e x 3 of m = 1500 design points x 4 cases = 6000 runs in 500 chunks on one
     // thread (each part file is synced before its rename): long enough to be killed in the
     // middle.
-    let s = write_study(tmp.path(), "big", 200, 3);
+    let s = write_study(tmp.path(), "big", 500, 3);
     let killed = tmp.path().join("killed");
     let dir = killed.join("big");
     let exe = assert_cmd::cargo::cargo_bin("impactsweep");
@@ -244,7 +244,7 @@ fn kill_9_then_resume_gives_the_uninterrupted_dataset() {
     child.wait().unwrap();
     let done = store::part_files(&dir).unwrap().len();
     assert!(
-        done < 200,
+        done < 500,
         "the run finished before the kill ({done} parts); make the study bigger"
     );
     assert!(dir.join(".lock").exists(), "a killed run leaves its lock");
@@ -267,7 +267,7 @@ fn kill_9_then_resume_gives_the_uninterrupted_dataset() {
         .assert()
         .success();
     let a = parts(&dir);
-    assert_eq!(a.len(), 200);
+    assert_eq!(a.len(), 500);
     assert!(a == parts(&clean.join("big")), "part files differ");
     let ma = sweep::read_manifest(&dir).unwrap().unwrap();
     let mb = sweep::read_manifest(&clean.join("big")).unwrap().unwrap();
@@ -492,4 +492,32 @@ fn bad_run_options_are_input_errors() {
         .assert()
         .code(2)
         .stderr(predicate::str::contains("not a run directory"));
+}
+
+#[test]
+fn allow_large_lifts_the_size_guard_for_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("huge.toml");
+    std::fs::write(
+        &path,
+        "[study]\nname = \"huge\"\n\n[sweep]\ne = { start = 0.0, stop = 1.0, num = 10001 }\n\
+         m = { start = 0.01, stop = 0.03, num = 1001 }\n",
+    )
+    .unwrap();
+    bin()
+        .args(["run", path.to_str().unwrap(), "--out"])
+        .arg(tmp.path())
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--allow-large"));
+    // With the flag the study is accepted; an occupied output directory then stops the run
+    // before anything is simulated.
+    std::fs::create_dir_all(tmp.path().join("huge")).unwrap();
+    std::fs::write(tmp.path().join("huge/keep.txt"), "x").unwrap();
+    bin()
+        .args(["run", path.to_str().unwrap(), "--allow-large", "--out"])
+        .arg(tmp.path())
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("not empty"));
 }
