@@ -937,3 +937,50 @@ pub fn ranges(ids: &[u64]) -> String {
 pub fn outcome_names() -> Vec<&'static str> {
     Outcome::ALL.iter().map(|o| o.name()).collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_compress_runs_of_ids() {
+        assert_eq!(ranges(&[]), "");
+        assert_eq!(ranges(&[4]), "4");
+        assert_eq!(ranges(&[0, 1, 2, 3, 7, 9, 10, 11]), "0-3, 7, 9-11");
+    }
+
+    #[test]
+    fn missing_chunks_are_the_complement() {
+        assert_eq!(missing_chunks(6, &[0, 2, 3]), vec![1, 4, 5]);
+        assert_eq!(missing_chunks(3, &[0, 1, 2]), Vec::<u64>::new());
+        assert_eq!(missing_chunks(2, &[]), vec![0, 1]);
+    }
+
+    #[test]
+    fn shards_partition_the_chunks() {
+        let mut all: Vec<u64> = (0..3).flat_map(|i| shard_chunks(10, (i, 3))).collect();
+        all.sort();
+        assert_eq!(all, (0..10).collect::<Vec<_>>());
+        assert_eq!(shard_chunks(10, (1, 3)).collect::<Vec<_>>(), vec![1, 4, 7]);
+    }
+
+    #[test]
+    fn audit_points_are_distinct_sorted_and_seeded() {
+        let a = audit_points(7, 1000, 20);
+        assert_eq!(a.len(), 20);
+        assert!(a.windows(2).all(|w| w[0] < w[1]) && a[19] < 1000);
+        assert_eq!(a, audit_points(7, 1000, 20));
+        assert_ne!(a, audit_points(8, 1000, 20));
+        assert_eq!(audit_points(7, 5, 20), vec![0, 1, 2, 3, 4]);
+    }
+
+    #[test]
+    fn error_statistics() {
+        assert_eq!(rel_err(1.1, 1.0).map(|e| (e * 1e6).round()), Some(1e5));
+        assert_eq!(rel_err(0.5, 0.0), Some(0.5));
+        assert_eq!(rel_err(f64::NAN, 1.0), None);
+        let s = stats(vec![3.0, 1.0, 2.0, 10.0]);
+        assert_eq!((s.n, s.max, s.median), (4, 10.0, 2.5));
+        assert!(stats(vec![]).max.is_nan());
+    }
+}

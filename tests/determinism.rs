@@ -183,8 +183,14 @@ fn noise_is_applied_only_to_noisy_cases_and_depends_on_the_seed() {
     }
     // Both noisy cases of one point differ (different seeds).
     assert_ne!(rows[2].record.xmax, rows[3].record.xmax);
-    // The noise-free study stores a null noise seed only where the case has none.
+    // The noise seed is stored as given (null where the case has none).
     assert!(rows.iter().all(|r| r.noise_seed.is_some() == (r.case >= 2)));
+    // Without [noise], a case with a noise seed but no perturbation is the ideal run, bit for
+    // bit: no noise is drawn.
+    for p in clean_rows.chunks(4) {
+        assert_eq!(p[2].record.xmax.to_bits(), p[0].record.xmax.to_bits());
+        assert_eq!(p[2].record.di.to_bits(), p[0].record.di.to_bits());
+    }
 }
 
 #[test]
