@@ -612,7 +612,8 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
     })?;
 
     // 2. What is already done: a part that matches the manifest, or a readable Parquet file
-    // with the chunk's row count (then added to the manifest). Anything else is redone.
+    // with the chunk's rows (count and point ids; then added to the manifest). Anything else is
+    // redone.
     remove_dead_temp_files(&dir)?;
     let manifest = read_manifest(&dir)?.unwrap_or(fresh.clone());
     let mut pending = Vec::new();
@@ -636,8 +637,14 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
             kept += 1;
             continue;
         }
+        let first_id = plan.chunk_points(k).start * plan.n_cases();
+        let ids_match = |rows: &[RunRow]| {
+            rows.iter()
+                .enumerate()
+                .all(|(i, r)| r.point_id == first_id + i as u64)
+        };
         match store::read_part(&path) {
-            Ok(rows) if rows.len() as u64 == want_rows => {
+            Ok(rows) if rows.len() as u64 == want_rows && ids_match(&rows) => {
                 let entry = ChunkEntry {
                     chunk: k,
                     rows: want_rows,
