@@ -521,3 +521,23 @@ fn allow_large_lifts_the_size_guard_for_run() {
         .code(2)
         .stderr(predicate::str::contains("not empty"));
 }
+
+#[test]
+fn every_study_is_checked_before_the_first_runs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let good = write_study(tmp.path(), "good", 3, 1);
+    let bad = tmp.path().join("bad.toml");
+    std::fs::write(&bad, "[study]\nname = \"bad\"\n[system]\ne = 1.5\n").unwrap();
+    bin()
+        .args([
+            "run",
+            good.to_str().unwrap(),
+            bad.to_str().unwrap(),
+            "--out",
+        ])
+        .arg(tmp.path().join("out"))
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("bad.toml"));
+    assert!(!tmp.path().join("out/good").exists(), "nothing ran");
+}

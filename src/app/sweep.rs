@@ -52,16 +52,23 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
     crate::app::plan::plan(args)
 }
 
-/// Runs each study in turn into `OUT/<name>/`.
+/// Runs each study in turn into `OUT/<name>/`. Every study file is validated before the first
+/// runs, so a mistake in the last one does not surface hours later.
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let (si, sn) = args.shard.unwrap_or((0, 1));
-    for path in &args.studies {
-        let study = Study::load_with(
-            path,
-            LoadOptions {
-                allow_large: args.allow_large,
-            },
-        )?;
+    let studies = args
+        .studies
+        .iter()
+        .map(|path| {
+            Study::load_with(
+                path,
+                LoadOptions {
+                    allow_large: args.allow_large,
+                },
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    for study in &studies {
         let opts = SweepOptions {
             threads: args.threads,
             shard: (si, sn),
@@ -71,7 +78,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             audit: args.audit,
             stop_after: None,
         };
-        let summary = sweep::run_study(&study, &args.out, &opts)?;
+        let summary = sweep::run_study(study, &args.out, &opts)?;
         if !args.quiet {
             eprintln!("{}", summary.line(&study.name));
         }
