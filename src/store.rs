@@ -23,6 +23,9 @@
 //! Key-value metadata: `impactsweep.study` (TOML), `impactsweep.version`,
 //! `impactsweep.schema_version`.
 //!
+//! DuckDB matches column names case-insensitively and reads `m` as `m_1` (next to `M`);
+//! pyarrow and polars keep both names (`tests/interop.py` pins this).
+//!
 //! Files are written to `part-NNNNNN.parquet.tmp` and renamed, so a finished name always holds a
 //! complete file. Their bytes are deterministic (no timestamps): the same rows give the same
 //! file. The manifest's checksum of a part is [`fnv1a64`] of its bytes.
