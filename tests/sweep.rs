@@ -69,7 +69,7 @@ fn run_writes_a_complete_dataset_with_a_summary_line() {
     let tmp = tempfile::tempdir().unwrap();
     let s = write_study(tmp.path(), "small", 5, 2);
     let out = tmp.path().join("out");
-    bin()
+    let run = bin()
         .args(["run", s.to_str().unwrap(), "--out", out.to_str().unwrap()])
         .assert()
         .success()
@@ -77,7 +77,11 @@ fn run_writes_a_complete_dataset_with_a_summary_line() {
             predicate::str::contains("small: 60 runs (ok ")
                 .and(predicate::str::contains("runs/s"))
                 .and(predicate::str::contains("8 chunks written")),
-        );
+        )
+        .get_output()
+        .clone();
+    // stderr is not a terminal here: no progress bar, just the summary line.
+    assert_eq!(String::from_utf8_lossy(&run.stderr).lines().count(), 1);
     let dir = out.join("small");
     assert_eq!(
         std::fs::read_to_string(dir.join("study.toml")).unwrap(),
