@@ -19,5 +19,6 @@ pub mod reduce;
 pub mod report;
 pub mod sim;
 pub mod store;
+pub mod store_tradeoff;
 pub mod study;
 pub mod sweep;
