@@ -14,7 +14,8 @@
 //! | `noise_seed` | UInt64, nullable | null without noise |
 //! | `M m K C d e x0 v0 y0 w0` | Float64 | the run's system (after `dm`, `dd`) |
 //! | `solver` | Dictionary(Int8, Utf8) | solver name |
-//! | `tol` | Float64 | solver tolerance knob |
+//! | `tol` | Float64 | event-location tolerance (periods) |
+//! | `h`, `rtol`, `atol` | Float64 | the other solver knobs: `rk4` step (s), `dopri5` tolerances |
 //! | `outcome` | Dictionary(Int8, Utf8) | `ok`, `no_second_peak`, ... |
 //! | `x1 t1 x2 t2 xmax di` | Float64 | observables (NaN when the outcome says so) |
 //! | `impacts sticks steps` | UInt64 | counts |
@@ -50,7 +51,7 @@ use parquet::file::properties::WriterProperties;
 use parquet::schema::types::ColumnPath;
 
 use crate::model::System;
-use crate::sim::{Outcome, Record};
+use crate::sim::{Outcome, Record, SolverSettings};
 
 /// Key-value metadata keys written to every part file.
 pub const META_STUDY: &str = "impactsweep.study";
@@ -82,6 +83,9 @@ pub fn schema() -> SchemaRef {
     }
     fields.push(Field::new("solver", dict_type(), false));
     fields.push(Field::new("tol", DataType::Float64, false));
+    for key in ["h", "rtol", "atol"] {
+        fields.push(Field::new(key, DataType::Float64, false));
+    }
     fields.push(Field::new("outcome", dict_type(), false));
     for key in OBSERVABLES {
         fields.push(Field::new(key, DataType::Float64, false));
@@ -157,8 +161,15 @@ pub struct PartInfo {
 
 /// Encodes rows as one Parquet file (one row group, snappy, `outcome` and `solver`
 /// dictionary-encoded, no timestamps: the same rows always give the same bytes).
-pub fn encode_part(rows: &[RunRow], study_toml: &str) -> Result<Vec<u8>> {
-    let batch = to_batch(rows)?;
+///
+/// `settings` fills the `h`, `rtol`, `atol` columns (one study, one solver setting; [`RunRow`]
+/// carries `solver` and `tol` only).
+pub fn encode_part(
+    rows: &[RunRow],
+    study_toml: &str,
+    settings: &SolverSettings,
+) -> Result<Vec<u8>> {
+    let batch = to_batch(rows, settings)?;
     let kv = vec![
         KeyValue::new(META_STUDY.to_string(), study_toml.to_string()),
         KeyValue::new(
@@ -185,8 +196,13 @@ pub fn encode_part(rows: &[RunRow], study_toml: &str) -> Result<Vec<u8>> {
 
 /// Writes rows to `path` atomically: the bytes go to `path` + `.tmp`, are synced, then renamed.
 /// A crash leaves either the complete file or a `.tmp` leftover, never a truncated part.
-pub fn write_part(path: &Path, rows: &[RunRow], study_toml: &str) -> Result<PartInfo> {
-    let bytes = encode_part(rows, study_toml)?;
+pub fn write_part(
+    path: &Path,
+    rows: &[RunRow],
+    study_toml: &str,
+    settings: &SolverSettings,
+) -> Result<PartInfo> {
+    let bytes = encode_part(rows, study_toml, settings)?;
     let tmp = tmp_path(path);
     {
         let mut f = File::create(&tmp).with_context(|| format!("creating {}", tmp.display()))?;
@@ -210,7 +226,7 @@ pub fn tmp_path(path: &Path) -> PathBuf {
     path.with_file_name(name)
 }
 
-fn to_batch(rows: &[RunRow]) -> Result<RecordBatch> {
+fn to_batch(rows: &[RunRow], settings: &SolverSettings) -> Result<RecordBatch> {
     let f64col = |f: &dyn Fn(&RunRow) -> f64| -> ArrayRef {
         Arc::new(Float64Array::from_iter_values(rows.iter().map(f)))
     };
@@ -250,6 +266,9 @@ fn to_batch(rows: &[RunRow]) -> Result<RecordBatch> {
         solvers.iter().position(|s| *s == r.solver).unwrap_or(0) as i8
     })?);
     cols.push(f64col(&|r| r.tol));
+    for v in [settings.h, settings.rtol, settings.atol] {
+        cols.push(f64col(&|_| v));
+    }
     // The outcome dictionary is every outcome in `Outcome::ALL` order, so keys are stable
     // across files.
     let outcomes: Vec<&str> = Outcome::ALL.iter().map(|o| o.name()).collect();
@@ -473,7 +492,7 @@ mod tests {
         std::fs::create_dir(dir.path().join("points")).unwrap();
         let path = part_path(dir.path(), 3);
         let rows = rows();
-        let info = write_part(&path, &rows, "name = 'x'").unwrap();
+        let info = write_part(&path, &rows, "name = 'x'", &SolverSettings::default()).unwrap();
         assert_eq!(info.rows, 5);
         assert_eq!(info.checksum, checksum_file(&path).unwrap());
         assert!(!tmp_path(&path).exists());
@@ -490,7 +509,7 @@ mod tests {
         assert_eq!(meta[META_STUDY], "name = 'x'");
         assert_eq!(meta[META_SCHEMA_VERSION], SCHEMA_VERSION.to_string());
         assert_eq!(
-            encode_part(&want, "name = 'x'").unwrap(),
+            encode_part(&want, "name = 'x'", &SolverSettings::default()).unwrap(),
             std::fs::read(&path).unwrap()
         );
         assert_eq!(part_files(dir.path()).unwrap(), vec![path]);
@@ -500,7 +519,7 @@ mod tests {
     fn schema_matches_the_documented_columns() {
         let names: Vec<String> = schema().fields().iter().map(|f| f.name().clone()).collect();
         let doc = "point_id point case ideal dm dd noise_seed M m K C d e x0 v0 y0 w0 solver tol \
-                   outcome x1 t1 x2 t2 xmax di impacts sticks steps energy_impact \
+                   h rtol atol outcome x1 t1 x2 t2 xmax di impacts sticks steps energy_impact \
                    energy_viscous t_stop";
         assert_eq!(names.join(" "), doc);
     }

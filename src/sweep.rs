@@ -675,7 +675,12 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
     let mut outcomes = BTreeMap::new();
     let mut written = 0u64;
     let write = |k: u64, rows: Vec<RunRow>| -> Result<BTreeMap<String, u64>> {
-        let info = store::write_part(&store::part_path(&dir, k), &rows, &study.source)?;
+        let info = store::write_part(
+            &store::part_path(&dir, k),
+            &rows,
+            &study.source,
+            &study.solver,
+        )?;
         let counts = outcome_counts(&rows);
         let entry = ChunkEntry {
             chunk: k,

@@ -7,6 +7,8 @@ use std::path::Path;
 mod common;
 
 use common::study;
+use impactsweep::plan::Plan;
+use impactsweep::sim::{NoProbe, SolverKind, SolverSettings, simulate};
 use impactsweep::store::{self, RunRow};
 use impactsweep::study::Study;
 use impactsweep::sweep::{self, SweepOptions};
@@ -382,6 +384,42 @@ fn the_audit_is_deterministic_and_measures_the_solver() {
     let b = run(&loose, tmp.path(), opts()).audit.unwrap();
     assert!(b.t1.max > a.t1.max, "{b:?} vs {a:?}");
     assert!(b.t1.max > 1e-9, "{b:?}");
+
+    // A cheap solver (issue 5): RK4 with a coarse step is measurably off, by the amount the
+    // simulator itself gives for those points.
+    let mut cheap = s.clone();
+    cheap.name = "cheap".into();
+    cheap.solver.kind = SolverKind::Rk4;
+    cheap.solver.h = 2e-3;
+    let c = run(&cheap, tmp.path(), opts()).audit.unwrap();
+    assert_eq!(c.solver, "rk4");
+    assert_eq!(c.points, a.points);
+    let plan = Plan::new(&cheap);
+    let exact = SolverSettings {
+        kind: SolverKind::Exact,
+        tol: sweep::AUDIT_TOL,
+        ..cheap.solver
+    };
+    let mut want_max: f64 = 0.0;
+    for &p in &c.points {
+        let run = plan.run(p, 0);
+        let got = simulate(
+            &run.system,
+            &cheap.solver,
+            &cheap.request,
+            None,
+            &mut NoProbe,
+        );
+        let reference = simulate(&run.system, &exact, &cheap.request, None, &mut NoProbe);
+        want_max = want_max.max((got.xmax - reference.xmax).abs() / reference.xmax.abs());
+    }
+    assert_eq!(c.xmax.max.to_bits(), want_max.to_bits());
+    assert!(c.xmax.max > 1e-8 && c.xmax.max < 0.1, "{c:?}");
+    assert!(c.di.max > 0.0 && c.di.n == 5, "{c:?}");
+    let m = sweep::read_manifest(&tmp.path().join("cheap"))
+        .unwrap()
+        .unwrap();
+    assert_eq!(m.audit, Some(c));
 }
 
 #[test]

@@ -545,3 +545,30 @@ fn every_study_is_checked_before_the_first_runs() {
         .stderr(predicate::str::contains("bad.toml"));
     assert!(!tmp.path().join("out/good").exists(), "nothing ran");
 }
+
+/// Issue 5: a sweep on a cheap solver states how far it may be off.
+#[test]
+fn audit_of_a_cheap_solver_reports_its_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("rk.toml");
+    let text = study_text("rk", 9, 4) + "\n[solver]\nkind = \"rk4\"\nh = 2e-3\n";
+    std::fs::write(&path, text).unwrap();
+    bin()
+        .args(["run", path.to_str().unwrap(), "--audit", "5", "--out"])
+        .arg(tmp.path())
+        .assert()
+        .success()
+        .stderr(predicate::str::contains(
+            "audit of 5 points: max relative error xmax",
+        ));
+    let m = sweep::read_manifest(&tmp.path().join("rk"))
+        .unwrap()
+        .unwrap();
+    let a = m.audit.unwrap();
+    assert_eq!((a.solver.as_str(), a.points.len()), ("rk4", 5));
+    assert!(a.xmax.max > 1e-8 && a.xmax.max < 0.1, "{a:?}");
+    let rows = store::read_part(&store::part_path(&tmp.path().join("rk"), 0)).unwrap();
+    assert!(rows.iter().all(|r| r.solver == "rk4"));
+    let meta = store::part_metadata(&store::part_path(&tmp.path().join("rk"), 0)).unwrap();
+    assert!(meta[store::META_STUDY].contains("kind = \"rk4\""));
+}
