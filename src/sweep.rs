@@ -141,8 +141,12 @@ impl SweepSummary {
         );
         if let Some(a) = &self.audit {
             line.push_str(&format!(
-                "; audit of {} points: max relative error xmax {:.1e}, t1 {:.1e}, di {:.1e}",
+                "; audit of {} points ({} {} = {:e} against exact): max relative error \
+                 xmax {:.1e}, t1 {:.1e}, di {:.1e}",
                 a.points.len(),
+                a.solver,
+                a.knob,
+                a.knob_value,
                 a.xmax.max,
                 a.t1.max,
                 a.di.max
@@ -202,8 +206,11 @@ pub struct ErrorStats {
 pub struct Audit {
     /// The audited design points (their ideal case).
     pub points: Vec<u64>,
-    /// The study's solver and tolerance.
+    /// The study's solver, its accuracy knob (`tol`, `h` or `rtol`) and that knob's value.
     pub solver: String,
+    pub knob: String,
+    pub knob_value: f64,
+    /// The study's event tolerance.
     pub tol: f64,
     /// The reference.
     pub reference: String,
@@ -843,6 +850,8 @@ pub fn run_audit(plan: &Plan, points: &[u64]) -> Audit {
     Audit {
         points: points.to_vec(),
         solver: study.solver.kind.name().to_string(),
+        knob: study.solver.kind.knob().to_string(),
+        knob_value: study.solver.knob_value(),
         tol: study.solver.tol,
         reference: format!("exact, tol = {AUDIT_TOL:e}"),
         xmax: errs(|r| r.xmax),

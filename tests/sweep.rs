@@ -559,13 +559,14 @@ fn audit_of_a_cheap_solver_reports_its_error() {
         .assert()
         .success()
         .stderr(predicate::str::contains(
-            "audit of 5 points: max relative error xmax",
+            "audit of 5 points (rk4 h = 2e-3 against exact): max relative error xmax",
         ));
     let m = sweep::read_manifest(&tmp.path().join("rk"))
         .unwrap()
         .unwrap();
     let a = m.audit.unwrap();
     assert_eq!((a.solver.as_str(), a.points.len()), ("rk4", 5));
+    assert_eq!((a.knob.as_str(), a.knob_value), ("h", 2e-3));
     assert!(a.xmax.max > 1e-8 && a.xmax.max < 0.1, "{a:?}");
     let rows = store::read_part(&store::part_path(&tmp.path().join("rk"), 0)).unwrap();
     assert!(rows.iter().all(|r| r.solver == "rk4"));

@@ -201,10 +201,11 @@ pub fn status(args: &StatusArgs) -> anyhow::Result<()> {
     }
     if let Some(a) = &m.audit {
         println!(
-            "audit ({} points, {} tol {:e} against {}): relative error max/median xmax {:.1e}/{:.1e}, t1 {:.1e}/{:.1e}, di {:.1e}/{:.1e}; outcome changed {}, impacts changed {}",
+            "audit ({} points, {} {} = {:e} against {}): relative error max/median xmax {:.1e}/{:.1e}, t1 {:.1e}/{:.1e}, di {:.1e}/{:.1e}; outcome changed {}, impacts changed {}",
             a.points.len(),
             a.solver,
-            a.tol,
+            a.knob,
+            a.knob_value,
             a.reference,
             a.xmax.max,
             a.xmax.median,
