@@ -20,7 +20,7 @@
 //!   different one.
 //! * `points/part-NNNNNN.parquet`: written as `*.tmp`, then renamed (see [`store::write_part`]).
 //!   **The part files are the source of truth**: a part file that is a readable Parquet file with
-//!   the chunk's row count is a finished chunk.
+//!   the chunk's rows (their count and point ids) is a finished chunk.
 //! * `manifest.json`: a summary ([`Manifest`]): tool and schema version, sizes, and per finished
 //!   chunk its row count, outcome counts and checksum (64-bit FNV-1a of the file's bytes, hex).
 //!   It is rewritten (temp file + rename) after every chunk while holding an exclusive `flock`
