@@ -1,7 +1,12 @@
 //! `plan`, `run`, `queue` and `status`: the sweep engine's commands (issue 3).
-//! STUB: owned by the sweep-engine work; replace the bodies.
 
 use std::path::PathBuf;
+
+use anyhow::Context;
+
+use crate::error::InputError;
+use crate::study::{LoadOptions, Study};
+use crate::sweep::{self, SweepOptions};
 
 /// `impactsweep plan STUDY.toml`.
 #[derive(Clone, Debug, Default)]
@@ -47,14 +52,170 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
     crate::app::plan::plan(args)
 }
 
-pub fn run(_args: &RunArgs) -> anyhow::Result<()> {
-    anyhow::bail!("run is not implemented yet")
+/// Runs each study in turn into `OUT/<name>/`. Every study file is validated before the first
+/// runs, so a mistake in the last one does not surface hours later.
+pub fn run(args: &RunArgs) -> anyhow::Result<()> {
+    let (si, sn) = args.shard.unwrap_or((0, 1));
+    let studies = args
+        .studies
+        .iter()
+        .map(|path| {
+            Study::load_with(
+                path,
+                LoadOptions {
+                    allow_large: args.allow_large,
+                },
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    for study in &studies {
+        let opts = SweepOptions {
+            threads: args.threads,
+            shard: (si, sn),
+            resume: args.resume,
+            progress: !args.quiet,
+            chunk_points: args.chunk_points,
+            audit: args.audit,
+            stop_after: None,
+        };
+        let summary = sweep::run_study(study, &args.out, &opts)?;
+        if !args.quiet {
+            eprintln!("{}", summary.line(&study.name));
+        }
+    }
+    Ok(())
 }
 
-pub fn queue(_args: &QueueArgs) -> anyhow::Result<()> {
-    anyhow::bail!("queue is not implemented yet")
+/// Runs every `*.toml` in `DIR` in name order: finished studies are skipped, partial ones
+/// resumed, new ones started.
+pub fn queue(args: &QueueArgs) -> anyhow::Result<()> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&args.dir)
+        .with_context(|| format!("listing {}", args.dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml") && p.is_file())
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(InputError::new(format!(
+            "{}: no study files (*.toml) in this directory",
+            args.dir.display()
+        ))
+        .into());
+    }
+    for path in &files {
+        let study = Study::load(path)?;
+        let dir = sweep::run_dir(&args.out, &study);
+        if let Ok(st) = sweep::status(&dir)
+            && st.complete()
+        {
+            if !args.quiet {
+                eprintln!(
+                    "{}: finished ({} runs in {}), skipped",
+                    study.name,
+                    st.runs_done,
+                    dir.display()
+                );
+            }
+            continue;
+        }
+        let opts = SweepOptions {
+            threads: args.threads,
+            resume: true,
+            progress: !args.quiet,
+            ..SweepOptions::default()
+        };
+        let summary = sweep::run_study(&study, &args.out, &opts)?;
+        if !args.quiet {
+            eprintln!("{}", summary.line(&study.name));
+        }
+    }
+    Ok(())
 }
 
-pub fn status(_args: &StatusArgs) -> anyhow::Result<()> {
-    anyhow::bail!("status is not implemented yet")
+/// Prints what a run directory holds: chunks and runs done, missing chunks, per shard.
+pub fn status(args: &StatusArgs) -> anyhow::Result<()> {
+    let st = sweep::status(&args.dir)?;
+    let m = &st.manifest;
+    println!("{}: study {}", args.dir.display(), m.study);
+    println!(
+        "chunks {}/{} done, runs {}/{} done ({} points x {} cases, {} points per chunk)",
+        st.done.len(),
+        m.n_chunks,
+        st.runs_done,
+        m.n_runs,
+        m.n_points,
+        m.n_cases,
+        m.chunk_points
+    );
+    if st.missing.is_empty() {
+        println!("complete");
+    } else {
+        println!("missing chunks: {}", sweep::ranges(&st.missing));
+    }
+    let mut shards: Vec<(u64, u64)> = m
+        .shards
+        .iter()
+        .filter_map(|s| {
+            let (i, n) = s.split_once('/')?;
+            Some((i.parse().ok()?, n.parse().ok()?))
+        })
+        .filter(|&(_, n)| n > 1)
+        .collect();
+    shards.sort();
+    for (i, n) in shards {
+        let all: Vec<u64> = sweep::shard_chunks(m.n_chunks, (i, n)).collect();
+        let missing: Vec<u64> = all
+            .iter()
+            .copied()
+            .filter(|k| st.missing.binary_search(k).is_ok())
+            .collect();
+        println!(
+            "shard {i}/{n}: chunks {}/{} done{}",
+            all.len() - missing.len(),
+            all.len(),
+            if missing.is_empty() {
+                String::new()
+            } else {
+                format!(", missing {}", sweep::ranges(&missing))
+            }
+        );
+    }
+    if !m.outcomes.is_empty() {
+        let outcomes: Vec<String> = m.outcomes.iter().map(|(k, v)| format!("{k} {v}")).collect();
+        println!("outcomes: {}", outcomes.join(", "));
+    }
+    for (name, holder) in &st.locks {
+        match holder {
+            Some(h) => println!(
+                "lock {name}: PID {} on {}{}",
+                h.pid,
+                h.host,
+                if h.stale {
+                    " (stale: that process is gone)"
+                } else {
+                    " (running)"
+                }
+            ),
+            None => println!("lock {name}: unreadable"),
+        }
+    }
+    if let Some(a) = &m.audit {
+        println!(
+            "audit ({} points, {} {} = {:e} against {}): relative error max/median xmax {:.1e}/{:.1e}, t1 {:.1e}/{:.1e}, di {:.1e}/{:.1e}; outcome changed {}, impacts changed {}",
+            a.points.len(),
+            a.solver,
+            a.knob,
+            a.knob_value,
+            a.reference,
+            a.xmax.max,
+            a.xmax.median,
+            a.t1.max,
+            a.t1.median,
+            a.di.max,
+            a.di.median,
+            a.outcome_changed,
+            a.impacts_changed
+        );
+    }
+    Ok(())
 }

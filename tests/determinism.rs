@@ -1,0 +1,445 @@
+//! The sweep engine's records are bit-identical for any thread count, chunk size, shard split and
+//! interruption (issue 3). Library level: the studies are built in Rust, so these tests do not
+//! depend on the study-file parser.
+
+use std::path::Path;
+
+mod common;
+
+use common::study;
+use impactsweep::plan::Plan;
+use impactsweep::sim::{NoProbe, SolverKind, SolverSettings, simulate};
+use impactsweep::store::{self, RunRow};
+use impactsweep::study::Study;
+use impactsweep::sweep::{self, SweepOptions};
+
+fn opts() -> SweepOptions {
+    SweepOptions::default()
+}
+
+/// Every column of every row as bits, in file order.
+fn bits(rows: &[RunRow]) -> Vec<Vec<u64>> {
+    rows.iter()
+        .map(|r| {
+            let mut v = vec![
+                r.point_id,
+                r.point,
+                u64::from(r.case),
+                u64::from(r.ideal),
+                r.dm.to_bits(),
+                r.dd.to_bits(),
+                r.noise_seed.map_or(u64::MAX, |s| s ^ 0x5a5a),
+                u64::from(r.noise_seed.is_some()),
+                r.tol.to_bits(),
+                r.solver.len() as u64,
+                r.record.outcome as u64,
+                r.record.impacts,
+                r.record.sticks,
+                r.record.steps,
+            ];
+            for k in impactsweep::model::SYSTEM_KEYS {
+                v.push(r.system.get(k).unwrap().to_bits());
+            }
+            let rec = &r.record;
+            for x in [
+                rec.x1,
+                rec.t1,
+                rec.x2,
+                rec.t2,
+                rec.xmax,
+                rec.di,
+                rec.energy_impact,
+                rec.energy_viscous,
+                rec.t_stop,
+            ] {
+                v.push(x.to_bits());
+            }
+            v
+        })
+        .collect()
+}
+
+/// All rows of a run directory, in chunk order.
+fn read_all(dir: &Path) -> Vec<RunRow> {
+    store::part_files(dir)
+        .unwrap()
+        .iter()
+        .flat_map(|p| store::read_part(p).unwrap())
+        .collect()
+}
+
+/// The part files' bytes, by name.
+fn part_bytes(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    store::part_files(dir)
+        .unwrap()
+        .iter()
+        .map(|p| {
+            (
+                p.file_name().unwrap().to_string_lossy().to_string(),
+                std::fs::read(p).unwrap(),
+            )
+        })
+        .collect()
+}
+
+fn run(s: &Study, out: &Path, o: SweepOptions) -> sweep::SweepSummary {
+    sweep::run_study(s, out, &o).unwrap()
+}
+
+#[test]
+fn every_column_is_bit_identical_across_threads_chunks_and_shards() {
+    let s = study("det", 13);
+    let tmp = tempfile::tempdir().unwrap();
+    let out = |n: &str| tmp.path().join(n);
+
+    let one = run(
+        &s,
+        &out("t1"),
+        SweepOptions {
+            threads: Some(1),
+            ..opts()
+        },
+    );
+    assert_eq!(one.runs, 13 * 3 * 4);
+    assert_eq!(one.chunks_written, 3);
+    let reference = read_all(&out("t1").join("det"));
+    let want = bits(&reference);
+    assert_eq!(want.len(), 156);
+    // point_id order, every id once.
+    let ids: Vec<u64> = reference.iter().map(|r| r.point_id).collect();
+    assert_eq!(ids, (0..156).collect::<Vec<_>>());
+
+    run(
+        &s,
+        &out("t2"),
+        SweepOptions {
+            threads: Some(2),
+            ..opts()
+        },
+    );
+    assert_eq!(bits(&read_all(&out("t2").join("det"))), want);
+    assert_eq!(
+        part_bytes(&out("t2").join("det")),
+        part_bytes(&out("t1").join("det"))
+    );
+
+    for cp in [1, 7] {
+        let o = out(&format!("cp{cp}"));
+        let sum = run(
+            &s,
+            &o,
+            SweepOptions {
+                chunk_points: Some(cp),
+                threads: Some(2),
+                ..opts()
+            },
+        );
+        assert_eq!(sum.chunks_written, 39u64.div_ceil(cp));
+        assert_eq!(bits(&read_all(&o.join("det"))), want, "chunk_points {cp}");
+    }
+
+    for n in [2, 3] {
+        let o = out(&format!("shards{n}"));
+        for i in 0..n {
+            let sum = run(
+                &s,
+                &o,
+                SweepOptions {
+                    shard: (i, n),
+                    chunk_points: Some(4),
+                    ..opts()
+                },
+            );
+            assert_eq!(
+                sum.chunks_written,
+                (i..10).step_by(n as usize).count() as u64
+            );
+        }
+        let dir = o.join("det");
+        assert_eq!(bits(&read_all(&dir)), want, "{n} shards");
+        let st = sweep::status(&dir).unwrap();
+        assert!(st.complete());
+        assert_eq!(st.manifest.chunks_done, 10);
+        assert_eq!(st.manifest.runs_done, 156);
+        assert_eq!(st.manifest.shards.len(), n as usize);
+    }
+}
+
+#[test]
+fn noise_is_applied_only_to_noisy_cases_and_depends_on_the_seed() {
+    let s = study("noise", 3);
+    let tmp = tempfile::tempdir().unwrap();
+    run(&s, tmp.path(), opts());
+    let rows = read_all(&tmp.path().join("noise"));
+    let mut clean = s.clone();
+    clean.noise = None;
+    clean.name = "clean".into();
+    run(&clean, tmp.path(), opts());
+    let clean_rows = read_all(&tmp.path().join("clean"));
+    for (a, b) in rows.iter().zip(&clean_rows) {
+        if a.noise_seed.is_some() {
+            assert_ne!(a.record.xmax, b.record.xmax, "noise changes xmax");
+        } else {
+            assert_eq!(a.record.xmax.to_bits(), b.record.xmax.to_bits());
+        }
+    }
+    // Both noisy cases of one point differ (different seeds).
+    assert_ne!(rows[2].record.xmax, rows[3].record.xmax);
+    // The noise seed is stored as given (null where the case has none).
+    assert!(rows.iter().all(|r| r.noise_seed.is_some() == (r.case >= 2)));
+    // Without [noise], a case with a noise seed but no perturbation is the ideal run, bit for
+    // bit: no noise is drawn.
+    for p in clean_rows.chunks(4) {
+        assert_eq!(p[2].record.xmax.to_bits(), p[0].record.xmax.to_bits());
+        assert_eq!(p[2].record.di.to_bits(), p[0].record.di.to_bits());
+    }
+}
+
+#[test]
+fn an_interrupted_run_resumes_to_identical_part_files() {
+    let s = study("resume", 13);
+    let tmp = tempfile::tempdir().unwrap();
+    let full = tmp.path().join("full");
+    run(
+        &s,
+        &full,
+        SweepOptions {
+            chunk_points: Some(2),
+            ..opts()
+        },
+    );
+
+    let part = tmp.path().join("part");
+    let first = run(
+        &s,
+        &part,
+        SweepOptions {
+            chunk_points: Some(2),
+            stop_after: Some(8),
+            ..opts()
+        },
+    );
+    assert_eq!(first.chunks_written, 8);
+    assert_eq!(first.chunks_left, 12);
+    let dir = part.join("resume");
+    // What a crash leaves: a stale lock of a dead process, a half-written temp file, a part
+    // the manifest does not list yet (written, then killed before the manifest update), and a
+    // truncated part.
+    let dead = dead_pid();
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    std::fs::write(dir.join(".lock"), format!("{dead} {}", host.trim())).unwrap();
+    std::fs::write(store::tmp_path(&store::part_path(&dir, 9)), b"half a file").unwrap();
+    std::fs::copy(
+        store::part_path(&full.join("resume"), 8),
+        store::part_path(&dir, 8),
+    )
+    .unwrap();
+    let p3 = store::part_path(&dir, 3);
+    let bytes = std::fs::read(&p3).unwrap();
+    std::fs::write(&p3, &bytes[..bytes.len() / 2]).unwrap();
+
+    // Without --resume: refused, nothing touched.
+    let err = sweep::run_study(&s, &part, &opts()).unwrap_err();
+    assert!(format!("{err:#}").contains("pass --resume"), "{err:#}");
+    assert_eq!(impactsweep::error::exit_code(&err), 2);
+
+    let second = run(
+        &s,
+        &part,
+        SweepOptions {
+            resume: true,
+            ..opts()
+        },
+    );
+    // Chunks 0-2, 4-7 kept, 8 adopted; 3 redone (truncated), 9-19 run.
+    assert_eq!(second.chunks_kept, 8);
+    assert_eq!(second.chunks_written, 12);
+    assert!(!store::tmp_path(&store::part_path(&dir, 9)).exists());
+    assert!(!dir.join(".lock").exists());
+    assert_eq!(part_bytes(&dir), part_bytes(&full.join("resume")));
+    let m = sweep::read_manifest(&dir).unwrap().unwrap();
+    let mf = sweep::read_manifest(&full.join("resume")).unwrap().unwrap();
+    assert_eq!(m.chunks, mf.chunks);
+    assert_eq!(m.runs_done, 156);
+    // Every checksum in the manifest is the file's.
+    for c in &m.chunks {
+        let sum = store::checksum_file(&store::part_path(&dir, c.chunk)).unwrap();
+        assert_eq!(c.checksum, format!("{sum:016x}"));
+    }
+
+    // Resuming a finished run does nothing.
+    let third = run(
+        &s,
+        &part,
+        SweepOptions {
+            resume: true,
+            ..opts()
+        },
+    );
+    assert_eq!((third.chunks_written, third.chunks_kept), (0, 20));
+}
+
+/// A PID that no longer exists: a child that has exited and been reaped.
+fn dead_pid() -> u32 {
+    let mut child = std::process::Command::new("true").spawn().unwrap();
+    let pid = child.id();
+    child.wait().unwrap();
+    assert!(!Path::new(&format!("/proc/{pid}")).exists());
+    pid
+}
+
+#[test]
+fn a_live_lock_refuses_a_second_writer_and_names_the_pid() {
+    let s = study("locked", 3);
+    let tmp = tempfile::tempdir().unwrap();
+    run(
+        &s,
+        tmp.path(),
+        SweepOptions {
+            stop_after: Some(0),
+            ..opts()
+        },
+    );
+    let dir = tmp.path().join("locked");
+    // A live process holds the lock: this test process itself.
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    let me = std::process::id();
+    std::fs::write(dir.join(".lock"), format!("{me} {}", host.trim())).unwrap();
+    let err = sweep::run_study(
+        &s,
+        tmp.path(),
+        &SweepOptions {
+            resume: true,
+            ..opts()
+        },
+    )
+    .unwrap_err();
+    let msg = format!("{err:#}");
+    assert!(
+        msg.contains(&dir.join(".lock").display().to_string()),
+        "{msg}"
+    );
+    assert!(msg.contains(&format!("PID {me}")), "{msg}");
+    assert!(store::part_files(&dir).unwrap().is_empty());
+    // A sibling shard has its own lock and is not blocked.
+    let sum = run(
+        &s,
+        tmp.path(),
+        SweepOptions {
+            resume: true,
+            shard: (1, 2),
+            ..opts()
+        },
+    );
+    assert_eq!(sum.chunks_written, 0, "one chunk, owned by shard 0/2");
+}
+
+#[test]
+fn a_different_study_in_the_directory_is_refused() {
+    let s = study("same", 3);
+    let tmp = tempfile::tempdir().unwrap();
+    run(&s, tmp.path(), opts());
+    let mut other = s.clone();
+    other.source.push_str("# edited\n");
+    let err = sweep::run_study(
+        &other,
+        tmp.path(),
+        &SweepOptions {
+            resume: true,
+            ..opts()
+        },
+    )
+    .unwrap_err();
+    assert!(format!("{err:#}").contains("holds a different study"));
+    assert_eq!(impactsweep::error::exit_code(&err), 2);
+}
+
+#[test]
+fn the_audit_is_deterministic_and_measures_the_solver() {
+    let mut s = study("audit", 13);
+    s.run.audit = 5;
+    let tmp = tempfile::tempdir().unwrap();
+    let sum = run(&s, tmp.path(), opts());
+    let a = sum.audit.expect("audit ran");
+    assert_eq!(a.points.len(), 5);
+    assert_eq!(a.points, sweep::audit_points(2013, 39, 5));
+    assert!(a.points.windows(2).all(|w| w[0] < w[1]));
+    assert_eq!(a.solver, "exact");
+    assert_eq!(a.xmax.n, 5);
+    // exact at tol 1e-12 against exact at 1e-14: tiny but measured, and no outcome changes.
+    assert!(
+        a.xmax.max < 1e-9 && a.t1.max < 1e-9 && a.di.max < 1e-6,
+        "{a:?}"
+    );
+    assert_eq!((a.outcome_changed, a.impacts_changed), (0, 0));
+    let m = sweep::read_manifest(&tmp.path().join("audit"))
+        .unwrap()
+        .unwrap();
+    assert_eq!(m.audit, Some(a.clone()));
+
+    // A loose tolerance shows up as a larger error.
+    let mut loose = s.clone();
+    loose.name = "loose".into();
+    loose.solver.tol = 1e-4;
+    let b = run(&loose, tmp.path(), opts()).audit.unwrap();
+    assert!(b.t1.max > a.t1.max, "{b:?} vs {a:?}");
+    assert!(b.t1.max > 1e-9, "{b:?}");
+
+    // A cheap solver (issue 5): RK4 with a coarse step is measurably off, by the amount the
+    // simulator itself gives for those points.
+    let mut cheap = s.clone();
+    cheap.name = "cheap".into();
+    cheap.solver.kind = SolverKind::Rk4;
+    cheap.solver.h = 2e-3;
+    let c = run(&cheap, tmp.path(), opts()).audit.unwrap();
+    assert_eq!(c.solver, "rk4");
+    assert_eq!(c.points, a.points);
+    let plan = Plan::new(&cheap);
+    let exact = SolverSettings {
+        kind: SolverKind::Exact,
+        tol: sweep::AUDIT_TOL,
+        ..cheap.solver
+    };
+    let mut want_max: f64 = 0.0;
+    for &p in &c.points {
+        let run = plan.run(p, 0);
+        let got = simulate(
+            &run.system,
+            &cheap.solver,
+            &cheap.request,
+            None,
+            &mut NoProbe,
+        );
+        let reference = simulate(&run.system, &exact, &cheap.request, None, &mut NoProbe);
+        want_max = want_max.max((got.xmax - reference.xmax).abs() / reference.xmax.abs());
+    }
+    assert_eq!(c.xmax.max.to_bits(), want_max.to_bits());
+    assert!(c.xmax.max > 1e-8 && c.xmax.max < 0.1, "{c:?}");
+    assert!(c.di.max > 0.0 && c.di.n == 5, "{c:?}");
+    let m = sweep::read_manifest(&tmp.path().join("cheap"))
+        .unwrap()
+        .unwrap();
+    assert_eq!(m.audit, Some(c));
+}
+
+#[test]
+fn manifest_records_sizes_and_outcomes() {
+    let s = study("manifest", 5);
+    let tmp = tempfile::tempdir().unwrap();
+    let sum = run(&s, tmp.path(), opts());
+    let dir = tmp.path().join("manifest");
+    let m = sweep::read_manifest(&dir).unwrap().unwrap();
+    assert_eq!(
+        (m.n_points, m.n_cases, m.n_runs, m.n_chunks, m.chunk_points),
+        (15, 4, 60, 1, 16)
+    );
+    assert_eq!(m.outcomes, sum.outcomes);
+    assert_eq!(m.outcomes.values().sum::<u64>(), 60);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("study.toml")).unwrap(),
+        s.source
+    );
+    let meta = store::part_metadata(&store::part_path(&dir, 0)).unwrap();
+    assert_eq!(meta[store::META_STUDY], s.source);
+    assert!(sweep::ranges(&[0, 1, 2, 3, 7, 9, 10]) == "0-3, 7, 9-10");
+}

@@ -1,0 +1,123 @@
+//! Real clients read a freshly written dataset (issue 3, item 6): pyarrow, DuckDB and polars
+//! each check the row count, the column names and types, the key-value metadata, and a few
+//! values against the simulator's own output (computed here by calling `sim::simulate`
+//! directly, passed to `tests/interop.py` as JSON, floats as their IEEE-754 bits).
+//!
+//! The Python interpreter is `$IMPACTSWEEP_PYTHON`, else the repository's `.venv/bin/python`
+//! (`scripts/setup-python.sh` creates it with the pinned packages).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use impactsweep::plan::Plan;
+use impactsweep::sim::{NoProbe, simulate};
+use impactsweep::store;
+use impactsweep::sweep::{self, SweepOptions};
+use serde_json::json;
+
+fn python() -> PathBuf {
+    if let Some(p) = std::env::var_os("IMPACTSWEEP_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
+    assert!(
+        venv.exists(),
+        "no Python for the interop test: set IMPACTSWEEP_PYTHON or run scripts/setup-python.sh \
+         (looked for {})",
+        venv.display()
+    );
+    venv
+}
+
+#[test]
+fn pyarrow_duckdb_and_polars_read_the_dataset() {
+    let study = common::study("interop", 9);
+    let tmp = tempfile::tempdir().unwrap();
+    let summary = sweep::run_study(
+        &study,
+        tmp.path(),
+        &SweepOptions {
+            chunk_points: Some(5),
+            ..SweepOptions::default()
+        },
+    )
+    .unwrap();
+    let dir = tmp.path().join("interop");
+    assert_eq!(summary.chunks_written, 6);
+
+    // Expected values straight from the simulator, not from the store.
+    let plan = Plan::new(&study);
+    let mut rows = Vec::new();
+    for (p, c) in [(0u64, 0u32), (4, 2), (13, 1), (26, 3)] {
+        let run = plan.run(p, c);
+        let mut stream = plan.noise_stream(&run);
+        let noise = match (&study.noise, stream.as_mut()) {
+            (Some(ns), Some(s)) => Some((ns, s)),
+            _ => None,
+        };
+        let rec = simulate(
+            &run.system,
+            &study.solver,
+            &study.request,
+            noise,
+            &mut NoProbe,
+        );
+        rows.push(json!({
+            "point_id": run.point_id,
+            "point": p,
+            "case": c,
+            "ideal": run.spec.ideal,
+            "noise_seed": run.spec.noise_seed,
+            "outcome": rec.outcome.name(),
+            "solver": "exact",
+            "impacts": rec.impacts,
+            "bits": {
+                "e": run.system.e.to_bits(),
+                "m": run.system.m.to_bits(),
+                "d": run.system.d.to_bits(),
+                "dd": run.spec.dd.to_bits(),
+                "x1": rec.x1.to_bits(),
+                "t1": rec.t1.to_bits(),
+                "xmax": rec.xmax.to_bits(),
+                "di": rec.di.to_bits(),
+                "energy_impact": rec.energy_impact.to_bits(),
+            },
+        }));
+    }
+    let columns: Vec<String> = store::schema()
+        .fields()
+        .iter()
+        .map(|f| f.name().clone())
+        .collect();
+    let expected = json!({
+        "dir": dir,
+        "n_rows": plan.n_runs(),
+        "n_files": 6,
+        "columns": columns,
+        "study": study.source,
+        "schema_version": store::SCHEMA_VERSION.to_string(),
+        "rows": rows,
+    });
+    let spec = tmp.path().join("expected.json");
+    std::fs::write(&spec, serde_json::to_string_pretty(&expected).unwrap()).unwrap();
+
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop.py");
+    let out = std::process::Command::new(python())
+        .arg(&script)
+        .arg(&spec)
+        .output()
+        .expect("running tests/interop.py");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "interop.py failed\nstdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    for client in ["pyarrow", "duckdb", "polars"] {
+        assert!(
+            stdout.contains(&format!("{client}: ok")),
+            "{client} did not report\n{stdout}"
+        );
+    }
+}
