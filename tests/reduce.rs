@@ -731,3 +731,58 @@ fn cli_run_then_reduce() {
     assert!(md.contains("## Accuracy audit"), "{md}");
     png_size(&run_dir.join("design_chart.png"));
 }
+
+/// pyarrow and polars read `summary.parquet` and `zones.parquet` and agree with `summary.csv`.
+/// The interpreter is `$IMPACTSWEEP_PYTHON`, else the repository's `.venv/bin/python`
+/// (`scripts/setup-python.sh`).
+#[test]
+fn pyarrow_and_polars_read_the_summary() {
+    let python = std::env::var_os("IMPACTSWEEP_PYTHON")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python"));
+    assert!(
+        python.exists(),
+        "no Python: set IMPACTSWEEP_PYTHON or run scripts/setup-python.sh ({})",
+        python.display()
+    );
+    let s = paper();
+    let sum = run(&s, simulate_chunks(&s));
+    let dir = tempfile::tempdir().unwrap();
+    write_outputs(&s, &sum, dir.path(), None).unwrap();
+    let script = r#"
+import sys, csv, math
+import pyarrow.parquet as pq, polars as pl
+d = sys.argv[1]
+t = pq.read_table(f"{d}/summary.parquet")
+assert t.num_rows == 51, t.num_rows
+meta = pq.read_metadata(f"{d}/summary.parquet").metadata
+assert meta[b"impactsweep.table"] == b"summary", meta
+rows = list(csv.DictReader(open(f"{d}/summary.csv")))
+assert [f.name for f in t.schema] == list(rows[0].keys())
+p = pl.read_parquet(f"{d}/summary.parquet")
+for col in ["e", "reliability", "reliability_lo", "reliability_hi", "safety_factor", "di", "perfectibility"]:
+    a = t.column(col).to_pylist()
+    b = p[col].to_list()
+    c = [float(r[col]) for r in rows]
+    assert a == b == c, col
+assert t.column("rank").to_pylist() == [int(r["rank"]) for r in rows]
+assert str(t.schema.field("rank").type) == "uint64" and str(t.schema.field("pareto").type) == "bool"
+z = pq.read_table(f"{d}/zones.parquet")
+assert z.num_rows == len(list(csv.DictReader(open(f"{d}/zones.csv"))))
+print("ok", t.num_rows, z.num_rows)
+"#;
+    let out = std::process::Command::new(&python)
+        .arg("-c")
+        .arg(script)
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.starts_with("ok 51 "), "{stdout}");
+}
