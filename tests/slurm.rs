@@ -677,20 +677,34 @@ fn without_sbatch_on_path_it_says_so_and_dry_run_still_works() {
         "nothing is written when it cannot submit"
     );
 
+    // More tasks than chunks: a warning, and the scripts all the same.
+    let loaded = Study::load(&study).unwrap();
+    let chunks = Plan::new(&loaded).n_chunks();
+    let tasks = chunks + 2;
     let out = Command::new(cargo_bin("impactsweep"))
         .env("PATH", &empty_path)
         .arg("slurm")
         .arg(&study)
-        .args(["--tasks", "3", "--dry-run", "--out"])
+        .args(["--tasks", &tasks.to_string(), "--dry-run", "--out"])
         .arg(w.path().join("out"))
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", show(&out));
     let stdout = text(&out.stdout);
-    let name = Study::load(&study).unwrap().name;
+    assert!(
+        text(&out.stderr).contains(&format!(
+            "warning: {tasks} tasks but the study has only {chunks} chunk"
+        )),
+        "{}",
+        show(&out)
+    );
+    let name = loaded.name;
     let slurm_dir = w.path().join("out").join(&name).join("slurm");
     let exe = std::fs::canonicalize(cargo_bin("impactsweep")).unwrap();
-    assert!(stdout.contains("#SBATCH --array=0-2\n"), "{stdout}");
+    assert!(
+        stdout.contains(&format!("#SBATCH --array=0-{}\n", tasks - 1)),
+        "{stdout}"
+    );
     assert!(
         stdout.contains(&format!("exec {} run ", exe.display())),
         "tasks run the binary by its absolute path:\n{stdout}"
