@@ -277,14 +277,12 @@ pub fn main() -> anyhow::Result<()> {
             paper_safety: c.paper_safety,
             di_mean: c.di_mean,
         }),
-        Command::Plot(PlotCmd::Waveform(c)) => {
-            app::reduce::waveform(&app::reduce::WaveformArgs {
-                sets: c.sets,
-                out: c.out,
-                e: c.e,
-                t_end: c.t_end,
-            })
-        }
+        Command::Plot(PlotCmd::Waveform(c)) => app::reduce::waveform(&app::reduce::WaveformArgs {
+            sets: c.sets,
+            out: c.out,
+            e: c.e,
+            t_end: c.t_end,
+        }),
         Command::Tradeoff(c) => app::tradeoff::tradeoff(&app::tradeoff::TradeoffArgs {
             study: c.study,
             out: c.out,

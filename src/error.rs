@@ -20,7 +20,10 @@ pub const EXIT_FAILURE: i32 = 1;
 
 /// The exit status an error maps to.
 pub fn exit_code(err: &anyhow::Error) -> i32 {
-    if err.chain().any(|e| e.downcast_ref::<InputError>().is_some()) {
+    if err
+        .chain()
+        .any(|e| e.downcast_ref::<InputError>().is_some())
+    {
         EXIT_INPUT
     } else {
         EXIT_FAILURE

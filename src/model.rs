@@ -55,9 +55,14 @@ impl RangeError {
     }
 }
 
-/// Formats a number the way a user typed it (shortest round-trip form).
+/// Formats a number the way a user would write it: shortest round-trip digits, in exponent
+/// form when very small or very large (`5e-10`, not `0.0000000005`).
 pub fn fmt_value(v: f64) -> String {
-    format!("{v}")
+    if v != 0.0 && v.is_finite() && (v.abs() < 1e-3 || v.abs() >= 1e7) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
 }
 
 impl Default for System {

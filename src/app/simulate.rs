@@ -67,9 +67,8 @@ impl Setup {
                 })?;
                 continue;
             }
-            let known = SYSTEM_KEYS.contains(&key)
-                || SolverSettings::KEYS.contains(&key)
-                || key == "t_end";
+            let known =
+                SYSTEM_KEYS.contains(&key) || SolverSettings::KEYS.contains(&key) || key == "t_end";
             if !known {
                 return Err(InputError::new(format!(
                     "--set {key}={raw}: unknown key '{key}'; allowed keys: {}",
@@ -80,7 +79,7 @@ impl Setup {
                 InputError::new(format!("--set {key}={raw}: '{raw}' is not a number"))
             })?;
             let integer = |v: f64| -> Result<u64, InputError> {
-                if v.fract() == 0.0 && v >= 0.0 && v <= 9.0e15 {
+                if v.fract() == 0.0 && (0.0..=9.0e15).contains(&v) {
                     Ok(v as u64)
                 } else {
                     Err(InputError::new(format!(
@@ -243,8 +242,16 @@ pub fn record_text(setup: &Setup, rec: &Record) -> String {
         fmt_value(setup.solver.tol)
     ));
     out.push_str(&format!("outcome  {}\n", rec.outcome));
-    out.push_str(&format!("X1       {} at t1 = {}\n", cm(rec.x1), sec(rec.t1)));
-    out.push_str(&format!("X2       {} at t2 = {}\n", cm(rec.x2), sec(rec.t2)));
+    out.push_str(&format!(
+        "X1       {} at t1 = {}\n",
+        cm(rec.x1),
+        sec(rec.t1)
+    ));
+    out.push_str(&format!(
+        "X2       {} at t2 = {}\n",
+        cm(rec.x2),
+        sec(rec.t2)
+    ));
     out.push_str(&format!("xmax     {}\n", cm(rec.xmax)));
     out.push_str(&format!(
         "DI       {}\n",

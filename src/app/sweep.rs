@@ -43,8 +43,8 @@ pub struct StatusArgs {
     pub dir: PathBuf,
 }
 
-pub fn plan(_args: &PlanArgs) -> anyhow::Result<()> {
-    anyhow::bail!("plan is not implemented yet")
+pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
+    crate::app::plan::plan(args)
 }
 
 pub fn run(_args: &RunArgs) -> anyhow::Result<()> {

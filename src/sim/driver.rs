@@ -36,8 +36,7 @@ use super::exact::ExactPhase;
 use super::linear::Oscillator;
 use super::noise::NoiseStream;
 use super::{
-    NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings, State, Wall,
-    impact,
+    NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings, State, Wall, impact,
 };
 use crate::model::System;
 
@@ -297,6 +296,12 @@ impl<'a, P: Probe> Run<'a, P> {
                         break Outcome::EventCap;
                     }
                     self.collide(wall);
+                    // The impact may have reversed the main mass: a maximum can follow it.
+                    let osc = match self.phase {
+                        Phase::Free => &self.free,
+                        Phase::Stuck(_) => &self.pair,
+                    };
+                    self.v_side = side_of(self.s.v, osc.accel(self.s.x, self.s.v), 0.0);
                     self.begin_phase(solver);
                 }
                 Event::Separation => {
@@ -374,9 +379,10 @@ impl<'a, P: Probe> Run<'a, P> {
     fn collide(&mut self, wall: Wall) {
         let sys = self.sys;
         let sign = wall.sign();
-        // Put the inner mass exactly on the wall: the event is located within tolerance.
-        self.s.y = self.s.x + sign * 0.5 * sys.d;
+        // The probe sees the state as located; then the inner mass is put exactly on the wall
+        // (the event is within tolerance of it) so the next phase starts from the wall.
         let before = self.s;
+        self.s.y = self.s.x + sign * 0.5 * sys.d;
         let (va, wa) = impact(sys.M, sys.m, sys.e, before.v, before.w);
         self.s.v = va;
         self.s.w = wa;

@@ -40,7 +40,7 @@ fn safe_step(g: f64, g1: f64, g2: f64, g3: f64, b2: f64, b4: f64) -> f64 {
 #[inline]
 fn quad_step(g: f64, g1: f64, b: f64) -> f64 {
     if b > 0.0 {
-        let disc = g1.mul_add(g1, 2.0 * b * g).sqrt();
+        let disc = (g1 * g1 + 2.0 * b * g).sqrt();
         if g1 >= 0.0 {
             (g1 + disc) / b
         } else {
@@ -164,8 +164,24 @@ impl PhaseSolver for ExactPhase {
                 // z = y - x; right gap d/2 - z, left gap z + d/2; y'' = 0 so gap'' = ±x''.
                 let z = walls.y0 + walls.w * (self.t - walls.t0) - x;
                 let z1 = walls.w - v;
-                consider(Event::Wall(super::Wall::Right), walls.half_d - z, -z1, a, j, b[2], b[4]);
-                consider(Event::Wall(super::Wall::Left), z + walls.half_d, z1, -a, -j, b[2], b[4]);
+                consider(
+                    Event::Wall(super::Wall::Right),
+                    walls.half_d - z,
+                    -z1,
+                    a,
+                    j,
+                    b[2],
+                    b[4],
+                );
+                consider(
+                    Event::Wall(super::Wall::Left),
+                    z + walls.half_d,
+                    z1,
+                    -a,
+                    -j,
+                    b[2],
+                    b[4],
+                );
             }
             let s = w.x_side;
             consider(Event::XZero, s * x, s * v, s * a, s * j, b[2], b[4]);

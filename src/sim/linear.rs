@@ -161,8 +161,16 @@ mod tests {
                 let exact = o.eval(0.003, 2.0, t);
                 let (x, v) = rk4(&o, 0.003, 2.0, t, 200_000);
                 let scale = 2.0 / o.w2.sqrt();
-                assert!((exact.x - x).abs() <= 1e-9 * scale, "c={c} t={t}: {} vs {x}", exact.x);
-                assert!((exact.v - v).abs() <= 1e-8 * 2.0, "c={c} t={t}: {} vs {v}", exact.v);
+                assert!(
+                    (exact.x - x).abs() <= 1e-9 * scale,
+                    "c={c} t={t}: {} vs {x}",
+                    exact.x
+                );
+                assert!(
+                    (exact.v - v).abs() <= 1e-8 * 2.0,
+                    "c={c} t={t}: {} vs {v}",
+                    exact.v
+                );
             }
         }
     }
@@ -170,8 +178,8 @@ mod tests {
     #[test]
     fn continuous_across_critical_damping() {
         // zeta = 1 - 1e-12, 1, 1 + 1e-12 must agree to near machine precision.
-        let (mass, k) = (0.1, 400.0);
-        let crit = 2.0 * (k * mass as f64).sqrt();
+        let (mass, k): (f64, f64) = (0.1, 400.0);
+        let crit = 2.0 * (k * mass).sqrt();
         let at = |c: f64| Oscillator::new(mass, k, c).eval(0.0, 2.0, 0.05);
         let below = at(crit * (1.0 - 1e-12));
         let exactly = at(crit);

@@ -316,7 +316,8 @@ pub fn impact(M: f64, m: f64, e: f64, v: f64, w: f64) -> (f64, f64) {
 /// Observer of a run's events, for traces and tests. Every method defaults to doing nothing, so
 /// a sweep pays nothing for it.
 pub trait Probe {
-    /// An impact at `t` on `wall`; states just before and after.
+    /// An impact at `t` on `wall`: the state just before, as located (its `y - x` is within the
+    /// event tolerance of the wall), and just after (inner mass exactly on the wall).
     fn impact(&mut self, _t: f64, _wall: Wall, _before: &State, _after: &State) {}
     /// A sticking phase begins at `t` on `wall` (after the plastic closing of a chatter).
     fn stick(&mut self, _t: f64, _wall: Wall, _state: &State) {}

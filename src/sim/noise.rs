@@ -92,7 +92,11 @@ mod tests {
         let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
         let sd = (4e-6f64 / 1e-4).sqrt();
         assert!(mean.abs() < 4.0 * sd / (n as f64).sqrt());
-        assert!((var / (sd * sd) - 1.0).abs() < 0.02, "var ratio {}", var / (sd * sd));
+        assert!(
+            (var / (sd * sd) - 1.0).abs() < 0.02,
+            "var ratio {}",
+            var / (sd * sd)
+        );
     }
 
     #[test]

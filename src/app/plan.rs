@@ -1,0 +1,243 @@
+//! `impactsweep plan STUDY.toml`: validates a study and prints its size, where its dataset would
+//! go, and an estimate of run time and disk size.
+//!
+//! The time estimate comes from a short timed sample: up to [`SAMPLE_RUNS`] runs drawn evenly
+//! over the plan (same systems, cases and noise as the real sweep), simulated on one thread;
+//! the mean time per run is scaled by the total and divided by the threads a `run` would use.
+//! It measures the binary it runs in, so a debug build predicts a debug build.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use crate::app::sweep::PlanArgs;
+use crate::plan::Plan;
+use crate::sim::{self, NoProbe};
+use crate::study::{LoadOptions, Study, num as fmt_value};
+
+/// Runs simulated by the timed sample.
+pub const SAMPLE_RUNS: u64 = 200;
+
+/// Rough Parquet size of one run (bytes). Measured: 88.4 bytes per run for a 200,000-run
+/// noise-free e × m × d sweep (one case per point, 4 part files, 17.7 MB) written by the sweep
+/// engine's store. Most of it is the 9 Float64 observables that change on every run
+/// (`x1 t1 x2 t2 xmax di energy_impact energy_viscous t_stop`), whose mantissas barely compress;
+/// ids, parameters and counts dictionary/RLE-encode to a few bytes. Rounded up to 90; an
+/// estimate, not a promise (other grids compress differently).
+pub const BYTES_PER_RUN: u64 = 90;
+
+/// `impactsweep plan`.
+pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
+    let study = Study::load_with(
+        &args.study,
+        LoadOptions {
+            allow_large: args.allow_large,
+        },
+    )?;
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let sample = time_sample(&study);
+    print!("{}", describe(&study, &args.out, threads, Some(sample)));
+    Ok(())
+}
+
+/// A timed sample: runs simulated and seconds taken.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    pub runs: u64,
+    pub seconds: f64,
+}
+
+/// Simulates up to [`SAMPLE_RUNS`] runs spread evenly over the plan, on this thread.
+pub fn time_sample(study: &Study) -> Sample {
+    let plan = Plan::new(study);
+    let total = plan.n_runs();
+    let n = total.min(SAMPLE_RUNS);
+    let n_cases = plan.n_cases();
+    let start = Instant::now();
+    for j in 0..n {
+        // Evenly spread run indices; u128 so that j * total cannot overflow.
+        let r = (u128::from(j) * u128::from(total) / u128::from(n)) as u64;
+        let run = plan.run(r / n_cases, (r % n_cases) as u32);
+        let mut stream = plan.noise_stream(&run);
+        let noise = match (&study.noise, stream.as_mut()) {
+            (Some(ns), Some(s)) => Some((ns, s)),
+            _ => None,
+        };
+        let rec = sim::simulate(
+            &run.system,
+            &study.solver,
+            &study.request,
+            noise,
+            &mut NoProbe,
+        );
+        std::hint::black_box(rec);
+    }
+    Sample {
+        runs: n,
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// The plan as text.
+pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample>) -> String {
+    let plan = Plan::new(study);
+    let mut s = String::new();
+    let w = &mut s;
+    let _ = writeln!(
+        w,
+        "study:          {} ({})",
+        study.name,
+        study.path.display()
+    );
+    if study.axes.is_empty() {
+        let _ = writeln!(w, "axes:           none (one design point)");
+    }
+    for (i, a) in study.axes.iter().enumerate() {
+        let label = if i == 0 { "axes:" } else { "" };
+        let n = a.values.len();
+        let range = if n == 1 {
+            fmt_value(a.values[0])
+        } else {
+            format!(
+                "{} .. {}",
+                fmt_value(a.values[0]),
+                fmt_value(a.values[n - 1])
+            )
+        };
+        let _ = writeln!(w, "{label:<16}{} = {range} ({n} values)", a.key);
+    }
+    let n_cases = plan.n_cases();
+    let noisy = study
+        .cases
+        .iter()
+        .filter(|c| c.noise_seed.is_some())
+        .count();
+    let perturbed = study
+        .cases
+        .iter()
+        .filter(|c| c.dm != 0.0 || c.dd != 0.0)
+        .count();
+    let _ = writeln!(w, "design points:  {}", plan.n_points());
+    let _ = writeln!(
+        w,
+        "cases/point:    {n_cases} (1 ideal, {perturbed} perturbed, {noisy} with noise)"
+    );
+    let _ = writeln!(w, "total runs:     {}", plan.n_runs());
+    match &study.noise {
+        Some(ns) => {
+            let sd = (ns.power / ns.sample_time).sqrt();
+            let _ = writeln!(
+                w,
+                "noise:          on: power {} m^2 s, sample time {} s (sd {:.3e} m per sample)",
+                fmt_value(ns.power),
+                fmt_value(ns.sample_time),
+                sd
+            );
+        }
+        None => {
+            let _ = writeln!(w, "noise:          off");
+        }
+    }
+    let sv = &study.solver;
+    let _ = writeln!(
+        w,
+        "solver:         {} (tol {}, chatter_tol {}, max_impacts {}, max_steps {}, t_max_periods {})",
+        sv.kind.name(),
+        fmt_value(sv.tol),
+        fmt_value(sv.chatter_tol),
+        sv.max_impacts,
+        sv.max_steps,
+        fmt_value(sv.t_max_periods)
+    );
+    let horizon = match study.request.t_end {
+        Some(t) => format!("to t = {} s", fmt_value(t)),
+        None => format!("to the end of positive half-cycle {}", study.request.peaks),
+    };
+    let _ = writeln!(w, "each run:       {horizon}");
+    let _ = writeln!(
+        w,
+        "chunks:         {} of up to {} design points",
+        plan.n_chunks(),
+        study.run.chunk_points
+    );
+    let _ = writeln!(w, "output:         {}/", out.join(&study.name).display());
+    if let Some(sm) = sample
+        && sm.runs > 0
+    {
+        let per_run = sm.seconds / sm.runs as f64;
+        let total = per_run * plan.n_runs() as f64 / threads.max(1) as f64;
+        let _ = writeln!(
+            w,
+            "time estimate:  {} on {threads} thread{} ({:.1} us/run over a sample of {} runs)",
+            fmt_duration(total),
+            if threads == 1 { "" } else { "s" },
+            per_run * 1e6,
+            sm.runs
+        );
+    }
+    let _ = writeln!(
+        w,
+        "disk estimate:  {} (rough: about {BYTES_PER_RUN} bytes of Parquet per run)",
+        fmt_bytes(plan.n_runs().saturating_mul(BYTES_PER_RUN))
+    );
+    s
+}
+
+/// `1.2 s`, `3 min 20 s`, `2 h 05 min`.
+pub fn fmt_duration(secs: f64) -> String {
+    if secs < 1.0 {
+        format!("{:.0} ms", secs * 1e3)
+    } else if secs < 60.0 {
+        format!("{secs:.1} s")
+    } else if secs < 3600.0 {
+        format!("{} min {:02} s", (secs / 60.0) as u64, (secs % 60.0) as u64)
+    } else {
+        format!(
+            "{} h {:02} min",
+            (secs / 3600.0) as u64,
+            ((secs % 3600.0) / 60.0) as u64
+        )
+    }
+}
+
+/// `512 B`, `48.8 kB`, `1.2 GB` (powers of 1000).
+pub fn fmt_bytes(b: u64) -> String {
+    let units = ["B", "kB", "MB", "GB", "TB", "PB"];
+    let mut v = b as f64;
+    let mut u = 0;
+    while v >= 1000.0 && u + 1 < units.len() {
+        v /= 1000.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{b} B")
+    } else {
+        format!("{v:.1} {}", units[u])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations_and_sizes_read_well() {
+        assert_eq!(fmt_duration(1.234), "1.2 s");
+        assert_eq!(fmt_duration(0.0123), "12 ms");
+        assert_eq!(fmt_duration(200.0), "3 min 20 s");
+        assert_eq!(fmt_duration(7500.0), "2 h 05 min");
+        assert_eq!(fmt_bytes(512), "512 B");
+        assert_eq!(fmt_bytes(48_800), "48.8 kB");
+        assert_eq!(fmt_bytes(1_234_000_000), "1.2 GB");
+    }
+
+    #[test]
+    fn sample_is_spread_over_the_plan_and_bounded() {
+        let text = "[study]\nname = \"s\"\n[sweep]\ne = { start = 0.5, stop = 0.9, num = 300 }\n";
+        let study = Study::parse(Path::new("s.toml"), text).unwrap();
+        assert_eq!(time_sample(&study).runs, SAMPLE_RUNS);
+        let text = "[study]\nname = \"s\"\n[sweep]\ne = [0.5, 0.9]\n";
+        let study = Study::parse(Path::new("s.toml"), text).unwrap();
+        assert_eq!(time_sample(&study).runs, 2);
+    }
+}

@@ -1,0 +1,235 @@
+//! Every bad study in `tests/bad_studies/` is refused by the real binary with exit status 2
+//! and exactly its message, and nothing panics (issue 3: "Every bad study in the table gets its
+//! exact message and exit status 2; none panics").
+//!
+//! Messages name the file, the key, the value and what is allowed
+//! (`FILE: [table].key = VALUE: what is allowed`); TOML syntax errors give `FILE:LINE:COL`.
+//! The binary runs inside `tests/bad_studies/` so FILE is the bare file name.
+
+use std::path::Path;
+
+use assert_cmd::Command;
+
+/// (file, the exact message after `error: `).
+const BAD: &[(&str, &str)] = &[
+    (
+        "axis_not_a_range.toml",
+        "axis_not_a_range.toml: [sweep].e = { from = 0.5, to = 0.9 }: an axis is a list of numbers, {start, stop, step} or {start, stop, num}",
+    ),
+    (
+        "bad_name.toml",
+        "bad_name.toml: [study].name = \"my study\": the name must match [A-Za-z0-9_.-]+ and not be . or .. (it names the output directory)",
+    ),
+    (
+        "cases_and_factorial.toml",
+        "cases_and_factorial.toml: [perturb].dm = [0.001]: give either explicit cases or the factorial lists dm, dd, noise_seeds, not both",
+    ),
+    (
+        "chunk_points_zero.toml",
+        "chunk_points_zero.toml: [run].chunk_points = 0: must be a whole number >= 1",
+    ),
+    (
+        "duplicate_axis_key.toml",
+        "duplicate_axis_key.toml:5:1: TOML syntax error: duplicate key 'e'",
+    ),
+    (
+        "e_out_of_range.toml",
+        "e_out_of_range.toml: [system].e = 1.3: the coefficient of restitution must be in [0, 1]",
+    ),
+    (
+        "empty_axis.toml",
+        "empty_axis.toml: [sweep].e = []: an axis needs at least one value",
+    ),
+    (
+        "list_not_increasing.toml",
+        "list_not_increasing.toml: [sweep].d[2] = 0.015: the values of an axis must be strictly increasing (previous value 0.02)",
+    ),
+    (
+        "missing_name.toml",
+        "missing_name.toml: [study].name: missing; this key is required",
+    ),
+    (
+        "missing_study.toml",
+        "missing_study.toml: [study]: missing table; every study needs [study] with at least a name",
+    ),
+    (
+        "negative_seed.toml",
+        "negative_seed.toml: [study].seed = -1: must be a whole number >= 0",
+    ),
+    (
+        "negative_step.toml",
+        "negative_step.toml: [sweep].m.step = -0.01: the step must be a finite number > 0",
+    ),
+    (
+        "noise_power_negative.toml",
+        "noise_power_negative.toml: [noise].power = -1e-10: the noise power must be a finite number >= 0 (m^2 s)",
+    ),
+    (
+        "noise_seed_without_noise.toml",
+        "noise_seed_without_noise.toml: [perturb].cases[1].noise_seed = 4: a noise seed needs a [noise] table (power, sample_time)",
+    ),
+    (
+        "perturbed_clearance.toml",
+        "perturbed_clearance.toml: [perturb].cases[0].dd = -0.01: d + dd must be > 0 at every design point; the smallest d is 0.01 m ([system].d)",
+    ),
+    (
+        "perturbed_mass_negative.toml",
+        "perturbed_mass_negative.toml: [perturb].dm = -0.01: m + dm must be >= 0 at every design point; the smallest m is 0.005 kg ([sweep].m)",
+    ),
+    (
+        "reversed_axis.toml",
+        "reversed_axis.toml: [sweep].e.stop = 0.5: the axis is reversed: stop must be >= start = 0.9",
+    ),
+    (
+        "solver_tol.toml",
+        "solver_tol.toml: [solver].tol = 0.1: must be in [1e-15, 0.001]",
+    ),
+    (
+        "start_outside_cavity.toml",
+        "start_outside_cavity.toml: [sweep].y0 = 0.006: the inner mass must start inside the cavity: |y0 - x0| reaches 0.006, more than d/2 = 0.005 ([system].d)",
+    ),
+    (
+        "start_outside_perturbed_cavity.toml",
+        "start_outside_perturbed_cavity.toml: [perturb].dd = -0.003: the inner mass must start inside the perturbed cavity: |y0 - x0| reaches 0.004, more than (d + dd)/2 = 0.0035",
+    ),
+    (
+        "step_and_num.toml",
+        "step_and_num.toml: [sweep].e = { start = 0.5, stop = 0.9, step = 0.1, num = 5 }: give either step or num, not both",
+    ),
+    (
+        "strength_without_sd.toml",
+        "strength_without_sd.toml: [reliability].strength_mean = 2.85e8: strength_sd must be given too (both or neither)",
+    ),
+    (
+        "sweep_out_of_range.toml",
+        "sweep_out_of_range.toml: [sweep].e = 1.05: the coefficient of restitution must be in [0, 1]",
+    ),
+    (
+        "swept_and_fixed.toml",
+        "swept_and_fixed.toml: [system].e = 0.9: e is also swept in [sweep]; a key is either fixed or swept, not both",
+    ),
+    (
+        "syntax_error.toml",
+        "syntax_error.toml:5:5: TOML syntax error: string values must be quoted, expected literal string",
+    ),
+    (
+        "too_few_peaks.toml",
+        "too_few_peaks.toml: [study].peaks = 1: the outputs asked for need peaks >= 2",
+    ),
+    (
+        "too_large.toml",
+        "too_large.toml: [sweep] = 10211201 runs (10211201 design points x 1 case): more than the size guard of 10000000 runs; pass --allow-large to run it anyway",
+    ),
+    (
+        "uneven_step.toml",
+        "uneven_step.toml: [sweep].e.step = 0.15: (stop - start) / step = 2.666666666666667 is not a whole number; stop must be start + n * step",
+    ),
+    (
+        "unknown_axis.toml",
+        "unknown_axis.toml: [sweep].mu = [0.1, 0.2]: unknown axis 'mu'; allowed: M, m, K, C, d, e, x0, v0, y0, w0",
+    ),
+    (
+        "unknown_key.toml",
+        "unknown_key.toml: [system].mass = 0.1: unknown key 'mass'; allowed keys: M, m, K, C, d, e, x0, v0, y0, w0",
+    ),
+    (
+        "unknown_key_in_case.toml",
+        "unknown_key_in_case.toml: [perturb].cases[1].seed = 3: unknown key 'seed'; allowed keys: dm, dd, noise_seed",
+    ),
+    (
+        "unknown_output.toml",
+        "unknown_output.toml: [study].outputs[1] = \"energy\": unknown output; allowed: x1, t1, x2, t2, xmax, di, impacts, sticks, energy_impact, energy_viscous",
+    ),
+    (
+        "unknown_solver.toml",
+        "unknown_solver.toml: [solver].kind = \"rk4\": unknown solver; allowed: exact",
+    ),
+    (
+        "unknown_table.toml",
+        "unknown_table.toml: [sweeps]: unknown table; allowed tables: study, system, sweep, perturb, noise, solver, reliability, zones, ranking, run",
+    ),
+    (
+        "weights_do_not_sum.toml",
+        "weights_do_not_sum.toml: [ranking].wf2 = 0.5: wf1 + wf2 must be 1 (here 1.2), so that perfectibility is a percentage",
+    ),
+    (
+        "wrong_type.toml",
+        "wrong_type.toml: [system].e = \"high\": must be a number",
+    ),
+    (
+        "zero_step.toml",
+        "zero_step.toml: [sweep].e.step = 0: the step must be a finite number > 0",
+    ),
+    (
+        "zone_axis_not_swept.toml",
+        "zone_axis_not_swept.toml: [zones].zone[0].axis = \"m\": a zone is a range of a swept axis; swept: e",
+    ),
+];
+
+fn dir() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/bad_studies"))
+}
+
+#[test]
+fn every_bad_study_gets_its_exact_message_and_status_2() {
+    let mut failures = Vec::new();
+    for (file, message) in BAD {
+        let out = Command::cargo_bin("impactsweep")
+            .unwrap()
+            .current_dir(dir())
+            .args(["plan", file])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let expected = format!("error: {message}\n");
+        if out.status.code() != Some(2) || stderr != expected || !out.stdout.is_empty() {
+            failures.push(format!(
+                "{file}: status {:?}\n  expected: {expected}  got:      {stderr}",
+                out.status.code()
+            ));
+        }
+        assert!(!stderr.contains("panicked"), "{file} panicked: {stderr}");
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn the_table_covers_every_file_in_the_directory() {
+    let mut on_disk: Vec<String> = std::fs::read_dir(dir())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    on_disk.sort();
+    let mut listed: Vec<String> = BAD.iter().map(|(f, _)| f.to_string()).collect();
+    listed.sort();
+    assert_eq!(on_disk, listed);
+    assert!(listed.len() >= 15);
+}
+
+#[test]
+fn the_size_guard_yields_to_allow_large() {
+    Command::cargo_bin("impactsweep")
+        .unwrap()
+        .current_dir(dir())
+        .args(["plan", "too_large.toml", "--allow-large"])
+        .assert()
+        .success()
+        .stdout(predicates::str::contains("total runs:     10211201\n"));
+}
+
+#[test]
+fn a_missing_file_is_bad_input() {
+    let out = Command::cargo_bin("impactsweep")
+        .unwrap()
+        .current_dir(dir())
+        .args(["plan", "no_such_study.toml"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.starts_with("error: no_such_study.toml: cannot read the study file: "),
+        "{stderr}"
+    );
+}
