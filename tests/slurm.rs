@@ -395,6 +395,12 @@ fn split_dry_run(stdout: &str) -> BTreeMap<String, String> {
     if let Some((k, v)) = current {
         scripts.insert(k, v);
     }
+    // A blank line separates the scripts in the output; it is not part of them.
+    for v in scripts.values_mut() {
+        while v.ends_with("\n\n") {
+            v.pop();
+        }
+    }
     scripts
 }
 
