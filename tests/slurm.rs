@@ -575,6 +575,14 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
         "impactsweep status:\n{}",
         show(&status)
     );
+    let status = text(&status.stdout);
+    eprintln!("{status}");
+    for i in 0..4 {
+        assert!(
+            status.contains(&format!("shard {i}/4")),
+            "status should report shard {i}/4:\n{status}"
+        );
+    }
 
     // --- 4. A failed or pre-empted task resubmitted later resumes its own shard: take away the
     // last chunk shard 1 wrote (as if it had been killed before it), resubmit task 1 alone.
