@@ -41,6 +41,16 @@ fn show(out: &Output) -> String {
     )
 }
 
+/// How a job or an array task ended, from `scontrol -o show job`.
+struct Ended {
+    job: String,
+    /// `?` for a job that is not an array task.
+    task: String,
+    state: String,
+    code: String,
+    line: String,
+}
+
 /// A running single-node cluster; stopped by PID when dropped, whatever happened.
 struct Cluster {
     dir: tempfile::TempDir,
@@ -159,9 +169,8 @@ impl Cluster {
         id
     }
 
-    /// Waits until the jobs have left the queue, then asserts that every one of them (every
-    /// array task) completed with exit code 0. Returns the number of job records checked.
-    fn wait_ok(&self, ids: &[&str], logs: &Path) -> usize {
+    /// Waits until the jobs have left the queue; returns how each job (each array task) ended.
+    fn wait(&self, ids: &[&str], logs: &Path) -> Vec<Ended> {
         let list = ids.join(",");
         let t0 = Instant::now();
         loop {
@@ -183,7 +192,7 @@ impl Cluster {
             "slurm test: jobs {list} done in {:.1} s",
             t0.elapsed().as_secs_f64()
         );
-        let mut n = 0;
+        let mut ended = Vec::new();
         for id in ids {
             let shown = self.run("scontrol", &["-o", "show", "job", id]);
             for line in shown.lines().filter(|l| !l.trim().is_empty()) {
@@ -193,18 +202,35 @@ impl Cluster {
                         .unwrap_or("?")
                         .to_string()
                 };
-                let (state, code) = (field("JobState="), field("ExitCode="));
-                assert!(
-                    state == "COMPLETED" && code == "0:0",
-                    "job {} (task {}) ended {state} with exit code {code}:\n{line}\n{}",
-                    field("JobId="),
-                    field("ArrayTaskId="),
-                    self.diagnostics(logs)
-                );
-                n += 1;
+                ended.push(Ended {
+                    job: field("JobId="),
+                    task: field("ArrayTaskId="),
+                    state: field("JobState="),
+                    code: field("ExitCode="),
+                    line: line.to_string(),
+                });
             }
         }
-        n
+        ended
+    }
+
+    /// [`Cluster::wait`], then asserts that every job (every array task) completed with exit
+    /// code 0. Returns the number of job records checked.
+    fn wait_ok(&self, ids: &[&str], logs: &Path) -> usize {
+        let ended = self.wait(ids, logs);
+        for e in &ended {
+            assert!(
+                e.state == "COMPLETED" && e.code == "0:0",
+                "job {} (task {}) ended {} with exit code {}:\n{}\n{}",
+                e.job,
+                e.task,
+                e.state,
+                e.code,
+                e.line,
+                self.diagnostics(logs)
+            );
+        }
+        ended.len()
     }
 
     /// The job logs and the daemons' logs, for a failure message.
@@ -444,6 +470,7 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
         "#!/bin/sh\n\
          # records how it was called: one file per array task, one for reduce\n\
          d=\"$(dirname \"$0\")/calls\"; mkdir -p \"$d\"\n\
+         if [ -e \"$d/fail-$SLURM_ARRAY_TASK_ID\" ]; then echo failing on purpose; exit 1; fi\n\
          if [ \"$1\" = reduce ]; then s=$(ls \"$d\"); echo \"$s\" > \"$d/reduce.seen\"; f=reduce; \
          else f=task-$SLURM_ARRAY_TASK_ID; fi\n\
          echo \"$@\" > \"$d/$f.tmp\" && mv \"$d/$f.tmp\" \"$d/$f\"\n",
@@ -502,6 +529,51 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
         "reduce must start after every task has finished"
     );
     assert!(job.reduce_log(&r).is_file());
+
+    // --- 1b. The recovery the scripts document: task 2 fails, so the reduce job is cancelled
+    // (--kill-on-invalid-dep) instead of waiting forever; re-running task 2 alone and then the
+    // reduce with the new id finishes the job.
+    std::fs::remove_dir_all(&calls).unwrap();
+    std::fs::create_dir(&calls).unwrap();
+    std::fs::write(calls.join("fail-2"), "").unwrap();
+    let a = cluster.sbatch(&[], &job.array_script().unwrap());
+    let r = cluster.sbatch(
+        &[&format!("--dependency=afterok:{a}")],
+        &job.reduce_script().unwrap(),
+    );
+    let ended = cluster.wait(&[&a, &r], &job.logs_dir());
+    let outcome: Vec<(String, String)> = ended
+        .iter()
+        .map(|e| (e.task.clone(), e.state.clone()))
+        .collect();
+    let want = |t: &str, s: &str| (t.to_string(), s.to_string());
+    let mut sorted = outcome.clone();
+    sorted.sort();
+    assert_eq!(
+        sorted,
+        [
+            want("0", "COMPLETED"),
+            want("1", "COMPLETED"),
+            want("2", "FAILED"),
+            want("3", "COMPLETED"),
+            want("?", "CANCELLED"),
+        ],
+        "task 2 fails and the reduce is cancelled:\n{}",
+        ended
+            .iter()
+            .map(|e| e.line.as_str())
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+    assert!(!calls.join("reduce").exists(), "the reduce must not run");
+    std::fs::remove_file(calls.join("fail-2")).unwrap();
+    let again = cluster.sbatch(&["--array=2"], &job.array_script().unwrap());
+    let r = cluster.sbatch(
+        &[&format!("--dependency=afterok:{again}")],
+        &job.reduce_script().unwrap(),
+    );
+    assert_eq!(cluster.wait_ok(&[&again, &r], &job.logs_dir()), 2);
+    assert!(calls.join("task-2").is_file() && calls.join("reduce").is_file());
 
     // --- 2. The real thing. The reference: one machine, one process.
     let (study_path, study, n_chunks) = quick_study(w);
