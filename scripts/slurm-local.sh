@@ -10,7 +10,9 @@
 #   scripts/slurm-local.sh status [DIR]  which daemons are running
 #
 # DIR defaults to $SLURM_LOCAL_DIR or /tmp/impactsweep-slurm. Then point the Slurm commands at
-# the cluster with `export SLURM_CONF=DIR/etc/slurm.conf`.
+# the cluster with `export SLURM_CONF=DIR/etc/slurm.conf`. With SLURM_LOCAL_OWNER=PID, a
+# watchdog stops the cluster once process PID has exited (the test sets its own PID, so even a
+# killed test leaves no daemons behind).
 #
 # Exit status: 0 ok; 3 the cluster cannot be brought up here (not root, or the packages are
 # missing and cannot be installed: the test skips loudly on 3); anything else is a failure
@@ -25,6 +27,7 @@ set -euo pipefail
 PACKAGES=(slurmctld slurmd slurm-client munge)
 EXIT_UNAVAILABLE=3
 
+SELF=$(readlink -f "$0")
 cmd=${1:-}
 T=${2:-${SLURM_LOCAL_DIR:-/tmp/impactsweep-slurm}}
 
@@ -89,13 +92,19 @@ pick_ports() {
 
 # Process names as /proc/PID/comm shows them, to avoid killing a recycled PID.
 pidfiles() {
+  echo "watchdog $T/run/watchdog.pid"
   echo "slurmd $T/run/slurmd.pid"
   echo "slurmctld $T/run/slurmctld.pid"
   echo "munged $T/munge-run/munged.pid"
 }
 
 alive() { # NAME PID
-  [ -r "/proc/$2/comm" ] && [ "$(cat "/proc/$2/comm" 2>/dev/null)" = "$1" ]
+  local comm
+  comm=$(cat "/proc/$2/comm" 2>/dev/null) || return 1
+  case $1 in
+    watchdog) [ "$comm" = bash ] && tr '\0' ' ' <"/proc/$2/cmdline" | grep -q slurm-local ;;
+    *) [ "$comm" = "$1" ] ;;
+  esac
 }
 
 stop_cluster() {
@@ -116,6 +125,7 @@ stop_cluster() {
   while read -r name f; do
     [ -s "$f" ] || continue
     p=$(cat "$f")
+    [ "$p" = "$$" ] && { rm -f "$f"; continue; } # the watchdog, stopping the cluster itself
     if alive "$name" "$p"; then
       kill "$p" 2>/dev/null || true
       for _ in $(seq 100); do alive "$name" "$p" || break; sleep 0.1; done
@@ -146,7 +156,7 @@ status_cluster() {
 }
 
 dump_logs() {
-  say "--- sinfo ---"; sinfo -N >&2 2>&1 || true
+  if [ -s "$T/run/slurmctld.pid" ]; then say "--- sinfo ---"; sinfo -N >&2 2>&1 || true; fi
   local f
   for f in "$T"/log/*.log "$T"/munge-run/munged.log; do
     [ -f "$f" ] || continue
@@ -241,9 +251,22 @@ EOF
     say "the node did not become idle within 60 s (state '${state}')"
     exit 1
   fi
+  if [ -n "${SLURM_LOCAL_OWNER:-}" ]; then
+    # The owner (the test process) may die without stopping us (Ctrl-C, SIGKILL): then the
+    # watchdog stops the cluster. It ignores the terminal's SIGINT/SIGHUP, keeps none of our
+    # output pipes open, and is stopped by PID like the daemons.
+    (
+      trap '' INT HUP
+      while kill -0 "$SLURM_LOCAL_OWNER" 2>/dev/null; do sleep 1; done
+      exec "$SELF" stop "$T"
+    ) </dev/null >>"$T/log/watchdog.log" 2>&1 &
+    echo $! >"$T/run/watchdog.pid"
+  fi
   local name f
   : >"$T/pids"
-  while read -r name f; do echo "$name $(cat "$f")" >>"$T/pids"; done < <(pidfiles)
+  while read -r name f; do
+    if [ -s "$f" ]; then echo "$name $(cat "$f")" >>"$T/pids"; fi
+  done < <(pidfiles)
   say "daemons ready: $(el "$t1") (start total $(el "$t0"))"
   trap - EXIT
   echo "SLURM_CONF=$SLURM_CONF"
@@ -255,7 +278,7 @@ case "$cmd" in
   stop) stop_cluster ;;
   status) status_cluster ;;
   *)
-    sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'
+    awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"
     exit 2
     ;;
 esac
