@@ -76,9 +76,12 @@ impl Cluster {
             deadline: Instant::now() + JOBS_TIMEOUT,
         };
         let t0 = Instant::now();
+        // SLURM_LOCAL_OWNER: should this process die without running Drop (Ctrl-C, SIGKILL),
+        // the script's watchdog stops the cluster.
         let out = Command::new(repo().join("scripts/slurm-local.sh"))
             .arg("start")
             .arg(cluster.dir.path())
+            .env("SLURM_LOCAL_OWNER", std::process::id().to_string())
             .output()
             .expect("running scripts/slurm-local.sh");
         eprint!("{}", text(&out.stderr));
@@ -105,10 +108,12 @@ impl Cluster {
                 cluster.pids.push((name.to_string(), pid));
             }
         }
+        let mut names: Vec<&str> = cluster.pids.iter().map(|(n, _)| n.as_str()).collect();
+        names.sort();
         assert_eq!(
-            cluster.pids.len(),
-            3,
-            "expected the PIDs of slurmd, slurmctld and munged:\n{}",
+            names,
+            ["munged", "slurmctld", "slurmd", "watchdog"],
+            "expected the PIDs of the daemons and the watchdog:\n{}",
             show(&out)
         );
         eprintln!(
@@ -279,7 +284,9 @@ impl Cluster {
             .pids
             .iter()
             .filter(|(name, pid)| {
-                std::fs::read_to_string(format!("/proc/{pid}/comm")).is_ok_and(|c| c.trim() == name)
+                // The watchdog is a bash subshell of the script.
+                let comm = if name == "watchdog" { "bash" } else { name };
+                std::fs::read_to_string(format!("/proc/{pid}/comm")).is_ok_and(|c| c.trim() == comm)
             })
             .map(|(name, pid)| format!("{name} ({pid})"))
             .collect();
