@@ -768,7 +768,7 @@ fn without_sbatch_on_path_it_says_so_and_dry_run_still_works() {
         .output()
         .unwrap();
     let err = text(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{}", show(&out));
+    assert_eq!(out.status.code(), Some(1), "{}", show(&out));
     assert!(err.contains("sbatch was not found on PATH"), "{err}");
     assert!(err.contains("--dry-run"), "{err}");
     assert!(

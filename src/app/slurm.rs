@@ -11,7 +11,6 @@ use std::process::Command;
 
 use anyhow::Context;
 
-use crate::error::InputError;
 use crate::plan::Plan;
 use crate::slurm::{ARRAY_SCRIPT, ArrayJob, REDUCE_SCRIPT, shell_word};
 use crate::study::Study;
@@ -49,11 +48,12 @@ pub fn slurm(args: &SlurmArgs) -> anyhow::Result<()> {
     let sbatch = if args.dry_run {
         None
     } else {
+        // Not bad input (exit status 1, not 2): the command is fine, this machine lacks Slurm.
         Some(find_on_path("sbatch").ok_or_else(|| {
-            InputError::new(
+            anyhow::anyhow!(
                 "sbatch was not found on PATH: `impactsweep slurm` submits to Slurm and needs \
                  its client commands (run it on the cluster's login node). Use --dry-run to \
-                 write and print the job scripts without submitting them.",
+                 write and print the job scripts without submitting them."
             )
         })?)
     };
