@@ -153,21 +153,21 @@ fn submit(sbatch: &Path, extra: &[String], script: &Path) -> anyhow::Result<Stri
             stderr.trim()
         );
     }
-    let id = stdout
-        .trim()
-        .split(';')
-        .next()
-        .unwrap_or_default()
-        .to_string();
-    if id.is_empty() || !id.chars().all(|c| c.is_ascii_digit()) {
-        anyhow::bail!(
+    parse_job_id(&stdout).ok_or_else(|| {
+        anyhow::anyhow!(
             "sbatch {}: expected a job id on stdout, got '{}' (stderr: {})",
             script.display(),
             stdout.trim(),
             stderr.trim()
-        );
-    }
-    Ok(id)
+        )
+    })
+}
+
+/// The job id in `sbatch --parsable` output: `id` or, on a federation/multi-cluster setup,
+/// `id;cluster`.
+fn parse_job_id(stdout: &str) -> Option<String> {
+    let id = stdout.trim().split(';').next()?.trim();
+    (!id.is_empty() && id.chars().all(|c| c.is_ascii_digit())).then(|| id.to_string())
 }
 
 /// The first executable file called `name` in `PATH`.
@@ -187,4 +187,17 @@ fn is_executable(p: &Path) -> bool {
 #[cfg(not(unix))]
 fn is_executable(p: &Path) -> bool {
     p.is_file()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn job_id_from_parsable_output() {
+        assert_eq!(parse_job_id("123\n").as_deref(), Some("123"));
+        assert_eq!(parse_job_id("4567;cluster2\n").as_deref(), Some("4567"));
+        assert_eq!(parse_job_id(""), None);
+        assert_eq!(parse_job_id("Submitted batch job 12\n"), None);
+    }
 }
