@@ -492,7 +492,8 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
         exe: stand_in.clone(),
         study: w.join("some study.toml"),
         study_name: "standin".into(),
-        out: w.join("out-standin"),
+        // Spaces: the #SBATCH --output quoting and the shell quoting meet the real sbatch.
+        out: w.join("out stand-in"),
         tasks: 4,
         partition: Some("debug".into()),
         time: Some("5".into()),
