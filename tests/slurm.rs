@@ -483,11 +483,10 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
          echo \"$@\" > \"$d/$f.tmp\" && mv \"$d/$f.tmp\" \"$d/$f\"\n",
     )
     .unwrap();
-    std::process::Command::new("chmod")
-        .args(["+x"])
-        .arg(&stand_in)
-        .status()
-        .unwrap();
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&stand_in, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
     let job = ArrayJob {
         exe: stand_in.clone(),
         study: w.join("some study.toml"),
@@ -550,15 +549,14 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
         &job.reduce_script().unwrap(),
     );
     let ended = cluster.wait(&[&a, &r], &job.logs_dir());
-    let outcome: Vec<(String, String)> = ended
+    let mut outcome: Vec<(String, String)> = ended
         .iter()
         .map(|e| (e.task.clone(), e.state.clone()))
         .collect();
+    outcome.sort();
     let want = |t: &str, s: &str| (t.to_string(), s.to_string());
-    let mut sorted = outcome.clone();
-    sorted.sort();
     assert_eq!(
-        sorted,
+        outcome,
         [
             want("0", "COMPLETED"),
             want("1", "COMPLETED"),
