@@ -176,6 +176,9 @@ pub struct TradeoffCmd {
     /// A shorter knob ladder and fewer repetitions.
     #[arg(long)]
     pub quick: bool,
+    /// The SciPy peer's JSON (scripts/peer_scipy.py); default OUT/peer_scipy.json when present.
+    #[arg(long)]
+    pub peer: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -287,6 +290,7 @@ pub fn main() -> anyhow::Result<()> {
             study: c.study,
             out: c.out,
             quick: c.quick,
+            peer: c.peer,
         }),
         Command::Slurm(c) => app::slurm::slurm(&app::slurm::SlurmArgs {
             study: c.study,

@@ -20,5 +20,6 @@ pub mod report;
 pub mod sim;
 pub mod slurm;
 pub mod store;
+pub mod store_tradeoff;
 pub mod study;
 pub mod sweep;

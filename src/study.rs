@@ -438,6 +438,9 @@ struct RawSolver {
     max_impacts: Option<u64>,
     max_steps: Option<u64>,
     t_max_periods: Option<f64>,
+    h: Option<f64>,
+    rtol: Option<f64>,
+    atol: Option<f64>,
 }
 
 #[derive(Default, Deserialize)]
@@ -1231,6 +1234,15 @@ fn parse_unchecked(path: &Path, text: &str) -> Result<Study, InputError> {
     }
     if let Some(v) = rs.t_max_periods {
         solver.t_max_periods = v;
+    }
+    for (v, slot) in [
+        (rs.h, &mut solver.h),
+        (rs.rtol, &mut solver.rtol),
+        (rs.atol, &mut solver.atol),
+    ] {
+        if let Some(v) = v {
+            *slot = v;
+        }
     }
     solver
         .validate()

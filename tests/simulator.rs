@@ -560,3 +560,33 @@ fn peaks_equal_the_maxima_of_a_dense_trace() {
         }
     }
 }
+
+/// Regression (issue 5, found by the tradeoff ladder): with a loose event tolerance the
+/// rebounds of a chatter became shorter than the tolerance before the chatter threshold was
+/// reached, and the run ran into the impact cap. The threshold is now at least ten tolerances.
+#[test]
+fn loose_tolerance_still_ends_chatter_by_sticking() {
+    for tol in [1e-6, 1e-4] {
+        for e in [0.45, 0.46, 0.48, 0.49, 0.74] {
+            let sys = System {
+                e,
+                ..System::TABLE_I
+            };
+            let settings = SolverSettings {
+                tol,
+                ..SolverSettings::default()
+            };
+            let rec = simulate(&sys, &settings, &Request::default(), None, &mut NoProbe);
+            assert_eq!(rec.outcome, Outcome::Ok, "e={e} tol={tol}: {rec:?}");
+            assert!(
+                rec.sticks >= 1 && rec.impacts < 200,
+                "e={e} tol={tol}: {rec:?}"
+            );
+            let tight = run(&sys);
+            assert!(
+                (rec.x1 - tight.x1).abs() <= 1e-4 * tight.x1,
+                "e={e} tol={tol}"
+            );
+        }
+    }
+}

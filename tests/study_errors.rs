@@ -142,7 +142,7 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "unknown_solver.toml",
-        "unknown_solver.toml: [solver].kind = \"rk4\": unknown solver; allowed: exact",
+        "unknown_solver.toml: [solver].kind = \"euler\": unknown solver; allowed: exact, rk4, dopri5",
     ),
     (
         "unknown_table.toml",

@@ -141,13 +141,35 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
     let sv = &study.solver;
     let _ = writeln!(
         w,
-        "solver:         {} (tol {}, chatter_tol {}, max_impacts {}, max_steps {}, t_max_periods {})",
+        "solver:         {} ({} {}, chatter_tol {}, max_impacts {}, max_steps {}, t_max_periods {})",
         sv.kind.name(),
-        fmt_value(sv.tol),
+        sv.kind.knob(),
+        fmt_value(sv.knob_value()),
         fmt_value(sv.chatter_tol),
         sv.max_impacts,
         sv.max_steps,
         fmt_value(sv.t_max_periods)
+    );
+    // What the chosen setting costs and how wrong it is, measured now on the study's own design
+    // points against `exact` at its tightest tolerance (issue 5).
+    let reference = crate::app::tradeoff::Reference::study(study);
+    let q = crate::app::tradeoff::quote_on(&reference, sv);
+    let _ = writeln!(
+        w,
+        "accuracy:       {} = {}: max relative error against exact (tol 1e-14) DI {:.1e}, xmax {:.1e}, t1 {:.1e}; {} of {} runs changed impact count",
+        sv.kind.knob(),
+        fmt_value(sv.knob_value()),
+        q.di_err,
+        q.xmax_err,
+        q.t1_err,
+        q.changed_impacts,
+        q.runs
+    );
+    let _ = writeln!(
+        w,
+        "                ({}; {:.1} us CPU per noise-free run)",
+        reference.label,
+        q.cpu_per_run * 1e6
     );
     let horizon = match study.request.t_end {
         Some(t) => format!("to t = {} s", fmt_value(t)),

@@ -89,6 +89,9 @@ impl Setup {
             };
             match key {
                 "tol" => self.solver.tol = value,
+                "h" => self.solver.h = value,
+                "rtol" => self.solver.rtol = value,
+                "atol" => self.solver.atol = value,
                 "chatter_tol" => self.solver.chatter_tol = value,
                 "max_impacts" => self.solver.max_impacts = integer(value)?,
                 "max_steps" => self.solver.max_steps = integer(value)?,
@@ -237,9 +240,15 @@ pub fn record_text(setup: &Setup, rec: &Record) -> String {
         fmt_value(s.w0)
     ));
     out.push_str(&format!(
-        "solver   {} (tol {} of the period)\n",
+        "solver   {} ({} = {}{})\n",
         setup.solver.kind.name(),
-        fmt_value(setup.solver.tol)
+        setup.solver.kind.knob(),
+        fmt_value(setup.solver.knob_value()),
+        match setup.solver.kind {
+            SolverKind::Exact => " of the period",
+            SolverKind::Rk4 => " s",
+            SolverKind::Dopri5 => "",
+        }
     ));
     out.push_str(&format!("outcome  {}\n", rec.outcome));
     out.push_str(&format!(

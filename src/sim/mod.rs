@@ -20,12 +20,17 @@
 //!
 //! Solvers share all of that and differ only in how they move the main mass between events and
 //! locate those events: [`SolverKind::Exact`] uses the closed form and a root bracket that cannot
-//! miss an impact (see [`exact`]).
+//! miss an impact (see [`exact`]); [`SolverKind::Rk4`] (fixed step, see [`rk4`]) and
+//! [`SolverKind::Dopri5`] (adaptive Dormand–Prince 5(4), see [`dopri5`]) integrate the equation
+//! of motion and locate events on each step's interpolant (see [`dense`]).
 
+pub(crate) mod dense;
+pub mod dopri5;
 pub mod driver;
 pub mod exact;
 pub mod linear;
 pub mod noise;
+pub mod rk4;
 
 use serde::Serialize;
 
@@ -39,14 +44,30 @@ pub use driver::simulate;
 pub enum SolverKind {
     /// Closed form between events, guaranteed root brackets, impact times to `tol`.
     Exact,
+    /// Classical fixed-step Runge–Kutta 4 with step `h`; events on the step's cubic Hermite
+    /// interpolant, event states by re-integration. Error O(h^4).
+    Rk4,
+    /// Adaptive Dormand–Prince 5(4) with `rtol`/`atol`, FSAL, events on its dense output.
+    Dopri5,
 }
 
 impl SolverKind {
-    pub const ALL: [SolverKind; 1] = [SolverKind::Exact];
+    pub const ALL: [SolverKind; 3] = [SolverKind::Exact, SolverKind::Rk4, SolverKind::Dopri5];
 
     pub fn name(self) -> &'static str {
         match self {
             SolverKind::Exact => "exact",
+            SolverKind::Rk4 => "rk4",
+            SolverKind::Dopri5 => "dopri5",
+        }
+    }
+
+    /// The name of the knob that sets this solver's accuracy (`tol`, `h` or `rtol`).
+    pub fn knob(self) -> &'static str {
+        match self {
+            SolverKind::Exact => "tol",
+            SolverKind::Rk4 => "h",
+            SolverKind::Dopri5 => "rtol",
         }
     }
 
@@ -60,10 +81,21 @@ impl SolverKind {
 pub struct SolverSettings {
     /// The solver. Default `exact`.
     pub kind: SolverKind,
-    /// Event-location tolerance of `exact`, relative to the undamped period `2 pi sqrt(M/K)`:
-    /// every event time is located within `tol * period` of the true root. Default `1e-12`,
-    /// range `[1e-15, 1e-3]`.
+    /// Event-location tolerance, relative to the undamped period `2 pi sqrt(M/K)`: `exact`
+    /// locates every event time within `tol * period` of the true root; `rk4` and `dopri5` refine
+    /// event times on their interpolant to `tol * period`. Default `1e-12`, range `[1e-15, 1e-3]`.
     pub tol: f64,
+    /// Step of `rk4` (s). Default `1e-4` (about `T/1000` for the Table I system, whose period is
+    /// `T = 0.0993 s`), range `[1e-9, 1]`. RK4 is stable while `h` times the fastest rate
+    /// (`sqrt(K/M)`, or `C/M` when heavily over-damped) stays below about 2.8.
+    pub h: f64,
+    /// Relative tolerance of `dopri5` (per step, on `x` and `v`). Default `1e-6`, range
+    /// `[1e-14, 1e-1]`.
+    pub rtol: f64,
+    /// Absolute tolerance of `dopri5` (m): applied to `x` as is and to `v` as
+    /// `atol * sqrt(K/mass)` (m/s), so both components are measured in metres of amplitude.
+    /// Default `1e-9`, range `[1e-18, 1e-1]`.
+    pub atol: f64,
     /// Chatter tolerance, relative to the undamped period: an accumulation of impacts whose
     /// predicted remaining duration `2 u / (a (1 - e))` is below `chatter_tol * period` is replaced by
     /// sticking (see [`driver`]). Default `1e-6`, range `[1e-12, 1e-2]`.
@@ -78,10 +110,22 @@ pub struct SolverSettings {
 }
 
 impl SolverSettings {
+    /// The value of this solver's accuracy knob (see [`SolverKind::knob`]).
+    pub fn knob_value(&self) -> f64 {
+        match self.kind {
+            SolverKind::Exact => self.tol,
+            SolverKind::Rk4 => self.h,
+            SolverKind::Dopri5 => self.rtol,
+        }
+    }
+
     /// The solver keys `simulate --set` and a study's `[solver]` table accept.
-    pub const KEYS: [&'static str; 7] = [
+    pub const KEYS: [&'static str; 10] = [
         "solver",
         "tol",
+        "h",
+        "rtol",
+        "atol",
         "chatter_tol",
         "max_impacts",
         "max_steps",
@@ -103,6 +147,9 @@ impl SolverSettings {
             }
         };
         check("tol", self.tol, 1e-15, 1e-3)?;
+        check("h", self.h, 1e-9, 1.0)?;
+        check("rtol", self.rtol, 1e-14, 1e-1)?;
+        check("atol", self.atol, 1e-18, 1e-1)?;
         check("chatter_tol", self.chatter_tol, 1e-12, 1e-2)?;
         check("max_impacts", self.max_impacts as f64, 1.0, 1e9)?;
         check("max_steps", self.max_steps as f64, 1.0, 1e12)?;
@@ -158,6 +205,9 @@ impl Default for SolverSettings {
         SolverSettings {
             kind: SolverKind::Exact,
             tol: 1e-12,
+            h: 1e-4,
+            rtol: 1e-6,
+            atol: 1e-9,
             chatter_tol: 1e-6,
             max_impacts: 100_000,
             max_steps: 10_000_000,
