@@ -183,15 +183,48 @@ impl ArrayJob {
              on $(hostname), $(date -u +%FT%TZ)\"\n"
         );
         s += "# Absolute paths: the compute node needs nothing on its PATH. Threads = the CPUs\n";
-        s += "# Slurm gave the task (1 unless --cpus-per-task is set).\n";
+        s += "# Slurm gave the task (1 unless --cpus-per-task is set). The run is a child of\n";
+        s += "# this shell rather than exec'd: see the lock file below.\n";
         s += &format!(
-            "exec {} run {} \\\n    --shard \"$SLURM_ARRAY_TASK_ID/{n}\" --out {} \\\n    \
-             --resume --quiet --threads \"${{SLURM_CPUS_PER_TASK:-1}}\"\n",
+            "{} run {} \\\n    --shard \"$SLURM_ARRAY_TASK_ID/{n}\" --out {} \\\n    \
+             --resume --quiet --threads \"${{SLURM_CPUS_PER_TASK:-1}}\" &\n",
             shell_word(&self.exe),
             shell_word(&self.study),
             shell_word(&self.out),
         );
+        s += "run=$!\n";
+        s += "# Slurm stops a task (time limit, scancel, pre-emption) with SIGTERM to all its\n";
+        s += "# processes; the run dies at once and cannot release its shard's lock file. This\n";
+        s += "# shell survives the signal, waits for the run, and removes the lock if it still\n";
+        s += "# names the run's PID, so a re-run of this task on any node can take the shard over.\n";
+        s += "trap 'kill -TERM \"$run\" 2>/dev/null || true' TERM INT\n";
+        s += "status=0\n";
+        s += "wait \"$run\" || status=$?\n";
+        s += "while kill -0 \"$run\" 2>/dev/null; do wait \"$run\" || status=$?; done\n";
+        s += &format!("lock={}\n", self.lock_file());
+        s += "pid=\n";
+        s += "{ read -r pid _ <\"$lock\"; } 2>/dev/null || true\n";
+        s += "if [ \"$pid\" = \"$run\" ]; then\n";
+        s += "    rm -f \"$lock\"\n";
+        s += "    echo \"impactsweep: removed $lock, left by the stopped run (PID $run)\"\n";
+        s += "fi\n";
+        s += "exit \"$status\"\n";
         Ok(s)
+    }
+
+    /// The lock file of this task's shard, as a shell word: the sweep engine's
+    /// `sweep::lock_path` (`RUN_DIR/.lock` for a single shard, else
+    /// `RUN_DIR/.lock-shard-I-of-N`; its first word is the holder's PID).
+    fn lock_file(&self) -> String {
+        let dir = shell_word(&self.run_dir());
+        if self.tasks <= 1 {
+            format!("{dir}/.lock")
+        } else {
+            format!(
+                "{dir}/.lock-shard-\"$SLURM_ARRAY_TASK_ID\"-of-{}",
+                self.tasks
+            )
+        }
     }
 
     /// The reduce script, to be submitted with `--dependency=afterok:<array job id>`.
@@ -293,12 +326,17 @@ mod tests {
         );
         assert!(
             s.contains(
-                "exec /opt/bin/impactsweep run /home/u/studies/quick.toml \\\n    \
+                "\n/opt/bin/impactsweep run /home/u/studies/quick.toml \\\n    \
                  --shard \"$SLURM_ARRAY_TASK_ID/4\" --out /scratch/u/out \\\n    \
-                 --resume --quiet --threads \"${SLURM_CPUS_PER_TASK:-1}\"\n"
+                 --resume --quiet --threads \"${SLURM_CPUS_PER_TASK:-1}\" &\nrun=$!\n"
             ),
             "{s}"
         );
+        assert!(
+            s.contains("\nlock=/scratch/u/out/quick/.lock-shard-\"$SLURM_ARRAY_TASK_ID\"-of-4\n"),
+            "{s}"
+        );
+        assert!(s.ends_with("exit \"$status\"\n"), "{s}");
         // No partition/time/cpus unless asked for: the cluster's defaults apply.
         assert!(!s.contains("--partition"), "{s}");
         assert!(!s.contains("#SBATCH --time"), "{s}");
@@ -336,6 +374,8 @@ mod tests {
         let s = j.array_script().unwrap();
         assert!(s.contains("#SBATCH --array=0-0\n"), "{s}");
         assert!(s.contains("--shard \"$SLURM_ARRAY_TASK_ID/1\""), "{s}");
+        // One shard: the engine's lock is the unsharded one.
+        assert!(s.contains("\nlock=/scratch/u/out/quick/.lock\n"), "{s}");
     }
 
     #[test]

@@ -475,9 +475,13 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
     std::fs::write(
         &stand_in,
         "#!/bin/sh\n\
-         # records how it was called: one file per array task, one for reduce\n\
+         # records how it was called: one file per array task, one for reduce; fails when\n\
+         # calls/fail-I exists; holds a lock like the engine's and sleeps when calls/hold-I does\n\
          d=\"$(dirname \"$0\")/calls\"; mkdir -p \"$d\"\n\
          if [ -e \"$d/fail-$SLURM_ARRAY_TASK_ID\" ]; then echo failing on purpose; exit 1; fi\n\
+         if [ -e \"$d/hold-$SLURM_ARRAY_TASK_ID\" ]; then mkdir -p \"$6/standin\"; \
+         echo \"$$ $(hostname)\" > \"$6/standin/.lock-shard-$SLURM_ARRAY_TASK_ID-of-4\"; \
+         sleep 120; exit 0; fi\n\
          if [ \"$1\" = reduce ]; then s=$(ls \"$d\"); echo \"$s\" > \"$d/reduce.seen\"; f=reduce; \
          else f=task-$SLURM_ARRAY_TASK_ID; fi\n\
          echo \"$@\" > \"$d/$f.tmp\" && mv \"$d/$f.tmp\" \"$d/$f\"\n",
@@ -580,6 +584,38 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
     );
     assert_eq!(cluster.wait_ok(&[&again, &r], &job.logs_dir()), 2);
     assert!(calls.join("task-2").is_file() && calls.join("reduce").is_file());
+
+    // --- 1c. A task Slurm stops (scancel sends SIGTERM, as a time limit or pre-emption does)
+    // dies holding its shard's lock; the script's shell must remove that lock, or a re-run on
+    // another node would be refused (the engine only recognises a dead holder on its own host).
+    std::fs::write(calls.join("hold-1"), "").unwrap();
+    let lock = job.run_dir().join(".lock-shard-1-of-4");
+    let held = cluster.sbatch(&["--array=1"], &job.array_script().unwrap());
+    while !lock.is_file() {
+        assert!(
+            Instant::now() < cluster.deadline,
+            "the held task never wrote {}:\n{}",
+            lock.display(),
+            cluster.diagnostics(&job.logs_dir())
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    cluster.run("scancel", &[&held]);
+    let ended = cluster.wait(&[&held], &job.logs_dir());
+    assert_eq!(
+        ended.iter().map(|e| e.state.as_str()).collect::<Vec<_>>(),
+        ["CANCELLED"],
+        "{}",
+        ended[0].line
+    );
+    assert!(
+        !lock.exists(),
+        "the stopped task left {} behind:\n{}",
+        lock.display(),
+        cluster.diagnostics(&job.logs_dir())
+    );
+    let log = std::fs::read_to_string(job.task_log(&held, "1")).unwrap();
+    assert!(log.contains("impactsweep: removed "), "{log}");
 
     // --- 2. The real thing. The reference: one machine, one process.
     let (study_path, study, n_chunks) = quick_study(w);
@@ -804,7 +840,7 @@ fn without_sbatch_on_path_it_says_so_and_dry_run_still_works() {
         "{stdout}"
     );
     assert!(
-        stdout.contains(&format!("exec {} run ", exe.display())),
+        stdout.contains(&format!("\n{} run ", exe.display())),
         "tasks run the binary by its absolute path:\n{stdout}"
     );
     assert!(slurm_dir.join("array.sbatch").is_file());
