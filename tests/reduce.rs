@@ -678,3 +678,56 @@ fn a_point_whose_ideal_run_failed_has_no_di_and_no_rank() {
     let z = sum.zones.iter().find(|z| z.name == p2.zone).unwrap();
     assert_eq!(z.label, impactsweep::reduce::zones::LABEL_NO_DATA);
 }
+
+/// The real pipeline through the binary: `run` a small study to Parquet, `reduce` it, and the
+/// outputs appear in the run directory, the audit of the manifest in the report.
+#[test]
+fn cli_run_then_reduce() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("tiny.toml");
+    let text = std::fs::read_to_string("configs/paper.toml")
+        .unwrap()
+        .replace("name = \"paper\"", "name = \"tiny\"")
+        .replace(
+            "e = { start = 0.45, stop = 0.95, step = 0.01 }",
+            "e = { start = 0.6, stop = 0.9, step = 0.05 }",
+        );
+    assert!(text.contains("name = \"tiny\"") && text.contains("stop = 0.9, step = 0.05"));
+    std::fs::write(&study, text).unwrap();
+    let out = dir.path().join("out");
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("run")
+        .arg(&study)
+        .arg("--out")
+        .arg(&out)
+        .args(["--quiet", "--audit", "2", "--chunk-points", "3"])
+        .assert()
+        .success();
+    let run_dir = out.join("tiny");
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("reduce")
+        .arg(&run_dir)
+        .assert()
+        .success()
+        .stdout(predicates::str::contains("reduced 7 design points"));
+    for f in [
+        "summary.parquet",
+        "summary.csv",
+        "zones.parquet",
+        "zones.csv",
+        "jumps.csv",
+        "report.md",
+        "design_chart.svg",
+        "design_chart.png",
+    ] {
+        assert!(run_dir.join(f).exists(), "{f} missing");
+    }
+    let csv = std::fs::read_to_string(run_dir.join("summary.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 8, "{csv}");
+    let md = std::fs::read_to_string(run_dir.join("report.md")).unwrap();
+    assert!(md.contains("7 of 7 design points reduced (84 runs"), "{md}");
+    assert!(md.contains("## Accuracy audit"), "{md}");
+    png_size(&run_dir.join("design_chart.png"));
+}

@@ -35,6 +35,47 @@ fn values(s: &Summary, vals: &[f64]) -> String {
         .join(", ")
 }
 
+/// The audit of `manifest.json`: relative errors as a table when they come as
+/// `{max, median, n}` objects, the rest as a list, and the JSON itself.
+fn audit_text(a: &serde_json::Value) -> String {
+    let mut o = String::new();
+    if let Some(map) = a.as_object() {
+        let stats: Vec<_> = map
+            .iter()
+            .filter(|(_, v)| v.get("max").is_some() && v.get("median").is_some())
+            .collect();
+        if !stats.is_empty() {
+            let _ = writeln!(
+                o,
+                "Points re-run against a tighter reference; relative errors:\n\n| quantity | max | median | n |\n|---|---|---|---|"
+            );
+            for (k, v) in stats {
+                let num = |key: &str| {
+                    v.get(key)
+                        .and_then(|x| x.as_f64())
+                        .map(|x| format!("{x:.2e}"))
+                        .unwrap_or_else(|| "–".into())
+                };
+                let n = v.get("n").map(|x| x.to_string()).unwrap_or_default();
+                let _ = writeln!(o, "| {k} | {} | {} | {n} |", num("max"), num("median"));
+            }
+            let _ = writeln!(o);
+        }
+        for (k, v) in map {
+            if !(v.is_object() || v.is_array()) {
+                let _ = writeln!(o, "- {k}: {v}");
+            }
+        }
+        let _ = writeln!(o);
+    }
+    let _ = writeln!(
+        o,
+        "From `manifest.json`:\n\n```json\n{}\n```\n",
+        serde_json::to_string_pretty(a).unwrap_or_default()
+    );
+    o
+}
+
 /// "between e = 0.73 and 0.74" for a step, "at e = 0.74" for a kink.
 fn jump_where(j: &crate::reduce::Jump) -> String {
     if j.kind == "kink" {
@@ -380,11 +421,7 @@ pub fn report(
 
     if let Some(a) = audit {
         let _ = writeln!(o, "## Accuracy audit\n");
-        let _ = writeln!(
-            o,
-            "From `manifest.json`:\n\n```json\n{}\n```\n",
-            serde_json::to_string_pretty(a).unwrap_or_default()
-        );
+        let _ = writeln!(o, "{}", audit_text(a));
     }
 
     if !charts.is_empty() {
