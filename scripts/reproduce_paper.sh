@@ -13,7 +13,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 STUDY=configs/paper.toml
-DEST=results/afsharfard2013
+# DEST and IMPACTSWEEP_BIN may be set by the test that checks the committed files
+# (tests/reproduce.rs): it regenerates into a temporary DEST with the test build's binary.
+DEST=${DEST:-results/afsharfard2013}
 
 if [ $# -ge 1 ]; then
     WORK=$1
@@ -23,8 +25,12 @@ else
     trap 'rm -rf "$WORK"' EXIT
 fi
 
-cargo build --release --quiet
-BIN=$ROOT/target/release/impactsweep
+if [ -n "${IMPACTSWEEP_BIN:-}" ]; then
+    BIN=$IMPACTSWEEP_BIN
+else
+    cargo build --release --quiet
+    BIN=$ROOT/target/release/impactsweep
+fi
 
 # The study's [study].name names the run directory OUT/<name>.
 NAME=$(sed -n 's/^name *= *"\([^"]*\)".*/\1/p' "$STUDY" | head -n 1)
@@ -45,7 +51,7 @@ cp "$RUN"/*.svg "$RUN"/*.png "$DEST"/
 # The system without damper, for the comparison of first peaks.
 "$BIN" simulate --set m=0 --json > "$WORK/no_damper.json"
 
-python3 scripts/paper_comparison.py "$DEST" "$WORK/no_damper.json" "$STUDY" > "$DEST/paper-comparison.md"
+"${IMPACTSWEEP_PYTHON:-python3}" scripts/paper_comparison.py "$DEST" "$WORK/no_damper.json" "$STUDY" > "$DEST/paper-comparison.md"
 
 echo "wrote $DEST:"
 ls "$DEST"
