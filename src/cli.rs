@@ -17,6 +17,9 @@ Typical use:
   impactsweep plan configs/paper.toml              size, time and disk estimate
   impactsweep run configs/paper.toml --out out     the sweep (resumable with --resume)
   impactsweep reduce out/paper                     report.md, summary.parquet, charts
+  impactsweep plot waveform --e 0.45 0.9           the paper's Figures 2 and 5
+  impactsweep tradeoff                             what each solver setting costs and how wrong it is
+  impactsweep slurm configs/paper.toml --tasks 16  the sweep as a Slurm job array (+ reduce)
 
 Exit status: 0 success, 1 failure (I/O, a damaged dataset), 2 bad input (a key, a value or a
 study file; the message names the file, the key, the value and the allowed range).
