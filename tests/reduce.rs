@@ -214,7 +214,20 @@ fn paper_study_reduces_to_zones_report_and_charts() {
         let text = std::fs::read_to_string(&svg).unwrap();
         assert!(text.starts_with("<svg") && text.contains("</svg>"));
     }
-    assert_eq!(png_size(&dir.join("design_chart.png")), (1000, 620));
+    assert_eq!(png_size(&dir.join("design_chart.png")), (1000, 820));
+    // The design chart gives R its own panel and axis, with the r_min threshold, apart from
+    // mu_n and DI.
+    let svg = std::fs::read_to_string(dir.join("design_chart.svg")).unwrap();
+    for needle in [
+        "reliability R (–)",
+        "r_min = 0.98 (reliable at or above)",
+        "95 % bootstrap interval of R",
+        "safety factor μn (–)",
+        "DI (m/s)",
+        "zone: strong damping, reliable",
+    ] {
+        assert!(svg.contains(needle), "design_chart.svg lacks {needle}");
+    }
     assert_eq!(png_size(&dir.join("di.png")), (900, 560));
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     for needle in [

@@ -127,6 +127,8 @@ pub struct Summary {
     pub jumps: Vec<Jump>,
     /// The DI threshold used for "strong damping" (m/s).
     pub di_strong: f64,
+    /// The reliability at or above which a point is "reliable" (`[zones].r_min`).
+    pub r_min: f64,
     /// The nominal design point (nearest the study's base system) and its runs.
     pub nominal: Option<(u64, Vec<CaseRow>)>,
     /// Runs per outcome over the whole dataset, in [`Outcome::ALL`] order.
@@ -322,6 +324,7 @@ impl<'a> Reducer<'a> {
             zones: found.zones,
             jumps: found.jumps,
             di_strong: found.di_strong,
+            r_min: self.study.zones.r_min,
             nominal: self.nominal,
             outcome_totals: self.outcome_totals,
             strength: self.strength,

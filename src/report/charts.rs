@@ -2,8 +2,9 @@
 //! embedded in the binary and registered once as `sans-serif`.
 //!
 //! * `di` — DI against the swept axis (the paper's Figure 4), jumps marked;
-//! * `design_chart` — R (with its bootstrap interval) and mu_n on the left axis, DI on the
-//!   right, zones shaded and named (the paper's Figure 6);
+//! * `design_chart` — the paper's Figure 6 in two panels sharing the swept axis, zones shaded
+//!   and named in both: R with its bootstrap interval and the `r_min` threshold on its own
+//!   range on top, mu_n (left axis) and DI (right axis) below;
 //! * `xmax_spread` — box plot of `xmax` over the cases of every design point;
 //! * `perfectibility_map`, `zone_map` — with two swept axes;
 //! * [`waveforms`] — main-mass displacement with and without the damper, and for two `e` with
@@ -294,98 +295,273 @@ pub fn fmt_num(v: f64) -> String {
     }
 }
 
+/// The design chart (the paper's Figure 6) in two panels sharing the swept axis, the zones
+/// shaded and named in both: on top R with its bootstrap interval on its own tight range and
+/// the `r_min` threshold dashed; below the safety factor (left axis) and DI (right axis).
+/// Legends sit in rows above the panels, never over data.
 struct DesignChart<'a>(&'a Summary);
 
-impl Chart for DesignChart<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+/// Size of the design chart (pixels).
+const DESIGN_SIZE: (u32, u32) = (1000, 820);
+/// Margin and label-area widths of both panels: equal, so the two plots align on the x axis.
+const DESIGN_MARGIN: u32 = 12;
+const DESIGN_LEFT: u32 = 80;
+const DESIGN_RIGHT: u32 = 80;
+/// Height of a legend row (pixels).
+const LEGEND_ROW: u32 = 30;
+
+/// A legend key.
+enum Key {
+    Line(RGBColor),
+    LineDot(RGBColor),
+    Dashed(RGBColor),
+    Swatch(RGBAColor),
+}
+
+/// Draws `items` in one row of `area`, from pixel `x`; items that would not fit are left off
+/// and an ellipsis says so.
+fn legend_row<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x: i32,
+    items: &[(Key, String)],
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let (width, height) = area.dim_in_pixel();
+    let y = height as i32 / 2;
+    let font = SMALL
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    let mut x = x;
+    for (key, text) in items {
+        let (w, _) = area.estimate_text_size(text, &font).map_err(err)?;
+        if x + 28 + w as i32 > width as i32 {
+            area.draw_text("…", &font, (x, y)).map_err(err)?;
+            break;
+        }
+        match key {
+            Key::Line(c) => area.draw(&PathElement::new(
+                vec![(x, y), (x + 22, y)],
+                c.stroke_width(2),
+            )),
+            Key::LineDot(c) => area
+                .draw(&PathElement::new(
+                    vec![(x, y), (x + 22, y)],
+                    c.stroke_width(2),
+                ))
+                .and_then(|_| area.draw(&Circle::new((x + 11, y), 3, c.filled()))),
+            Key::Dashed(c) => [(0, 6), (8, 14), (16, 22)].iter().try_for_each(|&(a, b)| {
+                area.draw(&PathElement::new(
+                    vec![(x + a, y), (x + b, y)],
+                    c.stroke_width(2),
+                ))
+            }),
+            Key::Swatch(c) => area.draw(&Rectangle::new([(x, y - 7), (x + 22, y + 7)], c.filled())),
+        }
+        .map_err(err)?;
+        area.draw_text(text, &font, (x + 28, y)).map_err(err)?;
+        x += 28 + w as i32 + 28;
+    }
+    Ok(())
+}
+
+/// Colour of a zone: declared zones cycle through [`DECLARED`] by their index, automatic ones
+/// are coloured by label.
+fn zone_color(s: &Summary, name: &str, label: &str) -> RGBColor {
+    if s.zones.iter().any(|z| z.declared) {
+        let i = s.zones.iter().position(|z| z.name == name).unwrap_or(0);
+        DECLARED[i % DECLARED.len()]
+    } else {
+        label_color(label)
+    }
+}
+
+/// `lo..hi` widened a little below and by room for the zone names above; `min_span` keeps a
+/// flat series from collapsing the axis.
+fn with_headroom(lo: f64, hi: f64, min_span: f64) -> (f64, f64) {
+    if !(lo.is_finite() && hi.is_finite()) {
+        return (0.0, 1.0);
+    }
+    let span = (hi - lo).max(min_span).max(1e-12 * hi.abs().max(1.0));
+    // A narrower series is centred on an axis `span` wide.
+    let mid = (lo + hi) / 2.0;
+    let (lo, hi) = (lo.min(mid - span / 2.0), hi.max(mid + span / 2.0));
+    (lo - 0.08 * span, hi + 0.24 * span)
+}
+
+/// The R panel's range over `r` (R and its interval bounds): with `r_min` when that at most
+/// doubles the span (so the threshold never flattens R), and room for the zone names above;
+/// true when `r_min` is inside.
+fn reliability_range(r: impl IntoIterator<Item = f64>, r_min: f64) -> ((f64, f64), bool) {
+    let (lo, hi) = minmax(r);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return ((0.0, 1.0), r_min.is_finite());
+    }
+    let span = (hi - lo).max(2e-3);
+    let shown = r_min.is_finite() && r_min >= lo - span && r_min <= hi + span;
+    let (lo, hi) = if shown {
+        (lo.min(r_min), hi.max(r_min))
+    } else {
+        (lo, hi)
+    };
+    (with_headroom(lo, hi, 2e-3), shown)
+}
+
+/// Shades the zones over `y0..y1` and names those wide enough for their name near the top.
+fn shade_zones<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    s: &Summary,
+    (y0, y1): (f64, f64),
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let font = ("sans-serif", 18)
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Center, VPos::Top));
+    for (lo, hi, name, label) in zone_spans(s) {
+        let color = zone_color(s, &name, &label);
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(lo, y0), (hi, y1)],
+                color.mix(0.45).filled(),
+            )))
+            .map_err(err)?;
+        let px = |x: f64| chart.backend_coord(&(x, y0)).0;
+        let (w, _) = chart
+            .plotting_area()
+            .estimate_text_size(&name, &font)
+            .map_err(err)?;
+        if px(hi) - px(lo) < w as i32 + 4 {
+            continue; // too narrow for its name
+        }
+        chart
+            .draw_series(std::iter::once(Text::new(
+                name.clone(),
+                ((lo + hi) / 2.0, y1 - 0.03 * (y1 - y0)),
+                font.clone(),
+            )))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+impl DesignChart<'_> {
+    /// The zone key: one swatch per zone name (declared zones) or label (automatic zones).
+    fn zone_keys(&self) -> Vec<(Key, String)> {
+        let s = self.0;
+        let declared = s.zones.iter().any(|z| z.declared);
+        let mut keys: Vec<(Key, String)> = Vec::new();
+        let mut seen: Vec<&str> = Vec::new();
+        for z in &s.zones {
+            if !s.points.iter().any(|p| p.zone == z.name) {
+                continue;
+            }
+            let text = if declared { &z.name } else { &z.label };
+            if seen.contains(&text.as_str()) {
+                continue;
+            }
+            seen.push(text);
+            let c = zone_color(s, &z.name, &z.label);
+            keys.push((Key::Swatch(c.mix(0.6)), format!("zone: {text}")));
+        }
+        keys
+    }
+
+    fn reliability_panel<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        (x0, x1): (f64, f64),
+    ) -> anyhow::Result<()>
     where
         DB::ErrorType: 'static,
     {
         let s = self.0;
-        let key = &s.axes[0].0;
-        let (x0, x1) = minmax(s.points.iter().map(|p| p.values[0]));
-        let (ly0, ly1) = minmax(
+        let blue = RGBColor(31, 119, 180);
+        let grey = RGBColor(60, 60, 60);
+        let ((y0, y1), r_min_shown) = reliability_range(
             s.points
                 .iter()
-                .flat_map(|p| [p.reliability, p.reliability_lo, p.safety_factor]),
+                .flat_map(|p| [p.reliability, p.reliability_lo, p.reliability_hi]),
+            s.r_min,
         );
-        let (ly0, ly1) = pad(ly0, ly1, 0.12);
-        let (dy0, dy1) = minmax(s.points.iter().map(|p| p.di));
-        let (dy0, dy1) = pad(dy0.min(0.0), dy1, 0.12);
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                "Design chart: reliability, safety factor and damping by zone",
-                TITLE,
-            )
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(72)
-            .right_y_label_area_size(80)
-            .build_cartesian_2d(x0..x1, ly0..ly1)
-            .map_err(err)?
-            .set_secondary_coord(x0..x1, dy0..dy1);
-        // Zones first, under everything.
-        let spans = zone_spans(s);
-        let mut seen: Vec<String> = Vec::new();
-        for (i, (lo, hi, name, label)) in spans.iter().enumerate() {
-            let color = if s.zones.iter().any(|z| z.declared) {
-                DECLARED[i % DECLARED.len()]
+        let has_r = s.points.iter().any(|p| p.reliability.is_finite());
+        let (keys, plot) = area.split_vertically(LEGEND_ROW);
+        let mut items = vec![
+            (
+                Key::Swatch(blue.mix(0.3)),
+                format!("{:.0} % bootstrap interval of R", 100.0 * s.confidence),
+            ),
+            (
+                if s.points.len() <= MANY {
+                    Key::LineDot(blue)
+                } else {
+                    Key::Line(blue)
+                },
+                "reliability R".to_string(),
+            ),
+        ];
+        if s.r_min.is_finite() {
+            let where_ = if r_min_shown {
+                "reliable at or above"
+            } else if s.r_min < y0 {
+                "below the plotted range"
             } else {
-                label_color(label)
+                "above the plotted range"
             };
-            let series = chart
-                .draw_series(std::iter::once(Rectangle::new(
-                    [(*lo, ly0), (*hi, ly1)],
-                    color.mix(0.45).filled(),
-                )))
-                .map_err(err)?;
-            let legend = if s.zones.iter().any(|z| z.declared) {
-                name.clone()
-            } else {
-                label.clone()
-            };
-            if !seen.contains(&legend) {
-                series
-                    .label(format!("zone: {legend}"))
-                    .legend(move |(x, y)| {
-                        Rectangle::new([(x, y - 6), (x + 18, y + 6)], color.mix(0.6).filled())
-                    });
-                seen.push(legend);
-            }
-            if hi - lo < 0.03 * (x1 - x0) {
-                continue; // too narrow for its name
-            }
-            let ytext = ly1 - 0.04 * (ly1 - ly0);
-            chart
-                .draw_series(std::iter::once(Text::new(
-                    name.clone(),
-                    ((lo + hi) / 2.0, ytext),
-                    ("sans-serif", 18).into_font().color(&BLACK).pos(
-                        plotters::style::text_anchor::Pos::new(
-                            plotters::style::text_anchor::HPos::Center,
-                            plotters::style::text_anchor::VPos::Top,
-                        ),
-                    ),
-                )))
-                .map_err(err)?;
+            items.push((
+                Key::Dashed(grey),
+                format!("r_min = {} ({where_})", fmt_num(s.r_min)),
+            ));
         }
+        if has_r {
+            legend_row(&keys, (DESIGN_MARGIN + DESIGN_LEFT) as i32, &items)?;
+        }
+        let mut chart = ChartBuilder::on(&plot)
+            .margin(DESIGN_MARGIN)
+            .margin_top(4)
+            .margin_right(DESIGN_MARGIN + DESIGN_RIGHT)
+            .x_label_area_size(30)
+            .y_label_area_size(DESIGN_LEFT)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(err)?;
+        shade_zones(&mut chart, s, (y0, y1))?;
         chart
             .configure_mesh()
-            .x_desc(axis_desc(key))
-            .y_desc("R and safety factor μn (–)")
+            .y_desc("reliability R (–)")
+            .y_labels(8)
+            // The headroom for the zone names may pass 1; R never does, so no label there.
+            .y_label_formatter(&|v| {
+                if *v > 1.0 + 1e-9 {
+                    String::new()
+                } else {
+                    fmt_num(*v)
+                }
+            })
             .label_style(SMALL)
             .axis_desc_style(LABEL)
             .light_line_style(TRANSPARENT)
             .draw()
             .map_err(err)?;
-        chart
-            .configure_secondary_axes()
-            .y_desc("DI (m/s)")
-            .label_style(SMALL)
-            .axis_desc_style(LABEL)
-            .draw()
-            .map_err(err)?;
-        let blue = RGBColor(31, 119, 180);
+        if !has_r {
+            use plotters::style::text_anchor::{HPos, Pos, VPos};
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    "R not available: the study gives no strength ([reliability].strength_mean)",
+                    ((x0 + x1) / 2.0, (y0 + y1) / 2.0),
+                    LABEL
+                        .into_font()
+                        .color(&BLACK)
+                        .pos(Pos::new(HPos::Center, VPos::Center)),
+                )))
+                .map_err(err)?;
+            return Ok(());
+        }
         let band: Vec<(f64, f64)> = s
             .points
             .iter()
@@ -400,72 +576,138 @@ impl Chart for DesignChart<'_> {
             .collect();
         if !band.is_empty() {
             chart
-                .draw_series(std::iter::once(Polygon::new(band, blue.mix(0.25).filled())))
-                .map_err(err)?
-                .label(format!(
-                    "R, {:.0} % bootstrap interval",
-                    100.0 * confidence(s)
-                ))
-                .legend(move |(x, y)| {
-                    Rectangle::new([(x, y - 6), (x + 18, y + 6)], blue.mix(0.3).filled())
-                });
-        }
-        let line = |f: &dyn Fn(&crate::reduce::PointStats) -> f64| -> Vec<(f64, f64)> {
-            s.points
-                .iter()
-                .map(|p| (p.values[0], f(p)))
-                .filter(|p| p.1.is_finite())
-                .collect()
-        };
-        chart
-            .draw_series(LineSeries::new(
-                line(&|p| p.reliability),
-                blue.stroke_width(2),
-            ))
-            .map_err(err)?
-            .label("reliability R")
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 18, y)], blue.stroke_width(2))
-            });
-        let green = RGBColor(44, 160, 44);
-        chart
-            .draw_series(LineSeries::new(
-                line(&|p| p.safety_factor),
-                green.stroke_width(2),
-            ))
-            .map_err(err)?
-            .label("safety factor μn")
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 18, y)], green.stroke_width(2))
-            });
-        let orange = RGBColor(214, 39, 40);
-        let di = line(&|p| p.di);
-        chart
-            .draw_secondary_series(LineSeries::new(di.clone(), orange.stroke_width(2)))
-            .map_err(err)?
-            .label("DI (right axis)")
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 18, y)], orange.stroke_width(2))
-            });
-        if di.len() <= MANY {
-            chart
-                .draw_secondary_series(di.iter().map(|&p| Circle::new(p, 3, orange.filled())))
+                .draw_series(std::iter::once(Polygon::new(band, blue.mix(0.3).filled())))
                 .map_err(err)?;
         }
+        if r_min_shown {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    [(x0, s.r_min), (x1, s.r_min)],
+                    8,
+                    5,
+                    grey.stroke_width(2),
+                ))
+                .map_err(err)?;
+        }
+        let r = series(s, |p| p.reliability);
         chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::MiddleLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font(SMALL)
+            .draw_series(LineSeries::new(r.clone(), blue.stroke_width(2)))
+            .map_err(err)?;
+        if r.len() <= MANY {
+            chart
+                .draw_series(r.iter().map(|&p| Circle::new(p, 3, blue.filled())))
+                .map_err(err)?;
+        }
+        Ok(())
+    }
+
+    fn damping_panel<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        (x0, x1): (f64, f64),
+    ) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let s = self.0;
+        let key = &s.axes[0].0;
+        let green = RGBColor(44, 160, 44);
+        let red = RGBColor(214, 39, 40);
+        let (keys, plot) = area.split_vertically(LEGEND_ROW);
+        let di_key = if s.points.len() <= MANY {
+            Key::LineDot(red)
+        } else {
+            Key::Line(red)
+        };
+        let mut items = Vec::new();
+        if s.points.iter().any(|p| p.safety_factor.is_finite()) {
+            items.push((Key::Line(green), "safety factor μn (left axis)".to_string()));
+        }
+        items.push((di_key, format!("DI, {} (right axis)", di_source(s))));
+        legend_row(&keys, (DESIGN_MARGIN + DESIGN_LEFT) as i32, &items)?;
+        let (m0, m1) = minmax(s.points.iter().map(|p| p.safety_factor));
+        let (m0, m1) = with_headroom(m0, m1, 0.0);
+        let (d0, d1) = minmax(s.points.iter().map(|p| p.di));
+        let (d0, d1) = with_headroom(d0.min(0.0), d1, 0.0);
+        let mut chart = ChartBuilder::on(&plot)
+            .margin(DESIGN_MARGIN)
+            .margin_top(4)
+            .x_label_area_size(48)
+            .y_label_area_size(DESIGN_LEFT)
+            .right_y_label_area_size(DESIGN_RIGHT)
+            .build_cartesian_2d(x0..x1, m0..m1)
+            .map_err(err)?
+            .set_secondary_coord(x0..x1, d0..d1);
+        shade_zones(&mut chart, s, (m0, m1))?;
+        chart
+            .configure_mesh()
+            .x_desc(axis_desc(key))
+            .y_desc("safety factor μn (–)")
+            .label_style(SMALL)
+            .axis_desc_style(LABEL)
+            .light_line_style(TRANSPARENT)
             .draw()
             .map_err(err)?;
+        chart
+            .configure_secondary_axes()
+            .y_desc("DI (m/s)")
+            .label_style(SMALL)
+            .axis_desc_style(LABEL)
+            .draw()
+            .map_err(err)?;
+        chart
+            .draw_series(LineSeries::new(
+                series(s, |p| p.safety_factor),
+                green.stroke_width(2),
+            ))
+            .map_err(err)?;
+        let di = series(s, |p| p.di);
+        chart
+            .draw_secondary_series(LineSeries::new(di.clone(), red.stroke_width(2)))
+            .map_err(err)?;
+        if di.len() <= MANY {
+            chart
+                .draw_secondary_series(di.iter().map(|&p| Circle::new(p, 3, red.filled())))
+                .map_err(err)?;
+        }
         Ok(())
     }
 }
 
-fn confidence(s: &Summary) -> f64 {
-    s.confidence
+/// `(axis value, f(point))` over the points where `f` is finite.
+fn series(s: &Summary, f: impl Fn(&crate::reduce::PointStats) -> f64) -> Vec<(f64, f64)> {
+    s.points
+        .iter()
+        .map(|p| (p.values[0], f(p)))
+        .filter(|p| p.1.is_finite())
+        .collect()
+}
+
+impl Chart for DesignChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let s = self.0;
+        let x = minmax(s.points.iter().map(|p| p.values[0]));
+        let x = if x.1 > x.0 { x } else { pad(x.0, x.1, 0.5) };
+        let root = root
+            .titled(
+                "Design chart: reliability, safety factor and damping by zone",
+                TITLE,
+            )
+            .map_err(err)?;
+        let (zone_key, rest) = root.split_vertically(LEGEND_ROW);
+        legend_row(
+            &zone_key,
+            (DESIGN_MARGIN + DESIGN_LEFT) as i32,
+            &self.zone_keys(),
+        )?;
+        let h = rest.dim_in_pixel().1 as i32;
+        let (top, bottom) = rest.split_vertically(h * 44 / 100);
+        self.reliability_panel(&top, x)?;
+        self.damping_panel(&bottom, x)
+    }
 }
 
 struct SpreadChart<'a>(&'a Summary);
@@ -825,7 +1067,7 @@ pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     }
     files.extend(render(dir, "di", (900, 560), &DiChart(s))?);
     if s.axes.len() == 1 {
-        files.extend(render(dir, "design_chart", (1000, 620), &DesignChart(s))?);
+        files.extend(render(dir, "design_chart", DESIGN_SIZE, &DesignChart(s))?);
     }
     files.extend(render(dir, "xmax_spread", (1000, 560), &SpreadChart(s))?);
     if s.axes.len() >= 2 {
@@ -977,4 +1219,41 @@ pub fn waveforms(
             zoom,
         },
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reliability_gets_a_tight_range_with_the_threshold() {
+        // The paper's sweep: R and its interval within 0.972..0.999, r_min = 0.98.
+        let r = [0.9972, 0.9963, 0.9981, 0.9797, 0.9725, 0.9868, 0.9990];
+        let ((y0, y1), shown) = reliability_range(r, 0.98);
+        assert!(shown);
+        assert!(y0 < 0.9725 && y1 > 0.999, "{y0}..{y1}");
+        // The whole axis is a few hundredths, not the 0.95..1.25 R shared with mu_n before.
+        assert!(y1 - y0 < 0.04, "{y0}..{y1}");
+        // Room above the data for the zone names: a fifth of the axis or more.
+        assert!((y1 - 0.9990) / (y1 - y0) > 0.15, "{y0}..{y1}");
+    }
+
+    #[test]
+    fn a_far_threshold_does_not_flatten_reliability() {
+        let ((y0, y1), shown) = reliability_range([0.99, 0.995, 0.999], 0.5);
+        assert!(!shown);
+        assert!(y0 > 0.98 && y1 < 1.01, "{y0}..{y1}");
+        // Inside the doubled span it is drawn.
+        let ((y0, _), shown) = reliability_range([0.99, 0.995, 0.999], 0.985);
+        assert!(shown && y0 < 0.985);
+    }
+
+    #[test]
+    fn flat_or_missing_reliability_keeps_a_usable_axis() {
+        // R = 1 everywhere: an axis a few thousandths wide around 1, not a degenerate one.
+        let ((y0, y1), shown) = reliability_range([1.0, 1.0], 0.2);
+        assert!(!shown);
+        assert!(y1 - y0 >= 2e-3 && y0 < 1.0 && y1 > 1.0, "{y0}..{y1}");
+        assert_eq!(reliability_range([f64::NAN], 0.98).0, (0.0, 1.0));
+    }
 }

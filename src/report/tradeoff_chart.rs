@@ -6,7 +6,6 @@
 use std::path::Path;
 
 use plotters::prelude::*;
-use plotters::style::FontStyle;
 
 /// One solver's points `(time per run in s, relative error)`, in ladder order.
 #[derive(Clone, Debug)]
@@ -20,23 +19,11 @@ pub struct Series {
 /// Errors below this are drawn on it (an exact match would be off a log axis).
 pub const FLOOR: f64 = 1e-16;
 
-fn register_font() {
-    static ONCE: std::sync::Once = std::sync::Once::new();
-    ONCE.call_once(|| {
-        // The font is bundled; failing to parse it would be a build defect, and the SVG does not
-        // need it, so a failure only leaves the PNG without text.
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            include_bytes!("../../assets/DejaVuSans.ttf"),
-        );
-    });
-}
-
 /// Draws `series` to `STEM.svg` and `STEM.png`; `goal` is drawn as a horizontal line; `axes`
 /// names the time (horizontal) and the error (vertical).
 pub fn draw(series: &[Series], goal: f64, axes: (&str, &str), stem: &Path) -> anyhow::Result<()> {
-    register_font();
+    // The one embedded font, shared with the other charts (its bytes are included once).
+    crate::report::charts::register_fonts();
     let svg = stem.with_extension("svg");
     let png = stem.with_extension("png");
     plot(
