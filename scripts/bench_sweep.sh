@@ -132,7 +132,8 @@ cat > results/bench_sweep.md <<EOF
 \`scripts/bench_sweep.sh\` on $model, $cores cores, $mem GB RAM ($(date -u +%Y-%m-%d), \`$(git rev-parse --short HEAD)\`).
 Release build; \`impactsweep run --quiet\`, best of two runs each; wall time includes start-up,
 the Parquet writes (each part synced before its rename) and the manifest updates. Load average
-before/after: $load0 / $load1 (the machine is shared).
+before/after: $load0 / $load1 (the machine is shared), niceness $(nice) (on a shared machine,
+\`sudo nice -n -15 scripts/bench_sweep.sh\` gives the benchmark the cores).
 
 | sweep | runs | threads | wall (s) | runs/s | CPU (s) | peak RSS (MB) |
 |---|---|---|---|---|---|---|
