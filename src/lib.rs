@@ -18,6 +18,7 @@ pub mod plan;
 pub mod reduce;
 pub mod report;
 pub mod sim;
+pub mod slurm;
 pub mod store;
 pub mod store_tradeoff;
 pub mod study;
