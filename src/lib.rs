@@ -20,6 +20,7 @@ pub mod report;
 pub mod sim;
 pub mod slurm;
 pub mod store;
+pub mod store_summary;
 pub mod store_tradeoff;
 pub mod study;
 pub mod sweep;

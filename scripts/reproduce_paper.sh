@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Reproduces Afsharfard & Kolahan (2013) with impactsweep and regenerates results/afsharfard2013/:
+# the report, charts (SVG + PNG), summary/zones/jumps as CSV, the waveform figures and
+# paper-comparison.md (the paper's numbers beside ours).
+#
+#   scripts/reproduce_paper.sh [WORK_DIR]
+#
+# WORK_DIR holds the dataset (default: a fresh temporary directory, removed afterwards). The
+# run is deterministic (seeded noise, seeded bootstrap, no timestamps in any written file), so a
+# re-run rewrites the committed files byte for byte; `git status results/` shows any drift.
+set -euo pipefail
+
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+STUDY=configs/paper.toml
+# DEST and IMPACTSWEEP_BIN may be set by the test that checks the committed files
+# (tests/reproduce.rs): it regenerates into a temporary DEST with the test build's binary.
+DEST=${DEST:-results/afsharfard2013}
+
+if [ $# -ge 1 ]; then
+    WORK=$1
+    mkdir -p "$WORK"
+else
+    WORK=$(mktemp -d)
+    trap 'rm -rf "$WORK"' EXIT
+fi
+
+if [ -n "${IMPACTSWEEP_BIN:-}" ]; then
+    BIN=$IMPACTSWEEP_BIN
+else
+    cargo build --release --quiet
+    BIN=$ROOT/target/release/impactsweep
+fi
+
+# The study's [study].name names the run directory OUT/<name>.
+NAME=$(sed -n 's/^name *= *"\([^"]*\)".*/\1/p' "$STUDY" | head -n 1)
+RUN=$WORK/$NAME
+rm -rf "$RUN"
+
+"$BIN" run "$STUDY" --out "$WORK" --quiet
+"$BIN" reduce "$RUN" > /dev/null
+
+rm -rf "$DEST"
+mkdir -p "$DEST"
+cp "$RUN"/report.md "$RUN"/summary.csv "$RUN"/zones.csv "$RUN"/jumps.csv "$DEST"/
+cp "$RUN"/*.svg "$RUN"/*.png "$DEST"/
+
+# The paper's Figures 2 and 5: with/without damper, e = 0.45 against e = 0.9.
+"$BIN" plot waveform --out "$DEST" --e 0.45 0.9 --t-end 0.5 > /dev/null
+
+# The system without damper, for the comparison of first peaks.
+"$BIN" simulate --set m=0 --json > "$WORK/no_damper.json"
+
+"${IMPACTSWEEP_PYTHON:-python3}" scripts/paper_comparison.py "$DEST" "$WORK/no_damper.json" "$STUDY" > "$DEST/paper-comparison.md"
+
+echo "wrote $DEST:"
+ls "$DEST"

@@ -1,0 +1,79 @@
+//! Ranking: perfectibility (eq. 11), rank by it, and the Pareto set on (R, DI).
+
+use super::PointStats;
+use super::stats::perfectibility;
+
+/// Fills `perfectibility`, `rank` and `pareto` of every point; returns `(R_max, DI_max)`, the
+/// eq. 11 denominators (the best R and DI over the points where both are known).
+///
+/// Rank 1 is the highest perfectibility; ties go to the lower point index. A point whose R or
+/// DI is unknown (no ok run, no ideal run) gets no rank and is never Pareto-optimal.
+pub fn apply(points: &mut [PointStats], wf1: f64, wf2: f64) -> (f64, f64) {
+    let known = |p: &PointStats| p.reliability.is_finite() && p.di.is_finite();
+    let r_max = points
+        .iter()
+        .filter(|p| known(p))
+        .map(|p| p.reliability)
+        .fold(f64::NAN, f64::max);
+    let di_max = points
+        .iter()
+        .filter(|p| known(p))
+        .map(|p| p.di)
+        .fold(f64::NAN, f64::max);
+    for p in points.iter_mut() {
+        p.perfectibility = if known(p) {
+            perfectibility(p.reliability, p.di, r_max, di_max, wf1, wf2)
+        } else {
+            f64::NAN
+        };
+        p.rank = None;
+        p.pareto = false;
+    }
+    let mut order: Vec<usize> = (0..points.len()).filter(|&i| known(&points[i])).collect();
+    order.sort_by(|&a, &b| {
+        points[b]
+            .perfectibility
+            .total_cmp(&points[a].perfectibility)
+            .then(points[a].point.cmp(&points[b].point))
+    });
+    for (r, &i) in order.iter().enumerate() {
+        points[i].rank = Some(r as u64 + 1);
+    }
+    for i in pareto_front(points) {
+        points[i].pareto = true;
+    }
+    (r_max, di_max)
+}
+
+/// Indices of the points not dominated on (R, DI), both maximised: no other point has R and
+/// DI at least as large and one of them larger. Equal points are all kept. O(n log n).
+pub fn pareto_front(points: &[PointStats]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..points.len())
+        .filter(|&i| points[i].reliability.is_finite() && points[i].di.is_finite())
+        .collect();
+    // R descending, then DI descending: a point is dominated iff an earlier point has a DI
+    // larger than its own, or an equal DI with a larger R.
+    order.sort_by(|&a, &b| {
+        points[b]
+            .reliability
+            .total_cmp(&points[a].reliability)
+            .then(points[b].di.total_cmp(&points[a].di))
+    });
+    let mut front = Vec::new();
+    let mut best: Option<(f64, f64)> = None; // (R, DI) of the point holding the best DI so far
+    for i in order {
+        let (r, di) = (points[i].reliability, points[i].di);
+        let keep = match best {
+            None => true,
+            Some((br, bd)) => di > bd || (di == bd && r == br),
+        };
+        if keep {
+            front.push(i);
+        }
+        if best.is_none_or(|(_, bd)| di > bd) {
+            best = Some((r, di));
+        }
+    }
+    front.sort_unstable();
+    front
+}
