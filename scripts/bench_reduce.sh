@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Times `impactsweep reduce` on a 10^6-run dataset and prints BENCHMARKS-reduce.md's table.
+# Times `impactsweep reduce` on a 10^6-run dataset and prints the table of BENCHMARKS.md's Reduce section.
 #
 #   scripts/bench_reduce.sh [WORK_DIR]     (default: a temporary directory, removed afterwards)
 #

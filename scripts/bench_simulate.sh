@@ -14,7 +14,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 load_start=$(cut -d' ' -f1-3 /proc/loadavg)
 cargo bench --bench simulate -- --warm-up-time 2 --measurement-time 5 2>/dev/null \
-    | grep -E "^simulate|time:|thrpt:" > "$work/criterion.txt" || true
+    | grep -E "^simulate|time:|thrpt:" | grep -v "%" > "$work/criterion.txt" || true
 cargo run --release --quiet --example time_runs -- 21 200 > "$work/rust.json"
 "$PY" scripts/peer_scipy.py --method DOP853 --reps 3 --json > "$work/peer.json"
 load_end=$(cut -d' ' -f1-3 /proc/loadavg)
