@@ -298,6 +298,21 @@ pub fn lock_path(dir: &Path, shard: (u64, u64)) -> PathBuf {
     }
 }
 
+/// Set when an interrupt asks running sweeps to stop.
+static STOP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Asks running sweeps to stop: each finishes and writes the chunks in hand, releases its lock
+/// and returns [`crate::error::Interrupted`]. Called by the command's Ctrl-C/SIGTERM handler; the
+/// library installs no handler itself.
+pub fn request_stop() {
+    STOP.store(true, std::sync::atomic::Ordering::SeqCst);
+}
+
+/// Whether a stop was requested.
+pub fn stop_requested() -> bool {
+    STOP.load(std::sync::atomic::Ordering::SeqCst)
+}
+
 fn hostname() -> String {
     std::fs::read_to_string("/proc/sys/kernel/hostname")
         .map(|s| s.trim().to_string())
@@ -701,6 +716,9 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
     pool.install(|| -> Result<()> {
         let mut prev: Option<(u64, Vec<RunRow>)> = None;
         for &k in &pending {
+            if stop_requested() {
+                break;
+            }
             let (done, rows) = rayon::join(
                 || prev.take().map(|(pk, rows)| write(pk, rows)).transpose(),
                 || simulate_chunk(&plan, k, pb.as_ref()),
@@ -719,6 +737,14 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
     })?;
     if let Some(pb) = &pb {
         pb.finish_and_clear();
+    }
+    if stop_requested() {
+        return Err(crate::error::Interrupted {
+            dir: dir.display().to_string(),
+            written,
+            left: (mine.len() as u64).saturating_sub(kept + written),
+        }
+        .into());
     }
 
     // 4. The audit (shard 0, once per K).

@@ -211,6 +211,65 @@ fn a_live_writer_lock_refuses_and_a_dead_one_does_not_block_resume() {
 
 /// The acceptance test: `kill -9` during a run, then `--resume`, gives the same dataset as an
 /// uninterrupted run, byte for byte.
+/// An interrupt (SIGTERM, as Slurm sends; Ctrl-C sends SIGINT to the same handler) finishes
+/// the chunk in hand, releases the lock and exits with status 130 and a resume hint; `--resume`
+/// then completes the dataset exactly as an uninterrupted run writes it.
+#[test]
+fn sigterm_stops_cleanly_and_resume_completes_the_dataset() {
+    let tmp = tempfile::tempdir().unwrap();
+    let s = write_study(tmp.path(), "big", 500, 3);
+    let out = tmp.path().join("stopped");
+    let dir = out.join("big");
+    let exe = assert_cmd::cargo::cargo_bin("impactsweep");
+    let child = StdCommand::new(&exe)
+        .args([
+            "run",
+            s.to_str().unwrap(),
+            "--quiet",
+            "--threads",
+            "1",
+            "--out",
+        ])
+        .arg(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while store::part_files(&dir).map(|p| p.len()).unwrap_or(0) < 2 {
+        assert!(start.elapsed() < Duration::from_secs(120), "no part file");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // SAFETY: kill(2) on our own child's PID with a valid signal number.
+    let rc = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) };
+    assert_eq!(rc, 0);
+    let done = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&done.stderr);
+    assert_eq!(done.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted:") && err.contains("--resume"),
+        "{err}"
+    );
+    assert!(!dir.join(".lock").exists(), "the lock is released");
+    let parts_now = store::part_files(&dir).unwrap().len();
+    assert!(parts_now < 500, "the run finished before the signal");
+    bin()
+        .args(["run", s.to_str().unwrap(), "--resume", "--quiet", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    let clean = tmp.path().join("clean");
+    bin()
+        .args(["run", s.to_str().unwrap(), "--quiet", "--out"])
+        .arg(&clean)
+        .assert()
+        .success();
+    assert!(
+        parts(&dir) == parts(&clean.join("big")),
+        "part files differ"
+    );
+}
+
 #[test]
 fn kill_9_then_resume_gives_the_uninterrupted_dataset() {
     let tmp = tempfile::tempdir().unwrap();

@@ -54,7 +54,25 @@ pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
 
 /// Runs each study in turn into `OUT/<name>/`. Every study file is validated before the first
 /// runs, so a mistake in the last one does not surface hours later.
+/// Ctrl-C or SIGTERM (Slurm's stop signal) asks the sweep to stop after the chunks in hand, so
+/// the lock is released and the directory resumes cleanly; a second interrupt exits at once.
+fn on_interrupt_finish_the_chunk() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let _ = ctrlc::set_handler(|| {
+            if sweep::stop_requested() {
+                std::process::exit(crate::error::EXIT_INTERRUPTED);
+            }
+            sweep::request_stop();
+            eprintln!(
+                "\ninterrupt: finishing the chunk in hand, then stopping (interrupt again to stop at once)"
+            );
+        });
+    });
+}
+
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
+    on_interrupt_finish_the_chunk();
     let (si, sn) = args.shard.unwrap_or((0, 1));
     let studies = args
         .studies
@@ -89,6 +107,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
 /// Runs every `*.toml` in `DIR` in name order: finished studies are skipped, partial ones
 /// resumed, new ones started.
 pub fn queue(args: &QueueArgs) -> anyhow::Result<()> {
+    on_interrupt_finish_the_chunk();
     let mut files: Vec<PathBuf> = std::fs::read_dir(&args.dir)
         .with_context(|| format!("listing {}", args.dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
