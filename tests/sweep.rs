@@ -209,19 +209,16 @@ fn a_live_writer_lock_refuses_and_a_dead_one_does_not_block_resume() {
     assert_eq!(store::part_files(&dir).unwrap().len(), 9);
 }
 
-/// The acceptance test: `kill -9` during a run, then `--resume`, gives the same dataset as an
-/// uninterrupted run, byte for byte.
-/// An interrupt (SIGTERM, as Slurm sends; Ctrl-C sends SIGINT to the same handler) finishes
-/// the chunk in hand, releases the lock and exits with status 130 and a resume hint; `--resume`
-/// then completes the dataset exactly as an uninterrupted run writes it.
-#[test]
-fn sigterm_stops_cleanly_and_resume_completes_the_dataset() {
-    let tmp = tempfile::tempdir().unwrap();
-    let s = write_study(tmp.path(), "big", 500, 3);
-    let out = tmp.path().join("stopped");
+/// 500 values of e x 3 of m = 1500 design points x 4 cases = 6000 runs in 500 chunks on one
+/// thread (each part file is synced before its rename): long enough to be stopped in the
+/// middle. Starts `run` into `tmp/<out>` and returns the study, the run directory and the
+/// child once two part files exist.
+fn start_big_run(tmp: &Path, out: &str) -> (PathBuf, PathBuf, std::process::Child) {
+    let s = write_study(tmp, "big", 500, 3);
+    let out = tmp.join(out);
     let dir = out.join("big");
     let exe = assert_cmd::cargo::cargo_bin("impactsweep");
-    let child = StdCommand::new(&exe)
+    let mut child = StdCommand::new(&exe)
         .args([
             "run",
             s.to_str().unwrap(),
@@ -237,9 +234,34 @@ fn sigterm_stops_cleanly_and_resume_completes_the_dataset() {
         .unwrap();
     let start = Instant::now();
     while store::part_files(&dir).map(|p| p.len()).unwrap_or(0) < 2 {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before it could be stopped"
+        );
         assert!(start.elapsed() < Duration::from_secs(120), "no part file");
         std::thread::sleep(Duration::from_millis(5));
     }
+    (s, dir, child)
+}
+
+/// Runs the study uninterrupted into `tmp/clean` and returns its run directory.
+fn clean_run(tmp: &Path, study: &Path) -> PathBuf {
+    let clean = tmp.join("clean");
+    bin()
+        .args(["run", study.to_str().unwrap(), "--quiet", "--out"])
+        .arg(&clean)
+        .assert()
+        .success();
+    clean.join("big")
+}
+
+/// An interrupt (SIGTERM, as Slurm sends; Ctrl-C sends SIGINT to the same handler) finishes
+/// the chunk in hand, releases the lock and exits with status 130 and a resume hint; `--resume`
+/// then completes the dataset exactly as an uninterrupted run writes it.
+#[test]
+fn sigterm_stops_cleanly_and_resume_completes_the_dataset() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (s, dir, child) = start_big_run(tmp.path(), "stopped");
     // SAFETY: kill(2) on our own child's PID with a valid signal number.
     let rc = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) };
     assert_eq!(rc, 0);
@@ -255,54 +277,22 @@ fn sigterm_stops_cleanly_and_resume_completes_the_dataset() {
     assert!(parts_now < 500, "the run finished before the signal");
     bin()
         .args(["run", s.to_str().unwrap(), "--resume", "--quiet", "--out"])
-        .arg(&out)
-        .assert()
-        .success();
-    let clean = tmp.path().join("clean");
-    bin()
-        .args(["run", s.to_str().unwrap(), "--quiet", "--out"])
-        .arg(&clean)
+        .arg(dir.parent().unwrap())
         .assert()
         .success();
     assert!(
-        parts(&dir) == parts(&clean.join("big")),
+        parts(&dir) == parts(&clean_run(tmp.path(), &s)),
         "part files differ"
     );
 }
 
+/// The acceptance test: `kill -9` during a run, then `--resume`, gives the same dataset as an
+/// uninterrupted run, byte for byte.
 #[test]
 fn kill_9_then_resume_gives_the_uninterrupted_dataset() {
     let tmp = tempfile::tempdir().unwrap();
-    // 500 values of e x 3 of m = 1500 design points x 4 cases = 6000 runs in 500 chunks on one
-    // thread (each part file is synced before its rename): long enough to be killed in the
-    // middle.
-    let s = write_study(tmp.path(), "big", 500, 3);
-    let killed = tmp.path().join("killed");
-    let dir = killed.join("big");
-    let exe = assert_cmd::cargo::cargo_bin("impactsweep");
-    let mut child = StdCommand::new(&exe)
-        .args([
-            "run",
-            s.to_str().unwrap(),
-            "--quiet",
-            "--threads",
-            "1",
-            "--out",
-        ])
-        .arg(&killed)
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while store::part_files(&dir).map(|p| p.len()).unwrap_or(0) < 2 {
-        assert!(
-            child.try_wait().unwrap().is_none(),
-            "the run ended before it could be killed"
-        );
-        assert!(start.elapsed() < Duration::from_secs(120), "no part file");
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    let (s, dir, mut child) = start_big_run(tmp.path(), "killed");
+    let killed = dir.parent().unwrap().to_path_buf();
     child.kill().unwrap(); // SIGKILL
     child.wait().unwrap();
     let done = store::part_files(&dir).unwrap().len();
@@ -323,17 +313,12 @@ fn kill_9_then_resume_gives_the_uninterrupted_dataset() {
         .assert()
         .success();
 
-    let clean = tmp.path().join("clean");
-    bin()
-        .args(["run", s.to_str().unwrap(), "--quiet", "--out"])
-        .arg(&clean)
-        .assert()
-        .success();
+    let clean = clean_run(tmp.path(), &s);
     let a = parts(&dir);
     assert_eq!(a.len(), 500);
-    assert!(a == parts(&clean.join("big")), "part files differ");
+    assert!(a == parts(&clean), "part files differ");
     let ma = sweep::read_manifest(&dir).unwrap().unwrap();
-    let mb = sweep::read_manifest(&clean.join("big")).unwrap().unwrap();
+    let mb = sweep::read_manifest(&clean).unwrap().unwrap();
     assert_eq!(ma.chunks, mb.chunks);
     assert_eq!(ma.outcomes, mb.outcomes);
     assert!(
