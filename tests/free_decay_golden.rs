@@ -57,8 +57,10 @@ fn hash_record(h: &mut Fnv, r: &Record) {
     h.word(r.steps);
 }
 
-/// The runs: (system, solver settings, request, noise (power, Ts, seed)).
-fn cases() -> Vec<(System, SolverSettings, Request, Option<(f64, f64, u64)>)> {
+/// One run: system, solver settings, request, noise `(power, Ts, seed)`.
+type Case = (System, SolverSettings, Request, Option<(f64, f64, u64)>);
+
+fn cases() -> Vec<Case> {
     let t1 = System::TABLE_I;
     let crit = 2.0 * (t1.K * t1.M).sqrt();
     let exact = SolverSettings::default();
@@ -78,7 +80,10 @@ fn cases() -> Vec<(System, SolverSettings, Request, Option<(f64, f64, u64)>)> {
             ..t1
         },
         System { C: crit, ..t1 },
-        System { C: 3.0 * crit, ..t1 },
+        System {
+            C: 3.0 * crit,
+            ..t1
+        },
         System { d: 1.0, ..t1 },
         System { d: 1e-6, ..t1 },
         System { m: 10.0, ..t1 },
@@ -96,10 +101,7 @@ fn cases() -> Vec<(System, SolverSettings, Request, Option<(f64, f64, u64)>)> {
     out.push((
         System { e: 0.74, ..t1 },
         exact,
-        Request {
-            peaks: 5,
-            ..two
-        },
+        Request { peaks: 5, ..two },
         None,
     ));
     out.push((
@@ -121,10 +123,7 @@ fn cases() -> Vec<(System, SolverSettings, Request, Option<(f64, f64, u64)>)> {
         for e in [0.45, 0.9] {
             out.push((
                 System { e, ..t1 },
-                SolverSettings {
-                    kind,
-                    ..exact
-                },
+                SolverSettings { kind, ..exact },
                 two,
                 None,
             ));
