@@ -365,6 +365,10 @@ pub fn forced_json(setup: &Setup, rec: &ForcedRecord) -> serde_json::Value {
     map.insert("impacts".into(), rec.impacts.into());
     map.insert("sticks".into(), rec.sticks.into());
     map.insert("steps".into(), rec.steps.into());
+    map.insert(
+        "end".into(),
+        serde_json::json!({"x": num(rec.end.x), "v": num(rec.end.v), "y": num(rec.end.y), "w": num(rec.end.w)}),
+    );
     let mut system = serde_json::Map::new();
     for k in SYSTEM_KEYS {
         system.insert(k.into(), num(setup.system.get(k).unwrap_or(f64::NAN)));

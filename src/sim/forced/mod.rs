@@ -41,9 +41,14 @@
 //!
 //! # Steady state
 //! The Poincaré section is the state `S_k = (x, x', y - x, y')` at `t = k T_f`,
-//! `T_f = 2 pi / omega` (with `m = 0` only `(x, x')`: a massless inner mass does not act on the
-//! main mass). Distances between sections are `max(|dx|, |dx'|/omega, |dz|, |dy'|/omega)` and
-//! are compared with the scale `L`, the largest `max(|x|, |x'|/omega)` of the sections compared.
+//! `T_f = 2 pi / omega`. With `m = 0` the scene is the primary system alone: a massless inner
+//! mass cannot act on the main mass, so it is not simulated (no walls, no impacts) and the
+//! section is `(x, x')`. (Free decay keeps simulating it; its impacts change nothing there
+//! either.) Distances between
+//! sections are `sqrt(dx^2 + (dx'/wn)^2 + dz^2 + (dy'/wn)^2)` with `wn = sqrt(K/M)` (in this
+//! norm a decaying free oscillation shrinks steadily from section to section, whatever it turns
+//! by in a period), compared with the scale `L`, the largest `max(|x|, |x'|/omega)` of the
+//! sections compared (about the steady amplitude).
 //!
 //! * **Transient.** `n_trans` periods when given. Otherwise the run stops the transient at the
 //!   first section `k` at which, for some `p` in `1..=8`, the `p`-step differences
@@ -97,7 +102,7 @@ pub struct Harmonic {
     /// Transient length in forcing periods, or `None` (default) to stop it when the Poincaré
     /// section has converged (module doc). Range `[0, 10^8]`.
     pub n_trans: Option<u64>,
-    /// Longest default transient (periods). Default `10000`, range `[1, 10^8]`.
+    /// Longest default transient (periods). Default `2000`, range `[1, 10^8]`.
     pub n_trans_max: u64,
     /// Measurement window (periods). Default `20`, range `[1, 10^6]`.
     pub n_meas: u64,
@@ -115,7 +120,7 @@ impl Default for Harmonic {
             F0: 1.0,
             drive: Drive::Ratio(1.0),
             n_trans: None,
-            n_trans_max: 10_000,
+            n_trans_max: 2_000,
             n_meas: 20,
             trans_tol: 1e-10,
             period_tol: 1e-6,
@@ -247,6 +252,9 @@ pub struct ForcedRecord {
     pub energy_force: f64,
     pub energy_viscous: f64,
     pub energy_impact: f64,
+    /// The state at `t_stop` (a section time when `ok`): a converged run ends on its orbit, and
+    /// the next run of a frequency sweep can start from it to follow a branch.
+    pub end: crate::sim::State,
     /// Over the whole run.
     pub impacts: u64,
     pub sticks: u64,

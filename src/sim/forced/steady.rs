@@ -46,6 +46,7 @@ pub fn simulate_harmonic<P: Probe>(
         t_f: std::f64::consts::TAU / omega,
         phase: Phase::Free,
         t: 0.0,
+        k_base: 0,
         s: State {
             x: sys.x0,
             v: sys.v0,
@@ -96,7 +97,11 @@ struct Run<'a, P: Probe> {
     omega: f64,
     t_f: f64,
     phase: Phase,
+    /// Time since the last section `k_base T_f` (s). The forcing is `T_f`-periodic, so each
+    /// period runs on a fresh clock: absolute times near `10^4 T_f` would leave too few bits
+    /// for the event tolerance (an ulp of 1000 s is 2e-13 s) and for the forcing phase.
     t: f64,
+    k_base: u64,
     s: State,
     impacts: u64,
     sticks: u64,
@@ -117,8 +122,24 @@ impl<P: Probe> Run<'_, P> {
         }
     }
 
+    /// Local time of section `k` (`k >= k_base`).
     fn section_time(&self, k: u64) -> f64 {
-        k as f64 * self.t_f
+        (k - self.k_base) as f64 * self.t_f
+    }
+
+    /// Absolute time of the local origin, `k_base T_f`.
+    fn base(&self) -> f64 {
+        self.k_base as f64 * self.t_f
+    }
+
+    /// Absolute time now.
+    fn now(&self) -> f64 {
+        self.base() + self.t
+    }
+
+    /// Local time of the absolute time `t`.
+    fn local(&self, t: f64) -> f64 {
+        t - self.base()
     }
 
     fn section(&self) -> Section {
@@ -141,14 +162,16 @@ impl<P: Probe> Run<'_, P> {
     fn watch(&self, k_next: u64) -> Watch {
         let mut t_limit = self.section_time(k_next);
         if let Some(dt) = self.req.trace_dt {
-            t_limit = t_limit.min(self.next_trace as f64 * dt);
+            t_limit = t_limit.min(self.local(self.next_trace as f64 * dt));
         }
         if self.measuring()
             && let Some((ns, _)) = &self.noise
         {
-            t_limit = t_limit.min(self.next_noise as f64 * ns.sample_time);
+            t_limit = t_limit.min(self.local(self.next_noise as f64 * ns.sample_time));
         }
         let (walls, sep_side) = match self.phase {
+            // `m = 0` is the primary system alone: a massless inner mass cannot act on it.
+            Phase::Free if self.sys.m == 0.0 => (None, None),
             Phase::Free => (
                 Some(Walls {
                     t0: self.t,
@@ -211,7 +234,8 @@ impl<P: Probe> Run<'_, P> {
             win.piece = t;
         }
         let e = self.energy();
-        self.probe.energy(t, e);
+        let now = self.now();
+        self.probe.energy(now, e);
     }
 
     /// Longest quadrature piece: 1/16 of the fastest period of the motion (forcing, natural,
@@ -261,7 +285,8 @@ impl<P: Probe> Run<'_, P> {
                 }
                 Event::Separation => {
                     if let Phase::Stuck(wall) = self.phase {
-                        self.probe.separate(self.t, wall, &self.s);
+                        let now = self.now();
+                        self.probe.separate(now, wall, &self.s);
                     }
                     self.phase = Phase::Free;
                     self.begin_phase(solver);
@@ -276,6 +301,13 @@ impl<P: Probe> Run<'_, P> {
                         if self.at_section(k_next) {
                             return Outcome::Ok;
                         }
+                        // A fresh clock for the next period (see `t`).
+                        self.k_base = k_next;
+                        self.t = 0.0;
+                        if let Some(win) = &mut self.window {
+                            win.piece = 0.0;
+                        }
+                        self.begin_phase(solver);
                         k_next += 1;
                     }
                 }
@@ -301,8 +333,12 @@ impl<P: Probe> Run<'_, P> {
         let done = match self.scene.n_trans {
             Some(n) => k >= n,
             None => {
-                self.converged =
-                    transient_converged(&self.history, self.omega, self.scene.trans_tol);
+                self.converged = transient_converged(
+                    &self.history,
+                    self.omega,
+                    self.sys.omega(),
+                    self.scene.trans_tol,
+                );
                 self.converged || k >= self.scene.n_trans_max
             }
         };
@@ -321,7 +357,7 @@ impl<P: Probe> Run<'_, P> {
             if self.noise.is_none() {
                 self.candidate(self.s.x);
             } else if let Some((ns, _)) = &self.noise {
-                self.next_noise = (self.t / ns.sample_time).ceil() as u64;
+                self.next_noise = (self.now() / ns.sample_time).ceil() as u64;
                 // A sample due exactly now is taken by the Limit that follows at once.
             }
         }
@@ -331,16 +367,18 @@ impl<P: Probe> Run<'_, P> {
     /// Trace and noise samples due now.
     fn samples(&mut self) {
         if let Some(dt) = self.req.trace_dt
-            && self.next_trace as f64 * dt <= self.t
+            && self.local(self.next_trace as f64 * dt) <= self.t
         {
-            self.probe.sample(self.t, &self.s);
+            let now = self.now();
+            self.probe.sample(now, &self.s);
             self.next_trace += 1;
         }
+        let base = self.base();
         if self.measuring()
             && let Some((ns, stream)) = &mut self.noise
         {
             let k = self.next_noise;
-            if k as f64 * ns.sample_time <= self.t {
+            if k as f64 * ns.sample_time - base <= self.t {
                 let measured = self.s.x + stream.sample(k, ns);
                 self.next_noise = k + 1;
                 self.candidate(measured);
@@ -360,7 +398,8 @@ impl<P: Probe> Run<'_, P> {
         self.s.v = va;
         self.s.w = wa;
         self.impacts += 1;
-        self.probe.impact(self.t, wall, &before, &self.s);
+        let now = self.now();
+        self.probe.impact(now, wall, &before, &self.s);
         let u = (sign * (self.s.v - self.s.w)).max(0.0);
         let a = -sign * self.free.accel(self.t, self.s.x, self.s.v);
         if chatter_ends(u, a, sys.e, self.settings, sys.period()) {
@@ -369,7 +408,7 @@ impl<P: Probe> Run<'_, P> {
             self.s.w = common;
             self.sticks += 1;
             self.phase = Phase::Stuck(wall);
-            self.probe.stick(self.t, wall, &self.s);
+            self.probe.stick(now, wall, &self.s);
         } else {
             self.phase = Phase::Free;
         }
@@ -378,7 +417,7 @@ impl<P: Probe> Run<'_, P> {
             win.impacts += 1;
             win.energy_impact += e_before - e_after;
         }
-        self.probe.energy(self.t, e_after);
+        self.probe.energy(now, e_after);
     }
 
     fn finish(self, outcome: Outcome, steps: u64) -> ForcedRecord {
@@ -393,7 +432,7 @@ impl<P: Probe> Run<'_, P> {
             (Some(w), true) => (
                 w.amplitude,
                 w.impacts as f64 / scene.n_meas as f64,
-                section_period(&w.sections, self.omega, scene.period_tol),
+                section_period(&w.sections, self.omega, sys.omega(), scene.period_tol),
                 w.energy_force,
                 w.energy_viscous,
                 w.energy_impact,
@@ -417,19 +456,26 @@ impl<P: Probe> Run<'_, P> {
             energy_impact: ei,
             impacts: self.impacts,
             sticks: self.sticks,
-            t_stop: self.t,
+            end: self.s,
+            t_stop: self.now(),
             steps,
         }
     }
 }
 
-/// Distance between two sections (m), velocities scaled by `1 / omega`.
-fn distance(a: &Section, b: &Section, omega: f64) -> f64 {
-    (a[0] - b[0])
-        .abs()
-        .max((a[1] - b[1]).abs() / omega)
-        .max((a[2] - b[2]).abs())
-        .max((a[3] - b[3]).abs() / omega)
+/// Distance between two sections (m): `sqrt(dx^2 + (dx'/wn)^2 + dz^2 + (dy'/wn)^2)`, velocities
+/// scaled by the natural frequency `wn = sqrt(K/M)`. In this norm a decaying free oscillation
+/// has differences of steadily shrinking size (nearly `|lambda|^k`), whatever it turns by in a
+/// forcing period; with the forcing frequency instead, a slow free part at `r >> 1` would show
+/// as differences that come and go with its phase, and fake a converged section.
+fn distance(a: &Section, b: &Section, wn: f64) -> f64 {
+    let (dx, dv, dz, dw) = (
+        a[0] - b[0],
+        (a[1] - b[1]) / wn,
+        a[2] - b[2],
+        (a[3] - b[3]) / wn,
+    );
+    (dx * dx + dv * dv + dz * dz + dw * dw).sqrt()
 }
 
 /// The scale `max(|x|, |x'| / omega)` over sections.
@@ -441,7 +487,7 @@ fn scale(sections: &[Section], omega: f64) -> f64 {
 }
 
 /// The default transient's test on the latest sections (module doc of [`super`]).
-fn transient_converged(h: &[Section], omega: f64, tol: f64) -> bool {
+fn transient_converged(h: &[Section], omega: f64, wn: f64, tol: f64) -> bool {
     let n = h.len();
     for p in 1..=MAX_PERIOD {
         if n < p + 1 {
@@ -449,15 +495,15 @@ fn transient_converged(h: &[Section], omega: f64, tol: f64) -> bool {
         }
         let last = n - 1;
         let l = scale(&h[last - p..], omega);
-        let d0 = distance(&h[last], &h[last - p], omega);
+        let d0 = distance(&h[last], &h[last - p], wn);
         if d0 <= 16.0 * f64::EPSILON * l {
             return true;
         }
         if n < 3 * p + 1 {
             continue;
         }
-        let d1 = distance(&h[last - p], &h[last - 2 * p], omega);
-        let d2 = distance(&h[last - 2 * p], &h[last - 3 * p], omega);
+        let d1 = distance(&h[last - p], &h[last - 2 * p], wn);
+        let d2 = distance(&h[last - 2 * p], &h[last - 3 * p], wn);
         let rho = (d0 / d1).max(d1 / d2);
         if rho < 1.0 && d0 / (1.0 - rho) <= tol * l {
             return true;
@@ -468,11 +514,11 @@ fn transient_converged(h: &[Section], omega: f64, tol: f64) -> bool {
 
 /// Smallest `p` in `1..=8` whose sections repeat over the whole window, else 0. Every one of
 /// the `p` phases must be compared at least once (`n >= 2p - 1` for `n + 1` sections).
-fn section_period(w: &[Section], omega: f64, tol: f64) -> u32 {
+fn section_period(w: &[Section], omega: f64, wn: f64, tol: f64) -> u32 {
     let l = scale(w, omega);
     let n = w.len().saturating_sub(1);
     (1..=MAX_PERIOD.min(n.div_ceil(2)))
-        .find(|&p| (0..=n - p).all(|j| distance(&w[j + p], &w[j], omega) <= tol * l))
+        .find(|&p| (0..=n - p).all(|j| distance(&w[j + p], &w[j], wn) <= tol * l))
         .map_or(0, |p| p as u32)
 }
 
@@ -533,10 +579,10 @@ mod tests {
         let a = [1.0, 0.0, 0.0, 0.0];
         let b = [-1.0, 0.0, 0.0, 0.0];
         let c = [0.5, 0.0, 0.0, 0.0];
-        assert_eq!(section_period(&[a, a, a], 1.0, 1e-9), 1);
-        assert_eq!(section_period(&[a, b, a, b, a], 1.0, 1e-9), 2);
-        assert_eq!(section_period(&[a, b, c, a, b, c, a], 1.0, 1e-9), 3);
-        assert_eq!(section_period(&[a, b, c, b, a], 1.0, 1e-9), 0);
+        assert_eq!(section_period(&[a, a, a], 1.0, 1.0, 1e-9), 1);
+        assert_eq!(section_period(&[a, b, a, b, a], 1.0, 1.0, 1e-9), 2);
+        assert_eq!(section_period(&[a, b, c, a, b, c, a], 1.0, 1.0, 1e-9), 3);
+        assert_eq!(section_period(&[a, b, c, b, a], 1.0, 1.0, 1e-9), 0);
     }
 
     #[test]
@@ -545,10 +591,10 @@ mod tests {
         let h: Vec<Section> = (0..10)
             .map(|k| [1.0 + 0.5f64.powi(k), 0.0, 0.0, 0.0])
             .collect();
-        assert!(!transient_converged(&h, 1.0, 1e-4));
+        assert!(!transient_converged(&h, 1.0, 1.0, 1e-4));
         let h: Vec<Section> = (0..25)
             .map(|k| [1.0 + 0.5f64.powi(k), 0.0, 0.0, 0.0])
             .collect();
-        assert!(transient_converged(&h, 1.0, 1e-6));
+        assert!(transient_converged(&h, 1.0, 1.0, 1e-6));
     }
 }
