@@ -169,6 +169,8 @@ impl<P: Probe> Run<'_, P> {
         {
             t_limit = t_limit.min(self.local(self.next_noise as f64 * ns.sample_time));
         }
+        // A sample due at a time that rounds to just before now is taken now.
+        let t_limit = t_limit.max(self.t);
         let (walls, sep_side) = match self.phase {
             // `m = 0` is the primary system alone: a massless inner mass cannot act on it.
             Phase::Free if self.sys.m == 0.0 => (None, None),
