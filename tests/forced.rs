@@ -459,3 +459,63 @@ fn same_input_same_bits_and_noise_is_seeded() {
     assert_eq!(n1.impacts, a.impacts);
     assert_eq!(n1.period, a.period);
 }
+
+fn forced_case() -> impl Strategy<Value = (System, Harmonic)> {
+    (
+        -1.0..1.0f64,                                       // log10 M
+        prop_oneof![Just(f64::NEG_INFINITY), -3.0..0.5f64], // log10 m/M (or no damper)
+        1.0..4.0f64,                                        // log10 K
+        prop_oneof![Just(0.0), 0.0..2.0f64],                // zeta
+        -2.0..1.0f64,                                       // log10 d / X_st
+        0.0..=1.0f64,                                       // e
+        -1.0..0.7f64,                                       // log10 r
+        -1.0..1.0f64,                                       // v0 (m/s)
+    )
+        .prop_map(|(lm, lr, lk, zeta, ld, e, lrat, v0)| {
+            let big_m = 10f64.powf(lm);
+            let k = 10f64.powf(lk);
+            let sys = System {
+                M: big_m,
+                m: big_m * 10f64.powf(lr),
+                K: k,
+                C: 2.0 * zeta * (k * big_m).sqrt(),
+                d: 10f64.powf(ld) / k,
+                e,
+                x0: 0.0,
+                v0,
+                y0: 0.0,
+                w0: 0.0,
+            };
+            let h = Harmonic {
+                n_trans: Some(30),
+                n_meas: 5,
+                ..at_ratio(1.0, 10f64.powf(lrat))
+            };
+            (sys, h)
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+    /// Wide random systems and forcing: a named outcome, finite observables when `ok`, the inner
+    /// mass never through a wall (a missed impact would let it through), the sticking count
+    /// the probe saw, and the same bits twice.
+    #[test]
+    fn any_forced_run_ends_named_inside_the_cavity((sys, h) in forced_case()) {
+        prop_assume!(h.validate(&sys).is_ok());
+        let mut w = Watch { half_d: sys.d / 2.0, ..Watch::default() };
+        let req = Request { trace_dt: Some(sys.period() / 50.0), ..Request::default() };
+        let rec = simulate_harmonic(&sys, &SolverSettings::default(), &req, &h, None, &mut w);
+        prop_assert!(Outcome::ALL.contains(&rec.outcome));
+        prop_assert!(w.worst <= 1.0 + 1e-9, "|z| reached {} d/2: {rec:?}", w.worst);
+        prop_assert_eq!(rec.sticks, w.sticks);
+        if rec.outcome == Outcome::Ok {
+            prop_assert!(rec.amplitude.is_finite() && rec.amplitude >= 0.0, "{rec:?}");
+            prop_assert!(rec.impacts_per_period.is_finite() && rec.period <= 8);
+            prop_assert!(rec.energy_force.is_finite() && rec.energy_viscous >= 0.0);
+            prop_assert!(rec.energy_impact >= -1e-12 * rec.energy_force.abs().max(1e-300));
+        }
+        let again = simulate_harmonic(&sys, &SolverSettings::default(), &req, &h, None, &mut NoProbe);
+        prop_assert_eq!(format!("{rec:?}"), format!("{again:?}"));
+    }
+}

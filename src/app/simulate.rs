@@ -288,13 +288,50 @@ fn write_trace(path: &Path, rows: &[(f64, State)]) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// A number for JSON: NaN and infinities become null.
+fn num(v: f64) -> serde_json::Value {
+    serde_json::Number::from_f64(v)
+        .map(serde_json::Value::Number)
+        .unwrap_or(serde_json::Value::Null)
+}
+
+/// The system and the solver settings, as every record's JSON carries them.
+fn insert_setup(map: &mut serde_json::Map<String, serde_json::Value>, setup: &Setup) {
+    let mut system = serde_json::Map::new();
+    for k in SYSTEM_KEYS {
+        system.insert(k.into(), num(setup.system.get(k).unwrap_or(f64::NAN)));
+    }
+    map.insert("system".into(), system.into());
+    map.insert(
+        "solver".into(),
+        serde_json::to_value(setup.solver).unwrap_or_default(),
+    );
+}
+
+/// A length in cm for a person, `-` when unknown.
+fn cm(v: f64) -> String {
+    if v.is_nan() {
+        "-".to_string()
+    } else {
+        format!("{:.4} cm", v * 100.0)
+    }
+}
+
+/// The summary's first line: the system's parameters with units.
+fn system_line(s: &System) -> String {
+    format!(
+        "system   M = {} kg, m = {} kg, K = {} N/m, C = {} N s/m, d = {} m, e = {}\n",
+        fmt_value(s.M),
+        fmt_value(s.m),
+        fmt_value(s.K),
+        fmt_value(s.C),
+        fmt_value(s.d),
+        fmt_value(s.e)
+    )
+}
+
 /// The record as one JSON object (SI units; NaN becomes null).
 pub fn record_json(setup: &Setup, rec: &Record) -> serde_json::Value {
-    let num = |v: f64| {
-        serde_json::Number::from_f64(v)
-            .map(serde_json::Value::Number)
-            .unwrap_or(serde_json::Value::Null)
-    };
     let mut map = serde_json::Map::new();
     map.insert("outcome".into(), rec.outcome.name().into());
     for (k, v) in [
@@ -321,26 +358,13 @@ pub fn record_json(setup: &Setup, rec: &Record) -> serde_json::Value {
             .collect::<Vec<_>>()
             .into(),
     );
-    let mut system = serde_json::Map::new();
-    for k in SYSTEM_KEYS {
-        system.insert(k.into(), num(setup.system.get(k).unwrap_or(f64::NAN)));
-    }
-    map.insert("system".into(), system.into());
-    map.insert(
-        "solver".into(),
-        serde_json::to_value(setup.solver).unwrap_or_default(),
-    );
+    insert_setup(&mut map, setup);
     serde_json::Value::Object(map)
 }
 
 /// A forced record as one JSON object: the forced keys, the usual counts, `outcome`, the
 /// system, the solver and the scene (SI units; NaN becomes null).
 pub fn forced_json(setup: &Setup, rec: &ForcedRecord) -> serde_json::Value {
-    let num = |v: f64| {
-        serde_json::Number::from_f64(v)
-            .map(serde_json::Value::Number)
-            .unwrap_or(serde_json::Value::Null)
-    };
     let mut map = serde_json::Map::new();
     map.insert("outcome".into(), rec.outcome.name().into());
     map.insert("scene".into(), "harmonic".into());
@@ -369,15 +393,7 @@ pub fn forced_json(setup: &Setup, rec: &ForcedRecord) -> serde_json::Value {
         "end".into(),
         serde_json::json!({"x": num(rec.end.x), "v": num(rec.end.v), "y": num(rec.end.y), "w": num(rec.end.w)}),
     );
-    let mut system = serde_json::Map::new();
-    for k in SYSTEM_KEYS {
-        system.insert(k.into(), num(setup.system.get(k).unwrap_or(f64::NAN)));
-    }
-    map.insert("system".into(), system.into());
-    map.insert(
-        "solver".into(),
-        serde_json::to_value(setup.solver).unwrap_or_default(),
-    );
+    insert_setup(&mut map, setup);
     map.insert(
         "harmonic".into(),
         serde_json::to_value(setup.scene).unwrap_or_default(),
@@ -388,23 +404,8 @@ pub fn forced_json(setup: &Setup, rec: &ForcedRecord) -> serde_json::Value {
 /// A short summary of a forced run for a person, with units.
 pub fn forced_text(setup: &Setup, rec: &ForcedRecord) -> String {
     let s = &setup.system;
-    let cm = |v: f64| {
-        if v.is_nan() {
-            "-".to_string()
-        } else {
-            format!("{:.4} cm", v * 100.0)
-        }
-    };
     let mut out = String::new();
-    out.push_str(&format!(
-        "system   M = {} kg, m = {} kg, K = {} N/m, C = {} N s/m, d = {} m, e = {}\n",
-        fmt_value(s.M),
-        fmt_value(s.m),
-        fmt_value(s.K),
-        fmt_value(s.C),
-        fmt_value(s.d),
-        fmt_value(s.e)
-    ));
+    out.push_str(&system_line(s));
     out.push_str(&format!(
         "force    F0 = {} N, omega = {} rad/s (r = {})\n",
         fmt_value(rec.F0),
@@ -447,13 +448,6 @@ pub fn forced_text(setup: &Setup, rec: &ForcedRecord) -> String {
 /// A short summary for a person, with units.
 pub fn record_text(setup: &Setup, rec: &Record) -> String {
     let s = &setup.system;
-    let cm = |v: f64| {
-        if v.is_nan() {
-            "-".to_string()
-        } else {
-            format!("{:.4} cm", v * 100.0)
-        }
-    };
     let sec = |v: f64| {
         if v.is_nan() {
             "-".to_string()
@@ -462,15 +456,7 @@ pub fn record_text(setup: &Setup, rec: &Record) -> String {
         }
     };
     let mut out = String::new();
-    out.push_str(&format!(
-        "system   M = {} kg, m = {} kg, K = {} N/m, C = {} N s/m, d = {} m, e = {}\n",
-        fmt_value(s.M),
-        fmt_value(s.m),
-        fmt_value(s.K),
-        fmt_value(s.C),
-        fmt_value(s.d),
-        fmt_value(s.e)
-    ));
+    out.push_str(&system_line(s));
     out.push_str(&format!(
         "start    x0 = {} m, v0 = {} m/s, y0 = {} m, w0 = {} m/s\n",
         fmt_value(s.x0),

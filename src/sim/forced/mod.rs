@@ -42,8 +42,8 @@
 //! # Steady state
 //! The Poincaré section is the state `S_k = (x, x', y - x, y')` at `t = k T_f`,
 //! `T_f = 2 pi / omega`. With `m = 0` the scene is the primary system alone: a massless inner
-//! mass cannot act on the main mass, so it is not simulated (no walls, no impacts) and the
-//! section is `(x, x')`. (Free decay keeps simulating it; its impacts change nothing there
+//! mass cannot act on the main mass, so it is not simulated (no walls, no impacts; it is
+//! carried along at its initial place in the cavity) and the section is `(x, x')`. (Free decay keeps simulating it; its impacts change nothing there
 //! either.) Distances between
 //! sections are `sqrt(dx^2 + (dx'/wn)^2 + dz^2 + (dy'/wn)^2)` with `wn = sqrt(K/M)` (in this
 //! norm a decaying free oscillation shrinks steadily from section to section, whatever it turns

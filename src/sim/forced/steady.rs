@@ -217,11 +217,15 @@ impl<P: Probe> Run<'_, P> {
         self.s.v = v;
         match (self.phase, walls) {
             (Phase::Free, Some(wl)) => self.s.y = wl.y0 + wl.w * (t - wl.t0),
+            // `m = 0`: the massless inner mass is carried along where it started in the cavity.
+            (Phase::Free, None) => {
+                self.s.y = x + (self.sys.y0 - self.sys.x0);
+                self.s.w = v;
+            }
             (Phase::Stuck(wall), _) => {
                 self.s.y = x + wall.sign() * 0.5 * self.sys.d;
                 self.s.w = v;
             }
-            _ => {}
         }
         let (f0, c) = (self.scene.F0, self.sys.C);
         let omega = self.omega;
