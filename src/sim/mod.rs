@@ -18,6 +18,10 @@
 //!   `DI = (X1 - X2) / (t2 - t1)` (eq. 5, m/s), impact and sticking counts, energy lost in
 //!   impacts and in the damper.
 //!
+//! That is the free-decay scene. The forced scene (model.md §8, a harmonic force on the main
+//! mass, run to its steady state) lives in [`forced`]; [`Scene`] and [`simulate_scene`] pick
+//! one, and [`simulate`] is free decay exactly as it always was.
+//!
 //! Solvers share all of that and differ only in how they move the main mass between events and
 //! locate those events: [`SolverKind::Exact`] uses the closed form and a root bracket that cannot
 //! miss an impact (see [`exact`]); [`SolverKind::Rk4`] (fixed step, see [`rk4`]) and

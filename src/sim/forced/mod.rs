@@ -71,8 +71,8 @@
 //!   `(M x'^2 + m y'^2 + K x^2) / 2` at each impact and plastic closing). On a periodic orbit
 //!   the work equals the two losses.
 
-pub(crate) mod events;
-pub(crate) mod motion;
+pub mod events;
+pub mod motion;
 mod steady;
 
 use serde::Serialize;
