@@ -4,10 +4,10 @@
 //! smooth function of the forced motion whose second and fourth derivatives are bounded for the
 //! rest of the phase by `Forced::bounds` (the free part's energy bound plus `A omega^j` of the
 //! particular part; for the contact force `C B3 + K B2 + F0 omega^2` and
-//! `C B5 + K B4 + F0 omega^4`). The safe step `safe_step` of `sim::exact` from a point where the function is
-//! `g >= 0` away from zero cannot step over a root, grazing (double) roots included; an event is
-//! declared when a function heading into zero has a safe step below `tol_t`, so its time is
-//! within `tol_t` of the true root.
+//! `C B5 + K B4 + F0 omega^4`). The safe step (`safe_step` of `sim::exact`) from a point where
+//! the function is `g >= 0` away from zero cannot step over a root, grazing (double) roots
+//! included; an event is declared when a function heading into zero has a safe step below
+//! `tol_t`, so its time is within `tol_t` of the true root.
 
 use super::motion::{Forced, Jet};
 use crate::sim::Wall;
