@@ -515,7 +515,8 @@ proptest! {
             prop_assert!(rec.energy_force.is_finite() && rec.energy_viscous >= 0.0);
             prop_assert!(rec.energy_impact >= -1e-12 * rec.energy_force.abs().max(1e-300));
         }
-        let again = simulate_harmonic(&sys, &SolverSettings::default(), &req, &h, None, &mut NoProbe);
+        let settings = SolverSettings::default();
+        let again = simulate_harmonic(&sys, &settings, &req, &h, None, &mut NoProbe);
         prop_assert_eq!(format!("{rec:?}"), format!("{again:?}"));
     }
 }

@@ -391,7 +391,12 @@ pub fn forced_json(setup: &Setup, rec: &ForcedRecord) -> serde_json::Value {
     map.insert("steps".into(), rec.steps.into());
     map.insert(
         "end".into(),
-        serde_json::json!({"x": num(rec.end.x), "v": num(rec.end.v), "y": num(rec.end.y), "w": num(rec.end.w)}),
+        serde_json::json!({
+            "x": num(rec.end.x),
+            "v": num(rec.end.v),
+            "y": num(rec.end.y),
+            "w": num(rec.end.w),
+        }),
     );
     insert_setup(&mut map, setup);
     map.insert(

@@ -9,8 +9,8 @@
 //! ```
 //!
 //! with `t` the time from the start of the run (forcing phase 0 at `t = 0`). Impacts at
-//! `|y - x| = d/2` obey the same law as free decay ([`crate::sim::impact`], eq. 3–4), and the same
-//! chatter rule turns an accumulation of impacts into sticking ([`crate::sim::driver`]). While
+//! `|y - x| = d/2` obey the same law as free decay ([`crate::sim::impact`], eq. 3–4), and the
+//! same chatter rule turns an accumulation of impacts into sticking ([`crate::sim::driver`]). While
 //! stuck on a wall the pair of mass `M + m` feels the force,
 //! `(M + m) x'' + C x' + K x = F0 cos(omega t)`, and separates when the contact force would
 //! have to pull: on the right wall contact holds while `C x' + K x - F0 cos(omega t) >= 0`, on
@@ -41,14 +41,15 @@
 //!
 //! # Steady state
 //! The Poincaré section is the state `S_k = (x, x', y - x, y')` at `t = k T_f`,
-//! `T_f = 2 pi / omega`. With `m = 0` the scene is the primary system alone: a massless inner
-//! mass cannot act on the main mass, so it is not simulated (no walls, no impacts; it is
-//! carried along at its initial place in the cavity) and the section is `(x, x')`. (Free decay keeps simulating it; its impacts change nothing there
-//! either.) Distances between
-//! sections are `sqrt(dx^2 + (dx'/wn)^2 + dz^2 + (dy'/wn)^2)` with `wn = sqrt(K/M)` (in this
-//! norm a decaying free oscillation shrinks steadily from section to section, whatever it turns
-//! by in a period), compared with the scale `L`, the largest `max(|x|, |x'|/omega)` of the
-//! sections compared (about the steady amplitude).
+//! `T_f = 2 pi / omega`. Each period runs on a fresh clock (the force is `T_f`-periodic), so
+//! event times keep full precision over thousands of periods. With `m = 0` the scene is the
+//! primary system alone: a massless inner mass cannot act on the main mass, so it is not
+//! simulated (no walls, no impacts; it is carried along at its initial place in the cavity)
+//! and the section is `(x, x')`; free decay keeps simulating it, to no effect either.
+//! Distances between sections are `sqrt(dx^2 + (dx'/wn)^2 + dz^2 + (dy'/wn)^2)` with
+//! `wn = sqrt(K/M)` (in this norm a decaying free oscillation shrinks steadily from section to
+//! section, whatever it turns by in a period), compared with the scale `L`, the largest
+//! `max(|x|, |x'|/omega)` of the sections compared (about the steady amplitude).
 //!
 //! * **Transient.** `n_trans` periods when given. Otherwise the run stops the transient at the
 //!   first section `k` at which, for some `p` in `1..=8`, the `p`-step differences
@@ -62,8 +63,8 @@
 //!   kink); with noise, the largest `|x(k Ts) + noise_k|` of the samples in the window.
 //!   `impacts_per_period` = impacts in the window / `n_meas`. `period` = the smallest `p` in
 //!   `1..=8` with `|S_{j+p} - S_j| <= period_tol * L` for every pair of sections in the
-//!   window, each of the `p` phases compared at least once (so `p <= (n_meas + 1) / 2`); 0 when none (quasi-periodic or chaotic motion, or a transient not yet
-//!   over). `amplitude_linear = X_st / sqrt((1 - r^2)^2 + (2 zeta r)^2)`, `X_st = F0 / K`, the
+//!   window, each of the `p` phases compared at least once (so `p <= (n_meas + 1) / 2`);
+//!   0 when none (quasi-periodic or chaotic motion, or a transient not yet over). `amplitude_linear = X_st / sqrt((1 - r^2)^2 + (2 zeta r)^2)`, `X_st = F0 / K`, the
 //!   primary system without the inner mass; `attenuation = amplitude / amplitude_linear`.
 //! * **Energy** over the window: the work of the force `int F0 cos(omega t) x' dt`, the viscous
 //!   loss `int C x'^2 dt` (both by 8-point Gauss–Legendre on pieces at most 1/16 of the fastest
