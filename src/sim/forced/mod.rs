@@ -244,7 +244,7 @@ pub struct ForcedRecord {
     pub amplitude_linear: f64,
     /// `amplitude / amplitude_linear`.
     pub attenuation: f64,
-    /// Transient periods used.
+    /// Transient periods used (on a run that stopped before its window, the periods it ran).
     pub n_trans: u64,
     /// Whether the default transient stopped by convergence (`false` at the cap, and when
     /// `n_trans` was given).

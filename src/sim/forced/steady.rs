@@ -332,6 +332,8 @@ impl<P: Probe> Run<'_, P> {
             }
             return false;
         }
+        // Transient periods run so far (what a run that stops early reports).
+        self.n_trans = k;
         if self.history.len() == HISTORY {
             self.history.remove(0);
         }
