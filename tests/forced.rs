@@ -520,3 +520,57 @@ proptest! {
         prop_assert_eq!(format!("{rec:?}"), format!("{again:?}"));
     }
 }
+
+/// Trace samples as `(t, x)`.
+#[derive(Default)]
+struct Samples(Vec<(f64, f64)>);
+impl Probe for Samples {
+    fn sample(&mut self, t: f64, s: &State) {
+        self.0.push((t, s.x));
+    }
+    fn impact(&mut self, t: f64, _w: Wall, before: &State, _after: &State) {
+        self.0.push((t, before.x));
+    }
+}
+
+/// `amplitude` is the exact `max |x|` of the window: never below a dense trace's largest sample
+/// (impacts included), and above it by no more than the trace's step can hide.
+#[test]
+fn amplitude_is_the_maximum_of_a_dense_trace_over_the_window() {
+    for (f0, r) in [(1.0, 0.8), (1.0, 1.0), (0.3, 0.98), (1.0, 0.3)] {
+        let h = Harmonic {
+            n_trans: Some(40),
+            n_meas: 5,
+            ..at_ratio(f0, r)
+        };
+        let tf = std::f64::consts::TAU / (r * T1.omega());
+        let dt = tf / 20_000.0;
+        let req = Request {
+            trace_dt: Some(dt),
+            ..Request::default()
+        };
+        let mut p = Samples::default();
+        let rec = simulate_harmonic(&T1, &SolverSettings::default(), &req, &h, None, &mut p);
+        assert_eq!(rec.outcome, Outcome::Ok);
+        let (a, b) = (40.0 * tf, 45.0 * tf);
+        let sampled =
+            p.0.iter()
+                .filter(|(t, _)| *t >= a * (1.0 + 1e-12) && *t <= b * (1.0 - 1e-12))
+                .map(|(_, x)| x.abs())
+                .fold(0.0, f64::max);
+        assert!(
+            rec.amplitude >= sampled * (1.0 - 1e-14),
+            "F0={f0} r={r}: {} below the sampled {sampled}",
+            rec.amplitude
+        );
+        // Impact kinks are rows of the trace, so the maximum the samples can miss is a smooth
+        // top, below the nearest sample by at most |x''| dt^2 / 2 (|x''| a few A Omega^2).
+        let omega = (r * T1.omega()).max(T1.omega());
+        let slack = 4.0 * rec.amplitude * (omega * dt).powi(2);
+        assert!(
+            rec.amplitude - sampled <= slack,
+            "F0={f0} r={r}: {} vs sampled {sampled}",
+            rec.amplitude
+        );
+    }
+}
