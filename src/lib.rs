@@ -10,17 +10,17 @@
 //! The physics and every equation are in `../shared/spec/model.md`; module docs repeat what
 //! each stage needs.
 
+pub mod accuracy;
 pub mod app;
 pub mod cli;
 pub mod error;
 pub mod model;
+pub mod numeric;
 pub mod plan;
 pub mod reduce;
 pub mod report;
 pub mod sim;
 pub mod slurm;
 pub mod store;
-pub mod store_summary;
-pub mod store_tradeoff;
 pub mod study;
 pub mod sweep;

@@ -74,7 +74,7 @@ fn pyarrow_duckdb_and_polars_read_the_dataset() {
             "impacts": rec.impacts,
             "bits": {
                 "e": run.system.e.to_bits(),
-                "m": run.system.m.to_bits(),
+                "mass_inner": run.system.m.to_bits(),
                 "d": run.system.d.to_bits(),
                 "dd": run.spec.dd.to_bits(),
                 "x1": rec.x1.to_bits(),
@@ -85,7 +85,7 @@ fn pyarrow_duckdb_and_polars_read_the_dataset() {
             },
         }));
     }
-    let columns: Vec<String> = store::schema()
+    let columns: Vec<String> = store::points::schema()
         .fields()
         .iter()
         .map(|f| f.name().clone())
