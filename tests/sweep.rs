@@ -6,47 +6,15 @@ use std::path::{Path, PathBuf};
 use std::process::{Command as StdCommand, Stdio};
 use std::time::{Duration, Instant};
 
+mod common;
+
 use assert_cmd::Command;
+use common::{study_text, write_study};
 use impactsweep::store;
 use predicates::prelude::*;
 
 fn bin() -> Command {
     Command::cargo_bin("impactsweep").unwrap()
-}
-
-/// A small study: `n_e` values of `e` × 3 values of `m`, 4 cases (ideal, a clearance change, two
-/// noisy cases).
-fn study_text(name: &str, n_e: usize, chunk_points: u64) -> String {
-    format!(
-        r#"[study]
-name = "{name}"
-seed = 11
-
-[sweep]
-e = {{ start = 0.45, stop = 0.95, num = {n_e} }}
-m = [0.015, 0.02, 0.025]
-
-[noise]
-power = 5e-10
-sample_time = 1e-3
-
-[perturb]
-cases = [
-  {{ dd = 0.001 }},
-  {{ noise_seed = 1 }},
-  {{ dm = -0.001, dd = -0.001, noise_seed = 2 }},
-]
-
-[run]
-chunk_points = {chunk_points}
-"#
-    )
-}
-
-fn write_study(dir: &Path, name: &str, n_e: usize, chunk_points: u64) -> PathBuf {
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, study_text(name, n_e, chunk_points)).unwrap();
-    path
 }
 
 /// Part files by name with their bytes.
