@@ -164,3 +164,104 @@ fn issue_9_a_schema_version_1_dataset_gets_a_clear_message() {
             .and(predicate::str::contains("(mass columns `M` and `m`)")),
     );
 }
+
+/// One documented column: name (possibly a `<axis>` template), type and unit.
+struct DocColumn {
+    name: String,
+    data_type: String,
+    unit: String,
+}
+
+/// The column tables of `docs/schema.md`, by table name (`## points` ...).
+fn documented() -> Vec<(String, Vec<DocColumn>)> {
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/schema.md"))
+        .unwrap();
+    let mut out: Vec<(String, Vec<DocColumn>)> = Vec::new();
+    for line in text.lines() {
+        if let Some(h) = line.strip_prefix("## ") {
+            out.push((h.trim().to_string(), Vec::new()));
+            continue;
+        }
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        // | `name` | type | unit | meaning |
+        if cells.len() == 6
+            && cells[1].starts_with('`')
+            && let Some((_, cols)) = out.last_mut()
+        {
+            cols.push(DocColumn {
+                name: cells[1].trim_matches('`').to_string(),
+                data_type: cells[2].to_string(),
+                unit: if cells[3] == "-" {
+                    String::new()
+                } else {
+                    cells[3].to_string()
+                },
+            });
+        }
+    }
+    out
+}
+
+/// Whether a documented name covers a written column (`<axis>` stands for any system column).
+fn covers(doc: &str, column: &str) -> bool {
+    if !doc.contains("<axis>") {
+        return doc == column;
+    }
+    impactsweep::model::SYSTEM_KEYS
+        .iter()
+        .any(|k| doc.replace("<axis>", schema::column_name(k)) == column)
+}
+
+/// `docs/schema.md` lists every column of every table the tool writes, with the type and unit
+/// the files carry, and nothing else; the names are unique without case.
+#[test]
+fn issue_9_docs_schema_md_matches_every_written_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = run_and_reduce(tmp.path(), "docs");
+    let tradeoff = tmp.path().join("tradeoff.parquet");
+    impactsweep::store::tradeoff::write(&tradeoff, &[]).unwrap();
+    let docs = documented();
+    for (kind, path) in [
+        (TableKind::Points, impactsweep::store::part_path(&dir, 0)),
+        (TableKind::Summary, dir.join("summary.parquet")),
+        (TableKind::Zones, dir.join("zones.parquet")),
+        (TableKind::Jumps, dir.join("jumps.parquet")),
+        (TableKind::Tradeoff, tradeoff),
+    ] {
+        let doc = &docs
+            .iter()
+            .find(|(h, _)| h == kind.name())
+            .unwrap_or_else(|| panic!("docs/schema.md has no section `## {}`", kind.name()))
+            .1;
+        let schema = impactsweep::store::open(&path).unwrap().schema().clone();
+        let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
+        assert!(case_clashes(names.iter().copied()).is_empty(), "{names:?}");
+        for field in schema.fields() {
+            let d = doc
+                .iter()
+                .find(|d| covers(&d.name, field.name()))
+                .unwrap_or_else(|| {
+                    panic!("{}: column `{}` is not in docs/schema.md", kind.name(), field.name())
+                });
+            let mut ty = field.data_type().to_string();
+            if field.is_nullable() {
+                ty.push_str(", nullable");
+            }
+            assert_eq!(d.data_type, ty, "{} `{}`: type", kind.name(), field.name());
+            let unit = &field.metadata()[schema::FIELD_UNIT];
+            if d.name.contains("<axis>") {
+                assert_eq!(d.unit, "unit of the axis");
+            } else {
+                assert_eq!(&d.unit, unit, "{} `{}`: unit", kind.name(), field.name());
+            }
+        }
+        for d in doc {
+            assert!(
+                names.iter().any(|n| covers(&d.name, n)),
+                "{}: docs/schema.md lists `{}`, which the tool does not write",
+                kind.name(),
+                d.name
+            );
+        }
+    }
+}
