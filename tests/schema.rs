@@ -174,8 +174,9 @@ struct DocColumn {
 
 /// The column tables of `docs/schema.md`, by table name (`## points` ...).
 fn documented() -> Vec<(String, Vec<DocColumn>)> {
-    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/schema.md"))
-        .unwrap();
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/schema.md"))
+            .unwrap();
     let mut out: Vec<(String, Vec<DocColumn>)> = Vec::new();
     for line in text.lines() {
         if let Some(h) = line.strip_prefix("## ") {
@@ -241,7 +242,11 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
                 .iter()
                 .find(|d| covers(&d.name, field.name()))
                 .unwrap_or_else(|| {
-                    panic!("{}: column `{}` is not in docs/schema.md", kind.name(), field.name())
+                    panic!(
+                        "{}: column `{}` is not in docs/schema.md",
+                        kind.name(),
+                        field.name()
+                    )
                 });
             let mut ty = field.data_type().to_string();
             if field.is_nullable() {
