@@ -7,7 +7,7 @@
 //! [`sweep`] drives plan → sim → store in parallel; [`app`] holds the commands and [`cli`] the
 //! argument parsing.
 //!
-//! The physics and every equation are in `../shared/spec/model.md`; module docs repeat what
+//! The physics and every equation are in `docs/model.md`; module docs repeat what
 //! each stage needs.
 
 pub mod accuracy;
