@@ -38,7 +38,7 @@
 //! # Files
 //!
 //! [`engine`] (options, the pipeline, [`run_study`]), [`journal`] (the manifest's bookkeeping),
-//! [`lock`] (the shard's writer lock), [`audit`] and [`status`] (what a run directory holds).
+//! [`lock`] (the shard's writer lock), [`audit`] and [`mod@status`] (what a run directory holds).
 //! The manifest type and its file are [`crate::store::manifest`]'s.
 
 pub mod audit;
