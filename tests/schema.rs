@@ -4,7 +4,7 @@
 
 mod common;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 use impactsweep::store::schema::{self, SCHEMA_VERSION, TableKind, case_clashes};
@@ -14,9 +14,10 @@ fn bin() -> Command {
     Command::cargo_bin("impactsweep").unwrap()
 }
 
-/// Runs and reduces the two-axis test study (`e` × `m`); returns its run directory.
-fn run_and_reduce(tmp: &Path, name: &str) -> std::path::PathBuf {
-    let study = common::write_study(tmp, name, 4, 2);
+/// Runs the two-axis test study (`e` × `m`, `n_e` values of `e`) into `tmp/out`; returns the
+/// study file and its run directory.
+fn run(tmp: &Path, name: &str, n_e: usize) -> (PathBuf, PathBuf) {
+    let study = common::write_study(tmp, name, n_e, 2);
     let out = tmp.join("out");
     bin()
         .arg("run")
@@ -26,7 +27,12 @@ fn run_and_reduce(tmp: &Path, name: &str) -> std::path::PathBuf {
         .arg("--quiet")
         .assert()
         .success();
-    let dir = out.join(name);
+    (study, out.join(name))
+}
+
+/// [`run`] with 4 values of `e`, then `reduce`; returns the run directory.
+fn run_and_reduce(tmp: &Path, name: &str) -> PathBuf {
+    let (_, dir) = run(tmp, name, 4);
     bin().arg("reduce").arg(&dir).assert().success();
     dir
 }
@@ -112,17 +118,8 @@ fn issue_9_every_parquet_field_carries_its_unit() {
 #[test]
 fn issue_9_a_schema_version_1_dataset_gets_a_clear_message() {
     let tmp = tempfile::tempdir().unwrap();
-    let study = common::write_study(tmp.path(), "old", 3, 2);
+    let (study, dir) = run(tmp.path(), "old", 3);
     let out = tmp.path().join("out");
-    bin()
-        .arg("run")
-        .arg(&study)
-        .arg("--out")
-        .arg(&out)
-        .arg("--quiet")
-        .assert()
-        .success();
-    let dir = out.join("old");
     common::downgrade_to_v1(&dir);
     let says_what_to_do = || {
         predicate::str::contains("data of schema version 1")

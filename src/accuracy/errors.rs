@@ -70,6 +70,8 @@ pub struct Comparison {
     pub changed_outcome: u64,
     pub changed_impacts: u64,
     pub unfinished: u64,
+    /// Runs compared (the reference's).
+    pub runs: u64,
 }
 
 /// Error statistics of `got` against `truth`, run by run (the `tradeoff` table). Runs whose
@@ -107,6 +109,7 @@ pub fn compare(truth: &[Record], got: &[Observed]) -> Comparison {
         changed_outcome,
         changed_impacts,
         unfinished,
+        runs: truth.len() as u64,
     }
 }
 

@@ -69,27 +69,18 @@ pub fn peer_rows(peer: &PeerFile, reference: &Reference, truth: &[Record]) -> Ve
                 impacts: run.impacts,
             });
         }
-        let c = compare(truth, &got);
-        rows.push(Row {
-            solver: format!("{}-{}", peer.tool, m.method),
-            setting: format!("rtol = {:e}", m.rtol),
-            knob: "rtol".into(),
-            value: m.rtol,
-            atol: m.atol,
-            time_per_run: m.time_per_run_s,
-            cpu_per_run: m.cpu_per_run_s,
-            reps: m.reps,
-            steps_per_run: f64::NAN,
-            xmax: c.xmax,
-            t1: c.t1,
-            di: c.di,
-            impacts: c.impacts,
-            changed_outcome: c.changed_outcome,
-            changed_impacts: c.changed_impacts,
-            unfinished: c.unfinished,
-            runs: truth.len() as u64,
-            cheapest: false,
-        });
+        let mut row = Row::new(
+            format!("{}-{}", peer.tool, m.method),
+            format!("rtol = {:e}", m.rtol),
+            "rtol",
+            m.rtol,
+            &compare(truth, &got),
+        );
+        row.atol = m.atol;
+        row.time_per_run = m.time_per_run_s;
+        row.cpu_per_run = m.cpu_per_run_s;
+        row.reps = m.reps;
+        rows.push(row);
     }
     rows
 }

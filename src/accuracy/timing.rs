@@ -10,7 +10,7 @@
 
 use std::time::Instant;
 
-use super::errors::{ErrorStats, Observed, compare};
+use super::errors::{Comparison, ErrorStats, Observed, compare};
 use super::reference::Reference;
 use crate::numeric::median;
 use crate::sim::{self, NoProbe, Record, SolverKind, SolverSettings};
@@ -57,6 +57,30 @@ impl Row {
         self.changed_outcome == 0 && self.di.max < super::DI_GOAL
     }
 
+    /// A row from what a comparison found, time not yet measured (NaN, `reps` 0).
+    pub fn new(solver: String, setting: String, knob: &str, value: f64, c: &Comparison) -> Row {
+        Row {
+            solver,
+            setting,
+            knob: knob.into(),
+            value,
+            atol: f64::NAN,
+            time_per_run: f64::NAN,
+            cpu_per_run: f64::NAN,
+            reps: 0,
+            steps_per_run: f64::NAN,
+            xmax: c.xmax,
+            t1: c.t1,
+            di: c.di,
+            impacts: c.impacts,
+            changed_outcome: c.changed_outcome,
+            changed_impacts: c.changed_impacts,
+            unfinished: c.unfinished,
+            runs: c.runs,
+            cheapest: false,
+        }
+    }
+
     /// The row of one setting from its records (time not yet measured).
     pub fn of_records(
         truth: &[Record],
@@ -65,33 +89,19 @@ impl Row {
         records: &[Record],
     ) -> Row {
         let got: Vec<Observed> = records.iter().map(Observed::from).collect();
-        let c = compare(truth, &got);
-        let steps =
-            records.iter().map(|r| r.steps as f64).sum::<f64>() / records.len().max(1) as f64;
-        Row {
-            solver: settings.kind.name().into(),
-            setting: setting.into(),
-            knob: settings.kind.knob().into(),
-            value: settings.knob_value(),
-            atol: if settings.kind == SolverKind::Dopri5 {
-                settings.atol
-            } else {
-                f64::NAN
-            },
-            time_per_run: f64::NAN,
-            cpu_per_run: f64::NAN,
-            reps: 0,
-            steps_per_run: steps,
-            xmax: c.xmax,
-            t1: c.t1,
-            di: c.di,
-            impacts: c.impacts,
-            changed_outcome: c.changed_outcome,
-            changed_impacts: c.changed_impacts,
-            unfinished: c.unfinished,
-            runs: truth.len() as u64,
-            cheapest: false,
+        let mut row = Row::new(
+            settings.kind.name().into(),
+            setting.into(),
+            settings.kind.knob(),
+            settings.knob_value(),
+            &compare(truth, &got),
+        );
+        if settings.kind == SolverKind::Dopri5 {
+            row.atol = settings.atol;
         }
+        row.steps_per_run =
+            records.iter().map(|r| r.steps as f64).sum::<f64>() / records.len().max(1) as f64;
+        row
     }
 }
 
