@@ -27,15 +27,8 @@ import time
 import numpy as np
 from scipy.integrate import solve_ivp
 
-TABLE_I = dict(M=0.1, m=0.02, K=400.0, C=0.1, d=0.01, e=0.9, x0=0.0, v0=2.0, y0=0.0, w0=0.0)
-
-
-def impact(M, m, e, v, w):
-    """Eq. 3-4: velocities just after an impact."""
-    total = M + m
-    va = ((M - m * e) * v + m * (1.0 + e) * w) / total
-    wa = (M * (1.0 + e) * v + (m - M * e) * w) / total
-    return va, wa
+# The impact law (eq. 3-4) and the Table I system of the free-decay peer, beside this script.
+from peer_scipy import TABLE_I, impact
 
 
 def simulate(p, F0, omega, n_trans, n_meas, method="DOP853", rtol=1e-12, atol=1e-15,

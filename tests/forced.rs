@@ -3,7 +3,11 @@
 //! orbits, resonance refusal, noise and determinism. Every run is bounded by the solver's caps
 //! (never by a timer) and ends with a named outcome.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
+
+use common::python;
 
 use impactsweep::model::System;
 use impactsweep::sim::noise::NoiseStream;
@@ -190,20 +194,6 @@ fn the_energy_balance_closes_on_a_chaotic_window() {
         "balance {balance:e} of {}",
         rec.energy_force
     );
-}
-
-fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("IMPACTSWEEP_PYTHON") {
-        return PathBuf::from(p);
-    }
-    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
-    assert!(
-        venv.exists(),
-        "no Python for the SciPy cross-check: set IMPACTSWEEP_PYTHON or run \
-         scripts/setup-python.sh (looked for {})",
-        venv.display()
-    );
-    venv
 }
 
 fn scipy(args: &[String]) -> serde_json::Value {
