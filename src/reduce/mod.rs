@@ -391,6 +391,7 @@ pub mod testing {
             name: "synthetic".into(),
             seed: 7,
             request: Request::default(),
+            scene: crate::sim::Scene::Free,
             system: System::TABLE_I,
             axes: axes
                 .into_iter()

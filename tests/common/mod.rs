@@ -22,6 +22,7 @@ pub fn study(name: &str, n_e: usize) -> Study {
         name: name.to_string(),
         seed: 2013,
         request: Request::default(),
+        scene: impactsweep::sim::Scene::Free,
         system: System::TABLE_I,
         axes: vec![
             Axis {
