@@ -166,3 +166,34 @@ fn free_decay_records_are_bit_identical_to_the_golden_digest() {
         got.0, got.1
     );
 }
+
+/// The part files of the bundled free-decay studies, as written by `main` at commit aa2c7ae
+/// (before the harmonic scene reached studies, the store and the engine): the 64-bit FNV-1a of
+/// each part's bytes, in chunk order. Issue 12 gave the store one table per scene; the free-decay
+/// table's bytes must not move. The bytes carry the tool's version (`impactsweep.version`), so a
+/// version bump re-mints these (print them with `impactsweep run ... && grep checksum
+/// OUT/*/manifest.json`), as does any change meant to move free-decay bits (module doc).
+const GOLDEN_PARTS: [(&str, &[&str]); 2] = [
+    (
+        "configs/quick.toml",
+        &["eec2deb2da1bac21", "f2194d18ddf28171", "4e7efda41d58b99d"],
+    ),
+    ("configs/paper.toml", &["81513fe307b759e6"]),
+];
+
+#[test]
+fn issue_12_free_decay_part_files_are_byte_identical() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let tmp = tempfile::tempdir().unwrap();
+    for (file, want) in GOLDEN_PARTS {
+        let study = impactsweep::study::Study::load(&root.join(file)).unwrap();
+        let opts = impactsweep::sweep::SweepOptions::default();
+        let sum = impactsweep::sweep::run_study(&study, tmp.path(), &opts).unwrap();
+        let got: Vec<String> = impactsweep::store::part_files(&sum.dir)
+            .unwrap()
+            .iter()
+            .map(|p| format!("{:016x}", impactsweep::store::checksum_file(p).unwrap()))
+            .collect();
+        assert_eq!(got, want, "{file}: the free-decay part files changed");
+    }
+}

@@ -210,22 +210,54 @@ fn covers(doc: &str, column: &str) -> bool {
         .any(|k| doc.replace("<axis>", schema::column_name(k)) == column)
 }
 
+/// A small harmonic study (issue 12) run into `tmp/out/<name>`; returns its run directory.
+fn run_harmonic(tmp: &Path, name: &str) -> PathBuf {
+    let study = tmp.join(format!("{name}.toml"));
+    std::fs::write(
+        &study,
+        format!(
+            "[study]\nname = \"{name}\"\n[system]\nv0 = 0.0\n[scene]\nkind = \"harmonic\"\n\
+             F0 = 0.3\n[sweep]\nr = [0.9, 1.0, 1.1]\nm = [0.0, 0.02]\n[noise]\npower = 1e-12\n\
+             sample_time = 1e-3\n[perturb]\ncases = [{{ noise_seed = 1 }}]\n"
+        ),
+    )
+    .unwrap();
+    let out = tmp.join("out");
+    bin()
+        .arg("run")
+        .arg(&study)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .assert()
+        .success();
+    out.join(name)
+}
+
 /// `docs/schema.md` lists every column of every table the tool writes, with the type and unit
-/// the files carry, and nothing else; the names are unique without case.
+/// the files carry, and nothing else; the names are unique without case. The harmonic scene's
+/// `forced_points` table too (issue 12).
 #[test]
 fn issue_9_docs_schema_md_matches_every_written_table() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = run_and_reduce(tmp.path(), "docs");
+    let forced = run_harmonic(tmp.path(), "forced");
     let tradeoff = tmp.path().join("tradeoff.parquet");
     impactsweep::store::tradeoff::write(&tradeoff, &[]).unwrap();
     let docs = documented();
     for (kind, path) in [
         (TableKind::Points, impactsweep::store::part_path(&dir, 0)),
+        (
+            TableKind::ForcedPoints,
+            impactsweep::store::part_path(&forced, 0),
+        ),
         (TableKind::Summary, dir.join("summary.parquet")),
         (TableKind::Zones, dir.join("zones.parquet")),
         (TableKind::Jumps, dir.join("jumps.parquet")),
         (TableKind::Tradeoff, tradeoff),
     ] {
+        let meta = impactsweep::store::metadata_of(&impactsweep::store::open(&path).unwrap());
+        assert_eq!(meta[schema::META_TABLE], kind.name(), "{}", path.display());
         let doc = &docs
             .iter()
             .find(|(h, _)| h == kind.name())

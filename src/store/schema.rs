@@ -56,11 +56,33 @@ pub fn system_unit(key: &str) -> Option<&'static str> {
     })
 }
 
+/// The unit of a key a study may sweep: a system key, or the harmonic scene's `F0` (N),
+/// `omega` (rad/s) or `r` (1). Their columns keep the key as the name ([`column_name`]).
+pub fn axis_unit(key: &str) -> Option<&'static str> {
+    system_unit(key).or(match key {
+        "F0" => Some("N"),
+        "omega" => Some("rad/s"),
+        "r" => Some("1"),
+        _ => None,
+    })
+}
+
+/// The key of an axis column (the inverse of [`column_name`] over the sweepable keys).
+pub fn axis_key(column: &str) -> Option<&'static str> {
+    system_key(column).or_else(|| {
+        crate::sim::Harmonic::AXES
+            .into_iter()
+            .find(|k| *k == column)
+    })
+}
+
 /// The tables the tool writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TableKind {
-    /// `points/part-NNNNNN.parquet`: one row per run.
+    /// `points/part-NNNNNN.parquet`: one row per run of a free-decay study.
     Points,
+    /// `points/part-NNNNNN.parquet`: one row per run of a harmonic (forced) study.
+    ForcedPoints,
     /// `summary.parquet`, `summary.csv`: one row per design point.
     Summary,
     /// `zones.parquet`, `zones.csv`: one row per zone.
@@ -72,8 +94,9 @@ pub enum TableKind {
 }
 
 impl TableKind {
-    pub const ALL: [TableKind; 5] = [
+    pub const ALL: [TableKind; 6] = [
         TableKind::Points,
+        TableKind::ForcedPoints,
         TableKind::Summary,
         TableKind::Zones,
         TableKind::Jumps,
@@ -84,6 +107,7 @@ impl TableKind {
     pub fn name(self) -> &'static str {
         match self {
             TableKind::Points => "points",
+            TableKind::ForcedPoints => "forced_points",
             TableKind::Summary => "summary",
             TableKind::Zones => "zones",
             TableKind::Jumps => "jumps",
@@ -103,13 +127,16 @@ pub const UNIT_OF_KNOB: &str = "[knob]";
 /// The unit of `column` in `table`; `None` for a column the contract does not know (the writer
 /// refuses it, so that no column goes undocumented).
 pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
-    if matches!(table, TableKind::Points | TableKind::Summary)
-        && let Some(key) = system_key(column)
+    if matches!(
+        table,
+        TableKind::Points | TableKind::ForcedPoints | TableKind::Summary
+    ) && let Some(key) = system_key(column)
     {
         return system_unit(key);
     }
     match table {
         TableKind::Points => points_unit(column),
+        TableKind::ForcedPoints => forced_points_unit(column),
         TableKind::Summary => summary_unit(column),
         TableKind::Zones => {
             for suffix in ["_from", "_to"] {
@@ -133,6 +160,22 @@ fn points_unit(column: &str) -> Option<&'static str> {
         "h" | "t1" | "t2" | "t_stop" => "s",
         "di" => "m/s",
         "energy_impact" | "energy_viscous" => "J",
+        _ => return None,
+    })
+}
+
+fn forced_points_unit(column: &str) -> Option<&'static str> {
+    Some(match column {
+        "point_id" | "point" | "case" | "ideal" | "noise_seed" | "solver" | "outcome"
+        | "converged" => "",
+        "dm" => "kg",
+        "dd" | "amplitude" | "amplitude_linear" => "m",
+        "tol" | "r" | "impacts_per_period" | "period" | "attenuation" | "n_trans" | "n_meas"
+        | "impacts" | "sticks" | "steps" => "1",
+        "F0" => "N",
+        "omega" => "rad/s",
+        "energy_force" | "energy_viscous" | "energy_impact" => "J",
+        "t_stop" => "s",
         _ => return None,
     })
 }

@@ -16,9 +16,9 @@ use super::lock::{acquire_lock, lock_path};
 use crate::accuracy::Audit;
 use crate::error::InputError;
 use crate::plan::{Plan, RunSpec};
-use crate::sim::{NoProbe, Record, simulate};
-use crate::store::{self, ChunkEntry, Manifest, RunRow, read_manifest};
-use crate::study::Study;
+use crate::sim::{ForcedRecord, Harmonic, NoProbe, Record, Scene, simulate, simulate_harmonic};
+use crate::store::{self, ChunkEntry, Manifest, RunRow, StoredRecord, read_manifest};
+use crate::study::{Study, whole_curves};
 
 /// How to run a study.
 #[derive(Clone, Debug)]
@@ -114,6 +114,25 @@ impl SweepSummary {
     }
 }
 
+/// A scene's record as the engine simulates and stores it: [`Record`] for free decay,
+/// [`ForcedRecord`] for the harmonic scene. The engine picks it from the study's scene.
+pub trait SceneRun: StoredRecord + Send + Sync {
+    /// Simulates one run of the plan.
+    fn simulate(plan: &Plan, run: &RunSpec) -> Self;
+}
+
+impl SceneRun for Record {
+    fn simulate(plan: &Plan, run: &RunSpec) -> Self {
+        simulate_run(plan, run)
+    }
+}
+
+impl SceneRun for ForcedRecord {
+    fn simulate(plan: &Plan, run: &RunSpec) -> Self {
+        simulate_forced_run(plan, run)
+    }
+}
+
 /// Simulates one run: the study's solver and request, the run's noise stream when its case has
 /// noise (no random number is drawn otherwise).
 pub fn simulate_run(plan: &Plan, run: &RunSpec) -> Record {
@@ -136,8 +155,38 @@ pub fn simulate_run(plan: &Plan, run: &RunSpec) -> Record {
     }
 }
 
+/// Simulates one run of a harmonic study: the run's scene (the study's, with the design point's
+/// `F0`, `omega` or `r`; the default harmonic scene if the study is a free-decay one), the study's
+/// solver, the run's noise stream when its case has noise. The study has validated the scene
+/// for every run ([`Harmonic::validate`]).
+pub fn simulate_forced_run(plan: &Plan, run: &RunSpec) -> ForcedRecord {
+    let study = plan.study;
+    let scene = match run.scene {
+        Scene::Harmonic(h) => h,
+        Scene::Free => Harmonic::default(),
+    };
+    match (study.noise.as_ref(), plan.noise_stream(run)) {
+        (Some(ns), Some(mut stream)) => simulate_harmonic(
+            &run.system,
+            &study.solver,
+            &study.request,
+            &scene,
+            Some((ns, &mut stream)),
+            &mut NoProbe,
+        ),
+        _ => simulate_harmonic(
+            &run.system,
+            &study.solver,
+            &study.request,
+            &scene,
+            None,
+            &mut NoProbe,
+        ),
+    }
+}
+
 /// The stored row of a run.
-pub fn run_row(plan: &Plan, run: &RunSpec) -> RunRow {
+pub fn run_row<R: SceneRun>(plan: &Plan, run: &RunSpec) -> RunRow<R> {
     RunRow {
         point_id: run.point_id,
         point: run.point,
@@ -149,13 +198,17 @@ pub fn run_row(plan: &Plan, run: &RunSpec) -> RunRow {
         system: run.system,
         solver: plan.study.solver.kind.name().to_string(),
         tol: plan.study.solver.tol,
-        record: simulate_run(plan, run),
+        record: R::simulate(plan, run),
     }
 }
 
 /// Simulates chunk `k` (in parallel over its runs, on the current rayon pool), in `point_id`
 /// order.
-pub fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> Vec<RunRow> {
+pub fn simulate_chunk<R: SceneRun>(
+    plan: &Plan,
+    k: u64,
+    progress: Option<&ProgressBar>,
+) -> Vec<RunRow<R>> {
     let points = plan.chunk_points(k);
     let n_cases = plan.n_cases();
     (points.start * n_cases..points.end * n_cases)
@@ -191,11 +244,11 @@ pub fn stop_requested() -> bool {
     STOP.load(std::sync::atomic::Ordering::SeqCst)
 }
 
-fn outcome_counts(rows: &[RunRow]) -> BTreeMap<String, u64> {
+fn outcome_counts<R: StoredRecord>(rows: &[RunRow<R>]) -> BTreeMap<String, u64> {
     let mut counts = BTreeMap::new();
     for r in rows {
         *counts
-            .entry(r.record.outcome.name().to_string())
+            .entry(r.record.outcome().name().to_string())
             .or_default() += 1;
     }
     counts
@@ -224,6 +277,7 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
     let start = Instant::now();
     let dir = run_dir(out_root, study);
     check_options(opts)?;
+    check_scene_options(study, opts)?;
 
     // 1. The directory: fresh, resumed, or joined by a sibling shard.
     let (study, fresh_dir) = open_dir(study, &dir, opts)?;
@@ -233,18 +287,17 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
     let fresh = Manifest::new(&plan, study.run.chunk_points);
     journal::record_shard(&dir, &fresh, &format!("{}/{}", opts.shard.0, opts.shard.1))?;
 
-    // 2. What is already done.
-    let (mut pending, kept) = find_done(&plan, &dir, &mine, &fresh)?;
-    if let Some(limit) = opts.stop_after {
-        pending.truncate(limit as usize);
-    }
-
-    // 3. The pipeline: write chunk k while simulating chunk k + 1.
+    // 2. What is already done, and 3. the pipeline, with the scene's record.
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
         .build()
         .context("starting the thread pool")?;
-    let (outcomes, written) = pool.install(|| write_chunks(&plan, &dir, &pending, opts, &fresh))?;
+    let (outcomes, written, kept) = match study.scene {
+        Scene::Free => resume_and_write::<Record>(&plan, &dir, &mine, opts, &fresh, &pool)?,
+        Scene::Harmonic(_) => {
+            resume_and_write::<ForcedRecord>(&plan, &dir, &mine, opts, &fresh, &pool)?
+        }
+    };
     if stop_requested() {
         return Err(crate::error::Interrupted {
             dir: dir.display().to_string(),
@@ -275,6 +328,26 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
     })
 }
 
+/// Finds this shard's finished chunks, then simulates and writes the pending ones (chunk `k`
+/// written while `k + 1` is simulated) on `pool`. Returns the outcome counts of the runs
+/// written, the chunks written and the chunks kept.
+fn resume_and_write<R: SceneRun>(
+    plan: &Plan,
+    dir: &Path,
+    mine: &[u64],
+    opts: &SweepOptions,
+    fresh: &Manifest,
+    pool: &rayon::ThreadPool,
+) -> Result<(BTreeMap<String, u64>, u64, u64)> {
+    let (mut pending, kept) = find_done::<R>(plan, dir, mine, fresh)?;
+    if let Some(limit) = opts.stop_after {
+        pending.truncate(limit as usize);
+    }
+    let (outcomes, written) =
+        pool.install(|| write_chunks::<R>(plan, dir, &pending, opts, fresh))?;
+    Ok((outcomes, written, kept))
+}
+
 /// Refuses impossible options (exit 2).
 fn check_options(opts: &SweepOptions) -> Result<()> {
     let (si, sn) = opts.shard;
@@ -288,6 +361,28 @@ fn check_options(opts: &SweepOptions) -> Result<()> {
     }
     if opts.chunk_points == Some(0) {
         return Err(InputError::new("--chunk-points 0: must be at least 1").into());
+    }
+    Ok(())
+}
+
+/// Refuses options a harmonic study cannot take (exit 2): a chunk size that would cut a
+/// frequency-response curve (the reducer streams whole curves), and the audit (free decay only).
+fn check_scene_options(study: &Study, opts: &SweepOptions) -> Result<()> {
+    if let Scene::Free = study.scene {
+        return Ok(());
+    }
+    if let (Some(c), Some(axis)) = (opts.chunk_points, study.frequency_axis())
+        && let Some(msg) = whole_curves(c, axis)
+    {
+        return Err(InputError::new(format!("--chunk-points {c}: {msg}")).into());
+    }
+    if let Some(k) = opts.audit
+        && k > 0
+    {
+        return Err(InputError::new(format!(
+            "--audit {k}: the accuracy audit re-runs free-decay runs; a harmonic study has none"
+        ))
+        .into());
     }
     Ok(())
 }
@@ -364,7 +459,12 @@ fn claim_dir(
 /// This shard's chunks that are already done, and those still to run. A chunk is done when its
 /// part matches the manifest, or is a readable Parquet file with the chunk's rows (count and
 /// point ids; then recorded). Anything else is removed and redone.
-fn find_done(plan: &Plan, dir: &Path, mine: &[u64], fresh: &Manifest) -> Result<(Vec<u64>, u64)> {
+fn find_done<R: SceneRun>(
+    plan: &Plan,
+    dir: &Path,
+    mine: &[u64],
+    fresh: &Manifest,
+) -> Result<(Vec<u64>, u64)> {
     store::remove_dead_temp_files(dir)?;
     let manifest = read_manifest(dir)?.unwrap_or(fresh.clone());
     let mut pending = Vec::new();
@@ -389,12 +489,12 @@ fn find_done(plan: &Plan, dir: &Path, mine: &[u64], fresh: &Manifest) -> Result<
             continue;
         }
         let first_id = plan.chunk_points(k).start * plan.n_cases();
-        let ids_match = |rows: &[RunRow]| {
+        let ids_match = |rows: &[RunRow<R>]| {
             rows.iter()
                 .enumerate()
                 .all(|(i, r)| r.point_id == first_id + i as u64)
         };
-        match store::read_part(&path) {
+        match store::read_rows::<R>(&path) {
             Ok(rows) if rows.len() as u64 == want_rows && ids_match(&rows) => {
                 let entry = ChunkEntry {
                     chunk: k,
@@ -418,7 +518,7 @@ fn find_done(plan: &Plan, dir: &Path, mine: &[u64], fresh: &Manifest) -> Result<
 /// Simulates and writes the `pending` chunks (on the current rayon pool), chunk `k` written
 /// while `k + 1` is simulated; stops early when a stop is requested. Returns the outcome counts
 /// of the runs written and the number of chunks written.
-fn write_chunks(
+fn write_chunks<R: SceneRun>(
     plan: &Plan,
     dir: &Path,
     pending: &[u64],
@@ -430,7 +530,7 @@ fn write_chunks(
     let pb = progress_bar(opts.progress, pending_runs);
     let mut outcomes = BTreeMap::new();
     let mut written = 0u64;
-    let write = |k: u64, rows: Vec<RunRow>| -> Result<BTreeMap<String, u64>> {
+    let write = |k: u64, rows: Vec<RunRow<R>>| -> Result<BTreeMap<String, u64>> {
         let info = store::write_part(
             &store::part_path(dir, k),
             &rows,
@@ -447,14 +547,14 @@ fn write_chunks(
         journal::record_chunk(dir, fresh, entry)?;
         Ok(counts)
     };
-    let mut prev: Option<(u64, Vec<RunRow>)> = None;
+    let mut prev: Option<(u64, Vec<RunRow<R>>)> = None;
     for &k in pending {
         if stop_requested() {
             break;
         }
         let (done, rows) = rayon::join(
             || prev.take().map(|(pk, rows)| write(pk, rows)).transpose(),
-            || simulate_chunk(plan, k, pb.as_ref()),
+            || simulate_chunk::<R>(plan, k, pb.as_ref()),
         );
         if let Some(counts) = done? {
             merge_counts(&mut outcomes, &counts);

@@ -49,8 +49,8 @@ pub mod status;
 
 pub use audit::{audit_points, run_audit};
 pub use engine::{
-    SweepOptions, SweepSummary, chunk_rows, request_stop, run_dir, run_row, run_study,
-    shard_chunks, simulate_chunk, simulate_run, stop_requested,
+    SceneRun, SweepOptions, SweepSummary, chunk_rows, request_stop, run_dir, run_row, run_study,
+    shard_chunks, simulate_chunk, simulate_forced_run, simulate_run, stop_requested,
 };
 pub use lock::{LockHolder, RunLock, acquire_lock, lock_path, read_lock};
 pub use status::{Status, missing_chunks, outcome_names, ranges, status};
