@@ -56,9 +56,11 @@ pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
         );
     }
     let opts = options(&study, args);
-    let chunks = parts
-        .iter()
-        .map(|p| crate::store::read_part(p).with_context(|| format!("reading {}", p.display())));
+    let chunks = parts.iter().map(|p| {
+        crate::store::read_part(p)
+            .map(|rows| rows.iter().map(reduce::Run::from).collect())
+            .with_context(|| format!("reading {}", p.display()))
+    });
     let summary = reduce::reduce(&study, opts, chunks)?;
     let audit = read_audit(dir)?;
     let files = write_outputs(&study, &summary, dir, audit.as_ref())?;
