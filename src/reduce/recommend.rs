@@ -1,7 +1,8 @@
 //! The recommendation: the best design whose whole neighbourhood is safe, and a warning when the
 //! best designs sit on the edge of the swept range.
 //!
-//! * A design point is **robust** when it is ranked, all its cases ended ok, every point of its neighbourhood (±1 step
+//! * A design point is **robust** when it is ranked, all its cases ended ok, its own class is
+//!   recommended (a stray point merged into a recommended zone is not), every point of its neighbourhood (±1 step
 //!   on every axis: the 3 × 3 × … box around it) is in the dataset and lies in a zone whose
 //!   class is recommended (`strong damping, reliable` or `reliable, weak damping`: R shown at
 //!   or above `r_min`, no jump nearby), and it is not on the edge of an axis of three or more
@@ -52,6 +53,7 @@ pub fn mark_robust(grid: &Grid, points: &mut [PointStats], pos: &[u32], zones: &
         .map(|p| {
             p.rank.is_some()
                 && p.all_ok
+                && p.class.recommended()
                 && (0..grid.n_axes()).all(|a| grid.n(a) < 3 || grid.end(p.point, a).is_none())
                 && grid.neighbourhood(p.point).iter().all(|&q| {
                     let i = pos[q as usize];

@@ -8,7 +8,7 @@ use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::di::{di_source, jump_lines};
+use super::di::{di_source, jump_keys, jump_lines};
 use super::plumbing::{
     BLUE, Chart, GREEN, GREY, Key, LABEL, MANY, Profile, RED_LINE, SMALL, TITLE, axis_desc, err,
     fmt_num, legend_row, minmax, pad, with_headroom, zone_color,
@@ -161,6 +161,7 @@ impl DesignChart<'_> {
                 format!("r_min = {} ({where_})", fmt_num(s.r_min)),
             ));
         }
+        items.extend(jump_keys(pr));
         if has_r {
             legend_row(&keys, (DESIGN_MARGIN + DESIGN_LEFT) as i32, &items)?;
         }
@@ -273,6 +274,7 @@ impl DesignChart<'_> {
             .map_err(err)?
             .set_secondary_coord(x0..x1, d0..d1);
         shade_zones(&mut chart, pr, (m0, m1))?;
+        jump_lines(&mut chart, pr, (m0, m1))?;
         chart
             .configure_mesh()
             .x_desc(axis_desc(key))

@@ -6,8 +6,8 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    Chart, LABEL, MANY, MAX_JUMP_LINES, Profile, RED_LINE, SMALL, TITLE, axis_desc, err, minmax,
-    pad,
+    Chart, Key, LABEL, MANY, MAX_JUMP_LINES, Profile, RED_LINE, SMALL, TITLE, axis_desc, err,
+    minmax, pad,
 };
 use crate::reduce::JumpKind;
 use crate::reduce::table::quantity_of;
@@ -81,6 +81,33 @@ impl Chart for DiChart<'_> {
     }
 }
 
+/// The colour of a step's line and of a kink's (dashed).
+const STEP: RGBColor = RED_LINE;
+const KINK: RGBColor = RGBColor(230, 120, 0);
+
+/// Legend keys for the kinds of jumps on the profile, for charts with legend rows.
+pub fn jump_keys(pr: &Profile) -> Vec<(Key, String)> {
+    let mut out = Vec::new();
+    for kind in [JumpKind::Step, JumpKind::Kink] {
+        let mut names: Vec<&str> = pr
+            .jumps
+            .iter()
+            .filter(|j| j.kind == kind)
+            .map(|j| quantity_of(pr.s, j.quantity).0)
+            .collect();
+        names.dedup();
+        if names.is_empty() {
+            continue;
+        }
+        let key = match kind {
+            JumpKind::Step => Key::Line(STEP),
+            JumpKind::Kink => Key::Dashed(KINK),
+        };
+        out.push((key, format!("{} of {}", kind.name(), names.join(", "))));
+    }
+    out
+}
+
 /// Vertical lines at the jumps of the profile (the largest [`MAX_JUMP_LINES`] by size relative
 /// to their kind's largest), steps solid, kinks dashed, one legend entry per kind and quantity.
 pub fn jump_lines<'a, DB: DrawingBackend + 'a>(
@@ -101,8 +128,8 @@ where
         let x = j.location;
         let (name, _) = quantity_of(pr.s, j.quantity);
         let color = match j.kind {
-            JumpKind::Step => RED_LINE.mix(0.8),
-            JumpKind::Kink => RGBColor(230, 120, 0).mix(0.9),
+            JumpKind::Step => STEP.mix(0.8),
+            JumpKind::Kink => KINK.mix(0.9),
         };
         let style = color.stroke_width(2);
         let series = match j.kind {
