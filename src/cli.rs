@@ -24,7 +24,7 @@ Typical use:
 Exit status: 0 success, 1 failure (I/O, a damaged dataset), 2 bad input (a key, a value or a
 study file; the message names the file, the key, the value and the allowed range), 130 a sweep
 stopped by Ctrl-C or SIGTERM after writing the chunks in hand (continue it with --resume).
-Units are SI everywhere. The model: ../shared/spec/model.md (Afsharfard & Kolahan 2013).";
+Units are SI everywhere. The model: docs/model.md in the source tree (Afsharfard & Kolahan 2013).";
 
 /// Design impact dampers by exploring their design space in parallel.
 #[derive(Parser, Debug)]

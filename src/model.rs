@@ -1,4 +1,4 @@
-//! The physical system of `../shared/spec/model.md` §1: a main mass `M` on a spring `K` and a
+//! The physical system of `docs/model.md` §1: a main mass `M` on a spring `K` and a
 //! viscous damper `C`, with a cavity of total clearance `d` in which a loose inner mass `m`
 //! moves freely. All quantities are SI.
 //!

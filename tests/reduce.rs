@@ -352,9 +352,9 @@ fn two_axes_give_a_map() {
     let dir = keep.as_deref().unwrap_or(tmp.path());
     let files = write_outputs(&s, &sum, dir, None).unwrap();
     for stem in [
-        "perfectibility_map_m_e",
-        "zone_map_m_e",
-        "design_chart_m",
+        "perfectibility_map_mass_inner_e",
+        "zone_map_mass_inner_e",
+        "design_chart_mass_inner",
         "design_chart_e",
     ] {
         assert!(

@@ -152,8 +152,8 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
     );
     // What the chosen setting costs and how wrong it is, measured now on the study's own design
     // points against `exact` at its tightest tolerance (issue 5).
-    let reference = crate::app::tradeoff::Reference::study(study);
-    let q = crate::app::tradeoff::quote_on(&reference, sv);
+    let reference = crate::accuracy::Reference::study(study);
+    let q = crate::accuracy::quote_on(&reference, sv);
     let _ = writeln!(
         w,
         "accuracy:       {} = {}: max relative error against exact (tol 1e-14) DI {:.1e}, xmax {:.1e}, t1 {:.1e}; {} of {} runs changed impact count",

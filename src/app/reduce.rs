@@ -2,8 +2,9 @@
 //!
 //! `reduce RUN_DIR` streams the part files of a run directory through
 //! [`crate::reduce::Reducer`] one at a time (each holds whole design points, so memory stays
-//! O(design points)), then writes into the run directory: `summary.parquet`, `summary.csv`,
-//! `zones.parquet`, `zones.csv`, `jumps.csv`, `report.md` and the charts (SVG and PNG).
+//! O(design points)), then writes into the run directory: `summary`, `zones` and `jumps` as
+//! Parquet and CSV (columns in `docs/schema.md`), `report.md` and the charts (SVG and PNG).
+//! A dataset of another schema version is refused with what to do.
 
 use std::path::{Path, PathBuf};
 
@@ -12,6 +13,7 @@ use anyhow::Context;
 use crate::app::simulate::{Setup, trace};
 use crate::reduce::{self, Options, Summary, table};
 use crate::report::{charts, markdown};
+use crate::store::{self, TableKind};
 use crate::study::{DiSource, SafetyForm, Study};
 
 /// `impactsweep reduce RUN_DIR`.
@@ -47,8 +49,9 @@ pub fn options(study: &Study, args: &ReduceArgs) -> Options {
 
 pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
     let dir = &args.dir;
+    store::manifest::check_dir_version(dir)?;
     let study = Study::load(&dir.join("study.toml"))?;
-    let parts = crate::store::part_files(dir)?;
+    let parts = store::part_files(dir)?;
     if parts.is_empty() {
         anyhow::bail!(
             "{}: no part files in points/: nothing to reduce (has the sweep run?)",
@@ -57,8 +60,8 @@ pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
     }
     let opts = options(&study, args);
     let chunks = parts.iter().map(|p| {
-        crate::store::read_part(p)
-            .map(|rows| rows.iter().map(reduce::Run::from).collect())
+        store::read_part(p)
+            .map(|rows| rows.iter().map(run_of).collect())
             .with_context(|| format!("reading {}", p.display()))
     });
     let summary = reduce::reduce(&study, opts, chunks)?;
@@ -75,6 +78,22 @@ pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
         println!("wrote {}", f.display());
     }
     Ok(())
+}
+
+/// A stored run as the reducer needs it: the store's row converted to the reducer's own, the
+/// free-decay scene's response (`xmax`) picked out.
+pub fn run_of(r: &store::RunRow) -> reduce::Run {
+    reduce::Run {
+        point: r.point,
+        case: r.case,
+        ideal: r.ideal,
+        dm: r.dm,
+        dd: r.dd,
+        noise_seed: r.noise_seed,
+        outcome: r.record.outcome,
+        response: r.record.xmax,
+        di: r.record.di,
+    }
 }
 
 /// The `audit` value of `RUN_DIR/manifest.json`, when the file and the key exist and the value
@@ -100,24 +119,14 @@ pub fn write_outputs(
 ) -> anyhow::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let mut files = Vec::new();
-    let st = table::summary_table(summary);
-    let zt = table::zones_table(summary);
-    let p = dir.join("summary.parquet");
-    crate::store_summary::write_table(&p, "summary", &st)?;
-    files.push(p);
-    let p = dir.join("summary.csv");
-    std::fs::write(&p, st.to_csv()).with_context(|| format!("writing {}", p.display()))?;
-    files.push(p);
-    let p = dir.join("zones.parquet");
-    crate::store_summary::write_table(&p, "zones", &zt)?;
-    files.push(p);
-    let p = dir.join("zones.csv");
-    std::fs::write(&p, zt.to_csv()).with_context(|| format!("writing {}", p.display()))?;
-    files.push(p);
-    let p = dir.join("jumps.csv");
-    std::fs::write(&p, table::jumps_table(summary).to_csv())
-        .with_context(|| format!("writing {}", p.display()))?;
-    files.push(p);
+    for (kind, t) in [
+        (TableKind::Summary, table::summary_table(summary)),
+        (TableKind::Zones, table::zones_table(summary)),
+        (TableKind::Jumps, table::jumps_table(summary)),
+        (TableKind::Sensitivity, table::sensitivity_table(summary)),
+    ] {
+        files.extend(store::summary::write_table(dir, kind, &t)?);
+    }
     let chart_files = charts::summary_charts(summary, dir)?;
     let names: Vec<String> = chart_files
         .iter()

@@ -79,7 +79,12 @@ impl Options {
         Options {
             safety_form: study.reliability.safety_form,
             di_source: study.ranking.di_source,
-            zones: ZoneParams::default(),
+            zones: ZoneParams {
+                min_zone: study.zones.min_zone,
+                step_spread: study.zones.step_spread,
+                kink_slope: study.zones.kink_slope,
+                locate: study.zones.locate,
+            },
             response: Response::XMAX,
         }
     }
@@ -101,23 +106,6 @@ pub struct Run {
     pub response: f64,
     /// Damping inclination (m/s).
     pub di: f64,
-}
-
-// Until the store converts its own rows (issue 10): the store's row to the reducer's.
-impl From<&crate::store::RunRow> for Run {
-    fn from(r: &crate::store::RunRow) -> Run {
-        Run {
-            point: r.point,
-            case: r.case,
-            ideal: r.ideal,
-            dm: r.dm,
-            dd: r.dd,
-            noise_seed: r.noise_seed,
-            outcome: r.record.outcome,
-            response: r.record.xmax,
-            di: r.record.di,
-        }
-    }
 }
 
 /// The response over the ok cases of a design point: mean, SD (N - 1), five-number summary,
@@ -367,9 +355,7 @@ impl<'a> Reducer<'a> {
         }
         let n_ok = ys.len() as u32;
         let (mean, sd) = stats::mean_sd(&ys);
-        let mut sorted = ys.clone();
-        sorted.sort_by(f64::total_cmp);
-        let q = |p: f64| stats::quantile_sorted(&sorted, p);
+        let q = |p: f64| stats::quantile(&ys, p);
         let k = self.stress_per_m;
         // A single run has no spread: SD 0 (`max` maps its NaN SD to 0), a degenerate
         // lognormal whose R is 0 or 1.
@@ -502,11 +488,8 @@ impl<'a> Reducer<'a> {
 }
 
 /// Sensitivity indices of the response's mean, DI, R and perfectibility over the points whose
-/// cases all ended ok; none with fewer than two axes (one axis explains everything).
+/// cases all ended ok (with one axis both are 1: it explains everything).
 fn sensitivities(grid: &Grid, points: &[PointStats], response: &Response) -> Vec<Sensitivity> {
-    if grid.n_axes() < 2 {
-        return Vec::new();
-    }
     type Of = fn(&PointStats) -> f64;
     let quantities: [(String, Of); 4] = [
         (format!("{}_mean", response.name), |p| p.response.mean),
@@ -611,12 +594,7 @@ pub mod testing {
                 bootstrap: 2000,
                 confidence: 0.95,
             },
-            zones: Zones {
-                jump_k: 6.0,
-                r_min: 0.98,
-                di_strong: None,
-                declared: Vec::new(),
-            },
+            zones: Zones::default(),
             ranking: Ranking {
                 wf1: 0.5,
                 wf2: 0.5,

@@ -1,8 +1,11 @@
 //! The reducer's tables as plain columns (summary, zones, jumps, sensitivity): the store writes
-//! them to Parquet and CSV, the report quotes them. No arrow here.
+//! them to Parquet and CSV ([`crate::store::summary`]), the report quotes them. No arrow here.
+//! Axis columns are named by [`column_name`] (the data contract: `M` → `mass_main`, `m` →
+//! `mass_inner`).
 
 use super::{JumpKind, PointStats, Quantity, Summary};
 use crate::sim::Outcome;
+use crate::store::schema::column_name;
 
 /// One column of a table.
 #[derive(Clone, Debug, PartialEq)]
@@ -82,9 +85,9 @@ impl Table {
     }
 }
 
-/// The column of an axis key in the tables.
+/// The column of an axis key in the tables ([`column_name`]: the data contract).
 pub fn axis_column(key: &str) -> String {
-    key.to_string()
+    column_name(key).to_string()
 }
 
 /// One row per design point. Units: SI (m, Pa, m/s); `perfectibility` in %.
@@ -113,7 +116,9 @@ pub fn summary_rows(s: &Summary, p: &[&PointStats]) -> Table {
     t.push(format!("{r}_mean"), f(&|x| x.response.mean));
     t.push(format!("{r}_sd"), f(&|x| x.response.sd));
     t.push(format!("{r}_min"), f(&|x| x.response.min));
+    t.push(format!("{r}_q1"), f(&|x| x.response.q1));
     t.push(format!("{r}_median"), f(&|x| x.response.median));
+    t.push(format!("{r}_q3"), f(&|x| x.response.q3));
     t.push(format!("{r}_max"), f(&|x| x.response.max));
     t.push(format!("{r}_ideal"), f(&|x| x.response.ideal));
     t.push("stress_mean", f(&|x| x.stress.mean));

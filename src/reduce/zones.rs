@@ -84,7 +84,8 @@ impl Class {
     }
 }
 
-/// The settings of zone finding beyond the study's `r_min`, `di_strong` and declared zones.
+/// The settings of zone finding beyond the study's `r_min`, `di_strong` and declared zones
+/// (`[zones]` of the study, see [`crate::study::Zones`] for their defaults and ranges).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ZoneParams {
     /// A region of fewer than this fraction of the design points merges into a neighbour.
@@ -96,17 +97,6 @@ pub struct ZoneParams {
     pub kink_slope: f64,
     /// Jumps are located to this fraction of the grid step.
     pub locate: f64,
-}
-
-impl Default for ZoneParams {
-    fn default() -> Self {
-        ZoneParams {
-            min_zone: 0.02,
-            step_spread: 1.0,
-            kink_slope: 1.5,
-            locate: 0.01,
-        }
-    }
 }
 
 /// What decides the zones.

@@ -1,7 +1,7 @@
 //! The simulator: one system + solver settings + what is asked → one [`Record`].
 //!
 //! A pure function ([`simulate`]): no I/O, no global state, the noise generator passed in.
-//! The physics is `../shared/spec/model.md` §1–3:
+//! The physics is `docs/model.md` §1–3:
 //!
 //! * between impacts the main mass is a free damped oscillator `M x'' + C x' + K x = 0` and the
 //!   inner mass moves at constant velocity (`y'' = 0`), see [`linear`];

@@ -1,7 +1,8 @@
-//! Studies built in Rust for the engine's tests (independent of the study-file parser).
+//! Shared test helpers: studies built in Rust for the engine's tests (independent of the
+//! study-file parser), study files for the binary's tests, and a schema-version-1 dataset.
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use impactsweep::model::System;
 use impactsweep::sim::{NoiseSettings, Request, SolverSettings};
@@ -73,12 +74,7 @@ pub fn study(name: &str, n_e: usize) -> Study {
             bootstrap: 200,
             confidence: 0.95,
         },
-        zones: Zones {
-            jump_k: 6.0,
-            r_min: 0.98,
-            di_strong: None,
-            declared: vec![],
-        },
+        zones: Zones::default(),
         ranking: Ranking {
             wf1: 0.5,
             wf2: 0.5,
@@ -89,4 +85,102 @@ pub fn study(name: &str, n_e: usize) -> Study {
             audit: 0,
         },
     }
+}
+
+/// A small study: `n_e` values of `e` × 3 values of `m`, 4 cases (ideal, a clearance change, two
+/// noisy cases).
+pub fn study_text(name: &str, n_e: usize, chunk_points: u64) -> String {
+    format!(
+        r#"[study]
+name = "{name}"
+seed = 11
+
+[sweep]
+e = {{ start = 0.45, stop = 0.95, num = {n_e} }}
+m = [0.015, 0.02, 0.025]
+
+[noise]
+power = 5e-10
+sample_time = 1e-3
+
+[perturb]
+cases = [
+  {{ dd = 0.001 }},
+  {{ noise_seed = 1 }},
+  {{ dm = -0.001, dd = -0.001, noise_seed = 2 }},
+]
+
+[run]
+chunk_points = {chunk_points}
+"#
+    )
+}
+
+pub fn write_study(dir: &Path, name: &str, n_e: usize, chunk_points: u64) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, study_text(name, n_e, chunk_points)).unwrap();
+    path
+}
+
+/// Turns a run directory written by this build into what impactsweep 0.1.0 (schema version 1)
+/// wrote: the mass columns back to `M` and `m`, `impactsweep.schema_version = 1` in every part
+/// file and in `manifest.json` (issue 9: such a dataset must get a clear message).
+pub fn downgrade_to_v1(run_dir: &Path) {
+    use std::sync::Arc;
+
+    use arrow::datatypes::{Field, Schema};
+    use arrow::record_batch::RecordBatch;
+    use parquet::arrow::ArrowWriter;
+    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+    use parquet::file::metadata::KeyValue;
+    use parquet::file::properties::WriterProperties;
+
+    for path in impactsweep::store::part_files(run_dir).unwrap() {
+        let builder =
+            ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&path).unwrap()).unwrap();
+        let kv: Vec<KeyValue> = builder
+            .metadata()
+            .file_metadata()
+            .key_value_metadata()
+            .unwrap()
+            .iter()
+            .filter(|kv| kv.key.starts_with("impactsweep."))
+            .map(|kv| match kv.key.as_str() {
+                "impactsweep.schema_version" => KeyValue::new(kv.key.clone(), "1".to_string()),
+                _ => kv.clone(),
+            })
+            .collect();
+        let batches: Vec<RecordBatch> = builder.build().unwrap().map(Result::unwrap).collect();
+        let old = batches[0].schema();
+        let fields: Vec<Field> = old
+            .fields()
+            .iter()
+            .map(|f| {
+                let name = match f.name().as_str() {
+                    "mass_main" => "M",
+                    "mass_inner" => "m",
+                    other => other,
+                };
+                Field::new(name, f.data_type().clone(), f.is_nullable())
+            })
+            .collect();
+        let schema = Arc::new(Schema::new(fields));
+        let props = WriterProperties::builder()
+            .set_key_value_metadata(Some(kv))
+            .build();
+        let mut bytes = Vec::new();
+        let mut w = ArrowWriter::try_new(&mut bytes, schema.clone(), Some(props)).unwrap();
+        for b in &batches {
+            w.write(&RecordBatch::try_new(schema.clone(), b.columns().to_vec()).unwrap())
+                .unwrap();
+        }
+        w.close().unwrap();
+        std::fs::write(&path, bytes).unwrap();
+    }
+    let manifest = run_dir.join("manifest.json");
+    let mut m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&manifest).unwrap()).unwrap();
+    m["schema_version"] = 1.into();
+    m["version"] = "0.1.0".into();
+    std::fs::write(&manifest, serde_json::to_string_pretty(&m).unwrap()).unwrap();
 }

@@ -49,11 +49,11 @@ pub fn report(
     if let Some(a) = audit {
         o += &audit::section(a);
     }
-    o += &charts_section(s, charts);
+    o += &charts_section(charts);
     o
 }
 
-fn charts_section(s: &Summary, charts: &[String]) -> String {
+fn charts_section(charts: &[String]) -> String {
     let mut o = String::new();
     if !charts.is_empty() {
         let _ = writeln!(
@@ -64,14 +64,9 @@ fn charts_section(s: &Summary, charts: &[String]) -> String {
             let _ = writeln!(o, "![{c}]({c})\n");
         }
     }
-    let sens = if s.sensitivity.is_empty() {
-        ""
-    } else {
-        ", `sensitivity.parquet`"
-    };
     let _ = writeln!(
         o,
-        "Files: `summary.parquet` (one row per design point), `zones.parquet`, `jumps.parquet`{sens}, each also as CSV; SI units throughout."
+        "Files: `summary.parquet` (one row per design point), `zones.parquet`, `jumps.parquet`, `sensitivity.parquet`, each also as CSV; SI units throughout (every column in impactsweep's `docs/schema.md`)."
     );
     o
 }

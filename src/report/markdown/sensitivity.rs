@@ -6,7 +6,7 @@ use super::{f, thousands};
 use crate::reduce::Summary;
 
 pub fn section(s: &Summary) -> String {
-    if s.sensitivity.is_empty() {
+    if s.sensitivity.is_empty() || s.grid.n_axes() < 2 {
         return String::new();
     }
     let g = &s.grid;
