@@ -7,7 +7,7 @@ use super::{cm, confidence, design, f, ranked, thousands};
 use crate::reduce::grid::End;
 use crate::reduce::recommend::{NotRobust, reasons};
 use crate::reduce::{PointStats, Summary};
-use crate::report::charts::plumbing::{axis_value, fmt_num};
+use crate::report::charts::plumbing::{axis_unit, axis_value, fmt_num};
 
 /// Better-ranked designs listed with the reasons they were passed over, at most.
 const PASSED_OVER: usize = 5;
@@ -160,12 +160,15 @@ fn edges(s: &Summary) -> String {
         } else {
             format!(", including {}", who.join(" and "))
         };
+        let value = match axis_unit(key) {
+            "–" => fmt_num(e.value),
+            u => format!("{} {u}", fmt_num(e.value)),
+        };
         let advice = if e.extendable {
-            format!("extend `{key}` {dir} {}", fmt_num(e.value))
+            format!("extend `{key}` {dir} {value}")
         } else {
             format!(
-                "`{key}` cannot go {dir} {} (the model's range: {})",
-                fmt_num(e.value),
+                "`{key}` cannot go {dir} {value} (the model's range: {})",
                 crate::model::System::allowed(key)
             )
         };
