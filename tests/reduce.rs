@@ -563,23 +563,58 @@ fn paper_safety_form_and_mean_di_are_options() {
 }
 
 #[test]
-fn audit_of_the_manifest_reaches_the_report() {
+fn audit_reaches_the_report_as_a_typed_value() {
+    use impactsweep::accuracy::{Audit, ErrorStats};
     use impactsweep::app::reduce::read_audit;
     let dir = tempfile::tempdir().unwrap();
-    assert_eq!(read_audit(dir.path()).unwrap(), None);
-    std::fs::write(dir.path().join("manifest.json"), r#"{"audit": null}"#).unwrap();
-    assert_eq!(read_audit(dir.path()).unwrap(), None);
-    std::fs::write(
-        dir.path().join("manifest.json"),
-        r#"{"audit": {"points": 4, "max_rel_error_xmax": 1.5e-13}}"#,
-    )
-    .unwrap();
-    let audit = read_audit(dir.path()).unwrap().unwrap();
+    assert!(read_audit(dir.path()).unwrap().is_none());
+    let e = |max: f64| ErrorStats {
+        n: 4,
+        max,
+        median: max / 10.0,
+    };
+    let audit = Audit {
+        points: vec![3, 17, 29, 40],
+        solver: "exact".into(),
+        knob: "tol".into(),
+        knob_value: 1e-12,
+        tol: 1e-12,
+        reference: "exact, tol = 1e-14".into(),
+        xmax: e(1.5e-13),
+        t1: e(2.5e-13),
+        di: e(7.5e-12),
+        outcome_changed: 0,
+        impacts_changed: 1,
+    };
     let s = paper();
     let sum = run(&s, simulate_chunks(&s));
     write_outputs(&s, &sum, dir.path(), Some(&audit)).unwrap();
     let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
-    assert!(md.contains("## Accuracy audit") && md.contains("\"max_rel_error_xmax\": 1.5e-13"));
+    for needle in [
+        "## Accuracy audit",
+        "4 design points (their ideal case) re-run against the reference (exact, tol = 1e-14)",
+        "| xmax | 1.50e-13 | 1.50e-14 | 4 |",
+        "| DI | 7.50e-12 | 7.50e-13 | 4 |",
+        "impact count in 1",
+    ] {
+        assert!(md.contains(needle), "report lacks {needle}");
+    }
+}
+
+#[test]
+fn the_confidence_level_in_the_text_follows_the_study() {
+    let mut s = paper();
+    s.reliability.confidence = 0.9;
+    s.reliability.bootstrap = 200;
+    let sum = run(&s, simulate_chunks(&s));
+    let md = impactsweep::report::markdown::report(&s, &sum, &[], None);
+    assert!(
+        md.contains("90 % interval") && md.contains("90 % confidence"),
+        "{md}"
+    );
+    for stale in ["95 % interval", "95 % confidence", "(95 %)"] {
+        assert!(!md.contains(stale), "{stale} in {md}");
+    }
 }
 
 #[test]

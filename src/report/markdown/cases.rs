@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{MAX_ROWS, cm, confidence, design, f, thousands};
+use super::{MAX_ROWS, cm, confidence, design_text, f, thousands};
 use crate::reduce::Summary;
 use crate::reduce::table::outcome_text;
 use crate::report::charts::plumbing::{axis_unit, fmt_num};
@@ -60,7 +60,7 @@ pub fn nominal(s: &Summary) -> String {
         o,
         "Design point {np}{}, the one nearest the study's base system.\n",
         if s.grid.n_axes() > 0 {
-            format!(" ({})", design(s, *np))
+            format!(" ({})", design_text(s, *np))
         } else {
             String::new()
         }
@@ -136,7 +136,7 @@ pub fn outcomes(s: &Summary) -> String {
             o,
             "- point {} ({}): {} of {} ok; {}",
             p.point,
-            design(s, p.point),
+            design_text(s, p.point),
             p.n_ok,
             p.n_cases,
             outcome_text(&p.outcomes, true)

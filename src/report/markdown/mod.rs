@@ -27,12 +27,12 @@ use super::charts::plumbing::{axis_value, fmt_num};
 pub const MAX_ROWS: usize = 30;
 
 /// The report text. `charts` are file names relative to the run directory; `audit` is the
-/// `audit` value of `manifest.json` when there is one.
+/// run's accuracy audit (`manifest.json`) when there is one.
 pub fn report(
     study: &Study,
     s: &Summary,
     charts: &[String],
-    audit: Option<&serde_json::Value>,
+    audit: Option<&crate::accuracy::Audit>,
 ) -> String {
     let mut o = format!("# impactsweep report: {}\n\n", study.name);
     o += &cases::overview(study, s);
@@ -90,7 +90,7 @@ pub(crate) fn cm(v: f64) -> String {
 }
 
 /// A design point's axis values: `e = 0.5, m = 0.02 kg, d = 0.01 m`.
-pub(crate) fn design(s: &Summary, p: u64) -> String {
+pub fn design_text(s: &Summary, p: u64) -> String {
     (0..s.grid.n_axes())
         .map(|a| axis_value(s.grid.key(a), s.grid.value(p, a)))
         .collect::<Vec<_>>()

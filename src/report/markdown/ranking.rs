@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use super::{MAX_ROWS, cm, confidence, design, f, ranked, thousands};
+use super::{MAX_ROWS, cm, confidence, design_text, f, ranked, thousands};
 use crate::reduce::{PointStats, Summary};
 
 fn head(s: &Summary) -> String {
@@ -17,7 +17,7 @@ fn row(s: &Summary, p: &PointStats) -> String {
     format!(
         "| {} | {} | {} | {} – {} | {} | {} | {} | {} | {} | {} |",
         p.rank.map(|r| r.to_string()).unwrap_or_default(),
-        design(s, p.point),
+        design_text(s, p.point),
         f(p.reliability, 5),
         f(p.reliability_lo, 5),
         f(p.reliability_hi, 5),

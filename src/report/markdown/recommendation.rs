@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{cm, confidence, design, f, ranked, thousands};
+use super::{cm, confidence, design_text, f, ranked, thousands};
 use crate::reduce::grid::End;
 use crate::reduce::recommend::{NotRobust, reasons};
 use crate::reduce::{PointStats, Summary};
@@ -20,7 +20,7 @@ pub fn section(s: &Summary) -> String {
             let _ = writeln!(
                 o,
                 "**{}** (design point {}).\n",
-                design(s, p.point),
+                design_text(s, p.point),
                 p.point
             );
             o += &figures(s, p, ranked.len());
@@ -46,7 +46,7 @@ pub fn section(s: &Summary) -> String {
                         o,
                         "- rank {}, {} (P = {} %): {}",
                         q.rank.unwrap_or(0),
-                        design(s, q.point),
+                        design_text(s, q.point),
                         f(q.perfectibility, 2),
                         why(s, q)
                     );
@@ -72,7 +72,7 @@ pub fn section(s: &Summary) -> String {
                 let _ = writeln!(
                     o,
                     "The best ranked design is {} (design point {}); it is not robust: {}.\n",
-                    design(s, p.point),
+                    design_text(s, p.point),
                     p.point,
                     why(s, p)
                 );
