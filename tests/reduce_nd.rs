@@ -3,8 +3,9 @@
 //! slice), the edge warning appears when the best designs sit on the edge, and the report reads
 //! at the size of configs/overnight.toml (44,541 design points: no table over 30 rows).
 
-use std::collections::BTreeMap;
 use std::path::Path;
+
+mod common;
 
 use impactsweep::app::reduce::write_outputs;
 use impactsweep::reduce::testing::{FnIdeal, paper_study, row, simulate_chunks, study};
@@ -45,16 +46,6 @@ fn three_axes() -> (Study, Summary) {
     )
     .unwrap();
     (s, sum)
-}
-
-/// CSV rows by their first cell (the point index), and the header.
-fn rows_by_point(text: &str) -> (String, BTreeMap<u64, String>) {
-    let mut lines = text.lines();
-    let header = lines.next().unwrap().to_string();
-    let rows = lines
-        .map(|l| (l.split(',').next().unwrap().parse().unwrap(), l.to_string()))
-        .collect();
-    (header, rows)
 }
 
 #[test]
@@ -124,7 +115,6 @@ fn issue_10_a_maps_data_is_the_summary_rows_of_its_slice() {
     let keep = std::env::var_os("IMPACTSWEEP_KEEP_CHARTS").map(|d| Path::new(&d).join("nd"));
     let dir = keep.as_deref().unwrap_or(tmp.path());
     write_outputs(&s, &sum, dir, None).unwrap();
-    let (head, summary) = rows_by_point(&std::fs::read_to_string(dir.join("summary.csv")).unwrap());
     let rec = sum.recommended.unwrap();
     let g = &sum.grid;
     // (stem, the axes the chart varies)
@@ -141,17 +131,16 @@ fn issue_10_a_maps_data_is_the_summary_rows_of_its_slice() {
         ("xmax_spread_e", vec![0]),
     ];
     for (stem, free) in charts {
-        let (h, rows) =
-            rows_by_point(&std::fs::read_to_string(dir.join(format!("{stem}.csv"))).unwrap());
-        assert_eq!(h, head, "{stem}");
+        // Its data: summary rows, the columns it draws.
+        let points = common::chart_rows_are_summary_rows(
+            &dir.join(format!("{stem}.csv")),
+            &dir.join("summary.csv"),
+        );
         // The slice: every point equal to the recommended design on the other axes.
         let slice: Vec<u64> = (0..g.len())
             .filter(|&p| (0..3).all(|a| free.contains(&a) || g.index(p, a) == g.index(rec, a)))
             .collect();
-        assert_eq!(rows.keys().copied().collect::<Vec<_>>(), slice, "{stem}");
-        for (p, line) in &rows {
-            assert_eq!(line, &summary[p], "{stem}: point {p}");
-        }
+        assert_eq!(points, slice, "{stem}");
         // The title names the slice.
         let svg = std::fs::read_to_string(dir.join(format!("{stem}.svg"))).unwrap();
         let fixed: Vec<usize> = (0..3).filter(|a| !free.contains(a)).collect();

@@ -129,8 +129,16 @@ pub fn write_outputs(
 ) -> anyhow::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let mut files = Vec::new();
+    // The summary in batches of points: one batch of columns in memory at a time.
+    let points: Vec<&reduce::PointStats> = summary.points.iter().collect();
+    files.extend(store::summary::write_table_in_batches(
+        dir,
+        TableKind::Summary,
+        points.len(),
+        |r| table::summary_rows(summary, &points[r]),
+    )?);
+    drop(points);
     for (kind, t) in [
-        (TableKind::Summary, table::summary_table(summary)),
         (TableKind::Zones, table::zones_table(summary)),
         (TableKind::Jumps, table::jumps_table(summary)),
         (TableKind::Sensitivity, table::sensitivity_table(summary)),

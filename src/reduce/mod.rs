@@ -307,7 +307,9 @@ impl<'a> Reducer<'a> {
             stress_per_m: 3.0 * rel.E * rel.r / (rel.L * rel.L),
             nominal_point: nominal_point(study),
             nominal: None,
-            points: Vec::new(),
+            // The planned points at once: no doubling of the vector as chunks arrive (pages
+            // of points a partial run never delivers are never touched).
+            points: Vec::with_capacity(usize::try_from(study.n_points()).unwrap_or(0)),
             outcome_totals: [0; 6],
         }
     }

@@ -72,16 +72,55 @@ impl Table {
 
     /// RFC 4180 CSV with a header line.
     pub fn to_csv(&self) -> String {
-        let mut out = String::new();
+        let mut out = Vec::new();
+        // Writing to a Vec cannot fail.
+        let _ = self.write_csv_header(&mut out);
+        let _ = self.write_csv_rows(&mut out);
+        String::from_utf8(out).unwrap_or_default()
+    }
+
+    /// The CSV header line.
+    pub fn write_csv_header(&self, w: &mut impl std::io::Write) -> std::io::Result<()> {
         let names: Vec<&str> = self.columns.iter().map(|c| c.0.as_str()).collect();
-        out.push_str(&names.join(","));
-        out.push('\n');
+        writeln!(w, "{}", names.join(","))
+    }
+
+    /// The CSV lines of every row.
+    pub fn write_csv_rows(&self, w: &mut impl std::io::Write) -> std::io::Result<()> {
         for i in 0..self.n_rows() {
             let row: Vec<String> = self.columns.iter().map(|c| c.1.cell(i)).collect();
-            out.push_str(&row.join(","));
-            out.push('\n');
+            writeln!(w, "{}", row.join(","))?;
         }
-        out
+        Ok(())
+    }
+
+    /// The columns named in `names`, in that order (names not in the table are left out).
+    pub fn select(mut self, names: &[String]) -> Table {
+        let mut columns = Vec::with_capacity(names.len());
+        for n in names {
+            if let Some(i) = self.columns.iter().position(|c| &c.0 == n) {
+                columns.push(self.columns.swap_remove(i));
+            }
+        }
+        Table { columns }
+    }
+
+    /// The rows `range` as a table of the same columns.
+    pub fn rows(&self, range: std::ops::Range<usize>) -> Table {
+        let columns = self
+            .columns
+            .iter()
+            .map(|(name, c)| {
+                let c = match c {
+                    Column::F64(v) => Column::F64(v[range.clone()].to_vec()),
+                    Column::U64(v) => Column::U64(v[range.clone()].to_vec()),
+                    Column::Bool(v) => Column::Bool(v[range.clone()].to_vec()),
+                    Column::Str(v) => Column::Str(v[range.clone()].to_vec()),
+                };
+                (name.clone(), c)
+            })
+            .collect();
+        Table { columns }
     }
 }
 

@@ -1,5 +1,6 @@
 //! Charts, each written as SVG and PNG (plotters) with its data beside it as CSV (same stem):
-//! the summary rows it draws, or the samples of a waveform. The PNG text is drawn with DejaVu
+//! the summary rows it draws with the columns it draws (after `point` and the axes), or the
+//! samples of a waveform. The PNG text is drawn with DejaVu
 //! Sans, embedded in the binary and registered once as `sans-serif`.
 //!
 //! One axis (the paper's figures):
@@ -29,9 +30,9 @@ pub mod waveform;
 use std::path::{Path, PathBuf};
 
 use crate::reduce::Summary;
-use crate::reduce::table::{axis_column, summary_rows};
+use crate::reduce::table::axis_column;
 
-pub use plumbing::{Profile, axis_unit, fmt_num, register_fonts};
+pub use plumbing::{Data, Profile, axis_unit, fmt_num, register_fonts};
 pub use waveform::{Trace, waveforms};
 
 /// Draws every summary chart into `dir`; returns the files written (SVG, PNG and CSV of each).
@@ -44,60 +45,77 @@ pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     if g.n_axes() == 0 {
         return Ok(files);
     }
-    let spread = format!("{}_spread", s.options.response.name);
-    let rows = |pr: &Profile| summary_rows(s, &pr.points);
+    let r = s.options.response.name;
+    let spread = format!("{r}_spread");
+    // The columns each chart draws (its data: these, after point and the axes).
+    let spread_owned: Vec<String> = ["min", "q1", "median", "q3", "max", "ideal"]
+        .iter()
+        .map(|q| format!("{r}_{q}"))
+        .collect();
+    let spread_cols: Vec<&str> = spread_owned.iter().map(String::as_str).collect();
+    let design_cols = [
+        "reliability",
+        "reliability_lo",
+        "reliability_hi",
+        "safety_factor",
+        "di",
+        "class",
+        "zone",
+    ];
     if g.n_axes() == 1 {
         let pr = Profile::new(s, 0, anchor);
-        let data = rows(&pr);
         files.extend(plumbing::render(
             dir,
             "di",
             di::SIZE,
             &di::DiChart(&pr),
-            &data,
+            &Data::Rows(s, &pr.points, &["di"]),
         )?);
         files.extend(plumbing::render(
             dir,
             "design_chart",
             design::SIZE,
             &design::DesignChart(&pr),
-            &data,
+            &Data::Rows(s, &pr.points, &design_cols),
         )?);
         files.extend(plumbing::render(
             dir,
             &spread,
             spread::SIZE,
             &spread::SpreadChart(&pr),
-            &data,
+            &Data::Rows(s, &pr.points, &spread_cols),
         )?);
         return Ok(files);
     }
     let swept: Vec<usize> = (0..g.n_axes()).filter(|&a| g.n(a) >= 2).collect();
     for &a in &swept {
         let pr = Profile::new(s, a, anchor);
-        let data = rows(&pr);
         let key = axis_column(g.key(a));
         files.extend(plumbing::render(
             dir,
             &format!("design_chart_{key}"),
             design::SIZE,
             &design::DesignChart(&pr),
-            &data,
+            &Data::Rows(s, &pr.points, &design_cols),
         )?);
         files.extend(plumbing::render(
             dir,
             &format!("{spread}_{key}"),
             spread::SIZE,
             &spread::SpreadChart(&pr),
-            &data,
+            &Data::Rows(s, &pr.points, &spread_cols),
         )?);
     }
     for (i, &a) in swept.iter().enumerate() {
         for &b in &swept[i + 1..] {
             let pair = format!("{}_{}", axis_column(g.key(a)), axis_column(g.key(b)));
-            for (stem, kind) in [
-                ("perfectibility_map", map::MapKind::Perfectibility),
-                ("zone_map", map::MapKind::Zones),
+            for (stem, kind, columns) in [
+                (
+                    "perfectibility_map",
+                    map::MapKind::Perfectibility,
+                    &["perfectibility", "rank", "robust"][..],
+                ),
+                ("zone_map", map::MapKind::Zones, &["class", "zone"][..]),
             ] {
                 let chart = map::MapChart {
                     s,
@@ -106,7 +124,8 @@ pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
                     through: anchor,
                     kind,
                 };
-                let data = summary_rows(s, &chart.points());
+                let points = chart.points();
+                let data = Data::Rows(s, &points, columns);
                 files.extend(plumbing::render(
                     dir,
                     &format!("{stem}_{pair}"),
@@ -119,7 +138,8 @@ pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     }
     if swept.len() == 3 {
         let chart = multiples::ZoneMultiples::new(s, swept[0], (swept[1], swept[2]), anchor);
-        let data = summary_rows(s, &chart.points());
+        let points = chart.points();
+        let data = Data::Rows(s, &points, &["class", "zone"]);
         files.extend(plumbing::render(
             dir,
             &format!("zone_maps_{}", axis_column(g.key(swept[0]))),

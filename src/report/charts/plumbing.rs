@@ -42,6 +42,32 @@ pub trait Chart {
         DB::ErrorType: 'static;
 }
 
+/// A chart's data: the summary rows of the points it draws with the columns it draws (after
+/// `point` and the axis columns), or a table of its own.
+pub enum Data<'a> {
+    Rows(&'a Summary, &'a [&'a PointStats], &'a [&'a str]),
+    Table(Table),
+}
+
+impl Data<'_> {
+    /// Writes the data as CSV, a batch of rows at a time.
+    fn write(&self, path: &Path) -> anyhow::Result<()> {
+        use crate::reduce::table::{axis_column, summary_rows};
+        use crate::store::summary::write_csv_in_batches;
+        match self {
+            Data::Rows(s, points, columns) => {
+                let mut keep: Vec<String> = vec!["point".into()];
+                keep.extend((0..s.grid.n_axes()).map(|a| axis_column(s.grid.key(a))));
+                keep.extend(columns.iter().map(|c| c.to_string()));
+                write_csv_in_batches(path, points.len(), |r| {
+                    summary_rows(s, &points[r]).select(&keep)
+                })
+            }
+            Data::Table(t) => write_csv_in_batches(path, t.n_rows(), |r| t.rows(r)),
+        }
+    }
+}
+
 /// Writes `<dir>/<stem>.svg`, `<dir>/<stem>.png` and the chart's data `<dir>/<stem>.csv`;
 /// returns the three paths.
 pub fn render<C: Chart>(
@@ -49,7 +75,7 @@ pub fn render<C: Chart>(
     stem: &str,
     size: (u32, u32),
     chart: &C,
-    data: &Table,
+    data: &Data,
 ) -> anyhow::Result<Vec<PathBuf>> {
     register_fonts();
     let svg = dir.join(format!("{stem}.svg"));
@@ -71,7 +97,7 @@ pub fn render<C: Chart>(
             .with_context(|| format!("drawing {}", png.display()))?;
         root.present().map_err(err)?;
     }
-    std::fs::write(&csv, data.to_csv()).with_context(|| format!("writing {}", csv.display()))?;
+    data.write(&csv)?;
     Ok(vec![svg, png, csv])
 }
 
@@ -327,14 +353,16 @@ impl<'a> Profile<'a> {
         self.s.grid.key(self.axis)
     }
 
-    /// `(x, f(point))` where `f` is finite.
+    /// `(x, f(point))` where `f` is finite, thinned for drawing ([`thin`]).
     pub fn series(&self, f: impl Fn(&PointStats) -> f64) -> Vec<(f64, f64)> {
-        self.xs
-            .iter()
-            .zip(&self.points)
-            .map(|(&x, p)| (x, f(p)))
-            .filter(|p| p.1.is_finite())
-            .collect()
+        thin(
+            self.xs
+                .iter()
+                .zip(&self.points)
+                .map(|(&x, p)| (x, f(p)))
+                .filter(|p| p.1.is_finite())
+                .collect(),
+        )
     }
 
     /// Spans of consecutive points in one zone: (from, to, zone), boundaries halfway between
@@ -376,6 +404,35 @@ impl<'a> Profile<'a> {
     }
 }
 
+/// Vertices a drawn line keeps at most: four per pixel of the widest chart.
+pub const MAX_VERTICES: usize = 4000;
+
+/// A line of more than [`MAX_VERTICES`] points thinned for drawing: of each run of consecutive
+/// points (`MAX_VERTICES / 2` runs), its lowest and its highest, in x order, so every spike
+/// stays visible and the drawing does not change at the chart's resolution. The chart's data
+/// (CSV) keeps every point.
+pub fn thin(line: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    let n = line.len();
+    if n <= MAX_VERTICES {
+        return line;
+    }
+    let runs = MAX_VERTICES / 2;
+    let mut out = Vec::with_capacity(MAX_VERTICES);
+    for k in 0..runs {
+        let run = &line[k * n / runs..(k + 1) * n / runs];
+        let lo = run.iter().min_by(|a, b| a.1.total_cmp(&b.1));
+        let hi = run.iter().max_by(|a, b| a.1.total_cmp(&b.1));
+        if let (Some(&lo), Some(&hi)) = (lo, hi) {
+            if lo.0 <= hi.0 {
+                out.extend([lo, hi]);
+            } else {
+                out.extend([hi, lo]);
+            }
+        }
+    }
+    out
+}
+
 /// `text` shortened to `max` characters with an ellipsis.
 pub fn shorten(text: &str, max: usize) -> String {
     if text.chars().count() <= max {
@@ -384,5 +441,24 @@ pub fn shorten(text: &str, max: usize) -> String {
         let mut s: String = text.chars().take(max.saturating_sub(1)).collect();
         s.push('…');
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thinning_keeps_the_spikes_and_bounds_the_vertices() {
+        let mut line: Vec<(f64, f64)> = (0..1_000_000).map(|i| (i as f64, 0.0)).collect();
+        line[123_457].1 = 5.0;
+        line[876_543].1 = -3.0;
+        let t = thin(line);
+        assert!(t.len() <= MAX_VERTICES, "{}", t.len());
+        assert!(t.contains(&(123_457.0, 5.0)) && t.contains(&(876_543.0, -3.0)));
+        assert!(t.windows(2).all(|w| w[0].0 < w[1].0), "x order");
+        // Short lines are drawn as they are.
+        let short: Vec<(f64, f64)> = (0..100).map(|i| (i as f64, i as f64)).collect();
+        assert_eq!(thin(short.clone()), short);
     }
 }

@@ -142,23 +142,16 @@ impl SpreadChart<'_> {
     {
         let pr = self.0;
         let cm = 100.0;
-        let pts: Vec<(f64, &ResponseStats)> = pr
-            .xs
-            .iter()
-            .copied()
-            .zip(pr.points.iter().map(|p| &p.response))
-            .filter(|(_, p)| p.min.is_finite())
-            .collect();
-        let band = |lo: &dyn Fn(&ResponseStats) -> f64, hi: &dyn Fn(&ResponseStats) -> f64| {
-            pts.iter()
-                .map(|(x, p)| (*x, hi(p) * cm))
-                .chain(pts.iter().rev().map(|(x, p)| (*x, lo(p) * cm)))
-                .collect::<Vec<_>>()
+        let line = |f: fn(&ResponseStats) -> f64| pr.series(|p| f(&p.response) * cm);
+        let band = |lo: fn(&ResponseStats) -> f64, hi: fn(&ResponseStats) -> f64| {
+            let mut b = line(hi);
+            b.extend(line(lo).into_iter().rev());
+            b
         };
         let blue = BLUE;
         chart
             .draw_series(std::iter::once(Polygon::new(
-                band(&|p| p.min, &|p| p.max),
+                band(|p| p.min, |p| p.max),
                 blue.mix(0.2).filled(),
             )))
             .map_err(err)?
@@ -168,7 +161,7 @@ impl SpreadChart<'_> {
             });
         chart
             .draw_series(std::iter::once(Polygon::new(
-                band(&|p| p.q1, &|p| p.q3),
+                band(|p| p.q1, |p| p.q3),
                 blue.mix(0.5).filled(),
             )))
             .map_err(err)?
@@ -177,20 +170,12 @@ impl SpreadChart<'_> {
                 Rectangle::new([(x, y - 6), (x + 18, y + 6)], blue.mix(0.5).filled())
             });
         chart
-            .draw_series(LineSeries::new(
-                pts.iter().map(|(x, p)| (*x, p.median * cm)),
-                BLACK.stroke_width(1),
-            ))
+            .draw_series(LineSeries::new(line(|p| p.median), BLACK.stroke_width(1)))
             .map_err(err)?
             .label("median")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK));
         chart
-            .draw_series(LineSeries::new(
-                pts.iter()
-                    .filter(|(_, p)| p.ideal.is_finite())
-                    .map(|(x, p)| (*x, p.ideal * cm)),
-                RED.stroke_width(1),
-            ))
+            .draw_series(LineSeries::new(line(|p| p.ideal), RED.stroke_width(1)))
             .map_err(err)?
             .label("ideal case")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED));

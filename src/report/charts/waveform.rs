@@ -152,6 +152,6 @@ pub fn waveforms(
             traces,
             zoom,
         },
-        &data,
+        &super::plumbing::Data::Table(data),
     )
 }
