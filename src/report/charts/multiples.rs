@@ -96,6 +96,7 @@ impl Chart for ZoneMultiples<'_> {
                     SMALL,
                 )
                 .margin(6)
+                .margin_right(18)
                 .x_label_area_size(34)
                 .y_label_area_size(56)
                 .build_cartesian_2d(eb[0]..eb[eb.len() - 1], ea[0]..ea[ea.len() - 1])
