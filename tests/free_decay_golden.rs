@@ -167,26 +167,77 @@ fn free_decay_records_are_bit_identical_to_the_golden_digest() {
     );
 }
 
-/// The part files of the bundled free-decay studies, as written by `main` at commit aa2c7ae
-/// (before the harmonic scene reached studies, the store and the engine): the 64-bit FNV-1a of
-/// each part's bytes, in chunk order. Issue 12 gave the store one table per scene; the free-decay
-/// table's bytes must not move. The bytes carry the tool's version (`impactsweep.version`), so a
-/// version bump re-mints these (print them with `impactsweep run ... && grep checksum
-/// OUT/*/manifest.json`), as does any change meant to move free-decay bits (module doc).
+/// Two free-decay studies (the quick study's and the paper's design and cases; the study text
+/// lives here, not in `configs/`, because the text is stored in every part and would move the
+/// bytes whenever a comment there changes).
+const GOLDEN_QUICK: &str = r#"[study]
+name = "golden_quick"
+seed = 1
+
+[sweep]
+e = { start = 0.5, stop = 0.9, num = 6 }
+
+[noise]
+power = 5e-10
+sample_time = 1e-3
+
+[perturb]
+cases = [
+  { dd = 0.001 },
+  { dm = -0.001, dd = -0.001 },
+  { noise_seed = 7 },
+]
+
+[run]
+chunk_points = 2
+"#;
+const GOLDEN_PAPER: &str = r#"[study]
+name = "golden_paper"
+seed = 2013
+
+[sweep]
+e = { start = 0.45, stop = 0.95, step = 0.01 }
+
+[noise]
+power = 5e-10
+sample_time = 1e-3
+
+[perturb]
+cases = [
+  { dd = 0.001 },
+  { dd = -0.001 },
+  { noise_seed = 23341 },
+  { noise_seed = 32324 },
+  { noise_seed = 22413 },
+  { noise_seed = 41313 },
+  { noise_seed = 32324 },
+  { dm = 0.001, dd = 0.001, noise_seed = 41313 },
+  { dm = 0.001, dd = -0.001, noise_seed = 22413 },
+  { dm = -0.001, dd = -0.001, noise_seed = 22413 },
+  { dm = -0.001, dd = 0.001, noise_seed = 23341 },
+]
+"#;
+
+/// Their part files as written by `main` at commit aa2c7ae (before the harmonic scene reached
+/// studies, the store and the engine): the 64-bit FNV-1a of each part's bytes, in chunk order.
+/// Issue 12 gave the store one table per scene; the free-decay table's bytes must not move. The
+/// bytes carry the tool's version (`impactsweep.version`), so a version bump re-mints these
+/// (write the two texts to files, `impactsweep run FILE --out OUT` and read the checksums in
+/// `OUT/*/manifest.json`), as does any change meant to move free-decay bits (module doc).
 const GOLDEN_PARTS: [(&str, &[&str]); 2] = [
     (
-        "configs/quick.toml",
-        &["eec2deb2da1bac21", "f2194d18ddf28171", "4e7efda41d58b99d"],
+        GOLDEN_QUICK,
+        &["dd3411a99b601b64", "703955f1f1d6cce8", "0c38194ebd20b344"],
     ),
-    ("configs/paper.toml", &["81513fe307b759e6"]),
+    (GOLDEN_PAPER, &["b2a74afd45af11df"]),
 ];
 
 #[test]
 fn issue_12_free_decay_part_files_are_byte_identical() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let tmp = tempfile::tempdir().unwrap();
-    for (file, want) in GOLDEN_PARTS {
-        let study = impactsweep::study::Study::load(&root.join(file)).unwrap();
+    for (text, want) in GOLDEN_PARTS {
+        let study =
+            impactsweep::study::Study::parse(std::path::Path::new("golden.toml"), text).unwrap();
         let opts = impactsweep::sweep::SweepOptions::default();
         let sum = impactsweep::sweep::run_study(&study, tmp.path(), &opts).unwrap();
         let got: Vec<String> = impactsweep::store::part_files(&sum.dir)
@@ -194,6 +245,10 @@ fn issue_12_free_decay_part_files_are_byte_identical() {
             .iter()
             .map(|p| format!("{:016x}", impactsweep::store::checksum_file(p).unwrap()))
             .collect();
-        assert_eq!(got, want, "{file}: the free-decay part files changed");
+        assert_eq!(
+            got, want,
+            "{}: the free-decay part files changed",
+            study.name
+        );
     }
 }
