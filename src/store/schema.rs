@@ -132,12 +132,16 @@ pub const UNIT_OF_SIZE: &str = "[size_unit]";
 /// The unit of `column` in `table`; `None` for a column the contract does not know (the writer
 /// refuses it, so that no column goes undocumented).
 pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
-    if matches!(
-        table,
-        TableKind::Points | TableKind::ForcedPoints | TableKind::Summary | TableKind::Jumps
-    ) && let Some(key) = system_key(column)
+    if matches!(table, TableKind::Points | TableKind::ForcedPoints)
+        && let Some(key) = system_key(column)
     {
         return system_unit(key);
+    }
+    // A design axis (a harmonic study's `F0` too).
+    if matches!(table, TableKind::Summary | TableKind::Jumps)
+        && let Some(key) = axis_key(column)
+    {
+        return axis_unit(key);
     }
     match table {
         TableKind::Points => points_unit(column),
@@ -145,13 +149,13 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
         TableKind::Summary => summary_unit(column),
         TableKind::Zones => {
             for suffix in ["_from", "_to"] {
-                if let Some(key) = column.strip_suffix(suffix).and_then(system_key) {
-                    return system_unit(key);
+                if let Some(key) = column.strip_suffix(suffix).and_then(axis_key) {
+                    return axis_unit(key);
                 }
             }
             for prefix in ["best_", "rep_"] {
-                if let Some(key) = column.strip_prefix(prefix).and_then(system_key) {
-                    return system_unit(key);
+                if let Some(key) = column.strip_prefix(prefix).and_then(axis_key) {
+                    return axis_unit(key);
                 }
             }
             zones_unit(column)
@@ -204,6 +208,26 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "safety_factor" | "ad_stat" | "ad_p" => "1",
         "di" | "di_ideal" | "di_sd" => "m/s",
         "perfectibility" => "%",
+        // A harmonic study (reduce/forced.rs): the peak amplitude over the band is the
+        // response, the peak reduction the damping quantity; the band of the ideal case.
+        "peak_amplitude_mean"
+        | "peak_amplitude_sd"
+        | "peak_amplitude_min"
+        | "peak_amplitude_q1"
+        | "peak_amplitude_median"
+        | "peak_amplitude_q3"
+        | "peak_amplitude_max"
+        | "peak_amplitude_ideal"
+        | "linear_peak" => "m",
+        "peak_reduction"
+        | "peak_reduction_ideal"
+        | "peak_reduction_sd"
+        | "peak_r"
+        | "linear_peak_r"
+        | "help_r_from"
+        | "help_r_to"
+        | "help_share"
+        | "periodic_share" => "1",
         _ => return None,
     })
 }
@@ -213,6 +237,7 @@ fn zones_unit(column: &str) -> Option<&'static str> {
         "zone" | "label" | "declared" | "best_point" | "rep_point" => "",
         "n_points" | "mean_reliability" => "1",
         "mean_di" => "m/s",
+        "mean_peak_reduction" => "1",
         "perfectibility" => "%",
         _ => return None,
     })

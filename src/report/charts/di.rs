@@ -38,7 +38,13 @@ impl Chart for DiChart<'_> {
         let (y0, y1) = pad(y0.min(0.0), y1, 0.08);
         let mut chart = ChartBuilder::on(root)
             .caption(
-                format!("Damping inclination DI against {}{}", pr.key(), pr.at()),
+                format!(
+                    "{} {} against {}{}",
+                    s.options.damping.title,
+                    s.options.damping.symbol,
+                    pr.key(),
+                    pr.at()
+                ),
                 TITLE,
             )
             .margin(12)
@@ -49,7 +55,7 @@ impl Chart for DiChart<'_> {
         chart
             .configure_mesh()
             .x_desc(axis_desc(pr.key()))
-            .y_desc("DI (m/s)")
+            .y_desc(s.options.damping.label())
             .label_style(SMALL)
             .axis_desc_style(LABEL)
             .light_line_style(RGBColor(235, 235, 235))
@@ -59,7 +65,7 @@ impl Chart for DiChart<'_> {
         chart
             .draw_series(LineSeries::new(di.clone(), blue.stroke_width(2)))
             .map_err(err)?
-            .label(format!("DI ({})", di_source(s)))
+            .label(format!("{} ({})", s.options.damping.symbol, di_source(s)))
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 18, y)], blue.stroke_width(2))
             });
