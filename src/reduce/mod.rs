@@ -788,4 +788,11 @@ mod tests {
             "{md}"
         );
     }
+
+    #[test]
+    fn a_design_point_costs_a_fixed_256_bytes() {
+        // Issue 10: memory grows with design points, never with runs; a point holds no heap
+        // data (its values come from the grid, its zone is an index).
+        assert!(std::mem::size_of::<PointStats>() <= 256);
+    }
 }
