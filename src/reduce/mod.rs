@@ -633,6 +633,16 @@ pub mod testing {
         }
     }
 
+    /// The study simulated ([`simulate_chunks`]) and reduced with its own options, jumps
+    /// located with its own simulator.
+    pub fn reduce_simulated(study: &Study) -> super::Summary {
+        let mut r = super::Reducer::new(study, super::Options::from_study(study));
+        for chunk in simulate_chunks(study) {
+            r.push(chunk);
+        }
+        r.finish()
+    }
+
     /// Runs the simulator over every run of the study's plan, chunk by chunk, as the sweep
     /// engine would store them.
     pub fn simulate_chunks(study: &Study) -> Vec<Vec<Run>> {
