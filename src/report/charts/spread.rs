@@ -1,6 +1,6 @@
 //! The spread of the response over the cases of each design point along one axis: box plots
 //! (min–max whiskers, quartile boxes, median) and the ideal case, or bands above
-//! [`MANY`] points. With several axes it is drawn along each axis through the recommended
+//! [`MANY`] points; the located jumps marked. With several axes it is drawn along each axis through the recommended
 //! design.
 
 use plotters::coord::Shift;
@@ -50,6 +50,7 @@ impl Chart for SpreadChart<'_> {
             (&axis_desc(pr.key()), &format!("{name} (cm)")),
         )?;
         let w = step * 0.35;
+        super::di::jump_lines(&mut chart, pr, (y0, y1))?;
         let box_color = BLUE;
         if pr.points.len() > MANY {
             return self.bands(&mut chart);
