@@ -8,8 +8,8 @@ use std::path::Path;
 mod common;
 
 use impactsweep::app::reduce::write_outputs;
-use impactsweep::reduce::testing::{FnIdeal, paper_study, row, simulate_chunks, study};
-use impactsweep::reduce::{Options, Reducer, Summary, reduce};
+use impactsweep::reduce::testing::{FnIdeal, paper_study, reduce_simulated, row, study};
+use impactsweep::reduce::{Options, Reducer, Summary};
 use impactsweep::sim::Outcome;
 use impactsweep::study::{Axis, Study};
 
@@ -39,12 +39,7 @@ fn three_axes() -> (Study, Summary) {
     ];
     s.run.chunk_points = 100;
     s.reliability.bootstrap = 500;
-    let sum = reduce::<_, std::convert::Infallible>(
-        &s,
-        Options::from_study(&s),
-        simulate_chunks(&s).into_iter().map(Ok),
-    )
-    .unwrap();
+    let sum = reduce_simulated(&s);
     (s, sum)
 }
 

@@ -8,8 +8,8 @@
 //! Cost: 51 + 501 + 5,001 design points x 12 cases = 66,636 runs plus a few dozen extra
 //! simulations, a few seconds on two cores with the test profile's optimisation.
 
-use impactsweep::reduce::testing::{paper_study, simulate_chunks};
-use impactsweep::reduce::{JumpKind, Options, Quantity, Summary, reduce};
+use impactsweep::reduce::testing::{paper_study, reduce_simulated};
+use impactsweep::reduce::{JumpKind, Quantity, Summary};
 use impactsweep::study::Study;
 
 fn paper_at(step: f64) -> (Study, Summary) {
@@ -18,12 +18,7 @@ fn paper_at(step: f64) -> (Study, Summary) {
     // From the index, never accumulated (the study's own linspace rule).
     s.axes[0].values = (0..=n).map(|i| 0.45 + 0.5 * i as f64 / n as f64).collect();
     s.run.chunk_points = 1000;
-    let sum = reduce::<_, std::convert::Infallible>(
-        &s,
-        Options::from_study(&s),
-        simulate_chunks(&s).into_iter().map(Ok),
-    )
-    .unwrap();
+    let sum = reduce_simulated(&s);
     (s, sum)
 }
 

@@ -684,6 +684,16 @@ pub mod testing {
         }
     }
 
+    /// The study simulated ([`simulate_chunks`]) and reduced with its own options, jumps
+    /// located with its own simulator.
+    pub fn reduce_simulated(study: &Study) -> super::Summary {
+        let mut r = super::Reducer::new(study, super::Options::from_study(study));
+        for chunk in simulate_chunks(study) {
+            r.push(chunk);
+        }
+        r.finish()
+    }
+
     /// Runs the simulator over every run of the study's plan, chunk by chunk, as the sweep
     /// engine would store them.
     pub fn simulate_chunks(study: &Study) -> Vec<Vec<Run>> {
@@ -838,5 +848,12 @@ mod tests {
             md.contains("3 of 4 design points") && md.contains("incomplete"),
             "{md}"
         );
+    }
+
+    #[test]
+    fn a_design_point_costs_a_fixed_256_bytes() {
+        // Issue 10: memory grows with design points, never with runs; a point holds no heap
+        // data (its values come from the grid, its zone is an index).
+        assert!(std::mem::size_of::<PointStats>() <= 256);
     }
 }

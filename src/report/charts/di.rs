@@ -6,8 +6,8 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    Chart, Key, LABEL, MANY, MAX_JUMP_LINES, Profile, RED_LINE, SMALL, TITLE, axis_desc, err,
-    minmax, pad,
+    Chart, Key, MANY, MAX_JUMP_LINES, Profile, RED_LINE, TITLE, axis_desc, err, minmax, pad,
+    series_legend, xy_chart,
 };
 use crate::reduce::JumpKind;
 use crate::reduce::table::quantity_of;
@@ -36,31 +36,14 @@ impl Chart for DiChart<'_> {
         let di = pr.series(|p| p.di);
         let (y0, y1) = minmax(di.iter().map(|p| p.1));
         let (y0, y1) = pad(y0.min(0.0), y1, 0.08);
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                format!(
-                    "{} {} against {}{}",
-                    s.options.damping.title,
-                    s.options.damping.symbol,
-                    pr.key(),
-                    pr.at()
-                ),
-                TITLE,
-            )
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(72)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc(axis_desc(pr.key()))
-            .y_desc(s.options.damping.label())
-            .label_style(SMALL)
-            .axis_desc_style(LABEL)
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(err)?;
+        let d = &s.options.damping;
+        let title = format!("{} {} against {}{}", d.title, d.symbol, pr.key(), pr.at());
+        let mut chart = xy_chart(
+            root,
+            (&title, TITLE),
+            (x0..x1, y0..y1),
+            (&axis_desc(pr.key()), &d.label()),
+        )?;
         let blue = super::plumbing::BLUE;
         chart
             .draw_series(LineSeries::new(di.clone(), blue.stroke_width(2)))
@@ -75,14 +58,7 @@ impl Chart for DiChart<'_> {
                 .map_err(err)?;
         }
         jump_lines(&mut chart, pr, (y0, y1))?;
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font(SMALL)
-            .draw()
-            .map_err(err)?;
+        series_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         Ok(())
     }
 }

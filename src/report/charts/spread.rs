@@ -1,6 +1,6 @@
 //! The spread of the response over the cases of each design point along one axis: box plots
 //! (min–max whiskers, quartile boxes, median) and the ideal case, or bands above
-//! [`MANY`] points. With several axes it is drawn along each axis through the recommended
+//! [`MANY`] points; the located jumps marked. With several axes it is drawn along each axis through the recommended
 //! design.
 
 use plotters::coord::Shift;
@@ -8,7 +8,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    BLUE, Chart, LABEL, MANY, Profile, SMALL, TITLE, axis_desc, err, minmax, pad,
+    BLUE, Chart, MANY, Profile, TITLE, axis_desc, err, minmax, pad, series_legend, xy_chart,
 };
 use crate::reduce::ResponseStats;
 
@@ -38,30 +38,19 @@ impl Chart for SpreadChart<'_> {
                 .flat_map(|p| [p.response.min * cm, p.response.max * cm]),
         );
         let (y0, y1) = pad(y0, y1, 0.08);
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                format!(
-                    "Spread of {name} over the cases along {}{}",
-                    pr.key(),
-                    pr.at()
-                ),
-                TITLE,
-            )
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(72)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc(axis_desc(pr.key()))
-            .y_desc(format!("{name} (cm)"))
-            .label_style(SMALL)
-            .axis_desc_style(LABEL)
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(err)?;
+        let title = format!(
+            "Spread of {name} over the cases along {}{}",
+            pr.key(),
+            pr.at()
+        );
+        let mut chart = xy_chart(
+            root,
+            (&title, TITLE),
+            (x0..x1, y0..y1),
+            (&axis_desc(pr.key()), &format!("{name} (cm)")),
+        )?;
         let w = step * 0.35;
+        super::di::jump_lines(&mut chart, pr, (y0, y1))?;
         let box_color = BLUE;
         if pr.points.len() > MANY {
             return self.bands(&mut chart);
@@ -119,14 +108,7 @@ impl Chart for SpreadChart<'_> {
             }
             first = false;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font(SMALL)
-            .draw()
-            .map_err(err)?;
+        series_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
         Ok(())
     }
 }
@@ -179,14 +161,7 @@ impl SpreadChart<'_> {
             .map_err(err)?
             .label("ideal case")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED));
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font(SMALL)
-            .draw()
-            .map_err(err)?;
+        series_legend(chart, SeriesLabelPosition::UpperLeft)?;
         Ok(())
     }
 }

@@ -7,7 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    BLUE, Chart, GREEN, LABEL, RED_LINE, SMALL, TITLE, err, minmax, pad, render,
+    BLUE, Chart, GREEN, LABEL, RED_LINE, TITLE, err, minmax, pad, render, series_legend, xy_chart,
 };
 use crate::reduce::table::{Column, Table};
 
@@ -49,22 +49,12 @@ impl WaveChart<'_> {
                 .map(|p| p.1 * 100.0)
         }));
         let (y0, y1) = pad(y0, y1, 0.06);
-        let mut chart = ChartBuilder::on(area)
-            .caption(title, if window.is_some() { LABEL } else { TITLE })
-            .margin(12)
-            .x_label_area_size(44)
-            .y_label_area_size(64)
-            .build_cartesian_2d(t0..t1, y0..y1)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("time t (s)")
-            .y_desc("main-mass displacement x (cm)")
-            .label_style(SMALL)
-            .axis_desc_style(LABEL)
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(err)?;
+        let mut chart = xy_chart(
+            area,
+            (title, if window.is_some() { LABEL } else { TITLE }),
+            (t0..t1, y0..y1),
+            ("time t (s)", "main-mass displacement x (cm)"),
+        )?;
         let colors = [BLUE, RED_LINE, GREEN];
         for (i, tr) in self.traces.iter().enumerate() {
             let c = colors[i % colors.len()];
@@ -82,14 +72,7 @@ impl WaveChart<'_> {
                     PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
                 });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font(SMALL)
-            .draw()
-            .map_err(err)?;
+        series_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         Ok(())
     }
 }

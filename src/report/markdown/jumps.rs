@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{MAX_ROWS, f, thousands};
+use super::{MAX_ROWS, count, f, thousands};
 use crate::reduce::stats::median;
 use crate::reduce::table::{per_axis_unit, quantity_of};
 use crate::reduce::{Jump, JumpKind, Quantity, Summary};
@@ -43,11 +43,11 @@ pub fn section(s: &Summary) -> String {
     );
     let _ = writeln!(
         o,
-        "{} candidates, {} extra simulations: {} jumps located, {} smooth stretches dropped{}.\n",
-        thousands(st.candidates as u64),
-        thousands(st.sims),
-        thousands(s.jumps.len() as u64),
-        thousands(st.dropped as u64),
+        "{}, {}: {} located, {} dropped{}.\n",
+        count(st.candidates as u64, "candidate", "candidates"),
+        count(st.sims, "extra simulation", "extra simulations"),
+        count(s.jumps.len() as u64, "jump", "jumps"),
+        count(st.dropped as u64, "smooth stretch", "smooth stretches"),
         if st.failed > 0 {
             format!(
                 ", {} not followed (a simulation inside did not end ok)",

@@ -123,6 +123,15 @@ pub(crate) fn ranked(s: &Summary) -> Vec<&PointStats> {
     r
 }
 
+/// `1 jump`, `3 jumps`, `1,247 jumps`: a count and its noun (`plural` when not 1).
+pub(crate) fn count(n: u64, noun: &str, plural: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{} {plural}", thousands(n))
+    }
+}
+
 /// `1,247,148`.
 pub(crate) fn thousands(n: u64) -> String {
     let digits = n.to_string();

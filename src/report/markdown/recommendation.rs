@@ -175,10 +175,11 @@ fn edges(s: &Summary) -> String {
         };
         let _ = writeln!(
             o,
-            "- {} is the {side} end of `{key}`: {} of the top {} designs sit there{who}. {}{}.",
+            "- {} is the {side} end of `{key}`: {} of the top {} designs {} there{who}. {}{}.",
             axis_value(key, e.value),
             e.n_top,
             e.top,
+            if e.n_top == 1 { "sits" } else { "sit" },
             advice[..1].to_uppercase(),
             &advice[1..]
         );

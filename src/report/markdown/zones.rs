@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{MAX_ROWS, f, thousands};
+use super::{MAX_ROWS, count, f, thousands};
 use crate::reduce::{Class, Summary, Zone};
 use crate::report::charts::plumbing::fmt_num;
 
@@ -17,12 +17,22 @@ pub fn section(s: &Summary) -> String {
             "Zones declared in the study (they override the automatic ones; a point belongs to the first declared zone whose range holds it).\n"
         );
     } else {
+        let merge = if s.min_zone_points > 1 {
+            format!(
+                "a region of fewer than {} points ({} % of the design points) is merged into the neighbouring region it shares the most boundary with, except regions around a jump or without data",
+                s.min_zone_points,
+                fmt_num(100.0 * s.options.zones.min_zone)
+            )
+        } else {
+            format!(
+                "no region is merged ({} % of the design points is less than two points)",
+                fmt_num(100.0 * s.options.zones.min_zone)
+            )
+        };
         let _ = writeln!(
             o,
-            "Each zone is one connected region of design points of one class (neighbours differ by one step along one axis); a region of fewer than {} points ({} % of the design points) is merged into the neighbouring region it shares the most boundary with, except regions around a jump or without data. {} zones.\n",
-            s.min_zone_points,
-            fmt_num(100.0 * s.options.zones.min_zone),
-            s.zones.len()
+            "Each zone is one connected region of design points of one class (neighbours differ by one step along one axis); {merge}. {}.\n",
+            count(s.zones.len() as u64, "zone", "zones")
         );
     }
     if !declared && g.n_axes() >= 2 {
