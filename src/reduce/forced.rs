@@ -99,7 +99,17 @@ impl CurvePoint {
     fn ok(&self) -> bool {
         self.outcome == Outcome::Ok
     }
+
+    /// The damper helps at this frequency: `attenuation < 1 - HELP_TOL` (an ok run).
+    pub fn helps(&self) -> bool {
+        self.ok() && self.attenuation < 1.0 - HELP_TOL
+    }
 }
+
+/// The damper helps where `attenuation < 1 - HELP_TOL`: a motion that never reaches the walls
+/// has `attenuation = 1` only to the simulator's accuracy (1e-9 relative, tests/forced.rs), and
+/// must not count as helping.
+pub const HELP_TOL: f64 = 1e-6;
 
 /// The band around the linear system's resonance where the damper helps (`attenuation < 1`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -152,11 +162,11 @@ impl Curve {
     }
 
     /// The band where the damper helps: the swept frequencies around the linear system's peak
-    /// with `attenuation < 1` (ok runs), its limits interpolated where the attenuation crosses
-    /// 1. `None` when the damper does not help at the linear peak.
+    /// where it helps ([`CurvePoint::helps`]), its limits interpolated where the attenuation
+    /// crosses 1. `None` when the damper does not help at the linear peak.
     pub fn help_band(&self) -> Option<HelpBand> {
         let pts = &self.points;
-        let helps = |i: usize| pts[i].ok() && pts[i].attenuation < 1.0;
+        let helps = |i: usize| pts[i].helps();
         let (_, r_lin) = self.linear_peak();
         let k = pts.iter().position(|p| p.r == r_lin)?;
         if !helps(k) {
@@ -191,9 +201,9 @@ impl Curve {
         })
     }
 
-    /// The share of the band's frequencies where the damper helps (`attenuation < 1`).
+    /// The share of the band's frequencies where the damper helps ([`CurvePoint::helps`]).
     pub fn help_share(&self) -> f64 {
-        self.share(|p| p.ok() && p.attenuation < 1.0)
+        self.share(CurvePoint::helps)
     }
 
     /// The share of the band's frequencies whose steady state is periodic (`period >= 1`).

@@ -6,11 +6,12 @@
 //! when none is robust) along one design axis, at most [`MAX_CURVES`] of them spread evenly
 //! along it; with no design axis, the one curve. Every curve is the ideal case's (noise-free,
 //! unperturbed). Filled markers are periodic steady states (`period` 1 to 8), hollow ones are
-//! not (`period = 0`: quasi-periodic, chaotic or not converged). The y axis of the frequency
-//! response is logarithmic: the linear system's resonance peak is tens of times the damped
-//! amplitudes.
+//! not (`period = 0`: quasi-periodic, chaotic or not converged). The amplitude axis is linear
+//! from 0, or logarithmic when the linear system's resonance peak is more than [`LOG_RATIO`]
+//! times the smallest damped peak (lightly damped systems with an effective damper).
 
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::plumbing::{
@@ -22,6 +23,9 @@ use crate::reduce::{Grid, Summary};
 
 /// Curves drawn at most in one chart.
 pub const MAX_CURVES: usize = 8;
+/// A logarithmic amplitude axis above this ratio of the largest amplitude to the smallest
+/// design peak ([`Row::log_scale`]).
+pub const LOG_RATIO: f64 = 20.0;
 /// Above this many frequencies per curve, no markers.
 const MAX_MARKERS: usize = 200;
 
@@ -115,6 +119,21 @@ impl<'a> Row<'a> {
         } else {
             "frequency ratio r = omega / sqrt(K/M) (–)".to_string()
         }
+    }
+
+    /// Whether the amplitude axis is logarithmic: when the largest amplitude drawn (the linear
+    /// system's resonance, usually) is more than [`LOG_RATIO`] times the smallest design peak, a
+    /// linear axis would flatten the damped curves onto the floor.
+    pub fn log_scale(&self) -> bool {
+        let peaks = self.curves.iter().map(|c| c.peak().0);
+        let (lo, _) = minmax(peaks);
+        let (_, hi) = minmax(self.curves.iter().flat_map(|c| {
+            c.points
+                .iter()
+                .flat_map(|p| [p.amplitude, p.linear])
+                .collect::<Vec<_>>()
+        }));
+        lo > 0.0 && hi / lo > LOG_RATIO
     }
 
     /// Whether every curve has the same linear system (then it is drawn once).
@@ -245,7 +264,6 @@ impl Chart for FrequencyResponse<'_> {
         DB::ErrorType: 'static,
     {
         let row = self.0;
-        let cm = 100.0;
         let (title, rest) = root.split_vertically(40);
         let (keys, plot) = rest.split_vertically(34);
         title
@@ -256,65 +274,99 @@ impl Chart for FrequencyResponse<'_> {
             .map_err(err)?;
         legend(&keys, row, true)?;
         let (x0, x1) = row.x_range();
-        let (y0, y1) = minmax(row.curves.iter().flat_map(|c| {
+        let (lo, hi) = minmax(row.curves.iter().flat_map(|c| {
             c.points
                 .iter()
-                .flat_map(|p| [p.amplitude * cm, p.linear * cm])
+                .flat_map(|p| [p.amplitude * CM, p.linear * CM])
                 .filter(|v| *v > 0.0)
         }));
-        let (y0, y1) = if y1 > y0 && y0 > 0.0 {
-            (y0 / 1.5, y1 * 1.5)
-        } else {
-            (1e-3, 1.0)
+        let builder = |area| {
+            let mut b = ChartBuilder::on(area);
+            b.margin(12)
+                .margin_top(4)
+                .x_label_area_size(48)
+                .y_label_area_size(80);
+            b
         };
-        let mut chart = ChartBuilder::on(&plot)
-            .margin(12)
-            .margin_top(4)
-            .x_label_area_size(48)
-            .y_label_area_size(80)
-            .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc(row.x_desc())
-            .y_desc("steady amplitude (cm), log scale")
-            .y_label_formatter(&|v: &f64| fmt_num(*v))
-            .label_style(SMALL)
-            .axis_desc_style(LABEL)
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(err)?;
-        let one = row.one_linear();
-        for (i, c) in row.curves.iter().enumerate() {
-            let xs = row.xs(c);
-            if i == 0 || !one {
-                let lc = if one { BLACK } else { color(i) };
-                let lin: Vec<(f64, f64)> = xs
-                    .iter()
-                    .zip(&c.points)
-                    .map(|(&x, p)| (x, p.linear * cm))
-                    .filter(|p| p.1 > 0.0)
-                    .collect();
-                chart
-                    .draw_series(DashedLineSeries::new(lin, 6, 4, lc.stroke_width(2)))
-                    .map_err(err)?;
-            }
-            let pts: Vec<(f64, f64, bool)> = xs
+        if row.log_scale() && lo > 0.0 && hi > lo {
+            let mut chart = builder(&plot)
+                .build_cartesian_2d(x0..x1, (lo / 1.5..hi * 1.5).log_scale())
+                .map_err(err)?;
+            chart
+                .configure_mesh()
+                .x_desc(row.x_desc())
+                .y_desc("steady amplitude (cm), log scale")
+                .y_labels(8)
+                .y_label_formatter(&|v: &f64| fmt_num(*v))
+                .label_style(SMALL)
+                .axis_desc_style(LABEL)
+                .light_line_style(TRANSPARENT)
+                .draw()
+                .map_err(err)?;
+            curves(&mut chart, row)
+        } else {
+            let top = if hi.is_finite() { hi * 1.08 } else { 1.0 };
+            let mut chart = builder(&plot)
+                .build_cartesian_2d(x0..x1, 0.0..top)
+                .map_err(err)?;
+            chart
+                .configure_mesh()
+                .x_desc(row.x_desc())
+                .y_desc("steady amplitude (cm)")
+                .y_label_formatter(&|v: &f64| fmt_num(*v))
+                .label_style(SMALL)
+                .axis_desc_style(LABEL)
+                .light_line_style(RGBColor(235, 235, 235))
+                .draw()
+                .map_err(err)?;
+            curves(&mut chart, row)
+        }
+    }
+}
+
+/// Metres to centimetres.
+const CM: f64 = 100.0;
+
+/// Draws the curves of `row` (amplitude in cm) and the linear system, on a linear or a
+/// logarithmic y axis.
+fn curves<DB: DrawingBackend, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, Y>>,
+    row: &Row,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+    Y: plotters::coord::ranged1d::Ranged<ValueType = f64>,
+{
+    let one = row.one_linear();
+    for (i, c) in row.curves.iter().enumerate() {
+        let xs = row.xs(c);
+        if i == 0 || !one {
+            let lc = if one { BLACK } else { color(i) };
+            let lin: Vec<(f64, f64)> = xs
                 .iter()
                 .zip(&c.points)
-                .filter(|(_, p)| p.amplitude > 0.0 && p.amplitude.is_finite())
-                .map(|(&x, p)| (x, p.amplitude * cm, p.period >= 1))
+                .map(|(&x, p)| (x, p.linear * CM))
+                .filter(|p| p.1 > 0.0)
                 .collect();
             chart
-                .draw_series(LineSeries::new(
-                    pts.iter().map(|&(x, y, _)| (x, y)),
-                    color(i).stroke_width(2),
-                ))
+                .draw_series(DashedLineSeries::new(lin, 6, 4, lc.stroke_width(2)))
                 .map_err(err)?;
-            markers(&mut chart, &pts, color(i))?;
         }
-        Ok(())
+        let pts: Vec<(f64, f64, bool)> = xs
+            .iter()
+            .zip(&c.points)
+            .filter(|(_, p)| p.amplitude > 0.0 && p.amplitude.is_finite())
+            .map(|(&x, p)| (x, p.amplitude * CM, p.period >= 1))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter().map(|&(x, y, _)| (x, y)),
+                color(i).stroke_width(2),
+            ))
+            .map_err(err)?;
+        markers(chart, &pts, color(i))?;
     }
+    Ok(())
 }
 
 /// Impacts per forcing period (top) and the period of the steady state (bottom) against the
