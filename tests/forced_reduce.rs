@@ -60,16 +60,7 @@ chunk_points = {chunk_points}
 fn run_and_reduce(tmp: &Path, name: &str, chunk_points: u64) -> PathBuf {
     let study = tmp.join(format!("{name}.toml"));
     std::fs::write(&study, study_text(name, chunk_points)).unwrap();
-    let out = tmp.join("out");
-    bin()
-        .arg("run")
-        .arg(&study)
-        .arg("--out")
-        .arg(&out)
-        .arg("--quiet")
-        .assert()
-        .success();
-    let dir = out.join(name);
+    let dir = common::run_study_file(&study, &tmp.join("out"), name);
     bin().arg("reduce").arg(&dir).assert().success();
     dir
 }

@@ -4,6 +4,8 @@
 //! whole frequency-response curves, and records bit-identical whatever the threads, chunks,
 //! shards or interruptions.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
@@ -127,16 +129,7 @@ fn part_bytes(dir: &Path) -> Vec<Vec<u8>> {
 fn issue_12_a_harmonic_study_records_the_forced_outputs_of_every_run() {
     let tmp = tempfile::tempdir().unwrap();
     let study = write_study(tmp.path(), "fr");
-    let out = tmp.path().join("out");
-    bin()
-        .arg("run")
-        .arg(&study)
-        .arg("--out")
-        .arg(&out)
-        .arg("--quiet")
-        .assert()
-        .success();
-    let dir = out.join("fr");
+    let dir = common::run_study_file(&study, &tmp.path().join("out"), "fr");
     let part = store::part_path(&dir, 0);
     let meta = store::part_metadata(&part).unwrap();
     assert_eq!(meta[schema::META_TABLE], "forced_points");

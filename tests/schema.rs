@@ -223,16 +223,7 @@ fn run_harmonic(tmp: &Path, name: &str) -> PathBuf {
         ),
     )
     .unwrap();
-    let out = tmp.join("out");
-    bin()
-        .arg("run")
-        .arg(&study)
-        .arg("--out")
-        .arg(&out)
-        .arg("--quiet")
-        .assert()
-        .success();
-    out.join(name)
+    common::run_study_file(&study, &tmp.join("out"), name)
 }
 
 /// `docs/schema.md` lists every column of every table the tool writes, with the type and unit

@@ -14,6 +14,9 @@
 //!   [`crate::plan::Plan::noise_stream`]), and `collect` keeps `point_id` order, so a part file's bytes do not
 //!   depend on the thread count, the shard split, or an interruption.
 //!
+//! The records are the study's scene's ([`SceneRun`]): free-decay [`crate::sim::Record`]s or
+//! harmonic [`crate::sim::ForcedRecord`]s, each scene with its own points table.
+//!
 //! # The run directory `OUT/<name>/`
 //!
 //! * `study.toml`: the study text; a run directory holds one study and `--resume` refuses a

@@ -277,3 +277,18 @@ pub fn chart_rows_are_summary_rows(chart: &std::path::Path, summary: &std::path:
     }
     rows.keys().copied().collect()
 }
+
+/// `impactsweep run STUDY --out OUT --quiet`, which must succeed; returns the run directory
+/// `OUT/<name>`.
+pub fn run_study_file(study: &Path, out: &Path, name: &str) -> PathBuf {
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("run")
+        .arg(study)
+        .arg("--out")
+        .arg(out)
+        .arg("--quiet")
+        .assert()
+        .success();
+    out.join(name)
+}
