@@ -36,6 +36,7 @@ best() { # dir -> best of two by wall time
     if awk -v a="${a%% *}" -v b="${b%% *}" 'BEGIN{exit !(a <= b)}'; then echo "$a"; else echo "$b"; fi
 }
 load() { cut -d' ' -f1-3 /proc/loadavg; }
+commas() { echo "$1" | sed ':a;s/\B[0-9]\{3\}\>/,&/;ta'; }
 
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')
 echo "## Reduce"
@@ -56,6 +57,6 @@ for spec in "million 83334 1,000,008" "tenmillion 833334 10,000,008"; do
         before=$(load)
         read -r w c m <<< "$(best "$WORK/$dir")"
         after=$(load)
-        echo "| $runs | $(printf "%'d" "$points") | $size | $boot | $w | $c | $m | $before / $after |"
+        echo "| $runs | $(commas "$points") | $size | $boot | $w | $c | $m | $before / $after |"
     done
 done
