@@ -45,11 +45,13 @@ pub mod audit;
 pub mod engine;
 pub mod journal;
 pub mod lock;
+pub mod rundir;
 pub mod status;
+pub mod verify;
 
 pub use audit::{audit_points, run_audit};
 pub use engine::{
-    SweepOptions, SweepSummary, chunk_rows, request_stop, run_dir, run_row, run_study,
+    SYNC_EVERY, SweepOptions, SweepSummary, chunk_rows, request_stop, run_dir, run_row, run_study,
     shard_chunks, simulate_chunk, simulate_run, stop_requested,
 };
 pub use lock::{LockHolder, RunLock, acquire_lock, lock_path, read_lock};
