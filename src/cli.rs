@@ -221,14 +221,24 @@ Keys (SI units, model.md names):
   t_end             fixed horizon (s) instead of stopping after the peaks
   max_impacts max_steps t_max_periods   caps that turn a runaway run into an outcome
 
+The harmonic scene (steady state under F0 cos(omega t) on the main mass; docs/scenes.md):
+  scene             free (default: the paper's free decay) or harmonic
+  F0                force amplitude (N, default 1)
+  omega | r         forcing frequency (rad/s), or r = omega / sqrt(K/M) (default r = 1); not both
+  n_trans           transient periods (default: until the Poincare section converges)
+  n_trans_max       cap of that default transient (default 2000)
+  n_meas            measured periods (default 20)
+  trans_tol period_tol   section convergence (1e-10) and repeat (1e-6) tolerances
+
 Examples:
   impactsweep simulate --set e=0.45 --json
   impactsweep simulate --set m=0 --set peaks=5
-  impactsweep simulate --trace wave.csv --dt 1e-4 --t-end 0.5";
+  impactsweep simulate --trace wave.csv --dt 1e-4 --t-end 0.5
+  impactsweep simulate --set scene=harmonic --set F0=0.3 --set r=0.98 --json";
 
 #[derive(Args, Debug)]
 pub struct SimulateCmd {
-    /// Set a system or solver key, e.g. `--set e=0.6` (repeatable; see the keys below).
+    /// Set a system, solver or scene key, e.g. `--set e=0.6` (repeatable; see the keys below).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
     /// Print the record as one JSON object (SI units).
@@ -240,7 +250,7 @@ pub struct SimulateCmd {
     /// Trace sample interval (s).
     #[arg(long, value_name = "SECONDS", default_value_t = 1e-4)]
     pub dt: f64,
-    /// Simulate up to this time (s) instead of stopping after the requested peaks.
+    /// Simulate up to this time (s) instead of stopping after the requested peaks (free decay).
     #[arg(long = "t-end", value_name = "SECONDS")]
     pub t_end: Option<f64>,
 }

@@ -226,3 +226,20 @@ pub fn dead_pid() -> u32 {
     assert!(!Path::new(&format!("/proc/{pid}")).exists());
     pid
 }
+
+/// The Python interpreter of the tests that call Python (interop readers, the SciPy peers):
+/// `$IMPACTSWEEP_PYTHON`, else the repository's `.venv/bin/python` (`scripts/setup-python.sh`
+/// creates it with the pinned packages).
+pub fn python() -> PathBuf {
+    if let Some(p) = std::env::var_os("IMPACTSWEEP_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
+    assert!(
+        venv.exists(),
+        "no Python for this test: set IMPACTSWEEP_PYTHON or run scripts/setup-python.sh \
+         (looked for {})",
+        venv.display()
+    );
+    venv
+}
