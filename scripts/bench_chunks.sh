@@ -6,14 +6,16 @@
 # --resume` that finds everything done (verifies every part too). Then the checksum's own speed
 # (`cargo bench --bench checksum`). Writes results/bench_chunks.md (and prints it).
 #
-# Usage: scripts/bench_chunks.sh [BEFORE_BIN]
+# Usage: [BEFORE_MAX=N] scripts/bench_chunks.sh [BEFORE_BIN]
 #   BEFORE_BIN: an impactsweep built before the journal (it rewrote manifest.json after every
-#   chunk), timed up to 1,000 chunks for the "before" column.
+#   chunk, e.g. `git archive <commit> | tar -x` and `cargo build --release`), timed up to
+#   BEFORE_MAX chunks (default 1000; 10,000 takes it a minute and a half) for the "before" column.
 # The work directory is $BENCH_DIR, else a temp directory under target/ (the disk the project
 # is on; /tmp may be memory). The 100,000-chunk dataset takes about 1.1 GB while it exists.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 before=${1:-}
+before_max=${BEFORE_MAX:-1000}
 cargo build --release --quiet
 bin=$PWD/target/release/impactsweep
 mkdir -p target
@@ -63,7 +65,7 @@ for n in 10 40 1000 10000 100000; do
     over="-"
   fi
   old="-"
-  if [ -n "$before" ] && [ "$n" -le 1000 ]; then
+  if [ -n "$before" ] && [ "$n" -le "$before_max" ]; then
     old=$(f "$(secs "$before" run "$work/chunks.toml" --out "$work/old" --quiet --threads 2 --chunk-points "$cp")")
     rm -rf "$work/old"
   fi
@@ -94,8 +96,8 @@ $rows
 - *bookkeeping per extra chunk*: (wall - wall of the 10-chunk run) / (chunks - 10): what one more
   chunk costs (a part file of its own, about 10.6 kB of footer, a journal line).
 - *before*: \`$(basename "${before:-none}")\`, the engine that rewrote \`manifest.json\` after every
-  chunk (timed up to 1,000 chunks; 10,000 took 74 s and 100,000 more than 8 minutes for 20,000
-  points in issue 9).
+  chunk (timed up to $before_max chunks; issue 9 measured 74 s for 10,000 chunks and more than
+  8 minutes for 100,000, with 20,000 points).
 - \`status\` and \`run --resume\` read and hash every part (xxh3-64).
 
 Checksum speed (\`cargo bench --bench checksum\`, 8 MiB in memory, one core):

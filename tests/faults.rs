@@ -563,9 +563,18 @@ fn disk_full_fails_naming_the_file_and_resume_completes_after_freeing_space() {
         .assert()
         .code(1)
         .stderr(
-            predicate::str::contains("No space left on device").and(predicate::str::contains(
-                out.join("full").display().to_string(),
-            )),
+            predicate::str::contains("No space left on device")
+                .and(predicate::str::contains(format!(
+                    "{}/points/part-",
+                    out.join("full").display()
+                )))
+                .and(predicate::str::contains(format!(
+                    "every chunk written so far is kept: once the cause below is fixed (space \
+                     freed, the directory writable), `impactsweep run {}/full/study.toml --out {} \
+                     --resume` continues it",
+                    out.display(),
+                    out.display()
+                ))),
         );
     fs.remount("size=16m");
     bin()
@@ -647,4 +656,50 @@ fn read_only_output_directory_fails_naming_it() {
         .assert()
         .success();
     assert!(dataset(&at.join("ro")) == dataset(&clean.join("ro")));
+}
+
+/// A run directory written before xxh3 (its manifest's checksums are FNV-1a) still verifies: a
+/// flipped byte is caught and repaired, and the repaired chunk is recorded with FNV-1a again. A
+/// manifest naming an algorithm this build does not know gets a clear message.
+#[test]
+fn an_fnv1a_manifest_still_verifies_and_an_unknown_algorithm_is_named() {
+    let s = setup();
+    let m_path = s.dir.join("manifest.json");
+    let mut m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&m_path).unwrap()).unwrap();
+    m["checksum"] = store::Checksum::Fnv1a64.doc().into();
+    for c in m["chunks"].as_array_mut().unwrap() {
+        let k = c["chunk"].as_u64().unwrap();
+        c["checksum"] = store::Checksum::Fnv1a64
+            .hex(&std::fs::read(s.part(k)).unwrap())
+            .into();
+    }
+    std::fs::write(&m_path, serde_json::to_string_pretty(&m).unwrap()).unwrap();
+    s.status()
+        .success()
+        .stdout(predicate::str::contains("complete"));
+    let p = s.part(4);
+    let mut bytes = std::fs::read(&p).unwrap();
+    bytes[100] ^= 1;
+    std::fs::write(&p, bytes).unwrap();
+    s.status().code(1).stderr(predicate::str::contains(format!(
+        "{}: its checksum is",
+        p.display()
+    )));
+    s.resume().success();
+    let after: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&m_path).unwrap()).unwrap();
+    assert_eq!(after, m, "the repaired manifest keeps FNV-1a");
+    assert_eq!(
+        std::fs::read(&p).unwrap(),
+        std::fs::read(store::part_path(&s.clean, 4)).unwrap()
+    );
+
+    m["checksum"] = "sha256 of the part file's bytes (hex)".into();
+    std::fs::write(&m_path, serde_json::to_string_pretty(&m).unwrap()).unwrap();
+    s.status().code(1).stderr(predicate::str::contains(
+        "manifest.json: names checksum algorithm `sha256 of the part file's bytes (hex)`, which \
+         this build does not know (it verifies `xxh3-64 of the part file's bytes (hex)` and \
+         `fnv1a-64 of the part file's bytes (hex)`)",
+    ));
 }

@@ -271,16 +271,24 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
         .num_threads(opts.threads.unwrap_or(0))
         .build()
         .context("starting the thread pool")?;
-    let (outcomes, written) = pool.install(|| {
-        write_chunks(
-            &plan,
-            &dir,
-            &pending,
-            opts,
-            ledger.manifest.algorithm(),
-            &mut journal,
-        )
-    })?;
+    let (outcomes, written) = pool
+        .install(|| {
+            write_chunks(
+                &plan,
+                &dir,
+                &pending,
+                opts,
+                ledger.manifest.algorithm(),
+                &mut journal,
+            )
+        })
+        .with_context(|| {
+            format!(
+                "the sweep stopped; every chunk written so far is kept: once the cause below is \
+             fixed (space freed, the directory writable), `{}` continues it",
+                super::status::resume_command(&dir)
+            )
+        })?;
     let kept = done.kept;
     if stop_requested() {
         finish(&dir, &fresh, journal)?;

@@ -201,7 +201,7 @@ pub fn load_recorded(dir: &Path) -> Result<Result<Manifest, String>> {
 /// manifest of a directory) take turns. Where the file system has no `flock` it holds nothing
 /// ([`ManifestLock::held`] is false) and folds then keep every journal.
 pub struct ManifestLock {
-    _file: Option<File>,
+    file: Option<File>,
 }
 
 impl ManifestLock {
@@ -214,15 +214,15 @@ impl ManifestLock {
             .open(&path)
             .with_context(|| format!("opening {}", path.display()))?;
         match flock(&file, true) {
-            Flock::Locked => Ok(ManifestLock { _file: Some(file) }),
-            Flock::Unsupported(_) => Ok(ManifestLock { _file: None }),
-            Flock::Busy => unreachable!("a blocking flock never reports busy"),
+            Flock::Locked => Ok(ManifestLock { file: Some(file) }),
+            Flock::Unsupported(_) => Ok(ManifestLock { file: None }),
+            Flock::Busy => anyhow::bail!("locking {}: busy", path.display()),
             Flock::Failed(e) => Err(e).with_context(|| format!("locking {}", path.display())),
         }
     }
 
     pub fn held(&self) -> bool {
-        self._file.is_some()
+        self.file.is_some()
     }
 }
 

@@ -46,18 +46,20 @@ impl Status {
         if self.damaged.is_empty() {
             return None;
         }
+        let n = self.damaged.len();
         let mut o = format!(
-            "{}: {} damaged part files:",
+            "{}: {n} damaged part file{}:",
             dir.display(),
-            self.damaged.len()
+            if n == 1 { "" } else { "s" }
         );
         for (k, why) in &self.damaged {
             let _ = write!(o, "\n  {}: {why}", store::part_path(dir, *k).display());
         }
         let _ = write!(
             o,
-            "\nrun `{}` to run their chunks again (it keeps every good part)",
-            resume_command(dir)
+            "\nrun `{}` to run {} again (it keeps every good part)",
+            resume_command(dir),
+            if n == 1 { "its chunk" } else { "their chunks" }
         );
         Some(anyhow::anyhow!(o))
     }
