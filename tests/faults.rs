@@ -703,3 +703,40 @@ fn an_fnv1a_manifest_still_verifies_and_an_unknown_algorithm_is_named() {
          `fnv1a-64 of the part file's bytes (hex)`)",
     ));
 }
+
+/// Issue 9 item 4: a run with another shard split (here `--shard 1/2` beside an unsharded run)
+/// would write some of the same chunks: refused while the other writes, with its PID and host.
+#[test]
+fn a_run_with_another_shard_split_is_refused_while_one_writes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let (study, mut child) = start_long_run(tmp.path(), &out);
+    wait_for_parts(&out.join("long"), 2, &mut child);
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the run ended too soon"
+    );
+    bin()
+        .arg("run")
+        .arg(&study)
+        .args(["--resume", "--shard", "1/2", "--out"])
+        .arg(&out)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(format!(
+            "an unsharded run (PID {} on host {}) is writing this run directory; shard 1/2 would \
+             write some of the same chunks",
+            child.id(),
+            hostname()
+        )));
+    child.kill().unwrap();
+    child.wait().unwrap();
+    // Its writer gone, the other split may go on.
+    bin()
+        .arg("run")
+        .arg(&study)
+        .args(["--quiet", "--resume", "--shard", "1/2", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+}

@@ -199,6 +199,64 @@ pub fn host_local_flock_in(mountinfo: &str, dir: &Path) -> Option<String> {
     None
 }
 
+/// The shard split `(I, N)` a lock file name stands for (`.lock` is `(0, 1)`).
+pub fn lock_shard(name: &str) -> Option<(u64, u64)> {
+    if name == ".lock" {
+        return Some((0, 1));
+    }
+    let (i, n) = name.strip_prefix(".lock-shard-")?.split_once("-of-")?;
+    Some((i.parse().ok()?, n.parse().ok()?))
+}
+
+/// Refuses to start shard `shard` while a writer with another split (`N`) writes `dir`: their
+/// chunks overlap, so both would write the same parts. Call it while holding the directory's
+/// manifest lock, so that no other writer starts meanwhile.
+pub fn check_other_splits(dir: &Path, shard: (u64, u64)) -> Result<()> {
+    for e in std::fs::read_dir(dir).with_context(|| format!("listing {}", dir.display()))? {
+        let path = e?.path();
+        let name = path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string();
+        let Some(other) = lock_shard(&name) else {
+            continue;
+        };
+        if other.1 == shard.1.max(1) {
+            continue;
+        }
+        let Ok(file) = File::open(&path) else {
+            continue;
+        };
+        let live = match flock(&file, false) {
+            Flock::Busy => true,
+            Flock::Locked => false,
+            Flock::Unsupported(_) | Flock::Failed(_) => read_lock(&path).is_some_and(|h| !h.stale),
+        };
+        drop(file);
+        if live {
+            let who =
+                read_lock(&path).map_or("its PID is not written yet".into(), |h| h.describe());
+            let split = |(i, n): (u64, u64)| {
+                if n <= 1 {
+                    "an unsharded run".to_string()
+                } else {
+                    format!("shard {i}/{n}")
+                }
+            };
+            bail!(
+                "{}: {} ({who}) is writing this run directory; {} would write some of the same \
+                 chunks. Wait for it to finish, or run with the same split (--shard I/{})",
+                path.display(),
+                split(other),
+                split(shard),
+                other.1
+            );
+        }
+    }
+    Ok(())
+}
+
 fn refuse(path: &Path, who: &str, why: &str) -> anyhow::Error {
     anyhow::anyhow!(
         "{}: another impactsweep process ({who}) is writing this run directory{why}; wait for it \
@@ -393,6 +451,14 @@ mod tests {
         assert!(parse_lock(&format!("{me} {host} x:1")).unwrap().stale);
         assert!(!parse_lock(&format!("{me} elsewhere x:1")).unwrap().stale);
         assert_eq!(parse_lock("garbage"), None);
+    }
+
+    #[test]
+    fn lock_names_give_their_split() {
+        assert_eq!(lock_shard(".lock"), Some((0, 1)));
+        assert_eq!(lock_shard(".lock-shard-3-of-16"), Some((3, 16)));
+        assert_eq!(lock_shard(".manifest.lock"), None);
+        assert_eq!(lock_shard(".lock-shard-x-of-2"), None);
     }
 
     #[test]

@@ -7,8 +7,8 @@ use std::path::Path;
 use anyhow::{Context, Result};
 
 use super::SweepOptions;
-use super::journal::{Entry, Journal, Ledger};
-use super::lock::{RunLock, acquire_lock, lock_path};
+use super::journal::{Entry, Journal, Ledger, ManifestLock};
+use super::lock::{RunLock, acquire_lock, check_other_splits, lock_path};
 use super::verify::{check_recorded, check_unrecorded};
 use crate::error::InputError;
 use crate::plan::Plan;
@@ -112,7 +112,12 @@ pub fn claim(
     let points_dir = dir.join("points");
     std::fs::create_dir_all(&points_dir)
         .with_context(|| format!("creating {}", points_dir.display()))?;
-    let lock = acquire_lock(dir, opts.shard, opts.resume)?;
+    let lock = {
+        // One writer starts at a time, so two of different splits cannot both pass the check.
+        let _turn = ManifestLock::take(dir)?;
+        check_other_splits(dir, opts.shard)?;
+        acquire_lock(dir, opts.shard, opts.resume)?
+    };
     if fresh_dir {
         store::write_shared(&dir.join("study.toml"), plan.study.source.as_bytes())?;
     }
