@@ -32,6 +32,24 @@ fn bin() -> Command {
     Command::cargo_bin("impactsweep").unwrap()
 }
 
+/// `impactsweep run STUDY --out OUT` with `args` (`--quiet`, `--resume`, ...).
+fn run(study: &Path, out: &Path, args: &[&str]) -> assert_cmd::assert::Assert {
+    bin()
+        .arg("run")
+        .arg(study)
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .assert()
+}
+
+/// The dataset of an uninterrupted run of `study` (named `name`), run into `tmp/clean`.
+fn clean_dataset(tmp: &Path, study: &Path, name: &str) -> Vec<(String, Vec<u8>)> {
+    let clean = tmp.join("clean");
+    run(study, &clean, &["--quiet"]).success();
+    dataset(&clean.join(name))
+}
+
 /// A finished run of a small study (4 values of e x 3 of m = 12 points x 4 cases, one point per
 /// chunk) in `tmp/out/f`, and the same study run into `tmp/clean/f`: the reference.
 struct Setup {
@@ -48,13 +66,7 @@ fn setup() -> Setup {
     let out = tmp.path().join("out");
     let clean_out = tmp.path().join("clean");
     for o in [&out, &clean_out] {
-        bin()
-            .args(["run", "--quiet"])
-            .arg(&study)
-            .arg("--out")
-            .arg(o)
-            .assert()
-            .success();
+        run(&study, o, &["--quiet"]).success();
     }
     Setup {
         dir: out.join("f"),
@@ -75,13 +87,7 @@ impl Setup {
     }
 
     fn resume(&self) -> assert_cmd::assert::Assert {
-        bin()
-            .arg("run")
-            .arg(&self.study)
-            .arg("--out")
-            .arg(&self.out)
-            .arg("--resume")
-            .assert()
+        run(&self.study, &self.out, &["--resume"])
     }
 
     /// The remedy worked: the dataset is the uninterrupted one, and `status` says complete.
@@ -218,13 +224,7 @@ fn truncated_manifest_is_refused_then_rebuilt_by_resume() {
 fn manifest_of_another_study_is_refused_then_rebuilt_by_resume() {
     let s = setup();
     let other = write_study(s.tmp.path(), "other", 3, 2);
-    bin()
-        .args(["run", "--quiet"])
-        .arg(&other)
-        .arg("--out")
-        .arg(s.tmp.path().join("o"))
-        .assert()
-        .success();
+    run(&other, &s.tmp.path().join("o"), &["--quiet"]).success();
     std::fs::copy(
         s.tmp.path().join("o/other/manifest.json"),
         s.dir.join("manifest.json"),
@@ -308,12 +308,7 @@ fn stale_lock_of_a_dead_pid_does_not_block_resume() {
         hostname()
     )));
     // Without --resume the directory is not touched.
-    bin()
-        .arg("run")
-        .arg(&s.study)
-        .arg("--out")
-        .arg(&s.out)
-        .assert()
+    run(&s.study, &s.out, &[])
         .code(2)
         .stderr(predicate::str::contains("pass --resume"));
     s.resume().success();
@@ -364,23 +359,9 @@ fn kill_9_then_resume(parts: usize, extra_us: u64) {
     eprintln!("kill -9 after {parts} parts + {extra_us} us: running {running}");
     assert!(running || parts == 200, "the run ended before the kill");
     bin().arg("status").arg(&dir).assert().success();
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--quiet", "--resume", "--out"])
-        .arg(&out)
-        .assert()
-        .success();
-    let clean = tmp.path().join("clean");
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--quiet", "--out"])
-        .arg(&clean)
-        .assert()
-        .success();
+    run(&study, &out, &["--quiet", "--resume"]).success();
     assert!(
-        dataset(&dir) == dataset(&clean.join("long")),
+        dataset(&dir) == clean_dataset(tmp.path(), &study, "long"),
         "kill after {parts} parts + {extra_us} us: the dataset differs"
     );
 }
@@ -431,17 +412,10 @@ fn a_live_writer_is_refused_with_its_pid_and_host() {
         child.try_wait().unwrap().is_none(),
         "the run ended too soon"
     );
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--resume", "--out"])
-        .arg(&out)
-        .assert()
-        .code(1)
-        .stderr(
-            predicate::str::contains(format!("PID {} on host {}", child.id(), hostname()))
-                .and(predicate::str::contains("holds the OS lock")),
-        );
+    run(&study, &out, &["--resume"]).code(1).stderr(
+        predicate::str::contains(format!("PID {} on host {}", child.id(), hostname()))
+            .and(predicate::str::contains("holds the OS lock")),
+    );
     child.kill().unwrap();
     child.wait().unwrap();
 }
@@ -490,15 +464,7 @@ fn simultaneous_resumes_never_give_two_writers() {
     eprintln!("{winners} of 4 simultaneous resumes ran, the others were refused");
     assert!(winners >= 1);
     assert_eq!(written, 60, "every chunk written exactly once");
-    let clean = tmp.path().join("clean");
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--quiet", "--out"])
-        .arg(&clean)
-        .assert()
-        .success();
-    assert!(dataset(&out.join("race")) == dataset(&clean.join("race")));
+    assert!(dataset(&out.join("race")) == clean_dataset(tmp.path(), &study, "race"));
 }
 
 /// A tmpfs mounted for one test (root only), unmounted when dropped.
@@ -555,44 +521,23 @@ fn disk_full_fails_naming_the_file_and_resume_completes_after_freeing_space() {
     };
     let study = write_study(tmp.path(), "full", 40, 1);
     let out = fs.0.join("out");
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--quiet", "--out"])
-        .arg(&out)
-        .assert()
-        .code(1)
-        .stderr(
-            predicate::str::contains("No space left on device")
-                .and(predicate::str::contains(format!(
-                    "{}/points/part-",
-                    out.join("full").display()
-                )))
-                .and(predicate::str::contains(format!(
-                    "every chunk written so far is kept: once the cause below is fixed (space \
+    run(&study, &out, &["--quiet"]).code(1).stderr(
+        predicate::str::contains("No space left on device")
+            .and(predicate::str::contains(format!(
+                "{}/points/part-",
+                out.join("full").display()
+            )))
+            .and(predicate::str::contains(format!(
+                "every chunk written so far is kept: once the cause below is fixed (space \
                      freed, the directory writable), `impactsweep run {}/full/study.toml --out {} \
                      --resume` continues it",
-                    out.display(),
-                    out.display()
-                ))),
-        );
+                out.display(),
+                out.display()
+            ))),
+    );
     fs.remount("size=16m");
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--quiet", "--resume", "--out"])
-        .arg(&out)
-        .assert()
-        .success();
-    let clean = tmp.path().join("clean");
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--quiet", "--out"])
-        .arg(&clean)
-        .assert()
-        .success();
-    assert!(dataset(&out.join("full")) == dataset(&clean.join("full")));
+    run(&study, &out, &["--quiet", "--resume"]).success();
+    assert!(dataset(&out.join("full")) == clean_dataset(tmp.path(), &study, "full"));
 }
 
 /// A read-only output directory (a read-only tmpfs as root, else mode 555): `run` fails with
@@ -618,27 +563,14 @@ fn read_only_output_directory_fails_naming_it() {
         }
     };
     set_writable(false);
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--quiet", "--out"])
-        .arg(&at)
-        .assert()
-        .code(1)
-        .stderr(
-            predicate::str::contains(format!("creating {}", at.join("ro/points").display())).and(
-                predicate::str::contains("Read-only file system")
-                    .or(predicate::str::contains("Permission denied")),
-            ),
-        );
+    run(&study, &at, &["--quiet"]).code(1).stderr(
+        predicate::str::contains(format!("creating {}", at.join("ro/points").display())).and(
+            predicate::str::contains("Read-only file system")
+                .or(predicate::str::contains("Permission denied")),
+        ),
+    );
     set_writable(true);
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--quiet", "--out"])
-        .arg(&at)
-        .assert()
-        .success();
+    run(&study, &at, &["--quiet"]).success();
     set_writable(false);
     bin()
         .arg("status")
@@ -647,15 +579,7 @@ fn read_only_output_directory_fails_naming_it() {
         .success()
         .stdout(predicate::str::contains("complete"));
     set_writable(true);
-    let clean = tmp.path().join("clean");
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--quiet", "--out"])
-        .arg(&clean)
-        .assert()
-        .success();
-    assert!(dataset(&at.join("ro")) == dataset(&clean.join("ro")));
+    assert!(dataset(&at.join("ro")) == clean_dataset(tmp.path(), &study, "ro"));
 }
 
 /// A run directory written before xxh3 (its manifest's checksums are FNV-1a) still verifies: a
@@ -716,12 +640,7 @@ fn a_run_with_another_shard_split_is_refused_while_one_writes() {
         child.try_wait().unwrap().is_none(),
         "the run ended too soon"
     );
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--resume", "--shard", "1/2", "--out"])
-        .arg(&out)
-        .assert()
+    run(&study, &out, &["--resume", "--shard", "1/2"])
         .code(1)
         .stderr(predicate::str::contains(format!(
             "an unsharded run (PID {} on host {}) is writing this run directory; shard 1/2 would \
@@ -732,11 +651,5 @@ fn a_run_with_another_shard_split_is_refused_while_one_writes() {
     child.kill().unwrap();
     child.wait().unwrap();
     // Its writer gone, the other split may go on.
-    bin()
-        .arg("run")
-        .arg(&study)
-        .args(["--quiet", "--resume", "--shard", "1/2", "--out"])
-        .arg(&out)
-        .assert()
-        .success();
+    run(&study, &out, &["--quiet", "--resume", "--shard", "1/2"]).success();
 }

@@ -261,6 +261,22 @@ fn boundary(s: &str, at: f64) -> usize {
     i
 }
 
+/// A mutation of the text itself (the others do nothing here).
+fn apply_raw(t: &mut String, m: &Mutation) {
+    match m {
+        Mutation::Truncate(at) => t.truncate(boundary(t, *at)),
+        Mutation::Splice(at, s) => t.insert_str(boundary(t, *at), s),
+        Mutation::RepeatLine(at) => {
+            let lines: Vec<&str> = t.lines().collect();
+            if !lines.is_empty() {
+                let i = ((lines.len() as f64 * at) as usize).min(lines.len() - 1);
+                *t = format!("{}\n{}", t, lines[i]);
+            }
+        }
+        _ => {}
+    }
+}
+
 /// A base study with the mutations applied, as text.
 fn mutate(base: &str, muts: &[Mutation]) -> String {
     let mut doc: Value = Value::Table(toml::from_str(base).unwrap());
@@ -268,18 +284,7 @@ fn mutate(base: &str, muts: &[Mutation]) -> String {
     for m in muts {
         if let Some(t) = &mut text {
             // Once the text is raw, only raw mutations apply.
-            match m {
-                Mutation::Truncate(at) => t.truncate(boundary(t, *at)),
-                Mutation::Splice(at, s) => t.insert_str(boundary(t, *at), s),
-                Mutation::RepeatLine(at) => {
-                    let lines: Vec<&str> = t.lines().collect();
-                    if !lines.is_empty() {
-                        let i = ((lines.len() as f64 * at) as usize).min(lines.len() - 1);
-                        *t = format!("{}\n{}", t, lines[i]);
-                    }
-                }
-                _ => {}
-            }
+            apply_raw(t, m);
             continue;
         }
         let mut all = Vec::new();
@@ -326,20 +331,7 @@ fn mutate(base: &str, muts: &[Mutation]) -> String {
             }
             Mutation::Truncate(_) | Mutation::Splice(..) | Mutation::RepeatLine(_) => {
                 let mut t = toml::to_string(&doc).unwrap_or_default();
-                match m {
-                    Mutation::Truncate(at) => t.truncate(boundary(&t, *at)),
-                    Mutation::Splice(at, s) => t.insert_str(boundary(&t, *at), s),
-                    _ => {
-                        let lines: Vec<&str> = t.lines().collect();
-                        if !lines.is_empty() {
-                            let Mutation::RepeatLine(at) = m else {
-                                unreachable!()
-                            };
-                            let i = ((lines.len() as f64 * at) as usize).min(lines.len() - 1);
-                            t = format!("{}\n{}", t, lines[i]);
-                        }
-                    }
-                }
+                apply_raw(&mut t, m);
                 text = Some(t);
             }
             _ => {}
