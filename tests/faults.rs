@@ -653,3 +653,44 @@ fn a_run_with_another_shard_split_is_refused_while_one_writes() {
     // Its writer gone, the other split may go on.
     run(&study, &out, &["--quiet", "--resume", "--shard", "1/2"]).success();
 }
+
+/// Where the file system has no `flock` (here: `IMPACTSWEEP_NO_FLOCK=1`, which stands for one),
+/// the run says so and the lock is the file alone: a live writer on this host is still refused,
+/// a dead one's lock does not block `--resume`.
+#[test]
+fn without_flock_the_lock_file_alone_rules_and_the_run_says_so() {
+    let s = setup();
+    std::fs::remove_file(s.part(6)).unwrap();
+    let lock = s.dir.join(".lock");
+    let mut holder = StdCommand::new("sleep").arg("60").spawn().unwrap();
+    std::fs::write(&lock, format!("{} {}\n", holder.id(), hostname())).unwrap();
+    let no_flock = || {
+        let mut c = bin();
+        c.env("IMPACTSWEEP_NO_FLOCK", "1")
+            .arg("run")
+            .arg(&s.study)
+            .arg("--resume")
+            .arg("--out")
+            .arg(&s.out);
+        c
+    };
+    no_flock().assert().code(1).stderr(
+        predicate::str::contains(format!("PID {} on host {}", holder.id(), hostname()))
+            .and(predicate::str::contains("this file system has no flock")),
+    );
+    holder.kill().unwrap();
+    holder.wait().unwrap();
+    no_flock()
+        .assert()
+        .success()
+        .stderr(predicate::str::contains(
+            "refuses flock (IMPACTSWEEP_NO_FLOCK is set): the shard's lock is its lock file alone",
+        ));
+    assert!(dataset(&s.dir) == dataset(&s.clean));
+    assert!(!lock.exists());
+    // Without flock, folds cannot take turns: every journal is kept (and read with the manifest).
+    assert!(s.dir.join("journal.jsonl").exists());
+    s.status()
+        .success()
+        .stdout(predicate::str::contains("complete"));
+}
