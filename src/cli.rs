@@ -45,7 +45,8 @@ pub enum Command {
     Run(RunCmd),
     /// Run every study file in a directory in name order; finished ones are skipped.
     Queue(QueueCmd),
-    /// Report per shard what a run directory holds and what is missing.
+    /// Report per shard what a run directory holds and what is missing, every part file
+    /// verified against its checksum (exit 1 when one is damaged).
     Status(StatusCmd),
     /// Turn a run directory into reliability, zones, a ranking, a report and charts.
     Reduce(ReduceCmd),

@@ -51,7 +51,22 @@ pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
     let dir = &args.dir;
     store::manifest::check_dir_version(dir)?;
     let study = Study::load(&dir.join("study.toml"))?;
-    let parts = store::part_files(dir)?;
+    // Every part verified against its checksum first: a damaged dataset is refused, not reduced.
+    let st = crate::sweep::status(dir)?;
+    if let Some(e) = st.damage_error(dir) {
+        return Err(e.context("refusing to reduce a damaged dataset"));
+    }
+    if !st.unrecorded.is_empty() {
+        eprintln!(
+            "warning: {}: chunks {} are not recorded yet (their run stopped before recording \
+             them; they read as good parts of this study, but have no checksum to verify): run \
+             `{}` to record them",
+            dir.display(),
+            crate::sweep::ranges(&st.unrecorded),
+            crate::sweep::status::resume_command(dir)
+        );
+    }
+    let parts: Vec<PathBuf> = st.done.iter().map(|&k| store::part_path(dir, k)).collect();
     if parts.is_empty() {
         anyhow::bail!(
             "{}: no part files in points/: nothing to reduce (has the sweep run?)",

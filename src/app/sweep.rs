@@ -151,9 +151,13 @@ pub fn queue(args: &QueueArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Prints what a run directory holds: chunks and runs done, missing chunks, per shard.
+/// Prints what a run directory holds: chunks and runs done, damaged and missing chunks, per
+/// shard. Fails (exit 1) when a part file is damaged, naming it and the fix.
 pub fn status(args: &StatusArgs) -> anyhow::Result<()> {
     let st = sweep::status(&args.dir)?;
     print!("{}", st.report(&args.dir));
-    Ok(())
+    match st.damage_error(&args.dir) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
 }

@@ -37,9 +37,13 @@ pub fn encode_table(kind: TableKind, table: &Table) -> Result<Vec<u8>> {
 /// atomically; returns the two paths.
 pub fn write_table(dir: &Path, kind: TableKind, table: &Table) -> Result<Vec<PathBuf>> {
     let parquet = dir.join(format!("{}.parquet", kind.name()));
-    super::write_bytes(&parquet, &encode_table(kind, table)?)?;
+    super::write_bytes(
+        &parquet,
+        &encode_table(kind, table)?,
+        super::Durability::Now,
+    )?;
     let csv = dir.join(format!("{}.csv", kind.name()));
-    super::write_bytes(&csv, table.to_csv().as_bytes())?;
+    super::write_bytes(&csv, table.to_csv().as_bytes(), super::Durability::Now)?;
     Ok(vec![parquet, csv])
 }
 
