@@ -45,7 +45,8 @@ pub enum Command {
     Run(RunCmd),
     /// Run every study file in a directory in name order; finished ones are skipped.
     Queue(QueueCmd),
-    /// Report per shard what a run directory holds and what is missing.
+    /// Report per shard what a run directory holds and what is missing, every part file
+    /// verified against its checksum (exit 1 when one is damaged).
     Status(StatusCmd),
     /// Turn a run directory into reliability, zones, a ranking, a report and charts.
     Reduce(ReduceCmd),
@@ -154,6 +155,10 @@ pub struct ReduceCmd {
     /// DI as the mean over the cases instead of the ideal case.
     #[arg(long)]
     pub di_mean: bool,
+    /// Bootstrap resamples for R's interval (overrides [reliability].bootstrap; 0 disables the
+    /// interval, and with it the lower end that decides "reliable").
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(0..=10_000_000))]
+    pub bootstrap: Option<u64>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -230,14 +235,24 @@ Keys (SI units, model.md names):
   t_end             fixed horizon (s) instead of stopping after the peaks
   max_impacts max_steps t_max_periods   caps that turn a runaway run into an outcome
 
+The harmonic scene (steady state under F0 cos(omega t) on the main mass; docs/scenes.md):
+  scene             free (default: the paper's free decay) or harmonic
+  F0                force amplitude (N, default 1)
+  omega | r         forcing frequency (rad/s), or r = omega / sqrt(K/M) (default r = 1); not both
+  n_trans           transient periods (default: until the Poincare section converges)
+  n_trans_max       cap of that default transient (default 2000)
+  n_meas            measured periods (default 20)
+  trans_tol period_tol   section convergence (1e-10) and repeat (1e-6) tolerances
+
 Examples:
   impactsweep simulate --set e=0.45 --json
   impactsweep simulate --set m=0 --set peaks=5
-  impactsweep simulate --trace wave.csv --dt 1e-4 --t-end 0.5";
+  impactsweep simulate --trace wave.csv --dt 1e-4 --t-end 0.5
+  impactsweep simulate --set scene=harmonic --set F0=0.3 --set r=0.98 --json";
 
 #[derive(Args, Debug)]
 pub struct SimulateCmd {
-    /// Set a system or solver key, e.g. `--set e=0.6` (repeatable; see the keys below).
+    /// Set a system, solver or scene key, e.g. `--set e=0.6` (repeatable; see the keys below).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
     /// Print the record as one JSON object (SI units).
@@ -249,7 +264,7 @@ pub struct SimulateCmd {
     /// Trace sample interval (s).
     #[arg(long, value_name = "SECONDS", default_value_t = 1e-4)]
     pub dt: f64,
-    /// Simulate up to this time (s) instead of stopping after the requested peaks.
+    /// Simulate up to this time (s) instead of stopping after the requested peaks (free decay).
     #[arg(long = "t-end", value_name = "SECONDS")]
     pub t_end: Option<f64>,
 }
@@ -294,6 +309,7 @@ pub fn main() -> anyhow::Result<()> {
             dir: c.dir,
             paper_safety: c.paper_safety,
             di_mean: c.di_mean,
+            bootstrap: c.bootstrap.map(|b| b as usize),
         }),
         Command::Plot(PlotCmd::Waveform(c)) => app::reduce::waveform(&app::reduce::WaveformArgs {
             sets: c.sets,

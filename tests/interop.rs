@@ -12,27 +12,15 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use common::python;
+
+use std::path::Path;
 
 use impactsweep::plan::Plan;
 use impactsweep::sim::{NoProbe, simulate};
 use impactsweep::store;
 use impactsweep::sweep::{self, SweepOptions};
 use serde_json::json;
-
-fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("IMPACTSWEEP_PYTHON") {
-        return PathBuf::from(p);
-    }
-    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
-    assert!(
-        venv.exists(),
-        "no Python for the interop test: set IMPACTSWEEP_PYTHON or run scripts/setup-python.sh \
-         (looked for {})",
-        venv.display()
-    );
-    venv
-}
 
 #[test]
 fn pyarrow_duckdb_and_polars_read_the_dataset() {

@@ -71,6 +71,8 @@ pub struct Options {
     /// Zone and jump settings beyond the study's `r_min`, `di_strong` and declared zones.
     pub zones: ZoneParams,
     pub response: Response,
+    /// Bootstrap resamples for R's interval (`[reliability].bootstrap`).
+    pub bootstrap: usize,
 }
 
 impl Options {
@@ -86,6 +88,7 @@ impl Options {
                 locate: study.zones.locate,
             },
             response: Response::XMAX,
+            bootstrap: study.reliability.bootstrap,
         }
     }
 }
@@ -369,7 +372,7 @@ impl<'a> Reducer<'a> {
         let (lo, hi) = stats::bootstrap_reliability(
             &stresses,
             &self.strength,
-            rel.bootstrap,
+            self.options.bootstrap,
             rel.confidence,
             seed,
         );

@@ -26,7 +26,7 @@ use super::linear::{Kinematics, Oscillator};
 /// Safe step of one watched function: distance `g >= 0` to zero with derivatives `g1, g2, g3`,
 /// and bounds `b2 >= |g''|`, `b4 >= |g''''|` over the future.
 #[inline]
-fn safe_step(g: f64, g1: f64, g2: f64, g3: f64, b2: f64, b4: f64) -> f64 {
+pub(crate) fn safe_step(g: f64, g1: f64, g2: f64, g3: f64, b2: f64, b4: f64) -> f64 {
     let g = g.max(0.0);
     let hq = quad_step(g, g1, b2);
     if g1 >= 0.0 && g2 > 0.0 {
@@ -55,7 +55,7 @@ fn quad_step(g: f64, g1: f64, b: f64) -> f64 {
 
 /// Does a function at distance `g` with slope `g1` and curvature `g2` head into its zero?
 #[inline]
-fn toward(g1: f64, g2: f64) -> bool {
+pub(crate) fn toward(g1: f64, g2: f64) -> bool {
     g1 < 0.0 || (g1 == 0.0 && g2 < 0.0)
 }
 

@@ -126,11 +126,11 @@ pub fn part_files(run_dir: &Path) -> Result<Vec<PathBuf>> {
 }
 
 /// What [`write_part`] wrote.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PartInfo {
     pub rows: u64,
-    /// [`super::fnv1a64`] of the file's bytes.
-    pub checksum: u64,
+    /// The file's checksum (16 hex digits) by the algorithm asked for.
+    pub checksum: String,
     pub bytes: u64,
 }
 
@@ -155,17 +155,20 @@ pub fn encode_part(
     )
 }
 
-/// Writes rows to `path` atomically ([`super::write_bytes`]).
+/// Writes rows to `path` atomically ([`super::write_bytes`], not synced: the sweep engine syncs
+/// its file system about once a second) and returns their `checksum`.
 pub fn write_part(
     path: &Path,
     rows: &[RunRow],
     study_toml: &str,
     settings: &SolverSettings,
+    checksum: super::Checksum,
 ) -> Result<PartInfo> {
-    let info = super::write_bytes(path, &encode_part(rows, study_toml, settings)?)?;
+    let bytes = encode_part(rows, study_toml, settings)?;
+    let info = super::write_bytes(path, &bytes, super::Durability::Later)?;
     Ok(PartInfo {
         rows: rows.len() as u64,
-        checksum: info.checksum,
+        checksum: checksum.hex(&bytes),
         bytes: info.bytes,
     })
 }
@@ -400,9 +403,19 @@ mod tests {
         std::fs::create_dir(dir.path().join("points")).unwrap();
         let path = part_path(dir.path(), 3);
         let rows = rows();
-        let info = write_part(&path, &rows, "name = 'x'", &SolverSettings::default()).unwrap();
+        let info = write_part(
+            &path,
+            &rows,
+            "name = 'x'",
+            &SolverSettings::default(),
+            super::super::Checksum::DEFAULT,
+        )
+        .unwrap();
         assert_eq!(info.rows, 5);
-        assert_eq!(info.checksum, checksum_file(&path).unwrap());
+        assert_eq!(
+            info.checksum,
+            format!("{:016x}", checksum_file(&path).unwrap())
+        );
         assert!(!tmp_path(&path).exists());
         let back = read_part(&path).unwrap();
         let want: Vec<RunRow> = rows.into_iter().map(trimmed).collect();
