@@ -45,7 +45,8 @@ pub enum Command {
     Run(RunCmd),
     /// Run every study file in a directory in name order; finished ones are skipped.
     Queue(QueueCmd),
-    /// Report per shard what a run directory holds and what is missing.
+    /// Report per shard what a run directory holds and what is missing, every part file
+    /// verified against its checksum (exit 1 when one is damaged).
     Status(StatusCmd),
     /// Turn a run directory into reliability, zones, a ranking, a report and charts.
     Reduce(ReduceCmd),
@@ -154,6 +155,10 @@ pub struct ReduceCmd {
     /// DI as the mean over the cases instead of the ideal case.
     #[arg(long)]
     pub di_mean: bool,
+    /// Bootstrap resamples for R's interval (overrides [reliability].bootstrap; 0 disables the
+    /// interval, and with it the lower end that decides "reliable").
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(0..=10_000_000))]
+    pub bootstrap: Option<u64>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -304,6 +309,7 @@ pub fn main() -> anyhow::Result<()> {
             dir: c.dir,
             paper_safety: c.paper_safety,
             di_mean: c.di_mean,
+            bootstrap: c.bootstrap.map(|b| b as usize),
         }),
         Command::Plot(PlotCmd::Waveform(c)) => app::reduce::waveform(&app::reduce::WaveformArgs {
             sets: c.sets,

@@ -6,7 +6,7 @@ use std::path::Path;
 
 mod common;
 
-use common::study;
+use common::{dead_pid, study};
 use impactsweep::plan::Plan;
 use impactsweep::sim::{NoProbe, SolverKind, SolverSettings, simulate};
 use impactsweep::store::{self, RunRow};
@@ -277,15 +277,6 @@ fn an_interrupted_run_resumes_to_identical_part_files() {
         },
     );
     assert_eq!((third.chunks_written, third.chunks_kept), (0, 20));
-}
-
-/// A PID that no longer exists: a child that has exited and been reaped.
-fn dead_pid() -> u32 {
-    let mut child = std::process::Command::new("true").spawn().unwrap();
-    let pid = child.id();
-    child.wait().unwrap();
-    assert!(!Path::new(&format!("/proc/{pid}")).exists());
-    pid
 }
 
 #[test]

@@ -657,20 +657,21 @@ fn command_line_flags_override_the_study() {
     let s = paper();
     let o = options(&s, &ReduceArgs::default());
     assert_eq!(
-        (o.safety_form, o.di_source),
-        (SafetyForm::Exact, DiSource::Ideal)
+        (o.safety_form, o.di_source, o.bootstrap),
+        (SafetyForm::Exact, DiSource::Ideal, 2000)
     );
     let o = options(
         &s,
         &ReduceArgs {
             paper_safety: true,
             di_mean: true,
+            bootstrap: Some(1),
             ..Default::default()
         },
     );
     assert_eq!(
-        (o.safety_form, o.di_source),
-        (SafetyForm::Paper, DiSource::Mean)
+        (o.safety_form, o.di_source, o.bootstrap),
+        (SafetyForm::Paper, DiSource::Mean, 1)
     );
 }
 

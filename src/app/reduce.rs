@@ -27,6 +27,8 @@ pub struct ReduceArgs {
     pub paper_safety: bool,
     /// DI as the mean over cases instead of the ideal case.
     pub di_mean: bool,
+    /// Overrides `[reliability].bootstrap`.
+    pub bootstrap: Option<usize>,
 }
 
 /// `impactsweep plot waveform`.
@@ -52,6 +54,9 @@ fn options_over(base: Options, args: &ReduceArgs) -> Options {
     if args.di_mean {
         o.di_source = DiSource::Mean;
     }
+    if let Some(b) = args.bootstrap {
+        o.bootstrap = b;
+    }
     o
 }
 
@@ -72,7 +77,22 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
     // The dataset exists: the size guard of `run` (which protects against starting a huge
     // sweep by mistake) has no business here; a study run with --allow-large reduces.
     let study = Study::load_with(&dir.join("study.toml"), LoadOptions { allow_large: true })?;
-    let parts = store::part_files(dir)?;
+    // Every part verified against its checksum first: a damaged dataset is refused, not reduced.
+    let st = crate::sweep::status(dir)?;
+    if let Some(e) = st.damage_error(dir) {
+        return Err(e.context("refusing to reduce a damaged dataset"));
+    }
+    if !st.unrecorded.is_empty() {
+        eprintln!(
+            "warning: {}: chunks {} are not recorded yet (their run stopped before recording \
+             them; they read as good parts of this study, but have no checksum to verify): run \
+             `{}` to record them",
+            dir.display(),
+            crate::sweep::ranges(&st.unrecorded),
+            crate::sweep::status::resume_command(dir)
+        );
+    }
+    let parts: Vec<PathBuf> = st.done.iter().map(|&k| store::part_path(dir, k)).collect();
     if parts.is_empty() {
         anyhow::bail!(
             "{}: no part files in points/: nothing to reduce (has the sweep run?)",

@@ -251,13 +251,17 @@ pub fn report_state(dir: &Path) -> ReportState {
     }
 }
 
-/// Prints what a run directory holds (chunks and runs done, missing chunks, per shard), or for
-/// an output root every study in it with its state and its report.
+/// Prints what a run directory holds (chunks and runs done, damaged and missing chunks, per
+/// shard; fails, exit 1, when a part file is damaged, naming it and the fix), or for an output
+/// root every study in it with its state and its report.
 pub fn status(args: &StatusArgs) -> anyhow::Result<()> {
     if crate::store::manifest::manifest_path(&args.dir).exists() {
         let st = sweep::status(&args.dir)?;
         print!("{}", st.report(&args.dir));
-        return Ok(());
+        return match st.damage_error(&args.dir) {
+            Some(e) => Err(e),
+            None => Ok(()),
+        };
     }
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(&args.dir)
         .with_context(|| format!("listing {}", args.dir.display()))?
@@ -297,7 +301,14 @@ pub fn root_status(root: &Path, dirs: &[PathBuf]) -> String {
                     .iter()
                     .any(|(_, h)| h.as_ref().is_some_and(|h| !h.stale));
                 let m = &st.manifest;
-                let what = if st.complete() {
+                let what = if !st.damaged.is_empty() {
+                    format!(
+                        "{} of {} chunks damaged (status {} says which and what to do)",
+                        st.damaged.len(),
+                        m.n_chunks,
+                        dir.display()
+                    )
+                } else if st.complete() {
                     format!("complete, {} runs", st.runs_done)
                 } else {
                     format!(

@@ -118,6 +118,8 @@ pub struct Options {
     pub zones: ZoneParams,
     pub response: Response,
     pub damping: Damping,
+    /// Bootstrap resamples for R's interval (`[reliability].bootstrap`).
+    pub bootstrap: usize,
 }
 
 impl Options {
@@ -134,6 +136,7 @@ impl Options {
             },
             response: Response::XMAX,
             damping: Damping::DI,
+            bootstrap: study.reliability.bootstrap,
         }
     }
 }
@@ -417,7 +420,7 @@ impl<'a> Reducer<'a> {
         let (lo, hi) = stats::bootstrap_reliability(
             &stresses,
             &self.strength,
-            rel.bootstrap,
+            self.options.bootstrap,
             rel.confidence,
             seed,
         );

@@ -147,11 +147,11 @@ pub fn part_files(run_dir: &Path) -> Result<Vec<PathBuf>> {
 }
 
 /// What [`write_part`] wrote.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PartInfo {
     pub rows: u64,
-    /// [`super::fnv1a64`] of the file's bytes.
-    pub checksum: u64,
+    /// The file's checksum (16 hex digits) by the algorithm asked for.
+    pub checksum: String,
     pub bytes: u64,
 }
 
@@ -176,17 +176,20 @@ pub fn encode_part<R: StoredRecord>(
     )
 }
 
-/// Writes rows to `path` atomically ([`super::write_bytes`]).
+/// Writes rows to `path` atomically ([`super::write_bytes`], not synced: the sweep engine syncs
+/// its file system about once a second) and returns their `checksum`.
 pub fn write_part<R: StoredRecord>(
     path: &Path,
     rows: &[RunRow<R>],
     study_toml: &str,
     settings: &SolverSettings,
+    checksum: super::Checksum,
 ) -> Result<PartInfo> {
-    let info = super::write_bytes(path, &encode_part(rows, study_toml, settings)?)?;
+    let bytes = encode_part(rows, study_toml, settings)?;
+    let info = super::write_bytes(path, &bytes, super::Durability::Later)?;
     Ok(PartInfo {
         rows: rows.len() as u64,
-        checksum: info.checksum,
+        checksum: checksum.hex(&bytes),
         bytes: info.bytes,
     })
 }
@@ -459,6 +462,29 @@ pub fn part_metadata(path: &Path) -> Result<BTreeMap<String, String>> {
     Ok(super::metadata_of(&super::open(path)?))
 }
 
+/// The point ids (in file order) and the outcome counts of a part file of either scene's table
+/// (`impactsweep.table` says which), every record read: what a part's check needs
+/// ([`crate::sweep::verify`]).
+pub fn read_ids_outcomes(path: &Path) -> Result<(Vec<u64>, BTreeMap<String, u64>)> {
+    fn of<R: StoredRecord>(rows: Vec<RunRow<R>>) -> (Vec<u64>, BTreeMap<String, u64>) {
+        let mut counts = BTreeMap::new();
+        for r in &rows {
+            *counts
+                .entry(r.record.outcome().name().to_string())
+                .or_default() += 1;
+        }
+        (rows.iter().map(|r| r.point_id).collect(), counts)
+    }
+    let forced = part_metadata(path)?
+        .get(META_TABLE)
+        .is_some_and(|t| t == TableKind::ForcedPoints.name());
+    Ok(if forced {
+        of(read_rows::<ForcedRecord>(path)?)
+    } else {
+        of(read_rows::<Record>(path)?)
+    })
+}
+
 /// Reads a free-decay part file back into rows, in file order ([`read_rows`]).
 pub fn read_part(path: &Path) -> Result<Vec<RunRow>> {
     read_rows(path)
@@ -608,9 +634,19 @@ mod tests {
         std::fs::create_dir(dir.path().join("points")).unwrap();
         let path = part_path(dir.path(), 3);
         let rows = rows();
-        let info = write_part(&path, &rows, "name = 'x'", &SolverSettings::default()).unwrap();
+        let info = write_part(
+            &path,
+            &rows,
+            "name = 'x'",
+            &SolverSettings::default(),
+            super::super::Checksum::DEFAULT,
+        )
+        .unwrap();
         assert_eq!(info.rows, 5);
-        assert_eq!(info.checksum, checksum_file(&path).unwrap());
+        assert_eq!(
+            info.checksum,
+            format!("{:016x}", checksum_file(&path).unwrap())
+        );
         assert!(!tmp_path(&path).exists());
         let back = read_part(&path).unwrap();
         let want: Vec<RunRow> = rows.into_iter().map(trimmed).collect();

@@ -66,6 +66,6 @@ pub fn encode(rows: &[Row]) -> Result<Vec<u8>> {
 
 /// Writes the trade-off rows to `path` (atomically).
 pub fn write(path: &Path, rows: &[Row]) -> Result<()> {
-    super::write_bytes(path, &encode(rows)?)?;
+    super::write_bytes(path, &encode(rows)?, super::Durability::Now)?;
     Ok(())
 }

@@ -186,6 +186,9 @@ pub(super) fn serde_error(
             "{loc} = {value}: an axis is a list of numbers, {{start, stop, step}} or \
              {{start, stop, num}}"
         )
+    } else if msg.starts_with("invalid length ") && msg.contains(", expected struct ") {
+        // serde reads a struct from a list too, and then complains about the list's length.
+        format!("{loc} = {value}: must be a table")
     } else if let Some((_, exp)) = msg
         .strip_prefix("invalid type: ")
         .or_else(|| msg.strip_prefix("invalid value: "))

@@ -11,13 +11,14 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
 use super::audit::{audit_points, run_audit};
-use super::journal;
-use super::lock::{acquire_lock, lock_path};
+use super::journal::{self, Entry, Journal};
+use super::lock::LockMode;
+use super::rundir;
 use crate::accuracy::Audit;
 use crate::error::InputError;
 use crate::plan::{Plan, RunSpec};
 use crate::sim::{ForcedRecord, Harmonic, NoProbe, Record, Scene, simulate, simulate_harmonic};
-use crate::store::{self, ChunkEntry, Manifest, RunRow, StoredRecord, read_manifest};
+use crate::store::{self, Checksum, ChunkEntry, Manifest, RunRow, StoredRecord};
 use crate::study::{Study, whole_curves};
 
 /// How to run a study.
@@ -63,6 +64,9 @@ pub struct SweepSummary {
     pub chunks_written: u64,
     /// Chunks of this shard found finished and kept.
     pub chunks_kept: u64,
+    /// Chunks of this shard found damaged or missing (though recorded) and run again (they are
+    /// among [`SweepSummary::chunks_written`]).
+    pub chunks_repaired: u64,
     /// Chunks of this shard still missing (non-zero only with `stop_after`).
     pub chunks_left: u64,
     /// Outcome counts of the runs simulated by this call.
@@ -86,7 +90,7 @@ impl SweepSummary {
             0.0
         };
         let mut line = format!(
-            "{name}: {} runs ({}) in {secs:.2} s, {rate:.0} runs/s; {} chunks written, {} kept → {}",
+            "{name}: {} runs ({}) in {secs:.2} s, {rate:.0} runs/s; {} chunks written{}, {} kept → {}",
             self.runs,
             if outcomes.is_empty() {
                 "none".to_string()
@@ -94,6 +98,11 @@ impl SweepSummary {
                 outcomes.join(", ")
             },
             self.chunks_written,
+            if self.chunks_repaired > 0 {
+                format!(" ({} damaged or missing, repaired)", self.chunks_repaired)
+            } else {
+                String::new()
+            },
             self.chunks_kept,
             self.dir.display()
         );
@@ -254,13 +263,6 @@ fn outcome_counts<R: StoredRecord>(rows: &[RunRow<R>]) -> BTreeMap<String, u64> 
     counts
 }
 
-/// Whether a directory exists and holds anything.
-fn non_empty(dir: &Path) -> bool {
-    std::fs::read_dir(dir)
-        .map(|mut d| d.next().is_some())
-        .unwrap_or(false)
-}
-
 /// The chunks of shard `(i, n)`.
 pub fn shard_chunks(n_chunks: u64, shard: (u64, u64)) -> impl Iterator<Item = u64> {
     (shard.0..n_chunks).step_by(shard.1.max(1) as usize)
@@ -272,6 +274,11 @@ pub fn chunk_rows(plan: &Plan, k: u64) -> u64 {
     (p.end - p.start) * plan.n_cases()
 }
 
+/// How often the engine syncs its file system while writing: part files and journal lines are
+/// written without an `fsync` each (3 ms and 0.7 ms here: more than a small chunk takes to
+/// simulate) and made durable together, at most this long after they were written.
+pub const SYNC_EVERY: Duration = Duration::from_secs(1);
+
 /// Runs (or resumes) one study into `out_root/<name>/`.
 pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<SweepSummary> {
     let start = Instant::now();
@@ -280,25 +287,65 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
     check_scene_options(study, opts)?;
 
     // 1. The directory: fresh, resumed, or joined by a sibling shard.
-    let (study, fresh_dir) = open_dir(study, &dir, opts)?;
+    let (study, fresh_dir) = rundir::open(study, &dir, opts)?;
     let plan = Plan::new(&study);
     let mine: Vec<u64> = shard_chunks(plan.n_chunks(), opts.shard).collect();
-    let _lock = claim_dir(&plan, &dir, opts, &mine, fresh_dir)?;
+    let lock = rundir::claim(&plan, &dir, opts, &mine, fresh_dir)?;
+    if let LockMode::PidFile(why) = &lock.mode {
+        warn(&format!(
+            "{}: this file system refuses flock ({why}): the shard's lock is its lock file \
+             alone; should this host crash, delete the lock file by hand (see docs/cluster.md)",
+            dir.display()
+        ));
+    }
     let fresh = Manifest::new(&plan, study.run.chunk_points);
-    journal::record_shard(&dir, &fresh, &format!("{}/{}", opts.shard.0, opts.shard.1))?;
+    if let Some(problem) = journal::start(&dir, &fresh)? {
+        warn(&format!(
+            "{}: manifest.json {problem}; rebuilt from the journals and the part files (each \
+             part is verified)",
+            dir.display()
+        ));
+    }
+    let mut journal = Journal::open(&dir, opts.shard)?;
+    journal.append(&Entry::Shard {
+        shard: format!("{}/{}", opts.shard.0, opts.shard.1),
+    })?;
 
-    // 2. What is already done, and 3. the pipeline, with the scene's record.
+    // 2. What is already done.
+    let ledger = journal::load(&dir, &fresh)?;
+    let done = rundir::find_done(&plan, &dir, &mine, &ledger, &mut journal)?;
+    report_damage(&dir, &done.damaged);
+    let mut pending = done.pending;
+    if let Some(limit) = opts.stop_after {
+        pending.truncate(limit as usize);
+    }
+
+    // 3. The pipeline: write chunk k while simulating chunk k + 1, the scene's records.
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
         .build()
         .context("starting the thread pool")?;
-    let (outcomes, written, kept) = match study.scene {
-        Scene::Free => resume_and_write::<Record>(&plan, &dir, &mine, opts, &fresh, &pool)?,
-        Scene::Harmonic(_) => {
-            resume_and_write::<ForcedRecord>(&plan, &dir, &mine, opts, &fresh, &pool)?
-        }
-    };
+    let algorithm = ledger.manifest.algorithm();
+    let (outcomes, written) = pool
+        .install(|| match study.scene {
+            Scene::Free => {
+                write_chunks::<Record>(&plan, &dir, &pending, opts, algorithm, &mut journal)
+            }
+            Scene::Harmonic(_) => {
+                write_chunks::<ForcedRecord>(&plan, &dir, &pending, opts, algorithm, &mut journal)
+            }
+        })
+        .with_context(|| {
+            format!(
+                "the sweep stopped; every chunk written so far is kept: once the cause below is \
+             fixed (space freed, the directory writable), `{}` continues it",
+                super::status::resume_command(&dir)
+            )
+        })?;
+    let kept = done.kept;
     if stop_requested() {
+        finish(&dir, &fresh, journal)?;
+        drop(lock);
         return Err(crate::error::Interrupted {
             dir: dir.display().to_string(),
             written,
@@ -310,10 +357,12 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
     // 4. The audit (shard 0, once per K).
     let k_audit = opts.audit.unwrap_or(study.run.audit);
     let audit = if k_audit > 0 && opts.shard.0 == 0 {
-        Some(pool.install(|| audit_once(&plan, &dir, &fresh, k_audit))?)
+        Some(pool.install(|| audit_once(&plan, &ledger.manifest, k_audit, &mut journal))?)
     } else {
         None
     };
+    finish(&dir, &fresh, journal)?;
+    drop(lock);
 
     let chunks_left = (mine.len() as u64).saturating_sub(kept + written);
     Ok(SweepSummary {
@@ -321,6 +370,7 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
         runs: outcomes.values().sum(),
         chunks_written: written,
         chunks_kept: kept,
+        chunks_repaired: done.damaged.len() as u64,
         chunks_left,
         outcomes,
         wall: start.elapsed(),
@@ -328,24 +378,34 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
     })
 }
 
-/// Finds this shard's finished chunks, then simulates and writes the pending ones (chunk `k`
-/// written while `k + 1` is simulated) on `pool`. Returns the outcome counts of the runs
-/// written, the chunks written and the chunks kept.
-fn resume_and_write<R: SceneRun>(
-    plan: &Plan,
-    dir: &Path,
-    mine: &[u64],
-    opts: &SweepOptions,
-    fresh: &Manifest,
-    pool: &rayon::ThreadPool,
-) -> Result<(BTreeMap<String, u64>, u64, u64)> {
-    let (mut pending, kept) = find_done::<R>(plan, dir, mine, fresh)?;
-    if let Some(limit) = opts.stop_after {
-        pending.truncate(limit as usize);
+/// A warning on stderr (the run goes on).
+fn warn(msg: &str) {
+    eprintln!("warning: {msg}");
+}
+
+/// Says which chunks were found damaged and are run again.
+fn report_damage(dir: &Path, damaged: &[(u64, String)]) {
+    const SHOWN: usize = 10;
+    for (k, why) in damaged.iter().take(SHOWN) {
+        warn(&format!(
+            "{}: {why}; chunk {k} is run again",
+            store::part_path(dir, *k).display()
+        ));
     }
-    let (outcomes, written) =
-        pool.install(|| write_chunks::<R>(plan, dir, &pending, opts, fresh))?;
-    Ok((outcomes, written, kept))
+    if damaged.len() > SHOWN {
+        let ids: Vec<u64> = damaged.iter().map(|d| d.0).collect();
+        warn(&format!(
+            "{} damaged or missing chunks in all, run again: {}",
+            damaged.len(),
+            super::ranges(&ids)
+        ));
+    }
+}
+
+/// The end of a shard's run: its writes synced, its journal folded into the manifest.
+fn finish(dir: &Path, fresh: &Manifest, journal: Journal) -> Result<()> {
+    store::sync_file_system(dir)?;
+    journal::fold(dir, fresh, journal)
 }
 
 /// Refuses impossible options (exit 2).
@@ -387,164 +447,43 @@ fn check_scene_options(study: &Study, opts: &SweepOptions) -> Result<()> {
     Ok(())
 }
 
-/// Checks what `dir` already holds against the study and the options: the same study text, a
-/// dataset this build reads, the same chunk size. Returns the study with its chunk size settled
-/// and whether the directory holds no study yet.
-fn open_dir(study: &Study, dir: &Path, opts: &SweepOptions) -> Result<(Study, bool)> {
-    let existing_study = std::fs::read_to_string(dir.join("study.toml")).ok();
-    if let Some(text) = &existing_study
-        && *text != study.source
-    {
-        return Err(InputError::new(format!(
-            "{}: holds a different study (its study.toml differs from {}); choose another --out",
-            dir.display(),
-            study.path.display()
-        ))
-        .into());
-    }
-    let existing = read_manifest(dir)?;
-    if let Some(m) = &existing {
-        m.check_version(dir)?;
-    }
-    let chunk_points = match (opts.chunk_points, &existing) {
-        (Some(c), Some(m)) if m.chunk_points != c => {
-            return Err(InputError::new(format!(
-                "--chunk-points {c}: {} was written with chunk_points = {}; resume with that \
-                 value (or without --chunk-points)",
-                dir.display(),
-                m.chunk_points
-            ))
-            .into());
-        }
-        (Some(c), _) => c,
-        (None, Some(m)) => m.chunk_points,
-        (None, None) => study.run.chunk_points.max(1),
-    };
-    let mut study = study.clone();
-    study.run.chunk_points = chunk_points;
-    Ok((study, existing_study.is_none()))
-}
-
-/// Makes `dir` this shard's: refuses a non-empty directory without `--resume` (a sharded run
-/// may join one its siblings created), takes the shard's lock and writes `study.toml` when the
-/// directory holds none.
-fn claim_dir(
-    plan: &Plan,
-    dir: &Path,
-    opts: &SweepOptions,
-    mine: &[u64],
-    fresh_dir: bool,
-) -> Result<super::lock::RunLock> {
-    if !opts.resume && non_empty(dir) {
-        let own_part = mine.iter().any(|&k| store::part_path(dir, k).exists());
-        if opts.shard.1 <= 1 || own_part || lock_path(dir, opts.shard).exists() {
-            return Err(InputError::new(format!(
-                "{}: the output directory exists and is not empty; pass --resume to continue \
-                 that run, or choose another --out (nothing was overwritten)",
-                dir.display()
-            ))
-            .into());
-        }
-    }
-    let points_dir = dir.join("points");
-    std::fs::create_dir_all(&points_dir)
-        .with_context(|| format!("creating {}", points_dir.display()))?;
-    let lock = acquire_lock(dir, opts.shard, opts.resume)?;
-    if fresh_dir {
-        store::write_shared(&dir.join("study.toml"), plan.study.source.as_bytes())?;
-    }
-    Ok(lock)
-}
-
-/// This shard's chunks that are already done, and those still to run. A chunk is done when its
-/// part matches the manifest, or is a readable Parquet file with the chunk's rows (count and
-/// point ids; then recorded). Anything else is removed and redone.
-fn find_done<R: SceneRun>(
-    plan: &Plan,
-    dir: &Path,
-    mine: &[u64],
-    fresh: &Manifest,
-) -> Result<(Vec<u64>, u64)> {
-    store::remove_dead_temp_files(dir)?;
-    let manifest = read_manifest(dir)?.unwrap_or(fresh.clone());
-    let mut pending = Vec::new();
-    let mut kept = 0;
-    for &k in mine {
-        let path = store::part_path(dir, k);
-        let tmp = store::tmp_path(&path);
-        if tmp.exists() {
-            std::fs::remove_file(&tmp).with_context(|| format!("removing {}", tmp.display()))?;
-        }
-        if !path.exists() {
-            pending.push(k);
-            continue;
-        }
-        let want_rows = chunk_rows(plan, k);
-        let sum = store::checksum_file(&path)?;
-        let listed = manifest
-            .chunk(k)
-            .is_some_and(|c| c.rows == want_rows && c.checksum == format!("{sum:016x}"));
-        if listed {
-            kept += 1;
-            continue;
-        }
-        let first_id = plan.chunk_points(k).start * plan.n_cases();
-        let ids_match = |rows: &[RunRow<R>]| {
-            rows.iter()
-                .enumerate()
-                .all(|(i, r)| r.point_id == first_id + i as u64)
-        };
-        match store::read_rows::<R>(&path) {
-            Ok(rows) if rows.len() as u64 == want_rows && ids_match(&rows) => {
-                let entry = ChunkEntry {
-                    chunk: k,
-                    rows: want_rows,
-                    checksum: format!("{sum:016x}"),
-                    outcomes: outcome_counts(&rows),
-                };
-                journal::record_chunk(dir, fresh, entry)?;
-                kept += 1;
-            }
-            _ => {
-                std::fs::remove_file(&path)
-                    .with_context(|| format!("removing {}", path.display()))?;
-                pending.push(k);
-            }
-        }
-    }
-    Ok((pending, kept))
-}
-
 /// Simulates and writes the `pending` chunks (on the current rayon pool), chunk `k` written
-/// while `k + 1` is simulated; stops early when a stop is requested. Returns the outcome counts
-/// of the runs written and the number of chunks written.
+/// while `k + 1` is simulated; stops early when a stop is requested. Each part is recorded in
+/// the journal once complete; the file system is synced every [`SYNC_EVERY`]. Returns the outcome
+/// counts of the runs written and the number of chunks written.
 fn write_chunks<R: SceneRun>(
     plan: &Plan,
     dir: &Path,
     pending: &[u64],
     opts: &SweepOptions,
-    fresh: &Manifest,
+    algorithm: Checksum,
+    journal: &mut Journal,
 ) -> Result<(BTreeMap<String, u64>, u64)> {
     let study = plan.study;
     let pending_runs: u64 = pending.iter().map(|&k| chunk_rows(plan, k)).sum();
     let pb = progress_bar(opts.progress, pending_runs);
     let mut outcomes = BTreeMap::new();
     let mut written = 0u64;
-    let write = |k: u64, rows: Vec<RunRow<R>>| -> Result<BTreeMap<String, u64>> {
+    let mut last_sync = Instant::now();
+    let mut write = |k: u64, rows: Vec<RunRow<R>>| -> Result<BTreeMap<String, u64>> {
         let info = store::write_part(
             &store::part_path(dir, k),
             &rows,
             &study.source,
             &study.solver,
+            algorithm,
         )?;
         let counts = outcome_counts(&rows);
-        let entry = ChunkEntry {
+        journal.append(&Entry::Chunk(ChunkEntry {
             chunk: k,
             rows: info.rows,
-            checksum: format!("{:016x}", info.checksum),
+            checksum: info.checksum,
             outcomes: counts.clone(),
-        };
-        journal::record_chunk(dir, fresh, entry)?;
+        }))?;
+        if last_sync.elapsed() >= SYNC_EVERY {
+            store::sync_file_system(dir)?;
+            last_sync = Instant::now();
+        }
         Ok(counts)
     };
     let mut prev: Option<(u64, Vec<RunRow<R>>)> = None;
@@ -572,16 +511,15 @@ fn write_chunks<R: SceneRun>(
     Ok((outcomes, written))
 }
 
-/// The audit of `k` points: the manifest's when it audited the same points, else run (on the
+/// The audit of `k` points: the directory's when it audited the same points, else run (on the
 /// current rayon pool) and recorded.
-fn audit_once(plan: &Plan, dir: &Path, fresh: &Manifest, k: u64) -> Result<Audit> {
-    let have = read_manifest(dir)?.and_then(|m| m.audit);
+fn audit_once(plan: &Plan, recorded: &Manifest, k: u64, journal: &mut Journal) -> Result<Audit> {
     let want_points = audit_points(plan.study.seed, plan.n_points(), k);
-    Ok(match have {
-        Some(a) if a.points == want_points => a,
+    Ok(match &recorded.audit {
+        Some(a) if a.points == want_points => a.clone(),
         _ => {
             let a = run_audit(plan, &want_points);
-            journal::record_audit(dir, fresh, a.clone())?;
+            journal.append(&Entry::Audit { audit: a.clone() })?;
             a
         }
     })

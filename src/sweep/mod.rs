@@ -22,12 +22,18 @@
 //! * `study.toml`: the study text; a run directory holds one study and `--resume` refuses a
 //!   different one.
 //! * `points/part-NNNNNN.parquet`: written as `*.tmp`, then renamed (see [`crate::store::write_part`]).
-//!   **The part files are the source of truth**: a part file that is a readable Parquet file with
-//!   the chunk's rows (their count and point ids) is a finished chunk.
-//! * `manifest.json`: a summary ([`crate::store::Manifest`]): tool and schema version, sizes, and per finished
-//!   chunk its row count, outcome counts and checksum (64-bit FNV-1a of the file's bytes, hex).
-//!   [`journal`] keeps it: every finished chunk is recorded by [`journal::record_chunk`].
-//! * `.lock` (unsharded) or `.lock-shard-I-of-N`: the shard's writer lock ([`lock`]).
+//!   **The part files are the source of truth**; what the directory records of each (its rows,
+//!   outcome counts and checksum) says what it must be.
+//! * `journal.jsonl` / `journal-shard-I-of-N.jsonl`: while a shard runs, one line per finished
+//!   chunk ([`journal`]), folded into the manifest when the shard ends.
+//! * `manifest.json`: the summary ([`crate::store::Manifest`]): tool and schema version, sizes,
+//!   the study text's checksum, and per finished chunk its row count, outcome counts and
+//!   checksum (xxh3-64 of the file's bytes; the manifest names the algorithm).
+//! * `.lock` (unsharded) or `.lock-shard-I-of-N`: the shard's writer lock, an OS lock on the file
+//!   ([`lock`]).
+//!
+//! Every part is verified ([`verify`]) by `status`, `reduce` and `--resume`: a damaged one is
+//! reported, refused and run again.
 //!
 //! Without `--resume`, an unsharded run refuses an existing non-empty directory (exit 2); a
 //! sharded run joins a directory that holds the same study and nothing of its own shard (its
@@ -40,20 +46,24 @@
 //!
 //! # Files
 //!
-//! [`engine`] (options, the pipeline, [`run_study`]), [`journal`] (the manifest's bookkeeping),
-//! [`lock`] (the shard's writer lock), [`audit`] and [`mod@status`] (what a run directory holds).
+//! [`engine`] (options, the pipeline, [`run_study`]), [`rundir`] (opening and claiming a run
+//! directory, what is already done), [`journal`] (the bookkeeping of finished chunks), [`verify`]
+//! (is a part what the directory says), [`lock`] (the shard's writer lock), [`audit`] and
+//! [`mod@status`] (what a run directory holds).
 //! The manifest type and its file are [`crate::store::manifest`]'s.
 
 pub mod audit;
 pub mod engine;
 pub mod journal;
 pub mod lock;
+pub mod rundir;
 pub mod status;
+pub mod verify;
 
 pub use audit::{audit_points, run_audit};
 pub use engine::{
-    SceneRun, SweepOptions, SweepSummary, chunk_rows, request_stop, run_dir, run_row, run_study,
-    shard_chunks, simulate_chunk, simulate_forced_run, simulate_run, stop_requested,
+    SYNC_EVERY, SceneRun, SweepOptions, SweepSummary, chunk_rows, request_stop, run_dir, run_row,
+    run_study, shard_chunks, simulate_chunk, simulate_forced_run, simulate_run, stop_requested,
 };
 pub use lock::{LockHolder, RunLock, acquire_lock, lock_path, read_lock};
 pub use status::{Status, missing_chunks, outcome_names, ranges, status};

@@ -1,33 +1,67 @@
-//! What a run directory holds: the part files are the truth, the manifest gives the sizes.
+//! What a run directory holds, every part verified: the part files are the truth, the manifest
+//! and the journals say what they should be.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::{Context, Result};
+use rayon::prelude::*;
 
+use super::journal;
 use super::lock::{LockHolder, is_lock_name, read_lock};
+use super::verify::{check_recorded, check_unrecorded};
 use crate::error::InputError;
 use crate::sim::Outcome;
-use crate::store::{self, Manifest, read_manifest};
+use crate::store::{self, Manifest, ManifestFile, read_manifest_file};
 
 /// What a run directory holds.
 #[derive(Clone, Debug)]
 pub struct Status {
+    /// `manifest.json` with the journals applied (and the chunks found good but not yet
+    /// recorded).
     pub manifest: Manifest,
-    /// Chunks whose part file exists.
+    /// Chunks whose part file is good, in order.
     pub done: Vec<u64>,
-    /// Chunks without a part file.
+    /// Of those, the ones no journal or manifest records yet (`run --resume` records them).
+    pub unrecorded: Vec<u64>,
+    /// Chunks whose part file is damaged, or recorded but missing: (chunk, why).
+    pub damaged: Vec<(u64, String)>,
+    /// Chunks without a good part file (damaged ones included).
     pub missing: Vec<u64>,
-    /// Rows in the finished parts (from their footers).
+    /// Rows in the good parts.
     pub runs_done: u64,
     /// Lock files present: (file name, holder).
     pub locks: Vec<(String, Option<LockHolder>)>,
 }
 
 impl Status {
-    /// Every chunk has its part file.
+    /// Every chunk has a good part file.
     pub fn complete(&self) -> bool {
         self.missing.is_empty()
+    }
+
+    /// The error `status` and `reduce` end with when a part is damaged: each file and why, and
+    /// what to do.
+    pub fn damage_error(&self, dir: &Path) -> Option<anyhow::Error> {
+        if self.damaged.is_empty() {
+            return None;
+        }
+        let n = self.damaged.len();
+        let mut o = format!(
+            "{}: {n} damaged part file{}:",
+            dir.display(),
+            if n == 1 { "" } else { "s" }
+        );
+        for (k, why) in &self.damaged {
+            let _ = write!(o, "\n  {}: {why}", store::part_path(dir, *k).display());
+        }
+        let _ = write!(
+            o,
+            "\nrun `{}` to run {} again (it keeps every good part)",
+            resume_command(dir),
+            if n == 1 { "its chunk" } else { "their chunks" }
+        );
+        Some(anyhow::anyhow!(o))
     }
 
     /// The `status` command's text: chunks and runs done, missing chunks, per shard, outcomes,
@@ -47,6 +81,17 @@ impl Status {
             m.n_cases,
             m.chunk_points
         );
+        for (k, why) in &self.damaged {
+            let _ = writeln!(o, "damaged: {}: {why}", store::part_path(dir, *k).display());
+        }
+        if !self.unrecorded.is_empty() {
+            let _ = writeln!(
+                o,
+                "not yet recorded (good: readable, this study's rows; `run --resume` records \
+                 them): chunks {}",
+                ranges(&self.unrecorded)
+            );
+        }
         if self.missing.is_empty() {
             let _ = writeln!(o, "complete");
         } else {
@@ -125,26 +170,103 @@ impl Status {
     }
 }
 
-/// Reads a run directory's state. A dataset of another schema version is refused with what it
-/// is and what to do.
+/// The command that resumes the run directory `dir` (its own `study.toml`, into its parent).
+pub fn resume_command(dir: &Path) -> String {
+    let parent = dir
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    format!(
+        "impactsweep run {} --out {} --resume",
+        dir.join("study.toml").display(),
+        parent.display()
+    )
+}
+
+/// Reads a run directory's state and verifies every part file (see [`super::verify`]). A
+/// directory without a manifest is bad input; a dataset of another schema version is refused
+/// with what it is and what to do; a manifest that is unusable (empty, cut short, of another
+/// study) is refused with how to rebuild it.
 pub fn status(dir: &Path) -> Result<Status> {
-    let manifest = read_manifest(dir)?.ok_or_else(|| {
-        InputError::new(format!(
-            "{}: not a run directory (no manifest.json)",
-            dir.display()
-        ))
-    })?;
-    manifest.check_version(dir)?;
+    if read_manifest_file(dir)? == ManifestFile::Absent {
+        let parts = store::part_files(dir)?;
+        let Some(first) = parts.first() else {
+            return Err(InputError::new(format!(
+                "{}: not a run directory (no manifest.json)",
+                dir.display()
+            ))
+            .into());
+        };
+        // A dataset of another schema version is told by its part files' own metadata.
+        if let Ok(meta) = store::part_metadata(first) {
+            store::check_version(first, &meta)?;
+        }
+        anyhow::bail!(
+            "{}: no manifest.json beside {} part files; run `{}` to rebuild it from the part \
+             files (each is verified)",
+            dir.display(),
+            parts.len(),
+            resume_command(dir)
+        );
+    }
+    let study_path = dir.join("study.toml");
+    let study_text = std::fs::read_to_string(&study_path)
+        .with_context(|| format!("reading {}", study_path.display()))?;
+    let refuse = |problem: &str| {
+        anyhow::anyhow!(
+            "{}: {problem}; run `{}` to rebuild it from the part files (each is verified)",
+            store::manifest::manifest_path(dir).display(),
+            resume_command(dir)
+        )
+    };
+    let mut manifest = journal::load_recorded(dir)?.map_err(|why| refuse(&why))?;
+    if let Some(why) = manifest.study_text_mismatch(&study_text) {
+        return Err(refuse(&why));
+    }
+    let present: Vec<u64> = store::part_files(dir)?
+        .iter()
+        .filter_map(|p| store::part_chunk(p))
+        .filter(|&k| k < manifest.n_chunks)
+        .collect();
+    let checked = present
+        .par_iter()
+        .map(|&k| {
+            let path = store::part_path(dir, k);
+            let verdict = match manifest.chunk(k) {
+                Some(e) => check_recorded(&manifest, &path, e).map_or(Ok(None), Err),
+                None => check_unrecorded(&manifest, &study_text, &path, k)?.map(Some),
+            };
+            Ok((k, verdict))
+        })
+        .collect::<Result<Vec<(u64, Result<Option<store::ChunkEntry>, String>)>>>()?;
     let mut done = Vec::new();
-    let mut runs_done = 0;
-    for path in store::part_files(dir)? {
-        if let Some(k) = store::part_chunk(&path)
-            && k < manifest.n_chunks
-        {
-            runs_done += store::part_rows(&path)?;
-            done.push(k);
+    let mut unrecorded = Vec::new();
+    let mut damaged = Vec::new();
+    for (k, verdict) in checked {
+        match verdict {
+            Ok(None) => done.push(k),
+            Ok(Some(entry)) => {
+                done.push(k);
+                unrecorded.push(k);
+                manifest.upsert(entry);
+            }
+            Err(why) => damaged.push((k, why)),
         }
     }
+    for c in &manifest.chunks {
+        if present.binary_search(&c.chunk).is_err() {
+            damaged.push((
+                c.chunk,
+                "recorded as finished, but the file is missing".into(),
+            ));
+        }
+    }
+    damaged.sort_by_key(|d| d.0);
+    // Only the good parts count.
+    manifest
+        .chunks
+        .retain(|c| done.binary_search(&c.chunk).is_ok());
+    manifest.recount();
     let missing = missing_chunks(manifest.n_chunks, &done);
     let mut locks = Vec::new();
     for entry in std::fs::read_dir(dir).with_context(|| format!("listing {}", dir.display()))? {
@@ -156,10 +278,12 @@ pub fn status(dir: &Path) -> Result<Status> {
     }
     locks.sort_by(|a, b| a.0.cmp(&b.0));
     Ok(Status {
+        runs_done: manifest.runs_done,
         manifest,
         done,
+        unrecorded,
+        damaged,
         missing,
-        runs_done,
         locks,
     })
 }

@@ -186,23 +186,6 @@ pub fn downgrade_to_v1(run_dir: &Path) {
     std::fs::write(&manifest, serde_json::to_string_pretty(&m).unwrap()).unwrap();
 }
 
-/// The Python interpreter of the tests that call Python (interop readers, the SciPy peers):
-/// `$IMPACTSWEEP_PYTHON`, else the repository's `.venv/bin/python` (`scripts/setup-python.sh`
-/// creates it with the pinned packages).
-pub fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("IMPACTSWEEP_PYTHON") {
-        return PathBuf::from(p);
-    }
-    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
-    assert!(
-        venv.exists(),
-        "no Python for this test: set IMPACTSWEEP_PYTHON or run scripts/setup-python.sh \
-         (looked for {})",
-        venv.display()
-    );
-    venv
-}
-
 /// The cells of one CSV line (RFC 4180: quoted cells may hold commas and doubled quotes).
 pub fn csv_cells(line: &str) -> Vec<String> {
     let mut out = Vec::new();
@@ -291,4 +274,58 @@ pub fn run_study_file(study: &Path, out: &Path, name: &str) -> PathBuf {
         .assert()
         .success();
     out.join(name)
+}
+
+/// A run directory's dataset as bytes: every part file by name, then `manifest.json`. Two runs
+/// of one study are the same dataset, bit for bit, when these are equal.
+pub fn dataset(run_dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut files: Vec<(String, Vec<u8>)> = impactsweep::store::part_files(run_dir)
+        .unwrap()
+        .iter()
+        .map(|p| {
+            (
+                p.file_name().unwrap().to_string_lossy().to_string(),
+                std::fs::read(p).unwrap(),
+            )
+        })
+        .collect();
+    files.push((
+        "manifest.json".into(),
+        std::fs::read(run_dir.join("manifest.json")).unwrap_or_default(),
+    ));
+    files
+}
+
+/// This host's name, as lock files write it.
+pub fn hostname() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .unwrap()
+        .trim()
+        .to_string()
+}
+
+/// A PID that no longer exists: a child that has exited and been reaped.
+pub fn dead_pid() -> u32 {
+    let mut child = std::process::Command::new("true").spawn().unwrap();
+    let pid = child.id();
+    child.wait().unwrap();
+    assert!(!Path::new(&format!("/proc/{pid}")).exists());
+    pid
+}
+
+/// The Python interpreter of the tests that call Python (interop readers, the SciPy peers):
+/// `$IMPACTSWEEP_PYTHON`, else the repository's `.venv/bin/python` (`scripts/setup-python.sh`
+/// creates it with the pinned packages).
+pub fn python() -> PathBuf {
+    if let Some(p) = std::env::var_os("IMPACTSWEEP_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
+    assert!(
+        venv.exists(),
+        "no Python for this test: set IMPACTSWEEP_PYTHON or run scripts/setup-python.sh \
+         (looked for {})",
+        venv.display()
+    );
+    venv
 }

@@ -40,7 +40,7 @@ pub fn section(study: &Study, s: &Summary) -> String {
     let _ = writeln!(
         o,
         "- R interval: percentile bootstrap, {} resamples of the ok cases, {} confidence, seeded by the study seed and the design point.",
-        rel.bootstrap,
+        s.options.bootstrap,
         confidence(s)
     );
     let d = &s.options.damping;
