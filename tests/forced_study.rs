@@ -361,3 +361,41 @@ fn issue_12_plan_describes_the_scene_and_a_free_decay_reader_refuses_forced_part
     );
     assert!(matches!(s.scene, Scene::Harmonic(_)));
 }
+
+/// A harmonic run directory whose manifest and journals are gone: `--resume` verifies its parts
+/// (reading the `forced_points` table) and keeps them, without running them again.
+#[test]
+fn issue_12_unrecorded_harmonic_parts_are_verified_and_kept() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = write_study(tmp.path(), "kept");
+    let out = tmp.path().join("out");
+    bin()
+        .arg("run")
+        .arg(&study)
+        .arg("--out")
+        .arg(&out)
+        .args(["--quiet", "--chunk-points", "7"])
+        .assert()
+        .success();
+    let dir = out.join("kept");
+    let before = part_bytes(&dir);
+    assert_eq!(before.len(), 2);
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if name == "manifest.json" || name.starts_with("journal") {
+            std::fs::remove_file(&path).unwrap();
+        }
+    }
+    bin()
+        .arg("run")
+        .arg(&study)
+        .arg("--out")
+        .arg(&out)
+        .args(["--resume", "--chunk-points", "7"])
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("0 chunks written, 2 kept"));
+    assert_eq!(part_bytes(&dir), before);
+    assert!(sweep::status(&dir).unwrap().complete());
+}
