@@ -19,19 +19,18 @@
 //!    Overlapping or touching candidates make one candidate span. A smooth trend changes by
 //!    `O(h)` between neighbours and its slope by `O(h)` across one, so a finer grid gives fewer
 //!    candidates, never more: refining does not invent jumps.
-//! 2. **Location.** Bisection of the span with the ideal case simulated at the midpoint `m`:
-//!    the jump lies beyond `m` when `q(m)` follows the trend of the left side (the line through
-//!    the left end with the left slope) more closely than that of the right side, before `m`
-//!    otherwise; the side that moves takes the secant to `m` as its new slope, so the trends
-//!    stay local. It stops when the bracket is at most `locate · h` wide (`locate` defaults to
-//!    1/100 of the grid step): `location` is its middle, `location_tol` half its width.
+//! 2. **Location.** Bisection of the span with the ideal case simulated at the midpoint `m`,
+//!    each side judging whether `q(m)` follows its own trend ([`locate`] has the rule). It stops
+//!    when the bracket is at most `locate · h` wide (`locate` defaults to 1/100 of the grid
+//!    step): `location` is its middle, `location_tol` half its width.
 //! 3. **Class.** On the final bracket `[a, b]`: a **step** when the change stays,
 //!    `|q(b) - q(a)| >= step_tol` (size: `q(b) - q(a)`, the quantity's units); otherwise a
 //!    **kink** (response only) when only the slope changes, `|s_R - s_L| >= kink_slope · S`
 //!    with the secants either side at the bracket's scale (size: `s_R - s_L`, the quantity's
-//!    units per axis unit); otherwise the candidate was a steep but smooth stretch and is
-//!    dropped. A kink of the square-root kind (a grazing impact) has an ever steeper side and
-//!    is a kink.
+//!    units per axis unit). A kink of the square-root kind (a grazing impact) has an ever
+//!    steeper side and is a kink; a corner rounded over more than the tolerance is reported at
+//!    the finest bracket, at most ten tolerances wide, that still classes. Otherwise the
+//!    candidate was a steep but smooth stretch and is dropped.
 //!
 //! DI gets steps only: DI = (X1 - X2)/(t2 - t1) depends on the impacts of the second
 //! half-cycle and its slope changes at every grazing impact there (hundreds of times along e in
