@@ -2,13 +2,132 @@
 //! `sqrt(P / Ts) * N_k`, with `N_k` a standard normal built from the `k`-th 64-bit output of a
 //! PCG-64 stream by the inverse normal CDF. One output per sample, so sample `k` depends only on
 //! the stream and `k`: the generator jumps over samples outside positive half-cycles
-//! (`Pcg64::advance`, O(log k)) instead of drawing them, and a run draws exactly the samples it
-//! reads.
+//! (`Pcg64::advance`, O(log k)) instead of drawing them, a run draws exactly the outputs of the
+//! samples it reads, and it computes the normal deviate only for the samples that can be a
+//! half-cycle's largest ([`NoisyPeak`]).
 
 use rand_core::Rng;
 use rand_pcg::Pcg64;
 
 use super::NoiseSettings;
+
+impl NoiseSettings {
+    /// Standard deviation of one sample, `sqrt(P / Ts)` (m).
+    #[inline]
+    pub fn sd(&self) -> f64 {
+        (self.power / self.sample_time).sqrt()
+    }
+}
+
+/// The uniform number in `(0, 1]` a sample's 64 bits stand for: the top 53 bits plus a half.
+/// It increases with `bits`. (Rounding makes the very top value exactly 1, a chance of 2^-53.)
+#[inline]
+pub fn uniform(bits: u64) -> f64 {
+    ((bits >> 11) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64)
+}
+
+/// The standard normal deviate at probability `u`, by the inverse normal CDF.
+#[inline]
+pub fn normal(u: f64) -> f64 {
+    -std::f64::consts::SQRT_2 * statrs::function::erf::erfc_inv(2.0 * u)
+}
+
+/// The largest noisy sample `x_k + sd N_k` of a positive half-cycle (model.md §4), fed the clean
+/// displacements `x_k` in increasing `k` and flushed at the half-cycle's end.
+///
+/// Drawing the normal deviate (an inverse CDF) costs far more than the sample itself, and only
+/// samples near the top can win. So each block of samples draws only its 64-bit outputs, takes
+/// the noisy value `c0` of the samples with the largest `x` and the largest output (and the
+/// running best), and computes the deviate only where the output's probability `u` exceeds
+/// `Phi((c0 - max x) / sd)`, with a relative margin of 1e-9 on both sides: every other sample
+/// is smaller than `c0` whatever the rounding, so the result (value and time, ties to the
+/// earliest, as one sample at a time would give) is the same bits as drawing them all.
+#[derive(Debug, Default)]
+pub(crate) struct NoisyPeak {
+    ks: Vec<u64>,
+    xs: Vec<f64>,
+    us: Vec<f64>,
+}
+
+impl NoisyPeak {
+    /// Samples held before a flush.
+    const BLOCK: usize = 256;
+
+    /// Adds sample `k` with clean displacement `x`; flushes a full block into `best`.
+    #[inline]
+    pub(crate) fn push(
+        &mut self,
+        k: u64,
+        x: f64,
+        stream: &mut NoiseStream,
+        ns: &NoiseSettings,
+        best: &mut Option<(f64, f64)>,
+    ) {
+        self.ks.push(k);
+        self.xs.push(x);
+        if self.ks.len() >= Self::BLOCK {
+            self.flush(stream, ns, best);
+        }
+    }
+
+    /// Resolves the samples held into `best` (value, time), keeping the earliest of equal
+    /// values, and empties the block.
+    pub(crate) fn flush(
+        &mut self,
+        stream: &mut NoiseStream,
+        ns: &NoiseSettings,
+        best: &mut Option<(f64, f64)>,
+    ) {
+        let n = self.ks.len();
+        if n == 0 {
+            return;
+        }
+        let sd = ns.sd();
+        self.us.clear();
+        let (mut ix, mut iu, mut top) = (0, 0, 0u64);
+        for i in 0..n {
+            let bits = stream.bits(self.ks[i]);
+            self.us.push(uniform(bits));
+            if bits > top {
+                top = bits;
+                iu = i;
+            }
+            if self.xs[i] > self.xs[ix] {
+                ix = i;
+            }
+        }
+        let noisy = |i: usize, us: &[f64], xs: &[f64]| xs[i] + normal(us[i]) * sd;
+        let (cx, cu) = (noisy(ix, &self.us, &self.xs), noisy(iu, &self.us, &self.xs));
+        let xmax = self.xs[ix];
+        let mut c0 = cx.max(cu);
+        if let Some((b, _)) = *best {
+            c0 = c0.max(b);
+        }
+        let threshold = if sd > 0.0 && sd.is_finite() && c0.is_finite() && xmax.is_finite() {
+            let margin = 1e-9 * (c0.abs() + xmax.abs() + sd);
+            let z = (c0 - xmax - margin) / sd;
+            0.5 * statrs::function::erf::erfc(-z / std::f64::consts::SQRT_2) * (1.0 - 1e-9)
+        } else {
+            f64::NEG_INFINITY // draw every deviate
+        };
+        for i in 0..n {
+            let c = if i == ix {
+                cx
+            } else if i == iu {
+                cu
+            } else if self.us[i] > threshold {
+                noisy(i, &self.us, &self.xs)
+            } else {
+                continue;
+            };
+            if !matches!(*best, Some((b, _)) if c <= b) {
+                *best = Some((c, self.ks[i] as f64 * ns.sample_time));
+            }
+        }
+        self.ks.clear();
+        self.xs.clear();
+    }
+}
 
 /// A seeded noise stream for one run.
 #[derive(Clone, Debug)]
@@ -43,16 +162,18 @@ impl NoiseStream {
 
     /// Noise of sample `k` (m); samples must be asked in increasing `k`.
     pub fn sample(&mut self, k: u64, ns: &NoiseSettings) -> f64 {
+        normal(uniform(self.bits(k))) * ns.sd()
+    }
+
+    /// The 64-bit output behind sample `k`; samples must be asked in increasing `k`.
+    pub fn bits(&mut self, k: u64) -> u64 {
         if k > self.pos {
             self.rng.advance(u128::from(k - self.pos));
         }
         let bits = self.rng.next_u64();
         self.pos = k + 1;
         self.draws += 1;
-        // Uniform in (0, 1), never 0 or 1.
-        let u = ((bits >> 11) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64);
-        let z = -std::f64::consts::SQRT_2 * statrs::function::erf::erfc_inv(2.0 * u);
-        z * (ns.power / ns.sample_time).sqrt()
+        bits
     }
 
     /// Random numbers drawn so far.
