@@ -740,7 +740,7 @@ fn round15(v: f64) -> f64 {
     if v == 0.0 || !v.is_finite() {
         return v;
     }
-    format!("{v:.14e}").parse().unwrap_or(v)
+    crate::model::round_sig15(v)
 }
 
 /// Checks one system key's own range (not the `y0 - x0` constraint, checked separately).

@@ -271,6 +271,50 @@ mod tests {
     }
 
     #[test]
+    fn noisy_peak_equals_drawing_every_sample() {
+        // Against the one-at-a-time rule (a later sample must be strictly larger), over blocks
+        // that span several flushes, noise from none to far above the signal, and plateaus
+        // (equal x) that make ties.
+        for case in 0..240u64 {
+            let ns = NoiseSettings {
+                power: [0.0, 1e-14, 5e-10, 1e-5][(case % 4) as usize],
+                sample_time: 1e-3,
+            };
+            let n = 20 + (case * 7) % 200;
+            let xs: Vec<f64> = (0..n)
+                .map(|i| {
+                    let x = 0.03 * (0.05 * i as f64 + case as f64).sin();
+                    if case % 3 == 0 {
+                        (x * 100.0).round() / 100.0
+                    } else {
+                        x
+                    }
+                })
+                .collect();
+            let k0 = case * 1000;
+            let mut one = NoiseStream::new(5, case, 1);
+            let mut want: Option<(f64, f64)> = None;
+            for (i, x) in xs.iter().enumerate() {
+                let k = k0 + i as u64;
+                let c = x + one.sample(k, &ns);
+                if !matches!(want, Some((b, _)) if c <= b) {
+                    want = Some((c, k as f64 * ns.sample_time));
+                }
+            }
+            let mut batch = NoiseStream::new(5, case, 1);
+            let mut peak = NoisyPeak::default();
+            let mut got = None;
+            for (i, x) in xs.iter().enumerate() {
+                peak.push(k0 + i as u64, *x, &mut batch, &ns, &mut got);
+            }
+            peak.flush(&mut batch, &ns, &mut got);
+            let bits = |p: Option<(f64, f64)>| p.map(|(c, t)| (c.to_bits(), t.to_bits()));
+            assert_eq!(bits(got), bits(want), "case {case}");
+            assert_eq!(batch.draws(), n);
+        }
+    }
+
+    #[test]
     fn seeds_change_the_stream() {
         let ns = NoiseSettings {
             power: 1.0,
