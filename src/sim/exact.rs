@@ -56,10 +56,10 @@
 //! A gap at or below zero fires at once if it heads into the wall (slope `< 0`, or slope `0`
 //! and curvature `< 0`); otherwise the inner mass is leaving that wall and the gap counts as
 //! zero. A prefilter skips the walls while the inner mass's line stays farther from them than
-//! the largest displacement the energy allows, `sqrt(2 E / K)`. Points within `1e-3 / rate` of
+//! the largest displacement the energy allows, `sqrt(2 E / K)`. Points within `0.02 / rate` of
 //! the last closed-form evaluation (`rate = alpha + sqrt|K/M - alpha^2|`, the fastest rate of
 //! the motion) are evaluated by that point's Taylor polynomials instead, whose remainders are
-//! below `1e-17` of the amplitude: the refinement near a root costs a few multiplications, not
+//! below `1e-18` of the amplitude: the refinement near a root costs a few multiplications, not
 //! an exponential and a sine. Every evaluation counts as a step against `max_steps`.
 
 use std::f64::consts::{FRAC_1_PI, PI, TAU};
@@ -220,13 +220,13 @@ fn gap(wl: &Walls, sg: f64, p: &Pt) -> (f64, f64) {
 
 const WALLS: [(Wall, f64); 2] = [(Wall::Right, 1.0), (Wall::Left, -1.0)];
 
-/// A closed-form point and the second to fifth derivatives of `x` there.
+/// A closed-form point and the Taylor coefficients of `x` (degree 8) and `v` (degree 7) there.
 #[derive(Clone, Copy, Debug)]
 struct Base {
     t: f64,
-    x: f64,
-    v: f64,
-    d: [f64; 4],
+    cx: [f64; 9],
+    cv: [f64; 8],
+    ready: bool,
 }
 
 /// One smooth phase of the main mass (free, or the stuck pair) solved in closed form.
@@ -247,10 +247,10 @@ pub(crate) struct ExactPhase {
     /// The closed-form crossing found for `x`, `v` and the force this phase: (side, time).
     crossings: [Option<(f64, f64)>; 3],
     /// The last closed-form point of the phase; points within `taylor_h` of it are evaluated
-    /// by its Taylor polynomials (degree 5 in `x`, 4 in `v`) instead of the closed form. Every
+    /// by its Taylor polynomials (degree 8 in `x`, 7 in `v`) instead of the closed form. Every
     /// derivative of a solution is bounded by `amplitude * rate^n` with `rate = alpha + sqrt|q|`
     /// (`>= sqrt(K/M)` under-damped, the fast root over-damped), so with
-    /// `rate * taylor_h = 1e-3` the remainders are below `1e-3^5 / 120 < 1e-17` of it.
+    /// `rate * taylor_h = 0.02` the remainders are below `0.02^8 / 8! < 1e-18` of it.
     base: Base,
     taylor_h: f64,
     t: f64,
@@ -278,9 +278,9 @@ impl ExactPhase {
             crossings: [None; 3],
             base: Base {
                 t: f64::NAN,
-                x: 0.0,
-                v: 0.0,
-                d: [0.0; 4],
+                cx: [0.0; 9],
+                cv: [0.0; 8],
+                ready: false,
             },
             taylor_h: 0.0,
             t: 0.0,
@@ -302,15 +302,22 @@ impl ExactPhase {
         if self.steps > self.max_steps {
             return Err(Stop::Cap);
         }
-        let b = &self.base;
-        let h = t - b.t;
+        let h = t - self.base.t;
         if h.abs() <= self.taylor_h {
+            if !self.base.ready {
+                self.taylor_coefficients();
+            }
+            let b = &self.base;
             // Close to the last closed-form point: its Taylor polynomials, whose remainders are
-            // below 1e-17 of the amplitude there (see `taylor_h`).
-            let [a, j, d4, d5] = b.d;
-            let x =
-                b.x + h * (b.v + h * (0.5 * a + h * (j / 6.0 + h * (d4 / 24.0 + h * d5 / 120.0))));
-            let v = b.v + h * (a + h * (0.5 * j + h * (d4 / 6.0 + h * d5 / 24.0)));
+            // below 1e-18 of the amplitude there (see `taylor_h`), in Estrin's form.
+            let (h2, c, e) = (h * h, &b.cx, &b.cv);
+            let h4 = h2 * h2;
+            let x = (c[0] + c[1] * h)
+                + h2 * (c[2] + c[3] * h)
+                + h4 * ((c[4] + c[5] * h) + h2 * (c[6] + c[7] * h) + h4 * c[8]);
+            let v = (e[0] + e[1] * h)
+                + h2 * (e[2] + e[3] * h)
+                + h4 * ((e[4] + e[5] * h) + h2 * (e[6] + e[7] * h));
             return Ok(Pt { t, x, v });
         }
         let tau = t - self.t0;
@@ -340,19 +347,40 @@ impl ExactPhase {
         Ok(Pt { t, x, v })
     }
 
-    /// Makes `(t, x, v)`, a closed-form point, the base of the local Taylor polynomials.
+    /// Makes `(t, x, v)`, a closed-form point, the base of the local Taylor polynomials (their
+    /// coefficients are computed when first needed).
     #[inline]
     fn set_base(&mut self, t: f64, x: f64, v: f64) {
-        let a = self.accel(x, v);
-        let j = self.jerk(a, v);
-        let d4 = self.jerk(j, a);
-        let d5 = self.jerk(d4, j);
-        self.base = Base {
-            t,
-            x,
-            v,
-            d: [a, j, d4, d5],
-        };
+        self.base.t = t;
+        self.base.cx[0] = x;
+        self.base.cv[0] = v;
+        self.base.ready = false;
+    }
+
+    /// The Taylor coefficients at the base: the derivatives `x^(n)` by the equation of motion,
+    /// `x^(n+2) = -(2 alpha x^(n+1) + w2 x^(n))`, over `n!` (for `v`, `x^(n+1) / n!`).
+    fn taylor_coefficients(&mut self) {
+        const INV_FACT: [f64; 9] = [
+            1.0,
+            1.0,
+            1.0 / 2.0,
+            1.0 / 6.0,
+            1.0 / 24.0,
+            1.0 / 120.0,
+            1.0 / 720.0,
+            1.0 / 5040.0,
+            1.0 / 40320.0,
+        ];
+        let (a2, w2) = (2.0 * self.osc.alpha, self.osc.w2);
+        let b = &mut self.base;
+        let (mut d0, mut d1) = (b.cx[0], b.cv[0]);
+        for n in 1..9 {
+            let d2 = -(a2 * d1 + w2 * d0);
+            b.cx[n] = d1 * INV_FACT[n];
+            b.cv[n - 1] = d1 * INV_FACT[n - 1];
+            (d0, d1) = (d1, d2);
+        }
+        b.ready = true;
     }
 
     /// How far short of a root near time `t` a trial point aims: a thousandth of the
@@ -523,14 +551,16 @@ impl ExactPhase {
         }
         // The main mass stays within sqrt(2E/K) of its rest position (energy never increases):
         // a wall is out of reach while the inner mass's line keeps farther from it than that.
-        let reach =
-            (2.0 * self.osc.energy(now.x, now.v) / self.osc.k).sqrt() * (1.0 + 1e-9) + 1e-300;
+        // reach^2 = 2E/K, inflated far beyond its rounding; the square root only when a wall
+        // may be out of reach.
+        let reach2 = 2.0 * self.osc.energy(now.x, now.v) / self.osc.k * (1.0 + 1e-9) + 1e-300;
         let y_now = wl.y0 + wl.w * (now.t - wl.t0);
         let mut from = [now.t; 2];
         for (i, (_, sg)) in WALLS.iter().enumerate() {
             // Wall sg is touched only where sg * y >= half_d - reach.
-            let lack = wl.half_d - reach - sg * y_now;
-            if lack > 0.0 {
+            let room = wl.half_d - sg * y_now;
+            if room > 0.0 && room * room > reach2 {
+                let lack = room - reach2.sqrt();
                 let closing = sg * wl.w;
                 from[i] = if closing > 0.0 {
                     now.t + lack / closing
@@ -816,7 +846,7 @@ impl PhaseSolver for ExactPhase {
         if *osc != self.osc {
             self.osc = *osc;
             self.shape = Shape::of(osc);
-            self.taylor_h = 1e-3 / (osc.alpha + osc.root);
+            self.taylor_h = 0.02 / (osc.alpha + osc.root);
         }
         let a = osc.accel(x, v);
         self.t0 = t;
