@@ -23,7 +23,8 @@ impl NoiseSettings {
 /// It increases with `bits`. (Rounding makes the very top value exactly 1, a chance of 2^-53.)
 #[inline]
 pub fn uniform(bits: u64) -> f64 {
-    ((bits >> 11) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64)
+    // (Through i64: the same value, a cheaper conversion than from u64 on x86-64.)
+    (((bits >> 11) as i64) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64)
 }
 
 /// The standard normal deviate at probability `u`, by the inverse normal CDF.
@@ -47,8 +48,13 @@ pub fn normal(u: f64) -> f64 {
 #[derive(Debug)]
 pub(crate) struct NoisyPeak {
     n: usize,
+    /// Sample index, clean displacement and the probability of its deviate, per sample.
     ks: [u64; Self::BLOCK],
     xs: [f64; Self::BLOCK],
+    us: [f64; Self::BLOCK],
+    /// The samples with the largest `x` and the largest `u` so far in the block.
+    ix: usize,
+    iu: usize,
 }
 
 impl Default for NoisyPeak {
@@ -57,6 +63,9 @@ impl Default for NoisyPeak {
             n: 0,
             ks: [0; Self::BLOCK],
             xs: [0.0; Self::BLOCK],
+            us: [0.0; Self::BLOCK],
+            ix: 0,
+            iu: 0,
         }
     }
 }
@@ -65,7 +74,8 @@ impl NoisyPeak {
     /// Samples held before a flush (a positive half-cycle of the paper's study has about 50).
     const BLOCK: usize = 64;
 
-    /// Adds sample `k` with clean displacement `x`; flushes a full block into `best`.
+    /// Adds sample `k` with clean displacement `x` (its stream output is drawn now); flushes a
+    /// full block into `best`.
     #[inline]
     pub(crate) fn push(
         &mut self,
@@ -75,61 +85,62 @@ impl NoisyPeak {
         ns: &NoiseSettings,
         best: &mut Option<(f64, f64)>,
     ) {
-        self.ks[self.n] = k;
-        self.xs[self.n] = x;
-        self.n += 1;
+        let n = self.n;
+        let u = uniform(stream.bits(k));
+        self.ks[n] = k;
+        self.xs[n] = x;
+        self.us[n] = u;
+        if n == 0 || x > self.xs[self.ix] {
+            self.ix = n;
+        }
+        if n == 0 || u > self.us[self.iu] {
+            self.iu = n;
+        }
+        self.n = n + 1;
         if self.n == Self::BLOCK {
-            self.flush(stream, ns, best);
+            self.flush(ns, best);
         }
     }
 
     /// Resolves the samples held into `best` (value, time), keeping the earliest of equal
     /// values, and empties the block.
-    pub(crate) fn flush(
-        &mut self,
-        stream: &mut NoiseStream,
-        ns: &NoiseSettings,
-        best: &mut Option<(f64, f64)>,
-    ) {
+    pub(crate) fn flush(&mut self, ns: &NoiseSettings, best: &mut Option<(f64, f64)>) {
         let n = self.n;
         if n == 0 {
             return;
         }
         self.n = 0;
         let sd = ns.sd();
-        let mut us = [0.0; Self::BLOCK];
-        let (mut ix, mut iu, mut top) = (0, 0, 0u64);
-        for (i, u) in us[..n].iter_mut().enumerate() {
-            let bits = stream.bits(self.ks[i]);
-            *u = uniform(bits);
-            if bits > top {
-                top = bits;
-                iu = i;
-            }
-            if self.xs[i] > self.xs[ix] {
-                ix = i;
-            }
-        }
-        let noisy = |i: usize, us: &[f64], xs: &[f64]| xs[i] + normal(us[i]) * sd;
-        let (cx, cu) = (noisy(ix, &us, &self.xs), noisy(iu, &us, &self.xs));
-        let xmax = self.xs[ix];
+        let (ix, iu) = (self.ix, self.iu);
+        let (xs, us) = (&self.xs, &self.us);
+        let noisy = |i: usize| xs[i] + normal(us[i]) * sd;
+        let (cx, cu) = (noisy(ix), noisy(iu));
+        let xmax = xs[ix];
         let mut c0 = cx.max(cu);
         if let Some((b, _)) = *best {
             c0 = c0.max(b);
         }
         // Sample i can reach c0 only if its deviate exceeds (c0 - x_i - margin) / sd; the
-        // table bounds that deviate's probability from below.
+        // table bounds that deviate's probability from below, first for the whole block
+        // (x_i <= max x), then per sample.
         let bounded = sd > 0.0 && sd.is_finite() && c0.is_finite() && xmax.is_finite();
         let margin = 1e-9 * (c0.abs() + xmax.abs() + sd);
         let inv_sd = 1.0 / sd;
         let table = phi_table();
+        let block = if bounded {
+            table.below((c0 - xmax - margin) * inv_sd)
+        } else {
+            f64::NEG_INFINITY
+        };
         for i in 0..n {
             let c = if i == ix {
                 cx
             } else if i == iu {
                 cu
-            } else if !bounded || us[i] > table.below((c0 - self.xs[i] - margin) * inv_sd) {
-                noisy(i, &us, &self.xs)
+            } else if us[i] > block
+                && (!bounded || us[i] > table.below((c0 - xs[i] - margin) * inv_sd))
+            {
+                noisy(i)
             } else {
                 continue;
             };
@@ -167,7 +178,7 @@ impl PhiTable {
     fn below(&self, z: f64) -> f64 {
         let j = (z - Self::Z0) * (1.0 / Self::STEP);
         if j >= 0.0 {
-            self.phi[(j as usize).min(Self::N - 1)]
+            self.phi[j.min((Self::N - 1) as f64) as i64 as usize]
         } else {
             0.0
         }
@@ -216,6 +227,7 @@ impl NoiseStream {
     }
 
     /// The 64-bit output behind sample `k`; samples must be asked in increasing `k`.
+    #[inline]
     pub fn bits(&mut self, k: u64) -> u64 {
         if k > self.pos {
             self.rng.advance(u128::from(k - self.pos));
@@ -307,7 +319,7 @@ mod tests {
             for (i, x) in xs.iter().enumerate() {
                 peak.push(k0 + i as u64, *x, &mut batch, &ns, &mut got);
             }
-            peak.flush(&mut batch, &ns, &mut got);
+            peak.flush(&ns, &mut got);
             let bits = |p: Option<(f64, f64)>| p.map(|(c, t)| (c.to_bits(), t.to_bits()));
             assert_eq!(bits(got), bits(want), "case {case}");
             assert_eq!(batch.draws(), n);
