@@ -347,7 +347,8 @@ pub struct Record {
     pub energy_viscous: f64,
     /// Time the run stopped (s).
     pub t_stop: f64,
-    /// Solver steps taken (root-finding iterations of `exact`, integration steps otherwise).
+    /// Solver steps taken: for `exact`, evaluations of the closed form (or of its local Taylor
+    /// polynomials) plus one per event search; integration steps otherwise.
     pub steps: u64,
 }
 
