@@ -120,19 +120,22 @@ for n in ${SIZES:-1000 100000 10000000}; do
   [ "$n" = 1000 ] && { reps=100; freq=4000; }
   [ "$n" = 100000 ] && freq=4000
   cat > "$work/loop.sh" <<EOF
-for i in \$(seq $reps); do "$bin" run "$work/s$n.toml" --out "$work/o\$i" --quiet; rm -rf "$work/o\$i"; done
+for i in \$(seq $reps); do "$bin" run "$work/s$n.toml" --out "$work/o\$i" --quiet; done
 EOF
+  # Wall time without perf (its own start-up would count), then the samples with it.
   t0=$(date +%s%N)
+  sh "$work/loop.sh"
+  t1ns=$(date +%s%N)
+  echo "$n $reps $(( (t1ns - t0) / 1000 ))" >> "$work/shares.txt"
+  rm -rf "$work"/o*
   if [ $have_perf = 1 ]; then
     perf record -q -e cpu-clock -F $freq -o "$work/perf.data" sh "$work/loop.sh" > /dev/null 2>&1
     perf report -i "$work/perf.data" --no-children --sort dso,sym --stdio 2> /dev/null \
       | grep -E '^ +[0-9]' > "$work/perf$n.txt" || true
+    rm -rf "$work"/o*
   else
-    sh "$work/loop.sh"
     : > "$work/perf$n.txt"
   fi
-  t1ns=$(date +%s%N)
-  echo "$n $reps $(( (t1ns - t0) / 1000 ))" >> "$work/shares.txt"
 done
 load1=$(uptime | sed 's/.*load average: //')
 
