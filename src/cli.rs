@@ -24,7 +24,7 @@ Typical use:
 Exit status: 0 success, 1 failure (I/O, a damaged dataset), 2 bad input (a key, a value or a
 study file; the message names the file, the key, the value and the allowed range), 130 a sweep
 stopped by Ctrl-C or SIGTERM after writing the chunks in hand (continue it with --resume).
-Units are SI everywhere. The model: ../shared/spec/model.md (Afsharfard & Kolahan 2013).";
+Units are SI everywhere. The model: docs/model.md in the source tree (Afsharfard & Kolahan 2013).";
 
 /// Design impact dampers by exploring their design space in parallel.
 #[derive(Parser, Debug)]
@@ -45,7 +45,8 @@ pub enum Command {
     Run(RunCmd),
     /// Run every study file in a directory in name order; finished ones are skipped.
     Queue(QueueCmd),
-    /// Report per shard what a run directory holds and what is missing.
+    /// Report per shard what a run directory holds and what is missing, every part file
+    /// verified against its checksum (exit 1 when one is damaged).
     Status(StatusCmd),
     /// Turn a run directory into reliability, zones, a ranking, a report and charts.
     Reduce(ReduceCmd),
@@ -221,14 +222,24 @@ Keys (SI units, model.md names):
   t_end             fixed horizon (s) instead of stopping after the peaks
   max_impacts max_steps t_max_periods   caps that turn a runaway run into an outcome
 
+The harmonic scene (steady state under F0 cos(omega t) on the main mass; docs/scenes.md):
+  scene             free (default: the paper's free decay) or harmonic
+  F0                force amplitude (N, default 1)
+  omega | r         forcing frequency (rad/s), or r = omega / sqrt(K/M) (default r = 1); not both
+  n_trans           transient periods (default: until the Poincare section converges)
+  n_trans_max       cap of that default transient (default 2000)
+  n_meas            measured periods (default 20)
+  trans_tol period_tol   section convergence (1e-10) and repeat (1e-6) tolerances
+
 Examples:
   impactsweep simulate --set e=0.45 --json
   impactsweep simulate --set m=0 --set peaks=5
-  impactsweep simulate --trace wave.csv --dt 1e-4 --t-end 0.5";
+  impactsweep simulate --trace wave.csv --dt 1e-4 --t-end 0.5
+  impactsweep simulate --set scene=harmonic --set F0=0.3 --set r=0.98 --json";
 
 #[derive(Args, Debug)]
 pub struct SimulateCmd {
-    /// Set a system or solver key, e.g. `--set e=0.6` (repeatable; see the keys below).
+    /// Set a system, solver or scene key, e.g. `--set e=0.6` (repeatable; see the keys below).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
     /// Print the record as one JSON object (SI units).
@@ -240,7 +251,7 @@ pub struct SimulateCmd {
     /// Trace sample interval (s).
     #[arg(long, value_name = "SECONDS", default_value_t = 1e-4)]
     pub dt: f64,
-    /// Simulate up to this time (s) instead of stopping after the requested peaks.
+    /// Simulate up to this time (s) instead of stopping after the requested peaks (free decay).
     #[arg(long = "t-end", value_name = "SECONDS")]
     pub t_end: Option<f64>,
 }

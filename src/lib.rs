@@ -4,23 +4,27 @@
 //! [`study`] (TOML → validated `Study`) → [`plan`] (points with their seeds) →
 //! [`sim`] (one point → one `Record`, a pure function) → [`store`] (Parquet) →
 //! [`reduce`] (reliability, zones, ranking) → [`report`] (tables, charts).
-//! [`sweep`] drives plan → sim → store in parallel; [`app`] holds the commands and [`cli`] the
-//! argument parsing.
+//! [`sweep`] drives plan → sim → store in parallel (engine, journal, lock, audit, status);
+//! [`accuracy`] measures a solver setting against the reference (for `tradeoff`, `run --audit`
+//! and `plan`); [`store`] is the only module that knows arrow/parquet, and its
+//! [`store::schema`] is the data contract (column names, units, version; `docs/schema.md`).
+//! [`app`] holds the commands (arguments in, library calls, printing out) and [`cli`] the
+//! argument parsing; [`numeric`] the one median, quantile and linspace.
 //!
-//! The physics and every equation are in `../shared/spec/model.md`; module docs repeat what
+//! The physics and every equation are in `docs/model.md`; module docs repeat what
 //! each stage needs.
 
+pub mod accuracy;
 pub mod app;
 pub mod cli;
 pub mod error;
 pub mod model;
+pub mod numeric;
 pub mod plan;
 pub mod reduce;
 pub mod report;
 pub mod sim;
 pub mod slurm;
 pub mod store;
-pub mod store_summary;
-pub mod store_tradeoff;
 pub mod study;
 pub mod sweep;

@@ -6,7 +6,7 @@ use std::path::Path;
 
 mod common;
 
-use common::study;
+use common::{dead_pid, study};
 use impactsweep::plan::Plan;
 use impactsweep::sim::{NoProbe, SolverKind, SolverSettings, simulate};
 use impactsweep::store::{self, RunRow};
@@ -257,8 +257,8 @@ fn an_interrupted_run_resumes_to_identical_part_files() {
     assert!(!store::tmp_path(&store::part_path(&dir, 9)).exists());
     assert!(!dir.join(".lock").exists());
     assert_eq!(part_bytes(&dir), part_bytes(&full.join("resume")));
-    let m = sweep::read_manifest(&dir).unwrap().unwrap();
-    let mf = sweep::read_manifest(&full.join("resume")).unwrap().unwrap();
+    let m = store::read_manifest(&dir).unwrap().unwrap();
+    let mf = store::read_manifest(&full.join("resume")).unwrap().unwrap();
     assert_eq!(m.chunks, mf.chunks);
     assert_eq!(m.runs_done, 156);
     // Every checksum in the manifest is the file's.
@@ -277,15 +277,6 @@ fn an_interrupted_run_resumes_to_identical_part_files() {
         },
     );
     assert_eq!((third.chunks_written, third.chunks_kept), (0, 20));
-}
-
-/// A PID that no longer exists: a child that has exited and been reaped.
-fn dead_pid() -> u32 {
-    let mut child = std::process::Command::new("true").spawn().unwrap();
-    let pid = child.id();
-    child.wait().unwrap();
-    assert!(!Path::new(&format!("/proc/{pid}")).exists());
-    pid
 }
 
 #[test]
@@ -372,7 +363,7 @@ fn the_audit_is_deterministic_and_measures_the_solver() {
         "{a:?}"
     );
     assert_eq!((a.outcome_changed, a.impacts_changed), (0, 0));
-    let m = sweep::read_manifest(&tmp.path().join("audit"))
+    let m = store::read_manifest(&tmp.path().join("audit"))
         .unwrap()
         .unwrap();
     assert_eq!(m.audit, Some(a.clone()));
@@ -397,7 +388,7 @@ fn the_audit_is_deterministic_and_measures_the_solver() {
     let plan = Plan::new(&cheap);
     let exact = SolverSettings {
         kind: SolverKind::Exact,
-        tol: sweep::AUDIT_TOL,
+        tol: impactsweep::accuracy::REFERENCE_TOL,
         ..cheap.solver
     };
     let mut want_max: f64 = 0.0;
@@ -416,7 +407,7 @@ fn the_audit_is_deterministic_and_measures_the_solver() {
     assert_eq!(c.xmax.max.to_bits(), want_max.to_bits());
     assert!(c.xmax.max > 1e-8 && c.xmax.max < 0.1, "{c:?}");
     assert!(c.di.max > 0.0 && c.di.n == 5, "{c:?}");
-    let m = sweep::read_manifest(&tmp.path().join("cheap"))
+    let m = store::read_manifest(&tmp.path().join("cheap"))
         .unwrap()
         .unwrap();
     assert_eq!(m.audit, Some(c));
@@ -428,7 +419,7 @@ fn manifest_records_sizes_and_outcomes() {
     let tmp = tempfile::tempdir().unwrap();
     let sum = run(&s, tmp.path(), opts());
     let dir = tmp.path().join("manifest");
-    let m = sweep::read_manifest(&dir).unwrap().unwrap();
+    let m = store::read_manifest(&dir).unwrap().unwrap();
     assert_eq!(
         (m.n_points, m.n_cases, m.n_runs, m.n_chunks, m.chunk_points),
         (15, 4, 60, 1, 16)

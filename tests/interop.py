@@ -3,6 +3,9 @@ values tests/interop.rs computed with the simulator (floats given as IEEE-754 bi
 
 Usage: python tests/interop.py EXPECTED.json   (prints "<client>: ok" per client; exit 1 on a
 mismatch, with the reason).
+
+       python tests/interop.py --tables TABLES.json   (DuckDB reads every Parquet table the tool
+writes: points, summary, zones, jumps, tradeoff; prints "duckdb tables: ok").
 """
 
 import json
@@ -85,21 +88,18 @@ def check_duckdb(exp):
     assert n == exp["n_rows"], (n, exp["n_rows"])
     desc = con.execute(f"DESCRIBE SELECT * FROM '{glob}'").fetchall()
     names = [d[0] for d in desc]
-    # DuckDB matches identifiers case-insensitively, so the inner mass `m` (next to the main
-    # mass `M`) is renamed `m_1` on read; `SELECT m` would give `M`. Pinned here so that a
-    # change of either side is noticed (see docs: query the inner mass as m_1 in DuckDB).
-    want_names = ["m_1" if c == "m" else c for c in exp["columns"]]
-    assert names == want_names, names
+    # DuckDB matches identifiers without case: the names read back are the names written only
+    # because no two are equal without case (issue 9).
+    assert names == exp["columns"], names
     types = {d[0]: d[1] for d in desc}
     want_types = {"uint64": "UBIGINT", "uint32": "UINTEGER", "bool": "BOOLEAN", "double": "DOUBLE"}
     for name in names:
-        t = expected_arrow_type("m" if name == "m_1" else name)
+        t = expected_arrow_type(name)
         assert types[name] == want_types.get(t, "VARCHAR"), (name, types[name])
     cols = ", ".join(f'"{c}"' for c in names)
     for want in exp["rows"]:
         cur = con.execute(f"SELECT {cols} FROM '{glob}' WHERE point_id = ?", [want["point_id"]])
         got = dict(zip(names, cur.fetchone()))
-        got["m"] = got.pop("m_1")
         check_row("duckdb", got, want)
     (oks,) = con.execute(f"SELECT count(*) FROM '{glob}' WHERE outcome = 'ok'").fetchone()
     assert 0 < oks <= n
@@ -129,7 +129,61 @@ def check_polars(exp):
     print("polars: ok")
 
 
+def check_duckdb_tables(exp):
+    """Every table: DuckDB reads each column under the name written (no two equal without case),
+    and a query naming `mass_inner` returns exactly the study's inner masses."""
+    import duckdb
+    import pyarrow.parquet as pq
+
+    con = duckdb.connect()
+    for table, glob in exp["tables"].items():
+        desc = con.execute(f"DESCRIBE SELECT * FROM '{glob}'").fetchall()
+        names = [d[0] for d in desc]
+        lower = [n.lower() for n in names]
+        assert len(set(lower)) == len(lower), (table, names)
+        first = sorted(__import__("glob").glob(glob))[0]
+        written = pq.read_schema(first).names
+        assert names == written, (table, names, written)
+        for field in pq.read_schema(first):
+            assert field.metadata is not None and b"unit" in field.metadata, (table, field.name)
+        print(f"{table}: {len(names)} columns")
+
+    def floats(sql):
+        return sorted(float(r[0]) for r in con.execute(sql).fetchall())
+
+    def bits(xs):
+        return [struct.pack("<d", x) for x in xs]
+
+    want_axis = [f64(b) for b in exp["mass_inner_axis"]]
+    want_runs = sorted(f64(b) for b in exp["mass_inner_runs"])
+    got = floats(f"SELECT DISTINCT mass_inner FROM '{exp['tables']['points']}'")
+    assert bits(got) == bits(want_runs), (got, want_runs)
+    got = floats(f"SELECT DISTINCT mass_inner FROM '{exp['tables']['summary']}'")
+    assert bits(got) == bits(want_axis), (got, want_axis)
+    # The ideal case of each design point runs the point's own inner mass.
+    got = floats(f"SELECT DISTINCT mass_inner FROM '{exp['tables']['points']}' WHERE ideal")
+    assert bits(got) == bits(want_axis), (got, want_axis)
+    (lo, hi) = con.execute(
+        f"SELECT min(mass_inner_from), max(mass_inner_to) FROM '{exp['tables']['zones']}'"
+    ).fetchone()
+    assert (lo, hi) == (want_axis[0], want_axis[-1]), (lo, hi)
+    axes = {r[0] for r in con.execute(f"SELECT DISTINCT axis FROM '{exp['tables']['jumps']}'").fetchall()}
+    assert axes <= {"e", "mass_inner"}, axes
+    (n,) = con.execute(f"SELECT count(*) FROM '{exp['tables']['tradeoff']}' WHERE knob = 'tol'").fetchone()
+    assert n > 0
+    print("duckdb tables: ok")
+
+
 def main():
+    if sys.argv[1] == "--tables":
+        with open(sys.argv[2]) as f:
+            exp = json.load(f)
+        try:
+            check_duckdb_tables(exp)
+        except Exception as e:
+            print(f"check_duckdb_tables: FAILED: {type(e).__name__}: {e}", file=sys.stderr)
+            sys.exit(1)
+        return
     with open(sys.argv[1]) as f:
         exp = json.load(f)
     failed = False

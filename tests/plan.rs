@@ -224,3 +224,26 @@ fn paper_comments_quote_what_the_file_gives() {
     assert!((r_lo - 0.979).abs() < 5e-4, "lowest R {r_lo}");
     assert!((r_hi - 0.998).abs() < 5e-4, "highest R {r_hi}");
 }
+
+/// Issue 9: `plan` warns when the part files will be tiny (many chunks of few runs), and says
+/// what chunk size to use; the default chunk size gives no warning.
+#[test]
+fn plan_warns_when_part_files_will_be_tiny() {
+    let tmp = tempfile::tempdir().unwrap();
+    let grid = "[study]\nname = \"tiny\"\n[sweep]\ne = { start = 0.45, stop = 0.95, num = 400 }\n";
+    let tiny = tmp.path().join("tiny.toml");
+    std::fs::write(&tiny, format!("{grid}[run]\nchunk_points = 2\n")).unwrap();
+    let text = plan(&tiny, tmp.path());
+    let warning = field(&text, "warning");
+    assert!(
+        warning.starts_with("200 part files of 2 runs (about 10.8 kB, of which 10.6 kB is each"),
+        "{warning}"
+    );
+    assert!(
+        warning.contains("Set [run].chunk_points to 1000 or more"),
+        "{warning}"
+    );
+    let default = tmp.path().join("default.toml");
+    std::fs::write(&default, grid).unwrap();
+    assert!(!plan(&default, tmp.path()).contains("warning"));
+}

@@ -442,7 +442,7 @@ fn tradeoff_quick_writes_its_table_chart_and_parquet_and_merges_a_peer() {
 
 #[test]
 fn quote_measures_a_setting_against_exact() {
-    use impactsweep::app::tradeoff::quote;
+    use impactsweep::accuracy::quote;
     let fine = quote(&rk4(System::TABLE_I.period() / 800.0));
     let coarse = quote(&rk4(System::TABLE_I.period() / 50.0));
     assert_eq!(fine.runs, 11);

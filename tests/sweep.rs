@@ -6,48 +6,15 @@ use std::path::{Path, PathBuf};
 use std::process::{Command as StdCommand, Stdio};
 use std::time::{Duration, Instant};
 
+mod common;
+
 use assert_cmd::Command;
+use common::{study_text, write_study};
 use impactsweep::store;
-use impactsweep::sweep;
 use predicates::prelude::*;
 
 fn bin() -> Command {
     Command::cargo_bin("impactsweep").unwrap()
-}
-
-/// A small study: `n_e` values of `e` × 3 values of `m`, 4 cases (ideal, a clearance change, two
-/// noisy cases).
-fn study_text(name: &str, n_e: usize, chunk_points: u64) -> String {
-    format!(
-        r#"[study]
-name = "{name}"
-seed = 11
-
-[sweep]
-e = {{ start = 0.45, stop = 0.95, num = {n_e} }}
-m = [0.015, 0.02, 0.025]
-
-[noise]
-power = 5e-10
-sample_time = 1e-3
-
-[perturb]
-cases = [
-  {{ dd = 0.001 }},
-  {{ noise_seed = 1 }},
-  {{ dm = -0.001, dd = -0.001, noise_seed = 2 }},
-]
-
-[run]
-chunk_points = {chunk_points}
-"#
-    )
-}
-
-fn write_study(dir: &Path, name: &str, n_e: usize, chunk_points: u64) -> PathBuf {
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, study_text(name, n_e, chunk_points)).unwrap();
-    path
 }
 
 /// Part files by name with their bytes.
@@ -88,7 +55,7 @@ fn run_writes_a_complete_dataset_with_a_summary_line() {
         study_text("small", 5, 2)
     );
     assert_eq!(store::part_files(&dir).unwrap().len(), 8);
-    let m = sweep::read_manifest(&dir).unwrap().unwrap();
+    let m = store::read_manifest(&dir).unwrap().unwrap();
     assert_eq!((m.n_runs, m.runs_done, m.chunks_done), (60, 60, 8));
     assert!(!dir.join(".lock").exists(), "the lock is released");
     bin()
@@ -125,7 +92,7 @@ fn the_bundled_quick_study_runs() {
         .arg(tmp.path())
         .assert()
         .success();
-    let m = sweep::read_manifest(&tmp.path().join("quick"))
+    let m = store::read_manifest(&tmp.path().join("quick"))
         .unwrap()
         .unwrap();
     assert_eq!(m.runs_done, m.n_runs);
@@ -317,8 +284,8 @@ fn kill_9_then_resume_gives_the_uninterrupted_dataset() {
     let a = parts(&dir);
     assert_eq!(a.len(), 500);
     assert!(a == parts(&clean), "part files differ");
-    let ma = sweep::read_manifest(&dir).unwrap().unwrap();
-    let mb = sweep::read_manifest(&clean).unwrap().unwrap();
+    let ma = store::read_manifest(&dir).unwrap().unwrap();
+    let mb = store::read_manifest(&clean).unwrap().unwrap();
     assert_eq!(ma.chunks, mb.chunks);
     assert_eq!(ma.outcomes, mb.outcomes);
     assert!(
@@ -385,7 +352,7 @@ fn shards_share_a_directory_and_match_an_unsharded_run() {
         .assert()
         .success();
     assert!(parts(&out.join("sh")) == parts(&whole.join("sh")));
-    let m = sweep::read_manifest(&out.join("sh")).unwrap().unwrap();
+    let m = store::read_manifest(&out.join("sh")).unwrap().unwrap();
     assert_eq!(m.runs_done, 84);
     assert_eq!(m.shards, vec!["0/3", "1/3", "2/3"]);
 }
@@ -419,8 +386,8 @@ fn concurrent_shards_build_one_dataset_and_one_manifest() {
         .assert()
         .success();
     assert!(parts(&out.join("conc")) == parts(&whole.join("conc")));
-    let m = sweep::read_manifest(&out.join("conc")).unwrap().unwrap();
-    let w = sweep::read_manifest(&whole.join("conc")).unwrap().unwrap();
+    let m = store::read_manifest(&out.join("conc")).unwrap().unwrap();
+    let w = store::read_manifest(&whole.join("conc")).unwrap().unwrap();
     assert_eq!(
         m.chunks_done, 90,
         "no shard lost another's manifest entries"
@@ -484,7 +451,7 @@ fn queue_skips_finished_resumes_partial_and_starts_new_studies() {
         a_mtime
     );
     for (name, n) in [("a", 36), ("b", 48), ("c", 24)] {
-        let m = sweep::read_manifest(&out.join(name)).unwrap().unwrap();
+        let m = store::read_manifest(&out.join(name)).unwrap().unwrap();
         assert_eq!(m.runs_done, n, "{name}");
     }
     // Again: everything is finished.
@@ -605,7 +572,7 @@ fn audit_of_a_cheap_solver_reports_its_error() {
         .stderr(predicate::str::contains(
             "audit of 5 points (rk4 h = 2e-3 against exact): max relative error xmax",
         ));
-    let m = sweep::read_manifest(&tmp.path().join("rk"))
+    let m = store::read_manifest(&tmp.path().join("rk"))
         .unwrap()
         .unwrap();
     let a = m.audit.unwrap();

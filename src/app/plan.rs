@@ -152,8 +152,8 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
     );
     // What the chosen setting costs and how wrong it is, measured now on the study's own design
     // points against `exact` at its tightest tolerance (issue 5).
-    let reference = crate::app::tradeoff::Reference::study(study);
-    let q = crate::app::tradeoff::quote_on(&reference, sv);
+    let reference = crate::accuracy::Reference::study(study);
+    let q = crate::accuracy::quote_on(&reference, sv);
     let _ = writeln!(
         w,
         "accuracy:       {} = {}: max relative error against exact (tol 1e-14) DI {:.1e}, xmax {:.1e}, t1 {:.1e}; {} of {} runs changed impact count",
@@ -182,6 +182,9 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         plan.n_chunks(),
         study.run.chunk_points
     );
+    if let Some(warning) = tiny_parts(&plan) {
+        let _ = writeln!(w, "warning:        {warning}");
+    }
     let _ = writeln!(w, "output:         {}/", out.join(&study.name).display());
     if let Some(sm) = sample
         && sm.runs > 0
@@ -203,6 +206,35 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         fmt_bytes(plan.n_runs().saturating_mul(BYTES_PER_RUN))
     );
     s
+}
+
+/// Runs per part file under which `plan` calls the part files tiny (with [`TINY_MIN_CHUNKS`]
+/// chunks or more): below it a part's fixed cost, [`PART_OVERHEAD_BYTES`] of schema and metadata
+/// and a file to create, rename and record, is a tenth of the part or more.
+pub const TINY_PART_RUNS: u64 = 1000;
+/// Chunks from which tiny parts are worth a warning (fewer tiny files cost little).
+pub const TINY_MIN_CHUNKS: u64 = 100;
+/// The fixed size of a part file: its footer (the schema with every column's unit, statistics)
+/// and the study text. Measured: 10.8 kB for a 2-run part of a 9-line study.
+pub const PART_OVERHEAD_BYTES: u64 = 10_600;
+
+/// A warning when the study's part files will be tiny (see [`TINY_PART_RUNS`]).
+pub fn tiny_parts(plan: &Plan) -> Option<String> {
+    let study = plan.study;
+    let runs_per_part = study.run.chunk_points.min(plan.n_points()) * plan.n_cases();
+    if plan.n_chunks() < TINY_MIN_CHUNKS || runs_per_part >= TINY_PART_RUNS {
+        return None;
+    }
+    let suggest = TINY_PART_RUNS.div_ceil(plan.n_cases().max(1));
+    Some(format!(
+        "{} part files of {runs_per_part} runs (about {}, of which {} is each file's fixed \
+         schema and metadata): tiny files slow the sweep and every reader that opens them all. \
+         Set [run].chunk_points to {suggest} or more, or leave it out (about {} runs per part)",
+        plan.n_chunks(),
+        fmt_bytes(runs_per_part * BYTES_PER_RUN + PART_OVERHEAD_BYTES),
+        fmt_bytes(PART_OVERHEAD_BYTES),
+        crate::study::DEFAULT_CHUNK_RUNS
+    ))
 }
 
 /// `1.2 s`, `3 min 20 s`, `2 h 05 min`.

@@ -2,8 +2,9 @@
 //!
 //! `reduce RUN_DIR` streams the part files of a run directory through
 //! [`crate::reduce::Reducer`] one at a time (each holds whole design points, so memory stays
-//! O(design points)), then writes into the run directory: `summary.parquet`, `summary.csv`,
-//! `zones.parquet`, `zones.csv`, `jumps.csv`, `report.md` and the charts (SVG and PNG).
+//! O(design points)), then writes into the run directory: `summary`, `zones` and `jumps` as
+//! Parquet and CSV (columns in `docs/schema.md`), `report.md` and the charts (SVG and PNG).
+//! A dataset of another schema version is refused with what to do.
 
 use std::path::{Path, PathBuf};
 
@@ -12,6 +13,7 @@ use anyhow::Context;
 use crate::app::simulate::{Setup, trace};
 use crate::reduce::{self, Options, Summary, table};
 use crate::report::{charts, markdown};
+use crate::store::{self, TableKind};
 use crate::study::{DiSource, SafetyForm, Study};
 
 /// `impactsweep reduce RUN_DIR`.
@@ -47,8 +49,24 @@ pub fn options(study: &Study, args: &ReduceArgs) -> Options {
 
 pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
     let dir = &args.dir;
+    store::manifest::check_dir_version(dir)?;
     let study = Study::load(&dir.join("study.toml"))?;
-    let parts = crate::store::part_files(dir)?;
+    // Every part verified against its checksum first: a damaged dataset is refused, not reduced.
+    let st = crate::sweep::status(dir)?;
+    if let Some(e) = st.damage_error(dir) {
+        return Err(e.context("refusing to reduce a damaged dataset"));
+    }
+    if !st.unrecorded.is_empty() {
+        eprintln!(
+            "warning: {}: chunks {} are not recorded yet (their run stopped before recording \
+             them; they read as good parts of this study, but have no checksum to verify): run \
+             `{}` to record them",
+            dir.display(),
+            crate::sweep::ranges(&st.unrecorded),
+            crate::sweep::status::resume_command(dir)
+        );
+    }
+    let parts: Vec<PathBuf> = st.done.iter().map(|&k| store::part_path(dir, k)).collect();
     if parts.is_empty() {
         anyhow::bail!(
             "{}: no part files in points/: nothing to reduce (has the sweep run?)",
@@ -58,7 +76,7 @@ pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
     let opts = options(&study, args);
     let chunks = parts
         .iter()
-        .map(|p| crate::store::read_part(p).with_context(|| format!("reading {}", p.display())));
+        .map(|p| store::read_part(p).with_context(|| format!("reading {}", p.display())));
     let summary = reduce::reduce(&study, opts, chunks)?;
     let audit = read_audit(dir)?;
     let files = write_outputs(&study, &summary, dir, audit.as_ref())?;
@@ -98,24 +116,13 @@ pub fn write_outputs(
 ) -> anyhow::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let mut files = Vec::new();
-    let st = table::summary_table(summary);
-    let zt = table::zones_table(summary);
-    let p = dir.join("summary.parquet");
-    crate::store_summary::write_table(&p, "summary", &st)?;
-    files.push(p);
-    let p = dir.join("summary.csv");
-    std::fs::write(&p, st.to_csv()).with_context(|| format!("writing {}", p.display()))?;
-    files.push(p);
-    let p = dir.join("zones.parquet");
-    crate::store_summary::write_table(&p, "zones", &zt)?;
-    files.push(p);
-    let p = dir.join("zones.csv");
-    std::fs::write(&p, zt.to_csv()).with_context(|| format!("writing {}", p.display()))?;
-    files.push(p);
-    let p = dir.join("jumps.csv");
-    std::fs::write(&p, table::jumps_table(summary).to_csv())
-        .with_context(|| format!("writing {}", p.display()))?;
-    files.push(p);
+    for (kind, t) in [
+        (TableKind::Summary, table::summary_table(summary)),
+        (TableKind::Zones, table::zones_table(summary)),
+        (TableKind::Jumps, table::jumps_table(summary)),
+    ] {
+        files.extend(store::summary::write_table(dir, kind, &t)?);
+    }
     let chart_files = charts::summary_charts(summary, dir)?;
     let names: Vec<String> = chart_files
         .iter()

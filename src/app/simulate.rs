@@ -8,7 +8,10 @@ use anyhow::Context;
 
 use crate::error::InputError;
 use crate::model::{SYSTEM_KEYS, System, fmt_value};
-use crate::sim::{self, NoProbe, Probe, Record, Request, SolverKind, SolverSettings, State, Wall};
+use crate::sim::{
+    self, Drive, ForcedRecord, Harmonic, NoProbe, Probe, Record, Request, Scene, SceneRecord,
+    SolverKind, SolverSettings, State, Wall,
+};
 
 /// What `simulate` was asked.
 #[derive(Clone, Debug, Default)]
@@ -27,6 +30,8 @@ pub struct Setup {
     pub system: System,
     pub solver: SolverSettings,
     pub request: Request,
+    /// Free decay (default) or the harmonic scene (`--set scene=harmonic`).
+    pub scene: Scene,
 }
 
 impl Default for Setup {
@@ -35,6 +40,7 @@ impl Default for Setup {
             system: System::TABLE_I,
             solver: SolverSettings::default(),
             request: Request::default(),
+            scene: Scene::Free,
         }
     }
 }
@@ -43,12 +49,32 @@ fn all_keys() -> String {
     let mut keys: Vec<&str> = SYSTEM_KEYS.to_vec();
     keys.extend(SolverSettings::KEYS);
     keys.push("t_end");
+    keys.push("scene");
+    keys.extend(Harmonic::KEYS);
     keys.join(" ")
+}
+
+/// The harmonic scene's `--set` keys as given, checked together once all are read.
+#[derive(Default)]
+struct ForcedKeys {
+    scene: Option<String>,
+    harmonic: Harmonic,
+    /// Every forced key given, as `KEY=VALUE`, in order.
+    given: Vec<String>,
+    omega: Option<String>,
+    r: Option<String>,
+    /// Free-decay-only keys given (`peaks`, `t_end`).
+    free_only: Vec<String>,
 }
 
 impl Setup {
     /// Applies `KEY=VALUE` settings; the error names the key, the value and what is allowed.
     pub fn apply(&mut self, sets: &[String]) -> Result<(), InputError> {
+        let mut forced = ForcedKeys::default();
+        if let Scene::Harmonic(h) = self.scene {
+            forced.scene = Some("harmonic".into());
+            forced.harmonic = h;
+        }
         for item in sets {
             let Some((key, raw)) = item.split_once('=') else {
                 return Err(InputError::new(format!(
@@ -57,6 +83,16 @@ impl Setup {
                 )));
             };
             let (key, raw) = (key.trim(), raw.trim());
+            if key == "scene" {
+                if !Scene::NAMES.contains(&raw) {
+                    return Err(InputError::new(format!(
+                        "--set scene={raw}: unknown scene; allowed: {}",
+                        Scene::NAMES.join(", ")
+                    )));
+                }
+                forced.scene = Some(raw.to_string());
+                continue;
+            }
             if key == "solver" {
                 self.solver.kind = SolverKind::parse(raw).ok_or_else(|| {
                     let names: Vec<&str> = SolverKind::ALL.iter().map(|k| k.name()).collect();
@@ -67,8 +103,10 @@ impl Setup {
                 })?;
                 continue;
             }
-            let known =
-                SYSTEM_KEYS.contains(&key) || SolverSettings::KEYS.contains(&key) || key == "t_end";
+            let known = SYSTEM_KEYS.contains(&key)
+                || SolverSettings::KEYS.contains(&key)
+                || Harmonic::KEYS.contains(&key)
+                || key == "t_end";
             if !known {
                 return Err(InputError::new(format!(
                     "--set {key}={raw}: unknown key '{key}'; allowed keys: {}",
@@ -96,14 +134,73 @@ impl Setup {
                 "max_impacts" => self.solver.max_impacts = integer(value)?,
                 "max_steps" => self.solver.max_steps = integer(value)?,
                 "t_max_periods" => self.solver.t_max_periods = value,
-                "peaks" => self.request.peaks = integer(value)? as usize,
-                "t_end" => self.request.t_end = Some(value),
+                "peaks" => {
+                    self.request.peaks = integer(value)? as usize;
+                    forced.free_only.push(format!("{key}={raw}"));
+                }
+                "t_end" => {
+                    self.request.t_end = Some(value);
+                    forced.free_only.push(format!("{key}={raw}"));
+                }
+                "F0" | "omega" | "r" | "n_trans" | "n_trans_max" | "n_meas" | "trans_tol"
+                | "period_tol" => {
+                    let h = &mut forced.harmonic;
+                    match key {
+                        "F0" => h.F0 = value,
+                        "omega" => {
+                            h.drive = Drive::Omega(value);
+                            forced.omega = Some(raw.to_string());
+                        }
+                        "r" => {
+                            h.drive = Drive::Ratio(value);
+                            forced.r = Some(raw.to_string());
+                        }
+                        "n_trans" => h.n_trans = Some(integer(value)?),
+                        "n_trans_max" => h.n_trans_max = integer(value)?,
+                        "n_meas" => h.n_meas = integer(value)?,
+                        "trans_tol" => h.trans_tol = value,
+                        _ => h.period_tol = value,
+                    }
+                    forced.given.push(format!("{key}={raw}"));
+                }
                 _ => {
                     self.system.set(key, value);
                 }
             }
         }
+        self.settle_scene(forced)?;
         self.validate()
+    }
+
+    /// Decides the scene from the keys given: the forced keys need `scene=harmonic`, `omega`
+    /// and `r` exclude each other, and the free-decay horizon keys do not apply to it.
+    fn settle_scene(&mut self, forced: ForcedKeys) -> Result<(), InputError> {
+        if let (Some(w), Some(r)) = (&forced.omega, &forced.r) {
+            return Err(InputError::new(format!(
+                "--set omega={w} and --set r={r}: give the forcing frequency once, as omega \
+                 (rad/s) or as r = omega / sqrt(K/M)"
+            )));
+        }
+        match forced.scene.as_deref() {
+            Some("harmonic") => {
+                if let Some(item) = forced.free_only.first() {
+                    return Err(InputError::new(format!(
+                        "--set {item}: a free-decay key; the harmonic scene runs n_trans + \
+                         n_meas forcing periods"
+                    )));
+                }
+                self.scene = Scene::Harmonic(forced.harmonic);
+            }
+            _ => {
+                if let Some(item) = forced.given.first() {
+                    return Err(InputError::new(format!(
+                        "--set {item}: a key of the harmonic scene; add --set scene=harmonic"
+                    )));
+                }
+                self.scene = Scene::Free;
+            }
+        }
+        Ok(())
     }
 
     pub fn validate(&self) -> Result<(), InputError> {
@@ -111,12 +208,34 @@ impl Setup {
         self.system.validate().map_err(wrap)?;
         self.solver.validate().map_err(wrap)?;
         self.request.validate().map_err(wrap)?;
+        if let Scene::Harmonic(h) = &self.scene {
+            h.validate(&self.system).map_err(wrap)?;
+            if self.solver.kind != SolverKind::Exact {
+                return Err(InputError::new(format!(
+                    "--set solver={}: the harmonic scene is solved in closed form only; allowed: \
+                     exact",
+                    self.solver.kind.name()
+                )));
+            }
+        }
         Ok(())
     }
 
-    /// Runs the simulation without noise.
+    /// Runs the free-decay simulation without noise.
     pub fn run<P: Probe>(&self, probe: &mut P) -> Record {
         sim::simulate(&self.system, &self.solver, &self.request, None, probe)
+    }
+
+    /// Runs the setup's scene without noise.
+    pub fn run_scene<P: Probe>(&self, probe: &mut P) -> SceneRecord {
+        sim::simulate_scene(
+            &self.system,
+            &self.solver,
+            &self.request,
+            &self.scene,
+            None,
+            probe,
+        )
     }
 }
 
@@ -147,6 +266,15 @@ pub fn trace(setup: &Setup, dt: f64, t_end: Option<f64>) -> (Record, Vec<(f64, S
     (rec, probe.rows)
 }
 
+/// The setup's scene with a trace sampled every `dt` (plus every impact) over the whole run.
+pub fn trace_scene(setup: &Setup, dt: f64) -> (SceneRecord, Vec<(f64, State)>) {
+    let mut s = setup.clone();
+    s.request.trace_dt = Some(dt);
+    let mut probe = TraceProbe::default();
+    let rec = s.run_scene(&mut probe);
+    (rec, probe.rows)
+}
+
 fn write_trace(path: &Path, rows: &[(f64, State)]) -> anyhow::Result<()> {
     let file =
         std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
@@ -160,13 +288,50 @@ fn write_trace(path: &Path, rows: &[(f64, State)]) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// A number for JSON: NaN and infinities become null.
+fn num(v: f64) -> serde_json::Value {
+    serde_json::Number::from_f64(v)
+        .map(serde_json::Value::Number)
+        .unwrap_or(serde_json::Value::Null)
+}
+
+/// The system and the solver settings, as every record's JSON carries them.
+fn insert_setup(map: &mut serde_json::Map<String, serde_json::Value>, setup: &Setup) {
+    let mut system = serde_json::Map::new();
+    for k in SYSTEM_KEYS {
+        system.insert(k.into(), num(setup.system.get(k).unwrap_or(f64::NAN)));
+    }
+    map.insert("system".into(), system.into());
+    map.insert(
+        "solver".into(),
+        serde_json::to_value(setup.solver).unwrap_or_default(),
+    );
+}
+
+/// A length in cm for a person, `-` when unknown.
+fn cm(v: f64) -> String {
+    if v.is_nan() {
+        "-".to_string()
+    } else {
+        format!("{:.4} cm", v * 100.0)
+    }
+}
+
+/// The summary's first line: the system's parameters with units.
+fn system_line(s: &System) -> String {
+    format!(
+        "system   M = {} kg, m = {} kg, K = {} N/m, C = {} N s/m, d = {} m, e = {}\n",
+        fmt_value(s.M),
+        fmt_value(s.m),
+        fmt_value(s.K),
+        fmt_value(s.C),
+        fmt_value(s.d),
+        fmt_value(s.e)
+    )
+}
+
 /// The record as one JSON object (SI units; NaN becomes null).
 pub fn record_json(setup: &Setup, rec: &Record) -> serde_json::Value {
-    let num = |v: f64| {
-        serde_json::Number::from_f64(v)
-            .map(serde_json::Value::Number)
-            .unwrap_or(serde_json::Value::Null)
-    };
     let mut map = serde_json::Map::new();
     map.insert("outcome".into(), rec.outcome.name().into());
     for (k, v) in [
@@ -193,28 +358,101 @@ pub fn record_json(setup: &Setup, rec: &Record) -> serde_json::Value {
             .collect::<Vec<_>>()
             .into(),
     );
-    let mut system = serde_json::Map::new();
-    for k in SYSTEM_KEYS {
-        system.insert(k.into(), num(setup.system.get(k).unwrap_or(f64::NAN)));
+    insert_setup(&mut map, setup);
+    serde_json::Value::Object(map)
+}
+
+/// A forced record as one JSON object: the forced keys, the usual counts, `outcome`, the
+/// system, the solver and the scene (SI units; NaN becomes null).
+pub fn forced_json(setup: &Setup, rec: &ForcedRecord) -> serde_json::Value {
+    let mut map = serde_json::Map::new();
+    map.insert("outcome".into(), rec.outcome.name().into());
+    map.insert("scene".into(), "harmonic".into());
+    for (k, v) in [
+        ("F0", rec.F0),
+        ("omega", rec.omega),
+        ("r", rec.r),
+        ("amplitude", rec.amplitude),
+        ("impacts_per_period", rec.impacts_per_period),
+        ("amplitude_linear", rec.amplitude_linear),
+        ("attenuation", rec.attenuation),
+        ("energy_force", rec.energy_force),
+        ("energy_impact", rec.energy_impact),
+        ("energy_viscous", rec.energy_viscous),
+        ("t_stop", rec.t_stop),
+    ] {
+        map.insert(k.into(), num(v));
     }
-    map.insert("system".into(), system.into());
+    map.insert("period".into(), rec.period.into());
+    map.insert("n_trans".into(), rec.n_trans.into());
+    map.insert("converged".into(), rec.converged.into());
+    map.insert("impacts".into(), rec.impacts.into());
+    map.insert("sticks".into(), rec.sticks.into());
+    map.insert("steps".into(), rec.steps.into());
     map.insert(
-        "solver".into(),
-        serde_json::to_value(setup.solver).unwrap_or_default(),
+        "end".into(),
+        serde_json::json!({
+            "x": num(rec.end.x),
+            "v": num(rec.end.v),
+            "y": num(rec.end.y),
+            "w": num(rec.end.w),
+        }),
+    );
+    insert_setup(&mut map, setup);
+    map.insert(
+        "harmonic".into(),
+        serde_json::to_value(setup.scene).unwrap_or_default(),
     );
     serde_json::Value::Object(map)
+}
+
+/// A short summary of a forced run for a person, with units.
+pub fn forced_text(setup: &Setup, rec: &ForcedRecord) -> String {
+    let s = &setup.system;
+    let mut out = String::new();
+    out.push_str(&system_line(s));
+    out.push_str(&format!(
+        "force    F0 = {} N, omega = {} rad/s (r = {})\n",
+        fmt_value(rec.F0),
+        fmt_value(rec.omega),
+        fmt_value(rec.r)
+    ));
+    out.push_str(&format!("outcome  {}\n", rec.outcome));
+    out.push_str(&format!(
+        "periods  {} transient ({}), then measured\n",
+        rec.n_trans,
+        if rec.converged {
+            "the section converged"
+        } else {
+            "not converged: fixed or capped"
+        }
+    ));
+    out.push_str(&format!(
+        "amplitude {} (linear system {}, attenuation {:.4})\n",
+        cm(rec.amplitude),
+        cm(rec.amplitude_linear),
+        rec.attenuation
+    ));
+    out.push_str(&format!(
+        "impacts  {:.3} per period, period {}\n",
+        rec.impacts_per_period,
+        if rec.period == 0 {
+            "0 (none of 1..8 repeats)".to_string()
+        } else {
+            rec.period.to_string()
+        }
+    ));
+    out.push_str(&format!(
+        "energy   per window: {:.4e} J by the force, {:.4e} J in impacts, {:.4e} J in the damper\n",
+        rec.energy_force, rec.energy_impact, rec.energy_viscous
+    ));
+    out.push_str(&format!("stopped  at t = {:.5} s\n", rec.t_stop));
+    out
 }
 
 /// A short summary for a person, with units.
 pub fn record_text(setup: &Setup, rec: &Record) -> String {
     let s = &setup.system;
-    let cm = |v: f64| {
-        if v.is_nan() {
-            "-".to_string()
-        } else {
-            format!("{:.4} cm", v * 100.0)
-        }
-    };
     let sec = |v: f64| {
         if v.is_nan() {
             "-".to_string()
@@ -223,15 +461,7 @@ pub fn record_text(setup: &Setup, rec: &Record) -> String {
         }
     };
     let mut out = String::new();
-    out.push_str(&format!(
-        "system   M = {} kg, m = {} kg, K = {} N/m, C = {} N s/m, d = {} m, e = {}\n",
-        fmt_value(s.M),
-        fmt_value(s.m),
-        fmt_value(s.K),
-        fmt_value(s.C),
-        fmt_value(s.d),
-        fmt_value(s.e)
-    ));
+    out.push_str(&system_line(s));
     out.push_str(&format!(
         "start    x0 = {} m, v0 = {} m/s, y0 = {} m, w0 = {} m/s\n",
         fmt_value(s.x0),
@@ -299,21 +529,32 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     check
         .validate()
         .map_err(|e| InputError::new(format!("--{e}")))?;
+    if matches!(setup.scene, Scene::Harmonic(_))
+        && let Some(t_end) = args.t_end
+    {
+        return Err(InputError::new(format!(
+            "--t-end {}: a free-decay option; the harmonic scene runs n_trans + n_meas forcing \
+             periods",
+            fmt_value(t_end)
+        ))
+        .into());
+    }
     let rec = match &args.trace {
         Some(path) => {
-            let (rec, rows) = trace(&setup, dt, args.t_end);
+            let (rec, rows) = trace_scene(&setup, dt);
             write_trace(path, &rows)?;
             rec
         }
-        None => setup.run(&mut NoProbe),
+        None => setup.run_scene(&mut NoProbe),
     };
-    if args.json {
-        println!("{}", record_json(&setup, &rec));
-    } else {
-        print!("{}", record_text(&setup, &rec));
-        if let Some(path) = &args.trace {
-            println!("trace    {}", path.display());
-        }
+    match (&rec, args.json) {
+        (SceneRecord::Free(rec), true) => println!("{}", record_json(&setup, rec)),
+        (SceneRecord::Free(rec), false) => print!("{}", record_text(&setup, rec)),
+        (SceneRecord::Harmonic(rec), true) => println!("{}", forced_json(&setup, rec)),
+        (SceneRecord::Harmonic(rec), false) => print!("{}", forced_text(&setup, rec)),
+    }
+    if let (Some(path), false) = (&args.trace, args.json) {
+        println!("trace    {}", path.display());
     }
     Ok(())
 }

@@ -151,90 +151,13 @@ pub fn queue(args: &QueueArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Prints what a run directory holds: chunks and runs done, missing chunks, per shard.
+/// Prints what a run directory holds: chunks and runs done, damaged and missing chunks, per
+/// shard. Fails (exit 1) when a part file is damaged, naming it and the fix.
 pub fn status(args: &StatusArgs) -> anyhow::Result<()> {
     let st = sweep::status(&args.dir)?;
-    let m = &st.manifest;
-    println!("{}: study {}", args.dir.display(), m.study);
-    println!(
-        "chunks {}/{} done, runs {}/{} done ({} points x {} cases, {} points per chunk)",
-        st.done.len(),
-        m.n_chunks,
-        st.runs_done,
-        m.n_runs,
-        m.n_points,
-        m.n_cases,
-        m.chunk_points
-    );
-    if st.missing.is_empty() {
-        println!("complete");
-    } else {
-        println!("missing chunks: {}", sweep::ranges(&st.missing));
+    print!("{}", st.report(&args.dir));
+    match st.damage_error(&args.dir) {
+        Some(e) => Err(e),
+        None => Ok(()),
     }
-    let mut shards: Vec<(u64, u64)> = m
-        .shards
-        .iter()
-        .filter_map(|s| {
-            let (i, n) = s.split_once('/')?;
-            Some((i.parse().ok()?, n.parse().ok()?))
-        })
-        .filter(|&(_, n)| n > 1)
-        .collect();
-    shards.sort();
-    for (i, n) in shards {
-        let all: Vec<u64> = sweep::shard_chunks(m.n_chunks, (i, n)).collect();
-        let missing: Vec<u64> = all
-            .iter()
-            .copied()
-            .filter(|k| st.missing.binary_search(k).is_ok())
-            .collect();
-        println!(
-            "shard {i}/{n}: chunks {}/{} done{}",
-            all.len() - missing.len(),
-            all.len(),
-            if missing.is_empty() {
-                String::new()
-            } else {
-                format!(", missing {}", sweep::ranges(&missing))
-            }
-        );
-    }
-    if !m.outcomes.is_empty() {
-        let outcomes: Vec<String> = m.outcomes.iter().map(|(k, v)| format!("{k} {v}")).collect();
-        println!("outcomes: {}", outcomes.join(", "));
-    }
-    for (name, holder) in &st.locks {
-        match holder {
-            Some(h) => println!(
-                "lock {name}: PID {} on {}{}",
-                h.pid,
-                h.host,
-                if h.stale {
-                    " (stale: that process is gone)"
-                } else {
-                    " (running)"
-                }
-            ),
-            None => println!("lock {name}: unreadable"),
-        }
-    }
-    if let Some(a) = &m.audit {
-        println!(
-            "audit ({} points, {} {} = {:e} against {}): relative error max/median xmax {:.1e}/{:.1e}, t1 {:.1e}/{:.1e}, di {:.1e}/{:.1e}; outcome changed {}, impacts changed {}",
-            a.points.len(),
-            a.solver,
-            a.knob,
-            a.knob_value,
-            a.reference,
-            a.xmax.max,
-            a.xmax.median,
-            a.t1.max,
-            a.t1.median,
-            a.di.max,
-            a.di.median,
-            a.outcome_changed,
-            a.impacts_changed
-        );
-    }
-    Ok(())
 }

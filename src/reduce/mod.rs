@@ -243,9 +243,7 @@ impl<'a> Reducer<'a> {
         }
         let n_ok = xmax.len() as u32;
         let (xmax_mean, xmax_sd) = stats::mean_sd(&xmax);
-        let mut sorted = xmax.clone();
-        sorted.sort_by(f64::total_cmp);
-        let q = |p: f64| stats::quantile_sorted(&sorted, p);
+        let q = |p: f64| stats::quantile(&xmax, p);
         let k = self.stress_per_m;
         // A single run has no spread: SD 0 (`max` maps its NaN SD to 0), a degenerate
         // lognormal whose R is 0 or 1.

@@ -24,31 +24,7 @@ pub fn mean_sd(xs: &[f64]) -> (f64, f64) {
     (mean, (ss / (n - 1) as f64).sqrt())
 }
 
-/// Median of a sample (NaN when empty). Sorts a copy.
-pub fn median(xs: &[f64]) -> f64 {
-    quantile(xs, 0.5)
-}
-
-/// Linear-interpolation quantile (type 7, the default of R and numpy). NaN when empty.
-pub fn quantile(xs: &[f64], q: f64) -> f64 {
-    let mut v: Vec<f64> = xs.iter().copied().filter(|x| !x.is_nan()).collect();
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    quantile_sorted(&v, q)
-}
-
-/// [`quantile`] of an already sorted sample without NaN.
-pub fn quantile_sorted(v: &[f64], q: f64) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    let h = (v.len() - 1) as f64 * q.clamp(0.0, 1.0);
-    let lo = h.floor() as usize;
-    let hi = h.ceil() as usize;
-    v[lo] + (h - lo as f64) * (v[hi] - v[lo])
-}
+pub use crate::numeric::{median, quantile};
 
 /// Median absolute deviation from the median (unscaled). NaN when empty.
 pub fn mad(xs: &[f64]) -> f64 {
@@ -201,26 +177,9 @@ pub fn bootstrap_reliability(
     }
     let alpha = (1.0 - confidence) / 2.0;
     (
-        phi(quantile_select(&mut betas, alpha)),
-        phi(quantile_select(&mut betas, 1.0 - alpha)),
+        phi(crate::numeric::quantile_mut(&mut betas, alpha)),
+        phi(crate::numeric::quantile_mut(&mut betas, 1.0 - alpha)),
     )
-}
-
-/// [`quantile_sorted`] without sorting: two selections, O(n). Reorders `v`; no NaN allowed.
-pub fn quantile_select(v: &mut [f64], q: f64) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    let h = (v.len() - 1) as f64 * q.clamp(0.0, 1.0);
-    let lo = h.floor() as usize;
-    let (_, a, rest) = v.select_nth_unstable_by(lo, f64::total_cmp);
-    let a = *a;
-    let frac = h - lo as f64;
-    if frac == 0.0 || rest.is_empty() {
-        return a;
-    }
-    let b = rest.iter().copied().fold(f64::INFINITY, f64::min);
-    a + frac * (b - a)
 }
 
 /// Anderson–Darling test of normality with mean and variance estimated from the sample
@@ -375,23 +334,6 @@ mod tests {
         );
         assert!(a.0 < r && r < a.1, "{a:?} vs {r}");
         assert!(a.1 - a.0 > 1e-4);
-    }
-
-    #[test]
-    fn quantile_select_matches_sorting() {
-        let xs: Vec<f64> = (0..2000)
-            .map(|i| ((i * 7919) % 2003) as f64 * 0.37)
-            .collect();
-        for q in [0.0, 0.025, 0.5, 0.975, 1.0] {
-            let mut sorted = xs.clone();
-            sorted.sort_by(f64::total_cmp);
-            let mut v = xs.clone();
-            assert_eq!(
-                quantile_select(&mut v, q),
-                quantile_sorted(&sorted, q),
-                "q = {q}"
-            );
-        }
     }
 
     #[test]

@@ -1,8 +1,10 @@
-//! The summary and zone tables as plain columns: the store writes them to Parquet
-//! ([`crate::store_summary`]), the report to CSV and markdown. No arrow here.
+//! The summary, zone and jump tables as plain columns: the store writes them to Parquet and CSV
+//! ([`crate::store::summary`]). No arrow here. Axis columns are named by
+//! [`column_name`] (the data contract: `M` → `mass_main`, `m` → `mass_inner`).
 
 use super::Summary;
 use crate::sim::Outcome;
+use crate::store::schema::column_name;
 
 /// One column of a table.
 #[derive(Clone, Debug, PartialEq)]
@@ -92,7 +94,7 @@ pub fn summary_table(s: &Summary) -> Table {
         Column::U64(p.iter().map(|x| Some(x.point)).collect()),
     );
     for (a, (key, _)) in s.axes.iter().enumerate() {
-        t.push(key.clone(), f(&|x| x.values[a]));
+        t.push(column_name(key), f(&|x| x.values[a]));
     }
     t.push(
         "n",
@@ -142,7 +144,7 @@ pub fn summary_table(s: &Summary) -> Table {
     t
 }
 
-/// One row per zone; each axis gets `<key>_from` and `<key>_to`.
+/// One row per zone; each axis gets `<column>_from` and `<column>_to`.
 pub fn zones_table(s: &Summary) -> Table {
     let z = &s.zones;
     let mut t = Table::default();
@@ -160,11 +162,11 @@ pub fn zones_table(s: &Summary) -> Table {
     );
     for (a, (key, _)) in s.axes.iter().enumerate() {
         t.push(
-            format!("{key}_from"),
+            format!("{}_from", column_name(key)),
             Column::F64(z.iter().map(|x| x.ranges[a].1).collect()),
         );
         t.push(
-            format!("{key}_to"),
+            format!("{}_to", column_name(key)),
             Column::F64(z.iter().map(|x| x.ranges[a].2).collect()),
         );
     }
@@ -199,7 +201,7 @@ pub fn outcome_text<T: Copy + Into<u64>>(counts: &[T; 6], failed_only: bool) -> 
         .join(" ")
 }
 
-/// One row per jump: axis, kind (`step` or `kink`), where (`at`) and the values spanned,
+/// One row per jump: axis (its column name), kind (`step` or `kink`), where (`at`) and the values spanned,
 /// quantity (`xmax` in m or `di` in m/s), the first (step) or second (kink) difference and its
 /// robust z-score.
 pub fn jumps_table(s: &Summary) -> Table {
@@ -207,7 +209,7 @@ pub fn jumps_table(s: &Summary) -> Table {
     let mut t = Table::default();
     t.push(
         "axis",
-        Column::Str(j.iter().map(|x| x.axis.clone()).collect()),
+        Column::Str(j.iter().map(|x| column_name(&x.axis).to_string()).collect()),
     );
     t.push(
         "kind",

@@ -432,7 +432,7 @@ pub fn report(
     }
     let _ = writeln!(
         o,
-        "Files: `summary.parquet` and `summary.csv` (one row per design point), `zones.parquet`; SI units throughout."
+        "Files: `summary.parquet` and `summary.csv` (one row per design point), `zones.parquet`, `jumps.parquet` (and CSV); SI units throughout (every column in impactsweep's `docs/schema.md`)."
     );
     o
 }

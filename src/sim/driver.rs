@@ -485,12 +485,7 @@ impl<'a, P: Probe> Run<'a, P> {
         // Speed away from the wall and the wall's acceleration toward the inner mass.
         let u = (sign * (self.s.v - self.s.w)).max(0.0);
         let a = -sign * self.free.accel(self.s.x, self.s.v);
-        // A rebound shorter than the event tolerance cannot be resolved: the threshold is at
-        // least ten tolerances, so a loose `tol` cannot turn a chatter into an endless one.
-        let ct = self.settings.chatter_tol.max(10.0 * self.settings.tol);
-        let remaining = 2.0 * u / (a * (1.0 - sys.e).max(ct));
-        let sticks = a > 0.0 && remaining <= ct * self.period || (u == 0.0 && a >= 0.0);
-        if sticks {
+        if chatter_ends(u, a, sys.e, self.settings, self.period) {
             let common = (sys.M * self.s.v + sys.m * self.s.w) / (sys.M + sys.m);
             self.s.v = common;
             self.s.w = common;
@@ -538,8 +533,20 @@ impl<'a, P: Probe> Run<'a, P> {
     }
 }
 
+/// The chatter rule (module doc): after an impact the inner mass leaves the wall at speed
+/// `u >= 0` while the wall accelerates toward it at `a`; `true` when the accumulation of the
+/// rebounds that follow ends within the chatter threshold, so the pair sticks now.
+#[inline]
+pub(crate) fn chatter_ends(u: f64, a: f64, e: f64, settings: &SolverSettings, period: f64) -> bool {
+    // A rebound shorter than the event tolerance cannot be resolved: the threshold is at least
+    // ten tolerances, so a loose `tol` cannot turn a chatter into an endless one.
+    let ct = settings.chatter_tol.max(10.0 * settings.tol);
+    let remaining = 2.0 * u / (a * (1.0 - e).max(ct));
+    a > 0.0 && remaining <= ct * period || (u == 0.0 && a >= 0.0)
+}
+
 /// The sign a quantity has now or, when exactly zero, is about to take from its derivatives.
-fn side_of(f: f64, f1: f64, f2: f64) -> f64 {
+pub(crate) fn side_of(f: f64, f1: f64, f2: f64) -> f64 {
     for g in [f, f1, f2] {
         if g > 0.0 {
             return 1.0;

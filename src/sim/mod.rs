@@ -1,7 +1,7 @@
 //! The simulator: one system + solver settings + what is asked → one [`Record`].
 //!
 //! A pure function ([`simulate`]): no I/O, no global state, the noise generator passed in.
-//! The physics is `../shared/spec/model.md` §1–3:
+//! The physics is `docs/model.md` §1–3:
 //!
 //! * between impacts the main mass is a free damped oscillator `M x'' + C x' + K x = 0` and the
 //!   inner mass moves at constant velocity (`y'' = 0`), see [`linear`];
@@ -18,6 +18,10 @@
 //!   `DI = (X1 - X2) / (t2 - t1)` (eq. 5, m/s), impact and sticking counts, energy lost in
 //!   impacts and in the damper.
 //!
+//! That is the free-decay scene. The forced scene (model.md §8, a harmonic force on the main
+//! mass, run to its steady state) lives in [`forced`]; [`Scene`] and [`simulate_scene`] pick
+//! one, and [`simulate`] is free decay exactly as it always was.
+//!
 //! Solvers share all of that and differ only in how they move the main mass between events and
 //! locate those events: [`SolverKind::Exact`] uses the closed form and a root bracket that cannot
 //! miss an impact (see [`exact`]); [`SolverKind::Rk4`] (fixed step, see [`rk4`]) and
@@ -28,6 +32,7 @@ pub(crate) mod dense;
 pub mod dopri5;
 pub mod driver;
 pub mod exact;
+pub mod forced;
 pub mod linear;
 pub mod noise;
 pub mod rk4;
@@ -37,6 +42,65 @@ use serde::Serialize;
 use crate::model::{RangeError, fmt_value};
 
 pub use driver::simulate;
+pub use forced::{Drive, ForcedRecord, Harmonic, simulate_harmonic};
+
+/// What a run simulates: the paper's free decay, or steady-state forced vibration (model.md §8).
+/// A study states its scene; the free-decay scene is exactly what [`simulate`] does.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Scene {
+    /// Free decay from the initial state (model.md §1–3): [`Record`].
+    Free,
+    /// Harmonic force `F0 cos(omega t)` on the main mass, steady state: [`ForcedRecord`].
+    Harmonic(Harmonic),
+}
+
+impl Scene {
+    /// The scene names `--set scene=` and a study's `[scene] kind` accept.
+    pub const NAMES: [&'static str; 2] = ["free", "harmonic"];
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            Scene::Free => "free",
+            Scene::Harmonic(_) => "harmonic",
+        }
+    }
+}
+
+/// The record of either scene.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum SceneRecord {
+    Free(Record),
+    Harmonic(ForcedRecord),
+}
+
+impl SceneRecord {
+    pub fn outcome(&self) -> Outcome {
+        match self {
+            SceneRecord::Free(r) => r.outcome,
+            SceneRecord::Harmonic(r) => r.outcome,
+        }
+    }
+}
+
+/// Runs one system in `scene`: [`simulate`] for free decay, [`simulate_harmonic`] for the forced
+/// scene. Pure, as both are.
+pub fn simulate_scene<P: Probe>(
+    sys: &crate::model::System,
+    settings: &SolverSettings,
+    req: &Request,
+    scene: &Scene,
+    noise: Option<(&NoiseSettings, &mut noise::NoiseStream)>,
+    probe: &mut P,
+) -> SceneRecord {
+    match scene {
+        Scene::Free => SceneRecord::Free(simulate(sys, settings, req, noise, probe)),
+        Scene::Harmonic(h) => {
+            SceneRecord::Harmonic(simulate_harmonic(sys, settings, req, h, noise, probe))
+        }
+    }
+}
 
 /// Which solver moves the main mass between events.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, serde::Deserialize)]

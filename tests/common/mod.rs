@@ -1,7 +1,8 @@
-//! Studies built in Rust for the engine's tests (independent of the study-file parser).
+//! Shared test helpers: studies built in Rust for the engine's tests (independent of the
+//! study-file parser), study files for the binary's tests, and a schema-version-1 dataset.
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use impactsweep::model::System;
 use impactsweep::sim::{NoiseSettings, Request, SolverSettings};
@@ -89,4 +90,156 @@ pub fn study(name: &str, n_e: usize) -> Study {
             audit: 0,
         },
     }
+}
+
+/// A small study: `n_e` values of `e` × 3 values of `m`, 4 cases (ideal, a clearance change, two
+/// noisy cases).
+pub fn study_text(name: &str, n_e: usize, chunk_points: u64) -> String {
+    format!(
+        r#"[study]
+name = "{name}"
+seed = 11
+
+[sweep]
+e = {{ start = 0.45, stop = 0.95, num = {n_e} }}
+m = [0.015, 0.02, 0.025]
+
+[noise]
+power = 5e-10
+sample_time = 1e-3
+
+[perturb]
+cases = [
+  {{ dd = 0.001 }},
+  {{ noise_seed = 1 }},
+  {{ dm = -0.001, dd = -0.001, noise_seed = 2 }},
+]
+
+[run]
+chunk_points = {chunk_points}
+"#
+    )
+}
+
+pub fn write_study(dir: &Path, name: &str, n_e: usize, chunk_points: u64) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, study_text(name, n_e, chunk_points)).unwrap();
+    path
+}
+
+/// Turns a run directory written by this build into what impactsweep 0.1.0 (schema version 1)
+/// wrote: the mass columns back to `M` and `m`, `impactsweep.schema_version = 1` in every part
+/// file and in `manifest.json` (issue 9: such a dataset must get a clear message).
+pub fn downgrade_to_v1(run_dir: &Path) {
+    use std::sync::Arc;
+
+    use arrow::datatypes::{Field, Schema};
+    use arrow::record_batch::RecordBatch;
+    use parquet::arrow::ArrowWriter;
+    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+    use parquet::file::metadata::KeyValue;
+    use parquet::file::properties::WriterProperties;
+
+    for path in impactsweep::store::part_files(run_dir).unwrap() {
+        let builder =
+            ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&path).unwrap()).unwrap();
+        let kv: Vec<KeyValue> = builder
+            .metadata()
+            .file_metadata()
+            .key_value_metadata()
+            .unwrap()
+            .iter()
+            .filter(|kv| kv.key.starts_with("impactsweep."))
+            .map(|kv| match kv.key.as_str() {
+                "impactsweep.schema_version" => KeyValue::new(kv.key.clone(), "1".to_string()),
+                _ => kv.clone(),
+            })
+            .collect();
+        let batches: Vec<RecordBatch> = builder.build().unwrap().map(Result::unwrap).collect();
+        let old = batches[0].schema();
+        let fields: Vec<Field> = old
+            .fields()
+            .iter()
+            .map(|f| {
+                let name = match f.name().as_str() {
+                    "mass_main" => "M",
+                    "mass_inner" => "m",
+                    other => other,
+                };
+                Field::new(name, f.data_type().clone(), f.is_nullable())
+            })
+            .collect();
+        let schema = Arc::new(Schema::new(fields));
+        let props = WriterProperties::builder()
+            .set_key_value_metadata(Some(kv))
+            .build();
+        let mut bytes = Vec::new();
+        let mut w = ArrowWriter::try_new(&mut bytes, schema.clone(), Some(props)).unwrap();
+        for b in &batches {
+            w.write(&RecordBatch::try_new(schema.clone(), b.columns().to_vec()).unwrap())
+                .unwrap();
+        }
+        w.close().unwrap();
+        std::fs::write(&path, bytes).unwrap();
+    }
+    let manifest = run_dir.join("manifest.json");
+    let mut m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&manifest).unwrap()).unwrap();
+    m["schema_version"] = 1.into();
+    m["version"] = "0.1.0".into();
+    std::fs::write(&manifest, serde_json::to_string_pretty(&m).unwrap()).unwrap();
+}
+
+/// A run directory's dataset as bytes: every part file by name, then `manifest.json`. Two runs
+/// of one study are the same dataset, bit for bit, when these are equal.
+pub fn dataset(run_dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut files: Vec<(String, Vec<u8>)> = impactsweep::store::part_files(run_dir)
+        .unwrap()
+        .iter()
+        .map(|p| {
+            (
+                p.file_name().unwrap().to_string_lossy().to_string(),
+                std::fs::read(p).unwrap(),
+            )
+        })
+        .collect();
+    files.push((
+        "manifest.json".into(),
+        std::fs::read(run_dir.join("manifest.json")).unwrap_or_default(),
+    ));
+    files
+}
+
+/// This host's name, as lock files write it.
+pub fn hostname() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .unwrap()
+        .trim()
+        .to_string()
+}
+
+/// A PID that no longer exists: a child that has exited and been reaped.
+pub fn dead_pid() -> u32 {
+    let mut child = std::process::Command::new("true").spawn().unwrap();
+    let pid = child.id();
+    child.wait().unwrap();
+    assert!(!Path::new(&format!("/proc/{pid}")).exists());
+    pid
+}
+
+/// The Python interpreter of the tests that call Python (interop readers, the SciPy peers):
+/// `$IMPACTSWEEP_PYTHON`, else the repository's `.venv/bin/python` (`scripts/setup-python.sh`
+/// creates it with the pinned packages).
+pub fn python() -> PathBuf {
+    if let Some(p) = std::env::var_os("IMPACTSWEEP_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
+    assert!(
+        venv.exists(),
+        "no Python for this test: set IMPACTSWEEP_PYTHON or run scripts/setup-python.sh \
+         (looked for {})",
+        venv.display()
+    );
+    venv
 }

@@ -1,39 +1,16 @@
-//! Store: runs ↔ Parquet. The only module that knows arrow/parquet.
+//! The points table: the sweep's runs, one Parquet part file per chunk.
 //!
-//! CONTRACT (shared by the sweep engine and the reducer). A run directory `OUT/<name>/` holds
-//! `study.toml` (the resolved study), `manifest.json` and `points/part-NNNNNN.parquet`, one file
-//! per chunk (chunk `k` → `part-{k:06}.parquet`), rows in `point_id` order. Columns, SI units:
+//! A run directory `OUT/<name>/` holds `points/part-NNNNNN.parquet`, one file per chunk (chunk
+//! `k` → `part-{k:06}.parquet`), rows in `point_id` order. The columns (SI units; every one in
+//! `docs/schema.md`) are, in order: `point_id point case ideal dm dd noise_seed`, the system
+//! `mass_main mass_inner K C d e x0 v0 y0 w0` (after `dm`, `dd`), `solver tol h rtol atol`,
+//! `outcome`, the observables `x1 t1 x2 t2 xmax di`, the counts `impacts sticks steps` and
+//! `energy_impact energy_viscous t_stop`. `solver` and `outcome` are dictionary-encoded;
+//! `noise_seed` is null without noise; observables are NaN when the outcome says so.
 //!
-//! | column | type | meaning |
-//! |---|---|---|
-//! | `point_id` | UInt64 | `point * n_cases + case`, stable |
-//! | `point` | UInt64 | design point index |
-//! | `case` | UInt32 | case index (0 is the ideal case) |
-//! | `ideal` | Boolean | the unperturbed noise-free case |
-//! | `dm`, `dd` | Float64 | perturbation of `m` (kg) and `d` (m) |
-//! | `noise_seed` | UInt64, nullable | null without noise |
-//! | `M m K C d e x0 v0 y0 w0` | Float64 | the run's system (after `dm`, `dd`) |
-//! | `solver` | Dictionary(Int8, Utf8) | solver name |
-//! | `tol` | Float64 | event-location tolerance (periods) |
-//! | `h`, `rtol`, `atol` | Float64 | the other solver knobs: `rk4` step (s), `dopri5` tolerances |
-//! | `outcome` | Dictionary(Int8, Utf8) | `ok`, `no_second_peak`, ... |
-//! | `x1 t1 x2 t2 xmax di` | Float64 | observables (NaN when the outcome says so) |
-//! | `impacts sticks steps` | UInt64 | counts |
-//! | `energy_impact energy_viscous t_stop` | Float64 | J, J, s |
-//!
-//! Key-value metadata: `impactsweep.study` (TOML), `impactsweep.version`,
-//! `impactsweep.schema_version`.
-//!
-//! DuckDB matches column names case-insensitively and reads `m` as `m_1` (next to `M`);
-//! pyarrow and polars keep both names (`tests/interop.py` pins this).
-//!
-//! Files are written to `part-NNNNNN.parquet.tmp` and renamed, so a finished name always holds a
-//! complete file. Their bytes are deterministic (no timestamps): the same rows give the same
-//! file. The manifest's checksum of a part is [`fnv1a64`] of its bytes.
+//! A part's key-value metadata adds the study text (`impactsweep.study`) to the version keys.
 
 use std::collections::BTreeMap;
-use std::fs::File;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -42,60 +19,75 @@ use arrow::array::{
     Array, ArrayRef, BooleanArray, DictionaryArray, Float64Array, Int8Array, RecordBatch,
     StringArray, UInt32Array, UInt64Array,
 };
-use arrow::datatypes::{DataType, Field, Int8Type, Schema, SchemaRef};
-use parquet::arrow::ArrowWriter;
-use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
-use parquet::basic::Compression;
-use parquet::file::metadata::KeyValue;
-use parquet::file::properties::WriterProperties;
-use parquet::schema::types::ColumnPath;
+use arrow::datatypes::{DataType, Int8Type, Schema, SchemaRef};
 
-use crate::model::System;
+use super::schema::{META_STUDY, TableKind, column_name};
+use crate::model::{SYSTEM_KEYS, System};
 use crate::sim::{Outcome, Record, SolverSettings};
-
-/// Key-value metadata keys written to every part file.
-pub const META_STUDY: &str = "impactsweep.study";
-pub const META_VERSION: &str = "impactsweep.version";
-pub const META_SCHEMA_VERSION: &str = "impactsweep.schema_version";
 
 /// The `f64` observable columns of a [`Record`], in schema order.
 const OBSERVABLES: [&str; 6] = ["x1", "t1", "x2", "t2", "xmax", "di"];
 const COUNTS: [&str; 3] = ["impacts", "sticks", "steps"];
 const ENERGIES: [&str; 3] = ["energy_impact", "energy_viscous", "t_stop"];
+/// Dictionary-encoded columns.
+const DICTIONARY: [&str; 2] = ["outcome", "solver"];
+
+/// One stored run, as the reducer reads it back.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunRow {
+    pub point_id: u64,
+    pub point: u64,
+    pub case: u32,
+    pub ideal: bool,
+    pub dm: f64,
+    pub dd: f64,
+    pub noise_seed: Option<u64>,
+    pub system: System,
+    pub solver: String,
+    pub tol: f64,
+    /// The record; `peaks` holds at most `(x1, t1), (x2, t2)` when read back.
+    pub record: Record,
+}
 
 fn dict_type() -> DataType {
     DataType::Dictionary(Box::new(DataType::Int8), Box::new(DataType::Utf8))
 }
 
-/// The Arrow schema of a part file (the column table above, in that order).
+/// The Arrow schema of a part file (the columns above, in that order, with their units).
 pub fn schema() -> SchemaRef {
-    let mut fields = vec![
-        Field::new("point_id", DataType::UInt64, false),
-        Field::new("point", DataType::UInt64, false),
-        Field::new("case", DataType::UInt32, false),
-        Field::new("ideal", DataType::Boolean, false),
-        Field::new("dm", DataType::Float64, false),
-        Field::new("dd", DataType::Float64, false),
-        Field::new("noise_seed", DataType::UInt64, true),
+    let t = TableKind::Points;
+    let mut cols: Vec<(&str, DataType, bool)> = vec![
+        ("point_id", DataType::UInt64, false),
+        ("point", DataType::UInt64, false),
+        ("case", DataType::UInt32, false),
+        ("ideal", DataType::Boolean, false),
+        ("dm", DataType::Float64, false),
+        ("dd", DataType::Float64, false),
+        ("noise_seed", DataType::UInt64, true),
     ];
-    for key in crate::model::SYSTEM_KEYS {
-        fields.push(Field::new(key, DataType::Float64, false));
+    for key in SYSTEM_KEYS {
+        cols.push((column_name(key), DataType::Float64, false));
     }
-    fields.push(Field::new("solver", dict_type(), false));
-    fields.push(Field::new("tol", DataType::Float64, false));
-    for key in ["h", "rtol", "atol"] {
-        fields.push(Field::new(key, DataType::Float64, false));
+    cols.push(("solver", dict_type(), false));
+    for key in ["tol", "h", "rtol", "atol"] {
+        cols.push((key, DataType::Float64, false));
     }
-    fields.push(Field::new("outcome", dict_type(), false));
+    cols.push(("outcome", dict_type(), false));
     for key in OBSERVABLES {
-        fields.push(Field::new(key, DataType::Float64, false));
+        cols.push((key, DataType::Float64, false));
     }
     for key in COUNTS {
-        fields.push(Field::new(key, DataType::UInt64, false));
+        cols.push((key, DataType::UInt64, false));
     }
     for key in ENERGIES {
-        fields.push(Field::new(key, DataType::Float64, false));
+        cols.push((key, DataType::Float64, false));
     }
+    let fields = cols
+        .into_iter()
+        .map(|(name, dt, nullable)| {
+            super::field(t, name, dt, nullable).expect("every points column has a unit")
+        })
+        .collect::<Vec<_>>();
     Arc::new(Schema::new(fields))
 }
 
@@ -133,34 +125,17 @@ pub fn part_files(run_dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(parts.into_iter().map(|(_, p)| p).collect())
 }
 
-/// 64-bit FNV-1a hash (offset basis 0xcbf29ce484222325, prime 0x100000001b3) of `bytes`: the
-/// checksum of a part file in the manifest.
-pub fn fnv1a64(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
-}
-
-/// [`fnv1a64`] of a file's bytes.
-pub fn checksum_file(path: &Path) -> Result<u64> {
-    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-    Ok(fnv1a64(&bytes))
-}
-
 /// What [`write_part`] wrote.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PartInfo {
     pub rows: u64,
-    /// [`fnv1a64`] of the file's bytes.
-    pub checksum: u64,
+    /// The file's checksum (16 hex digits) by the algorithm asked for.
+    pub checksum: String,
     pub bytes: u64,
 }
 
-/// Encodes rows as one Parquet file (one row group, snappy, `outcome` and `solver`
-/// dictionary-encoded, no timestamps: the same rows always give the same bytes).
+/// Encodes rows as one part file (see [`super::encode`]; `outcome` and `solver`
+/// dictionary-encoded, the study text in the metadata).
 ///
 /// `settings` fills the `h`, `rtol`, `atol` columns (one study, one solver setting; [`RunRow`]
 /// carries `solver` and `tol` only).
@@ -170,60 +145,32 @@ pub fn encode_part(
     settings: &SolverSettings,
 ) -> Result<Vec<u8>> {
     let batch = to_batch(rows, settings)?;
-    let kv = vec![
-        KeyValue::new(META_STUDY.to_string(), study_toml.to_string()),
-        KeyValue::new(
-            META_VERSION.to_string(),
-            env!("CARGO_PKG_VERSION").to_string(),
-        ),
-        KeyValue::new(META_SCHEMA_VERSION.to_string(), SCHEMA_VERSION.to_string()),
-    ];
-    let props = WriterProperties::builder()
-        .set_compression(Compression::SNAPPY)
-        .set_dictionary_enabled(false)
-        .set_column_dictionary_enabled(ColumnPath::from("outcome"), true)
-        .set_column_dictionary_enabled(ColumnPath::from("solver"), true)
-        // One row group per file, whatever the chunk size.
-        .set_max_row_group_row_count(Some(rows.len().max(1)))
-        .set_max_row_group_bytes(None)
-        .set_key_value_metadata(Some(kv))
-        .build();
-    let mut writer = ArrowWriter::try_new(Vec::new(), batch.schema(), Some(props))
-        .context("starting a Parquet writer")?;
-    writer.write(&batch).context("encoding Parquet")?;
-    writer.into_inner().context("finishing Parquet")
+    super::encode(
+        TableKind::Points,
+        &batch,
+        &super::WriteOptions {
+            dictionary: &DICTIONARY,
+            extra: vec![(META_STUDY.to_string(), study_toml.to_string())],
+        },
+    )
 }
 
-/// Writes rows to `path` atomically: the bytes go to `path` + `.tmp`, are synced, then renamed.
-/// A crash leaves either the complete file or a `.tmp` leftover, never a truncated part.
+/// Writes rows to `path` atomically ([`super::write_bytes`], not synced: the sweep engine syncs
+/// its file system about once a second) and returns their `checksum`.
 pub fn write_part(
     path: &Path,
     rows: &[RunRow],
     study_toml: &str,
     settings: &SolverSettings,
+    checksum: super::Checksum,
 ) -> Result<PartInfo> {
     let bytes = encode_part(rows, study_toml, settings)?;
-    let tmp = tmp_path(path);
-    {
-        let mut f = File::create(&tmp).with_context(|| format!("creating {}", tmp.display()))?;
-        f.write_all(&bytes)
-            .and_then(|()| f.sync_all())
-            .with_context(|| format!("writing {}", tmp.display()))?;
-    }
-    std::fs::rename(&tmp, path)
-        .with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))?;
+    let info = super::write_bytes(path, &bytes, super::Durability::Later)?;
     Ok(PartInfo {
         rows: rows.len() as u64,
-        checksum: fnv1a64(&bytes),
-        bytes: bytes.len() as u64,
+        checksum: checksum.hex(&bytes),
+        bytes: info.bytes,
     })
-}
-
-/// The temporary name a part is written under before its rename.
-pub fn tmp_path(path: &Path) -> PathBuf {
-    let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(".tmp");
-    path.with_file_name(name)
 }
 
 fn to_batch(rows: &[RunRow], settings: &SolverSettings) -> Result<RecordBatch> {
@@ -249,7 +196,7 @@ fn to_batch(rows: &[RunRow], settings: &SolverSettings) -> Result<RecordBatch> {
         f64col(&|r| r.dd),
         Arc::new(UInt64Array::from_iter(rows.iter().map(|r| r.noise_seed))),
     ];
-    for key in crate::model::SYSTEM_KEYS {
+    for key in SYSTEM_KEYS {
         cols.push(f64col(&|r| r.system.get(key).unwrap_or(f64::NAN)));
     }
     // The dictionary of solver names: those present, in first-seen order (deterministic).
@@ -295,39 +242,22 @@ fn to_batch(rows: &[RunRow], settings: &SolverSettings) -> Result<RecordBatch> {
 
 /// The number of rows of a part file, from its footer (cheap; fails on a damaged file).
 pub fn part_rows(path: &Path) -> Result<u64> {
-    let file = File::open(path).with_context(|| format!("opening {}", path.display()))?;
-    let builder = ParquetRecordBatchReaderBuilder::try_new(file)
-        .with_context(|| format!("{}: not a readable Parquet file", path.display()))?;
+    let builder = super::open(path)?;
     Ok(builder.metadata().file_metadata().num_rows() as u64)
 }
 
 /// The key-value metadata of a part file.
 pub fn part_metadata(path: &Path) -> Result<BTreeMap<String, String>> {
-    let file = File::open(path).with_context(|| format!("opening {}", path.display()))?;
-    let builder = ParquetRecordBatchReaderBuilder::try_new(file)
-        .with_context(|| format!("{}: not a readable Parquet file", path.display()))?;
-    let mut out = BTreeMap::new();
-    for kv in builder
-        .metadata()
-        .file_metadata()
-        .key_value_metadata()
-        .into_iter()
-        .flatten()
-    {
-        out.insert(kv.key.clone(), kv.value.clone().unwrap_or_default());
-    }
-    Ok(out)
+    Ok(super::metadata_of(&super::open(path)?))
 }
 
-/// Reads a part file back into rows, in file order.
+/// Reads a part file back into rows, in file order. A part of another schema version is
+/// refused with a message that says what to do ([`super::check_version`]).
 pub fn read_part(path: &Path) -> Result<Vec<RunRow>> {
-    let file = File::open(path).with_context(|| format!("opening {}", path.display()))?;
-    let reader = ParquetRecordBatchReaderBuilder::try_new(file)
-        .and_then(|b| b.with_batch_size(65536).build())
-        .with_context(|| format!("{}: not a readable Parquet file", path.display()))?;
+    let builder = super::open(path)?;
+    super::check_version(path, &super::metadata_of(&builder))?;
     let mut rows = Vec::new();
-    for batch in reader {
-        let batch = batch.with_context(|| format!("reading {}", path.display()))?;
+    for batch in super::read_batches(path, builder)? {
         read_batch(&batch, &mut rows).with_context(|| format!("reading {}", path.display()))?;
     }
     Ok(rows)
@@ -369,9 +299,9 @@ fn read_batch(batch: &RecordBatch, rows: &mut Vec<RunRow>) -> Result<()> {
     let dm = f64s("dm")?;
     let dd = f64s("dd")?;
     let noise_seed = u64s("noise_seed")?;
-    let sys: Vec<&Float64Array> = crate::model::SYSTEM_KEYS
+    let sys: Vec<&Float64Array> = SYSTEM_KEYS
         .iter()
-        .map(|k| f64s(k))
+        .map(|k| f64s(column_name(k)))
         .collect::<Result<_>>()?;
     let solver = dict_strings(batch, "solver")?;
     let tol = f64s("tol")?;
@@ -381,7 +311,7 @@ fn read_batch(batch: &RecordBatch, rows: &mut Vec<RunRow>) -> Result<()> {
     let en: Vec<&Float64Array> = ENERGIES.iter().map(|k| f64s(k)).collect::<Result<_>>()?;
     for i in 0..batch.num_rows() {
         let mut system = System::TABLE_I;
-        for (key, col) in crate::model::SYSTEM_KEYS.iter().zip(&sys) {
+        for (key, col) in SYSTEM_KEYS.iter().zip(&sys) {
             system.set(key, col.value(i));
         }
         let out = Outcome::ALL
@@ -430,29 +360,10 @@ fn read_batch(batch: &RecordBatch, rows: &mut Vec<RunRow>) -> Result<()> {
     Ok(())
 }
 
-/// Schema version written to every file's metadata; bump on any column change.
-pub const SCHEMA_VERSION: u32 = 1;
-
-/// One stored run, as the reducer reads it back.
-#[derive(Clone, Debug, PartialEq)]
-#[allow(non_snake_case)]
-pub struct RunRow {
-    pub point_id: u64,
-    pub point: u64,
-    pub case: u32,
-    pub ideal: bool,
-    pub dm: f64,
-    pub dd: f64,
-    pub noise_seed: Option<u64>,
-    pub system: crate::model::System,
-    pub solver: String,
-    pub tol: f64,
-    /// The record; `peaks` holds at most `(x1, t1), (x2, t2)` when read back.
-    pub record: Record,
-}
-
 #[cfg(test)]
 mod tests {
+    use super::super::schema::{META_SCHEMA_VERSION, SCHEMA_VERSION};
+    use super::super::{checksum_file, tmp_path};
     use super::*;
     use crate::sim::{NoProbe, Request, SolverSettings, simulate};
 
@@ -492,9 +403,19 @@ mod tests {
         std::fs::create_dir(dir.path().join("points")).unwrap();
         let path = part_path(dir.path(), 3);
         let rows = rows();
-        let info = write_part(&path, &rows, "name = 'x'", &SolverSettings::default()).unwrap();
+        let info = write_part(
+            &path,
+            &rows,
+            "name = 'x'",
+            &SolverSettings::default(),
+            super::super::Checksum::DEFAULT,
+        )
+        .unwrap();
         assert_eq!(info.rows, 5);
-        assert_eq!(info.checksum, checksum_file(&path).unwrap());
+        assert_eq!(
+            info.checksum,
+            format!("{:016x}", checksum_file(&path).unwrap())
+        );
         assert!(!tmp_path(&path).exists());
         let back = read_part(&path).unwrap();
         let want: Vec<RunRow> = rows.into_iter().map(trimmed).collect();
@@ -508,6 +429,7 @@ mod tests {
         let meta = part_metadata(&path).unwrap();
         assert_eq!(meta[META_STUDY], "name = 'x'");
         assert_eq!(meta[META_SCHEMA_VERSION], SCHEMA_VERSION.to_string());
+        assert_eq!(meta[super::super::META_TABLE], "points");
         assert_eq!(
             encode_part(&want, "name = 'x'", &SolverSettings::default()).unwrap(),
             std::fs::read(&path).unwrap()
@@ -518,10 +440,18 @@ mod tests {
     #[test]
     fn schema_matches_the_documented_columns() {
         let names: Vec<String> = schema().fields().iter().map(|f| f.name().clone()).collect();
-        let doc = "point_id point case ideal dm dd noise_seed M m K C d e x0 v0 y0 w0 solver tol \
-                   h rtol atol outcome x1 t1 x2 t2 xmax di impacts sticks steps energy_impact \
-                   energy_viscous t_stop";
+        let doc = "point_id point case ideal dm dd noise_seed mass_main mass_inner K C d e x0 v0 \
+                   y0 w0 solver tol h rtol atol outcome x1 t1 x2 t2 xmax di impacts sticks steps \
+                   energy_impact energy_viscous t_stop";
         assert_eq!(names.join(" "), doc);
+        assert!(super::super::schema::case_clashes(names.iter().map(String::as_str)).is_empty());
+        let schema = schema();
+        let units: Vec<&str> = schema
+            .fields()
+            .iter()
+            .map(|f| f.metadata()["unit"].as_str())
+            .collect();
+        assert_eq!(&units[7..9], ["kg", "kg"]);
     }
 
     #[test]
@@ -529,11 +459,5 @@ mod tests {
         assert_eq!(part_chunk(Path::new("a/part-000012.parquet")), Some(12));
         assert_eq!(part_chunk(Path::new("a/part-000012.parquet.tmp")), None);
         assert_eq!(part_chunk(Path::new("a/part-.parquet")), None);
-    }
-
-    #[test]
-    fn fnv_matches_reference_vectors() {
-        assert_eq!(fnv1a64(b""), 0xcbf29ce484222325);
-        assert_eq!(fnv1a64(b"a"), 0xaf63dc4c8601ec8c);
     }
 }

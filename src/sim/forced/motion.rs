@@ -1,0 +1,231 @@
+//! Closed-form motion of the harmonically forced linear oscillator
+//! `mass x'' + c x' + k x = F0 cos(omega t)`: the free motion of [`Oscillator`] plus the
+//! particular solution `x_p = P cos(omega t) + Q sin(omega t)`,
+//!
+//! ```text
+//! P = F0 (k - mass omega^2) / D,   Q = F0 c omega / D,   D = (k - mass omega^2)^2 + (c omega)^2.
+//! ```
+//!
+//! A phase that starts at `t0` in `(x0, v0)` moves as `x(t) = x_h(t - t0) + x_p(t)`, where `x_h`
+//! is the free motion from `(x0 - x_p(t0), v0 - x_p'(t0))`: every damping regime and the
+//! neighbourhood of critical damping are handled by [`Oscillator::eval`]. `t` is the time from
+//! the start of the run, so the forcing phase is 0 at `t = 0` in every phase.
+//!
+//! Derivative bounds for the event brackets: the free part's energy never increases, so
+//! [`Oscillator::derivative_bounds`] of its energy bounds `|x_h^(j)|` for all later times; the
+//! particular part has `|x_p^(j)| <= A omega^j`, `A = sqrt(P^2 + Q^2)`. Their sum bounds the
+//! forced motion's derivatives for the rest of the phase.
+
+use crate::sim::linear::Oscillator;
+
+/// The forced oscillator of one phase (the free main mass, or the stuck pair).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Forced {
+    pub osc: Oscillator,
+    pub f0: f64,
+    pub omega: f64,
+    /// Particular solution `P cos + Q sin` (m).
+    pub p: f64,
+    pub q: f64,
+    /// `sqrt(P^2 + Q^2)` (m): the steady amplitude of this oscillator alone.
+    pub amp: f64,
+}
+
+/// Position, velocity and the next three derivatives at one time (SI).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Jet {
+    pub x: f64,
+    pub v: f64,
+    pub a: f64,
+    pub j: f64,
+    pub j2: f64,
+    /// The free part alone (its energy gives the bounds).
+    pub xh: f64,
+    pub vh: f64,
+}
+
+/// `|K - mass omega^2 + i C omega|` below this fraction of `K` is refused as resonance without
+/// damping: the particular amplitude would exceed `10^6 X_st` and cancel against the free part,
+/// losing that many digits.
+pub const RESONANCE_FLOOR: f64 = 1e-6;
+
+impl Forced {
+    /// The oscillator `(mass, k, c)` under `f0 cos(omega t)`. The caller has checked that the
+    /// dynamic stiffness is above [`RESONANCE_FLOOR`]` k`.
+    pub fn new(mass: f64, k: f64, c: f64, f0: f64, omega: f64) -> Self {
+        let (p, q) = particular(mass, k, c, f0, omega);
+        Forced {
+            osc: Oscillator::new(mass, k, c),
+            f0,
+            omega,
+            p,
+            q,
+            amp: p.hypot(q),
+        }
+    }
+
+    /// `(x_p, x_p', x_p'', x_p''')` at time `t`.
+    #[inline]
+    pub fn particular_at(&self, t: f64) -> [f64; 4] {
+        let (s, c) = (self.omega * t).sin_cos();
+        let w = self.omega;
+        let x = self.p * c + self.q * s;
+        let v = w * (self.q * c - self.p * s);
+        [x, v, -w * w * x, -w * w * v]
+    }
+
+    /// The force `F0 cos(omega t)` and its first three derivatives.
+    #[inline]
+    pub fn force_at(&self, t: f64) -> [f64; 4] {
+        let (s, c) = (self.omega * t).sin_cos();
+        let w = self.omega;
+        let f = self.f0 * c;
+        let f1 = -self.f0 * w * s;
+        [f, f1, -w * w * f, -w * w * f1]
+    }
+
+    /// Initial condition of the free part for a phase that starts at `t0` in `(x0, v0)`.
+    #[inline]
+    pub fn free_start(&self, t0: f64, x0: f64, v0: f64) -> (f64, f64) {
+        let [xp, vp, _, _] = self.particular_at(t0);
+        (x0 - xp, v0 - vp)
+    }
+
+    /// The motion at `t` of the phase that started at `t0` with free part `(h0, g0)`.
+    #[inline]
+    pub fn jet(&self, t0: f64, h0: f64, g0: f64, t: f64) -> Jet {
+        let o = &self.osc;
+        let hk = o.eval(h0, g0, t - t0);
+        let [xp, vp, ap, jp] = self.particular_at(t);
+        let x = hk.x + xp;
+        let v = hk.v + vp;
+        let a = hk.a + ap;
+        // Derivatives of the free part from its own equation, plus the particular part's.
+        let jh = -(o.c * hk.a + o.k * hk.v) / o.mass;
+        let j2h = -(o.c * jh + o.k * hk.a) / o.mass;
+        let w2 = self.omega * self.omega;
+        Jet {
+            x,
+            v,
+            a,
+            j: jh + jp,
+            j2: j2h + w2 * w2 * xp,
+            xh: hk.x,
+            vh: hk.v,
+        }
+    }
+
+    /// `B[j] >= |x^(j)|`, `j = 0..=5`, for every later time of this phase, from the free part's
+    /// state now.
+    #[inline]
+    pub fn bounds(&self, jet: &Jet) -> [f64; 6] {
+        let mut b = self.osc.derivative_bounds(self.osc.energy(jet.xh, jet.vh));
+        let mut wj = self.amp;
+        for bj in &mut b {
+            *bj += wj;
+            wj *= self.omega;
+        }
+        b
+    }
+
+    /// The acceleration of this oscillator in state `(x, v)` at time `t`.
+    #[inline]
+    pub fn accel(&self, t: f64, x: f64, v: f64) -> f64 {
+        (self.f0 * (self.omega * t).cos() - self.osc.c * v - self.osc.k * x) / self.osc.mass
+    }
+}
+
+/// The particular coefficients `(P, Q)` of `mass x'' + c x' + k x = f0 cos(omega t)`.
+pub(crate) fn particular(mass: f64, k: f64, c: f64, f0: f64, omega: f64) -> (f64, f64) {
+    let re = (-mass * omega).mul_add(omega, k);
+    let im = c * omega;
+    // f0 / (re + i im) = f0 (re - i im) / D; scaled to avoid overflow of D.
+    let s = re.abs().max(im.abs());
+    let (re_s, im_s) = (re / s, im / s);
+    let d = re_s.mul_add(re_s, im_s * im_s);
+    (f0 * re_s / (d * s), f0 * im_s / (d * s))
+}
+
+/// `|k - mass omega^2 + i c omega|` (N/m), the dynamic stiffness.
+pub(crate) fn dynamic_stiffness(mass: f64, k: f64, c: f64, omega: f64) -> f64 {
+    (-mass * omega).mul_add(omega, k).hypot(c * omega)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// RK4 on the forced equation with a small step.
+    fn rk4(f: &Forced, x0: f64, v0: f64, t0: f64, t1: f64, n: usize) -> (f64, f64) {
+        let h = (t1 - t0) / n as f64;
+        let (mut x, mut v) = (x0, v0);
+        let acc = |t: f64, x: f64, v: f64| f.accel(t, x, v);
+        for i in 0..n {
+            let t = t0 + i as f64 * h;
+            let (k1x, k1v) = (v, acc(t, x, v));
+            let (k2x, k2v) = (
+                v + 0.5 * h * k1v,
+                acc(t + 0.5 * h, x + 0.5 * h * k1x, v + 0.5 * h * k1v),
+            );
+            let (k3x, k3v) = (
+                v + 0.5 * h * k2v,
+                acc(t + 0.5 * h, x + 0.5 * h * k2x, v + 0.5 * h * k2v),
+            );
+            let (k4x, k4v) = (v + h * k3v, acc(t + h, x + h * k3x, v + h * k3v));
+            x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+            v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        }
+        (x, v)
+    }
+
+    #[test]
+    fn closed_form_agrees_with_rk4_in_every_regime() {
+        let (mass, k): (f64, f64) = (0.1, 400.0);
+        let crit = 2.0 * (k * mass).sqrt();
+        let wn = (k / mass).sqrt();
+        for c in [0.0, 0.1, 0.5 * crit, crit, 2.0 * crit] {
+            for r in [0.3, 0.97, 2.5] {
+                let f = Forced::new(mass, k, c, 1.0, r * wn);
+                let (t0, t1) = (0.013, 0.2);
+                let (h0, g0) = f.free_start(t0, 0.004, -0.3);
+                let jet = f.jet(t0, h0, g0, t1);
+                let (x, v) = rk4(&f, 0.004, -0.3, t0, t1, 100_000);
+                let scale = 0.004f64.max(f.amp);
+                assert!((jet.x - x).abs() <= 1e-10 * scale, "c={c} r={r}");
+                assert!((jet.v - v).abs() <= 1e-9 * scale * wn, "c={c} r={r}");
+                // The equation of motion holds for the derivatives the brackets use.
+                let [fo, f1, f2, _] = f.force_at(t1);
+                assert!((mass * jet.a + c * jet.v + k * jet.x - fo).abs() <= 1e-9 * k * scale);
+                assert!((mass * jet.j + c * jet.a + k * jet.v - f1).abs() <= 1e-8 * k * scale * wn);
+                assert!(
+                    (mass * jet.j2 + c * jet.j + k * jet.a - f2).abs()
+                        <= 1e-8 * k * scale * wn * wn
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn particular_solution_matches_the_textbook_amplitude() {
+        let (mass, k, c): (f64, f64, f64) = (0.1, 400.0, 0.1);
+        let wn = (k / mass).sqrt();
+        let zeta = c / (2.0 * (k * mass).sqrt());
+        for r in [0.1, 1.0, 5.0] {
+            let f = Forced::new(mass, k, c, 2.0, r * wn);
+            let lin = 2.0 / k / ((1.0 - r * r).powi(2) + (2.0 * zeta * r).powi(2)).sqrt();
+            assert!((f.amp - lin).abs() <= 1e-13 * lin, "r={r}");
+        }
+    }
+
+    #[test]
+    fn bounds_hold_along_a_phase() {
+        let f = Forced::new(0.1, 400.0, 0.1, 1.0, 40.0);
+        let (h0, g0) = f.free_start(0.0, 0.01, 1.0);
+        let b = f.bounds(&f.jet(0.0, h0, g0, 0.0));
+        for i in 0..2000 {
+            let jet = f.jet(0.0, h0, g0, i as f64 * 1e-3);
+            assert!(jet.x.abs() <= b[0] && jet.v.abs() <= b[1] && jet.a.abs() <= b[2]);
+            assert!(jet.j.abs() <= b[3] && jet.j2.abs() <= b[4]);
+        }
+    }
+}

@@ -1,0 +1,608 @@
+//! The forced scene's event loop: transient, measurement window, Poincaré sections, outcome.
+
+use super::events::{Event, ForcedPhase, Watch};
+use super::motion::Forced;
+use super::{ForcedRecord, Harmonic};
+use crate::model::System;
+use crate::sim::driver::{StepCap, Walls, chatter_ends, side_of};
+use crate::sim::noise::NoiseStream;
+use crate::sim::{NoiseSettings, Outcome, Probe, Request, SolverSettings, State, Wall, impact};
+
+/// Most sections the transient test looks back: `3 p + 1` for `p <= 8`.
+const HISTORY: usize = 25;
+/// Largest period looked for.
+const MAX_PERIOD: usize = 8;
+
+/// One Poincaré section `(x, x', y - x, y')`.
+type Section = [f64; 4];
+
+/// Runs the harmonic scene on `sys`. Pure: the same inputs give the same bits. `settings`
+/// supplies the event tolerance, the chatter threshold and the caps; `req.trace_dt` a sampled
+/// trace to the probe (`req.peaks` and `req.t_end` are the free-decay scene's and are not
+/// used). The caller has validated `sys`, `settings` and `scene` ([`Harmonic::validate`]).
+pub fn simulate_harmonic<P: Probe>(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    scene: &Harmonic,
+    noise: Option<(&NoiseSettings, &mut NoiseStream)>,
+    probe: &mut P,
+) -> ForcedRecord {
+    let omega = scene.omega(sys);
+    let free = Forced::new(sys.M, sys.K, sys.C, scene.F0, omega);
+    let pair = Forced::new(sys.M + sys.m, sys.K, sys.C, scene.F0, omega);
+    let tol_t = settings.tol * sys.period();
+    let mut solver = ForcedPhase::new(&free, tol_t, settings.max_steps);
+    let mut run = Run {
+        sys,
+        settings,
+        req,
+        scene,
+        noise,
+        probe,
+        free,
+        pair,
+        omega,
+        t_f: std::f64::consts::TAU / omega,
+        phase: Phase::Free,
+        t: 0.0,
+        k_base: 0,
+        s: State {
+            x: sys.x0,
+            v: sys.v0,
+            y: sys.y0,
+            w: sys.w0,
+        },
+        impacts: 0,
+        sticks: 0,
+        window: None,
+        history: Vec::with_capacity(HISTORY),
+        n_trans: 0,
+        converged: false,
+        v_side: 1.0,
+        next_trace: 0,
+        next_noise: 0,
+    };
+    let outcome = run.go(&mut solver);
+    run.finish(outcome, solver.steps())
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Phase {
+    Free,
+    Stuck(Wall),
+}
+
+/// What the measurement window has gathered.
+struct Window {
+    amplitude: f64,
+    impacts: u64,
+    sections: Vec<Section>,
+    energy_force: f64,
+    energy_viscous: f64,
+    energy_impact: f64,
+    /// Start of the smooth piece not yet integrated.
+    piece: f64,
+}
+
+struct Run<'a, P: Probe> {
+    sys: &'a System,
+    settings: &'a SolverSettings,
+    req: &'a Request,
+    scene: &'a Harmonic,
+    noise: Option<(&'a NoiseSettings, &'a mut NoiseStream)>,
+    probe: &'a mut P,
+    free: Forced,
+    pair: Forced,
+    omega: f64,
+    t_f: f64,
+    phase: Phase,
+    /// Time since the last section `k_base T_f` (s). The forcing is `T_f`-periodic, so each
+    /// period runs on a fresh clock: absolute times near `10^4 T_f` would leave too few bits
+    /// for the event tolerance (an ulp of 1000 s is 2e-13 s) and for the forcing phase.
+    t: f64,
+    k_base: u64,
+    s: State,
+    impacts: u64,
+    sticks: u64,
+    window: Option<Window>,
+    history: Vec<Section>,
+    n_trans: u64,
+    converged: bool,
+    v_side: f64,
+    next_trace: u64,
+    next_noise: u64,
+}
+
+impl<P: Probe> Run<'_, P> {
+    fn forced(&self) -> &Forced {
+        match self.phase {
+            Phase::Free => &self.free,
+            Phase::Stuck(_) => &self.pair,
+        }
+    }
+
+    /// Local time of section `k` (`k >= k_base`).
+    fn section_time(&self, k: u64) -> f64 {
+        (k - self.k_base) as f64 * self.t_f
+    }
+
+    /// Absolute time of the local origin, `k_base T_f`.
+    fn base(&self) -> f64 {
+        self.k_base as f64 * self.t_f
+    }
+
+    /// Absolute time now.
+    fn now(&self) -> f64 {
+        self.base() + self.t
+    }
+
+    /// Local time of the absolute time `t`.
+    fn local(&self, t: f64) -> f64 {
+        t - self.base()
+    }
+
+    fn section(&self) -> Section {
+        if self.sys.m > 0.0 {
+            [self.s.x, self.s.v, self.s.y - self.s.x, self.s.w]
+        } else {
+            [self.s.x, self.s.v, 0.0, 0.0]
+        }
+    }
+
+    fn measuring(&self) -> bool {
+        self.window.is_some()
+    }
+
+    /// Amplitude from exact extrema (no noise) or from noisy samples.
+    fn exact_extrema(&self) -> bool {
+        self.measuring() && self.noise.is_none()
+    }
+
+    fn watch(&self, k_next: u64) -> Watch {
+        let mut t_limit = self.section_time(k_next);
+        if let Some(dt) = self.req.trace_dt {
+            t_limit = t_limit.min(self.local(self.next_trace as f64 * dt));
+        }
+        if self.measuring()
+            && let Some((ns, _)) = &self.noise
+        {
+            t_limit = t_limit.min(self.local(self.next_noise as f64 * ns.sample_time));
+        }
+        // A sample due at a time that rounds to just before now is taken now.
+        let t_limit = t_limit.max(self.t);
+        let (walls, sep_side) = match self.phase {
+            // `m = 0` is the primary system alone: a massless inner mass cannot act on it.
+            Phase::Free if self.sys.m == 0.0 => (None, None),
+            Phase::Free => (
+                Some(Walls {
+                    t0: self.t,
+                    y0: self.s.y,
+                    w: self.s.w,
+                    half_d: 0.5 * self.sys.d,
+                }),
+                None,
+            ),
+            Phase::Stuck(wall) => (None, Some(wall.sign())),
+        };
+        Watch {
+            walls,
+            v_side: self.exact_extrema().then_some(self.v_side),
+            sep_side,
+            t_limit,
+        }
+    }
+
+    fn begin_phase(&self, solver: &mut ForcedPhase) {
+        solver.begin(self.forced(), self.t, self.s.x, self.s.v);
+    }
+
+    /// The sign `x'` has now or is about to take.
+    fn v_sign(&self) -> f64 {
+        let f = self.forced();
+        let a = f.accel(self.t, self.s.x, self.s.v);
+        side_of(self.s.v, a, 0.0)
+    }
+
+    fn energy(&self) -> f64 {
+        self.sys.energy(self.s.x, self.s.v, self.s.w)
+    }
+
+    /// Brings the run's state to the solver's point; integrates the window's energies over the
+    /// smooth piece just travelled.
+    fn sync(&mut self, solver: &ForcedPhase, walls: &Option<Walls>) {
+        let (t, x, v) = solver.state();
+        self.t = t;
+        self.s.x = x;
+        self.s.v = v;
+        match (self.phase, walls) {
+            (Phase::Free, Some(wl)) => self.s.y = wl.y0 + wl.w * (t - wl.t0),
+            // `m = 0`: the massless inner mass is carried along where it started in the cavity.
+            (Phase::Free, None) => {
+                self.s.y = x + (self.sys.y0 - self.sys.x0);
+                self.s.w = v;
+            }
+            (Phase::Stuck(wall), _) => {
+                self.s.y = x + wall.sign() * 0.5 * self.sys.d;
+                self.s.w = v;
+            }
+        }
+        let (f0, c) = (self.scene.F0, self.sys.C);
+        let omega = self.omega;
+        let h_max = self.quadrature_piece();
+        if let Some(win) = &mut self.window {
+            let (wf, wv) = integrate(win.piece, t, h_max, |tt| {
+                let v = solver.at(tt).v;
+                (f0 * (omega * tt).cos() * v, c * v * v)
+            });
+            win.energy_force += wf;
+            win.energy_viscous += wv;
+            win.piece = t;
+        }
+        let e = self.energy();
+        let now = self.now();
+        self.probe.energy(now, e);
+    }
+
+    /// Longest quadrature piece: 1/16 of the fastest period of the motion (forcing, natural,
+    /// or the damping rate `C / M` when heavily over-damped).
+    fn quadrature_piece(&self) -> f64 {
+        let fastest = self
+            .omega
+            .max(self.sys.omega())
+            .max(self.sys.C / self.sys.M);
+        std::f64::consts::TAU / fastest / 16.0
+    }
+
+    fn candidate(&mut self, x: f64) {
+        if let Some(win) = &mut self.window
+            && (win.amplitude.is_nan() || x.abs() > win.amplitude)
+        {
+            win.amplitude = x.abs();
+        }
+    }
+
+    fn go(&mut self, solver: &mut ForcedPhase) -> Outcome {
+        self.begin_phase(solver);
+        let mut k_next: u64 = 0;
+        // Section 0 at t = 0 (a Limit at t = 0 is handled like every other section).
+        loop {
+            let watch = self.watch(k_next);
+            let ev = match solver.next_event(&watch) {
+                Ok(ev) => ev,
+                Err(StepCap) => {
+                    self.sync(solver, &watch.walls);
+                    return Outcome::StepCap;
+                }
+            };
+            self.sync(solver, &watch.walls);
+            match ev {
+                Event::NonFinite => return Outcome::NonFinite,
+                Event::Wall(wall) => {
+                    if self.exact_extrema() {
+                        self.candidate(self.s.x);
+                    }
+                    if self.impacts >= self.settings.max_impacts {
+                        return Outcome::EventCap;
+                    }
+                    self.collide(wall);
+                    self.v_side = self.v_sign();
+                    self.begin_phase(solver);
+                }
+                Event::Separation => {
+                    if let Phase::Stuck(wall) = self.phase {
+                        let now = self.now();
+                        self.probe.separate(now, wall, &self.s);
+                    }
+                    self.phase = Phase::Free;
+                    self.begin_phase(solver);
+                }
+                Event::VZero => {
+                    self.candidate(self.s.x);
+                    self.v_side = -self.v_side;
+                }
+                Event::Limit => {
+                    self.samples();
+                    if self.t >= self.section_time(k_next) {
+                        if self.at_section(k_next) {
+                            return Outcome::Ok;
+                        }
+                        // A fresh clock for the next period (see `t`).
+                        self.k_base = k_next;
+                        self.t = 0.0;
+                        if let Some(win) = &mut self.window {
+                            win.piece = 0.0;
+                        }
+                        self.begin_phase(solver);
+                        k_next += 1;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Handles section `k`; `true` when the window is complete.
+    fn at_section(&mut self, k: u64) -> bool {
+        let s = self.section();
+        if let Some(win) = &mut self.window {
+            win.sections.push(s);
+            if k == self.n_trans + self.scene.n_meas {
+                self.candidate(self.s.x);
+                return true;
+            }
+            return false;
+        }
+        // Transient periods run so far (what a run that stops early reports).
+        self.n_trans = k;
+        if self.history.len() == HISTORY {
+            self.history.remove(0);
+        }
+        self.history.push(s);
+        let done = match self.scene.n_trans {
+            Some(n) => k >= n,
+            None => {
+                self.converged = transient_converged(
+                    &self.history,
+                    self.omega,
+                    self.sys.omega(),
+                    self.scene.trans_tol,
+                );
+                self.converged || k >= self.scene.n_trans_max
+            }
+        };
+        if done {
+            self.n_trans = k;
+            self.window = Some(Window {
+                amplitude: f64::NAN,
+                impacts: 0,
+                sections: vec![s],
+                energy_force: 0.0,
+                energy_viscous: 0.0,
+                energy_impact: 0.0,
+                piece: self.t,
+            });
+            self.v_side = self.v_sign();
+            if self.noise.is_none() {
+                self.candidate(self.s.x);
+            } else if let Some((ns, _)) = &self.noise {
+                self.next_noise = (self.now() / ns.sample_time).ceil() as u64;
+                // A sample due exactly now is taken by the Limit that follows at once.
+            }
+        }
+        false
+    }
+
+    /// Trace and noise samples due now.
+    fn samples(&mut self) {
+        if let Some(dt) = self.req.trace_dt
+            && self.local(self.next_trace as f64 * dt) <= self.t
+        {
+            let now = self.now();
+            self.probe.sample(now, &self.s);
+            self.next_trace += 1;
+        }
+        let base = self.base();
+        if self.measuring()
+            && let Some((ns, stream)) = &mut self.noise
+        {
+            let k = self.next_noise;
+            if k as f64 * ns.sample_time - base <= self.t {
+                let measured = self.s.x + stream.sample(k, ns);
+                self.next_noise = k + 1;
+                self.candidate(measured);
+            }
+        }
+    }
+
+    /// The impact law on `wall`, then rebound or sticking (the free-decay chatter rule with the
+    /// forced acceleration).
+    fn collide(&mut self, wall: Wall) {
+        let sys = self.sys;
+        let sign = wall.sign();
+        let before = self.s;
+        let e_before = self.energy();
+        self.s.y = self.s.x + sign * 0.5 * sys.d;
+        let (va, wa) = impact(sys.M, sys.m, sys.e, before.v, before.w);
+        self.s.v = va;
+        self.s.w = wa;
+        self.impacts += 1;
+        let now = self.now();
+        self.probe.impact(now, wall, &before, &self.s);
+        let u = (sign * (self.s.v - self.s.w)).max(0.0);
+        let a = -sign * self.free.accel(self.t, self.s.x, self.s.v);
+        if chatter_ends(u, a, sys.e, self.settings, sys.period()) {
+            let common = (sys.M * self.s.v + sys.m * self.s.w) / (sys.M + sys.m);
+            self.s.v = common;
+            self.s.w = common;
+            self.sticks += 1;
+            self.phase = Phase::Stuck(wall);
+            self.probe.stick(now, wall, &self.s);
+        } else {
+            self.phase = Phase::Free;
+        }
+        let e_after = self.energy();
+        if let Some(win) = &mut self.window {
+            win.impacts += 1;
+            win.energy_impact += e_before - e_after;
+        }
+        self.probe.energy(now, e_after);
+    }
+
+    fn finish(self, outcome: Outcome, steps: u64) -> ForcedRecord {
+        let sys = self.sys;
+        let scene = self.scene;
+        let r = scene.ratio(sys);
+        let amplitude_linear =
+            scene.F0 / sys.K / ((1.0 - r * r).powi(2) + (2.0 * sys.zeta() * r).powi(2)).sqrt();
+        let nan = f64::NAN;
+        let ok = outcome == Outcome::Ok;
+        let (amplitude, ipp, period, ef, ev, ei) = match (&self.window, ok) {
+            (Some(w), true) => (
+                w.amplitude,
+                w.impacts as f64 / scene.n_meas as f64,
+                section_period(&w.sections, self.omega, sys.omega(), scene.period_tol),
+                w.energy_force,
+                w.energy_viscous,
+                w.energy_impact,
+            ),
+            _ => (nan, nan, 0, nan, nan, nan),
+        };
+        ForcedRecord {
+            outcome,
+            F0: scene.F0,
+            omega: self.omega,
+            r,
+            amplitude,
+            impacts_per_period: ipp,
+            period,
+            amplitude_linear,
+            attenuation: amplitude / amplitude_linear,
+            n_trans: self.n_trans,
+            converged: self.converged,
+            energy_force: ef,
+            energy_viscous: ev,
+            energy_impact: ei,
+            impacts: self.impacts,
+            sticks: self.sticks,
+            end: self.s,
+            t_stop: self.now(),
+            steps,
+        }
+    }
+}
+
+/// Distance between two sections (m): `sqrt(dx^2 + (dx'/wn)^2 + dz^2 + (dy'/wn)^2)`, velocities
+/// scaled by the natural frequency `wn = sqrt(K/M)`. In this norm a decaying free oscillation
+/// has differences of steadily shrinking size (nearly `|lambda|^k`), whatever it turns by in a
+/// forcing period; with the forcing frequency instead, a slow free part at `r >> 1` would show
+/// as differences that come and go with its phase, and fake a converged section.
+fn distance(a: &Section, b: &Section, wn: f64) -> f64 {
+    let (dx, dv, dz, dw) = (
+        a[0] - b[0],
+        (a[1] - b[1]) / wn,
+        a[2] - b[2],
+        (a[3] - b[3]) / wn,
+    );
+    (dx * dx + dv * dv + dz * dz + dw * dw).sqrt()
+}
+
+/// The scale `max(|x|, |x'| / omega)` over sections.
+fn scale(sections: &[Section], omega: f64) -> f64 {
+    sections
+        .iter()
+        .map(|s| s[0].abs().max(s[1].abs() / omega))
+        .fold(0.0, f64::max)
+}
+
+/// The default transient's test on the latest sections (module doc of [`super`]).
+fn transient_converged(h: &[Section], omega: f64, wn: f64, tol: f64) -> bool {
+    let n = h.len();
+    for p in 1..=MAX_PERIOD {
+        if n < p + 1 {
+            break;
+        }
+        let last = n - 1;
+        let l = scale(&h[last - p..], omega);
+        let d0 = distance(&h[last], &h[last - p], wn);
+        if d0 <= 16.0 * f64::EPSILON * l {
+            return true;
+        }
+        if n < 3 * p + 1 {
+            continue;
+        }
+        let d1 = distance(&h[last - p], &h[last - 2 * p], wn);
+        let d2 = distance(&h[last - 2 * p], &h[last - 3 * p], wn);
+        let rho = (d0 / d1).max(d1 / d2);
+        if rho < 1.0 && d0 / (1.0 - rho) <= tol * l {
+            return true;
+        }
+    }
+    false
+}
+
+/// Smallest `p` in `1..=8` whose sections repeat over the whole window, else 0. Every one of
+/// the `p` phases must be compared at least once (`n >= 2p - 1` for `n + 1` sections).
+fn section_period(w: &[Section], omega: f64, wn: f64, tol: f64) -> u32 {
+    let l = scale(w, omega);
+    let n = w.len().saturating_sub(1);
+    (1..=MAX_PERIOD.min(n.div_ceil(2)))
+        .find(|&p| (0..=n - p).all(|j| distance(&w[j + p], &w[j], wn) <= tol * l))
+        .map_or(0, |p| p as u32)
+}
+
+/// `(int f.0, int f.1)` over `[a, b]` by 8-point Gauss–Legendre on pieces at most `h_max` long.
+fn integrate(a: f64, b: f64, h_max: f64, f: impl Fn(f64) -> (f64, f64)) -> (f64, f64) {
+    // Nodes and weights of 8-point Gauss–Legendre on [-1, 1] (positive half).
+    const X: [f64; 4] = [
+        0.183_434_642_495_649_8,
+        0.525_532_409_916_329,
+        0.796_666_477_413_626_7,
+        0.960_289_856_497_536_2,
+    ];
+    const W: [f64; 4] = [
+        0.362_683_783_378_362,
+        0.313_706_645_877_887_3,
+        0.222_381_034_453_374_5,
+        0.101_228_536_290_376_3,
+    ];
+    if b <= a {
+        return (0.0, 0.0);
+    }
+    let pieces = ((b - a) / h_max).ceil().max(1.0) as u64;
+    let h = (b - a) / pieces as f64;
+    let (mut s0, mut s1) = (0.0, 0.0);
+    for i in 0..pieces {
+        let lo = a + i as f64 * h;
+        let hi = if i + 1 == pieces { b } else { lo + h };
+        let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+        for (x, w) in X.iter().zip(W) {
+            let (p0, p1) = f(mid - half * x);
+            let (q0, q1) = f(mid + half * x);
+            s0 += w * half * (p0 + q0);
+            s1 += w * half * (p1 + q1);
+        }
+    }
+    (s0, s1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gauss_legendre_is_exact_for_trigonometric_pieces() {
+        let w = 63.0;
+        let (a, b) = (0.013, 0.4);
+        let (i0, i1) = integrate(a, b, std::f64::consts::TAU / w / 16.0, |t| {
+            ((w * t).cos(), (w * t).sin().powi(2))
+        });
+        let e0 = ((w * b).sin() - (w * a).sin()) / w;
+        let e1 = 0.5 * (b - a) - ((2.0 * w * b).sin() - (2.0 * w * a).sin()) / (4.0 * w);
+        assert!((i0 - e0).abs() <= 1e-15, "{i0} {e0}");
+        assert!((i1 - e1).abs() <= 1e-15 * e1.abs().max(1.0), "{i1} {e1}");
+    }
+
+    #[test]
+    fn period_of_a_repeating_sequence() {
+        let a = [1.0, 0.0, 0.0, 0.0];
+        let b = [-1.0, 0.0, 0.0, 0.0];
+        let c = [0.5, 0.0, 0.0, 0.0];
+        assert_eq!(section_period(&[a, a, a], 1.0, 1.0, 1e-9), 1);
+        assert_eq!(section_period(&[a, b, a, b, a], 1.0, 1.0, 1e-9), 2);
+        assert_eq!(section_period(&[a, b, c, a, b, c, a], 1.0, 1.0, 1e-9), 3);
+        assert_eq!(section_period(&[a, b, c, b, a], 1.0, 1.0, 1e-9), 0);
+    }
+
+    #[test]
+    fn a_geometric_transient_converges_once_its_tail_is_small() {
+        // x_k = 1 + 0.5^k (a contraction toward 1): the tail after k is 0.5^k.
+        let h: Vec<Section> = (0..10)
+            .map(|k| [1.0 + 0.5f64.powi(k), 0.0, 0.0, 0.0])
+            .collect();
+        assert!(!transient_converged(&h, 1.0, 1.0, 1e-4));
+        let h: Vec<Section> = (0..25)
+            .map(|k| [1.0 + 0.5f64.powi(k), 0.0, 0.0, 0.0])
+            .collect();
+        assert!(transient_converged(&h, 1.0, 1.0, 1e-6));
+    }
+}

@@ -1,0 +1,241 @@
+//! The data contract's names, units and version: what every table the tool writes calls its
+//! columns and in which unit it stores them. `docs/schema.md` lists every column with its type,
+//! unit and meaning; a test keeps the two in step.
+//!
+//! Column names are unique without case in every table (DuckDB, Spark and most SQL engines match
+//! names without case). Study keys, `--set` keys, report prose and chart labels keep the paper's
+//! symbols (`M`, `m`); [`column_name`] is the only place that maps a key to its column.
+
+/// Schema version written to every Parquet file the tool writes (`impactsweep.schema_version`)
+/// and to `manifest.json`. Bump it on any change of a column's name, type, unit or meaning in
+/// any table; the reader refuses another version with a message that says what to do.
+///
+/// History: 1 = the first release (`M`, `m`); 2 = `mass_main`, `mass_inner`, units in the field
+/// metadata, every table versioned.
+pub const SCHEMA_VERSION: u32 = 2;
+
+/// Key-value metadata: the study text (points only).
+pub const META_STUDY: &str = "impactsweep.study";
+/// Key-value metadata: the version of the tool that wrote the file.
+pub const META_VERSION: &str = "impactsweep.version";
+/// Key-value metadata: [`SCHEMA_VERSION`].
+pub const META_SCHEMA_VERSION: &str = "impactsweep.schema_version";
+/// Key-value metadata: which table the file holds ([`TableKind::name`]).
+pub const META_TABLE: &str = "impactsweep.table";
+/// Field metadata key of a column's unit (`"1"` dimensionless, `""` for ids, labels and flags).
+pub const FIELD_UNIT: &str = "unit";
+
+/// The column of a system key: `"M"` → `"mass_main"`, `"m"` → `"mass_inner"`, any other key
+/// unchanged (`e`, `d`, `x0`, ...).
+pub fn column_name(key: &str) -> &str {
+    match key {
+        "M" => "mass_main",
+        "m" => "mass_inner",
+        other => other,
+    }
+}
+
+/// The system key of a column name (the inverse of [`column_name`]); `None` for a column that
+/// is not a system parameter.
+pub fn system_key(column: &str) -> Option<&'static str> {
+    crate::model::SYSTEM_KEYS
+        .into_iter()
+        .find(|k| column_name(k) == column)
+}
+
+/// The unit of a system key (SI).
+pub fn system_unit(key: &str) -> Option<&'static str> {
+    Some(match key {
+        "M" | "m" => "kg",
+        "K" => "N/m",
+        "C" => "N s/m",
+        "d" | "x0" | "y0" => "m",
+        "e" => "1",
+        "v0" | "w0" => "m/s",
+        _ => return None,
+    })
+}
+
+/// The tables the tool writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TableKind {
+    /// `points/part-NNNNNN.parquet`: one row per run.
+    Points,
+    /// `summary.parquet`, `summary.csv`: one row per design point.
+    Summary,
+    /// `zones.parquet`, `zones.csv`: one row per zone.
+    Zones,
+    /// `jumps.parquet`, `jumps.csv`: one row per jump.
+    Jumps,
+    /// `tradeoff.parquet`: one row per solver setting.
+    Tradeoff,
+}
+
+impl TableKind {
+    pub const ALL: [TableKind; 5] = [
+        TableKind::Points,
+        TableKind::Summary,
+        TableKind::Zones,
+        TableKind::Jumps,
+        TableKind::Tradeoff,
+    ];
+
+    /// The table's name (`impactsweep.table`, the file stem).
+    pub fn name(self) -> &'static str {
+        match self {
+            TableKind::Points => "points",
+            TableKind::Summary => "summary",
+            TableKind::Zones => "zones",
+            TableKind::Jumps => "jumps",
+            TableKind::Tradeoff => "tradeoff",
+        }
+    }
+}
+
+/// A unit written as `[col]` means "the unit of the quantity named in column `col` of the same
+/// row" (a jump's `at` is in the unit of its `axis`).
+pub const UNIT_OF_AXIS: &str = "[axis]";
+/// See [`UNIT_OF_AXIS`].
+pub const UNIT_OF_QUANTITY: &str = "[quantity]";
+/// See [`UNIT_OF_AXIS`].
+pub const UNIT_OF_KNOB: &str = "[knob]";
+
+/// The unit of `column` in `table`; `None` for a column the contract does not know (the writer
+/// refuses it, so that no column goes undocumented).
+pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
+    if matches!(table, TableKind::Points | TableKind::Summary)
+        && let Some(key) = system_key(column)
+    {
+        return system_unit(key);
+    }
+    match table {
+        TableKind::Points => points_unit(column),
+        TableKind::Summary => summary_unit(column),
+        TableKind::Zones => {
+            for suffix in ["_from", "_to"] {
+                if let Some(key) = column.strip_suffix(suffix).and_then(system_key) {
+                    return system_unit(key);
+                }
+            }
+            zones_unit(column)
+        }
+        TableKind::Jumps => jumps_unit(column),
+        TableKind::Tradeoff => tradeoff_unit(column),
+    }
+}
+
+fn points_unit(column: &str) -> Option<&'static str> {
+    Some(match column {
+        "point_id" | "point" | "case" | "ideal" | "noise_seed" | "solver" | "outcome" => "",
+        "dm" => "kg",
+        "dd" | "atol" | "x1" | "x2" | "xmax" => "m",
+        "tol" | "rtol" | "impacts" | "sticks" | "steps" => "1",
+        "h" | "t1" | "t2" | "t_stop" => "s",
+        "di" => "m/s",
+        "energy_impact" | "energy_viscous" => "J",
+        _ => return None,
+    })
+}
+
+fn summary_unit(column: &str) -> Option<&'static str> {
+    Some(match column {
+        "point" | "all_ok" | "failed" | "rank" | "pareto" | "zone" => "",
+        "n" | "n_cases" | "n_ok" => "1",
+        "xmax_mean" | "xmax_sd" | "xmax_min" | "xmax_median" | "xmax_max" | "xmax_ideal" => "m",
+        "stress_mean" | "stress_sd" => "Pa",
+        "stress_mu_ln" | "strength_mu_ln" => "ln(Pa)",
+        "stress_sigma_ln" | "strength_sigma_ln" => "1",
+        "reliability_index" | "reliability" | "reliability_lo" | "reliability_hi" | "cn"
+        | "safety_factor" | "ad_stat" | "ad_p" => "1",
+        "di" => "m/s",
+        "perfectibility" => "%",
+        _ => return None,
+    })
+}
+
+fn zones_unit(column: &str) -> Option<&'static str> {
+    Some(match column {
+        "zone" | "label" | "declared" => "",
+        "n_points" | "mean_reliability" => "1",
+        "mean_di" => "m/s",
+        "perfectibility" => "%",
+        _ => return None,
+    })
+}
+
+fn jumps_unit(column: &str) -> Option<&'static str> {
+    Some(match column {
+        "axis" | "kind" | "quantity" => "",
+        "at" | "from" | "to" => UNIT_OF_AXIS,
+        "delta" => UNIT_OF_QUANTITY,
+        "z" => "1",
+        _ => return None,
+    })
+}
+
+fn tradeoff_unit(column: &str) -> Option<&'static str> {
+    Some(match column {
+        "solver" | "setting" | "knob" | "cheapest" => "",
+        "value" => UNIT_OF_KNOB,
+        "atol" => "m",
+        "time_per_run" | "cpu_per_run" => "s",
+        "reps" | "steps_per_run" | "changed_outcome" | "changed_impacts" | "unfinished"
+        | "runs" => "1",
+        c if c.contains("_err_") => "1",
+        _ => return None,
+    })
+}
+
+/// Names equal without case, if any: `[("M", "m")]`. Empty for a valid table.
+pub fn case_clashes<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<(&'a str, &'a str)> {
+    let names: Vec<&str> = names.into_iter().collect();
+    let mut out = Vec::new();
+    for (i, a) in names.iter().enumerate() {
+        for b in &names[i + 1..] {
+            if a.eq_ignore_ascii_case(b) {
+                out.push((*a, *b));
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn masses_get_long_names_and_other_keys_keep_theirs() {
+        assert_eq!(column_name("M"), "mass_main");
+        assert_eq!(column_name("m"), "mass_inner");
+        for key in ["K", "C", "d", "e", "x0", "v0", "y0", "w0", "dm", "xmax"] {
+            assert_eq!(column_name(key), key);
+        }
+        for key in crate::model::SYSTEM_KEYS {
+            assert_eq!(system_key(column_name(key)), Some(key));
+            assert!(system_unit(key).is_some(), "{key}");
+        }
+        assert_eq!(system_key("M"), None);
+        assert_eq!(system_key("xmax"), None);
+    }
+
+    #[test]
+    fn system_columns_are_unique_without_case() {
+        let names: Vec<&str> = crate::model::SYSTEM_KEYS
+            .iter()
+            .map(|k| column_name(k))
+            .collect();
+        assert!(case_clashes(names).is_empty());
+        assert_eq!(case_clashes(["M", "m", "e"]), vec![("M", "m")]);
+    }
+
+    #[test]
+    fn axis_columns_take_the_unit_of_their_key() {
+        assert_eq!(unit(TableKind::Summary, "mass_inner"), Some("kg"));
+        assert_eq!(unit(TableKind::Zones, "mass_inner_from"), Some("kg"));
+        assert_eq!(unit(TableKind::Zones, "e_to"), Some("1"));
+        assert_eq!(unit(TableKind::Zones, "m_to"), None);
+        assert_eq!(unit(TableKind::Points, "m"), None);
+        assert_eq!(unit(TableKind::Tradeoff, "di_err_median"), Some("1"));
+    }
+}

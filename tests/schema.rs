@@ -1,0 +1,269 @@
+//! The data contract (issue 9): column names unique without case in every table the tool
+//! writes, the masses as `mass_main` and `mass_inner`, units in the Parquet field metadata,
+//! `docs/schema.md` in step with the code, and a clear message for a dataset of schema version 1.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use impactsweep::store::schema::{self, SCHEMA_VERSION, TableKind, case_clashes};
+use predicates::prelude::*;
+
+fn bin() -> Command {
+    Command::cargo_bin("impactsweep").unwrap()
+}
+
+/// Runs the two-axis test study (`e` × `m`, `n_e` values of `e`) into `tmp/out`; returns the
+/// study file and its run directory.
+fn run(tmp: &Path, name: &str, n_e: usize) -> (PathBuf, PathBuf) {
+    let study = common::write_study(tmp, name, n_e, 2);
+    let out = tmp.join("out");
+    bin()
+        .arg("run")
+        .arg(&study)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .assert()
+        .success();
+    (study, out.join(name))
+}
+
+/// [`run`] with 4 values of `e`, then `reduce`; returns the run directory.
+fn run_and_reduce(tmp: &Path, name: &str) -> PathBuf {
+    let (_, dir) = run(tmp, name, 4);
+    bin().arg("reduce").arg(&dir).assert().success();
+    dir
+}
+
+fn csv_header(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let first = text.lines().next().unwrap_or("");
+    first.split(',').map(String::from).collect()
+}
+
+#[test]
+fn issue_9_csv_tables_name_the_masses_uniquely_without_case() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = run_and_reduce(tmp.path(), "csv");
+    let summary = csv_header(&dir.join("summary.csv"));
+    assert_eq!(&summary[..3], ["point", "e", "mass_inner"]);
+    let zones = csv_header(&dir.join("zones.csv"));
+    for want in ["e_from", "e_to", "mass_inner_from", "mass_inner_to"] {
+        assert!(zones.iter().any(|c| c == want), "{want} not in {zones:?}");
+    }
+    let jumps = csv_header(&dir.join("jumps.csv"));
+    assert_eq!(jumps[0], "axis");
+    for (name, header) in [("summary", &summary), ("zones", &zones), ("jumps", &jumps)] {
+        let clashes = case_clashes(header.iter().map(String::as_str));
+        assert!(clashes.is_empty(), "{name}.csv: {clashes:?}");
+    }
+    // The axis values of a jump are column names too.
+    let text = std::fs::read_to_string(dir.join("jumps.csv")).unwrap();
+    for line in text.lines().skip(1) {
+        let axis = line.split(',').next().unwrap();
+        assert!(["e", "mass_inner"].contains(&axis), "{line}");
+    }
+}
+
+#[test]
+fn issue_9_every_parquet_field_carries_its_unit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = run_and_reduce(tmp.path(), "units");
+    let files = [
+        (TableKind::Points, impactsweep::store::part_path(&dir, 0)),
+        (TableKind::Summary, dir.join("summary.parquet")),
+        (TableKind::Zones, dir.join("zones.parquet")),
+        (TableKind::Jumps, dir.join("jumps.parquet")),
+    ];
+    for (kind, path) in files {
+        let builder = impactsweep::store::open(&path).unwrap();
+        let meta = impactsweep::store::metadata_of(&builder);
+        assert_eq!(meta[schema::META_TABLE], kind.name(), "{}", path.display());
+        assert_eq!(
+            meta[schema::META_SCHEMA_VERSION],
+            SCHEMA_VERSION.to_string()
+        );
+        for field in builder.schema().fields() {
+            let unit = field.metadata().get(schema::FIELD_UNIT);
+            assert_eq!(
+                unit.map(String::as_str),
+                schema::unit(kind, field.name()),
+                "{} {}",
+                path.display(),
+                field.name()
+            );
+        }
+        if kind != TableKind::Jumps {
+            let unit_of = |c: &str| {
+                builder
+                    .schema()
+                    .field_with_name(c)
+                    .ok()
+                    .map(|f| f.metadata()[schema::FIELD_UNIT].clone())
+            };
+            let col = if kind == TableKind::Zones {
+                "mass_inner_from"
+            } else {
+                "mass_inner"
+            };
+            assert_eq!(unit_of(col).as_deref(), Some("kg"), "{}", path.display());
+        }
+    }
+}
+
+/// Issue 9: `status` and `reduce` tell a user with a dataset of schema version 1 what it is,
+/// what this build reads and what to do; `run --resume` refuses to mix versions.
+#[test]
+fn issue_9_a_schema_version_1_dataset_gets_a_clear_message() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (study, dir) = run(tmp.path(), "old", 3);
+    let out = tmp.path().join("out");
+    common::downgrade_to_v1(&dir);
+    let says_what_to_do = || {
+        predicate::str::contains("data of schema version 1")
+            .and(predicate::str::contains("written by impactsweep 0.1.0"))
+            .and(predicate::str::contains(format!(
+                "this build of impactsweep reads schema version {SCHEMA_VERSION}"
+            )))
+            .and(predicate::str::contains(
+                "impactsweep run STUDY.toml --out NEW_DIR",
+            ))
+    };
+    bin()
+        .arg("status")
+        .arg(&dir)
+        .assert()
+        .code(2)
+        .stdout("")
+        .stderr(says_what_to_do());
+    bin()
+        .arg("reduce")
+        .arg(&dir)
+        .assert()
+        .code(2)
+        .stderr(says_what_to_do());
+    assert!(!dir.join("summary.parquet").exists());
+    bin()
+        .arg("run")
+        .arg(&study)
+        .arg("--out")
+        .arg(&out)
+        .args(["--resume", "--quiet"])
+        .assert()
+        .code(2)
+        .stderr(says_what_to_do());
+    // Without the manifest, the part file's own metadata names it.
+    std::fs::remove_file(dir.join("manifest.json")).unwrap();
+    bin().arg("reduce").arg(&dir).assert().code(2).stderr(
+        predicate::str::contains("part-000000.parquet: data of schema version 1")
+            .and(predicate::str::contains("(mass columns `M` and `m`)")),
+    );
+}
+
+/// One documented column: name (possibly a `<axis>` template), type and unit.
+struct DocColumn {
+    name: String,
+    data_type: String,
+    unit: String,
+}
+
+/// The column tables of `docs/schema.md`, by table name (`## points` ...).
+fn documented() -> Vec<(String, Vec<DocColumn>)> {
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/schema.md"))
+            .unwrap();
+    let mut out: Vec<(String, Vec<DocColumn>)> = Vec::new();
+    for line in text.lines() {
+        if let Some(h) = line.strip_prefix("## ") {
+            out.push((h.trim().to_string(), Vec::new()));
+            continue;
+        }
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        // | `name` | type | unit | meaning |
+        if cells.len() == 6
+            && cells[1].starts_with('`')
+            && let Some((_, cols)) = out.last_mut()
+        {
+            cols.push(DocColumn {
+                name: cells[1].trim_matches('`').to_string(),
+                data_type: cells[2].to_string(),
+                unit: if cells[3] == "-" {
+                    String::new()
+                } else {
+                    cells[3].to_string()
+                },
+            });
+        }
+    }
+    out
+}
+
+/// Whether a documented name covers a written column (`<axis>` stands for any system column).
+fn covers(doc: &str, column: &str) -> bool {
+    if !doc.contains("<axis>") {
+        return doc == column;
+    }
+    impactsweep::model::SYSTEM_KEYS
+        .iter()
+        .any(|k| doc.replace("<axis>", schema::column_name(k)) == column)
+}
+
+/// `docs/schema.md` lists every column of every table the tool writes, with the type and unit
+/// the files carry, and nothing else; the names are unique without case.
+#[test]
+fn issue_9_docs_schema_md_matches_every_written_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = run_and_reduce(tmp.path(), "docs");
+    let tradeoff = tmp.path().join("tradeoff.parquet");
+    impactsweep::store::tradeoff::write(&tradeoff, &[]).unwrap();
+    let docs = documented();
+    for (kind, path) in [
+        (TableKind::Points, impactsweep::store::part_path(&dir, 0)),
+        (TableKind::Summary, dir.join("summary.parquet")),
+        (TableKind::Zones, dir.join("zones.parquet")),
+        (TableKind::Jumps, dir.join("jumps.parquet")),
+        (TableKind::Tradeoff, tradeoff),
+    ] {
+        let doc = &docs
+            .iter()
+            .find(|(h, _)| h == kind.name())
+            .unwrap_or_else(|| panic!("docs/schema.md has no section `## {}`", kind.name()))
+            .1;
+        let schema = impactsweep::store::open(&path).unwrap().schema().clone();
+        let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
+        assert!(case_clashes(names.iter().copied()).is_empty(), "{names:?}");
+        for field in schema.fields() {
+            let d = doc
+                .iter()
+                .find(|d| covers(&d.name, field.name()))
+                .unwrap_or_else(|| {
+                    panic!(
+                        "{}: column `{}` is not in docs/schema.md",
+                        kind.name(),
+                        field.name()
+                    )
+                });
+            let mut ty = field.data_type().to_string();
+            if field.is_nullable() {
+                ty.push_str(", nullable");
+            }
+            assert_eq!(d.data_type, ty, "{} `{}`: type", kind.name(), field.name());
+            let unit = &field.metadata()[schema::FIELD_UNIT];
+            if d.name.contains("<axis>") {
+                assert_eq!(d.unit, "unit of the axis");
+            } else {
+                assert_eq!(&d.unit, unit, "{} `{}`: unit", kind.name(), field.name());
+            }
+        }
+        for d in doc {
+            assert!(
+                names.iter().any(|n| covers(&d.name, n)),
+                "{}: docs/schema.md lists `{}`, which the tool does not write",
+                kind.name(),
+                d.name
+            );
+        }
+    }
+}
