@@ -19,12 +19,15 @@ impl NoiseSettings {
     }
 }
 
-/// The uniform number in `(0, 1]` a sample's 64 bits stand for: the top 53 bits plus a half.
-/// It increases with `bits`. (Rounding makes the very top value exactly 1, a chance of 2^-53.)
+/// The uniform number in `(0, 1)` a sample's 64 bits stand for: the top 53 bits plus a half.
+/// It never decreases with `bits`. Rounding would make the very top value (a chance of 2^-53)
+/// exactly 1, whose normal deviate is infinite; it is held at the largest `f64` below 1, which
+/// changes no other value.
 #[inline]
 pub fn uniform(bits: u64) -> f64 {
     // (Through i64: the same value, a cheaper conversion than from u64 on x86-64.)
-    (((bits >> 11) as i64) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64)
+    let u = (((bits >> 11) as i64) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64);
+    u.min(1.0 - f64::EPSILON / 2.0)
 }
 
 /// The standard normal deviate at probability `u`, by the inverse normal CDF.
@@ -247,6 +250,21 @@ impl NoiseStream {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_top_bits_give_a_finite_deviate() {
+        // Before, u64::MAX rounded to u = 1 and an infinite noise sample.
+        let top = uniform(u64::MAX);
+        assert!(top < 1.0, "{top}");
+        assert!(normal(top).is_finite());
+        assert!(normal(uniform(0)).is_finite());
+        // Every other value is unchanged: just below the top, the formula is exact.
+        let below = u64::MAX - (1 << 11);
+        assert_eq!(
+            uniform(below),
+            ((below >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        );
+    }
 
     #[test]
     fn sample_k_does_not_depend_on_skipped_samples() {
