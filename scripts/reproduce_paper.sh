@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Reproduces Afsharfard & Kolahan (2013) with impactsweep and regenerates results/afsharfard2013/:
-# the report, charts (SVG + PNG), summary/zones/jumps as CSV, the waveform figures and
-# paper-comparison.md (the paper's numbers beside ours).
+# the report, charts (SVG + PNG, each with its data as CSV), summary/zones/jumps/sensitivity as
+# CSV, the waveform figures and paper-comparison.md (the paper's numbers beside ours).
 #
 #   scripts/reproduce_paper.sh [WORK_DIR]
 #
@@ -42,7 +42,7 @@ rm -rf "$RUN"
 
 rm -rf "$DEST"
 mkdir -p "$DEST"
-cp "$RUN"/report.md "$RUN"/summary.csv "$RUN"/zones.csv "$RUN"/jumps.csv "$DEST"/
+cp "$RUN"/report.md "$RUN"/*.csv "$DEST"/
 cp "$RUN"/*.svg "$RUN"/*.png "$DEST"/
 
 # The paper's Figures 2 and 5: with/without damper, e = 0.45 against e = 0.9.

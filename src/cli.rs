@@ -101,6 +101,10 @@ pub struct RunCmd {
     /// (overrides [run].audit; 0 disables).
     #[arg(long, value_name = "K")]
     pub audit: Option<u64>,
+    /// Reduce each study as soon as its sweep is complete (report, charts, tables); a failed
+    /// reduce is reported and the next study still runs.
+    #[arg(long)]
+    pub reduce: bool,
 }
 
 /// Parses `I/N` with `0 <= I < N`.
@@ -128,11 +132,16 @@ pub struct QueueCmd {
     /// No progress bars.
     #[arg(long)]
     pub quiet: bool,
+    /// Reduce each study as soon as its sweep ends (and finished ones not reduced yet), so an
+    /// overnight queue leaves its reports; a failed reduce is reported and the queue goes on.
+    #[arg(long)]
+    pub reduce: bool,
 }
 
 #[derive(Args, Debug)]
 pub struct StatusCmd {
-    /// A run directory (OUT/<study name>).
+    /// A run directory (OUT/<study name>), or an output root: every study in it with its state
+    /// and its report.
     pub dir: PathBuf,
 }
 
@@ -146,6 +155,10 @@ pub struct ReduceCmd {
     /// DI as the mean over the cases instead of the ideal case.
     #[arg(long)]
     pub di_mean: bool,
+    /// Bootstrap resamples for R's interval (overrides [reliability].bootstrap; 0 disables the
+    /// interval, and with it the lower end that decides "reliable").
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(0..=10_000_000))]
+    pub bootstrap: Option<u64>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -282,18 +295,21 @@ pub fn main() -> anyhow::Result<()> {
             allow_large: c.allow_large,
             chunk_points: c.chunk_points,
             audit: c.audit,
+            reduce: c.reduce,
         }),
         Command::Queue(c) => app::sweep::queue(&app::sweep::QueueArgs {
             dir: c.dir,
             out: c.out,
             threads: c.threads,
             quiet: c.quiet,
+            reduce: c.reduce,
         }),
         Command::Status(c) => app::sweep::status(&app::sweep::StatusArgs { dir: c.dir }),
         Command::Reduce(c) => app::reduce::reduce(&app::reduce::ReduceArgs {
             dir: c.dir,
             paper_safety: c.paper_safety,
             di_mean: c.di_mean,
+            bootstrap: c.bootstrap.map(|b| b as usize),
         }),
         Command::Plot(PlotCmd::Waveform(c)) => app::reduce::waveform(&app::reduce::WaveformArgs {
             sets: c.sets,

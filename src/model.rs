@@ -124,6 +124,18 @@ impl System {
         true
     }
 
+    /// The unit of a key (SI), `–` for the dimensionless `e` and for unknown keys.
+    pub fn unit(key: &str) -> &'static str {
+        match key {
+            "M" | "m" => "kg",
+            "K" => "N/m",
+            "C" => "N s/m",
+            "d" | "x0" | "y0" => "m",
+            "v0" | "w0" => "m/s",
+            _ => "–",
+        }
+    }
+
     /// The allowed range of one key, as a sentence (used in error messages and `--help`).
     pub fn allowed(key: &str) -> &'static str {
         match key {

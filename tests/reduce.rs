@@ -3,14 +3,18 @@
 
 use std::path::Path;
 
+mod common;
+
 use impactsweep::app::reduce::{WaveformArgs, waveform_files, write_outputs};
-use impactsweep::reduce::testing::{paper_study, row, simulate_chunks, study};
-use impactsweep::reduce::zones::LABEL_JUMP;
-use impactsweep::reduce::{Options, Summary, reduce};
+use impactsweep::reduce::testing::{FnIdeal, paper_study, row, simulate_chunks, study};
+use impactsweep::reduce::{
+    Class, JumpKind, Options, Quantity, Reducer, Run, Summary, reduce, regions::NO_REGION,
+};
 use impactsweep::sim::Outcome;
 use impactsweep::study::Study;
 
-fn run(study: &Study, chunks: Vec<Vec<impactsweep::store::RunRow>>) -> Summary {
+/// Reduces simulated chunks (jumps located with the study's own simulator).
+fn run(study: &Study, chunks: Vec<Vec<Run>>) -> Summary {
     reduce::<_, std::convert::Infallible>(
         study,
         Options::from_study(study),
@@ -19,70 +23,124 @@ fn run(study: &Study, chunks: Vec<Vec<impactsweep::store::RunRow>>) -> Summary {
     .unwrap()
 }
 
+/// Reduces synthetic chunks whose ideal case is `ideal(axis values) -> [xmax, DI]` (`None`:
+/// there is none to simulate between the grid points).
+fn run_synthetic(
+    study: &Study,
+    chunks: Vec<Vec<Run>>,
+    ideal: impl Fn(&[f64]) -> Option<[f64; 2]> + Sync,
+) -> Summary {
+    let mut r = Reducer::new(study, Options::from_study(study));
+    for c in chunks {
+        r.push(c);
+    }
+    r.finish_with(&FnIdeal(ideal))
+}
+
+fn no_ideal(_: &[f64]) -> Option<[f64; 2]> {
+    None
+}
+
 /// The paper study as configs/paper.toml states it.
 fn paper() -> Study {
     paper_study()
 }
 
-/// 41 points along e, 5 cases each, xmax smooth (quadratic) with `jump` added from index 21 on.
+/// The ideal case of [`synthetic`]: xmax smooth (quadratic), `jump` added above e = 0.7043.
+fn synthetic_ideal(e: f64, jump: f64) -> [f64; 2] {
+    let smooth = 0.027 + 0.004 * (e - 0.5) * (e - 0.5);
+    [
+        smooth + if e > 0.7043 { jump } else { 0.0 },
+        0.04 - 0.03 * (e - 0.5),
+    ]
+}
+
+/// 41 points along e, 5 cases each (case c adds 1e-4 c to xmax: a spread of 1.6e-4 m), the
+/// ideal case [`synthetic_ideal`].
 fn synthetic(jump: f64) -> (Study, Summary) {
     let e: Vec<f64> = (0..41).map(|i| 0.5 + i as f64 * 0.01).collect();
     let s = study(vec![("e", e.clone())], 5);
     let mut rows = Vec::new();
     for (p, &ev) in e.iter().enumerate() {
+        let [x, di] = synthetic_ideal(ev, jump);
         for c in 0..5u32 {
-            let smooth = 0.027 + 0.004 * (ev - 0.5) * (ev - 0.5) + 1e-5 * f64::from(c);
-            let x = smooth + if p >= 21 { jump } else { 0.0 };
-            let di = 0.04 - 0.03 * (ev - 0.5);
-            rows.push(row(&s, p as u64, c, Outcome::Ok, x, di));
+            rows.push(row(
+                &s,
+                p as u64,
+                c,
+                Outcome::Ok,
+                x + 1e-4 * f64::from(c),
+                di,
+            ));
         }
     }
     let chunks: Vec<Vec<_>> = rows.chunks(5 * 7).map(|c| c.to_vec()).collect();
-    let sum = run(&s, chunks);
+    let sum = run_synthetic(&s, chunks, |v| Some(synthetic_ideal(v[0], jump)));
     (s, sum)
 }
 
 #[test]
-fn planted_jump_is_found_at_the_right_place() {
+fn planted_step_is_located_within_its_tolerance() {
     let (_, sum) = synthetic(0.002);
-    let xj: Vec<_> = sum.jumps.iter().filter(|j| j.quantity == "xmax").collect();
     // The step, and no kink: a step is not a change of slope.
-    assert_eq!(xj.len(), 1, "{:?}", sum.jumps);
-    assert_eq!(xj[0].kind, "step");
-    assert!((xj[0].from - 0.70).abs() < 1e-9 && (xj[0].to - 0.71).abs() < 1e-9);
-    assert_eq!(xj[0].points, vec![20, 21]);
-    let jz: Vec<_> = sum.zones.iter().filter(|z| z.label == LABEL_JUMP).collect();
+    assert_eq!(sum.jumps.len(), 1, "{:?}", sum.jumps);
+    let j = &sum.jumps[0];
+    assert_eq!((j.kind, j.quantity), (JumpKind::Step, Quantity::Response));
+    assert!((j.location - 0.7043).abs() <= j.location_tol, "{j:?}");
+    assert!(j.location_tol <= 0.01 / 200.0 + 1e-15, "{j:?}");
+    assert!((j.size - 0.002).abs() < 1e-5, "{j:?}");
+    assert_eq!((j.below, j.above), (20, 21));
+    assert!(
+        sum.jump_stats.sims > 0 && sum.jump_stats.sims <= 20,
+        "{:?}",
+        sum.jump_stats
+    );
+    // The points either side are around the jump: one zone.
+    let jz: Vec<_> = sum
+        .zones
+        .iter()
+        .filter(|z| z.class == Some(Class::AroundJump))
+        .collect();
     assert_eq!(jz.len(), 1);
-    assert!((jz[0].ranges[0].1 - 0.70).abs() < 1e-9 && (jz[0].ranges[0].2 - 0.71).abs() < 1e-9);
+    assert_eq!(jz[0].ranges[0], (0.70, 0.71));
 }
 
 #[test]
-fn planted_kink_is_found_at_the_apex() {
-    // xmax rises gently (slightly curved) to e = 0.70, then falls steeply: a kink, no step.
+fn planted_kink_is_located_at_the_apex() {
+    // xmax rises gently (slightly curved) to e = 0.7031, then falls steeply: a kink, no step.
+    let ideal = |e: f64| {
+        let up = 0.027 + 0.01 * (e - 0.5) - 0.002 * (e - 0.5) * (e - 0.5);
+        let x = if e <= 0.7031 {
+            up
+        } else {
+            up - 0.05 * (e - 0.7031)
+        };
+        [x, 0.03 - 0.02 * (e - 0.5)]
+    };
     let e: Vec<f64> = (0..41).map(|i| 0.5 + i as f64 * 0.01).collect();
     let s = study(vec![("e", e.clone())], 1);
     let rows: Vec<_> = e
         .iter()
         .enumerate()
         .map(|(p, &ev)| {
-            let up = 0.027 + 0.01 * (ev - 0.5) - 0.002 * (ev - 0.5) * (ev - 0.5);
-            let x = if p <= 20 { up } else { up - 0.05 * (ev - 0.70) };
-            row(&s, p as u64, 0, Outcome::Ok, x, 0.03 - 0.02 * (ev - 0.5))
+            let [x, di] = ideal(ev);
+            row(&s, p as u64, 0, Outcome::Ok, x, di)
         })
         .collect();
-    let sum = run(&s, vec![rows]);
+    let sum = run_synthetic(&s, vec![rows], |v| Some(ideal(v[0])));
     assert_eq!(sum.jumps.len(), 1, "{:?}", sum.jumps);
     let j = &sum.jumps[0];
-    assert_eq!((j.kind, j.quantity), ("kink", "xmax"));
-    assert!((j.at - 0.70).abs() < 1e-9);
-    assert_eq!(j.points, vec![19, 20, 21]);
+    assert_eq!((j.kind, j.quantity), (JumpKind::Kink, Quantity::Response));
+    assert!((j.location - 0.7031).abs() <= j.location_tol, "{j:?}");
+    assert!((j.size + 0.05).abs() < 1e-3, "{j:?}");
+    assert_eq!((j.below, j.above), (20, 21));
 }
 
 #[test]
 fn smooth_data_has_no_jump() {
     let (_, sum) = synthetic(0.0);
     assert!(sum.jumps.is_empty(), "{:?}", sum.jumps);
-    assert!(sum.zones.iter().all(|z| z.label != LABEL_JUMP));
+    assert!(sum.zones.iter().all(|z| z.class != Some(Class::AroundJump)));
 }
 
 #[test]
@@ -100,15 +158,15 @@ fn failed_outcomes_are_flagged_and_left_out() {
             rows.push(row(&s, p, c, o, x, 0.02));
         }
     }
-    let sum = run(&s, vec![rows]);
+    let sum = run_synthetic(&s, vec![rows], no_ideal);
     let p1 = &sum.points[1];
     assert!(!p1.all_ok);
     assert_eq!((p1.n_cases, p1.n_ok), (4, 3));
     assert_eq!(p1.outcomes[3], 1, "event_cap counted");
     assert!(
-        p1.xmax_mean < 0.03,
+        p1.response.mean < 0.03,
         "the failed run was averaged in: {}",
-        p1.xmax_mean
+        p1.response.mean
     );
     assert!(sum.points[0].all_ok && sum.points[2].all_ok);
     assert_eq!(sum.outcome_totals[0], 11);
@@ -190,21 +248,30 @@ fn paper_study_reduces_to_zones_report_and_charts() {
     ranks.sort_unstable();
     assert_eq!(ranks, (1..=51).collect::<Vec<_>>());
     assert!(sum.points.iter().any(|p| p.pareto));
-    // Three or more zones along e, and the kink of the first peak at e = 0.74 (model.md §7:
-    // a non-smooth change near 0.74; the paper: a jump between 0.73 and 0.77).
+    // Three or more zones along e, and the two kinks of the first peak located near e = 0.74
+    // (model.md §7: a non-smooth change near 0.74; the paper: a jump between 0.73 and 0.77)
+    // and near e = 0.80 (issue 10).
     assert!(sum.zones.len() >= 3, "{:?}", sum.zones);
-    assert!(
-        sum.jumps
-            .iter()
-            .any(|j| j.quantity == "xmax" && j.kind == "kink" && (j.at - 0.74).abs() < 1e-9),
-        "{:?}",
-        sum.jumps
-    );
+    let kinks: Vec<_> = sum
+        .jumps
+        .iter()
+        .filter(|j| j.quantity == Quantity::Response && j.kind == JumpKind::Kink)
+        .collect();
+    assert_eq!(kinks.len(), 2, "{:?}", sum.jumps);
+    assert!((kinks[0].location - 0.7457).abs() < 1e-3, "{:?}", kinks[0]);
+    assert!((kinks[1].location - 0.7985).abs() < 1e-3, "{:?}", kinks[1]);
+    assert!(kinks.iter().all(|j| j.location_tol <= 0.01 / 200.0 + 1e-12));
     let out = std::env::var_os("IMPACTSWEEP_KEEP_CHARTS").map(std::path::PathBuf::from);
     let tmp = tempfile::tempdir().unwrap();
     let dir = out.as_deref().unwrap_or(tmp.path());
     write_outputs(&s, &sum, dir, None).unwrap();
     for stem in ["di", "design_chart", "xmax_spread"] {
+        // The chart's data beside it: the summary rows it draws.
+        let points = common::chart_rows_are_summary_rows(
+            &dir.join(format!("{stem}.csv")),
+            &dir.join("summary.csv"),
+        );
+        assert_eq!(points, (0..51).collect::<Vec<u64>>(), "{stem}.csv");
         let svg = dir.join(format!("{stem}.svg"));
         let png = dir.join(format!("{stem}.png"));
         let svg_len = std::fs::metadata(&svg).unwrap().len();
@@ -220,7 +287,7 @@ fn paper_study_reduces_to_zones_report_and_charts() {
     let svg = std::fs::read_to_string(dir.join("design_chart.svg")).unwrap();
     for needle in [
         "reliability R (–)",
-        "r_min = 0.98 (reliable at or above)",
+        "r_min = 0.98 (reliable: interval at or above)",
         "95 % bootstrap interval of R",
         "safety factor μn (–)",
         "DI (m/s)",
@@ -235,7 +302,9 @@ fn paper_study_reduces_to_zones_report_and_charts() {
         "## Top 10",
         "## Pareto set",
         "Table II",
-        "| e | kink | at e = 0.74 | xmax |",
+        "## Recommended design",
+        "| e | kink | xmax | 0.745",
+        "| e | kink | xmax | 0.798",
     ] {
         assert!(md.contains(needle), "report lacks {needle}");
     }
@@ -278,12 +347,17 @@ fn two_axes_give_a_map() {
     ];
     let sum = run(&s, simulate_chunks(&s));
     assert_eq!(sum.points.len(), 24);
-    assert!(sum.points.iter().all(|p| !p.zone.is_empty()));
+    assert!(sum.points.iter().all(|p| p.zone != NO_REGION));
     let tmp = tempfile::tempdir().unwrap();
     let keep = std::env::var_os("IMPACTSWEEP_KEEP_CHARTS").map(|d| Path::new(&d).join("map"));
     let dir = keep.as_deref().unwrap_or(tmp.path());
     let files = write_outputs(&s, &sum, dir, None).unwrap();
-    for stem in ["perfectibility_map", "zone_map"] {
+    for stem in [
+        "perfectibility_map_mass_inner_e",
+        "zone_map_mass_inner_e",
+        "design_chart_mass_inner",
+        "design_chart_e",
+    ] {
         assert!(
             files.iter().any(|f| f.ends_with(format!("{stem}.png"))),
             "{stem}"
@@ -335,8 +409,8 @@ fn declared_zones_override() {
     assert!(
         sum.points
             .iter()
-            .filter(|p| p.values[0] > 0.905)
-            .all(|p| p.zone.is_empty())
+            .filter(|p| sum.values(p)[0] > 0.905)
+            .all(|p| p.zone == NO_REGION)
     );
 }
 
@@ -350,8 +424,12 @@ fn waveform_command_draws_both_figures() {
         t_end: 0.3,
     })
     .unwrap();
-    assert_eq!(files.len(), 4);
+    assert_eq!(files.len(), 6);
     assert_eq!(png_size(&dir.path().join("waveform_e.png")), (1000, 820));
+    // Its data: trace, t, x; the two traces over the whole time.
+    let csv = std::fs::read_to_string(dir.path().join("waveform_e.csv")).unwrap();
+    assert!(csv.starts_with("trace,t,x\n0,0,0\n"), "{}", &csv[..40]);
+    assert!(csv.lines().any(|l| l.starts_with("1,")));
     assert_eq!(
         png_size(&dir.path().join("waveform_damper.png")),
         (1000, 520)
@@ -463,6 +541,7 @@ fn paper_safety_form_and_mean_di_are_options() {
     let opts = Options {
         safety_form: SafetyForm::Paper,
         di_source: DiSource::Mean,
+        ..Options::from_study(&s)
     };
     let paper = reduce::<_, std::convert::Infallible>(&s, opts, chunks.clone().into_iter().map(Ok))
         .unwrap();
@@ -478,46 +557,85 @@ fn paper_safety_form_and_mean_di_are_options() {
         .into_iter()
         .filter(|r| r.point == 45)
         .collect();
-    let mean = rows.iter().map(|r| r.record.di).sum::<f64>() / rows.len() as f64;
+    let mean = rows.iter().map(|r| r.di).sum::<f64>() / rows.len() as f64;
     assert!((paper.points[45].di - mean).abs() < 1e-15);
-    let ideal = rows.iter().find(|r| r.ideal).unwrap().record.di;
+    let ideal = rows.iter().find(|r| r.ideal).unwrap().di;
     assert_eq!(exact.points[45].di, ideal);
 }
 
 #[test]
-fn audit_of_the_manifest_reaches_the_report() {
+fn audit_reaches_the_report_as_a_typed_value() {
+    use impactsweep::accuracy::{Audit, ErrorStats};
     use impactsweep::app::reduce::read_audit;
     let dir = tempfile::tempdir().unwrap();
-    assert_eq!(read_audit(dir.path()).unwrap(), None);
-    std::fs::write(dir.path().join("manifest.json"), r#"{"audit": null}"#).unwrap();
-    assert_eq!(read_audit(dir.path()).unwrap(), None);
-    std::fs::write(
-        dir.path().join("manifest.json"),
-        r#"{"audit": {"points": 4, "max_rel_error_xmax": 1.5e-13}}"#,
-    )
-    .unwrap();
-    let audit = read_audit(dir.path()).unwrap().unwrap();
+    assert!(read_audit(dir.path()).unwrap().is_none());
+    let e = |max: f64| ErrorStats {
+        n: 4,
+        max,
+        median: max / 10.0,
+    };
+    let audit = Audit {
+        points: vec![3, 17, 29, 40],
+        solver: "exact".into(),
+        knob: "tol".into(),
+        knob_value: 1e-12,
+        tol: 1e-12,
+        reference: "exact, tol = 1e-14".into(),
+        xmax: e(1.5e-13),
+        t1: e(2.5e-13),
+        di: e(7.5e-12),
+        outcome_changed: 0,
+        impacts_changed: 1,
+    };
     let s = paper();
     let sum = run(&s, simulate_chunks(&s));
     write_outputs(&s, &sum, dir.path(), Some(&audit)).unwrap();
     let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
-    assert!(md.contains("## Accuracy audit") && md.contains("\"max_rel_error_xmax\": 1.5e-13"));
+    for needle in [
+        "## Accuracy audit",
+        "4 design points (their ideal case) re-run against the reference (exact, tol = 1e-14)",
+        "| xmax | 1.50e-13 | 1.50e-14 | 4 |",
+        "| DI | 7.50e-12 | 7.50e-13 | 4 |",
+        "impact count in 1",
+    ] {
+        assert!(md.contains(needle), "report lacks {needle}");
+    }
+}
+
+#[test]
+fn the_confidence_level_in_the_text_follows_the_study() {
+    let mut s = paper();
+    s.reliability.confidence = 0.9;
+    s.reliability.bootstrap = 200;
+    let sum = run(&s, simulate_chunks(&s));
+    let md = impactsweep::report::markdown::report(&s, &sum, &[], None);
+    assert!(
+        md.contains("90 % interval") && md.contains("90 % confidence"),
+        "{md}"
+    );
+    for stale in ["95 % interval", "95 % confidence", "(95 %)"] {
+        assert!(!md.contains(stale), "{stale} in {md}");
+    }
 }
 
 #[test]
 fn many_points_draw_bands_and_stay_small() {
     // 2000 design points: lines and bands instead of markers and boxes, at most 30 jump lines.
+    // A saw tooth of 39 steps (more than the chart marks) halfway between grid points.
+    let saw = |e: f64| {
+        let k = ((e - 0.45) * 3998.0 + 0.5) / 50.0;
+        0.028 + 2e-3 * (k.floor() as i64 % 2) as f64 + 1e-3 * e
+    };
     let e: Vec<f64> = (0..2000).map(|i| 0.45 + 0.5 * i as f64 / 1999.0).collect();
     let s = study(vec![("e", e.clone())], 4);
     let mut rows = Vec::new();
     for (p, &ev) in e.iter().enumerate() {
         for c in 0..4u32 {
-            // A saw tooth: 40 steps, more than the chart marks.
-            let x = 0.028 + 1e-4 * f64::from(c) + 2e-3 * ((p / 50) % 2) as f64 + 1e-3 * ev;
+            let x = saw(ev) + 1e-4 * f64::from(c);
             rows.push(row(&s, p as u64, c, Outcome::Ok, x, 0.03 - 0.02 * ev));
         }
     }
-    let sum = run(&s, vec![rows]);
+    let sum = run_synthetic(&s, vec![rows], |v| Some([saw(v[0]), 0.03 - 0.02 * v[0]]));
     assert!(sum.jumps.len() > 30, "{}", sum.jumps.len());
     let tmp = tempfile::tempdir().unwrap();
     let keep = std::env::var_os("IMPACTSWEEP_KEEP_CHARTS").map(|d| Path::new(&d).join("many"));
@@ -539,20 +657,21 @@ fn command_line_flags_override_the_study() {
     let s = paper();
     let o = options(&s, &ReduceArgs::default());
     assert_eq!(
-        (o.safety_form, o.di_source),
-        (SafetyForm::Exact, DiSource::Ideal)
+        (o.safety_form, o.di_source, o.bootstrap),
+        (SafetyForm::Exact, DiSource::Ideal, 2000)
     );
     let o = options(
         &s,
         &ReduceArgs {
             paper_safety: true,
             di_mean: true,
+            bootstrap: Some(1),
             ..Default::default()
         },
     );
     assert_eq!(
-        (o.safety_form, o.di_source),
-        (SafetyForm::Paper, DiSource::Mean)
+        (o.safety_form, o.di_source, o.bootstrap),
+        (SafetyForm::Paper, DiSource::Mean, 1)
     );
 }
 
@@ -562,7 +681,7 @@ fn a_study_without_axes_reduces_to_one_point() {
     let rows: Vec<_> = (0..3u32)
         .map(|c| row(&s, 0, c, Outcome::Ok, 0.028 + 1e-4 * f64::from(c), 0.02))
         .collect();
-    let sum = run(&s, vec![rows]);
+    let sum = run_synthetic(&s, vec![rows], no_ideal);
     assert_eq!(sum.points.len(), 1);
     assert_eq!(sum.points[0].rank, Some(1));
     assert_eq!(sum.zones.len(), 1);
@@ -641,11 +760,11 @@ fn summary_parquet_reads_back_with_the_summary_values() {
     let zone = col("zone");
     let zone = zone.as_any().downcast_ref::<StringArray>().unwrap();
     for (i, p) in sum.points.iter().enumerate() {
-        assert_eq!(e[i].to_bits(), p.values[0].to_bits());
+        assert_eq!(e[i].to_bits(), sum.values(p)[0].to_bits());
         assert_eq!(r[i].to_bits(), p.reliability.to_bits());
         assert_eq!(Some(rank.value(i)), p.rank);
         assert_eq!(pareto.value(i), p.pareto);
-        assert_eq!(zone.value(i), p.zone);
+        assert_eq!(zone.value(i), sum.zone_name(p));
     }
     let zfile = std::fs::File::open(dir.path().join("zones.parquet")).unwrap();
     let zrows: usize = ParquetRecordBatchReaderBuilder::try_new(zfile)
@@ -678,7 +797,7 @@ fn a_point_whose_ideal_run_failed_has_no_di_and_no_rank() {
             ));
         }
     }
-    let sum = run(&s, vec![rows]);
+    let sum = run_synthetic(&s, vec![rows], no_ideal);
     let p2 = &sum.points[2];
     assert!(!p2.all_ok && p2.di.is_nan() && p2.rank.is_none() && !p2.pareto);
     assert!(
@@ -688,8 +807,7 @@ fn a_point_whose_ideal_run_failed_has_no_di_and_no_rank() {
     assert_eq!(p2.outcomes[1], 1);
     let ranks: Vec<Option<u64>> = sum.points.iter().map(|p| p.rank).collect();
     assert_eq!(ranks, vec![Some(3), Some(2), None, Some(1)]);
-    let z = sum.zones.iter().find(|z| z.name == p2.zone).unwrap();
-    assert_eq!(z.label, impactsweep::reduce::zones::LABEL_NO_DATA);
+    assert_eq!(sum.zone_of(p2).unwrap().class, Some(Class::NoData));
 }
 
 /// The real pipeline through the binary: `run` a small study to Parquet, `reduce` it, and the

@@ -1,6 +1,8 @@
 //! Issue 4's acceptance: `scripts/reproduce_paper.sh` regenerates `results/afsharfard2013/` and
 //! the committed files match what it writes, byte for byte (the pipeline writes no timestamps).
-//! The script runs here with this test build's binary into a temporary directory.
+//! Issue 10's: `scripts/design_space.sh` regenerates `results/design-space/` (the three-axis
+//! showcase) the same way. The scripts run here with this test build's binary into a temporary
+//! directory.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -13,14 +15,15 @@ fn files(dir: &Path) -> BTreeSet<String> {
         .collect()
 }
 
-#[test]
-fn reproduce_paper_regenerates_the_committed_results() {
+/// Runs `script` with `DEST` in a temporary directory and compares what it writes with the
+/// committed `results/<name>/`, file by file and byte for byte.
+fn regenerates(script: &str, name: &str) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let committed = root.join("results/afsharfard2013");
+    let committed = root.join("results").join(name);
     let tmp = tempfile::tempdir().unwrap();
-    let dest = tmp.path().join("afsharfard2013");
+    let dest = tmp.path().join(name);
     let out = Command::new("bash")
-        .arg(root.join("scripts/reproduce_paper.sh"))
+        .arg(root.join("scripts").join(script))
         .arg(tmp.path().join("work"))
         .env("DEST", &dest)
         .env(
@@ -32,21 +35,32 @@ fn reproduce_paper_regenerates_the_committed_results() {
         .unwrap();
     assert!(
         out.status.success(),
-        "reproduce_paper.sh failed:\n{}",
+        "{script} failed:\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
     assert_eq!(files(&committed), files(&dest), "the set of files differs");
     let mut differ = vec![];
-    for name in files(&committed) {
-        let a = std::fs::read(committed.join(&name)).unwrap();
-        let b = std::fs::read(dest.join(&name)).unwrap();
+    for file in files(&committed) {
+        let a = std::fs::read(committed.join(&file)).unwrap();
+        let b = std::fs::read(dest.join(&file)).unwrap();
         if a != b {
-            differ.push(name);
+            differ.push(file);
         }
     }
     assert!(
         differ.is_empty(),
         "regenerated files differ from the committed ones: {differ:?} \
-         (re-run scripts/reproduce_paper.sh and commit, if the change is intended)"
+         (re-run scripts/{script} and commit, if the change is intended)"
     );
+}
+
+#[test]
+fn reproduce_paper_regenerates_the_committed_results() {
+    regenerates("reproduce_paper.sh", "afsharfard2013");
+}
+
+/// Issue 10: the three-axis showcase.
+#[test]
+fn design_space_regenerates_the_committed_showcase() {
+    regenerates("design_space.sh", "design-space");
 }

@@ -76,6 +76,7 @@ fn issue_9_every_parquet_field_carries_its_unit() {
         (TableKind::Summary, dir.join("summary.parquet")),
         (TableKind::Zones, dir.join("zones.parquet")),
         (TableKind::Jumps, dir.join("jumps.parquet")),
+        (TableKind::Sensitivity, dir.join("sensitivity.parquet")),
     ];
     for (kind, path) in files {
         let builder = impactsweep::store::open(&path).unwrap();
@@ -95,7 +96,7 @@ fn issue_9_every_parquet_field_carries_its_unit() {
                 field.name()
             );
         }
-        if kind != TableKind::Jumps {
+        if kind != TableKind::Sensitivity {
             let unit_of = |c: &str| {
                 builder
                     .schema()
@@ -224,6 +225,7 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
         (TableKind::Summary, dir.join("summary.parquet")),
         (TableKind::Zones, dir.join("zones.parquet")),
         (TableKind::Jumps, dir.join("jumps.parquet")),
+        (TableKind::Sensitivity, dir.join("sensitivity.parquet")),
         (TableKind::Tradeoff, tradeoff),
     ] {
         let doc = &docs

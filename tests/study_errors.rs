@@ -164,6 +164,23 @@ const BAD: &[(&str, &str)] = &[
         "zone_axis_not_swept.toml",
         "zone_axis_not_swept.toml: [zones].zone[0].axis = \"m\": a zone is a range of a swept axis; swept: e",
     ),
+    // Issue 10: the jump and zone keys.
+    (
+        "zones_jump_k.toml",
+        "zones_jump_k.toml: [zones].jump_k = 6: no longer a key: a jump is now decided in the quantity's own units; use step_spread (steps, in spreads across a point's cases) and kink_slope (kinks, in typical slopes), see docs/study.md",
+    ),
+    (
+        "zones_kink_slope.toml",
+        "zones_kink_slope.toml: [zones].kink_slope = -1: must be a finite number > 0 (typical slopes)",
+    ),
+    (
+        "zones_locate_zero.toml",
+        "zones_locate_zero.toml: [zones].locate = 0: a fraction of the grid step in (0, 0.5]",
+    ),
+    (
+        "zones_min_zone.toml",
+        "zones_min_zone.toml: [zones].min_zone = 0.7: a fraction of the design points in [0, 0.5]",
+    ),
 ];
 
 fn dir() -> &'static Path {

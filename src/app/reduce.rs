@@ -2,9 +2,11 @@
 //!
 //! `reduce RUN_DIR` streams the part files of a run directory through
 //! [`crate::reduce::Reducer`] one at a time (each holds whole design points, so memory stays
-//! O(design points)), then writes into the run directory: `summary`, `zones` and `jumps` as
-//! Parquet and CSV (columns in `docs/schema.md`), `report.md` and the charts (SVG and PNG).
-//! A dataset of another schema version is refused with what to do.
+//! a chunk plus a fixed size per design point), converting the store's rows to the reducer's
+//! own ([`run_of`]), then writes into the run directory: `summary`, `zones`, `jumps` and
+//! `sensitivity` as Parquet and CSV (columns in `docs/schema.md`), `report.md` and the charts
+//! (SVG and PNG, each with its data as CSV). A dataset of another schema version is refused with
+//! what to do; the run's size guard is not applied again.
 
 use std::path::{Path, PathBuf};
 
@@ -14,7 +16,7 @@ use crate::app::simulate::{Setup, trace};
 use crate::reduce::{self, Options, Summary, table};
 use crate::report::{charts, markdown};
 use crate::store::{self, TableKind};
-use crate::study::{DiSource, SafetyForm, Study};
+use crate::study::{DiSource, LoadOptions, SafetyForm, Study};
 
 /// `impactsweep reduce RUN_DIR`.
 #[derive(Clone, Debug, Default)]
@@ -24,6 +26,8 @@ pub struct ReduceArgs {
     pub paper_safety: bool,
     /// DI as the mean over cases instead of the ideal case.
     pub di_mean: bool,
+    /// Overrides `[reliability].bootstrap`.
+    pub bootstrap: Option<usize>,
 }
 
 /// `impactsweep plot waveform`.
@@ -44,13 +48,29 @@ pub fn options(study: &Study, args: &ReduceArgs) -> Options {
     if args.di_mean {
         o.di_source = DiSource::Mean;
     }
+    if let Some(b) = args.bootstrap {
+        o.bootstrap = b;
+    }
     o
 }
 
 pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
+    let (line, files) = reduce_dir(args)?;
+    println!("{line}");
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
+/// Reduces a run directory: the one-line summary (`reduced N design points (…)`) and the
+/// files written.
+pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
     let dir = &args.dir;
     store::manifest::check_dir_version(dir)?;
-    let study = Study::load(&dir.join("study.toml"))?;
+    // The dataset exists: the size guard of `run` (which protects against starting a huge
+    // sweep by mistake) has no business here; a study run with --allow-large reduces.
+    let study = Study::load_with(&dir.join("study.toml"), LoadOptions { allow_large: true })?;
     // Every part verified against its checksum first: a damaged dataset is refused, not reduced.
     let st = crate::sweep::status(dir)?;
     if let Some(e) = st.damage_error(dir) {
@@ -74,37 +94,50 @@ pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
         );
     }
     let opts = options(&study, args);
-    let chunks = parts
-        .iter()
-        .map(|p| store::read_part(p).with_context(|| format!("reading {}", p.display())));
+    let chunks = parts.iter().map(|p| {
+        store::read_part(p)
+            .map(|rows| rows.iter().map(run_of).collect())
+            .with_context(|| format!("reading {}", p.display()))
+    });
     let summary = reduce::reduce(&study, opts, chunks)?;
     let audit = read_audit(dir)?;
     let files = write_outputs(&study, &summary, dir, audit.as_ref())?;
-    println!(
-        "reduced {} design points ({} zones, {} jumps, {} Pareto-optimal)",
+    let line = format!(
+        "reduced {} design points ({} zones, {} jumps, {} Pareto-optimal{})",
         summary.points.len(),
         summary.zones.len(),
         summary.jumps.len(),
-        summary.points.iter().filter(|p| p.pareto).count()
+        summary.points.iter().filter(|p| p.pareto).count(),
+        match summary.recommended {
+            Some(p) => format!(
+                "; recommended: {}",
+                crate::report::markdown::design_text(&summary, p)
+            ),
+            None => "; no robust design".to_string(),
+        }
     );
-    for f in files {
-        println!("wrote {}", f.display());
-    }
-    Ok(())
+    Ok((line, files))
 }
 
-/// The `audit` value of `RUN_DIR/manifest.json`, when the file and the key exist and the value
-/// is not null.
-pub fn read_audit(dir: &Path) -> anyhow::Result<Option<serde_json::Value>> {
-    let path = dir.join("manifest.json");
-    if !path.exists() {
-        return Ok(None);
+/// A stored run as the reducer needs it: the store's row converted to the reducer's own, the
+/// free-decay scene's response (`xmax`) picked out.
+pub fn run_of(r: &store::RunRow) -> reduce::Run {
+    reduce::Run {
+        point: r.point,
+        case: r.case,
+        ideal: r.ideal,
+        dm: r.dm,
+        dd: r.dd,
+        noise_seed: r.noise_seed,
+        outcome: r.record.outcome,
+        response: r.record.xmax,
+        di: r.record.di,
     }
-    let text =
-        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).with_context(|| format!("parsing {}", path.display()))?;
-    Ok(v.get("audit").filter(|a| !a.is_null()).cloned())
+}
+
+/// The run's accuracy audit from `RUN_DIR/manifest.json`, when the run made one.
+pub fn read_audit(dir: &Path) -> anyhow::Result<Option<crate::accuracy::Audit>> {
+    Ok(store::read_manifest(dir)?.and_then(|m| m.audit))
 }
 
 /// Writes every output of a reduction into `dir`; returns the files written.
@@ -112,14 +145,23 @@ pub fn write_outputs(
     study: &Study,
     summary: &Summary,
     dir: &Path,
-    audit: Option<&serde_json::Value>,
+    audit: Option<&crate::accuracy::Audit>,
 ) -> anyhow::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let mut files = Vec::new();
+    // The summary in batches of points: one batch of columns in memory at a time.
+    let points: Vec<&reduce::PointStats> = summary.points.iter().collect();
+    files.extend(store::summary::write_table_in_batches(
+        dir,
+        TableKind::Summary,
+        points.len(),
+        |r| table::summary_rows(summary, &points[r]),
+    )?);
+    drop(points);
     for (kind, t) in [
-        (TableKind::Summary, table::summary_table(summary)),
         (TableKind::Zones, table::zones_table(summary)),
         (TableKind::Jumps, table::jumps_table(summary)),
+        (TableKind::Sensitivity, table::sensitivity_table(summary)),
     ] {
         files.extend(store::summary::write_table(dir, kind, &t)?);
     }

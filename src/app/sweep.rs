@@ -1,6 +1,8 @@
-//! `plan`, `run`, `queue` and `status`: the sweep engine's commands (issue 3).
+//! `plan`, `run`, `queue` and `status`: the sweep engine's commands (issue 3). With `--reduce`,
+//! `run` and `queue` reduce each study once its sweep is complete (issue 10); `status` on an
+//! output root lists every study with its state and report.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
@@ -31,6 +33,8 @@ pub struct RunArgs {
     pub chunk_points: Option<u64>,
     /// Overrides `[run].audit`.
     pub audit: Option<u64>,
+    /// Reduce each study once its sweep is complete.
+    pub reduce: bool,
 }
 
 /// `impactsweep queue DIR`.
@@ -40,6 +44,8 @@ pub struct QueueArgs {
     pub out: PathBuf,
     pub threads: Option<usize>,
     pub quiet: bool,
+    /// Reduce each study once its sweep is complete (and finished ones without a report).
+    pub reduce: bool,
 }
 
 /// `impactsweep status RUN_DIR`.
@@ -86,6 +92,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             )
         })
         .collect::<Result<Vec<_>, _>>()?;
+    let mut reductions = Reductions::default();
     for study in &studies {
         let opts = SweepOptions {
             threads: args.threads,
@@ -100,8 +107,11 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         if !args.quiet {
             eprintln!("{}", summary.line(&study.name));
         }
+        if args.reduce {
+            reductions.reduce_if_complete(study, &sweep::run_dir(&args.out, study));
+        }
     }
-    Ok(())
+    reductions.result()
 }
 
 /// Runs every `*.toml` in `DIR` in name order: finished studies are skipped, partial ones
@@ -121,6 +131,7 @@ pub fn queue(args: &QueueArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
+    let mut reductions = Reductions::default();
     for path in &files {
         let study = Study::load(path)?;
         let dir = sweep::run_dir(&args.out, &study);
@@ -135,6 +146,9 @@ pub fn queue(args: &QueueArgs) -> anyhow::Result<()> {
                     dir.display()
                 );
             }
+            if args.reduce && report_state(&dir) != ReportState::Current {
+                reductions.reduce_if_complete(&study, &dir);
+            }
             continue;
         }
         let opts = SweepOptions {
@@ -147,17 +161,181 @@ pub fn queue(args: &QueueArgs) -> anyhow::Result<()> {
         if !args.quiet {
             eprintln!("{}", summary.line(&study.name));
         }
+        if args.reduce {
+            reductions.reduce_if_complete(&study, &dir);
+        }
     }
+    reductions.result()
+}
+
+/// The reductions `--reduce` made: a failure is reported at once and counted, and the next
+/// study still runs; the command fails at the end if any did.
+#[derive(Default)]
+struct Reductions {
+    failed: Vec<String>,
+}
+
+impl Reductions {
+    /// Reduces the run directory of `study` when its sweep is complete.
+    fn reduce_if_complete(&mut self, study: &Study, dir: &Path) {
+        match sweep::status(dir) {
+            Ok(st) if st.complete() => {}
+            Ok(st) => {
+                eprintln!(
+                    "{}: not reduced: {} of {} chunks missing (another shard still running?)",
+                    study.name,
+                    st.missing.len(),
+                    st.manifest.n_chunks
+                );
+                return;
+            }
+            Err(e) => {
+                eprintln!("error: {}: not reduced: {e:#}", study.name);
+                self.failed.push(study.name.clone());
+                return;
+            }
+        }
+        let args = crate::app::reduce::ReduceArgs {
+            dir: dir.to_path_buf(),
+            ..Default::default()
+        };
+        match crate::app::reduce::reduce_dir(&args) {
+            Ok((line, _)) => eprintln!(
+                "{}: {line}; report {}",
+                study.name,
+                dir.join("report.md").display()
+            ),
+            Err(e) => {
+                eprintln!("error: {}: reduce failed: {e:#}", study.name);
+                self.failed.push(study.name.clone());
+            }
+        }
+    }
+
+    fn result(self) -> anyhow::Result<()> {
+        if self.failed.is_empty() {
+            Ok(())
+        } else {
+            anyhow::bail!(
+                "reduce failed for {} stud{}: {} (their sweeps are complete; run `impactsweep reduce` on them once the cause is fixed)",
+                self.failed.len(),
+                if self.failed.len() == 1 { "y" } else { "ies" },
+                self.failed.join(", ")
+            )
+        }
+    }
+}
+
+/// Whether a run directory has its report, and whether it is newer than every part file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReportState {
+    Missing,
+    /// Older than the newest part file: the run went on after it was written.
+    Stale,
+    Current,
+}
+
+pub fn report_state(dir: &Path) -> ReportState {
+    let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+    let Some(report) = modified(&dir.join("report.md")) else {
+        return ReportState::Missing;
+    };
+    let newest = crate::store::part_files(dir)
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|p| modified(p))
+        .max();
+    match newest {
+        Some(t) if t > report => ReportState::Stale,
+        _ => ReportState::Current,
+    }
+}
+
+/// Prints what a run directory holds (chunks and runs done, damaged and missing chunks, per
+/// shard; fails, exit 1, when a part file is damaged, naming it and the fix), or for an output
+/// root every study in it with its state and its report.
+pub fn status(args: &StatusArgs) -> anyhow::Result<()> {
+    if crate::store::manifest::manifest_path(&args.dir).exists() {
+        let st = sweep::status(&args.dir)?;
+        print!("{}", st.report(&args.dir));
+        return match st.damage_error(&args.dir) {
+            Some(e) => Err(e),
+            None => Ok(()),
+        };
+    }
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&args.dir)
+        .with_context(|| format!("listing {}", args.dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| crate::store::manifest::manifest_path(p).exists())
+        .collect();
+    if dirs.is_empty() {
+        return Err(InputError::new(format!(
+            "{}: not a run directory (no manifest.json), nor an output root (no run directory in it)",
+            args.dir.display()
+        ))
+        .into());
+    }
+    dirs.sort();
+    print!("{}", root_status(&args.dir, &dirs));
     Ok(())
 }
 
-/// Prints what a run directory holds: chunks and runs done, damaged and missing chunks, per
-/// shard. Fails (exit 1) when a part file is damaged, naming it and the fix.
-pub fn status(args: &StatusArgs) -> anyhow::Result<()> {
-    let st = sweep::status(&args.dir)?;
-    print!("{}", st.report(&args.dir));
-    match st.damage_error(&args.dir) {
-        Some(e) => Err(e),
-        None => Ok(()),
+/// One line per run directory: study, state, report.
+pub fn root_status(root: &Path, dirs: &[PathBuf]) -> String {
+    use std::fmt::Write as _;
+    let mut o = format!(
+        "{}: {} stud{}\n",
+        root.display(),
+        dirs.len(),
+        if dirs.len() == 1 { "y" } else { "ies" }
+    );
+    for dir in dirs {
+        let name = dir
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
+        let state = match sweep::status(dir) {
+            Ok(st) => {
+                let running = st
+                    .locks
+                    .iter()
+                    .any(|(_, h)| h.as_ref().is_some_and(|h| !h.stale));
+                let m = &st.manifest;
+                let what = if !st.damaged.is_empty() {
+                    format!(
+                        "{} of {} chunks damaged (status {} says which and what to do)",
+                        st.damaged.len(),
+                        m.n_chunks,
+                        dir.display()
+                    )
+                } else if st.complete() {
+                    format!("complete, {} runs", st.runs_done)
+                } else {
+                    format!(
+                        "chunks {}/{} done, {} of {} runs",
+                        st.done.len(),
+                        m.n_chunks,
+                        st.runs_done,
+                        m.n_runs
+                    )
+                };
+                if running {
+                    format!("{what} (running)")
+                } else {
+                    what
+                }
+            }
+            Err(e) => format!("unreadable: {e:#}"),
+        };
+        let report = match report_state(dir) {
+            ReportState::Missing => "not reduced".to_string(),
+            ReportState::Stale => format!(
+                "{} (older than the data: reduce again)",
+                dir.join("report.md").display()
+            ),
+            ReportState::Current => dir.join("report.md").display().to_string(),
+        };
+        let _ = writeln!(o, "{name}: {state}; report: {report}");
     }
+    o
 }

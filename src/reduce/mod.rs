@@ -1,41 +1,78 @@
 //! Reduce: a dataset of runs → one summary row per design point, zones and a ranking
 //! (model.md §5–6).
 //!
-//! The reducer streams: [`Reducer::push`] takes one chunk of [`RunRow`]s at a time (a chunk
-//! holds whole design points, rows in `point_id` order, as the store writes them), turns each
-//! design point into a [`PointStats`] and drops the rows. Memory is O(design points), never
-//! O(runs). [`Reducer::finish`] then needs the whole sweep: perfectibility normalises by the
-//! best R and DI, ranks and the Pareto set compare points, zones look along the axes.
+//! The reducer streams: [`Reducer::push`] takes one chunk of [`Run`]s at a time (a chunk holds
+//! whole design points, in point order, as the store writes them), turns each design point into
+//! a [`PointStats`] and drops the runs. Memory is a chunk plus a fixed number of bytes per
+//! design point, whatever the cases per point. [`Reducer::finish`] then needs the whole sweep:
+//! perfectibility normalises by the best R and DI, ranks and the Pareto set compare points,
+//! jumps and zones look along the axes ([`zones`], [`jumps`], [`regions`]), sensitivity
+//! decomposes the grid's variance ([`sensitivity`]), the recommendation looks at every point's
+//! neighbourhood ([`recommend`]).
 //!
 //! Per design point, over the cases whose outcome is `ok` (a point whose cases did not all end
 //! `ok` is flagged with `all_ok = false` and its failed runs are counted, never averaged in):
-//! * `xmax` mean and SD (eq. 9, `N - 1`), stress `S = 3 E r xmax / L^2` (eq. 10) and its
-//!   lognormal parameters; strength lognormal from the study;
+//! * the response ([`Response`]: `xmax` in the free-decay scene) mean and SD (eq. 9, `N - 1`),
+//!   stress `S = 3 E r xmax / L^2` (eq. 10) and its lognormal parameters; strength lognormal
+//!   from the study;
 //! * `R` (eq. 6), its bootstrap confidence interval (seeded from the study seed and the point),
 //!   the safety factor (eq. 7–8, exact or the paper's form), Anderson–Darling on `ln xmax`;
 //! * `DI` from the ideal case, or the mean over the cases.
 
+pub mod grid;
+pub mod jumps;
 pub mod rank;
+pub mod recommend;
+pub mod regions;
+pub mod sensitivity;
 pub mod stats;
 pub mod table;
 pub mod zones;
 
 use rayon::prelude::*;
 
-use crate::plan::Plan;
 use crate::sim::Outcome;
 use crate::sim::noise::mix64;
-use crate::store::RunRow;
 use crate::study::{DiSource, SafetyForm, Study};
 use stats::LogNormal;
 
-pub use zones::{Jump, Zone};
+pub use grid::Grid;
+pub use jumps::{IdealCase, Jump, JumpKind, Quantity};
+pub use recommend::EdgeWarning;
+pub use zones::{Class, JumpStats, Zone, ZoneParams};
+
+/// The per-point response: the one quantity from which stress, R and the ranking follow (the
+/// largest positive peak `xmax` in the free-decay scene). Summary columns are named after it
+/// (`xmax_mean`, `xmax_sd`, …).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Response {
+    /// Column prefix and name in the report.
+    pub name: &'static str,
+    /// Its unit (SI).
+    pub unit: &'static str,
+    /// What it is, for a person.
+    pub description: &'static str,
+}
+
+impl Response {
+    /// The free-decay scene's response: the largest positive half-cycle maximum (model.md §3).
+    pub const XMAX: Response = Response {
+        name: "xmax",
+        unit: "m",
+        description: "largest positive peak",
+    };
+}
 
 /// Choices the command line can override over the study.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
     pub safety_form: SafetyForm,
     pub di_source: DiSource,
+    /// Zone and jump settings beyond the study's `r_min`, `di_strong` and declared zones.
+    pub zones: ZoneParams,
+    pub response: Response,
+    /// Bootstrap resamples for R's interval (`[reliability].bootstrap`).
+    pub bootstrap: usize,
 }
 
 impl Options {
@@ -44,32 +81,57 @@ impl Options {
         Options {
             safety_form: study.reliability.safety_form,
             di_source: study.ranking.di_source,
+            zones: ZoneParams {
+                min_zone: study.zones.min_zone,
+                step_spread: study.zones.step_spread,
+                kink_slope: study.zones.kink_slope,
+                locate: study.zones.locate,
+            },
+            response: Response::XMAX,
+            bootstrap: study.reliability.bootstrap,
         }
     }
 }
 
-/// One run of the nominal design point, for the Table II-like case table.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CaseRow {
+/// One run as the reducer needs it: its identity, its case and the observables the statistics
+/// use. The store's rows are converted to this; the reducer knows nothing else of them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Run {
+    pub point: u64,
     pub case: u32,
     pub ideal: bool,
+    /// The case's change of the inner mass (kg) and of the clearance (m), and its noise seed.
     pub dm: f64,
     pub dd: f64,
     pub noise_seed: Option<u64>,
     pub outcome: Outcome,
-    pub xmax: f64,
+    /// The response ([`Response`]): `xmax` in the free-decay scene (m).
+    pub response: f64,
+    /// Damping inclination (m/s).
     pub di: f64,
 }
 
+/// The response over the ok cases of a design point: mean, SD (N - 1), five-number summary,
+/// and the ideal case's value (NaN when it did not end `ok`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ResponseStats {
+    pub mean: f64,
+    pub sd: f64,
+    pub min: f64,
+    pub q1: f64,
+    pub median: f64,
+    pub q3: f64,
+    pub max: f64,
+    pub ideal: f64,
+}
+
 /// The summary of one design point. The first block is computed from its own runs; the last
-/// (`perfectibility`, `rank`, `pareto`, `zone`) needs the whole sweep and is filled by
-/// [`Reducer::finish`].
+/// (`perfectibility` to `zone`) needs the whole sweep and is filled by [`Reducer::finish`].
+/// Its axis values are [`Summary::values`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct PointStats {
     /// Design point index.
     pub point: u64,
-    /// Its axis values, in axis order.
-    pub values: Vec<f64>,
     /// Runs found for this point, and how many ended `ok` (the statistics use only those).
     pub n_cases: u32,
     pub n_ok: u32,
@@ -77,16 +139,8 @@ pub struct PointStats {
     pub outcomes: [u32; 6],
     /// Every case ended `ok`.
     pub all_ok: bool,
-    /// `xmax` over the ok cases (m): mean, SD (N - 1), and five-number summary.
-    pub xmax_mean: f64,
-    pub xmax_sd: f64,
-    pub xmax_min: f64,
-    pub xmax_q1: f64,
-    pub xmax_median: f64,
-    pub xmax_q3: f64,
-    pub xmax_max: f64,
-    /// `xmax` of the ideal case (m), NaN when it did not end `ok`.
-    pub xmax_ideal: f64,
+    /// The response over the ok cases.
+    pub response: ResponseStats,
     /// Stress (eq. 10, Pa) as a lognormal variable.
     pub stress: LogNormal,
     /// `beta = (mu_ln_S - mu_ln_s) / sqrt(sigma_ln_S^2 + sigma_ln_s^2)`; `R = Phi(beta)`.
@@ -99,43 +153,70 @@ pub struct PointStats {
     /// `C_n` of eq. 7 and the safety factor `mu_n`.
     pub cn: f64,
     pub safety_factor: f64,
-    /// Anderson–Darling on `ln xmax`: corrected statistic and p-value.
+    /// Anderson–Darling on the log of the response: corrected statistic and p-value.
     pub ad_stat: f64,
     pub ad_p: f64,
-    /// Damping inclination (m/s).
+    /// Damping inclination (m/s) as the ranking uses it ([`Options::di_source`]), the ideal
+    /// case's, and its SD over the ok cases.
     pub di: f64,
+    pub di_ideal: f64,
+    pub di_sd: f64,
     /// Eq. 11 (%), rank (1 = best; `None` when R or DI is unknown), Pareto-optimal on (R, DI).
     pub perfectibility: f64,
     pub rank: Option<u64>,
     pub pareto: bool,
-    /// The zone's name (see [`zones`]).
-    pub zone: String,
+    /// Its class, and its zone: an index into [`Summary::zones`], [`regions::NO_REGION`] when it
+    /// is in none (outside every declared zone).
+    pub class: Class,
+    pub zone: u32,
+    /// Its whole ±1-step neighbourhood lies in recommended zones ([`recommend`]).
+    pub robust: bool,
+}
+
+/// Sensitivity of one quantity to one axis ([`sensitivity`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sensitivity {
+    /// A summary column: the response's mean, `di`, `reliability` or `perfectibility`.
+    pub quantity: String,
+    pub axis: usize,
+    pub first_order: f64,
+    pub total: f64,
+    /// The points it was computed over (those whose cases all ended ok and where it is known).
+    pub n_points: usize,
 }
 
 /// Everything the report needs.
 #[derive(Clone, Debug)]
 pub struct Summary {
-    /// Axis keys and their values (the grid).
-    pub axes: Vec<(String, Vec<f64>)>,
+    /// The swept axes.
+    pub grid: Grid,
     /// One entry per design point found, in point order.
     pub points: Vec<PointStats>,
     /// Design points the study plans.
     pub n_points_planned: u64,
-    /// Zones, in order along the axis (1 axis) or by label (2+ axes).
+    /// Zones, named in the order of their first point.
     pub zones: Vec<Zone>,
-    /// Jumps found along the axes.
+    /// Jumps located along the axes, and how they were found.
     pub jumps: Vec<Jump>,
+    pub jump_stats: JumpStats,
+    /// First-order and total-effect indices per quantity and axis (two or more axes).
+    pub sensitivity: Vec<Sensitivity>,
+    /// The recommended design point ([`recommend`]) and the edges the best designs sit on.
+    pub recommended: Option<u64>,
+    pub edges: Vec<EdgeWarning>,
     /// The DI threshold used for "strong damping" (m/s).
     pub di_strong: f64,
-    /// The reliability at or above which a point is "reliable" (`[zones].r_min`).
+    /// The reliability the lower end of R's interval must reach (`[zones].r_min`).
     pub r_min: f64,
+    /// A region smaller than this (design points) was merged into a neighbour.
+    pub min_zone_points: usize,
     /// The nominal design point (nearest the study's base system) and its runs.
-    pub nominal: Option<(u64, Vec<CaseRow>)>,
+    pub nominal: Option<(u64, Vec<Run>)>,
     /// Runs per outcome over the whole dataset, in [`Outcome::ALL`] order.
     pub outcome_totals: [u64; 6],
     /// The strength distribution (Pa).
     pub strength: LogNormal,
-    /// `3 E r / L^2`: stress per metre of `xmax` (Pa/m).
+    /// `3 E r / L^2`: stress per metre of the response (Pa/m).
     pub stress_per_m: f64,
     pub options: Options,
     /// Confidence level of the bootstrap interval of R.
@@ -145,15 +226,72 @@ pub struct Summary {
     pub di_max: f64,
 }
 
+impl Summary {
+    /// The axis values of a point, in axis order.
+    pub fn values(&self, p: &PointStats) -> Vec<f64> {
+        self.grid.values(p.point)
+    }
+
+    /// The point with index `point`, if it is in the dataset.
+    pub fn point(&self, point: u64) -> Option<&PointStats> {
+        self.points
+            .binary_search_by_key(&point, |p| p.point)
+            .ok()
+            .map(|i| &self.points[i])
+    }
+
+    /// The zone of a point, if any.
+    pub fn zone_of(&self, p: &PointStats) -> Option<&Zone> {
+        self.zones.get(p.zone as usize)
+    }
+
+    /// The design point the report and the charts centre on: the recommended one, else the best
+    /// ranked, else the first.
+    pub fn anchor(&self) -> Option<u64> {
+        self.recommended
+            .or_else(|| {
+                self.points
+                    .iter()
+                    .filter(|p| p.rank.is_some())
+                    .min_by_key(|p| p.rank)
+                    .map(|p| p.point)
+            })
+            .or_else(|| self.points.first().map(|p| p.point))
+    }
+
+    /// The name of a point's zone ("" when it has none).
+    pub fn zone_name(&self, p: &PointStats) -> &str {
+        self.zone_of(p).map_or("", |z| z.name.as_str())
+    }
+}
+
+/// The study's ideal case, simulated at any design: the base system with the axis values set,
+/// no perturbation, no noise, the study's solver and request.
+pub struct SimulatedIdeal<'a> {
+    pub study: &'a Study,
+}
+
+impl IdealCase for SimulatedIdeal<'_> {
+    fn at(&self, values: &[f64]) -> Option<[f64; 2]> {
+        let mut sys = self.study.system;
+        for (axis, v) in self.study.axes.iter().zip(values) {
+            sys.set(&axis.key, *v);
+        }
+        sys.validate().ok()?;
+        let s = self.study;
+        let rec = crate::sim::simulate(&sys, &s.solver, &s.request, None, &mut crate::sim::NoProbe);
+        (rec.outcome == Outcome::Ok).then_some([rec.xmax, rec.di])
+    }
+}
+
 /// The streaming reducer.
 pub struct Reducer<'a> {
     study: &'a Study,
-    plan: Plan<'a>,
     options: Options,
     strength: LogNormal,
     stress_per_m: f64,
     nominal_point: u64,
-    nominal: Option<(u64, Vec<CaseRow>)>,
+    nominal: Option<(u64, Vec<Run>)>,
     points: Vec<PointStats>,
     outcome_totals: [u64; 6],
 }
@@ -165,7 +303,6 @@ fn outcome_index(o: Outcome) -> usize {
 impl<'a> Reducer<'a> {
     pub fn new(study: &'a Study, options: Options) -> Self {
         let rel = &study.reliability;
-        let plan = Plan::new(study);
         Reducer {
             study,
             options,
@@ -173,9 +310,10 @@ impl<'a> Reducer<'a> {
             stress_per_m: 3.0 * rel.E * rel.r / (rel.L * rel.L),
             nominal_point: nominal_point(study),
             nominal: None,
-            points: Vec::new(),
+            // The planned points at once: no doubling of the vector as chunks arrive (pages
+            // of points a partial run never delivers are never touched).
+            points: Vec::with_capacity(usize::try_from(study.n_points()).unwrap_or(0)),
             outcome_totals: [0; 6],
-            plan,
         }
     }
 
@@ -184,37 +322,16 @@ impl<'a> Reducer<'a> {
         self.nominal_point
     }
 
-    /// Reduces one chunk: rows of whole design points in `point_id` order. Points are computed
-    /// in parallel; each point's bootstrap has its own seed, so the result does not depend on
-    /// the thread count.
-    pub fn push(&mut self, rows: Vec<RunRow>) {
-        let mut groups: Vec<&[RunRow]> = Vec::new();
-        let mut start = 0;
-        for i in 1..=rows.len() {
-            if i == rows.len() || rows[i].point != rows[start].point {
-                groups.push(&rows[start..i]);
-                start = i;
-            }
-        }
-        for r in &rows {
-            self.outcome_totals[outcome_index(r.record.outcome)] += 1;
+    /// Reduces one chunk: runs of whole design points in point order. Points are computed in
+    /// parallel; each point's bootstrap has its own seed, so the result does not depend on the
+    /// thread count. The runs are dropped afterwards: memory grows with design points only.
+    pub fn push(&mut self, runs: Vec<Run>) {
+        let groups: Vec<&[Run]> = runs.chunk_by(|a, b| a.point == b.point).collect();
+        for r in &runs {
+            self.outcome_totals[outcome_index(r.outcome)] += 1;
         }
         if let Some(g) = groups.iter().find(|g| g[0].point == self.nominal_point) {
-            self.nominal = Some((
-                self.nominal_point,
-                g.iter()
-                    .map(|r| CaseRow {
-                        case: r.case,
-                        ideal: r.ideal,
-                        dm: r.dm,
-                        dd: r.dd,
-                        noise_seed: r.noise_seed,
-                        outcome: r.record.outcome,
-                        xmax: r.record.xmax,
-                        di: r.record.di,
-                    })
-                    .collect(),
-            ));
+            self.nominal = Some((self.nominal_point, g.to_vec()));
         }
         let this = &*self;
         let stats: Vec<PointStats> = groups.par_iter().map(|g| this.point_stats(g)).collect();
@@ -222,40 +339,40 @@ impl<'a> Reducer<'a> {
     }
 
     /// The statistics of one design point from its runs.
-    pub fn point_stats(&self, runs: &[RunRow]) -> PointStats {
+    pub fn point_stats(&self, runs: &[Run]) -> PointStats {
         let rel = &self.study.reliability;
         let point = runs[0].point;
         let mut outcomes = [0u32; 6];
-        let mut xmax = Vec::with_capacity(runs.len());
+        let mut ys = Vec::with_capacity(runs.len());
         let mut dis = Vec::with_capacity(runs.len());
         let mut di_ideal = f64::NAN;
-        let mut xmax_ideal = f64::NAN;
+        let mut y_ideal = f64::NAN;
         for r in runs {
-            outcomes[outcome_index(r.record.outcome)] += 1;
-            if r.record.outcome == Outcome::Ok {
-                xmax.push(r.record.xmax);
-                dis.push(r.record.di);
+            outcomes[outcome_index(r.outcome)] += 1;
+            if r.outcome == Outcome::Ok {
+                ys.push(r.response);
+                dis.push(r.di);
                 if r.ideal {
-                    di_ideal = r.record.di;
-                    xmax_ideal = r.record.xmax;
+                    di_ideal = r.di;
+                    y_ideal = r.response;
                 }
             }
         }
-        let n_ok = xmax.len() as u32;
-        let (xmax_mean, xmax_sd) = stats::mean_sd(&xmax);
-        let q = |p: f64| stats::quantile(&xmax, p);
+        let n_ok = ys.len() as u32;
+        let (mean, sd) = stats::mean_sd(&ys);
+        let q = |p: f64| stats::quantile(&ys, p);
         let k = self.stress_per_m;
         // A single run has no spread: SD 0 (`max` maps its NaN SD to 0), a degenerate
         // lognormal whose R is 0 or 1.
-        let stress = LogNormal::from_mean_sd(k * xmax_mean, k * xmax_sd.max(0.0));
+        let stress = LogNormal::from_mean_sd(k * mean, k * sd.max(0.0));
         let beta = stats::reliability_index(&self.strength, &stress);
         let reliability = stats::phi(beta);
-        let stresses: Vec<f64> = xmax.iter().map(|x| k * x).collect();
+        let stresses: Vec<f64> = ys.iter().map(|x| k * x).collect();
         let seed = mix64(self.study.seed ^ mix64(point ^ 0xB00_757A9));
         let (lo, hi) = stats::bootstrap_reliability(
             &stresses,
             &self.strength,
-            rel.bootstrap,
+            self.options.bootstrap,
             rel.confidence,
             seed,
         );
@@ -264,27 +381,29 @@ impl<'a> Reducer<'a> {
             SafetyForm::Exact => stats::safety_factor_exact_z(-beta, cn),
             SafetyForm::Paper => stats::safety_factor_paper(beta, cn),
         };
-        let logs: Vec<f64> = xmax.iter().filter(|x| **x > 0.0).map(|x| x.ln()).collect();
+        let logs: Vec<f64> = ys.iter().filter(|x| **x > 0.0).map(|x| x.ln()).collect();
         let (ad_stat, ad_p) = stats::anderson_darling(&logs);
+        let (di_mean, di_sd) = stats::mean_sd(&dis);
         let di = match self.options.di_source {
             DiSource::Ideal => di_ideal,
-            DiSource::Mean => stats::mean_sd(&dis).0,
+            DiSource::Mean => di_mean,
         };
         PointStats {
             point,
-            values: self.plan.point_values(point),
             n_cases: runs.len() as u32,
             n_ok,
             outcomes,
             all_ok: n_ok as usize == runs.len(),
-            xmax_mean,
-            xmax_sd,
-            xmax_min: q(0.0),
-            xmax_q1: q(0.25),
-            xmax_median: q(0.5),
-            xmax_q3: q(0.75),
-            xmax_max: q(1.0),
-            xmax_ideal,
+            response: ResponseStats {
+                mean,
+                sd,
+                min: q(0.0),
+                q1: q(0.25),
+                median: q(0.5),
+                q3: q(0.75),
+                max: q(1.0),
+                ideal: y_ideal,
+            },
             stress,
             reliability_index: beta,
             reliability,
@@ -295,44 +414,112 @@ impl<'a> Reducer<'a> {
             ad_stat,
             ad_p,
             di,
+            di_ideal,
+            di_sd,
             perfectibility: f64::NAN,
             rank: None,
             pareto: false,
-            zone: String::new(),
+            class: Class::NoData,
+            zone: regions::NO_REGION,
+            robust: false,
         }
     }
 
-    /// Everything that needs the whole sweep: eq. 11, rank, Pareto set, zones.
-    pub fn finish(mut self) -> Summary {
+    /// Everything that needs the whole sweep, with the study's ideal case simulated where the
+    /// jumps are located.
+    pub fn finish(self) -> Summary {
+        let study = self.study;
+        self.finish_with(&SimulatedIdeal { study })
+    }
+
+    /// [`Reducer::finish`] with another source of the ideal case (tests on synthetic data).
+    pub fn finish_with(mut self, ideal: &dyn IdealCase) -> Summary {
         self.points.sort_by_key(|p| p.point);
         self.points.dedup_by_key(|p| p.point);
-        let ranking = &self.study.ranking;
+        let study = self.study;
+        let ranking = &study.ranking;
         let (r_max, di_max) = rank::apply(&mut self.points, ranking.wf1, ranking.wf2);
-        let axes: Vec<(String, Vec<f64>)> = self
-            .study
-            .axes
-            .iter()
-            .map(|a| (a.key.clone(), a.values.clone()))
-            .collect();
-        let found = zones::find(&axes, &mut self.points, &self.study.zones, ranking);
+        let grid = Grid::new(
+            study
+                .axes
+                .iter()
+                .map(|a| (a.key.clone(), a.values.clone()))
+                .collect(),
+        );
+        let mut pos = vec![u32::MAX; grid.len() as usize];
+        for (i, p) in self.points.iter().enumerate() {
+            if let Some(slot) = pos.get_mut(p.point as usize) {
+                *slot = i as u32;
+            }
+        }
+        let cfg = zones::ZoneConfig {
+            r_min: study.zones.r_min,
+            di_strong: study.zones.di_strong,
+            declared: &study.zones.declared,
+            params: self.options.zones,
+        };
+        let found = zones::find(&grid, &mut self.points, &pos, &cfg, ranking, ideal);
+        recommend::mark_robust(&grid, &mut self.points, &pos, &found.zones);
+        let recommended = recommend::recommended(&self.points);
+        let extendable = |a: usize, v: f64| {
+            let mut sys = study.system;
+            sys.set(&study.axes[a].key, v) && sys.validate().is_ok()
+        };
+        let edges = recommend::edges(&grid, &self.points, recommended, &extendable);
+        let sensitivity = sensitivities(&grid, &self.points, &self.options.response);
         Summary {
-            axes,
-            n_points_planned: self.study.n_points(),
+            n_points_planned: study.n_points(),
             points: self.points,
             zones: found.zones,
             jumps: found.jumps,
+            jump_stats: found.stats,
+            sensitivity,
+            recommended,
+            edges,
             di_strong: found.di_strong,
-            r_min: self.study.zones.r_min,
+            r_min: study.zones.r_min,
+            min_zone_points: found.min_zone_points,
             nominal: self.nominal,
             outcome_totals: self.outcome_totals,
             strength: self.strength,
             stress_per_m: self.stress_per_m,
             options: self.options,
-            confidence: self.study.reliability.confidence,
+            confidence: study.reliability.confidence,
             r_max,
             di_max,
+            grid,
         }
     }
+}
+
+/// Sensitivity indices of the response's mean, DI, R and perfectibility over the points whose
+/// cases all ended ok (with one axis both are 1: it explains everything).
+fn sensitivities(grid: &Grid, points: &[PointStats], response: &Response) -> Vec<Sensitivity> {
+    type Of = fn(&PointStats) -> f64;
+    let quantities: [(String, Of); 4] = [
+        (format!("{}_mean", response.name), |p| p.response.mean),
+        ("di".into(), |p| p.di),
+        ("reliability".into(), |p| p.reliability),
+        ("perfectibility".into(), |p| p.perfectibility),
+    ];
+    let mut out = Vec::new();
+    for (name, f) in quantities {
+        let mut y = vec![f64::NAN; grid.len() as usize];
+        for p in points.iter().filter(|p| p.all_ok) {
+            y[p.point as usize] = f(p);
+        }
+        let n_points = y.iter().filter(|v| v.is_finite()).count();
+        for (axis, (first_order, total)) in sensitivity::indices(grid, &y).into_iter().enumerate() {
+            out.push(Sensitivity {
+                quantity: name.clone(),
+                axis,
+                first_order,
+                total,
+                n_points,
+            });
+        }
+    }
+    out
 }
 
 /// The design point nearest the study's base system: on every axis, the value closest to the
@@ -355,7 +542,7 @@ pub fn nominal_point(study: &Study) -> u64 {
 /// Reduces a stream of chunks in one go.
 pub fn reduce<I, E>(study: &Study, options: Options, chunks: I) -> Result<Summary, E>
 where
-    I: IntoIterator<Item = Result<Vec<RunRow>, E>>,
+    I: IntoIterator<Item = Result<Vec<Run>, E>>,
 {
     let mut r = Reducer::new(study, options);
     for chunk in chunks {
@@ -367,9 +554,9 @@ where
 /// Helpers for tests: a study with the paper's defaults and synthetic runs.
 #[doc(hidden)]
 pub mod testing {
+    use super::{IdealCase, Run};
     use crate::model::System;
-    use crate::sim::{Outcome, Record, Request, SolverSettings};
-    use crate::store::RunRow;
+    use crate::sim::{Outcome, Request, SolverSettings};
     use crate::study::{
         Axis, Case, DiSource, Ranking, Reliability, RunSettings, SafetyForm, Study, Zones,
     };
@@ -412,12 +599,7 @@ pub mod testing {
                 bootstrap: 2000,
                 confidence: 0.95,
             },
-            zones: Zones {
-                jump_k: 6.0,
-                r_min: 0.98,
-                di_strong: None,
-                declared: Vec::new(),
-            },
+            zones: Zones::default(),
             ranking: Ranking {
                 wf1: 0.5,
                 wf2: 0.5,
@@ -430,50 +612,43 @@ pub mod testing {
         }
     }
 
-    /// A stored run with the given observables.
-    pub fn row(
-        study: &Study,
-        point: u64,
-        case: u32,
-        outcome: Outcome,
-        xmax: f64,
-        di: f64,
-    ) -> RunRow {
-        let n_cases = study.cases.len() as u64;
-        let plan = crate::plan::Plan::new(study);
-        RunRow {
-            point_id: point * n_cases + u64::from(case),
+    /// A run with the given observables (the response is `xmax`).
+    pub fn row(study: &Study, point: u64, case: u32, outcome: Outcome, xmax: f64, di: f64) -> Run {
+        Run {
             point,
             case,
             ideal: case == 0,
             dm: 0.0,
             dd: 0.0,
             noise_seed: study.cases[case as usize].noise_seed,
-            system: plan.point_system(point),
-            solver: "exact".into(),
-            tol: 1e-12,
-            record: Record {
-                outcome,
-                peaks: vec![(xmax, 0.01), (xmax * 0.9, 0.04)],
-                x1: xmax,
-                t1: 0.01,
-                x2: xmax * 0.9,
-                t2: 0.04,
-                xmax,
-                di,
-                impacts: 3,
-                sticks: 0,
-                energy_impact: 0.0,
-                energy_viscous: 0.0,
-                t_stop: 0.05,
-                steps: 10,
-            },
+            outcome,
+            response: xmax,
+            di,
         }
+    }
+
+    /// The ideal case of synthetic data: a function of the axis values.
+    pub struct FnIdeal<F>(pub F);
+
+    impl<F: Fn(&[f64]) -> Option<[f64; 2]> + Sync> IdealCase for FnIdeal<F> {
+        fn at(&self, values: &[f64]) -> Option<[f64; 2]> {
+            (self.0)(values)
+        }
+    }
+
+    /// The study simulated ([`simulate_chunks`]) and reduced with its own options, jumps
+    /// located with its own simulator.
+    pub fn reduce_simulated(study: &Study) -> super::Summary {
+        let mut r = super::Reducer::new(study, super::Options::from_study(study));
+        for chunk in simulate_chunks(study) {
+            r.push(chunk);
+        }
+        r.finish()
     }
 
     /// Runs the simulator over every run of the study's plan, chunk by chunk, as the sweep
     /// engine would store them.
-    pub fn simulate_chunks(study: &Study) -> Vec<Vec<RunRow>> {
+    pub fn simulate_chunks(study: &Study) -> Vec<Vec<Run>> {
         let plan = crate::plan::Plan::new(study);
         (0..plan.n_chunks())
             .map(|k| {
@@ -493,18 +668,16 @@ pub mod testing {
                             },
                             &mut crate::sim::NoProbe,
                         );
-                        rows.push(RunRow {
-                            point_id: run.point_id,
+                        rows.push(Run {
                             point: p,
                             case: c,
                             ideal: run.spec.ideal,
                             dm: run.spec.dm,
                             dd: run.spec.dd,
                             noise_seed: run.spec.noise_seed,
-                            system: run.system,
-                            solver: study.solver.kind.name().into(),
-                            tol: study.solver.tol,
-                            record: rec,
+                            outcome: rec.outcome,
+                            response: rec.xmax,
+                            di: rec.di,
                         });
                     }
                 }
@@ -627,5 +800,12 @@ mod tests {
             md.contains("3 of 4 design points") && md.contains("incomplete"),
             "{md}"
         );
+    }
+
+    #[test]
+    fn a_design_point_costs_a_fixed_256_bytes() {
+        // Issue 10: memory grows with design points, never with runs; a point holds no heap
+        // data (its values come from the grid, its zone is an index).
+        assert!(std::mem::size_of::<PointStats>() <= 256);
     }
 }

@@ -1,8 +1,9 @@
-//! The summary, zone and jump tables as plain columns: the store writes them to Parquet and CSV
-//! ([`crate::store::summary`]). No arrow here. Axis columns are named by
-//! [`column_name`] (the data contract: `M` → `mass_main`, `m` → `mass_inner`).
+//! The reducer's tables as plain columns (summary, zones, jumps, sensitivity): the store writes
+//! them to Parquet and CSV ([`crate::store::summary`]), the report quotes them. No arrow here.
+//! Axis columns are named by [`column_name`] (the data contract: `M` → `mass_main`, `m` →
+//! `mass_inner`).
 
-use super::Summary;
+use super::{JumpKind, PointStats, Quantity, Summary};
 use crate::sim::Outcome;
 use crate::store::schema::column_name;
 
@@ -71,54 +72,94 @@ impl Table {
 
     /// RFC 4180 CSV with a header line.
     pub fn to_csv(&self) -> String {
-        let mut out = String::new();
+        let mut out = Vec::new();
+        // Writing to a Vec cannot fail.
+        let _ = self.write_csv_header(&mut out);
+        let _ = self.write_csv_rows(&mut out);
+        String::from_utf8(out).unwrap_or_default()
+    }
+
+    /// The CSV header line.
+    pub fn write_csv_header(&self, w: &mut impl std::io::Write) -> std::io::Result<()> {
         let names: Vec<&str> = self.columns.iter().map(|c| c.0.as_str()).collect();
-        out.push_str(&names.join(","));
-        out.push('\n');
+        writeln!(w, "{}", names.join(","))
+    }
+
+    /// The CSV lines of every row.
+    pub fn write_csv_rows(&self, w: &mut impl std::io::Write) -> std::io::Result<()> {
         for i in 0..self.n_rows() {
             let row: Vec<String> = self.columns.iter().map(|c| c.1.cell(i)).collect();
-            out.push_str(&row.join(","));
-            out.push('\n');
+            writeln!(w, "{}", row.join(","))?;
         }
-        out
+        Ok(())
     }
+
+    /// The columns named in `names`, in that order (names not in the table are left out).
+    pub fn select(mut self, names: &[String]) -> Table {
+        let mut columns = Vec::with_capacity(names.len());
+        for n in names {
+            if let Some(i) = self.columns.iter().position(|c| &c.0 == n) {
+                columns.push(self.columns.swap_remove(i));
+            }
+        }
+        Table { columns }
+    }
+
+    /// The rows `range` as a table of the same columns.
+    pub fn rows(&self, range: std::ops::Range<usize>) -> Table {
+        let columns = self
+            .columns
+            .iter()
+            .map(|(name, c)| {
+                let c = match c {
+                    Column::F64(v) => Column::F64(v[range.clone()].to_vec()),
+                    Column::U64(v) => Column::U64(v[range.clone()].to_vec()),
+                    Column::Bool(v) => Column::Bool(v[range.clone()].to_vec()),
+                    Column::Str(v) => Column::Str(v[range.clone()].to_vec()),
+                };
+                (name.clone(), c)
+            })
+            .collect();
+        Table { columns }
+    }
+}
+
+/// The column of an axis key in the tables ([`column_name`]: the data contract).
+pub fn axis_column(key: &str) -> String {
+    column_name(key).to_string()
 }
 
 /// One row per design point. Units: SI (m, Pa, m/s); `perfectibility` in %.
 pub fn summary_table(s: &Summary) -> Table {
-    let p = &s.points;
-    let f = |g: &dyn Fn(&super::PointStats) -> f64| Column::F64(p.iter().map(g).collect());
+    summary_rows(s, &s.points.iter().collect::<Vec<_>>())
+}
+
+/// The summary columns of some of the points (a chart's data: the rows of its slice).
+pub fn summary_rows(s: &Summary, p: &[&PointStats]) -> Table {
+    let f = |g: &dyn Fn(&PointStats) -> f64| Column::F64(p.iter().map(|x| g(x)).collect());
+    let u = |g: &dyn Fn(&PointStats) -> u64| Column::U64(p.iter().map(|x| Some(g(x))).collect());
+    let r = s.options.response.name;
     let mut t = Table::default();
-    t.push(
-        "point",
-        Column::U64(p.iter().map(|x| Some(x.point)).collect()),
-    );
-    for (a, (key, _)) in s.axes.iter().enumerate() {
-        t.push(column_name(key), f(&|x| x.values[a]));
+    t.push("point", u(&|x| x.point));
+    for a in 0..s.grid.n_axes() {
+        t.push(axis_column(s.grid.key(a)), f(&|x| s.grid.value(x.point, a)));
     }
-    t.push(
-        "n",
-        Column::U64(p.iter().map(|x| Some(u64::from(x.n_ok))).collect()),
-    );
-    t.push(
-        "n_cases",
-        Column::U64(p.iter().map(|x| Some(u64::from(x.n_cases))).collect()),
-    );
-    t.push(
-        "n_ok",
-        Column::U64(p.iter().map(|x| Some(u64::from(x.n_ok))).collect()),
-    );
+    t.push("n", u(&|x| u64::from(x.n_ok)));
+    t.push("n_cases", u(&|x| u64::from(x.n_cases)));
+    t.push("n_ok", u(&|x| u64::from(x.n_ok)));
     t.push("all_ok", Column::Bool(p.iter().map(|x| x.all_ok).collect()));
     t.push(
         "failed",
         Column::Str(p.iter().map(|x| outcome_text(&x.outcomes, true)).collect()),
     );
-    t.push("xmax_mean", f(&|x| x.xmax_mean));
-    t.push("xmax_sd", f(&|x| x.xmax_sd));
-    t.push("xmax_min", f(&|x| x.xmax_min));
-    t.push("xmax_median", f(&|x| x.xmax_median));
-    t.push("xmax_max", f(&|x| x.xmax_max));
-    t.push("xmax_ideal", f(&|x| x.xmax_ideal));
+    t.push(format!("{r}_mean"), f(&|x| x.response.mean));
+    t.push(format!("{r}_sd"), f(&|x| x.response.sd));
+    t.push(format!("{r}_min"), f(&|x| x.response.min));
+    t.push(format!("{r}_q1"), f(&|x| x.response.q1));
+    t.push(format!("{r}_median"), f(&|x| x.response.median));
+    t.push(format!("{r}_q3"), f(&|x| x.response.q3));
+    t.push(format!("{r}_max"), f(&|x| x.response.max));
+    t.push(format!("{r}_ideal"), f(&|x| x.response.ideal));
     t.push("stress_mean", f(&|x| x.stress.mean));
     t.push("stress_sd", f(&|x| x.stress.sd));
     t.push("stress_mu_ln", f(&|x| x.stress.mu_ln));
@@ -134,19 +175,29 @@ pub fn summary_table(s: &Summary) -> Table {
     t.push("ad_stat", f(&|x| x.ad_stat));
     t.push("ad_p", f(&|x| x.ad_p));
     t.push("di", f(&|x| x.di));
+    t.push("di_ideal", f(&|x| x.di_ideal));
+    t.push("di_sd", f(&|x| x.di_sd));
     t.push("perfectibility", f(&|x| x.perfectibility));
     t.push("rank", Column::U64(p.iter().map(|x| x.rank).collect()));
     t.push("pareto", Column::Bool(p.iter().map(|x| x.pareto).collect()));
+    t.push("robust", Column::Bool(p.iter().map(|x| x.robust).collect()));
+    t.push(
+        "class",
+        Column::Str(p.iter().map(|x| x.class.label().to_string()).collect()),
+    );
     t.push(
         "zone",
-        Column::Str(p.iter().map(|x| x.zone.clone()).collect()),
+        Column::Str(p.iter().map(|x| s.zone_name(x).to_string()).collect()),
     );
     t
 }
 
-/// One row per zone; each axis gets `<column>_from` and `<column>_to`.
+/// One row per zone: name, label, size, bounding box (`<axis>_from`, `<axis>_to`), the best
+/// point and a representative one (`best_point`, `best_<axis>`, `rep_point`, `rep_<axis>`),
+/// means and perfectibility.
 pub fn zones_table(s: &Summary) -> Table {
     let z = &s.zones;
+    let g = &s.grid;
     let mut t = Table::default();
     t.push(
         "zone",
@@ -154,26 +205,44 @@ pub fn zones_table(s: &Summary) -> Table {
     );
     t.push(
         "label",
-        Column::Str(z.iter().map(|x| x.label.clone()).collect()),
+        Column::Str(z.iter().map(|x| x.label().to_string()).collect()),
     );
     t.push(
         "declared",
-        Column::Bool(z.iter().map(|x| x.declared).collect()),
+        Column::Bool(z.iter().map(|x| x.declared()).collect()),
     );
-    for (a, (key, _)) in s.axes.iter().enumerate() {
-        t.push(
-            format!("{}_from", column_name(key)),
-            Column::F64(z.iter().map(|x| x.ranges[a].1).collect()),
-        );
-        t.push(
-            format!("{}_to", column_name(key)),
-            Column::F64(z.iter().map(|x| x.ranges[a].2).collect()),
-        );
-    }
     t.push(
         "n_points",
         Column::U64(z.iter().map(|x| Some(x.n_points as u64)).collect()),
     );
+    for a in 0..g.n_axes() {
+        let c = axis_column(g.key(a));
+        t.push(
+            format!("{c}_from"),
+            Column::F64(z.iter().map(|x| x.ranges[a].0).collect()),
+        );
+        t.push(
+            format!("{c}_to"),
+            Column::F64(z.iter().map(|x| x.ranges[a].1).collect()),
+        );
+    }
+    for (prefix, which) in [("best", true), ("rep", false)] {
+        let pick = |x: &super::Zone| if which { x.best } else { x.representative };
+        t.push(
+            format!("{prefix}_point"),
+            Column::U64(z.iter().map(pick).collect()),
+        );
+        for a in 0..g.n_axes() {
+            t.push(
+                format!("{prefix}_{}", axis_column(g.key(a))),
+                Column::F64(
+                    z.iter()
+                        .map(|x| pick(x).map_or(f64::NAN, |p| g.value(p, a)))
+                        .collect(),
+                ),
+            );
+        }
+    }
     t.push(
         "mean_reliability",
         Column::F64(z.iter().map(|x| x.mean_r).collect()),
@@ -201,28 +270,122 @@ pub fn outcome_text<T: Copy + Into<u64>>(counts: &[T; 6], failed_only: bool) -> 
         .join(" ")
 }
 
-/// One row per jump: axis (its column name), kind (`step` or `kink`), where (`at`) and the values spanned,
-/// quantity (`xmax` in m or `di` in m/s), the first (step) or second (kink) difference and its
-/// robust z-score.
+/// The unit of a quantity per unit of an axis, as a kink's size has it: `m/kg`, or `m` along
+/// a dimensionless axis.
+pub fn per_axis_unit(unit: &str, axis_unit: &str) -> String {
+    if axis_unit.is_empty() || axis_unit == "1" || axis_unit == "–" {
+        unit.to_string()
+    } else {
+        format!("{unit}/{axis_unit}")
+    }
+}
+
+/// The name and unit of a jump's quantity.
+pub fn quantity_of(s: &Summary, q: Quantity) -> (&'static str, &'static str) {
+    match q {
+        Quantity::Response => (s.options.response.name, s.options.response.unit),
+        Quantity::Di => ("di", "m/s"),
+    }
+}
+
+/// One row per located jump: axis (its column name), kind (`step` or `kink`), quantity
+/// (`xmax` in m or `di` in m/s), `location` and `location_tol` along the axis, every axis
+/// column (the jump's own holds its location, the others the line it was found on), `from` and
+/// `to` (the grid values either side), `size` (a step's change of the quantity, a kink's
+/// change of slope) and `size_unit`.
 pub fn jumps_table(s: &Summary) -> Table {
     let j = &s.jumps;
+    let g = &s.grid;
     let mut t = Table::default();
     t.push(
         "axis",
-        Column::Str(j.iter().map(|x| column_name(&x.axis).to_string()).collect()),
+        Column::Str(j.iter().map(|x| axis_column(g.key(x.axis))).collect()),
     );
     t.push(
         "kind",
-        Column::Str(j.iter().map(|x| x.kind.to_string()).collect()),
+        Column::Str(j.iter().map(|x| x.kind.name().to_string()).collect()),
     );
-    t.push("at", Column::F64(j.iter().map(|x| x.at).collect()));
-    t.push("from", Column::F64(j.iter().map(|x| x.from).collect()));
-    t.push("to", Column::F64(j.iter().map(|x| x.to).collect()));
     t.push(
         "quantity",
-        Column::Str(j.iter().map(|x| x.quantity.to_string()).collect()),
+        Column::Str(
+            j.iter()
+                .map(|x| quantity_of(s, x.quantity).0.to_string())
+                .collect(),
+        ),
     );
-    t.push("delta", Column::F64(j.iter().map(|x| x.delta).collect()));
-    t.push("z", Column::F64(j.iter().map(|x| x.z).collect()));
+    t.push(
+        "location",
+        Column::F64(j.iter().map(|x| x.location).collect()),
+    );
+    t.push(
+        "location_tol",
+        Column::F64(j.iter().map(|x| x.location_tol).collect()),
+    );
+    for a in 0..g.n_axes() {
+        t.push(
+            axis_column(g.key(a)),
+            Column::F64(
+                j.iter()
+                    .map(|x| {
+                        if x.axis == a {
+                            x.location
+                        } else {
+                            g.value(x.below, a)
+                        }
+                    })
+                    .collect(),
+            ),
+        );
+    }
+    t.push(
+        "from",
+        Column::F64(j.iter().map(|x| g.value(x.below, x.axis)).collect()),
+    );
+    t.push(
+        "to",
+        Column::F64(j.iter().map(|x| g.value(x.above, x.axis)).collect()),
+    );
+    t.push("size", Column::F64(j.iter().map(|x| x.size).collect()));
+    t.push(
+        "size_unit",
+        Column::Str(
+            j.iter()
+                .map(|x| {
+                    let unit = quantity_of(s, x.quantity).1;
+                    match x.kind {
+                        JumpKind::Step => unit.to_string(),
+                        JumpKind::Kink => {
+                            per_axis_unit(unit, crate::model::System::unit(g.key(x.axis)))
+                        }
+                    }
+                })
+                .collect(),
+        ),
+    );
+    t
+}
+
+/// One row per quantity and axis: first-order and total-effect indices (model.md §9) and the
+/// number of points they were computed over.
+pub fn sensitivity_table(s: &Summary) -> Table {
+    let v = &s.sensitivity;
+    let mut t = Table::default();
+    t.push(
+        "quantity",
+        Column::Str(v.iter().map(|x| x.quantity.clone()).collect()),
+    );
+    t.push(
+        "axis",
+        Column::Str(v.iter().map(|x| axis_column(s.grid.key(x.axis))).collect()),
+    );
+    t.push(
+        "first_order",
+        Column::F64(v.iter().map(|x| x.first_order).collect()),
+    );
+    t.push("total", Column::F64(v.iter().map(|x| x.total).collect()));
+    t.push(
+        "n_points",
+        Column::U64(v.iter().map(|x| Some(x.n_points as u64)).collect()),
+    );
     t
 }

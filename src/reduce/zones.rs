@@ -1,106 +1,126 @@
 //! Zones found from the data (model.md §6), or declared in the study.
 //!
-//! 1. **Jumps.** Along each swept axis (every line of the grid along that axis, pooled), for
-//!    `xmax` and for `DI`:
-//!    * a **step** between neighbours `i`, `i+1`: the first difference `Δ_i` is an outlier,
-//!      `|Δ_i - median(Δ)| / (1.4826 MAD(Δ)) > jump_k` (`[zones].jump_k`, default 6);
-//!    * a **kink** at `i` (the curve turns abruptly, as the first peak does near e = 0.74,
-//!      model.md §7): the second difference `Δ²_i = Δ_i - Δ_{i-1}` is an outlier by the same
-//!      rule *and* the slope changes by more than [`KINK_STEPS`] typical steps,
-//!      `|Δ²_i - median(Δ²)| > KINK_STEPS · median(|Δ|)`. The second condition keeps the gentle
-//!      curvature of very smooth data (whose MAD is tiny) from counting as a kink. A step makes
-//!      two outlying second differences, one either side; those are not kinks.
-//!
-//!    1.4826 MAD estimates the SD of normal differences; a smooth curve has differences that
-//!    drift slowly, so they stay within a few MADs of their median, while a jump stands out
-//!    however large the smooth drift is. The scale is floored at `1e-3 median(|Δ|)` so that
-//!    exactly linear data (MAD = 0) does not turn rounding into jumps. `xmax` is the ideal
-//!    case's (noise-free, unperturbed: the design's own behaviour, which noise would blur) when
-//!    every point has one, else the mean over the cases; DI is the point's DI.
-//! 2. **Labels.** Every design point gets one label:
-//!    * `unreliable around a jump` — it is on either side of a step, or at a kink or next to
-//!      it: a small error in the design variable changes the behaviour abruptly (the paper's
-//!      zone II);
-//!    * `strong damping, reliable` — `R >= r_min` and `DI >= di_strong` (the paper's zone I);
-//!    * `reliable, weak damping` — `R >= r_min`, `DI < di_strong` (zone III);
-//!    * `unreliable, strong damping` / `unreliable, weak damping` — `R < r_min`;
+//! 1. **Jumps** along every axis, located and classed by [`super::jumps`].
+//! 2. **Classes.** Every design point gets one:
+//!    * `around a jump` — its ±1-step neighbourhood along an axis reaches a located jump: a
+//!      small error in that design variable changes the behaviour abruptly (the paper's zone II);
+//!    * `strong damping, reliable` — R shown at or above `r_min`: the lower end of its
+//!      bootstrap interval (at the study's confidence) is `>= r_min`; and `DI >= di_strong`
+//!      (the paper's zone I);
+//!    * `reliable, weak damping` — R shown at or above `r_min`, `DI < di_strong` (zone III);
+//!    * `strong damping, reliability not shown` / `weak damping, reliability not shown` — the
+//!      interval of R reaches below `r_min`: with a dozen cases a point whose R is just above
+//!      the threshold is not shown to reach it;
 //!    * `no data` — R or DI unknown (no ok run, or no ok ideal run).
 //!
-//!    `r_min` is `[zones].r_min` (default 0.98), `di_strong` is `[zones].di_strong` (default: the
-//!    median DI of the sweep, so "strong" means "better than half of the designs").
-//! 3. **Zones.** With one swept axis, contiguous runs of one label are the zones, named I, II,
-//!    … along the axis; a run shorter than [`MIN_ZONE_POINTS`] points that is neither around a
-//!    jump nor without data is merged into its longer neighbour (one stray point does not make
-//!    a zone; a failed one stays visible). With two or
-//!    more axes, the points of one label form one region of the map (its ranges are the
-//!    bounding box). Each zone gets its mean R, mean DI and the perfectibility of eq. 11 applied
-//!    to those means, normalised by the best zone means (as in the paper's Table III).
-//! 4. **Declared zones** (`[zones].declared`) replace steps 2–3: a point belongs to the first
-//!    declared zone whose range on its axis holds the point's value. Jumps are still reported.
+//!    `r_min` is `[zones].r_min` (default 0.98), `di_strong` is `[zones].di_strong` (default:
+//!    the median DI of the sweep, so "strong" means "better than half of the designs").
+//! 3. **Zones** are the regions of [`super::regions`]: connected sets of points of one class,
+//!    tiny ones (fewer than `min_zone` of the design points) merged into a neighbour; the points
+//!    around a jump and the points without data are never merged. Zones are named I, II, … in
+//!    the order of their first point (along the axis with one axis).
+//! 4. **Each zone** is described by its points: class, count, bounding box, the best point
+//!    (highest perfectibility), a representative point (the one deepest inside the zone: the
+//!    most steps from its border and from the edge of the grid), the means of R and DI, and
+//!    eq. 11 applied to those means normalised by the best zone means (as in the paper's
+//!    Table III).
+//! 5. **Declared zones** (`[[zones.zone]]`) replace steps 2–3: a point belongs to the first
+//!    declared zone whose range on its axis holds the point's value. Jumps are still found.
+
+use std::collections::VecDeque;
 
 use super::PointStats;
-use super::stats::{mad, median, perfectibility};
-use crate::study::{Ranking, Zones};
+use super::grid::Grid;
+use super::jumps::{self, IdealCase, Jump, JumpSettings, Quantity};
+use super::regions::{self, MISSING, NO_REGION};
+use super::stats::{median, perfectibility};
+use crate::study::{DeclaredZone, Ranking};
 
-/// Zones shorter than this (in design points, along one axis) are merged into a neighbour
-/// unless they sit around a jump.
-pub const MIN_ZONE_POINTS: usize = 3;
-
-/// A kink must change the slope by more than this many typical steps (`median |Δ|`). A
-/// symmetric V (slopes +s, -s) changes it by 2 typical steps and is a kink; the gentle bends of
-/// the paper study's first peak (e = 0.51, 0.92) change it by about 1 and are not, its turns at
-/// e = 0.74 and 0.80 by about 4.6 and are.
-pub const KINK_STEPS: f64 = 1.5;
-
-pub const LABEL_JUMP: &str = "unreliable around a jump";
-pub const LABEL_STRONG: &str = "strong damping, reliable";
-pub const LABEL_WEAK: &str = "reliable, weak damping";
-pub const LABEL_UNREL_STRONG: &str = "unreliable, strong damping";
-pub const LABEL_UNREL_WEAK: &str = "unreliable, weak damping";
-pub const LABEL_NO_DATA: &str = "no data";
-
-/// Every automatic label, in the order regions are listed with two or more axes.
-pub const LABELS: [&str; 6] = [
-    LABEL_STRONG,
-    LABEL_JUMP,
-    LABEL_WEAK,
-    LABEL_UNREL_STRONG,
-    LABEL_UNREL_WEAK,
-    LABEL_NO_DATA,
-];
-
-/// A jump along one axis: a step between two neighbouring design points, or a kink at one.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Jump {
-    pub axis: String,
-    /// `xmax` or `di`.
-    pub quantity: &'static str,
-    /// `step` or `kink`.
-    pub kind: &'static str,
-    /// The axis values spanned: the two sides of a step, the neighbours of a kink.
-    pub from: f64,
-    pub to: f64,
-    /// Where it is: the middle of a step, the point of a kink.
-    pub at: f64,
-    /// The design points it marks (2 for a step, 3 for a kink).
-    pub points: Vec<u64>,
-    /// The first difference of a step or the second difference of a kink (m or m/s), and its
-    /// robust z-score.
-    pub delta: f64,
-    pub z: f64,
+/// The class of a design point; see the module doc.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Class {
+    StrongReliable,
+    WeakReliable,
+    StrongNotShown,
+    WeakNotShown,
+    AroundJump,
+    NoData,
 }
 
-/// A zone: a contiguous range of the axis (one axis) or a region of the map (two or more).
+impl Class {
+    pub const ALL: [Class; 6] = [
+        Class::StrongReliable,
+        Class::WeakReliable,
+        Class::StrongNotShown,
+        Class::WeakNotShown,
+        Class::AroundJump,
+        Class::NoData,
+    ];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Class::StrongReliable => "strong damping, reliable",
+            Class::WeakReliable => "reliable, weak damping",
+            Class::StrongNotShown => "strong damping, reliability not shown",
+            Class::WeakNotShown => "weak damping, reliability not shown",
+            Class::AroundJump => "around a jump",
+            Class::NoData => "no data",
+        }
+    }
+
+    /// A zone of this class may hold a recommended design: R shown at or above `r_min` and no
+    /// jump nearby.
+    pub fn recommended(self) -> bool {
+        matches!(self, Class::StrongReliable | Class::WeakReliable)
+    }
+
+    /// Never merged away nor merged into (see [`super::regions`]).
+    pub fn sticky(self) -> bool {
+        matches!(self, Class::AroundJump | Class::NoData)
+    }
+
+    fn from_u8(c: u8) -> Class {
+        Class::ALL[c as usize]
+    }
+}
+
+/// The settings of zone finding beyond the study's `r_min`, `di_strong` and declared zones
+/// (`[zones]` of the study, see [`crate::study::Zones`] for their defaults and ranges).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ZoneParams {
+    /// A region of fewer than this fraction of the design points merges into a neighbour.
+    pub min_zone: f64,
+    /// The step tolerance of a quantity is this many times its typical spread across a point's
+    /// cases (the median over the points of its SD over the ok cases).
+    pub step_spread: f64,
+    /// A kink changes the slope of the response by at least this many typical slopes.
+    pub kink_slope: f64,
+    /// Jumps are located to this fraction of the grid step.
+    pub locate: f64,
+}
+
+/// What decides the zones.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ZoneConfig<'a> {
+    pub r_min: f64,
+    pub di_strong: Option<f64>,
+    pub declared: &'a [DeclaredZone],
+    pub params: ZoneParams,
+}
+
+/// A zone: a connected region of one class, or a declared zone.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Zone {
     /// "I", "II", … or the declared name.
     pub name: String,
-    /// What the zone is good for (one of [`LABELS`]), or "declared".
-    pub label: String,
-    pub declared: bool,
-    /// Per axis: key, smallest and largest value of the zone's points.
-    pub ranges: Vec<(String, f64, f64)>,
+    /// The class of its points; `None` for a declared zone.
+    pub class: Option<Class>,
+    /// Per axis: the smallest and largest value of the zone's points.
+    pub ranges: Vec<(f64, f64)>,
     pub n_points: usize,
+    /// The point with the highest perfectibility, and the one deepest inside the zone.
+    pub best: Option<u64>,
+    pub representative: Option<u64>,
     /// Means over the zone's points with known R and DI.
     pub mean_r: f64,
     pub mean_di: f64,
@@ -108,12 +128,40 @@ pub struct Zone {
     pub perfectibility: f64,
 }
 
+impl Zone {
+    /// The class label, or "declared".
+    pub fn label(&self) -> &'static str {
+        self.class.map_or("declared", Class::label)
+    }
+
+    pub fn declared(&self) -> bool {
+        self.class.is_none()
+    }
+}
+
+/// The jump-finding figures the report quotes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct JumpStats {
+    /// The step tolerance per quantity ([`Quantity::index`]), in the quantity's units.
+    pub step_tol: [f64; 2],
+    /// The typical slope of the response per axis.
+    pub typical_slope: Vec<f64>,
+    pub candidates: usize,
+    pub dropped: usize,
+    pub failed: usize,
+    /// Extra simulations of the ideal case.
+    pub sims: u64,
+}
+
 /// What [`find`] returns.
 #[derive(Clone, Debug)]
 pub struct Found {
     pub zones: Vec<Zone>,
     pub jumps: Vec<Jump>,
+    pub stats: JumpStats,
     pub di_strong: f64,
+    /// The smallest zone that is not merged (design points).
+    pub min_zone_points: usize,
 }
 
 /// Roman numeral of `n >= 1`.
@@ -143,308 +191,252 @@ pub fn roman(mut n: usize) -> String {
     s
 }
 
-/// Robust z-scores of differences: `|Δ - median| / max(1.4826 MAD, 1e-3 median|Δ|)`.
-pub fn robust_z(diffs: &[f64]) -> Vec<f64> {
-    if diffs.is_empty() {
-        return Vec::new();
-    }
-    let med = median(diffs);
-    let abs: Vec<f64> = diffs.iter().map(|d| d.abs()).collect();
-    let scale = (1.4826 * mad(diffs))
-        .max(1e-3 * median(&abs))
-        .max(f64::MIN_POSITIVE);
-    diffs.iter().map(|d| (d - med).abs() / scale).collect()
-}
-
-/// Finds steps and kinks along every axis; `points` must be sorted by point index.
-pub fn jumps(axes: &[(String, Vec<f64>)], points: &[PointStats], jump_k: f64) -> Vec<Jump> {
-    let n_total: usize = axes.iter().map(|a| a.1.len()).product();
-    let mut at = vec![usize::MAX; n_total];
-    for (i, p) in points.iter().enumerate() {
-        if (p.point as usize) < n_total {
-            at[p.point as usize] = i;
-        }
-    }
-    let mut out = Vec::new();
-    let ideal = points.iter().all(|p| p.xmax_ideal.is_finite());
-    for (a, (key, values)) in axes.iter().enumerate() {
-        // Stride of axis `a` in the point index (last axis fastest).
-        let stride: usize = axes[a + 1..].iter().map(|x| x.1.len()).product();
-        let len = values.len();
-        for quantity in ["xmax", "di"] {
-            let get = |i: usize| -> f64 {
-                if i == usize::MAX {
-                    return f64::NAN;
-                }
-                let p = &points[i];
-                match (quantity, ideal) {
-                    ("xmax", true) => p.xmax_ideal,
-                    ("xmax", false) => p.xmax_mean,
-                    _ => p.di,
-                }
-            };
-            // (positions in `points`, index along the axis, difference)
-            let mut steps: Vec<([usize; 2], usize, f64)> = Vec::new();
-            let mut kinks: Vec<([usize; 3], usize, f64)> = Vec::new();
-            for base in 0..n_total {
-                // `base` starts a line when its index along `a` is 0.
-                if !(base / stride).is_multiple_of(len) {
-                    continue;
-                }
-                let line: Vec<usize> = (0..len).map(|i| at[base + i * stride]).collect();
-                let d: Vec<f64> = (0..len.saturating_sub(1))
-                    .map(|i| get(line[i + 1]) - get(line[i]))
-                    .collect();
-                for i in 0..d.len() {
-                    if d[i].is_finite() {
-                        steps.push(([line[i], line[i + 1]], i, d[i]));
-                    }
-                    if i > 0 && (d[i] - d[i - 1]).is_finite() {
-                        kinks.push(([line[i - 1], line[i], line[i + 1]], i, d[i] - d[i - 1]));
-                    }
-                }
-            }
-            let diffs: Vec<f64> = steps.iter().map(|s| s.2).collect();
-            let mut stepped = std::collections::HashSet::new();
-            for (&(pp, i, d), z) in steps.iter().zip(robust_z(&diffs)) {
-                if z > jump_k {
-                    stepped.insert(pp);
-                    out.push(Jump {
-                        axis: key.clone(),
-                        quantity,
-                        kind: "step",
-                        from: values[i],
-                        to: values[i + 1],
-                        at: (values[i] + values[i + 1]) / 2.0,
-                        points: pp.iter().map(|&k| points[k].point).collect(),
-                        delta: d,
-                        z,
-                    });
-                }
-            }
-            let abs: Vec<f64> = diffs.iter().map(|d| d.abs()).collect();
-            let typical = median(&abs);
-            let d2: Vec<f64> = kinks.iter().map(|k| k.2).collect();
-            let med2 = median(&d2);
-            for (&(pp, i, d), z) in kinks.iter().zip(robust_z(&d2)) {
-                // A step makes two outlying second differences, one either side: not kinks.
-                let by_step =
-                    stepped.contains(&[pp[0], pp[1]]) || stepped.contains(&[pp[1], pp[2]]);
-                if z > jump_k && (d - med2).abs() > KINK_STEPS * typical && !by_step {
-                    out.push(Jump {
-                        axis: key.clone(),
-                        quantity,
-                        kind: "kink",
-                        from: values[i - 1],
-                        to: values[i + 1],
-                        at: values[i],
-                        points: pp.iter().map(|&k| points[k].point).collect(),
-                        delta: d,
-                        z,
-                    });
-                }
-            }
-        }
-    }
-    out
-}
-
-/// The automatic label of a point.
-pub fn label(p: &PointStats, near_jump: bool, r_min: f64, di_strong: f64) -> &'static str {
+/// The class of a point (module doc).
+pub fn classify(p: &PointStats, near_jump: bool, r_min: f64, di_strong: f64) -> Class {
     if !(p.reliability.is_finite() && p.di.is_finite()) {
-        LABEL_NO_DATA
+        Class::NoData
     } else if near_jump {
-        LABEL_JUMP
-    } else if p.reliability >= r_min {
-        if p.di >= di_strong {
-            LABEL_STRONG
-        } else {
-            LABEL_WEAK
-        }
-    } else if p.di >= di_strong {
-        LABEL_UNREL_STRONG
+        Class::AroundJump
     } else {
-        LABEL_UNREL_WEAK
+        // The lower end of the interval; R itself when there is no interval (one ok case).
+        let lo = if p.reliability_lo.is_finite() {
+            p.reliability_lo.min(p.reliability)
+        } else {
+            p.reliability
+        };
+        match (lo >= r_min, p.di >= di_strong) {
+            (true, true) => Class::StrongReliable,
+            (true, false) => Class::WeakReliable,
+            (false, true) => Class::StrongNotShown,
+            (false, false) => Class::WeakNotShown,
+        }
     }
 }
 
-/// Labels the points, cuts the zones and fills `points[i].zone`; `points` sorted by index.
-pub fn find(
-    axes: &[(String, Vec<f64>)],
-    points: &mut [PointStats],
-    cfg: &Zones,
-    ranking: &Ranking,
-) -> Found {
-    let jumps = jumps(axes, points, cfg.jump_k);
-    let dis: Vec<f64> = points
-        .iter()
-        .map(|p| p.di)
-        .filter(|d| d.is_finite())
-        .collect();
-    let di_strong = cfg.di_strong.unwrap_or_else(|| median(&dis));
-    let mut members: Vec<(String, String, bool, Vec<usize>)> = Vec::new(); // name, label, declared, points
-    if !cfg.declared.is_empty() {
-        let mut lists: Vec<Vec<usize>> = vec![Vec::new(); cfg.declared.len()];
-        for (i, p) in points.iter().enumerate() {
-            let hit = cfg.declared.iter().position(|z| {
-                axes.iter().position(|a| a.0 == z.axis).is_some_and(|a| {
-                    let v = p.values[a];
-                    let tol = 1e-9 * (z.to - z.from).abs().max(f64::MIN_POSITIVE);
-                    v >= z.from.min(z.to) - tol && v <= z.from.max(z.to) + tol
-                })
-            });
-            if let Some(k) = hit {
-                lists[k].push(i);
-            }
-        }
-        for (z, list) in cfg.declared.iter().zip(lists) {
-            members.push((z.name.clone(), "declared".into(), true, list));
-        }
-    } else {
-        let mut near = vec![false; points.len()];
-        let index: std::collections::HashMap<u64, usize> = points
-            .iter()
-            .enumerate()
-            .map(|(i, p)| (p.point, i))
-            .collect();
-        for j in &jumps {
-            for p in &j.points {
-                if let Some(&i) = index.get(p) {
-                    near[i] = true;
-                }
-            }
-        }
-        let labels: Vec<&str> = points
-            .iter()
-            .zip(&near)
-            .map(|(p, &nj)| label(p, nj, cfg.r_min, di_strong))
-            .collect();
-        if axes.len() == 1 {
-            for run in merge_short(runs(&labels)) {
-                let name = roman(members.len() + 1);
-                members.push((name, run.0.to_string(), false, run.1));
-            }
+/// The step tolerance of each quantity: `step_spread` times the median over the points of its
+/// SD over the ok cases; without a spread (one case per point, or cases that do not differ:
+/// the median SD is below 1e-9 of the median magnitude), 1 % of its median magnitude.
+pub fn step_tolerances(points: &[PointStats], step_spread: f64) -> [f64; 2] {
+    let tol = |sd: &dyn Fn(&PointStats) -> f64, level: &dyn Fn(&PointStats) -> f64| {
+        let sds: Vec<f64> = points.iter().map(sd).collect();
+        let levels: Vec<f64> = points.iter().map(|p| level(p).abs()).collect();
+        let (s, l) = (median(&sds), median(&levels));
+        if s > 1e-9 * l {
+            step_spread * s
         } else {
-            for l in LABELS {
-                let list: Vec<usize> = (0..points.len()).filter(|&i| labels[i] == l).collect();
-                if !list.is_empty() {
-                    let name = roman(members.len() + 1);
-                    members.push((name, l.to_string(), false, list));
-                }
-            }
+            0.01 * l
         }
-    }
-    let mut zones: Vec<Zone> = members
-        .into_iter()
-        .map(|(name, label, declared, list)| {
-            for &i in &list {
-                points[i].zone = name.clone();
+    };
+    [
+        tol(&|p| p.response.sd, &|p| p.response.mean),
+        tol(&|p| p.di_sd, &|p| p.di),
+    ]
+}
+
+/// Finds the jumps, classes the points, cuts the zones and fills `points[i].zone` and
+/// `points[i].class`. `points` sorted by index; `pos[p]` is the position of grid point `p` in
+/// `points` (`u32::MAX` when missing).
+pub fn find(
+    grid: &Grid,
+    points: &mut [PointStats],
+    pos: &[u32],
+    cfg: &ZoneConfig,
+    ranking: &Ranking,
+    ideal: &dyn IdealCase,
+) -> Found {
+    let at = |p: u64| -> Option<usize> {
+        let i = pos[p as usize];
+        (i != u32::MAX).then_some(i as usize)
+    };
+    let step_tol = step_tolerances(points, cfg.params.step_spread);
+    let q: Vec<[f64; 2]> = pos
+        .iter()
+        .map(|&i| {
+            if i == u32::MAX {
+                [f64::NAN; 2]
+            } else {
+                let p = &points[i as usize];
+                [p.response.ideal, p.di_ideal]
             }
-            zone_of(axes, points, name, label, declared, &list)
         })
         .collect();
-    let r_max = zones
-        .iter()
-        .map(|z| z.mean_r)
-        .filter(|v| v.is_finite())
-        .fold(f64::NAN, f64::max);
-    let di_max = zones
-        .iter()
-        .map(|z| z.mean_di)
-        .filter(|v| v.is_finite())
-        .fold(f64::NAN, f64::max);
+    let settings = JumpSettings {
+        step_tol,
+        kink_slope: cfg.params.kink_slope,
+        locate: cfg.params.locate,
+    };
+    let found = jumps::find(grid, &q, &settings, ideal);
+    drop(q);
+    let dis: Vec<f64> = points.iter().map(|p| p.di).collect();
+    let di_strong = cfg.di_strong.unwrap_or_else(|| median(&dis));
+    let mut near = vec![false; points.len()];
+    for j in &found.jumps {
+        for p in jumps::around(grid, j) {
+            if let Some(i) = at(p) {
+                near[i] = true;
+            }
+        }
+    }
+    let mut class = vec![MISSING; grid.len() as usize];
+    for (i, p) in points.iter_mut().enumerate() {
+        let c = classify(p, near[i], cfg.r_min, di_strong);
+        p.class = c;
+        class[p.point as usize] = c as u8;
+    }
+    let present = points.len();
+    let min_zone_points = ((cfg.params.min_zone * present as f64).ceil() as usize).max(1);
+    let (region_of, members): (Vec<u32>, Vec<(String, Option<Class>)>) = if cfg.declared.is_empty()
+    {
+        let (of, regs) = regions::regions(grid, &class, min_zone_points, |c| {
+            Class::from_u8(c).sticky()
+        });
+        let names = regs
+            .iter()
+            .enumerate()
+            .map(|(i, r)| (roman(i + 1), Some(Class::from_u8(r.class))))
+            .collect();
+        (of, names)
+    } else {
+        declared_zones(grid, points, cfg.declared)
+    };
+    drop(class);
+    let mut lists: Vec<Vec<usize>> = vec![Vec::new(); members.len()];
+    for (i, p) in points.iter_mut().enumerate() {
+        let z = region_of[p.point as usize];
+        p.zone = z;
+        if z != NO_REGION {
+            lists[z as usize].push(i);
+        }
+    }
+    let depth = depth(grid, &region_of);
+    drop(region_of);
+    let mut zones: Vec<Zone> = members
+        .into_iter()
+        .zip(&lists)
+        .map(|((name, class), list)| describe(grid, points, &depth, name, class, list))
+        .collect();
+    let best = |f: fn(&Zone) -> f64| {
+        zones
+            .iter()
+            .map(f)
+            .filter(|v| v.is_finite())
+            .fold(f64::NAN, f64::max)
+    };
+    let (r_max, di_max) = (best(|z| z.mean_r), best(|z| z.mean_di));
     for z in &mut zones {
         z.perfectibility =
             perfectibility(z.mean_r, z.mean_di, r_max, di_max, ranking.wf1, ranking.wf2);
     }
     Found {
         zones,
-        jumps,
+        jumps: found.jumps,
+        stats: JumpStats {
+            step_tol,
+            typical_slope: found.typical_slope,
+            candidates: found.candidates,
+            dropped: found.dropped,
+            failed: found.failed,
+            sims: found.sims,
+        },
         di_strong,
+        min_zone_points,
     }
 }
 
-/// Contiguous runs of equal labels: (label, point positions).
-fn runs<'l>(labels: &[&'l str]) -> Vec<(&'l str, Vec<usize>)> {
-    let mut out: Vec<(&str, Vec<usize>)> = Vec::new();
-    for (i, &l) in labels.iter().enumerate() {
-        match out.last_mut() {
-            Some((last, list)) if *last == l => list.push(i),
-            _ => out.push((l, vec![i])),
+/// Declared zones: the zone of every grid point (`NO_REGION` outside them) and their names.
+fn declared_zones(
+    grid: &Grid,
+    points: &[PointStats],
+    declared: &[DeclaredZone],
+) -> (Vec<u32>, Vec<(String, Option<Class>)>) {
+    let mut of = vec![NO_REGION; grid.len() as usize];
+    for p in points {
+        let hit = declared.iter().position(|z| {
+            grid.axes
+                .iter()
+                .position(|a| a.0 == z.axis)
+                .is_some_and(|a| {
+                    let v = grid.value(p.point, a);
+                    let tol = 1e-9 * (z.to - z.from).abs().max(f64::MIN_POSITIVE);
+                    v >= z.from.min(z.to) - tol && v <= z.from.max(z.to) + tol
+                })
+        });
+        if let Some(k) = hit {
+            of[p.point as usize] = k as u32;
         }
     }
-    out
+    (
+        of,
+        declared.iter().map(|z| (z.name.clone(), None)).collect(),
+    )
 }
 
-/// Runs that are never merged away nor merged into: around a jump, and no data (a failed point
-/// must stay visible).
-fn sticky(label: &str) -> bool {
-    label == LABEL_JUMP || label == LABEL_NO_DATA
-}
-
-/// Merges runs shorter than [`MIN_ZONE_POINTS`] (except jump and no-data runs) into their
-/// longer neighbour that is not one of those, shortest first, then joins neighbours that ended
-/// up with the same label. A short run between such runs, or at an end next to one, stays.
-fn merge_short(mut runs: Vec<(&str, Vec<usize>)>) -> Vec<(&str, Vec<usize>)> {
-    let target = |runs: &[(&str, Vec<usize>)], i: usize| -> Option<usize> {
-        let ok = |j: usize| !sticky(runs[j].0);
-        let left = i.checked_sub(1).filter(|&j| ok(j));
-        let right = (i + 1 < runs.len()).then_some(i + 1).filter(|&j| ok(j));
-        match (left, right) {
-            (Some(l), Some(r)) => Some(if runs[r].1.len() > runs[l].1.len() {
-                r
-            } else {
-                l
-            }),
-            (l, r) => l.or(r),
+/// Steps from every point to the border of its zone or the edge of the grid (0 on them), by a
+/// breadth-first search from those points inward; `u32::MAX` where there is neither.
+fn depth(grid: &Grid, zone_of: &[u32]) -> Vec<u32> {
+    let n = zone_of.len();
+    let mut d = vec![u32::MAX; n];
+    let mut queue = VecDeque::new();
+    for p in 0..n as u64 {
+        let z = zone_of[p as usize];
+        if z == NO_REGION {
+            continue;
         }
-    };
-    loop {
-        let victim = runs
-            .iter()
-            .enumerate()
-            .filter(|(i, r)| {
-                !sticky(r.0) && r.1.len() < MIN_ZONE_POINTS && target(&runs, *i).is_some()
-            })
-            .min_by_key(|(i, r)| (r.1.len(), *i))
-            .map(|(i, _)| i);
-        let Some(i) = victim else { break };
-        let Some(into) = target(&runs, i) else { break };
-        let (_, moved) = runs.remove(i);
-        let into = if into > i { into - 1 } else { into };
-        runs[into].1.extend(moved);
-        runs[into].1.sort_unstable();
-        // Join equal neighbours.
-        let mut joined: Vec<(&str, Vec<usize>)> = Vec::new();
-        for r in runs {
-            match joined.last_mut() {
-                Some(last) if last.0 == r.0 => last.1.extend(r.1),
-                _ => joined.push(r),
+        let border = (0..grid.n_axes()).any(|a| {
+            grid.end(p, a).is_some()
+                || [-1, 1]
+                    .iter()
+                    .any(|&s| grid.step(p, a, s).is_some_and(|q| zone_of[q as usize] != z))
+        });
+        if border {
+            d[p as usize] = 0;
+            queue.push_back(p);
+        }
+    }
+    while let Some(p) = queue.pop_front() {
+        let z = zone_of[p as usize];
+        for a in 0..grid.n_axes() {
+            for s in [-1, 1] {
+                if let Some(q) = grid.step(p, a, s)
+                    && zone_of[q as usize] == z
+                    && d[q as usize] == u32::MAX
+                {
+                    d[q as usize] = d[p as usize] + 1;
+                    queue.push_back(q);
+                }
             }
         }
-        runs = joined;
     }
-    runs
+    d
 }
 
-fn zone_of(
-    axes: &[(String, Vec<f64>)],
+fn describe(
+    grid: &Grid,
     points: &[PointStats],
+    depth: &[u32],
     name: String,
-    label: String,
-    declared: bool,
+    class: Option<Class>,
     list: &[usize],
 ) -> Zone {
-    let ranges = axes
-        .iter()
-        .enumerate()
-        .map(|(a, (key, _))| {
-            let vals = list.iter().map(|&i| points[i].values[a]);
-            let lo = vals.clone().fold(f64::INFINITY, f64::min);
-            let hi = vals.fold(f64::NEG_INFINITY, f64::max);
-            (key.clone(), lo, hi)
+    let ranges = (0..grid.n_axes())
+        .map(|a| {
+            list.iter()
+                .map(|&i| grid.value(points[i].point, a))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                    (lo.min(v), hi.max(v))
+                })
         })
         .collect();
+    let best = list
+        .iter()
+        .filter(|&&i| points[i].rank.is_some())
+        .min_by_key(|&&i| points[i].rank)
+        .map(|&i| points[i].point);
+    // Deepest point; ties (and zones without a border) go to the first in point order.
+    let representative = list.iter().map(|&i| points[i].point).max_by_key(|&p| {
+        let d = depth[p as usize];
+        (if d == u32::MAX { 0 } else { d }, std::cmp::Reverse(p))
+    });
     let known: Vec<&PointStats> = list
         .iter()
         .map(|&i| &points[i])
@@ -461,13 +453,22 @@ fn zone_of(
     };
     Zone {
         name,
-        label,
-        declared,
+        class,
         ranges,
         n_points: list.len(),
+        best,
+        representative,
         mean_r,
         mean_di,
         perfectibility: f64::NAN,
+    }
+}
+
+/// The label of a quantity in tables: the response's name or `di`.
+pub fn quantity_name(q: Quantity, response: &str) -> String {
+    match q {
+        Quantity::Response => response.to_string(),
+        Quantity::Di => "di".to_string(),
     }
 }
 
@@ -485,40 +486,11 @@ mod tests {
     }
 
     #[test]
-    fn robust_z_singles_out_a_step() {
-        let mut d = vec![0.01; 20];
-        for (i, x) in d.iter_mut().enumerate() {
-            *x += 1e-4 * ((i * 7) % 5) as f64;
-        }
-        d[12] = 0.05;
-        let z = robust_z(&d);
-        let over: Vec<usize> = (0..d.len()).filter(|&i| z[i] > 6.0).collect();
-        assert_eq!(over, vec![12]);
-        // Exactly linear data: MAD 0, the floor keeps rounding from becoming a jump.
-        let lin: Vec<f64> = (0..20)
-            .map(|i| 0.1 * (i + 1) as f64 - 0.1 * i as f64)
-            .collect();
-        assert!(robust_z(&lin).iter().all(|&z| z < 6.0));
-    }
-
-    #[test]
-    fn short_runs_merge_into_the_longer_non_jump_neighbour() {
-        let l =
-            |s: &'static str, n: usize, start: usize| (s, (start..start + n).collect::<Vec<_>>());
-        // strong×5, weak×1, strong×4, jump×2, weak×1 (at the end, next to a jump: stays).
-        let runs = vec![
-            l(LABEL_STRONG, 5, 0),
-            l(LABEL_WEAK, 1, 5),
-            l(LABEL_STRONG, 4, 6),
-            l(LABEL_JUMP, 2, 10),
-            l(LABEL_WEAK, 1, 12),
-        ];
-        let out = merge_short(runs);
-        let shape: Vec<(&str, usize)> = out.iter().map(|r| (r.0, r.1.len())).collect();
-        assert_eq!(
-            shape,
-            vec![(LABEL_STRONG, 10), (LABEL_JUMP, 2), (LABEL_WEAK, 1)]
-        );
-        assert_eq!(out[0].1, (0..10).collect::<Vec<_>>());
+    fn depth_counts_steps_to_the_border_and_the_edge() {
+        // One zone on a 7-point line: the edge is the border; the middle point is 3 deep.
+        let g = Grid::new(vec![("x".into(), (0..7).map(f64::from).collect())]);
+        assert_eq!(depth(&g, &[0; 7]), vec![0, 1, 2, 3, 2, 1, 0]);
+        // Two zones meeting between 2 and 3.
+        assert_eq!(depth(&g, &[0, 0, 0, 1, 1, 1, 1]), vec![0, 1, 0, 0, 1, 1, 0]);
     }
 }

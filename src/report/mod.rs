@@ -1,8 +1,12 @@
-//! Report: markdown tables and charts (the only module that knows plotters).
+//! Report: markdown and charts (the only module that knows plotters).
 //!
-//! [`markdown`] writes `report.md` from a reduction, [`charts`] the summary charts and the
-//! waveforms (SVG and PNG), [`tradeoff_chart`] the solver cost/error chart of `tradeoff`.
+//! [`markdown`] writes `report.md` from a reduction, one function per section; [`charts`] the
+//! summary charts, the waveforms and the solver cost/error chart of `tradeoff`, each with its
+//! data beside it.
 
 pub mod charts;
 pub mod markdown;
-pub mod tradeoff_chart;
+
+pub use charts::plumbing::axis_unit;
+/// The solver chart of `tradeoff` (kept at its old path for its callers).
+pub use charts::tradeoff as tradeoff_chart;

@@ -96,6 +96,20 @@ pub struct WriteOptions<'a> {
 /// metadata `impactsweep.version`, `impactsweep.schema_version`, `impactsweep.table` and
 /// `extra`, no timestamps (the same batch always gives the same bytes).
 pub fn encode(table: TableKind, batch: &RecordBatch, opts: &WriteOptions) -> Result<Vec<u8>> {
+    let mut writer = ArrowWriter::try_new(
+        Vec::new(),
+        batch.schema(),
+        Some(properties(table, batch.num_rows(), opts)),
+    )
+    .context("starting a Parquet writer")?;
+    writer.write(batch).context("encoding Parquet")?;
+    writer.into_inner().context("finishing Parquet")
+}
+
+/// The writer properties of every file: row groups of `rows` rows (one per file, but for the
+/// summary of more than [`summary::BATCH_ROWS`] design points), snappy, the version and table
+/// keys and `opts.extra`, dictionary encoding only for `opts.dictionary`.
+pub fn properties(table: TableKind, rows: usize, opts: &WriteOptions) -> WriterProperties {
     let mut kv = Vec::new();
     for (k, v) in &opts.extra {
         kv.push(KeyValue::new(k.clone(), v.clone()));
@@ -115,17 +129,13 @@ pub fn encode(table: TableKind, batch: &RecordBatch, opts: &WriteOptions) -> Res
     let mut props = WriterProperties::builder()
         .set_compression(Compression::SNAPPY)
         .set_dictionary_enabled(false)
-        // One row group per file, whatever the row count.
-        .set_max_row_group_row_count(Some(batch.num_rows().max(1)))
+        .set_max_row_group_row_count(Some(rows.max(1)))
         .set_max_row_group_bytes(None)
         .set_key_value_metadata(Some(kv));
     for col in opts.dictionary {
         props = props.set_column_dictionary_enabled(ColumnPath::from(*col), true);
     }
-    let mut writer = ArrowWriter::try_new(Vec::new(), batch.schema(), Some(props.build()))
-        .context("starting a Parquet writer")?;
-    writer.write(batch).context("encoding Parquet")?;
-    writer.into_inner().context("finishing Parquet")
+    props.build()
 }
 
 /// What [`write_bytes`] wrote.

@@ -67,16 +67,19 @@ pub enum TableKind {
     Zones,
     /// `jumps.parquet`, `jumps.csv`: one row per jump.
     Jumps,
+    /// `sensitivity.parquet`, `sensitivity.csv`: one row per quantity and axis.
+    Sensitivity,
     /// `tradeoff.parquet`: one row per solver setting.
     Tradeoff,
 }
 
 impl TableKind {
-    pub const ALL: [TableKind; 5] = [
+    pub const ALL: [TableKind; 6] = [
         TableKind::Points,
         TableKind::Summary,
         TableKind::Zones,
         TableKind::Jumps,
+        TableKind::Sensitivity,
         TableKind::Tradeoff,
     ];
 
@@ -87,6 +90,7 @@ impl TableKind {
             TableKind::Summary => "summary",
             TableKind::Zones => "zones",
             TableKind::Jumps => "jumps",
+            TableKind::Sensitivity => "sensitivity",
             TableKind::Tradeoff => "tradeoff",
         }
     }
@@ -96,15 +100,18 @@ impl TableKind {
 /// row" (a jump's `at` is in the unit of its `axis`).
 pub const UNIT_OF_AXIS: &str = "[axis]";
 /// See [`UNIT_OF_AXIS`].
-pub const UNIT_OF_QUANTITY: &str = "[quantity]";
-/// See [`UNIT_OF_AXIS`].
 pub const UNIT_OF_KNOB: &str = "[knob]";
+/// See [`UNIT_OF_AXIS`]: a jump's size is in the unit named in its `size_unit` column (the
+/// quantity's for a step, the quantity's per unit of the axis for a kink).
+pub const UNIT_OF_SIZE: &str = "[size_unit]";
 
 /// The unit of `column` in `table`; `None` for a column the contract does not know (the writer
 /// refuses it, so that no column goes undocumented).
 pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
-    if matches!(table, TableKind::Points | TableKind::Summary)
-        && let Some(key) = system_key(column)
+    if matches!(
+        table,
+        TableKind::Points | TableKind::Summary | TableKind::Jumps
+    ) && let Some(key) = system_key(column)
     {
         return system_unit(key);
     }
@@ -117,9 +124,15 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
                     return system_unit(key);
                 }
             }
+            for prefix in ["best_", "rep_"] {
+                if let Some(key) = column.strip_prefix(prefix).and_then(system_key) {
+                    return system_unit(key);
+                }
+            }
             zones_unit(column)
         }
         TableKind::Jumps => jumps_unit(column),
+        TableKind::Sensitivity => sensitivity_unit(column),
         TableKind::Tradeoff => tradeoff_unit(column),
     }
 }
@@ -139,15 +152,16 @@ fn points_unit(column: &str) -> Option<&'static str> {
 
 fn summary_unit(column: &str) -> Option<&'static str> {
     Some(match column {
-        "point" | "all_ok" | "failed" | "rank" | "pareto" | "zone" => "",
+        "point" | "all_ok" | "failed" | "rank" | "pareto" | "robust" | "class" | "zone" => "",
         "n" | "n_cases" | "n_ok" => "1",
-        "xmax_mean" | "xmax_sd" | "xmax_min" | "xmax_median" | "xmax_max" | "xmax_ideal" => "m",
+        "xmax_mean" | "xmax_sd" | "xmax_min" | "xmax_q1" | "xmax_median" | "xmax_q3"
+        | "xmax_max" | "xmax_ideal" => "m",
         "stress_mean" | "stress_sd" => "Pa",
         "stress_mu_ln" | "strength_mu_ln" => "ln(Pa)",
         "stress_sigma_ln" | "strength_sigma_ln" => "1",
         "reliability_index" | "reliability" | "reliability_lo" | "reliability_hi" | "cn"
         | "safety_factor" | "ad_stat" | "ad_p" => "1",
-        "di" => "m/s",
+        "di" | "di_ideal" | "di_sd" => "m/s",
         "perfectibility" => "%",
         _ => return None,
     })
@@ -155,7 +169,7 @@ fn summary_unit(column: &str) -> Option<&'static str> {
 
 fn zones_unit(column: &str) -> Option<&'static str> {
     Some(match column {
-        "zone" | "label" | "declared" => "",
+        "zone" | "label" | "declared" | "best_point" | "rep_point" => "",
         "n_points" | "mean_reliability" => "1",
         "mean_di" => "m/s",
         "perfectibility" => "%",
@@ -165,10 +179,17 @@ fn zones_unit(column: &str) -> Option<&'static str> {
 
 fn jumps_unit(column: &str) -> Option<&'static str> {
     Some(match column {
-        "axis" | "kind" | "quantity" => "",
-        "at" | "from" | "to" => UNIT_OF_AXIS,
-        "delta" => UNIT_OF_QUANTITY,
-        "z" => "1",
+        "axis" | "kind" | "quantity" | "size_unit" => "",
+        "location" | "location_tol" | "from" | "to" => UNIT_OF_AXIS,
+        "size" => UNIT_OF_SIZE,
+        _ => return None,
+    })
+}
+
+fn sensitivity_unit(column: &str) -> Option<&'static str> {
+    Some(match column {
+        "quantity" | "axis" => "",
+        "first_order" | "total" | "n_points" => "1",
         _ => return None,
     })
 }

@@ -10,13 +10,22 @@ use crate::error::InputError;
 /// `[zones]`: automatic zone finding and declared overrides.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Zones {
-    /// Jump threshold: a first difference larger than `jump_k` robust standard deviations
-    /// (MAD × 1.4826) of the first differences is a jump. Default 6.
-    pub jump_k: f64,
-    /// Reliability at or above which a point is "reliable". Default 0.98.
+    /// The lower end of R's bootstrap interval at or above which a point is "reliable".
+    /// Default 0.98; in `[0, 1]`.
     pub r_min: f64,
     /// DI at or above which damping is "strong" (m/s); default: the median DI of the sweep.
     pub di_strong: Option<f64>,
+    /// A region of fewer than this fraction of the design points merges into a neighbour.
+    /// Default 0.02; in `[0, 0.5]` (0: no merging).
+    pub min_zone: f64,
+    /// A step is a change of the ideal case's quantity by at least this many times its typical
+    /// spread across a point's cases (the median over the points of its SD). Default 1; `> 0`.
+    pub step_spread: f64,
+    /// A kink changes the slope of the ideal case's response by at least this many times its
+    /// typical slope along the axis (the median `|slope|`). Default 1.5; `> 0`.
+    pub kink_slope: f64,
+    /// Jumps are located to this fraction of the grid step. Default 0.01; in `(0, 0.5]`.
+    pub locate: f64,
     /// Zones declared in the study; when non-empty they replace the automatic ones.
     pub declared: Vec<DeclaredZone>,
 }
@@ -33,9 +42,12 @@ pub struct DeclaredZone {
 impl Default for Zones {
     fn default() -> Self {
         Zones {
-            jump_k: 6.0,
             r_min: 0.98,
             di_strong: None,
+            min_zone: 0.02,
+            step_spread: 1.0,
+            kink_slope: 1.5,
+            locate: 0.01,
             declared: Vec::new(),
         }
     }
@@ -44,9 +56,14 @@ impl Default for Zones {
 #[derive(Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawZones {
+    /// Replaced by `step_spread` and `kink_slope` (issue 10): read only to say so.
     jump_k: Option<f64>,
     r_min: Option<f64>,
     di_strong: Option<f64>,
+    min_zone: Option<f64>,
+    step_spread: Option<f64>,
+    kink_slope: Option<f64>,
+    locate: Option<f64>,
     #[serde(default)]
     zone: Vec<RawZone>,
 }
@@ -65,10 +82,50 @@ pub(super) fn zones(cx: &Cx, raw: &RawZones, axes: &[Axis]) -> Result<Zones, Inp
     let rz = raw;
     let mut zones = Zones::default();
     if let Some(k) = rz.jump_k {
-        if !(k.is_finite() && k > 0.0) {
-            return Err(cx.err("[zones].jump_k", num(k), "must be a finite number > 0"));
+        return Err(cx.err(
+            "[zones].jump_k",
+            num(k),
+            "no longer a key: a jump is now decided in the quantity's own units; use step_spread \
+             (steps, in spreads across a point's cases) and kink_slope (kinks, in typical slopes), \
+             see docs/study.md",
+        ));
+    }
+    let positive = |key: &str, v: Option<f64>, default: f64, unit: &str| match v {
+        None => Ok(default),
+        Some(v) if v.is_finite() && v > 0.0 => Ok(v),
+        Some(v) => Err(cx.err(key, num(v), format!("must be a finite number > 0 ({unit})"))),
+    };
+    zones.step_spread = positive(
+        "[zones].step_spread",
+        rz.step_spread,
+        zones.step_spread,
+        "spreads across a point's cases",
+    )?;
+    zones.kink_slope = positive(
+        "[zones].kink_slope",
+        rz.kink_slope,
+        zones.kink_slope,
+        "typical slopes",
+    )?;
+    if let Some(v) = rz.min_zone {
+        if !(0.0..=0.5).contains(&v) {
+            return Err(cx.err(
+                "[zones].min_zone",
+                num(v),
+                "a fraction of the design points in [0, 0.5]",
+            ));
         }
-        zones.jump_k = k;
+        zones.min_zone = v;
+    }
+    if let Some(v) = rz.locate {
+        if !(v > 0.0 && v <= 0.5) {
+            return Err(cx.err(
+                "[zones].locate",
+                num(v),
+                "a fraction of the grid step in (0, 0.5]",
+            ));
+        }
+        zones.locate = v;
     }
     if let Some(r) = rz.r_min {
         if !(0.0..=1.0).contains(&r) {

@@ -74,12 +74,7 @@ pub fn study(name: &str, n_e: usize) -> Study {
             bootstrap: 200,
             confidence: 0.95,
         },
-        zones: Zones {
-            jump_k: 6.0,
-            r_min: 0.98,
-            di_strong: None,
-            declared: vec![],
-        },
+        zones: Zones::default(),
         ranking: Ranking {
             wf1: 0.5,
             wf2: 0.5,
@@ -188,6 +183,81 @@ pub fn downgrade_to_v1(run_dir: &Path) {
     m["schema_version"] = 1.into();
     m["version"] = "0.1.0".into();
     std::fs::write(&manifest, serde_json::to_string_pretty(&m).unwrap()).unwrap();
+}
+
+/// The cells of one CSV line (RFC 4180: quoted cells may hold commas and doubled quotes).
+pub fn csv_cells(line: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut cell = String::new();
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                cell.push('"');
+                chars.next();
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => out.push(std::mem::take(&mut cell)),
+            _ => cell.push(c),
+        }
+    }
+    out.push(cell);
+    out
+}
+
+/// A CSV file as its header and, by the first cell (the point index), its rows as maps from
+/// column to cell.
+pub fn csv_by_point(
+    path: &std::path::Path,
+) -> (
+    Vec<String>,
+    std::collections::BTreeMap<u64, std::collections::HashMap<String, String>>,
+) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = csv_cells(lines.next().unwrap());
+    let rows = lines
+        .map(|l| {
+            let cells = csv_cells(l);
+            assert_eq!(cells.len(), header.len(), "{}: {l}", path.display());
+            let row: std::collections::HashMap<String, String> =
+                header.iter().cloned().zip(cells).collect();
+            (row["point"].parse().unwrap(), row)
+        })
+        .collect();
+    (header, rows)
+}
+
+/// Checks that a chart's data CSV holds summary rows: every row's cells equal the summary
+/// row of its point in every column the chart has, which are `point`, the axis columns and at
+/// least one more. Returns the points, in order.
+pub fn chart_rows_are_summary_rows(chart: &std::path::Path, summary: &std::path::Path) -> Vec<u64> {
+    let (header, rows) = csv_by_point(chart);
+    let (sum_header, sum_rows) = csv_by_point(summary);
+    assert!(
+        header.len() >= 3 && header[0] == "point",
+        "{}: {header:?}",
+        chart.display()
+    );
+    for c in &header {
+        assert!(
+            sum_header.contains(c),
+            "{}: `{c}` is not a summary column",
+            chart.display()
+        );
+    }
+    for (p, row) in &rows {
+        for c in &header {
+            assert_eq!(
+                row[c],
+                sum_rows[p][c],
+                "{}: point {p}, {c}",
+                chart.display()
+            );
+        }
+    }
+    rows.keys().copied().collect()
 }
 
 /// A run directory's dataset as bytes: every part file by name, then `manifest.json`. Two runs

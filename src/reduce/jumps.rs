@@ -1,0 +1,676 @@
+//! Jumps along the axes: decided by a tolerance in the quantity's own units, located by
+//! bisection with extra simulations of the ideal case, classed as a step or a kink.
+//!
+//! The quantities are the ideal case's (noise-free, unperturbed: the design's own behaviour,
+//! which noise would blur): the response (`xmax` in the free-decay scene) and DI. Along every
+//! line of the grid along an axis (the other axes fixed):
+//!
+//! 1. **Candidates.** With `Δ_i = q_{i+1} - q_i` and the slopes `s_i = Δ_i / h_i`:
+//!    * a *step candidate* in interval `i` when the change is not explained by the trend on
+//!      either side: `min(|Δ_i - s_{i-1} h_i|, |Δ_i - s_{i+1} h_i|) >= step_tol` (the
+//!      quantity's units; only the existing neighbours enter, `|Δ_i|` with none);
+//!    * a *kink candidate* around interval `i` (the response only) when the slope across it
+//!      changes by `|s_{i+1} - s_{i-1}| >= kink_slope · S`, `S` the typical slope: the median
+//!      `|s|` over every line along the axis. The interval itself is skipped, so a kink
+//!      anywhere inside it, or on its ends, counts in full; the kink may also sit in the
+//!      intervals either side (it bends `s_{i-1}` or `s_{i+1}`), so the candidate spans all
+//!      three.
+//!
+//!    Overlapping or touching candidates make one candidate span. A smooth trend changes by
+//!    `O(h)` between neighbours and its slope by `O(h)` across one, so a finer grid gives fewer
+//!    candidates, never more: refining does not invent jumps.
+//! 2. **Location.** Bisection of the span with the ideal case simulated at the midpoint `m`,
+//!    each side judging whether `q(m)` follows its own trend ([`locate`] has the rule). It stops
+//!    when the bracket is at most `locate · h` wide (`locate` defaults to 1/100 of the grid
+//!    step): `location` is its middle, `location_tol` half its width.
+//! 3. **Class.** On the final bracket `[a, b]`: a **step** when the change stays,
+//!    `|q(b) - q(a)| >= step_tol` (size: `q(b) - q(a)`, the quantity's units); otherwise a
+//!    **kink** (response only) when only the slope changes, `|s_R - s_L| >= kink_slope · S`
+//!    with the secants either side at the bracket's scale (size: `s_R - s_L`, the quantity's
+//!    units per axis unit). A kink of the square-root kind (a grazing impact) has an ever
+//!    steeper side and is a kink; a corner rounded over more than the tolerance is reported at
+//!    the finest bracket, at most ten tolerances wide, that still classes. Otherwise the
+//!    candidate was a steep but smooth stretch and is dropped.
+//!
+//! DI gets steps only: DI = (X1 - X2)/(t2 - t1) depends on the impacts of the second
+//! half-cycle and its slope changes at every grazing impact there (hundreds of times along e in
+//! the paper's study at a step of 1e-4), so a kink of DI says nothing about the design.
+
+use rayon::prelude::*;
+
+use super::grid::Grid;
+use super::stats::median;
+
+/// A quantity jumps are looked for in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Quantity {
+    /// The per-point response (the ideal case's `xmax` in the free-decay scene).
+    Response,
+    /// The ideal case's damping inclination.
+    Di,
+}
+
+impl Quantity {
+    pub const ALL: [Quantity; 2] = [Quantity::Response, Quantity::Di];
+
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// Step or kink.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum JumpKind {
+    /// The value changes abruptly.
+    Step,
+    /// Only the slope does.
+    Kink,
+}
+
+impl JumpKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            JumpKind::Step => "step",
+            JumpKind::Kink => "kink",
+        }
+    }
+}
+
+/// The settings of jump finding.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JumpSettings {
+    /// Step tolerance per quantity ([`Quantity::index`]), in the quantity's units.
+    pub step_tol: [f64; 2],
+    /// A kink changes the slope by at least this many typical slopes (response only).
+    pub kink_slope: f64,
+    /// Location tolerance as a fraction of the grid step.
+    pub locate: f64,
+}
+
+/// The ideal case simulated anywhere in the design space (not only on the grid).
+pub trait IdealCase: Sync {
+    /// `[response, DI]` of the ideal case at the design with these axis values (one per axis,
+    /// in axis order); `None` when that run does not end `ok` or the design is not valid.
+    fn at(&self, values: &[f64]) -> Option<[f64; 2]>;
+}
+
+/// A located jump.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Jump {
+    /// The axis it is along.
+    pub axis: usize,
+    pub quantity: Quantity,
+    pub kind: JumpKind,
+    /// Where it is along the axis, and half the width of the bracket it was located to.
+    pub location: f64,
+    pub location_tol: f64,
+    /// The grid points either side of it on its line (`below < above` in the point index).
+    pub below: u64,
+    pub above: u64,
+    /// A step: `q(b) - q(a)` (the quantity's units). A kink: the change of slope (the
+    /// quantity's units per axis unit).
+    pub size: f64,
+}
+
+/// What [`find`] returns.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Found {
+    pub jumps: Vec<Jump>,
+    /// Candidate spans examined, and how many were steep smooth stretches (dropped) or could
+    /// not be followed (a simulation inside did not end ok).
+    pub candidates: usize,
+    pub dropped: usize,
+    pub failed: usize,
+    /// Extra simulations of the ideal case.
+    pub sims: u64,
+    /// The typical slope `S` of the response along each axis (response units per axis unit).
+    pub typical_slope: Vec<f64>,
+}
+
+/// One candidate span: axis, quantity, the line's first point, grid indices `i < j`.
+struct Candidate {
+    axis: usize,
+    quantity: Quantity,
+    line: u64,
+    i: usize,
+    j: usize,
+}
+
+/// Finds, locates and classes the jumps. `q[p]` holds `[response, DI]` of the ideal case at
+/// grid point `p` (NaN when unknown or the point is missing).
+pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn IdealCase) -> Found {
+    let mut found = Found::default();
+    let mut cands = Vec::new();
+    for a in 0..grid.n_axes() {
+        let xs = &grid.axes[a].1;
+        let n = xs.len();
+        if n < 2 {
+            found.typical_slope.push(f64::NAN);
+            continue;
+        }
+        let stride = grid.stride(a);
+        let line = |start: u64, k: usize| -> Vec<f64> {
+            (0..n)
+                .map(|i| q[(start + i as u64 * stride) as usize][k])
+                .collect()
+        };
+        // The typical slope of the response along this axis.
+        let mut slopes = Vec::new();
+        for start in grid.line_starts(a) {
+            let ys = line(start, 0);
+            slopes.extend(
+                (0..n - 1)
+                    .map(|i| ((ys[i + 1] - ys[i]) / (xs[i + 1] - xs[i])).abs())
+                    .filter(|s| s.is_finite()),
+            );
+        }
+        let typical = typical_slope(&slopes, grid, q, a);
+        found.typical_slope.push(typical);
+        for start in grid.line_starts(a) {
+            for quantity in Quantity::ALL {
+                let ys = line(start, quantity.index());
+                let kink = kink_threshold(quantity, settings, typical);
+                for (i, j) in candidate_spans(xs, &ys, settings.step_tol[quantity.index()], kink) {
+                    cands.push(Candidate {
+                        axis: a,
+                        quantity,
+                        line: start,
+                        i,
+                        j,
+                    });
+                }
+            }
+        }
+    }
+    found.candidates = cands.len();
+    let located: Vec<(Outcome, u32)> = cands
+        .par_iter()
+        .map(|c| {
+            let xs = &grid.axes[c.axis].1;
+            let stride = grid.stride(c.axis);
+            let ys: Vec<f64> = (0..xs.len())
+                .map(|i| q[(c.line + i as u64 * stride) as usize][c.quantity.index()])
+                .collect();
+            let mut values = grid.values(c.line);
+            let k = c.quantity.index();
+            let f = |x: f64| {
+                values[c.axis] = x;
+                ideal.at(&values).map(|v| v[k])
+            };
+            let h = (xs[c.j] - xs[c.i]) / (c.j - c.i) as f64;
+            let typical = found.typical_slope[c.axis];
+            locate(
+                xs,
+                &ys,
+                (c.i, c.j),
+                f,
+                settings.step_tol[k],
+                kink_threshold(c.quantity, settings, typical),
+                settings.locate * h,
+            )
+        })
+        .collect();
+    for (c, (outcome, sims)) in cands.iter().zip(located) {
+        found.sims += u64::from(sims);
+        match outcome {
+            Outcome::Jump {
+                kind,
+                location,
+                tol,
+                size,
+            } => {
+                let xs = &grid.axes[c.axis].1;
+                // The grid points either side of the location on the line.
+                let above = xs[c.i..=c.j]
+                    .iter()
+                    .position(|&x| x > location)
+                    .map_or(c.j, |k| c.i + k)
+                    .max(c.i + 1);
+                let stride = grid.stride(c.axis);
+                found.jumps.push(Jump {
+                    axis: c.axis,
+                    quantity: c.quantity,
+                    kind,
+                    location,
+                    location_tol: tol,
+                    below: c.line + (above - 1) as u64 * stride,
+                    above: c.line + above as u64 * stride,
+                    size,
+                });
+            }
+            Outcome::Smooth => found.dropped += 1,
+            Outcome::Failed => found.failed += 1,
+        }
+    }
+    found
+}
+
+/// The median `|slope|`, floored so that a flat response (slope 0 almost everywhere) does not
+/// make every rounding a kink: at least `1e-9 · median |q| / span` of the axis.
+fn typical_slope(slopes: &[f64], grid: &Grid, q: &[[f64; 2]], a: usize) -> f64 {
+    let xs = &grid.axes[a].1;
+    let span = (xs[xs.len() - 1] - xs[0]).abs();
+    let level: Vec<f64> = q.iter().map(|v| v[0].abs()).collect();
+    let floor = 1e-9 * median(&level) / span;
+    let s = median(slopes);
+    if s.is_finite() { s.max(floor) } else { floor }
+}
+
+fn kink_threshold(quantity: Quantity, s: &JumpSettings, typical: f64) -> Option<f64> {
+    (quantity == Quantity::Response && typical.is_finite()).then_some(s.kink_slope * typical)
+}
+
+/// Candidate spans `(i, j)` (grid indices, `i < j`) along one line: see the module doc.
+/// `kink` is the slope-change threshold, `None` for steps only.
+pub fn candidate_spans(
+    xs: &[f64],
+    ys: &[f64],
+    step_tol: f64,
+    kink: Option<f64>,
+) -> Vec<(usize, usize)> {
+    let n = xs.len();
+    if n < 2 {
+        return Vec::new();
+    }
+    let s: Vec<f64> = (0..n - 1)
+        .map(|i| (ys[i + 1] - ys[i]) / (xs[i + 1] - xs[i]))
+        .collect();
+    // Each flag gives a span of grid indices that holds the jump: a step flag its interval, a
+    // kink flag the interval and one either side (the slope change that raised it may sit in
+    // any of the three). Overlapping or touching spans are one.
+    let mut flags: Vec<(usize, usize)> = Vec::new();
+    for i in 0..n - 1 {
+        if !s[i].is_finite() {
+            continue;
+        }
+        let h = xs[i + 1] - xs[i];
+        let d = ys[i + 1] - ys[i];
+        let sides = [i.checked_sub(1).map(|k| s[k]), s.get(i + 1).copied()];
+        let excess = sides
+            .iter()
+            .flatten()
+            .filter(|t| t.is_finite())
+            .map(|t| (d - t * h).abs())
+            .fold(f64::INFINITY, f64::min);
+        let excess = if excess.is_finite() { excess } else { d.abs() };
+        if excess >= step_tol {
+            flags.push((i, i + 1));
+        }
+        if kink.is_some_and(|thr| i >= 1 && i + 1 < n - 1 && (s[i + 1] - s[i - 1]).abs() >= thr) {
+            flags.push((i - 1, (i + 2).min(n - 1)));
+        }
+    }
+    flags.sort_unstable();
+    let mut spans: Vec<(usize, usize)> = Vec::new();
+    for (a, b) in flags {
+        match spans.last_mut() {
+            Some(last) if a <= last.1 => last.1 = last.1.max(b),
+            _ => spans.push((a, b)),
+        }
+    }
+    spans
+}
+
+/// The result of locating one candidate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outcome {
+    Jump {
+        kind: JumpKind,
+        location: f64,
+        tol: f64,
+        size: f64,
+    },
+    /// A steep but smooth stretch: neither the value nor the slope changes abruptly.
+    Smooth,
+    /// A simulation inside the span did not end ok.
+    Failed,
+}
+
+/// The known points of one side of a bracket, nearest last: where that side's trend comes
+/// from.
+struct Side {
+    pts: Vec<(f64, f64)>,
+}
+
+impl Side {
+    fn last(&self) -> (f64, f64) {
+        self.pts[self.pts.len() - 1]
+    }
+
+    /// The secant through the two nearest points (NaN with one).
+    fn slope(&self) -> f64 {
+        match self.pts.len() {
+            0 | 1 => f64::NAN,
+            n => {
+                let (p, q) = (self.pts[n - 2], self.pts[n - 1]);
+                (q.1 - p.1) / (q.0 - p.0)
+            }
+        }
+    }
+
+    /// `|second divided difference|` of the three nearest points: half the side's curvature;
+    /// `None` with fewer points (the side cannot say how far it may bend).
+    fn curvature(&self) -> Option<f64> {
+        let n = self.pts.len();
+        if n < 3 {
+            return None;
+        }
+        let (p, q, r) = (self.pts[n - 3], self.pts[n - 2], self.pts[n - 1]);
+        let d1 = (q.1 - p.1) / (q.0 - p.0);
+        let d2 = (r.1 - q.1) / (r.0 - q.0);
+        Some(((d2 - d1) / (r.0 - p.0)).abs())
+    }
+
+    /// The side's trend at `x`: the line through its nearest point with `slope`, and the error
+    /// a smooth curve of the side's curvature would make there (infinite when unknown).
+    fn predict(&self, x: f64, slope: f64) -> (f64, f64) {
+        let (x0, y0) = self.last();
+        let far = match self.pts.len() {
+            0 | 1 => x0,
+            n => self.pts[n - 2].0,
+        };
+        let err = self
+            .curvature()
+            .map_or(f64::INFINITY, |c| c * ((x - x0) * (x - far)).abs());
+        (y0 + slope * (x - x0), err)
+    }
+
+    fn push(&mut self, p: (f64, f64)) {
+        self.pts.push(p);
+        if self.pts.len() > 3 {
+            self.pts.remove(0);
+        }
+    }
+}
+
+/// Locates the jump in the span `(i, j)` of a line by bisection to a bracket at most `tol`
+/// wide, with `f(x)` the quantity of the ideal case at axis value `x`, and classes it (module
+/// doc). Returns the outcome and the number of evaluations of `f`.
+///
+/// Which side of the midpoint `m` the jump is on: each side predicts `q(m)` with the line
+/// through its nearest point along its nearest secant, and knows the error a smooth curve of its
+/// own curvature (from its three nearest points; unbounded with fewer) would make there. `m`
+/// belongs to a side when the prediction holds within four times that error and only that
+/// side's does; when both hold, to the side with the smaller error (the more demanding test it
+/// passed); when neither (a side bends near the jump more than its known points show), to the
+/// side whose slope is nearer the slope at `m`, from one more simulation just before `m`. The
+/// side that gets `m` adds it as its nearest point. A square-root corner (one side's slope
+/// unbounded at the jump, as at a grazing impact) is then located as well as a clean kink or a
+/// step: the smooth side's tight prediction decides, the corner side's large curvature makes
+/// its own test loose.
+pub fn locate(
+    xs: &[f64],
+    ys: &[f64],
+    (i, j): (usize, usize),
+    mut f: impl FnMut(f64) -> Option<f64>,
+    step_tol: f64,
+    kink: Option<f64>,
+    tol: f64,
+) -> (Outcome, u32) {
+    let finite = |k: &usize| ys[*k].is_finite();
+    let mut left = Side {
+        pts: (i.saturating_sub(2)..=i)
+            .filter(finite)
+            .map(|k| (xs[k], ys[k]))
+            .collect(),
+    };
+    let mut right = Side {
+        pts: (j..(j + 3).min(xs.len()))
+            .rev()
+            .filter(finite)
+            .map(|k| (xs[k], ys[k]))
+            .collect(),
+    };
+    // Rounding in the simulations: no trend is asked to be closer than this.
+    let scale = ys[i].abs().max(ys[j].abs());
+    let floor = 1e-9 * scale + f64::MIN_POSITIVE;
+    let mut sims = 0;
+    let mut brackets = vec![Bracket::of(&left, &right)];
+    // Each halving costs one simulation; 64 bound the loop whatever `tol` is.
+    while right.last().0 - left.last().0 > tol && sims < 64 {
+        let (a, b) = (left.last().0, right.last().0);
+        let m = 0.5 * (a + b);
+        if !(m > a && m < b) {
+            break; // the bracket is down to adjacent doubles
+        }
+        sims += 1;
+        let Some(fm) = f(m).filter(|v| v.is_finite()) else {
+            return (Outcome::Failed, sims);
+        };
+        let (sl, sr) = (left.slope(), right.slope());
+        let (sl, sr) = (
+            if sl.is_finite() {
+                sl
+            } else if sr.is_finite() {
+                sr
+            } else {
+                0.0
+            },
+            if sr.is_finite() {
+                sr
+            } else if sl.is_finite() {
+                sl
+            } else {
+                0.0
+            },
+        );
+        let (pl, el) = left.predict(m, sl);
+        let (pr, er) = right.predict(m, sr);
+        let (dl, dr) = ((fm - pl).abs(), (fm - pr).abs());
+        let (el, er) = (el + floor, er + floor);
+        let to_left = match (dl <= 4.0 * el, dr <= 4.0 * er) {
+            (true, false) => true,
+            (false, true) => false,
+            // Both trends allow it: the one that asked more of it (the smaller error) decides.
+            (true, true) if el != er => el < er,
+            (true, true) => dl <= dr,
+            // Neither does: a side bends near the jump more than its known points show. The
+            // slope at m (from one more simulation just before it) tells which side it is on.
+            (false, false) => {
+                let eps = (b - a) / 64.0;
+                sims += 1;
+                let Some(fe) = f(m - eps).filter(|v| v.is_finite()) else {
+                    return (Outcome::Failed, sims);
+                };
+                let s = (fm - fe) / eps;
+                (s - sl).abs() <= (s - sr).abs()
+            }
+        };
+        if to_left {
+            left.push((m, fm));
+        } else {
+            right.push((m, fm));
+        }
+        brackets.push(Bracket::of(&left, &right));
+    }
+    // The finest bracket across which the value or the slope still changes enough, no wider
+    // than ten tolerances: a corner rounded over more than the tolerance (but less than a tenth
+    // of the grid step) is a kink at the scale of its rounding, and says so with its wider
+    // location_tol; a candidate that needs a wider bracket was a steep but smooth stretch.
+    let outcome = brackets
+        .iter()
+        .rev()
+        .take_while(|br| br.b - br.a <= 10.0 * tol)
+        .find_map(|br| br.class(step_tol, kink))
+        .unwrap_or(Outcome::Smooth);
+    (outcome, sims)
+}
+
+/// One bracket of the bisection: its ends and values, and the secants either side.
+struct Bracket {
+    a: f64,
+    b: f64,
+    fa: f64,
+    fb: f64,
+    sl: f64,
+    sr: f64,
+}
+
+impl Bracket {
+    fn of(left: &Side, right: &Side) -> Bracket {
+        let ((a, fa), (b, fb)) = (left.last(), right.last());
+        Bracket {
+            a,
+            b,
+            fa,
+            fb,
+            sl: left.slope(),
+            sr: right.slope(),
+        }
+    }
+
+    /// A step when the value changes across the bracket by `step_tol` or more, else a kink
+    /// when the slope does by the threshold or more.
+    fn class(&self, step_tol: f64, kink: Option<f64>) -> Option<Outcome> {
+        let (location, tol) = (0.5 * (self.a + self.b), 0.5 * (self.b - self.a));
+        if (self.fb - self.fa).abs() >= step_tol {
+            Some(Outcome::Jump {
+                kind: JumpKind::Step,
+                location,
+                tol,
+                size: self.fb - self.fa,
+            })
+        } else if kink.is_some_and(|thr| (self.sr - self.sl).abs() >= thr) {
+            Some(Outcome::Jump {
+                kind: JumpKind::Kink,
+                location,
+                tol,
+                size: self.sr - self.sl,
+            })
+        } else {
+            None
+        }
+    }
+}
+
+/// The points of the jump's line whose ±1-step neighbourhood along the axis reaches the
+/// jump's location interval: "around the jump" (the two either side of a jump between grid
+/// points, three when it sits on one).
+pub fn around(grid: &Grid, jump: &Jump) -> Vec<u64> {
+    let a = jump.axis;
+    let xs = &grid.axes[a].1;
+    let n = xs.len();
+    let (lo, hi) = (
+        jump.location - jump.location_tol,
+        jump.location + jump.location_tol,
+    );
+    (0..n)
+        .filter(|&k| {
+            let left = xs[k.saturating_sub(1)];
+            let right = xs[(k + 1).min(n - 1)];
+            left <= hi && right >= lo
+        })
+        .map(|k| grid.with_index(jump.below, a, k))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid_1d(step: f64, lo: f64, hi: f64) -> Vec<f64> {
+        let n = ((hi - lo) / step).round() as usize;
+        (0..=n).map(|i| lo + i as f64 * step).collect()
+    }
+
+    /// A function of one axis as an ideal case (DI unused: NaN).
+    struct Fun<F: Fn(f64) -> f64 + Sync>(F);
+
+    impl<F: Fn(f64) -> f64 + Sync> IdealCase for Fun<F> {
+        fn at(&self, v: &[f64]) -> Option<[f64; 2]> {
+            Some([(self.0)(v[0]), f64::NAN])
+        }
+    }
+
+    fn run(f: impl Fn(f64) -> f64 + Sync, step: f64) -> Found {
+        let xs = grid_1d(step, 0.0, 1.0);
+        let q: Vec<[f64; 2]> = xs.iter().map(|&x| [f(x), f64::NAN]).collect();
+        let grid = Grid::new(vec![("x".into(), xs)]);
+        let settings = JumpSettings {
+            step_tol: [0.05, 0.05],
+            kink_slope: 1.5,
+            locate: 0.01,
+        };
+        find(&grid, &q, &settings, &Fun(f))
+    }
+
+    // A smooth trend (slope about 0.3) with a step of 0.2 at 0.4567 and a kink at 0.7321
+    // (slope +0.3 -> -0.9).
+    fn step_and_kink(x: f64) -> f64 {
+        let smooth = 0.3 * x + 0.05 * (3.0 * x).sin();
+        let step = if x > 0.4567 { 0.2 } else { 0.0 };
+        let kink = if x > 0.7321 { -1.2 * (x - 0.7321) } else { 0.0 };
+        smooth + step + kink
+    }
+
+    #[test]
+    fn a_step_and_a_kink_are_located_within_their_tolerance_at_every_grid_step() {
+        for step in [0.01, 0.001, 0.0001] {
+            let found = run(step_and_kink, step);
+            let kinds: Vec<(JumpKind, f64)> =
+                found.jumps.iter().map(|j| (j.kind, j.location)).collect();
+            assert_eq!(found.jumps.len(), 2, "step {step}: {kinds:?}");
+            let s = &found.jumps[0];
+            assert_eq!(s.kind, JumpKind::Step);
+            assert!((s.location - 0.4567).abs() <= s.location_tol, "{s:?}");
+            assert!(s.location_tol <= 0.005 * step + 1e-15);
+            assert!((s.size - 0.2).abs() < 0.01, "{s:?}");
+            let k = &found.jumps[1];
+            assert_eq!(k.kind, JumpKind::Kink);
+            assert!((k.location - 0.7321).abs() <= k.location_tol, "{k:?}");
+            assert!((k.size + 1.2).abs() < 0.05, "{k:?}");
+            // About log2(100) simulations per candidate.
+            assert!(found.sims <= 10 * found.candidates as u64, "{found:?}");
+        }
+    }
+
+    #[test]
+    fn a_square_root_corner_is_a_kink_and_smooth_curves_have_none() {
+        // Grazing: the slope is unbounded on one side of the corner, either side.
+        let right = |x: f64| 0.2 * x - 0.1 * (x - 0.61234).max(0.0).sqrt();
+        let left = |x: f64| 0.2 * x - 0.1 * (0.61234 - x).max(0.0).sqrt();
+        for step in [0.01, 0.001, 0.0001] {
+            for (side, found) in [("right", run(right, step)), ("left", run(left, step))] {
+                assert_eq!(found.jumps.len(), 1, "{side} {step}: {found:?}");
+                let j = &found.jumps[0];
+                assert_eq!(j.kind, JumpKind::Kink);
+                assert!(
+                    (j.location - 0.61234).abs() <= j.location_tol,
+                    "{step}: {j:?}"
+                );
+            }
+        }
+        // A strongly curved but smooth function: candidates may appear, none survive.
+        let found = run(|x| (8.0 * x).sin() * (1.0 + x), 0.01);
+        assert!(found.jumps.is_empty(), "{found:?}");
+        assert_eq!(found.dropped, found.candidates);
+        // A straight line: not even a candidate.
+        let found = run(|x| 2.0 * x + 1.0, 0.01);
+        assert_eq!((found.candidates, found.sims), (0, 0));
+    }
+
+    #[test]
+    fn a_step_below_the_tolerance_is_not_a_jump() {
+        let found = run(|x| 0.3 * x + if x > 0.5 { 0.04 } else { 0.0 }, 0.01);
+        assert!(found.jumps.is_empty(), "{found:?}");
+    }
+
+    #[test]
+    fn around_marks_the_points_either_side() {
+        let grid = Grid::new(vec![("x".into(), vec![0.0, 0.1, 0.2, 0.3, 0.4])]);
+        let mut j = Jump {
+            axis: 0,
+            quantity: Quantity::Response,
+            kind: JumpKind::Step,
+            location: 0.15,
+            location_tol: 0.0005,
+            below: 1,
+            above: 2,
+            size: 1.0,
+        };
+        assert_eq!(around(&grid, &j), vec![1, 2]);
+        // On a grid point: that point and both neighbours.
+        j.location = 0.2;
+        assert_eq!(around(&grid, &j), vec![1, 2, 3]);
+    }
+}

@@ -1,0 +1,152 @@
+//! Charts, each written as SVG and PNG (plotters) with its data beside it as CSV (same stem):
+//! the summary rows it draws with the columns it draws (after `point` and the axes), or the
+//! samples of a waveform. The PNG text is drawn with DejaVu
+//! Sans, embedded in the binary and registered once as `sans-serif`.
+//!
+//! One axis (the paper's figures):
+//! * `di` — DI against the axis (Figure 4), the located jumps marked ([`di`]);
+//! * `design_chart` — R with its interval, μn and DI by zone (Figure 6, [`design`]);
+//! * `xmax_spread` — the response over the cases of each design point ([`spread`]).
+//!
+//! Two or more axes, through the recommended design (the best design when none is robust):
+//! * `design_chart_<axis>` and `xmax_spread_<axis>` along every axis, the others fixed;
+//! * `perfectibility_map_<a>_<b>` and `zone_map_<a>_<b>` over every pair of axes, the others
+//!   fixed ([`map`]);
+//! * with three axes, `zone_maps_<c>`: zone maps of the last two axes at several values of the
+//!   first, as small multiples ([`multiples`]).
+//!
+//! And [`waveform`] (the paper's Figures 2 and 5), [`tradeoff`] (the solver chart of
+//! `tradeoff`). [`plumbing`] holds what they share.
+
+pub mod design;
+pub mod di;
+pub mod map;
+pub mod multiples;
+pub mod plumbing;
+pub mod spread;
+pub mod tradeoff;
+pub mod waveform;
+
+use std::path::{Path, PathBuf};
+
+use crate::reduce::Summary;
+use crate::reduce::table::axis_column;
+
+pub use plumbing::{Data, Profile, axis_unit, fmt_num, register_fonts};
+pub use waveform::{Trace, waveforms};
+
+/// Draws every summary chart into `dir`; returns the files written (SVG, PNG and CSV of each).
+pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let g = &s.grid;
+    let Some(anchor) = s.anchor() else {
+        return Ok(files);
+    };
+    if g.n_axes() == 0 {
+        return Ok(files);
+    }
+    let r = s.options.response.name;
+    let spread = format!("{r}_spread");
+    // The columns each chart draws (its data: these, after point and the axes).
+    let spread_owned: Vec<String> = ["min", "q1", "median", "q3", "max", "ideal"]
+        .iter()
+        .map(|q| format!("{r}_{q}"))
+        .collect();
+    let spread_cols: Vec<&str> = spread_owned.iter().map(String::as_str).collect();
+    let design_cols = [
+        "reliability",
+        "reliability_lo",
+        "reliability_hi",
+        "safety_factor",
+        "di",
+        "class",
+        "zone",
+    ];
+    if g.n_axes() == 1 {
+        let pr = Profile::new(s, 0, anchor);
+        files.extend(plumbing::render(
+            dir,
+            "di",
+            di::SIZE,
+            &di::DiChart(&pr),
+            &Data::Rows(s, &pr.points, &["di"]),
+        )?);
+        files.extend(plumbing::render(
+            dir,
+            "design_chart",
+            design::SIZE,
+            &design::DesignChart(&pr),
+            &Data::Rows(s, &pr.points, &design_cols),
+        )?);
+        files.extend(plumbing::render(
+            dir,
+            &spread,
+            spread::SIZE,
+            &spread::SpreadChart(&pr),
+            &Data::Rows(s, &pr.points, &spread_cols),
+        )?);
+        return Ok(files);
+    }
+    let swept: Vec<usize> = (0..g.n_axes()).filter(|&a| g.n(a) >= 2).collect();
+    for &a in &swept {
+        let pr = Profile::new(s, a, anchor);
+        let key = axis_column(g.key(a));
+        files.extend(plumbing::render(
+            dir,
+            &format!("design_chart_{key}"),
+            design::SIZE,
+            &design::DesignChart(&pr),
+            &Data::Rows(s, &pr.points, &design_cols),
+        )?);
+        files.extend(plumbing::render(
+            dir,
+            &format!("{spread}_{key}"),
+            spread::SIZE,
+            &spread::SpreadChart(&pr),
+            &Data::Rows(s, &pr.points, &spread_cols),
+        )?);
+    }
+    for (i, &a) in swept.iter().enumerate() {
+        for &b in &swept[i + 1..] {
+            let pair = format!("{}_{}", axis_column(g.key(a)), axis_column(g.key(b)));
+            for (stem, kind, columns) in [
+                (
+                    "perfectibility_map",
+                    map::MapKind::Perfectibility,
+                    &["perfectibility", "rank", "robust"][..],
+                ),
+                ("zone_map", map::MapKind::Zones, &["class", "zone"][..]),
+            ] {
+                let chart = map::MapChart {
+                    s,
+                    a,
+                    b,
+                    through: anchor,
+                    kind,
+                };
+                let points = chart.points();
+                let data = Data::Rows(s, &points, columns);
+                files.extend(plumbing::render(
+                    dir,
+                    &format!("{stem}_{pair}"),
+                    map::SIZE,
+                    &chart,
+                    &data,
+                )?);
+            }
+        }
+    }
+    if swept.len() == 3 {
+        let chart = multiples::ZoneMultiples::new(s, swept[0], (swept[1], swept[2]), anchor);
+        let points = chart.points();
+        let data = Data::Rows(s, &points, &["class", "zone"]);
+        files.extend(plumbing::render(
+            dir,
+            &format!("zone_maps_{}", axis_column(g.key(swept[0]))),
+            multiples::SIZE,
+            &chart,
+            &data,
+        )?);
+    }
+    Ok(files)
+}

@@ -1,0 +1,512 @@
+//! What every chart shares: the embedded font, rendering to SVG and PNG with the chart's data
+//! beside it as CSV, colours, axis labels, number formatting, legend rows, and the profile of
+//! the summary along one axis.
+
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+use anyhow::{Context, anyhow};
+use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+
+use crate::reduce::table::Table;
+use crate::reduce::{Class, Jump, PointStats, Summary};
+
+static FONT: &[u8] = include_bytes!("../../../assets/DejaVuSans.ttf");
+static REGISTER: Once = Once::new();
+
+/// Registers the embedded font for every style plotters may ask for.
+pub fn register_fonts() {
+    REGISTER.call_once(|| {
+        for style in [
+            FontStyle::Normal,
+            FontStyle::Bold,
+            FontStyle::Italic,
+            FontStyle::Oblique,
+        ] {
+            // The font is embedded and known to parse; a failure would only lose PNG text.
+            let _ = plotters::style::register_font("sans-serif", style, FONT);
+        }
+    });
+}
+
+pub fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+    anyhow!("drawing: {e:?}")
+}
+
+/// A chart that can draw itself on any backend.
+pub trait Chart {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static;
+}
+
+/// A chart's data: the summary rows of the points it draws with the columns it draws (after
+/// `point` and the axis columns), or a table of its own.
+pub enum Data<'a> {
+    Rows(&'a Summary, &'a [&'a PointStats], &'a [&'a str]),
+    Table(Table),
+}
+
+impl Data<'_> {
+    /// Writes the data as CSV, a batch of rows at a time.
+    fn write(&self, path: &Path) -> anyhow::Result<()> {
+        use crate::reduce::table::{axis_column, summary_rows};
+        use crate::store::summary::write_csv_in_batches;
+        match self {
+            Data::Rows(s, points, columns) => {
+                let mut keep: Vec<String> = vec!["point".into()];
+                keep.extend((0..s.grid.n_axes()).map(|a| axis_column(s.grid.key(a))));
+                keep.extend(columns.iter().map(|c| c.to_string()));
+                write_csv_in_batches(path, points.len(), |r| {
+                    summary_rows(s, &points[r]).select(&keep)
+                })
+            }
+            Data::Table(t) => write_csv_in_batches(path, t.n_rows(), |r| t.rows(r)),
+        }
+    }
+}
+
+/// Writes `<dir>/<stem>.svg`, `<dir>/<stem>.png` and the chart's data `<dir>/<stem>.csv`;
+/// returns the three paths.
+pub fn render<C: Chart>(
+    dir: &Path,
+    stem: &str,
+    size: (u32, u32),
+    chart: &C,
+    data: &Data,
+) -> anyhow::Result<Vec<PathBuf>> {
+    register_fonts();
+    let svg = dir.join(format!("{stem}.svg"));
+    let png = dir.join(format!("{stem}.png"));
+    let csv = dir.join(format!("{stem}.csv"));
+    {
+        let root = SVGBackend::new(&svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        chart
+            .draw(&root)
+            .with_context(|| format!("drawing {}", svg.display()))?;
+        root.present().map_err(err)?;
+    }
+    {
+        let root = BitMapBackend::new(&png, size).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        chart
+            .draw(&root)
+            .with_context(|| format!("drawing {}", png.display()))?;
+        root.present().map_err(err)?;
+    }
+    data.write(&csv)?;
+    Ok(vec![svg, png, csv])
+}
+
+pub const TITLE: (&str, u32) = ("sans-serif", 22);
+pub const LABEL: (&str, u32) = ("sans-serif", 18);
+pub const SMALL: (&str, u32) = ("sans-serif", 15);
+
+/// Above this many design points, charts draw lines and bands instead of markers and boxes,
+/// and mark only the strongest jumps: a chart stays readable and an SVG stays small.
+pub const MANY: usize = 300;
+/// Jumps drawn at most.
+pub const MAX_JUMP_LINES: usize = 30;
+
+pub const BLUE: RGBColor = RGBColor(31, 119, 180);
+pub const GREEN: RGBColor = RGBColor(44, 160, 44);
+pub const RED_LINE: RGBColor = RGBColor(214, 39, 40);
+pub const GREY: RGBColor = RGBColor(60, 60, 60);
+
+/// The colour of a class.
+pub fn class_color(c: Class) -> RGBColor {
+    match c {
+        Class::StrongReliable => RGBColor(166, 217, 160),
+        Class::AroundJump => RGBColor(244, 165, 130),
+        Class::WeakReliable => RGBColor(171, 203, 232),
+        Class::StrongNotShown => RGBColor(253, 219, 130),
+        Class::WeakNotShown => RGBColor(215, 190, 230),
+        Class::NoData => RGBColor(200, 200, 200),
+    }
+}
+
+/// Colours for declared zones, cycled.
+const DECLARED: [RGBColor; 5] = [
+    RGBColor(166, 217, 160),
+    RGBColor(244, 165, 130),
+    RGBColor(171, 203, 232),
+    RGBColor(253, 219, 130),
+    RGBColor(215, 190, 230),
+];
+
+/// The colour of zone `z` (an index into `s.zones`): declared zones cycle through a palette by
+/// their index, automatic ones are coloured by class; grey outside every zone.
+pub fn zone_color(s: &Summary, z: u32) -> RGBColor {
+    match s.zones.get(z as usize) {
+        Some(zone) => match zone.class {
+            Some(c) => class_color(c),
+            None => DECLARED[z as usize % DECLARED.len()],
+        },
+        None => RGBColor(230, 230, 230),
+    }
+}
+
+/// `lo..hi` widened by `frac` of the span on both sides (`0..1` when not finite).
+pub fn pad(lo: f64, hi: f64, frac: f64) -> (f64, f64) {
+    if !(lo.is_finite() && hi.is_finite()) {
+        return (0.0, 1.0);
+    }
+    let span = (hi - lo).abs().max(1e-12 * hi.abs().max(1.0));
+    (lo - frac * span, hi + frac * span)
+}
+
+/// The smallest and largest finite value.
+pub fn minmax(v: impl IntoIterator<Item = f64>) -> (f64, f64) {
+    v.into_iter()
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        })
+}
+
+/// `lo..hi` widened a little below and by room for the zone names above; `min_span` keeps a
+/// flat series from collapsing the axis.
+pub fn with_headroom(lo: f64, hi: f64, min_span: f64) -> (f64, f64) {
+    if !(lo.is_finite() && hi.is_finite()) {
+        return (0.0, 1.0);
+    }
+    let span = (hi - lo).max(min_span).max(1e-12 * hi.abs().max(1.0));
+    // A narrower series is centred on an axis `span` wide.
+    let mid = (lo + hi) / 2.0;
+    let (lo, hi) = (lo.min(mid - span / 2.0), hi.max(mid + span / 2.0));
+    (lo - 0.08 * span, hi + 0.24 * span)
+}
+
+/// Unit of a system key, for axis labels.
+pub fn axis_unit(key: &str) -> &'static str {
+    crate::model::System::unit(key)
+}
+
+/// An axis label: `coefficient of restitution e (–)`, `m (kg)`.
+pub fn axis_desc(key: &str) -> String {
+    match key {
+        "e" => "coefficient of restitution e (–)".into(),
+        k => format!("{k} ({})", axis_unit(k)),
+    }
+}
+
+/// `m = 0.02 kg`.
+pub fn axis_value(key: &str, v: f64) -> String {
+    match axis_unit(key) {
+        "–" => format!("{key} = {}", fmt_num(v)),
+        u => format!("{key} = {} {u}", fmt_num(v)),
+    }
+}
+
+/// Short number formatting for labels.
+pub fn fmt_num(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let a = v.abs();
+    if (1e-3..1e5).contains(&a) {
+        let s = format!("{v:.6}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.4e}")
+    }
+}
+
+/// An x–y chart on `area`: its caption, the ranges, a light grid and the axis descriptions.
+pub fn xy_chart<'a, DB: DrawingBackend + 'a>(
+    area: &DrawingArea<DB, Shift>,
+    caption: (&str, (&str, u32)),
+    (x, y): (std::ops::Range<f64>, std::ops::Range<f64>),
+    (x_desc, y_desc): (&str, &str),
+) -> anyhow::Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>>
+where
+    DB::ErrorType: 'static,
+{
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption.0, caption.1)
+        .margin(12)
+        .x_label_area_size(48)
+        .y_label_area_size(72)
+        .build_cartesian_2d(x, y)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .label_style(SMALL)
+        .axis_desc_style(LABEL)
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(err)?;
+    Ok(chart)
+}
+
+/// The legend of a chart's labelled series, boxed, at `position`.
+pub fn series_legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    position: SeriesLabelPosition,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.4))
+        .label_font(SMALL)
+        .draw()
+        .map_err(err)
+}
+
+/// A legend key.
+pub enum Key {
+    Line(RGBColor),
+    LineDot(RGBColor),
+    Dashed(RGBColor),
+    Swatch(RGBAColor),
+}
+
+/// Draws `items` in one row of `area`, from pixel `x`; items that would not fit are left off
+/// and an ellipsis says so.
+pub fn legend_row<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x: i32,
+    items: &[(Key, String)],
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let (width, height) = area.dim_in_pixel();
+    let y = height as i32 / 2;
+    let font = SMALL
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    let mut x = x;
+    for (key, text) in items {
+        let (w, _) = area.estimate_text_size(text, &font).map_err(err)?;
+        if x + 28 + w as i32 > width as i32 {
+            area.draw_text("…", &font, (x, y)).map_err(err)?;
+            break;
+        }
+        match key {
+            Key::Line(c) => area.draw(&PathElement::new(
+                vec![(x, y), (x + 22, y)],
+                c.stroke_width(2),
+            )),
+            Key::LineDot(c) => area
+                .draw(&PathElement::new(
+                    vec![(x, y), (x + 22, y)],
+                    c.stroke_width(2),
+                ))
+                .and_then(|_| area.draw(&Circle::new((x + 11, y), 3, c.filled()))),
+            Key::Dashed(c) => [(0, 6), (8, 14), (16, 22)].iter().try_for_each(|&(a, b)| {
+                area.draw(&PathElement::new(
+                    vec![(x + a, y), (x + b, y)],
+                    c.stroke_width(2),
+                ))
+            }),
+            Key::Swatch(c) => area.draw(&Rectangle::new([(x, y - 7), (x + 22, y + 7)], c.filled())),
+        }
+        .map_err(err)?;
+        area.draw_text(text, &font, (x + 28, y)).map_err(err)?;
+        x += 28 + w as i32 + 28;
+    }
+    Ok(())
+}
+
+/// Viridis-like ramp from dark blue (0) to yellow (1).
+pub fn heat(t: f64) -> RGBColor {
+    let stops = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let t = t.clamp(0.0, 1.0) * (stops.len() - 1) as f64;
+    let i = (t.floor() as usize).min(stops.len() - 2);
+    let f = t - i as f64;
+    let (a, b) = (stops[i], stops[i + 1]);
+    RGBColor(
+        (a.0 + f * (b.0 - a.0)) as u8,
+        (a.1 + f * (b.1 - a.1)) as u8,
+        (a.2 + f * (b.2 - a.2)) as u8,
+    )
+}
+
+/// Edges of the cells of a map around the values `v` (halfway between neighbours, half a step
+/// beyond the ends).
+pub fn cell_edges(v: &[f64]) -> Vec<f64> {
+    let n = v.len();
+    let h = |i: usize| if n > 1 { (v[i + 1] - v[i]) / 2.0 } else { 0.5 };
+    let mut e = Vec::with_capacity(n + 1);
+    e.push(v[0] - h(0));
+    for i in 0..n.saturating_sub(1) {
+        e.push((v[i] + v[i + 1]) / 2.0);
+    }
+    e.push(v[n - 1] + h(n.saturating_sub(2)));
+    e
+}
+
+/// The summary along one axis through one design point (the whole sweep with one axis): the
+/// points in axis order, their values, and the jumps located on that line.
+pub struct Profile<'a> {
+    pub s: &'a Summary,
+    pub axis: usize,
+    pub points: Vec<&'a PointStats>,
+    pub xs: Vec<f64>,
+    pub jumps: Vec<&'a Jump>,
+    /// The other axes' values, `m = 0.02 kg, d = 0.01 m`; empty with one axis.
+    pub slice: String,
+}
+
+impl<'a> Profile<'a> {
+    pub fn new(s: &'a Summary, axis: usize, through: u64) -> Profile<'a> {
+        let g = &s.grid;
+        let points: Vec<&PointStats> = g
+            .slice(through, &[axis])
+            .into_iter()
+            .filter_map(|p| s.point(p))
+            .collect();
+        let xs = points.iter().map(|p| g.value(p.point, axis)).collect();
+        let line = g.with_index(through, axis, 0);
+        let jumps = s
+            .jumps
+            .iter()
+            .filter(|j| j.axis == axis && g.with_index(j.below, axis, 0) == line)
+            .collect();
+        let slice = (0..g.n_axes())
+            .filter(|&a| a != axis)
+            .map(|a| axis_value(g.key(a), g.value(through, a)))
+            .collect::<Vec<_>>()
+            .join(", ");
+        Profile {
+            s,
+            axis,
+            points,
+            xs,
+            jumps,
+            slice,
+        }
+    }
+
+    pub fn key(&self) -> &str {
+        self.s.grid.key(self.axis)
+    }
+
+    /// `(x, f(point))` where `f` is finite, thinned for drawing ([`thin`]).
+    pub fn series(&self, f: impl Fn(&PointStats) -> f64) -> Vec<(f64, f64)> {
+        thin(
+            self.xs
+                .iter()
+                .zip(&self.points)
+                .map(|(&x, p)| (x, f(p)))
+                .filter(|p| p.1.is_finite())
+                .collect(),
+        )
+    }
+
+    /// Spans of consecutive points in one zone: (from, to, zone), boundaries halfway between
+    /// neighbouring points.
+    pub fn zone_spans(&self) -> Vec<(f64, f64, u32)> {
+        let xs = &self.xs;
+        let mut out: Vec<(usize, usize, u32)> = Vec::new();
+        for (i, p) in self.points.iter().enumerate() {
+            match out.last_mut() {
+                Some(last) if last.2 == p.zone && last.1 + 1 == i => last.1 = i,
+                _ => out.push((i, i, p.zone)),
+            }
+        }
+        out.into_iter()
+            .filter(|r| (r.2 as usize) < self.s.zones.len())
+            .map(|(a, b, z)| {
+                let lo = if a == 0 {
+                    xs[0]
+                } else {
+                    (xs[a - 1] + xs[a]) / 2.0
+                };
+                let hi = if b + 1 == xs.len() {
+                    xs[b]
+                } else {
+                    (xs[b] + xs[b + 1]) / 2.0
+                };
+                (lo, hi, z)
+            })
+            .collect()
+    }
+
+    /// The title suffix naming the slice: ` (m = 0.02 kg, d = 0.01 m)`.
+    pub fn at(&self) -> String {
+        if self.slice.is_empty() {
+            String::new()
+        } else {
+            format!(" at {}", self.slice)
+        }
+    }
+}
+
+/// Vertices a drawn line keeps at most: four per pixel of the widest chart.
+pub const MAX_VERTICES: usize = 4000;
+
+/// A line of more than [`MAX_VERTICES`] points thinned for drawing: of each run of consecutive
+/// points (`MAX_VERTICES / 2` runs), its lowest and its highest, in x order, so every spike
+/// stays visible and the drawing does not change at the chart's resolution. The chart's data
+/// (CSV) keeps every point.
+pub fn thin(line: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    let n = line.len();
+    if n <= MAX_VERTICES {
+        return line;
+    }
+    let runs = MAX_VERTICES / 2;
+    let mut out = Vec::with_capacity(MAX_VERTICES);
+    for k in 0..runs {
+        let run = &line[k * n / runs..(k + 1) * n / runs];
+        let lo = run.iter().min_by(|a, b| a.1.total_cmp(&b.1));
+        let hi = run.iter().max_by(|a, b| a.1.total_cmp(&b.1));
+        if let (Some(&lo), Some(&hi)) = (lo, hi) {
+            if lo.0 <= hi.0 {
+                out.extend([lo, hi]);
+            } else {
+                out.extend([hi, lo]);
+            }
+        }
+    }
+    out
+}
+
+/// `text` shortened to `max` characters with an ellipsis.
+pub fn shorten(text: &str, max: usize) -> String {
+    if text.chars().count() <= max {
+        text.to_string()
+    } else {
+        let mut s: String = text.chars().take(max.saturating_sub(1)).collect();
+        s.push('…');
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thinning_keeps_the_spikes_and_bounds_the_vertices() {
+        let mut line: Vec<(f64, f64)> = (0..1_000_000).map(|i| (i as f64, 0.0)).collect();
+        line[123_457].1 = 5.0;
+        line[876_543].1 = -3.0;
+        let t = thin(line);
+        assert!(t.len() <= MAX_VERTICES, "{}", t.len());
+        assert!(t.contains(&(123_457.0, 5.0)) && t.contains(&(876_543.0, -3.0)));
+        assert!(t.windows(2).all(|w| w[0].0 < w[1].0), "x order");
+        // Short lines are drawn as they are.
+        let short: Vec<(f64, f64)> = (0..100).map(|i| (i as f64, i as f64)).collect();
+        assert_eq!(thin(short.clone()), short);
+    }
+}

@@ -1,0 +1,173 @@
+//! What was reduced, the nominal design's cases (the paper's Table II), the outcomes of the runs
+//! and the normality of the response.
+
+use std::fmt::Write;
+
+use super::{MAX_ROWS, cm, confidence, design_text, f, thousands};
+use crate::reduce::Summary;
+use crate::reduce::table::outcome_text;
+use crate::report::charts::plumbing::{axis_unit, fmt_num};
+use crate::sim::Outcome;
+use crate::study::Study;
+
+/// Points and runs reduced, and the swept axes.
+pub fn overview(study: &Study, s: &Summary) -> String {
+    let mut o = String::new();
+    let n_runs: u64 = s.outcome_totals.iter().sum();
+    let _ = writeln!(
+        o,
+        "{} of {} design points reduced ({} runs, {} cases per point).{}\n",
+        thousands(s.points.len() as u64),
+        thousands(s.n_points_planned),
+        thousands(n_runs),
+        study.cases.len(),
+        if (s.points.len() as u64) < s.n_points_planned {
+            " **The run is incomplete: the missing points are left out of everything below.**"
+        } else {
+            ""
+        }
+    );
+    let axes: Vec<String> = s
+        .grid
+        .axes
+        .iter()
+        .map(|(k, v)| {
+            format!(
+                "`{k}` from {} to {} ({} values, {})",
+                fmt_num(v[0]),
+                fmt_num(v[v.len() - 1]),
+                v.len(),
+                axis_unit(k)
+            )
+        })
+        .collect();
+    if !axes.is_empty() {
+        let _ = writeln!(o, "Swept: {}.\n", axes.join("; "));
+    }
+    o
+}
+
+/// The cases of the nominal design point (the one nearest the study's base system).
+pub fn nominal(s: &Summary) -> String {
+    let mut o = String::new();
+    let Some((np, rows)) = &s.nominal else {
+        return o;
+    };
+    let name = s.options.response.name;
+    let _ = writeln!(o, "## Nominal design: the cases (Table II)\n");
+    let point = s.point(*np);
+    let _ = writeln!(
+        o,
+        "Design point {np}{}, the one nearest the study's base system.\n",
+        if s.grid.n_axes() > 0 {
+            format!(" ({})", design_text(s, *np))
+        } else {
+            String::new()
+        }
+    );
+    let _ = writeln!(
+        o,
+        "| # | case | Δm (g) | Δd (mm) | noise seed | outcome | {name} (cm) | DI (m/s) |\n|---|---|---|---|---|---|---|---|"
+    );
+    for (i, r) in rows.iter().enumerate().take(MAX_ROWS) {
+        let _ = writeln!(
+            o,
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            i + 1,
+            if r.ideal { "ideal" } else { "" },
+            fmt_num(r.dm * 1e3),
+            fmt_num(r.dd * 1e3),
+            r.noise_seed
+                .map(|x| x.to_string())
+                .unwrap_or_else(|| "none".into()),
+            r.outcome,
+            cm(r.response),
+            f(r.di, 5)
+        );
+    }
+    if rows.len() > MAX_ROWS {
+        let _ = writeln!(
+            o,
+            "\n… and {} more cases (the runs of point {np} in `points/`).",
+            rows.len() - MAX_ROWS
+        );
+    }
+    if let Some(p) = point {
+        let _ = writeln!(
+            o,
+            "\n{name} over the {} ok cases: mean **{} cm**, SD **{} cm** (eq. 9, N − 1). Stress: mean {} MPa, SD {} MPa. R = {} ({} interval {} – {}), μn = {}, Anderson–Darling on ln {name}: A*² = {}, p = {}.\n",
+            p.n_ok,
+            cm(p.response.mean),
+            cm(p.response.sd),
+            f(p.stress.mean / 1e6, 2),
+            f(p.stress.sd / 1e6, 2),
+            f(p.reliability, 5),
+            confidence(s),
+            f(p.reliability_lo, 5),
+            f(p.reliability_hi, 5),
+            f(p.safety_factor, 4),
+            f(p.ad_stat, 3),
+            f(p.ad_p, 3)
+        );
+    }
+    o
+}
+
+/// Runs per outcome, and the design points with failed runs.
+pub fn outcomes(s: &Summary) -> String {
+    let mut o = String::from("## Outcomes\n\n| outcome | runs |\n|---|---|\n");
+    for (oc, n) in Outcome::ALL.iter().zip(&s.outcome_totals) {
+        if *n > 0 {
+            let _ = writeln!(o, "| {} | {} |", oc.name(), thousands(*n));
+        }
+    }
+    let flagged: Vec<_> = s.points.iter().filter(|p| !p.all_ok).collect();
+    if flagged.is_empty() {
+        let _ = writeln!(o, "\nEvery run ended `ok`.\n");
+        return o;
+    }
+    let _ = writeln!(
+        o,
+        "\n**{} design points have runs that did not end `ok`**; their statistics use only the ok runs (column `all_ok = false` in the summary):\n",
+        flagged.len()
+    );
+    for p in flagged.iter().take(20) {
+        let _ = writeln!(
+            o,
+            "- point {} ({}): {} of {} ok; {}",
+            p.point,
+            design_text(s, p.point),
+            p.n_ok,
+            p.n_cases,
+            outcome_text(&p.outcomes, true)
+        );
+    }
+    if flagged.len() > 20 {
+        let _ = writeln!(o, "- … and {} more", flagged.len() - 20);
+    }
+    let _ = writeln!(o);
+    o
+}
+
+/// Anderson–Darling on the log of the response over the points.
+pub fn normality(study: &Study, s: &Summary) -> String {
+    let name = s.options.response.name;
+    let tested: Vec<_> = s.points.iter().filter(|p| p.ad_p.is_finite()).collect();
+    let rejected = tested.iter().filter(|p| p.ad_p < 0.05).count();
+    let mut o = format!("## Is ln {name} normal?\n\n");
+    if tested.is_empty() {
+        let _ = writeln!(
+            o,
+            "No design point has three or more distinct ok values: nothing to test.\n"
+        );
+    } else {
+        let _ = writeln!(
+            o,
+            "Anderson–Darling (mean and variance estimated, Stephens' small-sample correction) rejects normality of ln {name} at the 5 % level for {} of {} design points. With {} cases per point the test has little power; where it rejects, read R as a model-based figure, not a measured one.\n",
+            thousands(rejected as u64),
+            thousands(tested.len() as u64),
+            study.cases.len()
+        );
+    }
+    o
+}

@@ -1,0 +1,132 @@
+//! `report.md`: the reduction of a run directory for a person, one function per section.
+//! Deterministic: no timestamps, no paths outside the run directory, numbers at fixed
+//! precision. No table is longer than [`MAX_ROWS`] rows, whatever the size of the sweep: the
+//! rest stays in the Parquet and CSV tables, and the text says so.
+//!
+//! Order: the recommendation first (what to build, and whether the swept range was wide
+//! enough), then the zones, the jumps, the sensitivity, the ranking, the nominal design's
+//! cases, the outcomes, normality, how it was computed, the accuracy audit and the charts.
+
+mod audit;
+mod cases;
+mod jumps;
+mod ranking;
+mod recommendation;
+mod sensitivity;
+mod settings;
+mod zones;
+
+use std::fmt::Write;
+
+use crate::reduce::{PointStats, Summary};
+use crate::study::Study;
+
+use super::charts::plumbing::{axis_value, fmt_num};
+
+/// Rows a report table shows at most.
+pub const MAX_ROWS: usize = 30;
+
+/// The report text. `charts` are file names relative to the run directory; `audit` is the
+/// run's accuracy audit (`manifest.json`) when there is one.
+pub fn report(
+    study: &Study,
+    s: &Summary,
+    charts: &[String],
+    audit: Option<&crate::accuracy::Audit>,
+) -> String {
+    let mut o = format!("# impactsweep report: {}\n\n", study.name);
+    o += &cases::overview(study, s);
+    o += &recommendation::section(s);
+    o += &zones::section(s);
+    o += &jumps::section(s);
+    o += &sensitivity::section(s);
+    o += &ranking::top(s);
+    o += &ranking::pareto(s);
+    o += &cases::nominal(s);
+    o += &cases::outcomes(s);
+    o += &cases::normality(study, s);
+    o += &settings::section(study, s);
+    if let Some(a) = audit {
+        o += &audit::section(a);
+    }
+    o += &charts_section(charts);
+    o
+}
+
+fn charts_section(charts: &[String]) -> String {
+    let mut o = String::new();
+    if !charts.is_empty() {
+        let _ = writeln!(
+            o,
+            "## Charts\n\nEach chart's data is the CSV file of the same name (the summary rows it draws).\n"
+        );
+        for c in charts.iter().filter(|c| c.ends_with(".svg")) {
+            let _ = writeln!(o, "![{c}]({c})\n");
+        }
+    }
+    let _ = writeln!(
+        o,
+        "Files: `summary.parquet` (one row per design point), `zones.parquet`, `jumps.parquet`, `sensitivity.parquet`, each also as CSV; SI units throughout (every column in impactsweep's `docs/schema.md`)."
+    );
+    o
+}
+
+/// A number at fixed precision; `–` for NaN, `∞` for infinities.
+pub(crate) fn f(v: f64, digits: usize) -> String {
+    if v.is_finite() {
+        format!("{v:.digits$}")
+    } else if v.is_nan() {
+        "–".into()
+    } else if v > 0.0 {
+        "∞".into()
+    } else {
+        "−∞".into()
+    }
+}
+
+/// Metres in centimetres, three decimals.
+pub(crate) fn cm(v: f64) -> String {
+    f(v * 100.0, 3)
+}
+
+/// A design point's axis values: `e = 0.5, m = 0.02 kg, d = 0.01 m`.
+pub fn design_text(s: &Summary, p: u64) -> String {
+    (0..s.grid.n_axes())
+        .map(|a| axis_value(s.grid.key(a), s.grid.value(p, a)))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The confidence level as the text says it: `95 %`.
+pub(crate) fn confidence(s: &Summary) -> String {
+    format!("{} %", fmt_num(100.0 * s.confidence))
+}
+
+/// The ranked points, best first.
+pub(crate) fn ranked(s: &Summary) -> Vec<&PointStats> {
+    let mut r: Vec<&PointStats> = s.points.iter().filter(|p| p.rank.is_some()).collect();
+    r.sort_by_key(|p| p.rank);
+    r
+}
+
+/// `1 jump`, `3 jumps`, `1,247 jumps`: a count and its noun (`plural` when not 1).
+pub(crate) fn count(n: u64, noun: &str, plural: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{} {plural}", thousands(n))
+    }
+}
+
+/// `1,247,148`.
+pub(crate) fn thousands(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
