@@ -150,8 +150,32 @@ impl System {
         }
     }
 
+    /// The magnitudes that make sense in SI, for the keys that have one: `(low, high, what)`
+    /// with `low <= |value| <= high` (a zero inner mass, no damper, and zero damping, initial
+    /// state or velocity are allowed too). Beyond them a value is no physical damper
+    /// (a main mass of 1e-300 kg, a velocity of 1e200 m/s), and the closed form's frequencies,
+    /// energies and derivatives leave the floating-point range (the run would end at the step
+    /// cap after seconds of work instead of at once with an error).
+    pub fn si_range(key: &str) -> Option<(f64, f64, &'static str)> {
+        Some(match key {
+            "M" => (1e-12, 1e12, "the main mass must be in [1e-12, 1e12] kg"),
+            "m" => (
+                1e-12,
+                1e12,
+                "the inner mass must be 0 (no damper) or in [1e-12, 1e12] kg",
+            ),
+            "K" => (1e-12, 1e15, "the stiffness must be in [1e-12, 1e15] N/m"),
+            "C" => (0.0, 1e15, "the damping must be in [0, 1e15] N s/m"),
+            "d" => (1e-12, 1e6, "the clearance must be in [1e-12, 1e6] m"),
+            "x0" | "y0" => (0.0, 1e6, "an initial position must be in [-1e6, 1e6] m"),
+            "v0" | "w0" => (0.0, 1e6, "an initial velocity must be in [-1e6, 1e6] m/s"),
+            _ => return None,
+        })
+    }
+
     /// Checks every range of model.md §1: `M > 0`, `m >= 0`, `K > 0`, `C >= 0`, `d > 0`,
-    /// `0 <= e <= 1`, `|y0 - x0| <= d/2`, every number finite.
+    /// `0 <= e <= 1`, `|y0 - x0| <= d/2`, every number finite, and the SI magnitudes of
+    /// [`System::si_range`].
     pub fn validate(&self) -> Result<(), RangeError> {
         for key in SYSTEM_KEYS {
             let v = self.get(key).unwrap_or(f64::NAN);
@@ -164,6 +188,12 @@ impl System {
                 };
             if !ok {
                 return Err(RangeError::new(key, v, Self::allowed(key)));
+            }
+            if let Some((low, high, what)) = Self::si_range(key)
+                && v != 0.0
+                && !(low..=high).contains(&v.abs())
+            {
+                return Err(RangeError::new(key, v, what));
             }
         }
         let gap = (self.y0 - self.x0).abs();
@@ -226,6 +256,23 @@ mod tests {
             s.validate().unwrap_err().to_string(),
             "M = NaN: the main mass must be a finite number > 0 (kg)"
         );
+        let mut s = System::TABLE_I;
+        s.M = 1e-300;
+        assert_eq!(
+            s.validate().unwrap_err().to_string(),
+            "M = 1e-300: the main mass must be in [1e-12, 1e12] kg"
+        );
+        let mut s = System::TABLE_I;
+        s.v0 = -1e200;
+        assert_eq!(
+            s.validate().unwrap_err().to_string(),
+            "v0 = -1e200: an initial velocity must be in [-1e6, 1e6] m/s"
+        );
+        let mut s = System::TABLE_I;
+        s.m = 0.0;
+        s.C = 0.0;
+        s.x0 = 0.0;
+        s.validate().unwrap();
         let mut s = System::TABLE_I;
         s.y0 = 0.006;
         assert_eq!(

@@ -590,3 +590,89 @@ fn loose_tolerance_still_ends_chatter_by_sticking() {
         }
     }
 }
+
+// ---- Issue 11: no slow extremes. Each ends with a named outcome (or is refused at validation
+// with its key, value and range) and takes a bounded number of solver steps, noise-free and
+// with the paper's noise (a sample every 1 ms over the 20 s horizon).
+
+/// The run noise-free and with the paper's noise.
+fn clean_and_noisy(sys: &System) -> [Record; 2] {
+    use impactsweep::sim::NoiseSettings;
+    use impactsweep::sim::noise::NoiseStream;
+    sys.validate().unwrap();
+    let ns = NoiseSettings {
+        power: 5e-10,
+        sample_time: 1e-3,
+    };
+    let mut stream = NoiseStream::new(2013, 1, 0);
+    let noisy = simulate(
+        sys,
+        &SolverSettings::default(),
+        &Request::default(),
+        Some((&ns, &mut stream)),
+        &mut NoProbe,
+    );
+    [run(sys), noisy]
+}
+
+#[test]
+fn issue_11_c_1e6_ends_at_once() {
+    // zeta = 79,000: x rises for about M/C = 1e-7 s, then creeps back without crossing zero
+    // (an over-damped mass crosses zero at most once): the first half-cycle never closes.
+    for rec in clean_and_noisy(&System { C: 1e6, ..T1 }) {
+        assert_eq!(rec.outcome, Outcome::NoSecondPeak, "{rec:?}");
+        assert_eq!(rec.impacts, 0);
+        assert!(rec.steps <= 20, "{} steps", rec.steps);
+    }
+}
+
+#[test]
+fn issue_11_c_50_critical_ends_at_once() {
+    for rec in clean_and_noisy(&System {
+        C: 50.0 * crit(),
+        ..T1
+    }) {
+        assert_eq!(rec.outcome, Outcome::NoSecondPeak, "{rec:?}");
+        assert!(rec.steps <= 20, "{} steps", rec.steps);
+    }
+    // Started on the far side, it crosses zero once, upward, and never comes back down.
+    let rec = run(&System {
+        C: 50.0 * crit(),
+        x0: -0.004,
+        v0: 3.0,
+        ..T1
+    });
+    assert_eq!(rec.outcome, Outcome::NoSecondPeak, "{rec:?}");
+    assert!(rec.x1.is_nan() && rec.steps <= 20, "{rec:?}");
+}
+
+#[test]
+fn issue_11_a_critically_damped_mass_ends_at_once() {
+    // The impacts push the main mass back across zero, so a second half-cycle does come.
+    for rec in clean_and_noisy(&System { C: crit(), ..T1 }) {
+        assert_eq!(rec.outcome, Outcome::Ok, "{rec:?}");
+        assert!(rec.steps <= 100, "{} steps", rec.steps);
+    }
+}
+
+#[test]
+fn issue_11_a_main_mass_of_1e_300_kg_is_refused() {
+    let err = System { M: 1e-300, ..T1 }.validate().unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "M = 1e-300: the main mass must be in [1e-12, 1e12] kg"
+    );
+}
+
+#[test]
+fn issue_11_v0_of_1e200_is_refused() {
+    let err = System { v0: 1e200, ..T1 }.validate().unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "v0 = 1e200: an initial velocity must be in [-1e6, 1e6] m/s"
+    );
+    // Up to the bound the run is fast: the same number of steps at any speed.
+    let fast = run(&System { v0: 1e6, ..T1 });
+    assert!(Outcome::ALL.contains(&fast.outcome));
+    assert!(fast.steps < 10_000, "{fast:?}");
+}

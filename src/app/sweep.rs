@@ -270,7 +270,7 @@ pub fn status(args: &StatusArgs) -> anyhow::Result<()> {
         .collect();
     if dirs.is_empty() {
         return Err(InputError::new(format!(
-            "{}: neither a run directory (no manifest.json) nor an output root (no run directory in it)",
+            "{}: not a run directory (no manifest.json), nor an output root (no run directory in it)",
             args.dir.display()
         ))
         .into());

@@ -19,19 +19,18 @@
 //!    Overlapping or touching candidates make one candidate span. A smooth trend changes by
 //!    `O(h)` between neighbours and its slope by `O(h)` across one, so a finer grid gives fewer
 //!    candidates, never more: refining does not invent jumps.
-//! 2. **Location.** Bisection of the span with the ideal case simulated at the midpoint `m`:
-//!    the jump lies beyond `m` when `q(m)` follows the trend of the left side (the line through
-//!    the left end with the left slope) more closely than that of the right side, before `m`
-//!    otherwise; the side that moves takes the secant to `m` as its new slope, so the trends
-//!    stay local. It stops when the bracket is at most `locate · h` wide (`locate` defaults to
-//!    1/100 of the grid step): `location` is its middle, `location_tol` half its width.
+//! 2. **Location.** Bisection of the span with the ideal case simulated at the midpoint `m`,
+//!    each side judging whether `q(m)` follows its own trend ([`locate`] has the rule). It stops
+//!    when the bracket is at most `locate · h` wide (`locate` defaults to 1/100 of the grid
+//!    step): `location` is its middle, `location_tol` half its width.
 //! 3. **Class.** On the final bracket `[a, b]`: a **step** when the change stays,
 //!    `|q(b) - q(a)| >= step_tol` (size: `q(b) - q(a)`, the quantity's units); otherwise a
 //!    **kink** (response only) when only the slope changes, `|s_R - s_L| >= kink_slope · S`
 //!    with the secants either side at the bracket's scale (size: `s_R - s_L`, the quantity's
-//!    units per axis unit); otherwise the candidate was a steep but smooth stretch and is
-//!    dropped. A kink of the square-root kind (a grazing impact) has an ever steeper side and
-//!    is a kink.
+//!    units per axis unit). A kink of the square-root kind (a grazing impact) has an ever
+//!    steeper side and is a kink; a corner rounded over more than the tolerance is reported at
+//!    the finest bracket, at most ten tolerances wide, that still classes. Otherwise the
+//!    candidate was a steep but smooth stretch and is dropped.
 //!
 //! DI gets steps only: DI = (X1 - X2)/(t2 - t1) depends on the impacts of the second
 //! half-cycle and its slope changes at every grazing impact there (hundreds of times along e in
@@ -393,7 +392,8 @@ impl Side {
 /// own curvature (from its three nearest points; unbounded with fewer) would make there. `m`
 /// belongs to a side when the prediction holds within four times that error and only that
 /// side's does; when both hold, to the side with the smaller error (the more demanding test it
-/// passed); when neither, to the side whose deviation is the smaller multiple of its error. The
+/// passed); when neither (a side bends near the jump more than its known points show), to the
+/// side whose slope is nearer the slope at `m`, from one more simulation just before `m`. The
 /// side that gets `m` adds it as its nearest point. A square-root corner (one side's slope
 /// unbounded at the jump, as at a grazing impact) is then located as well as a clean kink or a
 /// step: the smooth side's tight prediction decides, the corner side's large curvature makes
@@ -425,6 +425,7 @@ pub fn locate(
     let scale = ys[i].abs().max(ys[j].abs());
     let floor = 1e-9 * scale + f64::MIN_POSITIVE;
     let mut sims = 0;
+    let mut brackets = vec![Bracket::of(&left, &right)];
     // Each halving costs one simulation; 64 bound the loop whatever `tol` is.
     while right.last().0 - left.last().0 > tol && sims < 64 {
         let (a, b) = (left.last().0, right.last().0);
@@ -463,35 +464,83 @@ pub fn locate(
             // Both trends allow it: the one that asked more of it (the smaller error) decides.
             (true, true) if el != er => el < er,
             (true, true) => dl <= dr,
-            (false, false) => dl / el <= dr / er,
+            // Neither does: a side bends near the jump more than its known points show. The
+            // slope at m (from one more simulation just before it) tells which side it is on.
+            (false, false) => {
+                let eps = (b - a) / 64.0;
+                sims += 1;
+                let Some(fe) = f(m - eps).filter(|v| v.is_finite()) else {
+                    return (Outcome::Failed, sims);
+                };
+                let s = (fm - fe) / eps;
+                (s - sl).abs() <= (s - sr).abs()
+            }
         };
         if to_left {
             left.push((m, fm));
         } else {
             right.push((m, fm));
         }
+        brackets.push(Bracket::of(&left, &right));
     }
-    let ((a, fa), (b, fb)) = (left.last(), right.last());
-    let (location, half) = (0.5 * (a + b), 0.5 * (b - a));
-    let (sl, sr) = (left.slope(), right.slope());
-    let outcome = if (fb - fa).abs() >= step_tol {
-        Outcome::Jump {
-            kind: JumpKind::Step,
-            location,
-            tol: half,
-            size: fb - fa,
-        }
-    } else if kink.is_some_and(|thr| (sr - sl).abs() >= thr) {
-        Outcome::Jump {
-            kind: JumpKind::Kink,
-            location,
-            tol: half,
-            size: sr - sl,
-        }
-    } else {
-        Outcome::Smooth
-    };
+    // The finest bracket across which the value or the slope still changes enough, no wider
+    // than ten tolerances: a corner rounded over more than the tolerance (but less than a tenth
+    // of the grid step) is a kink at the scale of its rounding, and says so with its wider
+    // location_tol; a candidate that needs a wider bracket was a steep but smooth stretch.
+    let outcome = brackets
+        .iter()
+        .rev()
+        .take_while(|br| br.b - br.a <= 10.0 * tol)
+        .find_map(|br| br.class(step_tol, kink))
+        .unwrap_or(Outcome::Smooth);
     (outcome, sims)
+}
+
+/// One bracket of the bisection: its ends and values, and the secants either side.
+struct Bracket {
+    a: f64,
+    b: f64,
+    fa: f64,
+    fb: f64,
+    sl: f64,
+    sr: f64,
+}
+
+impl Bracket {
+    fn of(left: &Side, right: &Side) -> Bracket {
+        let ((a, fa), (b, fb)) = (left.last(), right.last());
+        Bracket {
+            a,
+            b,
+            fa,
+            fb,
+            sl: left.slope(),
+            sr: right.slope(),
+        }
+    }
+
+    /// A step when the value changes across the bracket by `step_tol` or more, else a kink
+    /// when the slope does by the threshold or more.
+    fn class(&self, step_tol: f64, kink: Option<f64>) -> Option<Outcome> {
+        let (location, tol) = (0.5 * (self.a + self.b), 0.5 * (self.b - self.a));
+        if (self.fb - self.fa).abs() >= step_tol {
+            Some(Outcome::Jump {
+                kind: JumpKind::Step,
+                location,
+                tol,
+                size: self.fb - self.fa,
+            })
+        } else if kink.is_some_and(|thr| (self.sr - self.sl).abs() >= thr) {
+            Some(Outcome::Jump {
+                kind: JumpKind::Kink,
+                location,
+                tol,
+                size: self.sr - self.sl,
+            })
+        } else {
+            None
+        }
+    }
 }
 
 /// The points of the jump's line whose ±1-step neighbourhood along the axis reaches the

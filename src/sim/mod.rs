@@ -420,20 +420,23 @@ pub struct Record {
     pub energy_viscous: f64,
     /// Time the run stopped (s).
     pub t_stop: f64,
-    /// Solver steps taken (root-finding iterations of `exact`, integration steps otherwise).
+    /// Solver steps taken: for `exact`, evaluations of the closed form (or of its local Taylor
+    /// polynomials) plus one per event search; integration steps otherwise.
     pub steps: u64,
 }
 
 /// The impact law (eq. 3–4): velocities just after an impact from those just before.
 /// Conserves momentum `M v + m w` exactly up to rounding and reverses the relative velocity
-/// scaled by `e`.
+/// scaled by `e`. Written as the change of each velocity,
+/// `x'_a = x'_b + m (1 + e) (y'_b - x'_b) / (M + m)` and
+/// `y'_a = y'_b + M (1 + e) (x'_b - y'_b) / (M + m)`, so that a massless inner mass (`m = 0`,
+/// no damper) leaves the main mass's velocity exactly as it was.
 #[inline]
 #[allow(non_snake_case)]
 pub fn impact(M: f64, m: f64, e: f64, v: f64, w: f64) -> (f64, f64) {
-    let total = M + m;
-    let va = ((M - m * e) * v + m * (1.0 + e) * w) / total;
-    let wa = (M * (1.0 + e) * v + (m - M * e) * w) / total;
-    (va, wa)
+    let k = (1.0 + e) / (M + m);
+    let rel = w - v;
+    (v + m * k * rel, w - M * k * rel)
 }
 
 /// Observer of a run's events, for traces and tests. Every method defaults to doing nothing, so
