@@ -11,6 +11,11 @@
 //! [`app`] holds the commands (arguments in, library calls, printing out) and [`cli`] the
 //! argument parsing; [`numeric`] the one median, quantile and linspace.
 //!
+//! A study states its scene (`sim::Scene`): the paper's free decay (`sim::Record`, the `points`
+//! table, the reducer's design points) or harmonic forcing to a steady state
+//! (`sim::ForcedRecord`, the `forced_points` table, reduced per design over its frequency band
+//! by [`reduce::forced`]).
+//!
 //! The physics and every equation are in `docs/model.md`; module docs repeat what
 //! each stage needs.
 

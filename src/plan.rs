@@ -7,9 +7,13 @@
 //! * chunk `k` holds design points `k * chunk_points .. min((k + 1) * chunk_points, n_points)`
 //!   and all their cases, in `point_id` order; shard `i/N` takes the chunks with `k % N == i`;
 //! * the noise stream of a run is `NoiseStream::new(study.seed, noise_seed, p)`: cases sharing
-//!   a noise seed at one design point share their noise (as the paper's Table II rows do).
+//!   a noise seed at one design point share their noise (as the paper's Table II rows do);
+//! * in a harmonic study the frequency axis is the last (the study moves it there) and a chunk
+//!   holds a whole number of its curves, so chunk `k` holds whole frequency-response curves:
+//!   a design, in the reducer's sense, is a design point without its frequency.
 
 use crate::model::System;
+use crate::sim::Scene;
 use crate::sim::noise::NoiseStream;
 use crate::study::{Case, Study};
 
@@ -24,6 +28,8 @@ pub struct RunSpec {
     pub case: u32,
     /// The system of this run: the design point's axis values over the base, then `dm`, `dd`.
     pub system: System,
+    /// The scene of this run: the study's, with the design point's `F0`, `omega` or `r`.
+    pub scene: Scene,
     /// The case (`dm`, `dd`, `noise_seed`, `ideal`).
     pub spec: Case,
 }
@@ -69,17 +75,26 @@ impl<'a> Plan<'a> {
 
     /// The system of design point `p` (no perturbation).
     pub fn point_system(&self, p: u64) -> System {
+        self.point(p).0
+    }
+
+    /// The system and the scene of design point `p` (no perturbation): each axis value lands on
+    /// its system key or on the scene's `F0`, `omega` or `r`.
+    pub fn point(&self, p: u64) -> (System, Scene) {
         let mut sys = self.study.system;
+        let mut scene = self.study.scene;
         for (axis, v) in self.study.axes.iter().zip(self.point_values(p)) {
-            sys.set(&axis.key, v);
+            if !sys.set(&axis.key, v) {
+                scene.set(&axis.key, v);
+            }
         }
-        sys
+        (sys, scene)
     }
 
     /// Run `(p, c)`.
     pub fn run(&self, p: u64, c: u32) -> RunSpec {
         let spec = self.study.cases[c as usize];
-        let mut system = self.point_system(p);
+        let (mut system, scene) = self.point(p);
         system.m += spec.dm;
         system.d += spec.dd;
         RunSpec {
@@ -87,6 +102,7 @@ impl<'a> Plan<'a> {
             point: p,
             case: c,
             system,
+            scene,
             spec,
         }
     }

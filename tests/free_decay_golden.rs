@@ -171,3 +171,94 @@ fn free_decay_records_are_bit_identical_to_the_golden_digest() {
         got.0, got.1
     );
 }
+
+/// Two free-decay studies (the quick study's and the paper's design and cases; the study text
+/// lives here, not in `configs/`, because the text is stored in every part and would move the
+/// bytes whenever a comment there changes).
+const GOLDEN_QUICK: &str = r#"[study]
+name = "golden_quick"
+seed = 1
+
+[sweep]
+e = { start = 0.5, stop = 0.9, num = 6 }
+
+[noise]
+power = 5e-10
+sample_time = 1e-3
+
+[perturb]
+cases = [
+  { dd = 0.001 },
+  { dm = -0.001, dd = -0.001 },
+  { noise_seed = 7 },
+]
+
+[run]
+chunk_points = 2
+"#;
+const GOLDEN_PAPER: &str = r#"[study]
+name = "golden_paper"
+seed = 2013
+
+[sweep]
+e = { start = 0.45, stop = 0.95, step = 0.01 }
+
+[noise]
+power = 5e-10
+sample_time = 1e-3
+
+[perturb]
+cases = [
+  { dd = 0.001 },
+  { dd = -0.001 },
+  { noise_seed = 23341 },
+  { noise_seed = 32324 },
+  { noise_seed = 22413 },
+  { noise_seed = 41313 },
+  { noise_seed = 32324 },
+  { dm = 0.001, dd = 0.001, noise_seed = 41313 },
+  { dm = 0.001, dd = -0.001, noise_seed = 22413 },
+  { dm = -0.001, dd = -0.001, noise_seed = 22413 },
+  { dm = -0.001, dd = 0.001, noise_seed = 23341 },
+]
+"#;
+
+/// Their part files as written by `main` at commit d9774b9 (before the harmonic scene reached
+/// studies, the store and the engine; after issue 11's solver work, which moved free-decay bits
+/// on purpose, so it re-minted these from aa2c7ae's): the 64-bit FNV-1a of each part's bytes (whatever checksum
+/// the manifest uses), in chunk order.
+/// Issue 12 gave the store one table per scene; the free-decay table's bytes must not move. The
+/// bytes carry the tool's version (`impactsweep.version`), so a version bump re-mints these
+/// (write the two texts to files, `impactsweep run FILE --out OUT` and read the checksums in
+/// `OUT/*/manifest.json`), as does any change meant to move free-decay bits (module doc).
+const GOLDEN_PARTS: [(&str, &[&str]); 2] = [
+    (
+        GOLDEN_QUICK,
+        &["62e5cb5d748b00a7", "9d5608a98539c2d1", "e055b450c6c50525"],
+    ),
+    (GOLDEN_PAPER, &["f1436699e34e8a5e"]),
+];
+
+#[test]
+fn issue_12_free_decay_part_files_are_byte_identical() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (text, want) in GOLDEN_PARTS {
+        let study =
+            impactsweep::study::Study::parse(std::path::Path::new("golden.toml"), text).unwrap();
+        let opts = impactsweep::sweep::SweepOptions::default();
+        let sum = impactsweep::sweep::run_study(&study, tmp.path(), &opts).unwrap();
+        let got: Vec<String> = impactsweep::store::part_files(&sum.dir)
+            .unwrap()
+            .iter()
+            .map(|p| {
+                let bytes = std::fs::read(p).unwrap();
+                format!("{:016x}", impactsweep::store::fnv1a64(&bytes))
+            })
+            .collect();
+        assert_eq!(
+            got, want,
+            "{}: the free-decay part files changed",
+            study.name
+        );
+    }
+}

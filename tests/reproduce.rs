@@ -64,3 +64,10 @@ fn reproduce_paper_regenerates_the_committed_results() {
 fn design_space_regenerates_the_committed_showcase() {
     regenerates("design_space.sh", "design-space");
 }
+
+/// Issue 12: `scripts/frequency_response.sh` regenerates `results/frequency-response/` (a
+/// harmonic study over r, m and d) the same way.
+#[test]
+fn frequency_response_regenerates_the_committed_showcase() {
+    regenerates("frequency_response.sh", "frequency-response");
+}

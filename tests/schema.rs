@@ -211,57 +211,91 @@ fn covers(doc: &str, column: &str) -> bool {
         .any(|k| doc.replace("<axis>", schema::column_name(k)) == column)
 }
 
+/// A small harmonic study (issue 12) run into `tmp/out/<name>`; returns its run directory.
+fn run_harmonic(tmp: &Path, name: &str) -> PathBuf {
+    let study = tmp.join(format!("{name}.toml"));
+    std::fs::write(
+        &study,
+        format!(
+            "[study]\nname = \"{name}\"\n[system]\nv0 = 0.0\n[scene]\nkind = \"harmonic\"\n\
+             F0 = 0.3\n[sweep]\nr = [0.9, 1.0, 1.1]\nm = [0.0, 0.02]\n[noise]\npower = 1e-12\n\
+             sample_time = 1e-3\n[perturb]\ncases = [{{ noise_seed = 1 }}]\n"
+        ),
+    )
+    .unwrap();
+    common::run_study_file(&study, &tmp.join("out"), name)
+}
+
 /// `docs/schema.md` lists every column of every table the tool writes, with the type and unit
-/// the files carry, and nothing else; the names are unique without case.
+/// the files carry, and nothing else; the names are unique without case. The harmonic scene's
+/// `forced_points` table too (issue 12).
 #[test]
 fn issue_9_docs_schema_md_matches_every_written_table() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = run_and_reduce(tmp.path(), "docs");
+    let forced = run_harmonic(tmp.path(), "forced");
+    bin().arg("reduce").arg(&forced).assert().success();
     let tradeoff = tmp.path().join("tradeoff.parquet");
     impactsweep::store::tradeoff::write(&tradeoff, &[]).unwrap();
     let docs = documented();
-    for (kind, path) in [
-        (TableKind::Points, impactsweep::store::part_path(&dir, 0)),
-        (TableKind::Summary, dir.join("summary.parquet")),
-        (TableKind::Zones, dir.join("zones.parquet")),
-        (TableKind::Jumps, dir.join("jumps.parquet")),
-        (TableKind::Sensitivity, dir.join("sensitivity.parquet")),
-        (TableKind::Tradeoff, tradeoff),
+    // Each table with the files that hold it: a free-decay and a harmonic reduction write the
+    // same reducer tables, with the columns of their scene (issue 12).
+    let both = |name: &str| vec![dir.join(name), forced.join(name)];
+    for (kind, paths) in [
+        (
+            TableKind::Points,
+            vec![impactsweep::store::part_path(&dir, 0)],
+        ),
+        (
+            TableKind::ForcedPoints,
+            vec![impactsweep::store::part_path(&forced, 0)],
+        ),
+        (TableKind::Summary, both("summary.parquet")),
+        (TableKind::Zones, both("zones.parquet")),
+        (TableKind::Jumps, both("jumps.parquet")),
+        (TableKind::Sensitivity, both("sensitivity.parquet")),
+        (TableKind::Tradeoff, vec![tradeoff.clone()]),
     ] {
         let doc = &docs
             .iter()
             .find(|(h, _)| h == kind.name())
             .unwrap_or_else(|| panic!("docs/schema.md has no section `## {}`", kind.name()))
             .1;
-        let schema = impactsweep::store::open(&path).unwrap().schema().clone();
-        let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
-        assert!(case_clashes(names.iter().copied()).is_empty(), "{names:?}");
-        for field in schema.fields() {
-            let d = doc
-                .iter()
-                .find(|d| covers(&d.name, field.name()))
-                .unwrap_or_else(|| {
-                    panic!(
-                        "{}: column `{}` is not in docs/schema.md",
-                        kind.name(),
-                        field.name()
-                    )
-                });
-            let mut ty = field.data_type().to_string();
-            if field.is_nullable() {
-                ty.push_str(", nullable");
-            }
-            assert_eq!(d.data_type, ty, "{} `{}`: type", kind.name(), field.name());
-            let unit = &field.metadata()[schema::FIELD_UNIT];
-            if d.name.contains("<axis>") {
-                assert_eq!(d.unit, "unit of the axis");
-            } else {
-                assert_eq!(&d.unit, unit, "{} `{}`: unit", kind.name(), field.name());
+        let mut written: Vec<String> = Vec::new();
+        for path in &paths {
+            let meta = impactsweep::store::metadata_of(&impactsweep::store::open(path).unwrap());
+            assert_eq!(meta[schema::META_TABLE], kind.name(), "{}", path.display());
+            let schema = impactsweep::store::open(path).unwrap().schema().clone();
+            let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
+            assert!(case_clashes(names.iter().copied()).is_empty(), "{names:?}");
+            for field in schema.fields() {
+                let d = doc
+                    .iter()
+                    .find(|d| covers(&d.name, field.name()))
+                    .unwrap_or_else(|| {
+                        panic!(
+                            "{}: column `{}` is not in docs/schema.md",
+                            kind.name(),
+                            field.name()
+                        )
+                    });
+                let mut ty = field.data_type().to_string();
+                if field.is_nullable() {
+                    ty.push_str(", nullable");
+                }
+                assert_eq!(d.data_type, ty, "{} `{}`: type", kind.name(), field.name());
+                let unit = &field.metadata()[schema::FIELD_UNIT];
+                if d.name.contains("<axis>") {
+                    assert_eq!(d.unit, "unit of the axis");
+                } else {
+                    assert_eq!(&d.unit, unit, "{} `{}`: unit", kind.name(), field.name());
+                }
+                written.push(field.name().clone());
             }
         }
         for d in doc {
             assert!(
-                names.iter().any(|n| covers(&d.name, n)),
+                written.iter().any(|n| covers(&d.name, n)),
                 "{}: docs/schema.md lists `{}`, which the tool does not write",
                 kind.name(),
                 d.name

@@ -41,6 +41,18 @@ const BAD: &[(&str, &str)] = &[
         "empty_axis.toml: [sweep].e = []: an axis needs at least one value",
     ),
     (
+        "harmonic_chunk_cuts_a_curve.toml",
+        "harmonic_chunk_cuts_a_curve.toml: [run].chunk_points = 12: must be a multiple of the 11 values of the frequency axis [sweep].r, so that every chunk holds whole frequency-response curves",
+    ),
+    (
+        "harmonic_omega_and_r.toml",
+        "harmonic_omega_and_r.toml: [sweep].r = [0.9, 1.0, 1.1]: give the forcing frequency as omega or as r, not both (omega is in [scene].omega)",
+    ),
+    (
+        "harmonic_resonance.toml",
+        "harmonic_resonance.toml: [sweep].r = 1: resonance without damping: |K - M omega^2 + i C omega| = 1.456201205281444e-14 N/m is below 1e-6 K = 4e-4 N/m, the steady amplitude is unbounded; move r or give C > 0 (at M = 0.1, m = 0.02, K = 400, C = 0)",
+    ),
+    (
         "list_not_increasing.toml",
         "list_not_increasing.toml: [sweep].d[2] = 0.015: the values of an axis must be strictly increasing (previous value 0.02)",
     ),
@@ -79,6 +91,10 @@ const BAD: &[(&str, &str)] = &[
     (
         "reversed_axis.toml",
         "reversed_axis.toml: [sweep].e.stop = 0.5: the axis is reversed: stop must be >= start = 0.9",
+    ),
+    (
+        "scene_axis_in_free_study.toml",
+        "scene_axis_in_free_study.toml: [sweep].r = [0.9, 1.0, 1.1]: unknown axis 'r'; allowed: M, m, K, C, d, e, x0, v0, y0, w0 (F0, omega and r are axes of the harmonic scene: [scene] kind = \"harmonic\")",
     ),
     (
         "solver_tol.toml",
@@ -146,7 +162,7 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "unknown_table.toml",
-        "unknown_table.toml: [sweeps]: unknown table; allowed tables: study, system, sweep, perturb, noise, solver, reliability, zones, ranking, run",
+        "unknown_table.toml: [sweeps]: unknown table; allowed tables: study, scene, system, sweep, perturb, noise, solver, reliability, zones, ranking, run",
     ),
     (
         "weights_do_not_sum.toml",

@@ -506,7 +506,9 @@ fn bad_run_options_are_input_errors() {
         .args(["status", tmp.path().to_str().unwrap()])
         .assert()
         .code(2)
-        .stderr(predicate::str::contains("not a run directory"));
+        .stderr(predicate::str::contains(
+            "a run directory (no manifest.json)",
+        ));
 }
 
 #[test]

@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use crate::app::sweep::PlanArgs;
 use crate::plan::Plan;
-use crate::sim::{self, NoProbe};
+use crate::sim::{self, Drive, NoProbe, Scene};
 use crate::study::{LoadOptions, Study, num as fmt_value};
 
 /// Runs simulated by the timed sample.
@@ -25,6 +25,13 @@ pub const SAMPLE_RUNS: u64 = 200;
 /// ids, parameters and counts dictionary/RLE-encode to a few bytes. Rounded up to 90; an
 /// estimate, not a promise (other grids compress differently).
 pub const BYTES_PER_RUN: u64 = 90;
+
+/// Rough Parquet size of one run of a harmonic study (bytes): the forced table's Float64
+/// outputs (`amplitude impacts_per_period amplitude_linear attenuation energy_* t_stop`, and
+/// `omega r` along the frequency axis). Measured: 69 bytes per run for a one-case 3 x 3 x 81
+/// study (729 runs, one part file), 38 for `configs/frequency-response.toml` (five cases,
+/// whose runs off the impact band are identical and compress); rounded up to 70.
+pub const BYTES_PER_FORCED_RUN: u64 = 70;
 
 /// `impactsweep plan`.
 pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
@@ -63,10 +70,11 @@ pub fn time_sample(study: &Study) -> Sample {
             (Some(ns), Some(s)) => Some((ns, s)),
             _ => None,
         };
-        let rec = sim::simulate(
+        let rec = sim::simulate_scene(
             &run.system,
             &study.solver,
             &study.request,
+            &run.scene,
             noise,
             &mut NoProbe,
         );
@@ -138,6 +146,50 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
             let _ = writeln!(w, "noise:          off");
         }
     }
+    if let Scene::Harmonic(h) = &study.scene {
+        describe_harmonic(w, study, h);
+    } else {
+        describe_free(w, study);
+    }
+    let _ = writeln!(
+        w,
+        "chunks:         {} of up to {} design points",
+        plan.n_chunks(),
+        study.run.chunk_points
+    );
+    if let Some(warning) = tiny_parts(&plan) {
+        let _ = writeln!(w, "warning:        {warning}");
+    }
+    let _ = writeln!(w, "output:         {}/", out.join(&study.name).display());
+    if let Some(sm) = sample
+        && sm.runs > 0
+    {
+        let per_run = sm.seconds / sm.runs as f64;
+        let total = per_run * plan.n_runs() as f64 / threads.max(1) as f64;
+        let _ = writeln!(
+            w,
+            "time estimate:  {} on {threads} thread{} ({:.1} us/run over a sample of {} runs)",
+            fmt_duration(total),
+            if threads == 1 { "" } else { "s" },
+            per_run * 1e6,
+            sm.runs
+        );
+    }
+    let per_run = match study.scene {
+        Scene::Free => BYTES_PER_RUN,
+        Scene::Harmonic(_) => BYTES_PER_FORCED_RUN,
+    };
+    let _ = writeln!(
+        w,
+        "disk estimate:  {} (rough: about {per_run} bytes of Parquet per run)",
+        fmt_bytes(plan.n_runs().saturating_mul(per_run))
+    );
+    s
+}
+
+/// The free-decay lines: the solver's accuracy on the study's own design points and each run's
+/// horizon.
+fn describe_free(w: &mut String, study: &Study) {
     let sv = &study.solver;
     let _ = writeln!(
         w,
@@ -176,36 +228,48 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         None => format!("to the end of positive half-cycle {}", study.request.peaks),
     };
     let _ = writeln!(w, "each run:       {horizon}");
+}
+
+/// The harmonic scene's lines: the force, the frequency band (fixed or swept) and each run's
+/// transient and window.
+fn describe_harmonic(w: &mut String, study: &Study, h: &sim::Harmonic) {
+    let swept = |key: &str| study.axis(key).is_some();
+    let force = if swept("F0") {
+        "F0 swept".to_string()
+    } else {
+        format!("F0 = {} N", fmt_value(h.F0))
+    };
+    let freq = match (h.drive, study.frequency_axis()) {
+        (_, Some(a)) => format!("{} swept (each curve: {} values)", a.key, a.values.len()),
+        (Drive::Omega(w), None) => format!("omega = {} rad/s", fmt_value(w)),
+        (Drive::Ratio(r), None) => format!("r = {}", fmt_value(r)),
+    };
     let _ = writeln!(
         w,
-        "chunks:         {} of up to {} design points",
-        plan.n_chunks(),
-        study.run.chunk_points
+        "scene:          harmonic: F0 cos(omega t) on the main mass; {force}, {freq}"
     );
-    if let Some(warning) = tiny_parts(&plan) {
-        let _ = writeln!(w, "warning:        {warning}");
-    }
-    let _ = writeln!(w, "output:         {}/", out.join(&study.name).display());
-    if let Some(sm) = sample
-        && sm.runs > 0
-    {
-        let per_run = sm.seconds / sm.runs as f64;
-        let total = per_run * plan.n_runs() as f64 / threads.max(1) as f64;
-        let _ = writeln!(
-            w,
-            "time estimate:  {} on {threads} thread{} ({:.1} us/run over a sample of {} runs)",
-            fmt_duration(total),
-            if threads == 1 { "" } else { "s" },
-            per_run * 1e6,
-            sm.runs
-        );
-    }
     let _ = writeln!(
         w,
-        "disk estimate:  {} (rough: about {BYTES_PER_RUN} bytes of Parquet per run)",
-        fmt_bytes(plan.n_runs().saturating_mul(BYTES_PER_RUN))
+        "solver:         exact (tol {}, chatter_tol {}, max_impacts {}, max_steps {})",
+        fmt_value(study.solver.tol),
+        fmt_value(study.solver.chatter_tol),
+        study.solver.max_impacts,
+        study.solver.max_steps
     );
-    s
+    let transient = match h.n_trans {
+        Some(n) => format!("{n} forcing periods"),
+        None => format!(
+            "until the Poincare section converges (trans_tol {}), at most {} forcing periods",
+            fmt_value(h.trans_tol),
+            h.n_trans_max
+        ),
+    };
+    let _ = writeln!(
+        w,
+        "each run:       transient {transient}, then {} periods measured (period_tol {})",
+        h.n_meas,
+        fmt_value(h.period_tol)
+    );
 }
 
 /// Runs per part file under which `plan` calls the part files tiny (with [`TINY_MIN_CHUNKS`]

@@ -13,8 +13,9 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 use crate::app::simulate::{Setup, trace};
-use crate::reduce::{self, Options, Summary, table};
+use crate::reduce::{self, Options, Summary, forced, table};
 use crate::report::{charts, markdown};
+use crate::sim::{ForcedRecord, Scene};
 use crate::store::{self, TableKind};
 use crate::study::{DiSource, LoadOptions, SafetyForm, Study};
 
@@ -41,7 +42,12 @@ pub struct WaveformArgs {
 
 /// The study's choices with the command-line overrides.
 pub fn options(study: &Study, args: &ReduceArgs) -> Options {
-    let mut o = Options::from_study(study);
+    options_over(Options::from_study(study), args)
+}
+
+/// `base` (the study's choices, or a scene's) with the command-line overrides.
+fn options_over(base: Options, args: &ReduceArgs) -> Options {
+    let mut o = base;
     if args.paper_safety {
         o.safety_form = SafetyForm::Paper;
     }
@@ -93,15 +99,35 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
             dir.display()
         );
     }
-    let opts = options(&study, args);
-    let chunks = parts.iter().map(|p| {
-        store::read_part(p)
-            .map(|rows| rows.iter().map(run_of).collect())
-            .with_context(|| format!("reading {}", p.display()))
-    });
-    let summary = reduce::reduce(&study, opts, chunks)?;
     let audit = read_audit(dir)?;
-    let files = write_outputs(&study, &summary, dir, audit.as_ref())?;
+    let (summary, files) = match study.scene {
+        Scene::Free => {
+            let opts = options(&study, args);
+            let chunks = parts.iter().map(|p| {
+                store::read_part(p)
+                    .map(|rows| rows.iter().map(run_of).collect())
+                    .with_context(|| format!("reading {}", p.display()))
+            });
+            let summary = reduce::reduce(&study, opts, chunks)?;
+            let files = write_outputs(&study, &summary, dir, audit.as_ref())?;
+            (summary, files)
+        }
+        Scene::Harmonic(_) => {
+            // A design is a design point without its frequency (reduce/forced.rs).
+            let design = forced::design_study(&study);
+            let opts = options_over(forced::options(&design), args);
+            let mut r = forced::ForcedReducer::new(&study, &design, opts);
+            for p in &parts {
+                r.push(
+                    store::read_rows::<ForcedRecord>(p)
+                        .with_context(|| format!("reading {}", p.display()))?,
+                );
+            }
+            let (summary, fs) = r.finish();
+            let files = write_outputs_with(&study, &summary, dir, audit.as_ref(), Some(&fs))?;
+            (summary, files)
+        }
+    };
     let line = format!(
         "reduced {} design points ({} zones, {} jumps, {} Pareto-optimal{})",
         summary.points.len(),
@@ -147,6 +173,18 @@ pub fn write_outputs(
     dir: &Path,
     audit: Option<&crate::accuracy::Audit>,
 ) -> anyhow::Result<Vec<PathBuf>> {
+    write_outputs_with(study, summary, dir, audit, None)
+}
+
+/// [`write_outputs`], and for a harmonic study (`forced`) its band columns in the summary, its
+/// frequency-response charts and its report section.
+pub fn write_outputs_with(
+    study: &Study,
+    summary: &Summary,
+    dir: &Path,
+    audit: Option<&crate::accuracy::Audit>,
+    forced: Option<&forced::ForcedSummary>,
+) -> anyhow::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let mut files = Vec::new();
     // The summary in batches of points: one batch of columns in memory at a time.
@@ -155,7 +193,14 @@ pub fn write_outputs(
         dir,
         TableKind::Summary,
         points.len(),
-        |r| table::summary_rows(summary, &points[r]),
+        |r| {
+            let rows = &points[r];
+            let mut t = table::summary_rows(summary, rows);
+            if let Some(fs) = forced {
+                forced::summary_columns(&mut t, fs, rows);
+            }
+            t
+        },
     )?);
     drop(points);
     for (kind, t) in [
@@ -165,15 +210,25 @@ pub fn write_outputs(
     ] {
         files.extend(store::summary::write_table(dir, kind, &t)?);
     }
-    let chart_files = charts::summary_charts(summary, dir)?;
+    let mut chart_files = Vec::new();
+    if let Some(fs) = forced {
+        chart_files.extend(charts::frequency_response::charts(summary, fs, dir)?);
+    }
+    chart_files.extend(charts::summary_charts(summary, dir)?);
     let names: Vec<String> = chart_files
         .iter()
         .filter_map(|f| f.file_name().and_then(|n| n.to_str()).map(String::from))
         .collect();
     files.extend(chart_files);
     let p = dir.join("report.md");
-    std::fs::write(&p, markdown::report(study, summary, &names, audit))
-        .with_context(|| format!("writing {}", p.display()))?;
+    let scene = forced
+        .map(|fs| markdown::forced::section(summary, fs))
+        .unwrap_or_default();
+    std::fs::write(
+        &p,
+        markdown::report_with(study, summary, &names, audit, &scene),
+    )
+    .with_context(|| format!("writing {}", p.display()))?;
     files.push(p);
     Ok(files)
 }

@@ -19,6 +19,7 @@
 //!   the safety factor (eq. 7–8, exact or the paper's form), Anderson–Darling on `ln xmax`;
 //! * `DI` from the ideal case, or the mean over the cases.
 
+pub mod forced;
 pub mod grid;
 pub mod jumps;
 pub mod rank;
@@ -63,6 +64,51 @@ impl Response {
     };
 }
 
+/// The per-point damping quantity: the second criterion of perfectibility (eq. 11), of the
+/// "strong damping" class and of the Pareto set, beside R. The damping inclination `DI` in the
+/// free-decay scene, the peak reduction in the harmonic one ([`forced::PEAK_REDUCTION`]).
+/// Summary columns are named after it (`di`, `di_ideal`, `di_sd`, zones' `mean_di`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Damping {
+    /// Column name and prefix.
+    pub name: &'static str,
+    /// How the report and the charts write it (`DI`), and its name as a chart's title starts
+    /// (`Damping inclination`).
+    pub symbol: &'static str,
+    pub title: &'static str,
+    /// Its unit (SI; `1` for a ratio).
+    pub unit: &'static str,
+    /// What it is, for a person.
+    pub description: &'static str,
+}
+
+impl Damping {
+    /// The free-decay scene's damping quantity: eq. 5, `(X1 - X2) / (t2 - t1)` (model.md §3).
+    pub const DI: Damping = Damping {
+        name: "di",
+        symbol: "DI",
+        title: "Damping inclination",
+        unit: "m/s",
+        description: "damping inclination",
+    };
+
+    /// Its symbol with its unit, as an axis or a table column is labelled: `DI (m/s)`, `PR (–)`
+    /// for a ratio.
+    pub fn label(&self) -> String {
+        let unit = if self.unit == "1" { "–" } else { self.unit };
+        format!("{} ({unit})", self.symbol)
+    }
+
+    /// A value with its unit: `0.01234 m/s`, or the number alone for a ratio.
+    pub fn with_unit(&self, value: &str) -> String {
+        if self.unit == "1" {
+            value.to_string()
+        } else {
+            format!("{value} {}", self.unit)
+        }
+    }
+}
+
 /// Choices the command line can override over the study.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
@@ -71,6 +117,7 @@ pub struct Options {
     /// Zone and jump settings beyond the study's `r_min`, `di_strong` and declared zones.
     pub zones: ZoneParams,
     pub response: Response,
+    pub damping: Damping,
     /// Bootstrap resamples for R's interval (`[reliability].bootstrap`).
     pub bootstrap: usize,
 }
@@ -88,6 +135,7 @@ impl Options {
                 locate: study.zones.locate,
             },
             response: Response::XMAX,
+            damping: Damping::DI,
             bootstrap: study.reliability.bootstrap,
         }
     }
@@ -466,7 +514,7 @@ impl<'a> Reducer<'a> {
             sys.set(&study.axes[a].key, v) && sys.validate().is_ok()
         };
         let edges = recommend::edges(&grid, &self.points, recommended, &extendable);
-        let sensitivity = sensitivities(&grid, &self.points, &self.options.response);
+        let sensitivity = sensitivities(&grid, &self.points, &self.options);
         Summary {
             n_points_planned: study.n_points(),
             points: self.points,
@@ -494,11 +542,13 @@ impl<'a> Reducer<'a> {
 
 /// Sensitivity indices of the response's mean, DI, R and perfectibility over the points whose
 /// cases all ended ok (with one axis both are 1: it explains everything).
-fn sensitivities(grid: &Grid, points: &[PointStats], response: &Response) -> Vec<Sensitivity> {
+fn sensitivities(grid: &Grid, points: &[PointStats], options: &Options) -> Vec<Sensitivity> {
     type Of = fn(&PointStats) -> f64;
     let quantities: [(String, Of); 4] = [
-        (format!("{}_mean", response.name), |p| p.response.mean),
-        ("di".into(), |p| p.di),
+        (format!("{}_mean", options.response.name), |p| {
+            p.response.mean
+        }),
+        (options.damping.name.into(), |p| p.di),
         ("reliability".into(), |p| p.reliability),
         ("perfectibility".into(), |p| p.perfectibility),
     ];
@@ -578,6 +628,7 @@ pub mod testing {
             name: "synthetic".into(),
             seed: 7,
             request: Request::default(),
+            scene: crate::sim::Scene::Free,
             system: System::TABLE_I,
             axes: axes
                 .into_iter()

@@ -174,9 +174,10 @@ pub fn summary_rows(s: &Summary, p: &[&PointStats]) -> Table {
     t.push("safety_factor", f(&|x| x.safety_factor));
     t.push("ad_stat", f(&|x| x.ad_stat));
     t.push("ad_p", f(&|x| x.ad_p));
-    t.push("di", f(&|x| x.di));
-    t.push("di_ideal", f(&|x| x.di_ideal));
-    t.push("di_sd", f(&|x| x.di_sd));
+    let d = s.options.damping.name;
+    t.push(d, f(&|x| x.di));
+    t.push(format!("{d}_ideal"), f(&|x| x.di_ideal));
+    t.push(format!("{d}_sd"), f(&|x| x.di_sd));
     t.push("perfectibility", f(&|x| x.perfectibility));
     t.push("rank", Column::U64(p.iter().map(|x| x.rank).collect()));
     t.push("pareto", Column::Bool(p.iter().map(|x| x.pareto).collect()));
@@ -248,7 +249,7 @@ pub fn zones_table(s: &Summary) -> Table {
         Column::F64(z.iter().map(|x| x.mean_r).collect()),
     );
     t.push(
-        "mean_di",
+        format!("mean_{}", s.options.damping.name),
         Column::F64(z.iter().map(|x| x.mean_di).collect()),
     );
     t.push(
@@ -284,7 +285,7 @@ pub fn per_axis_unit(unit: &str, axis_unit: &str) -> String {
 pub fn quantity_of(s: &Summary, q: Quantity) -> (&'static str, &'static str) {
     match q {
         Quantity::Response => (s.options.response.name, s.options.response.unit),
-        Quantity::Di => ("di", "m/s"),
+        Quantity::Di => (s.options.damping.name, s.options.damping.unit),
     }
 }
 

@@ -65,6 +65,15 @@ impl Scene {
             Scene::Harmonic(_) => "harmonic",
         }
     }
+
+    /// Sets a sweepable key of the scene ([`Harmonic::AXES`]); `false` for the free scene (it
+    /// has none) and for any other key.
+    pub fn set(&mut self, key: &str, value: f64) -> bool {
+        match self {
+            Scene::Free => false,
+            Scene::Harmonic(h) => h.set(key, value),
+        }
+    }
 }
 
 /// The record of either scene.

@@ -41,8 +41,8 @@ use parquet::schema::types::ColumnPath;
 
 pub use manifest::{ChunkEntry, Manifest, ManifestFile, read_manifest, read_manifest_file};
 pub use points::{
-    PartInfo, RunRow, encode_part, part_chunk, part_files, part_metadata, part_path, part_rows,
-    read_part, write_part,
+    PartInfo, RunRow, StoredRecord, encode_part, part_chunk, part_files, part_metadata, part_path,
+    part_rows, read_ids_outcomes, read_part, read_rows, write_part,
 };
 pub use schema::{
     META_SCHEMA_VERSION, META_STUDY, META_TABLE, META_VERSION, SCHEMA_VERSION, TableKind,

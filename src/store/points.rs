@@ -1,14 +1,23 @@
-//! The points table: the sweep's runs, one Parquet part file per chunk.
+//! The points tables: the sweep's runs, one Parquet part file per chunk.
 //!
 //! A run directory `OUT/<name>/` holds `points/part-NNNNNN.parquet`, one file per chunk (chunk
-//! `k` → `part-{k:06}.parquet`), rows in `point_id` order. The columns (SI units; every one in
-//! `docs/schema.md`) are, in order: `point_id point case ideal dm dd noise_seed`, the system
-//! `mass_main mass_inner K C d e x0 v0 y0 w0` (after `dm`, `dd`), `solver tol h rtol atol`,
-//! `outcome`, the observables `x1 t1 x2 t2 xmax di`, the counts `impacts sticks steps` and
-//! `energy_impact energy_viscous t_stop`. `solver` and `outcome` are dictionary-encoded;
-//! `noise_seed` is null without noise; observables are NaN when the outcome says so.
+//! `k` → `part-{k:06}.parquet`), rows in `point_id` order. Every part starts with the run's
+//! identity and system, `point_id point case ideal dm dd noise_seed`, the system
+//! `mass_main mass_inner K C d e x0 v0 y0 w0` (after `dm`, `dd`) and `solver tol`; the rest
+//! is the scene's record ([`StoredRecord`]), so each scene has its own table (SI units; every
+//! column in `docs/schema.md`):
 //!
-//! A part's key-value metadata adds the study text (`impactsweep.study`) to the version keys.
+//! * free decay ([`Record`], table `points`): `h rtol atol`, `outcome`, the observables
+//!   `x1 t1 x2 t2 xmax di`, the counts `impacts sticks steps` and
+//!   `energy_impact energy_viscous t_stop`;
+//! * the harmonic scene ([`ForcedRecord`], table `forced_points`): the inputs `F0 omega r`,
+//!   `outcome`, `amplitude impacts_per_period period amplitude_linear attenuation`, the
+//!   transient and window `n_trans converged n_meas`, the window's energies
+//!   `energy_force energy_viscous energy_impact` and the whole run's `impacts sticks steps t_stop`.
+//!
+//! `solver` and `outcome` are dictionary-encoded; `noise_seed` is null without noise;
+//! observables are NaN when the outcome says so. A part's key-value metadata adds the study text
+//! (`impactsweep.study`) to the version keys, and `impactsweep.table` says which table it holds.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -21,9 +30,9 @@ use arrow::array::{
 };
 use arrow::datatypes::{DataType, Int8Type, Schema, SchemaRef};
 
-use super::schema::{META_STUDY, TableKind, column_name};
+use super::schema::{META_STUDY, META_TABLE, TableKind, column_name};
 use crate::model::{SYSTEM_KEYS, System};
-use crate::sim::{Outcome, Record, SolverSettings};
+use crate::sim::{ForcedRecord, Outcome, Record, SolverSettings, State};
 
 /// The `f64` observable columns of a [`Record`], in schema order.
 const OBSERVABLES: [&str; 6] = ["x1", "t1", "x2", "t2", "xmax", "di"];
@@ -32,9 +41,10 @@ const ENERGIES: [&str; 3] = ["energy_impact", "energy_viscous", "t_stop"];
 /// Dictionary-encoded columns.
 const DICTIONARY: [&str; 2] = ["outcome", "solver"];
 
-/// One stored run, as the reducer reads it back.
+/// One stored run, as the reducer reads it back: its identity, its system and its scene's record
+/// (`R` = [`Record`] for free decay, [`ForcedRecord`] for the harmonic scene).
 #[derive(Clone, Debug, PartialEq)]
-pub struct RunRow {
+pub struct RunRow<R = Record> {
     pub point_id: u64,
     pub point: u64,
     pub case: u32,
@@ -45,17 +55,39 @@ pub struct RunRow {
     pub system: System,
     pub solver: String,
     pub tol: f64,
-    /// The record; `peaks` holds at most `(x1, t1), (x2, t2)` when read back.
-    pub record: Record,
+    /// The record; a free-decay record's `peaks` holds at most `(x1, t1), (x2, t2)` when read
+    /// back, a forced record's `end` state is not stored (NaN when read back).
+    pub record: R,
+}
+
+/// A scene's record as the points table stores it: its table, its columns after `solver tol`,
+/// and how to read them back.
+pub trait StoredRecord: Sized {
+    /// The table the parts hold (`impactsweep.table`).
+    const TABLE: TableKind;
+    /// How the run ended.
+    fn outcome(&self) -> Outcome;
+    /// The columns after `tol`: name, type, nullable.
+    fn fields() -> Vec<(&'static str, DataType, bool)>;
+    /// Those columns for `rows`, in [`StoredRecord::fields`] order.
+    fn arrays(rows: &[RunRow<Self>], settings: &SolverSettings) -> Result<Vec<ArrayRef>>;
+    /// The records of a batch, one per row.
+    fn read(batch: &RecordBatch) -> Result<Vec<Self>>;
 }
 
 fn dict_type() -> DataType {
     DataType::Dictionary(Box::new(DataType::Int8), Box::new(DataType::Utf8))
 }
 
-/// The Arrow schema of a part file (the columns above, in that order, with their units).
+/// The Arrow schema of a free-decay part file (the columns above, in that order, with their
+/// units).
 pub fn schema() -> SchemaRef {
-    let t = TableKind::Points;
+    schema_of::<Record>()
+}
+
+/// The Arrow schema of the parts of `R`'s table.
+pub fn schema_of<R: StoredRecord>() -> SchemaRef {
+    let t = R::TABLE;
     let mut cols: Vec<(&str, DataType, bool)> = vec![
         ("point_id", DataType::UInt64, false),
         ("point", DataType::UInt64, false),
@@ -69,19 +101,8 @@ pub fn schema() -> SchemaRef {
         cols.push((column_name(key), DataType::Float64, false));
     }
     cols.push(("solver", dict_type(), false));
-    for key in ["tol", "h", "rtol", "atol"] {
-        cols.push((key, DataType::Float64, false));
-    }
-    cols.push(("outcome", dict_type(), false));
-    for key in OBSERVABLES {
-        cols.push((key, DataType::Float64, false));
-    }
-    for key in COUNTS {
-        cols.push((key, DataType::UInt64, false));
-    }
-    for key in ENERGIES {
-        cols.push((key, DataType::Float64, false));
-    }
+    cols.push(("tol", DataType::Float64, false));
+    cols.extend(R::fields());
     let fields = cols
         .into_iter()
         .map(|(name, dt, nullable)| {
@@ -137,16 +158,16 @@ pub struct PartInfo {
 /// Encodes rows as one part file (see [`super::encode`]; `outcome` and `solver`
 /// dictionary-encoded, the study text in the metadata).
 ///
-/// `settings` fills the `h`, `rtol`, `atol` columns (one study, one solver setting; [`RunRow`]
-/// carries `solver` and `tol` only).
-pub fn encode_part(
-    rows: &[RunRow],
+/// `settings` fills the free-decay table's `h`, `rtol`, `atol` columns (one study, one solver
+/// setting; [`RunRow`] carries `solver` and `tol` only).
+pub fn encode_part<R: StoredRecord>(
+    rows: &[RunRow<R>],
     study_toml: &str,
     settings: &SolverSettings,
 ) -> Result<Vec<u8>> {
     let batch = to_batch(rows, settings)?;
     super::encode(
-        TableKind::Points,
+        R::TABLE,
         &batch,
         &super::WriteOptions {
             dictionary: &DICTIONARY,
@@ -157,9 +178,9 @@ pub fn encode_part(
 
 /// Writes rows to `path` atomically ([`super::write_bytes`], not synced: the sweep engine syncs
 /// its file system about once a second) and returns their `checksum`.
-pub fn write_part(
+pub fn write_part<R: StoredRecord>(
     path: &Path,
-    rows: &[RunRow],
+    rows: &[RunRow<R>],
     study_toml: &str,
     settings: &SolverSettings,
     checksum: super::Checksum,
@@ -173,31 +194,49 @@ pub fn write_part(
     })
 }
 
-fn to_batch(rows: &[RunRow], settings: &SolverSettings) -> Result<RecordBatch> {
-    let f64col = |f: &dyn Fn(&RunRow) -> f64| -> ArrayRef {
-        Arc::new(Float64Array::from_iter_values(rows.iter().map(f)))
-    };
-    let u64col = |f: &dyn Fn(&RunRow) -> u64| -> ArrayRef {
-        Arc::new(UInt64Array::from_iter_values(rows.iter().map(f)))
-    };
-    let dict = |names: &[&str], f: &dyn Fn(&RunRow) -> i8| -> Result<ArrayRef> {
-        let keys = Int8Array::from_iter_values(rows.iter().map(f));
-        let values: ArrayRef = Arc::new(StringArray::from(names.to_vec()));
-        Ok(Arc::new(DictionaryArray::<Int8Type>::try_new(
-            keys, values,
-        )?))
-    };
+/// A Float64 column of `rows`.
+fn f64col<R>(rows: &[RunRow<R>], f: impl Fn(&RunRow<R>) -> f64) -> ArrayRef {
+    Arc::new(Float64Array::from_iter_values(rows.iter().map(f)))
+}
+
+/// A UInt64 column of `rows`.
+fn u64col<R>(rows: &[RunRow<R>], f: impl Fn(&RunRow<R>) -> u64) -> ArrayRef {
+    Arc::new(UInt64Array::from_iter_values(rows.iter().map(f)))
+}
+
+/// A dictionary column of `rows`: `names` and each row's key into them.
+fn dict<R>(rows: &[RunRow<R>], names: &[&str], f: impl Fn(&RunRow<R>) -> i8) -> Result<ArrayRef> {
+    let keys = Int8Array::from_iter_values(rows.iter().map(f));
+    let values: ArrayRef = Arc::new(StringArray::from(names.to_vec()));
+    Ok(Arc::new(DictionaryArray::<Int8Type>::try_new(
+        keys, values,
+    )?))
+}
+
+/// The outcome column: the dictionary is every outcome in [`Outcome::ALL`] order, so keys are
+/// stable across files.
+fn outcome_col<R: StoredRecord>(rows: &[RunRow<R>]) -> Result<ArrayRef> {
+    let outcomes: Vec<&str> = Outcome::ALL.iter().map(|o| o.name()).collect();
+    dict(rows, &outcomes, |r| {
+        Outcome::ALL
+            .iter()
+            .position(|o| *o == r.record.outcome())
+            .unwrap_or(0) as i8
+    })
+}
+
+fn to_batch<R: StoredRecord>(rows: &[RunRow<R>], settings: &SolverSettings) -> Result<RecordBatch> {
     let mut cols: Vec<ArrayRef> = vec![
-        u64col(&|r| r.point_id),
-        u64col(&|r| r.point),
+        u64col(rows, |r| r.point_id),
+        u64col(rows, |r| r.point),
         Arc::new(UInt32Array::from_iter_values(rows.iter().map(|r| r.case))),
         Arc::new(BooleanArray::from_iter(rows.iter().map(|r| Some(r.ideal)))),
-        f64col(&|r| r.dm),
-        f64col(&|r| r.dd),
+        f64col(rows, |r| r.dm),
+        f64col(rows, |r| r.dd),
         Arc::new(UInt64Array::from_iter(rows.iter().map(|r| r.noise_seed))),
     ];
     for key in SYSTEM_KEYS {
-        cols.push(f64col(&|r| r.system.get(key).unwrap_or(f64::NAN)));
+        cols.push(f64col(rows, |r| r.system.get(key).unwrap_or(f64::NAN)));
     }
     // The dictionary of solver names: those present, in first-seen order (deterministic).
     let mut solvers: Vec<&str> = Vec::new();
@@ -209,35 +248,207 @@ fn to_batch(rows: &[RunRow], settings: &SolverSettings) -> Result<RecordBatch> {
     if solvers.len() > i8::MAX as usize {
         bail!("too many solver names in one part ({})", solvers.len());
     }
-    cols.push(dict(&solvers, &|r| {
+    cols.push(dict(rows, &solvers, |r| {
         solvers.iter().position(|s| *s == r.solver).unwrap_or(0) as i8
     })?);
-    cols.push(f64col(&|r| r.tol));
-    for v in [settings.h, settings.rtol, settings.atol] {
-        cols.push(f64col(&|_| v));
+    cols.push(f64col(rows, |r| r.tol));
+    cols.extend(R::arrays(rows, settings)?);
+    Ok(RecordBatch::try_new(schema_of::<R>(), cols)?)
+}
+
+impl StoredRecord for Record {
+    const TABLE: TableKind = TableKind::Points;
+
+    fn outcome(&self) -> Outcome {
+        self.outcome
     }
-    // The outcome dictionary is every outcome in `Outcome::ALL` order, so keys are stable
-    // across files.
-    let outcomes: Vec<&str> = Outcome::ALL.iter().map(|o| o.name()).collect();
-    cols.push(dict(&outcomes, &|r| {
-        Outcome::ALL
+
+    fn fields() -> Vec<(&'static str, DataType, bool)> {
+        let mut cols: Vec<(&str, DataType, bool)> = Vec::new();
+        for key in ["h", "rtol", "atol"] {
+            cols.push((key, DataType::Float64, false));
+        }
+        cols.push(("outcome", dict_type(), false));
+        for key in OBSERVABLES {
+            cols.push((key, DataType::Float64, false));
+        }
+        for key in COUNTS {
+            cols.push((key, DataType::UInt64, false));
+        }
+        for key in ENERGIES {
+            cols.push((key, DataType::Float64, false));
+        }
+        cols
+    }
+
+    fn arrays(rows: &[RunRow<Self>], settings: &SolverSettings) -> Result<Vec<ArrayRef>> {
+        let mut cols = Vec::new();
+        for v in [settings.h, settings.rtol, settings.atol] {
+            cols.push(f64col(rows, |_| v));
+        }
+        cols.push(outcome_col(rows)?);
+        cols.push(f64col(rows, |r| r.record.x1));
+        cols.push(f64col(rows, |r| r.record.t1));
+        cols.push(f64col(rows, |r| r.record.x2));
+        cols.push(f64col(rows, |r| r.record.t2));
+        cols.push(f64col(rows, |r| r.record.xmax));
+        cols.push(f64col(rows, |r| r.record.di));
+        cols.push(u64col(rows, |r| r.record.impacts));
+        cols.push(u64col(rows, |r| r.record.sticks));
+        cols.push(u64col(rows, |r| r.record.steps));
+        cols.push(f64col(rows, |r| r.record.energy_impact));
+        cols.push(f64col(rows, |r| r.record.energy_viscous));
+        cols.push(f64col(rows, |r| r.record.t_stop));
+        Ok(cols)
+    }
+
+    fn read(batch: &RecordBatch) -> Result<Vec<Self>> {
+        let u64s = |n| column::<UInt64Array>(batch, n);
+        let f64s = |n| column::<Float64Array>(batch, n);
+        let outcome = outcomes(batch)?;
+        let obs: Vec<&Float64Array> = OBSERVABLES.iter().map(|k| f64s(k)).collect::<Result<_>>()?;
+        let counts: Vec<&UInt64Array> = COUNTS.iter().map(|k| u64s(k)).collect::<Result<_>>()?;
+        let en: Vec<&Float64Array> = ENERGIES.iter().map(|k| f64s(k)).collect::<Result<_>>()?;
+        let mut out = Vec::with_capacity(batch.num_rows());
+        for (i, outcome) in outcome.into_iter().enumerate() {
+            let (x1, t1, x2, t2) = (
+                obs[0].value(i),
+                obs[1].value(i),
+                obs[2].value(i),
+                obs[3].value(i),
+            );
+            let peaks = [(x1, t1), (x2, t2)]
+                .into_iter()
+                .filter(|(x, t)| !x.is_nan() && !t.is_nan())
+                .collect();
+            out.push(Record {
+                outcome,
+                peaks,
+                x1,
+                t1,
+                x2,
+                t2,
+                xmax: obs[4].value(i),
+                di: obs[5].value(i),
+                impacts: counts[0].value(i),
+                sticks: counts[1].value(i),
+                steps: counts[2].value(i),
+                energy_impact: en[0].value(i),
+                energy_viscous: en[1].value(i),
+                t_stop: en[2].value(i),
+            });
+        }
+        Ok(out)
+    }
+}
+
+/// The `f64` outputs of a [`ForcedRecord`] after `outcome`, in schema order (then `period`).
+const FORCED_OUTPUTS: [&str; 2] = ["amplitude", "impacts_per_period"];
+/// The window's energies of a [`ForcedRecord`].
+const FORCED_ENERGIES: [&str; 3] = ["energy_force", "energy_viscous", "energy_impact"];
+
+impl StoredRecord for ForcedRecord {
+    const TABLE: TableKind = TableKind::ForcedPoints;
+
+    fn outcome(&self) -> Outcome {
+        self.outcome
+    }
+
+    fn fields() -> Vec<(&'static str, DataType, bool)> {
+        let f = |name| (name, DataType::Float64, false);
+        let u = |name| (name, DataType::UInt64, false);
+        let mut cols = vec![f("F0"), f("omega"), f("r"), ("outcome", dict_type(), false)];
+        cols.extend(FORCED_OUTPUTS.map(f));
+        cols.push(("period", DataType::UInt32, false));
+        cols.push(f("amplitude_linear"));
+        cols.push(f("attenuation"));
+        cols.push(u("n_trans"));
+        cols.push(("converged", DataType::Boolean, false));
+        cols.push(u("n_meas"));
+        cols.extend(FORCED_ENERGIES.map(f));
+        cols.extend(COUNTS.map(u));
+        cols.push(f("t_stop"));
+        cols
+    }
+
+    fn arrays(rows: &[RunRow<Self>], _settings: &SolverSettings) -> Result<Vec<ArrayRef>> {
+        let mut cols = vec![
+            f64col(rows, |r| r.record.F0),
+            f64col(rows, |r| r.record.omega),
+            f64col(rows, |r| r.record.r),
+            outcome_col(rows)?,
+            f64col(rows, |r| r.record.amplitude),
+            f64col(rows, |r| r.record.impacts_per_period),
+            Arc::new(UInt32Array::from_iter_values(
+                rows.iter().map(|r| r.record.period),
+            )),
+            f64col(rows, |r| r.record.amplitude_linear),
+            f64col(rows, |r| r.record.attenuation),
+            u64col(rows, |r| r.record.n_trans),
+            Arc::new(BooleanArray::from_iter(
+                rows.iter().map(|r| Some(r.record.converged)),
+            )),
+            u64col(rows, |r| r.record.n_meas),
+            f64col(rows, |r| r.record.energy_force),
+            f64col(rows, |r| r.record.energy_viscous),
+            f64col(rows, |r| r.record.energy_impact),
+            u64col(rows, |r| r.record.impacts),
+            u64col(rows, |r| r.record.sticks),
+            u64col(rows, |r| r.record.steps),
+        ];
+        cols.push(f64col(rows, |r| r.record.t_stop));
+        Ok(cols)
+    }
+
+    fn read(batch: &RecordBatch) -> Result<Vec<Self>> {
+        let u64s = |n| column::<UInt64Array>(batch, n);
+        let f64s = |n| column::<Float64Array>(batch, n);
+        let outcome = outcomes(batch)?;
+        let (f0, omega, r) = (f64s("F0")?, f64s("omega")?, f64s("r")?);
+        let (amplitude, per_period) = (f64s("amplitude")?, f64s("impacts_per_period")?);
+        let period: &UInt32Array = column(batch, "period")?;
+        let (linear, attenuation) = (f64s("amplitude_linear")?, f64s("attenuation")?);
+        let (n_trans, n_meas) = (u64s("n_trans")?, u64s("n_meas")?);
+        let converged: &BooleanArray = column(batch, "converged")?;
+        let en: Vec<&Float64Array> = FORCED_ENERGIES
             .iter()
-            .position(|o| *o == r.record.outcome)
-            .unwrap_or(0) as i8
-    })?);
-    cols.push(f64col(&|r| r.record.x1));
-    cols.push(f64col(&|r| r.record.t1));
-    cols.push(f64col(&|r| r.record.x2));
-    cols.push(f64col(&|r| r.record.t2));
-    cols.push(f64col(&|r| r.record.xmax));
-    cols.push(f64col(&|r| r.record.di));
-    cols.push(u64col(&|r| r.record.impacts));
-    cols.push(u64col(&|r| r.record.sticks));
-    cols.push(u64col(&|r| r.record.steps));
-    cols.push(f64col(&|r| r.record.energy_impact));
-    cols.push(f64col(&|r| r.record.energy_viscous));
-    cols.push(f64col(&|r| r.record.t_stop));
-    Ok(RecordBatch::try_new(schema(), cols)?)
+            .map(|k| f64s(k))
+            .collect::<Result<_>>()?;
+        let counts: Vec<&UInt64Array> = COUNTS.iter().map(|k| u64s(k)).collect::<Result<_>>()?;
+        let t_stop = f64s("t_stop")?;
+        let nan = f64::NAN;
+        let mut out = Vec::with_capacity(batch.num_rows());
+        for (i, outcome) in outcome.into_iter().enumerate() {
+            out.push(ForcedRecord {
+                outcome,
+                F0: f0.value(i),
+                omega: omega.value(i),
+                r: r.value(i),
+                amplitude: amplitude.value(i),
+                impacts_per_period: per_period.value(i),
+                period: period.value(i),
+                amplitude_linear: linear.value(i),
+                attenuation: attenuation.value(i),
+                n_trans: n_trans.value(i),
+                converged: converged.value(i),
+                n_meas: n_meas.value(i),
+                energy_force: en[0].value(i),
+                energy_viscous: en[1].value(i),
+                energy_impact: en[2].value(i),
+                end: State {
+                    x: nan,
+                    v: nan,
+                    y: nan,
+                    w: nan,
+                },
+                impacts: counts[0].value(i),
+                sticks: counts[1].value(i),
+                steps: counts[2].value(i),
+                t_stop: t_stop.value(i),
+            });
+        }
+        Ok(out)
+    }
 }
 
 /// The number of rows of a part file, from its footer (cheap; fails on a damaged file).
@@ -251,11 +462,51 @@ pub fn part_metadata(path: &Path) -> Result<BTreeMap<String, String>> {
     Ok(super::metadata_of(&super::open(path)?))
 }
 
-/// Reads a part file back into rows, in file order. A part of another schema version is
-/// refused with a message that says what to do ([`super::check_version`]).
+/// The point ids (in file order) and the outcome counts of a part file of either scene's table
+/// (`impactsweep.table` says which), every record read: what a part's check needs
+/// ([`crate::sweep::verify`]).
+pub fn read_ids_outcomes(path: &Path) -> Result<(Vec<u64>, BTreeMap<String, u64>)> {
+    fn of<R: StoredRecord>(rows: Vec<RunRow<R>>) -> (Vec<u64>, BTreeMap<String, u64>) {
+        let mut counts = BTreeMap::new();
+        for r in &rows {
+            *counts
+                .entry(r.record.outcome().name().to_string())
+                .or_default() += 1;
+        }
+        (rows.iter().map(|r| r.point_id).collect(), counts)
+    }
+    let forced = part_metadata(path)?
+        .get(META_TABLE)
+        .is_some_and(|t| t == TableKind::ForcedPoints.name());
+    Ok(if forced {
+        of(read_rows::<ForcedRecord>(path)?)
+    } else {
+        of(read_rows::<Record>(path)?)
+    })
+}
+
+/// Reads a free-decay part file back into rows, in file order ([`read_rows`]).
 pub fn read_part(path: &Path) -> Result<Vec<RunRow>> {
+    read_rows(path)
+}
+
+/// Reads a part file of `R`'s table back into rows, in file order. A part of another schema
+/// version, or of another scene's table, is refused with a message that says what it holds.
+pub fn read_rows<R: StoredRecord>(path: &Path) -> Result<Vec<RunRow<R>>> {
     let builder = super::open(path)?;
-    super::check_version(path, &super::metadata_of(&builder))?;
+    let meta = super::metadata_of(&builder);
+    super::check_version(path, &meta)?;
+    if let Some(table) = meta.get(META_TABLE)
+        && table != R::TABLE.name()
+    {
+        return Err(crate::error::InputError::new(format!(
+            "{}: holds the {table} table, not {} (a part of another scene's study; see \
+             docs/schema.md)",
+            path.display(),
+            R::TABLE.name()
+        ))
+        .into());
+    }
     let mut rows = Vec::new();
     for batch in super::read_batches(path, builder)? {
         read_batch(&batch, &mut rows).with_context(|| format!("reading {}", path.display()))?;
@@ -289,7 +540,20 @@ fn dict_strings(batch: &RecordBatch, name: &str) -> Result<Vec<String>> {
         .collect()
 }
 
-fn read_batch(batch: &RecordBatch, rows: &mut Vec<RunRow>) -> Result<()> {
+/// The outcome of every row.
+fn outcomes(batch: &RecordBatch) -> Result<Vec<Outcome>> {
+    dict_strings(batch, "outcome")?
+        .into_iter()
+        .map(|name| {
+            Outcome::ALL
+                .into_iter()
+                .find(|o| o.name() == name)
+                .ok_or_else(|| anyhow!("unknown outcome `{name}`"))
+        })
+        .collect()
+}
+
+fn read_batch<R: StoredRecord>(batch: &RecordBatch, rows: &mut Vec<RunRow<R>>) -> Result<()> {
     let u64s = |n| column::<UInt64Array>(batch, n);
     let f64s = |n| column::<Float64Array>(batch, n);
     let point_id = u64s("point_id")?;
@@ -305,29 +569,11 @@ fn read_batch(batch: &RecordBatch, rows: &mut Vec<RunRow>) -> Result<()> {
         .collect::<Result<_>>()?;
     let solver = dict_strings(batch, "solver")?;
     let tol = f64s("tol")?;
-    let outcome = dict_strings(batch, "outcome")?;
-    let obs: Vec<&Float64Array> = OBSERVABLES.iter().map(|k| f64s(k)).collect::<Result<_>>()?;
-    let counts: Vec<&UInt64Array> = COUNTS.iter().map(|k| u64s(k)).collect::<Result<_>>()?;
-    let en: Vec<&Float64Array> = ENERGIES.iter().map(|k| f64s(k)).collect::<Result<_>>()?;
-    for i in 0..batch.num_rows() {
+    for (i, record) in R::read(batch)?.into_iter().enumerate() {
         let mut system = System::TABLE_I;
         for (key, col) in SYSTEM_KEYS.iter().zip(&sys) {
             system.set(key, col.value(i));
         }
-        let out = Outcome::ALL
-            .into_iter()
-            .find(|o| o.name() == outcome[i])
-            .ok_or_else(|| anyhow!("unknown outcome `{}`", outcome[i]))?;
-        let (x1, t1, x2, t2) = (
-            obs[0].value(i),
-            obs[1].value(i),
-            obs[2].value(i),
-            obs[3].value(i),
-        );
-        let peaks = [(x1, t1), (x2, t2)]
-            .into_iter()
-            .filter(|(x, t)| !x.is_nan() && !t.is_nan())
-            .collect();
         rows.push(RunRow {
             point_id: point_id.value(i),
             point: point.value(i),
@@ -339,22 +585,7 @@ fn read_batch(batch: &RecordBatch, rows: &mut Vec<RunRow>) -> Result<()> {
             system,
             solver: solver[i].clone(),
             tol: tol.value(i),
-            record: Record {
-                outcome: out,
-                peaks,
-                x1,
-                t1,
-                x2,
-                t2,
-                xmax: obs[4].value(i),
-                di: obs[5].value(i),
-                impacts: counts[0].value(i),
-                sticks: counts[1].value(i),
-                steps: counts[2].value(i),
-                energy_impact: en[0].value(i),
-                energy_viscous: en[1].value(i),
-                t_stop: en[2].value(i),
-            },
+            record,
         });
     }
     Ok(())

@@ -56,11 +56,33 @@ pub fn system_unit(key: &str) -> Option<&'static str> {
     })
 }
 
+/// The unit of a key a study may sweep: a system key, or the harmonic scene's `F0` (N),
+/// `omega` (rad/s) or `r` (1). Their columns keep the key as the name ([`column_name`]).
+pub fn axis_unit(key: &str) -> Option<&'static str> {
+    system_unit(key).or(match key {
+        "F0" => Some("N"),
+        "omega" => Some("rad/s"),
+        "r" => Some("1"),
+        _ => None,
+    })
+}
+
+/// The key of an axis column (the inverse of [`column_name`] over the sweepable keys).
+pub fn axis_key(column: &str) -> Option<&'static str> {
+    system_key(column).or_else(|| {
+        crate::sim::Harmonic::AXES
+            .into_iter()
+            .find(|k| *k == column)
+    })
+}
+
 /// The tables the tool writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TableKind {
-    /// `points/part-NNNNNN.parquet`: one row per run.
+    /// `points/part-NNNNNN.parquet`: one row per run of a free-decay study.
     Points,
+    /// `points/part-NNNNNN.parquet`: one row per run of a harmonic (forced) study.
+    ForcedPoints,
     /// `summary.parquet`, `summary.csv`: one row per design point.
     Summary,
     /// `zones.parquet`, `zones.csv`: one row per zone.
@@ -74,8 +96,9 @@ pub enum TableKind {
 }
 
 impl TableKind {
-    pub const ALL: [TableKind; 6] = [
+    pub const ALL: [TableKind; 7] = [
         TableKind::Points,
+        TableKind::ForcedPoints,
         TableKind::Summary,
         TableKind::Zones,
         TableKind::Jumps,
@@ -87,6 +110,7 @@ impl TableKind {
     pub fn name(self) -> &'static str {
         match self {
             TableKind::Points => "points",
+            TableKind::ForcedPoints => "forced_points",
             TableKind::Summary => "summary",
             TableKind::Zones => "zones",
             TableKind::Jumps => "jumps",
@@ -108,25 +132,30 @@ pub const UNIT_OF_SIZE: &str = "[size_unit]";
 /// The unit of `column` in `table`; `None` for a column the contract does not know (the writer
 /// refuses it, so that no column goes undocumented).
 pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
-    if matches!(
-        table,
-        TableKind::Points | TableKind::Summary | TableKind::Jumps
-    ) && let Some(key) = system_key(column)
+    if matches!(table, TableKind::Points | TableKind::ForcedPoints)
+        && let Some(key) = system_key(column)
     {
         return system_unit(key);
     }
+    // A design axis (a harmonic study's `F0` too).
+    if matches!(table, TableKind::Summary | TableKind::Jumps)
+        && let Some(key) = axis_key(column)
+    {
+        return axis_unit(key);
+    }
     match table {
         TableKind::Points => points_unit(column),
+        TableKind::ForcedPoints => forced_points_unit(column),
         TableKind::Summary => summary_unit(column),
         TableKind::Zones => {
             for suffix in ["_from", "_to"] {
-                if let Some(key) = column.strip_suffix(suffix).and_then(system_key) {
-                    return system_unit(key);
+                if let Some(key) = column.strip_suffix(suffix).and_then(axis_key) {
+                    return axis_unit(key);
                 }
             }
             for prefix in ["best_", "rep_"] {
-                if let Some(key) = column.strip_prefix(prefix).and_then(system_key) {
-                    return system_unit(key);
+                if let Some(key) = column.strip_prefix(prefix).and_then(axis_key) {
+                    return axis_unit(key);
                 }
             }
             zones_unit(column)
@@ -150,6 +179,22 @@ fn points_unit(column: &str) -> Option<&'static str> {
     })
 }
 
+fn forced_points_unit(column: &str) -> Option<&'static str> {
+    Some(match column {
+        "point_id" | "point" | "case" | "ideal" | "noise_seed" | "solver" | "outcome"
+        | "converged" => "",
+        "dm" => "kg",
+        "dd" | "amplitude" | "amplitude_linear" => "m",
+        "tol" | "r" | "impacts_per_period" | "period" | "attenuation" | "n_trans" | "n_meas"
+        | "impacts" | "sticks" | "steps" => "1",
+        "F0" => "N",
+        "omega" => "rad/s",
+        "energy_force" | "energy_viscous" | "energy_impact" => "J",
+        "t_stop" => "s",
+        _ => return None,
+    })
+}
+
 fn summary_unit(column: &str) -> Option<&'static str> {
     Some(match column {
         "point" | "all_ok" | "failed" | "rank" | "pareto" | "robust" | "class" | "zone" => "",
@@ -163,6 +208,26 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "safety_factor" | "ad_stat" | "ad_p" => "1",
         "di" | "di_ideal" | "di_sd" => "m/s",
         "perfectibility" => "%",
+        // A harmonic study (reduce/forced.rs): the peak amplitude over the band is the
+        // response, the peak reduction the damping quantity; the band of the ideal case.
+        "peak_amplitude_mean"
+        | "peak_amplitude_sd"
+        | "peak_amplitude_min"
+        | "peak_amplitude_q1"
+        | "peak_amplitude_median"
+        | "peak_amplitude_q3"
+        | "peak_amplitude_max"
+        | "peak_amplitude_ideal"
+        | "linear_peak" => "m",
+        "peak_reduction"
+        | "peak_reduction_ideal"
+        | "peak_reduction_sd"
+        | "peak_r"
+        | "linear_peak_r"
+        | "help_r_from"
+        | "help_r_to"
+        | "help_share"
+        | "periodic_share" => "1",
         _ => return None,
     })
 }
@@ -172,6 +237,7 @@ fn zones_unit(column: &str) -> Option<&'static str> {
         "zone" | "label" | "declared" | "best_point" | "rep_point" => "",
         "n_points" | "mean_reliability" => "1",
         "mean_di" => "m/s",
+        "mean_peak_reduction" => "1",
         "perfectibility" => "%",
         _ => return None,
     })

@@ -8,7 +8,7 @@
 //! [`Study::parse`] reads the text (`toml_error.rs` turns a syntax or type error into
 //! `file:line:col` or `file: [table].key = value: ...`), then hands each table to its own file,
 //! which holds the table's raw struct, its validated type and its messages: `[study]` here,
-//! `system.rs`, `sweep.rs`, `noise.rs`, `perturb.rs` (with the cross-checks over every design
+//! `scene.rs`, `system.rs`, `sweep.rs`, `noise.rs`, `perturb.rs` (with the cross-checks over every design
 //! point's extremes), `solver.rs`, `reliability.rs`, `zones.rs`, `ranking.rs`, `run.rs`.
 
 use std::collections::BTreeMap;
@@ -21,13 +21,14 @@ use toml_error::{serde_error, snippet, syntax_error};
 
 use crate::error::InputError;
 use crate::model::{RangeError, System, fmt_value};
-use crate::sim::{NoiseSettings, Request, SolverSettings};
+use crate::sim::{NoiseSettings, Request, Scene, SolverSettings};
 
 mod noise;
 mod perturb;
 mod ranking;
 mod reliability;
 mod run;
+mod scene;
 mod solver;
 mod sweep;
 mod system;
@@ -37,7 +38,8 @@ mod zones;
 pub use perturb::Case;
 pub use ranking::{DiSource, Ranking};
 pub use reliability::{Reliability, SafetyForm};
-pub use run::{DEFAULT_CHUNK_RUNS, RunSettings};
+pub use run::{DEFAULT_CHUNK_RUNS, RunSettings, whole_curves};
+pub use scene::frequency_axis;
 pub use sweep::Axis;
 pub use zones::{DeclaredZone, Zones};
 
@@ -54,10 +56,15 @@ pub struct Study {
     pub seed: u64,
     /// What each run must produce (`[study].outputs` / `peaks` / `t_end`): sets the horizon.
     pub request: Request,
+    /// `[scene]`: free decay (the default) or the harmonic scene with its fixed settings; the
+    /// swept `F0`, `omega` or `r` of a design point come from the plan.
+    pub scene: Scene,
     /// `[system]`: base parameters, Table I defaults when absent.
     pub system: System,
     /// `[sweep]`: the swept axes in file order; the design grid is their Cartesian product,
-    /// the last axis varying fastest.
+    /// the last axis varying fastest. In a harmonic study the frequency axis (`omega` or `r`)
+    /// is moved last, wherever the file has it, so that consecutive design points form one
+    /// frequency-response curve.
     pub axes: Vec<Axis>,
     /// `[perturb]`: per design point, the cases to run; `cases[0]` is always the ideal case
     /// (`dm = dd = 0`, no noise) and is marked `ideal`; a listed case equal to it is dropped,
@@ -176,6 +183,20 @@ impl Study {
     pub fn axis(&self, key: &str) -> Option<&Axis> {
         self.axes.iter().find(|a| a.key == key)
     }
+
+    /// The swept frequency axis of a harmonic study (`omega` or `r`; always the last axis).
+    pub fn frequency_axis(&self) -> Option<&Axis> {
+        match self.scene {
+            Scene::Harmonic(_) => frequency_axis(&self.axes).map(|i| &self.axes[i]),
+            Scene::Free => None,
+        }
+    }
+
+    /// Design points per frequency-response curve: the length of the frequency axis of a
+    /// harmonic study, 1 otherwise. Chunks hold whole curves.
+    pub fn curve_points(&self) -> u64 {
+        self.frequency_axis().map_or(1, |a| a.values.len() as u64)
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -186,6 +207,7 @@ impl Study {
 #[serde(deny_unknown_fields)]
 struct RawStudy {
     study: RawHeader,
+    scene: Option<scene::RawScene>,
     #[serde(default)]
     system: system::RawSystem,
     #[serde(default)]
@@ -280,22 +302,39 @@ fn from_text(path: &Path, text: &str) -> Result<Study, InputError> {
     };
 
     let h = &raw.study;
+    let scene = scene::scene(&cx, raw.scene.as_ref(), &raw.sweep)?;
+    if let Scene::Harmonic(_) = scene {
+        free_only(&cx, h)?;
+    }
     let request = header(&cx, h)?;
     let system = system::system(&cx, &raw.system)?;
-    let axes = sweep::axes(&cx, &raw.sweep, &raw.system)?;
+    let mut axes = sweep::axes(&cx, &raw.sweep, &raw.system, &scene)?;
+    if let Some(i) = scene::frequency_axis(&axes) {
+        let f = axes.remove(i);
+        axes.push(f);
+    }
     let noise = noise::noise(&cx, raw.noise.as_ref())?;
     let cases = perturb::cases(&cx, raw.perturb.as_ref(), &axes, &system, noise.as_ref())?;
     let solver = solver::solver(&cx, &raw.solver)?;
+    if let Scene::Harmonic(_) = scene {
+        scene::check_solver(&cx, &solver)?;
+    }
     let reliability = reliability::reliability(&cx, &raw.reliability)?;
     let zones = zones::zones(&cx, &raw.zones, &axes)?;
     let ranking = ranking::ranking(&cx, &raw.ranking)?;
-    let run = run::run(&cx, &raw.run, cases.len() as u64)?;
+    let curve = match scene {
+        Scene::Harmonic(_) => scene::frequency_axis(&axes).map(|i| &axes[i]),
+        Scene::Free => None,
+    };
+    let run = run::run(&cx, &raw.run, cases.len() as u64, &scene, curve)?;
+    scene::check_runs(&cx, &scene, &system, &axes, &cases)?;
     Ok(Study {
         path: path.to_path_buf(),
         source: text.to_string(),
         name: h.name.clone(),
         seed: h.seed.unwrap_or(0),
         request,
+        scene,
         system,
         axes,
         cases,
@@ -306,6 +345,18 @@ fn from_text(path: &Path, text: &str) -> Result<Study, InputError> {
         ranking,
         run,
     })
+}
+
+/// Refuses the `[study]` keys of the free-decay scene (`outputs`, `peaks`, `t_end`) in a
+/// harmonic study.
+fn free_only(cx: &Cx, h: &RawHeader) -> Result<(), InputError> {
+    let given = [h.outputs.is_some(), h.peaks.is_some(), h.t_end.is_some()];
+    for ((key, why), given) in scene::FREE_ONLY.into_iter().zip(given) {
+        if given {
+            return Err(cx.err(&format!("[study].{key}"), cx.source("study", key), why));
+        }
+    }
+    Ok(())
 }
 
 /// `[study]`: the name (it names the output directory) and what each run must produce (the
@@ -504,7 +555,12 @@ mod tests {
                 "[perturb]\ndm", "[perturb]\ndd", "[perturb]\ncases", "[perturb]\nnoise_seeds",
                 "[noise]\npower", "[solver]\ntol", "[solver]\nmax_steps", "[reliability]\nE",
                 "[reliability]\nstrength_mean", "[zones]\nzone", "[ranking]\nwf1",
-                "[run]\nchunk_points", "[bogus]\nx",
+                "[run]\nchunk_points", "[bogus]\nx", "[scene]\nkind", "[scene]\nF0",
+                "[scene]\nkind = \"harmonic\"\nr", "[scene]\nkind = \"harmonic\"\nn_meas",
+                "[scene]\nkind = \"harmonic\"\ntrans_tol",
+                "[system]\nC = 0\n[scene]\nkind = \"harmonic\"\n[sweep]\nr",
+                "[scene]\nkind = \"harmonic\"\n[sweep]\nomega",
+                "[scene]\nkind = \"harmonic\"\n[run]\nchunk_points",
             ]),
             value in proptest::sample::select(vec![
                 "nan", "inf", "-inf", "-0.0", "0", "1e308", "-1", "9223372036854775807", "\"x\"",

@@ -3,13 +3,16 @@
 use serde::Deserialize;
 
 use super::Cx;
+use super::sweep::Axis;
 use crate::error::InputError;
+use crate::sim::Scene;
 
 /// `[run]`: engine settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RunSettings {
-    /// Design points per Parquet part file (each chunk holds whole design points).
-    /// Default: enough points for about 65536 runs.
+    /// Design points per Parquet part file (each chunk holds whole design points, and in a
+    /// harmonic study whole frequency-response curves: a multiple of the frequency axis's
+    /// length). Default: enough points for about 65536 runs.
     pub chunk_points: u64,
     /// Accuracy audit: points re-run with `exact` at tight tolerance. Default 0 until the
     /// fidelity issue lands.
@@ -27,20 +30,56 @@ pub(super) struct RawRun {
 }
 
 /// The validated `[run]`; the default chunk holds about [`DEFAULT_CHUNK_RUNS`] runs of
-/// `n_cases` cases per point.
-pub(super) fn run(cx: &Cx, raw: &RawRun, n_cases: u64) -> Result<RunSettings, InputError> {
+/// `n_cases` cases per point. In a harmonic study with a swept frequency axis (`curve`) a chunk
+/// holds whole frequency-response curves, so that `reduce` can stream: the default is rounded
+/// down to a multiple of the curve's length (at least one curve) and a given `chunk_points`
+/// must be one; the audit (free decay only) is refused.
+pub(super) fn run(
+    cx: &Cx,
+    raw: &RawRun,
+    n_cases: u64,
+    scene: &Scene,
+    curve: Option<&Axis>,
+) -> Result<RunSettings, InputError> {
+    let per_curve = curve.map_or(1, |a| a.values.len() as u64);
+    let default = (DEFAULT_CHUNK_RUNS / n_cases).max(1);
     let mut run = RunSettings {
-        chunk_points: (DEFAULT_CHUNK_RUNS / n_cases).max(1),
+        chunk_points: (default / per_curve).max(1) * per_curve,
         audit: 0,
     };
     if let Some(c) = raw.chunk_points {
         if c == 0 {
             return Err(cx.err("[run].chunk_points", c, "must be a whole number >= 1"));
         }
+        if let Some(axis) = curve
+            && let Some(msg) = whole_curves(c, axis)
+        {
+            return Err(cx.err("[run].chunk_points", c, msg));
+        }
         run.chunk_points = c;
     }
     if let Some(a) = raw.audit {
+        if a > 0 && matches!(scene, Scene::Harmonic(_)) {
+            return Err(cx.err(
+                "[run].audit",
+                a,
+                "the accuracy audit re-runs free-decay runs; a harmonic study has none (its \
+                 accuracy is shown in tests/forced.rs, docs/scenes.md)",
+            ));
+        }
         run.audit = a;
     }
     Ok(run)
+}
+
+/// Why `chunk_points` would cut a frequency-response curve of `axis`, if it would.
+pub fn whole_curves(chunk_points: u64, axis: &Axis) -> Option<String> {
+    let n = axis.values.len() as u64;
+    (!chunk_points.is_multiple_of(n)).then(|| {
+        format!(
+            "must be a multiple of the {n} values of the frequency axis [sweep].{}, so that \
+             every chunk holds whole frequency-response curves",
+            axis.key
+        )
+    })
 }

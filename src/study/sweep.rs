@@ -6,14 +6,16 @@ use std::collections::BTreeMap;
 
 use serde::Deserialize;
 
-use super::system::{RawSystem, check_key};
+use super::scene::is_scene_axis;
+use super::system::RawSystem;
 use super::{Cx, MAX_AXIS_VALUES, num};
 use crate::error::InputError;
 use crate::model::{SYSTEM_KEYS, System};
 use crate::numeric::{linspace, round15};
+use crate::sim::Scene;
 
-/// One swept axis: a system key and its values (computed from an integer index, never
-/// accumulated).
+/// One swept axis: a system key (or, in a harmonic study, `F0`, `omega` or `r`) and its values
+/// (computed from an integer index, never accumulated).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Axis {
     pub key: String,
@@ -37,22 +39,35 @@ pub(super) struct RawRange {
 }
 
 /// The validated `[sweep]`: the axes in file order. A key is either fixed in `[system]` or
-/// swept, not both.
+/// swept, not both. A harmonic study may also sweep `F0`, `omega` or `r` (their cross-checks
+/// with `[scene]` are `scene.rs`'s).
 pub(super) fn axes(
     cx: &Cx,
     raw: &BTreeMap<String, RawAxis>,
     system: &RawSystem,
+    scene: &Scene,
 ) -> Result<Vec<Axis>, InputError> {
     let mut keys: Vec<&String> = raw.keys().collect();
     keys.sort_by_key(|k| cx.key_pos("sweep", k));
     let mut axes = Vec::new();
+    let harmonic = matches!(scene, Scene::Harmonic(_));
     for key in keys {
         let at = format!("[sweep].{key}");
-        if !SYSTEM_KEYS.contains(&key.as_str()) {
+        let scene_axis = is_scene_axis(key);
+        let allowed = SYSTEM_KEYS.contains(&key.as_str()) || (harmonic && scene_axis);
+        if !allowed {
+            let hint = if scene_axis {
+                " (F0, omega and r are axes of the harmonic scene: [scene] kind = \"harmonic\")"
+            } else {
+                ""
+            };
             return Err(cx.err(
                 &at,
                 cx.source("sweep", key),
-                format!("unknown axis '{key}'; allowed: {}", SYSTEM_KEYS.join(", ")),
+                format!(
+                    "unknown axis '{key}'; allowed: {}{hint}",
+                    SYSTEM_KEYS.join(", ")
+                ),
             ));
         }
         if let Some(v) = system.get(key) {
@@ -133,6 +148,11 @@ fn axis_values(cx: &Cx, key: &str, raw: &RawAxis) -> Result<Vec<f64>, InputError
         }
     };
     // Only the extremes: every rule on a single key is a range.
+    let check_key = if is_scene_axis(key) {
+        super::scene::check_key
+    } else {
+        super::system::check_key
+    };
     for v in [values[0], values[values.len() - 1]] {
         check_key(key, v).map_err(|e| cx.err(&at, num(v), e.allowed))?;
     }

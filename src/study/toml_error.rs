@@ -155,7 +155,8 @@ pub(super) fn serde_error(
         None => (Vec::new(), String::new()),
     };
     let loc = render_path(&path);
-    let tables = "study, system, sweep, perturb, noise, solver, reliability, zones, ranking, run";
+    let tables =
+        "study, scene, system, sweep, perturb, noise, solver, reliability, zones, ranking, run";
     let out = if let Some(field) = quoted_after(msg, "unknown field ") {
         let allowed = msg
             .split_once(", expected ")

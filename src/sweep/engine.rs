@@ -17,9 +17,9 @@ use super::rundir;
 use crate::accuracy::Audit;
 use crate::error::InputError;
 use crate::plan::{Plan, RunSpec};
-use crate::sim::{NoProbe, Record, simulate};
-use crate::store::{self, Checksum, ChunkEntry, Manifest, RunRow};
-use crate::study::Study;
+use crate::sim::{ForcedRecord, Harmonic, NoProbe, Record, Scene, simulate, simulate_harmonic};
+use crate::store::{self, Checksum, ChunkEntry, Manifest, RunRow, StoredRecord};
+use crate::study::{Study, whole_curves};
 
 /// How to run a study.
 #[derive(Clone, Debug)]
@@ -123,6 +123,25 @@ impl SweepSummary {
     }
 }
 
+/// A scene's record as the engine simulates and stores it: [`Record`] for free decay,
+/// [`ForcedRecord`] for the harmonic scene. The engine picks it from the study's scene.
+pub trait SceneRun: StoredRecord + Send + Sync {
+    /// Simulates one run of the plan.
+    fn simulate(plan: &Plan, run: &RunSpec) -> Self;
+}
+
+impl SceneRun for Record {
+    fn simulate(plan: &Plan, run: &RunSpec) -> Self {
+        simulate_run(plan, run)
+    }
+}
+
+impl SceneRun for ForcedRecord {
+    fn simulate(plan: &Plan, run: &RunSpec) -> Self {
+        simulate_forced_run(plan, run)
+    }
+}
+
 /// Simulates one run: the study's solver and request, the run's noise stream when its case has
 /// noise (no random number is drawn otherwise).
 pub fn simulate_run(plan: &Plan, run: &RunSpec) -> Record {
@@ -145,8 +164,38 @@ pub fn simulate_run(plan: &Plan, run: &RunSpec) -> Record {
     }
 }
 
+/// Simulates one run of a harmonic study: the run's scene (the study's, with the design point's
+/// `F0`, `omega` or `r`; the default harmonic scene if the study is a free-decay one), the study's
+/// solver, the run's noise stream when its case has noise. The study has validated the scene
+/// for every run ([`Harmonic::validate`]).
+pub fn simulate_forced_run(plan: &Plan, run: &RunSpec) -> ForcedRecord {
+    let study = plan.study;
+    let scene = match run.scene {
+        Scene::Harmonic(h) => h,
+        Scene::Free => Harmonic::default(),
+    };
+    match (study.noise.as_ref(), plan.noise_stream(run)) {
+        (Some(ns), Some(mut stream)) => simulate_harmonic(
+            &run.system,
+            &study.solver,
+            &study.request,
+            &scene,
+            Some((ns, &mut stream)),
+            &mut NoProbe,
+        ),
+        _ => simulate_harmonic(
+            &run.system,
+            &study.solver,
+            &study.request,
+            &scene,
+            None,
+            &mut NoProbe,
+        ),
+    }
+}
+
 /// The stored row of a run.
-pub fn run_row(plan: &Plan, run: &RunSpec) -> RunRow {
+pub fn run_row<R: SceneRun>(plan: &Plan, run: &RunSpec) -> RunRow<R> {
     RunRow {
         point_id: run.point_id,
         point: run.point,
@@ -158,13 +207,17 @@ pub fn run_row(plan: &Plan, run: &RunSpec) -> RunRow {
         system: run.system,
         solver: plan.study.solver.kind.name().to_string(),
         tol: plan.study.solver.tol,
-        record: simulate_run(plan, run),
+        record: R::simulate(plan, run),
     }
 }
 
 /// Simulates chunk `k` (in parallel over its runs, on the current rayon pool), in `point_id`
 /// order.
-pub fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> Vec<RunRow> {
+pub fn simulate_chunk<R: SceneRun>(
+    plan: &Plan,
+    k: u64,
+    progress: Option<&ProgressBar>,
+) -> Vec<RunRow<R>> {
     let points = plan.chunk_points(k);
     let n_cases = plan.n_cases();
     (points.start * n_cases..points.end * n_cases)
@@ -200,11 +253,11 @@ pub fn stop_requested() -> bool {
     STOP.load(std::sync::atomic::Ordering::SeqCst)
 }
 
-pub(crate) fn outcome_counts(rows: &[RunRow]) -> BTreeMap<String, u64> {
+fn outcome_counts<R: StoredRecord>(rows: &[RunRow<R>]) -> BTreeMap<String, u64> {
     let mut counts = BTreeMap::new();
     for r in rows {
         *counts
-            .entry(r.record.outcome.name().to_string())
+            .entry(r.record.outcome().name().to_string())
             .or_default() += 1;
     }
     counts
@@ -231,6 +284,7 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
     let start = Instant::now();
     let dir = run_dir(out_root, study);
     check_options(opts)?;
+    check_scene_options(study, opts)?;
 
     // 1. The directory: fresh, resumed, or joined by a sibling shard.
     let (study, fresh_dir) = rundir::open(study, &dir, opts)?;
@@ -266,21 +320,20 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
         pending.truncate(limit as usize);
     }
 
-    // 3. The pipeline: write chunk k while simulating chunk k + 1.
+    // 3. The pipeline: write chunk k while simulating chunk k + 1, the scene's records.
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
         .build()
         .context("starting the thread pool")?;
+    let algorithm = ledger.manifest.algorithm();
     let (outcomes, written) = pool
-        .install(|| {
-            write_chunks(
-                &plan,
-                &dir,
-                &pending,
-                opts,
-                ledger.manifest.algorithm(),
-                &mut journal,
-            )
+        .install(|| match study.scene {
+            Scene::Free => {
+                write_chunks::<Record>(&plan, &dir, &pending, opts, algorithm, &mut journal)
+            }
+            Scene::Harmonic(_) => {
+                write_chunks::<ForcedRecord>(&plan, &dir, &pending, opts, algorithm, &mut journal)
+            }
         })
         .with_context(|| {
             format!(
@@ -372,11 +425,33 @@ fn check_options(opts: &SweepOptions) -> Result<()> {
     Ok(())
 }
 
+/// Refuses options a harmonic study cannot take (exit 2): a chunk size that would cut a
+/// frequency-response curve (the reducer streams whole curves), and the audit (free decay only).
+fn check_scene_options(study: &Study, opts: &SweepOptions) -> Result<()> {
+    if let Scene::Free = study.scene {
+        return Ok(());
+    }
+    if let (Some(c), Some(axis)) = (opts.chunk_points, study.frequency_axis())
+        && let Some(msg) = whole_curves(c, axis)
+    {
+        return Err(InputError::new(format!("--chunk-points {c}: {msg}")).into());
+    }
+    if let Some(k) = opts.audit
+        && k > 0
+    {
+        return Err(InputError::new(format!(
+            "--audit {k}: the accuracy audit re-runs free-decay runs; a harmonic study has none"
+        ))
+        .into());
+    }
+    Ok(())
+}
+
 /// Simulates and writes the `pending` chunks (on the current rayon pool), chunk `k` written
 /// while `k + 1` is simulated; stops early when a stop is requested. Each part is recorded in
 /// the journal once complete; the file system is synced every [`SYNC_EVERY`]. Returns the outcome
 /// counts of the runs written and the number of chunks written.
-fn write_chunks(
+fn write_chunks<R: SceneRun>(
     plan: &Plan,
     dir: &Path,
     pending: &[u64],
@@ -390,7 +465,7 @@ fn write_chunks(
     let mut outcomes = BTreeMap::new();
     let mut written = 0u64;
     let mut last_sync = Instant::now();
-    let mut write = |k: u64, rows: Vec<RunRow>| -> Result<BTreeMap<String, u64>> {
+    let mut write = |k: u64, rows: Vec<RunRow<R>>| -> Result<BTreeMap<String, u64>> {
         let info = store::write_part(
             &store::part_path(dir, k),
             &rows,
@@ -411,14 +486,14 @@ fn write_chunks(
         }
         Ok(counts)
     };
-    let mut prev: Option<(u64, Vec<RunRow>)> = None;
+    let mut prev: Option<(u64, Vec<RunRow<R>>)> = None;
     for &k in pending {
         if stop_requested() {
             break;
         }
         let (done, rows) = rayon::join(
             || prev.take().map(|(pk, rows)| write(pk, rows)).transpose(),
-            || simulate_chunk(plan, k, pb.as_ref()),
+            || simulate_chunk::<R>(plan, k, pb.as_ref()),
         );
         if let Some(counts) = done? {
             merge_counts(&mut outcomes, &counts);

@@ -14,6 +14,9 @@
 //!   [`crate::plan::Plan::noise_stream`]), and `collect` keeps `point_id` order, so a part file's bytes do not
 //!   depend on the thread count, the shard split, or an interruption.
 //!
+//! The records are the study's scene's ([`SceneRun`]): free-decay [`crate::sim::Record`]s or
+//! harmonic [`crate::sim::ForcedRecord`]s, each scene with its own points table.
+//!
 //! # The run directory `OUT/<name>/`
 //!
 //! * `study.toml`: the study text; a run directory holds one study and `--resume` refuses a
@@ -59,8 +62,8 @@ pub mod verify;
 
 pub use audit::{audit_points, run_audit};
 pub use engine::{
-    SYNC_EVERY, SweepOptions, SweepSummary, chunk_rows, request_stop, run_dir, run_row, run_study,
-    shard_chunks, simulate_chunk, simulate_run, stop_requested,
+    SYNC_EVERY, SceneRun, SweepOptions, SweepSummary, chunk_rows, request_stop, run_dir, run_row,
+    run_study, shard_chunks, simulate_chunk, simulate_forced_run, simulate_run, stop_requested,
 };
 pub use lock::{LockHolder, RunLock, acquire_lock, lock_path, read_lock};
 pub use status::{Status, missing_chunks, outcome_names, ranges, status};

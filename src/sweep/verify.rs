@@ -63,17 +63,19 @@ fn check_unrecorded_part(
     let ids = sizes.chunk_ids(k);
     let want_rows = ids.end - ids.start;
     let bytes = std::fs::read(path).map_err(|e| format!("cannot be read: {e}"))?;
-    let rows = store::read_part(path).map_err(|e| format!("is not readable: {e:#}"))?;
-    if rows.len() as u64 != want_rows {
+    // Either scene's table (the study text below says which study wrote it).
+    let (point_ids, outcomes) =
+        store::read_ids_outcomes(path).map_err(|e| format!("is not readable: {e:#}"))?;
+    if point_ids.len() as u64 != want_rows {
         return Err(format!(
             "holds {} rows, but chunk {k} has {want_rows}",
-            rows.len()
+            point_ids.len()
         ));
     }
-    if !rows
+    if !point_ids
         .iter()
         .enumerate()
-        .all(|(i, r)| r.point_id == ids.start + i as u64)
+        .all(|(i, id)| *id == ids.start + i as u64)
     {
         return Err(format!("its rows are not chunk {k}'s (point ids)"));
     }
@@ -85,6 +87,6 @@ fn check_unrecorded_part(
         chunk: k,
         rows: want_rows,
         checksum: sizes.algorithm().hex(&bytes),
-        outcomes: super::engine::outcome_counts(&rows),
+        outcomes,
     })
 }

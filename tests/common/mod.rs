@@ -22,6 +22,7 @@ pub fn study(name: &str, n_e: usize) -> Study {
         name: name.to_string(),
         seed: 2013,
         request: Request::default(),
+        scene: impactsweep::sim::Scene::Free,
         system: System::TABLE_I,
         axes: vec![
             Axis {
@@ -258,6 +259,21 @@ pub fn chart_rows_are_summary_rows(chart: &std::path::Path, summary: &std::path:
         }
     }
     rows.keys().copied().collect()
+}
+
+/// `impactsweep run STUDY --out OUT --quiet`, which must succeed; returns the run directory
+/// `OUT/<name>`.
+pub fn run_study_file(study: &Path, out: &Path, name: &str) -> PathBuf {
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("run")
+        .arg(study)
+        .arg("--out")
+        .arg(out)
+        .arg("--quiet")
+        .assert()
+        .success();
+    out.join(name)
 }
 
 /// A run directory's dataset as bytes: every part file by name, then `manifest.json`. Two runs

@@ -258,7 +258,14 @@ impl DesignChart<'_> {
         if pr.points.iter().any(|p| p.safety_factor.is_finite()) {
             items.push((Key::Line(green), "safety factor μn (left axis)".to_string()));
         }
-        items.push((di_key, format!("DI, {} (right axis)", di_source(s))));
+        items.push((
+            di_key,
+            format!(
+                "{}, {} (right axis)",
+                s.options.damping.symbol,
+                di_source(s)
+            ),
+        ));
         legend_row(&keys, (DESIGN_MARGIN + DESIGN_LEFT) as i32, &items)?;
         let (m0, m1) = minmax(pr.points.iter().map(|p| p.safety_factor));
         let (m0, m1) = with_headroom(m0, m1, 0.0);
@@ -286,7 +293,7 @@ impl DesignChart<'_> {
             .map_err(err)?;
         chart
             .configure_secondary_axes()
-            .y_desc("DI (m/s)")
+            .y_desc(s.options.damping.label())
             .label_style(SMALL)
             .axis_desc_style(LABEL)
             .draw()

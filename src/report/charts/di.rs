@@ -36,18 +36,19 @@ impl Chart for DiChart<'_> {
         let di = pr.series(|p| p.di);
         let (y0, y1) = minmax(di.iter().map(|p| p.1));
         let (y0, y1) = pad(y0.min(0.0), y1, 0.08);
-        let title = format!("Damping inclination DI against {}{}", pr.key(), pr.at());
+        let d = &s.options.damping;
+        let title = format!("{} {} against {}{}", d.title, d.symbol, pr.key(), pr.at());
         let mut chart = xy_chart(
             root,
             (&title, TITLE),
             (x0..x1, y0..y1),
-            (&axis_desc(pr.key()), "DI (m/s)"),
+            (&axis_desc(pr.key()), &d.label()),
         )?;
         let blue = super::plumbing::BLUE;
         chart
             .draw_series(LineSeries::new(di.clone(), blue.stroke_width(2)))
             .map_err(err)?
-            .label(format!("DI ({})", di_source(s)))
+            .label(format!("{} ({})", s.options.damping.symbol, di_source(s)))
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 18, y)], blue.stroke_width(2))
             });

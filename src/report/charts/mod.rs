@@ -15,11 +15,17 @@
 //! * with three axes, `zone_maps_<c>`: zone maps of the last two axes at several values of the
 //!   first, as small multiples ([`multiples`]).
 //!
+//! In a harmonic study the design points are designs (a design point without its frequency),
+//! the response is the peak amplitude over the band (`peak_amplitude_spread`) and DI's place
+//! is taken by the peak reduction (`peak_reduction`); [`frequency_response`] adds the
+//! frequency-response curves and the impacts per period and period against the frequency.
+//!
 //! And [`waveform`] (the paper's Figures 2 and 5), [`tradeoff`] (the solver chart of
 //! `tradeoff`). [`plumbing`] holds what they share.
 
 pub mod design;
 pub mod di;
+pub mod frequency_response;
 pub mod map;
 pub mod multiples;
 pub mod plumbing;
@@ -53,12 +59,13 @@ pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         .map(|q| format!("{r}_{q}"))
         .collect();
     let spread_cols: Vec<&str> = spread_owned.iter().map(String::as_str).collect();
+    let d = s.options.damping.name;
     let design_cols = [
         "reliability",
         "reliability_lo",
         "reliability_hi",
         "safety_factor",
-        "di",
+        d,
         "class",
         "zone",
     ];
@@ -66,10 +73,10 @@ pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         let pr = Profile::new(s, 0, anchor);
         files.extend(plumbing::render(
             dir,
-            "di",
+            d,
             di::SIZE,
             &di::DiChart(&pr),
-            &Data::Rows(s, &pr.points, &["di"]),
+            &Data::Rows(s, &pr.points, &[d]),
         )?);
         files.extend(plumbing::render(
             dir,

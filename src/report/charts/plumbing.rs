@@ -181,9 +181,13 @@ pub fn with_headroom(lo: f64, hi: f64, min_span: f64) -> (f64, f64) {
     (lo - 0.08 * span, hi + 0.24 * span)
 }
 
-/// Unit of a system key, for axis labels.
+/// Unit of a system key (or of a harmonic study's `F0` and `omega`), for axis labels.
 pub fn axis_unit(key: &str) -> &'static str {
-    crate::model::System::unit(key)
+    match key {
+        "F0" => "N",
+        "omega" => "rad/s",
+        k => crate::model::System::unit(k),
+    }
 }
 
 /// An axis label: `coefficient of restitution e (–)`, `m (kg)`.

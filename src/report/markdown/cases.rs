@@ -67,7 +67,8 @@ pub fn nominal(s: &Summary) -> String {
     );
     let _ = writeln!(
         o,
-        "| # | case | Δm (g) | Δd (mm) | noise seed | outcome | {name} (cm) | DI (m/s) |\n|---|---|---|---|---|---|---|---|"
+        "| # | case | Δm (g) | Δd (mm) | noise seed | outcome | {name} (cm) | {} |\n|---|---|---|---|---|---|---|---|",
+        s.options.damping.label()
     );
     for (i, r) in rows.iter().enumerate().take(MAX_ROWS) {
         let _ = writeln!(

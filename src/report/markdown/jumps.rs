@@ -14,6 +14,7 @@ pub fn section(s: &Summary) -> String {
     let st = &s.jump_stats;
     let g = &s.grid;
     let (rname, runit) = quantity_of(s, Quantity::Response);
+    let damping = &s.options.damping;
     let slopes: Vec<String> = (0..g.n_axes())
         .filter(|&a| st.typical_slope.get(a).is_some_and(|v| v.is_finite()))
         .map(|a| {
@@ -27,9 +28,10 @@ pub fn section(s: &Summary) -> String {
         .collect();
     let _ = writeln!(
         o,
-        "Along every line of the grid, a step is a change of the ideal case's {rname} by at least {} m or of its DI by at least {} m/s ({} × the median spread of each over a point's cases) that the trend on either side does not explain; a kink is a change of the slope of {rname} by at least {} × its typical slope ({}). Each candidate is located by bisection with extra simulations of the ideal case to {} of the grid step, then classed: a step if the change stays as the bracket shrinks, a kink if only the slope changes, dropped otherwise (a steep but smooth stretch).\n",
+        "Along every line of the grid, a step is a change of the ideal case's {rname} by at least {} {runit} or of its {} by at least {} ({} × the median spread of each over a point's cases) that the trend on either side does not explain; a kink is a change of the slope of {rname} by at least {} × its typical slope ({}). Each candidate is located by bisection with extra simulations of the ideal case to {} of the grid step, then classed: a step if the change stays as the bracket shrinks, a kink if only the slope changes, dropped otherwise (a steep but smooth stretch).\n",
         fmt_num(st.step_tol[0]),
-        fmt_num(st.step_tol[1]),
+        damping.symbol,
+        damping.with_unit(&fmt_num(st.step_tol[1])),
         fmt_num(s.options.zones.step_spread),
         fmt_num(s.options.zones.kink_slope),
         if slopes.is_empty() {

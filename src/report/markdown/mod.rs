@@ -9,6 +9,7 @@
 
 mod audit;
 mod cases;
+pub mod forced;
 mod jumps;
 mod ranking;
 mod recommendation;
@@ -34,9 +35,22 @@ pub fn report(
     charts: &[String],
     audit: Option<&crate::accuracy::Audit>,
 ) -> String {
+    report_with(study, s, charts, audit, "")
+}
+
+/// [`report`] with a section of the study's scene after the recommendation (the harmonic
+/// scene's frequency response, [`forced::section`]).
+pub fn report_with(
+    study: &Study,
+    s: &Summary,
+    charts: &[String],
+    audit: Option<&crate::accuracy::Audit>,
+    scene: &str,
+) -> String {
     let mut o = format!("# impactsweep report: {}\n\n", study.name);
     o += &cases::overview(study, s);
     o += &recommendation::section(s);
+    o += scene;
     o += &zones::section(s);
     o += &jumps::section(s);
     o += &sensitivity::section(s);

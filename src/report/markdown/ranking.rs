@@ -7,8 +7,9 @@ use crate::reduce::{PointStats, Summary};
 
 fn head(s: &Summary) -> String {
     format!(
-        "| rank | design | R | R interval ({}) | μn | DI (m/s) | {} mean (cm) | P (%) | zone | robust |\n|---|---|---|---|---|---|---|---|---|---|",
+        "| rank | design | R | R interval ({}) | μn | {} | {} mean (cm) | P (%) | zone | robust |\n|---|---|---|---|---|---|---|---|---|---|",
         confidence(s),
+        s.options.damping.label(),
         s.options.response.name
     )
 }
@@ -42,8 +43,9 @@ pub fn top(s: &Summary) -> String {
 pub fn pareto(s: &Summary) -> String {
     let mut pareto: Vec<_> = s.points.iter().filter(|p| p.pareto).collect();
     pareto.sort_by_key(|p| p.rank);
+    let d = s.options.damping.symbol;
     let mut o = format!(
-        "## Pareto set on (R, DI)\n\n{} design points are not beaten on both R and DI by any other:\n\n{}\n",
+        "## Pareto set on (R, {d})\n\n{} design points are not beaten on both R and {d} by any other:\n\n{}\n",
         thousands(pareto.len() as u64),
         head(s)
     );

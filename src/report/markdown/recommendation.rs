@@ -91,13 +91,14 @@ fn figures(s: &Summary, p: &PointStats, n_ranked: usize) -> String {
         .map(|z| format!(" Zone {} ({}).", z.name, z.label()))
         .unwrap_or_default();
     format!(
-        "R = {} ({} interval {} – {}), μn = {}, DI = {} m/s, {} mean {} cm (SD {} cm), perfectibility {} % (rank {} of {}).{zone}\n\n",
+        "R = {} ({} interval {} – {}), μn = {}, {} = {}, {} mean {} cm (SD {} cm), perfectibility {} % (rank {} of {}).{zone}\n\n",
         f(p.reliability, 5),
         confidence(s),
         f(p.reliability_lo, 5),
         f(p.reliability_hi, 5),
         f(p.safety_factor, 3),
-        f(p.di, 5),
+        s.options.damping.symbol,
+        s.options.damping.with_unit(&f(p.di, 5)),
         s.options.response.name,
         cm(p.response.mean),
         cm(p.response.sd),
@@ -113,7 +114,7 @@ fn why(s: &Summary, p: &PointStats) -> String {
     let text: Vec<String> = reasons(s, p)
         .into_iter()
         .map(|r| match r {
-            NotRobust::Unranked => "R or DI unknown".to_string(),
+            NotRobust::Unranked => format!("R or {} unknown", s.options.damping.symbol),
             NotRobust::FailedCases => "some of its cases did not end ok".to_string(),
             NotRobust::Edge(a, end) => format!(
                 "on the {} edge of {}",

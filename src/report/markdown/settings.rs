@@ -43,9 +43,11 @@ pub fn section(study: &Study, s: &Summary) -> String {
         s.options.bootstrap,
         confidence(s)
     );
+    let d = &s.options.damping;
     let _ = writeln!(
         o,
-        "- DI: {}. Perfectibility (eq. 11): WF1 = {}, WF2 = {}, R_max = {}, DI_max = {} m/s.",
+        "- {}: {}. Perfectibility (eq. 11): WF1 = {}, WF2 = {}, R_max = {}, {}_max = {}.",
+        d.symbol,
         match s.options.di_source {
             DiSource::Ideal => "from the ideal case",
             DiSource::Mean => "mean over the ok cases",
@@ -53,18 +55,20 @@ pub fn section(study: &Study, s: &Summary) -> String {
         fmt_num(study.ranking.wf1),
         fmt_num(study.ranking.wf2),
         f(s.r_max, 5),
-        f(s.di_max, 5)
+        d.symbol,
+        d.with_unit(&f(s.di_max, 5))
     );
     let _ = writeln!(
         o,
-        "- Classes: reliable when the lower end of R's {} interval is at least r_min = {}; strong damping when DI ≥ {} m/s{}; around a jump when a point's ±1-step neighbourhood along an axis reaches a located jump (see Jumps).",
+        "- Classes: reliable when the lower end of R's {} interval is at least r_min = {}; strong damping when {} ≥ {}{}; around a jump when a point's ±1-step neighbourhood along an axis reaches a located jump (see Jumps).",
         confidence(s),
         fmt_num(s.r_min),
-        f(s.di_strong, 5),
+        d.symbol,
+        d.with_unit(&f(s.di_strong, 5)),
         if study.zones.di_strong.is_none() {
-            " (the median DI)"
+            format!(" (the median {})", d.symbol)
         } else {
-            ""
+            String::new()
         }
     );
     let p = &s.options.zones;

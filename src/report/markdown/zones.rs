@@ -53,7 +53,8 @@ pub fn section(s: &Summary) -> String {
     }
     let _ = writeln!(
         o,
-        "{head} best design (P %) | representative design | mean R | mean DI (m/s) | perfectibility (%) |\n{rule}---|---|---|---|---|"
+        "{head} best design (P %) | representative design | mean R | mean {} | perfectibility (%) |\n{rule}---|---|---|---|---|",
+        s.options.damping.label()
     );
     for &i in &shown {
         let z = &s.zones[i];

@@ -158,9 +158,31 @@ impl Harmonic {
         }
     }
 
+    /// The keys a study may sweep (`[sweep].F0`, `omega`, `r`): a study over them is a family of
+    /// frequency-response curves.
+    pub const AXES: [&'static str; 3] = ["F0", "omega", "r"];
+
+    /// Sets a sweepable key ([`Harmonic::AXES`]): `F0`, or the drive as `omega` or `r`. Returns
+    /// `false` for any other key.
+    pub fn set(&mut self, key: &str, value: f64) -> bool {
+        match key {
+            "F0" => self.F0 = value,
+            "omega" => self.drive = Drive::Omega(value),
+            "r" => self.drive = Drive::Ratio(value),
+            _ => return false,
+        }
+        true
+    }
+
     /// Checks every range and resonance without damping against `sys` (module doc); the error
     /// names the key, the value and what is allowed.
     pub fn validate(&self, sys: &System) -> Result<(), RangeError> {
+        self.check_ranges()?;
+        self.check_resonance(sys)
+    }
+
+    /// Checks every range that does not depend on the system (all but resonance).
+    pub fn check_ranges(&self) -> Result<(), RangeError> {
         let check = |key: &str, v: f64, lo: f64, hi: f64| {
             if v.is_finite() && v >= lo && v <= hi {
                 Ok(())
@@ -197,9 +219,20 @@ impl Harmonic {
         check("n_trans_max", self.n_trans_max as f64, 1.0, 1e8)?;
         check("n_meas", self.n_meas as f64, 1.0, 1e6)?;
         check("trans_tol", self.trans_tol, 1e-15, 1e-2)?;
-        check("period_tol", self.period_tol, 1e-15, 0.1)?;
+        check("period_tol", self.period_tol, 1e-15, 0.1)
+    }
+
+    /// Refuses resonance without damping on `sys`: the dynamic stiffness of the main mass (and
+    /// of the stuck pair when `m > 0`) at `omega` below `1e-6 K` (module doc). The error names
+    /// the frequency key (`omega` or `r`) and its value.
+    pub fn check_resonance(&self, sys: &System) -> Result<(), RangeError> {
+        let (key, value) = match self.drive {
+            Drive::Omega(w) => ("omega", w),
+            Drive::Ratio(r) => ("r", r),
+        };
         let omega = self.omega(sys);
-        let floor = motion::RESONANCE_FLOOR * sys.K;
+        // K / 10^6, so that the message shows 4e-4, not 3.9999999999999996e-4.
+        let floor = sys.K / (1.0 / motion::RESONANCE_FLOOR);
         let masses: &[(f64, &str)] = if sys.m > 0.0 {
             &[(sys.M, "M"), (sys.M + sys.m, "(M + m)")]
         } else {
@@ -249,6 +282,8 @@ pub struct ForcedRecord {
     /// Whether the default transient stopped by convergence (`false` at the cap, and when
     /// `n_trans` was given).
     pub converged: bool,
+    /// The measurement window (forcing periods), [`Harmonic::n_meas`].
+    pub n_meas: u64,
     /// Over the window: work of the force, viscous loss, impact loss (J).
     pub energy_force: f64,
     pub energy_viscous: f64,

@@ -459,6 +459,7 @@ impl<P: Probe> Run<'_, P> {
             attenuation: amplitude / amplitude_linear,
             n_trans: self.n_trans,
             converged: self.converged,
+            n_meas: scene.n_meas,
             energy_force: ef,
             energy_viscous: ev,
             energy_impact: ei,

@@ -1,0 +1,551 @@
+//! The harmonic scene's reduction (model.md §8, docs/reduce.md): every design's
+//! frequency-response curve becomes one row of the reducer's grid.
+//!
+//! A **design** is a design point without its frequency: the study's grid with the frequency
+//! axis (`r` or `omega`, always the last, [`crate::study`]) taken out ([`design_study`]). The
+//! part files hold whole curves (a chunk is a whole number of them), so the reduction streams:
+//! [`ForcedReducer::push`] turns each design's runs into
+//!
+//! * one reducer [`Run`] per case: its response is the case's **peak amplitude** over the swept
+//!   band (the largest `amplitude` of its runs, the classic design target, [`PEAK_AMPLITUDE`]);
+//!   its damping quantity is the **peak reduction** `PR = 1 - peak amplitude / peak of
+//!   amplitude_linear` over the same band ([`PEAK_REDUCTION`], dimensionless: 0.9 means the
+//!   damper removes 90 % of the linear system's resonance peak; negative when it makes the
+//!   peak worse). A case with a run that did not end `ok` takes that run's outcome (its peak is
+//!   unknown), so the reducer counts it as failed;
+//! * the ideal case's [`Curve`] (kept for the charts, the report and the band columns: where
+//!   the peak is, the band where the damper helps, how much of the band is periodic).
+//!
+//! The reducer ([`super::Reducer`]) then does over the designs what it does over free-decay
+//! design points: stress, R and the safety factor from the peak amplitudes of the cases (each
+//! case's peak is a sample), perfectibility from R and PR, zones, jumps (located with the ideal
+//! case's whole curve simulated at each probe, [`ForcedIdeal`]), sensitivity and the robust
+//! recommendation.
+
+use super::table::{Column, Table};
+use super::{Damping, IdealCase, Options, PointStats, Reducer, Response, Run, Summary};
+use crate::sim::{ForcedRecord, NoProbe, Outcome, Scene, simulate_harmonic};
+use crate::store::RunRow;
+use crate::study::{Study, frequency_axis};
+
+/// The response of a harmonic study: the largest steady amplitude over the swept band.
+pub const PEAK_AMPLITUDE: Response = Response {
+    name: "peak_amplitude",
+    unit: "m",
+    description: "largest steady amplitude over the frequency band",
+};
+
+/// The damping quantity of a harmonic study: `1 - peak amplitude / the linear system's peak
+/// over the band`.
+pub const PEAK_REDUCTION: Damping = Damping {
+    name: "peak_reduction",
+    symbol: "PR",
+    title: "Peak reduction",
+    unit: "1",
+    description: "peak reduction, 1 - peak amplitude / the linear system's peak over the band",
+};
+
+/// The study of the designs: the harmonic study without its frequency axis.
+pub fn design_study(study: &Study) -> Study {
+    let mut s = study.clone();
+    if let Some(i) = frequency_axis(&s.axes) {
+        s.axes.remove(i);
+    }
+    s
+}
+
+/// The reducer's options for a harmonic study: the design study's own, with the peak
+/// amplitude as the response and the peak reduction as the damping quantity.
+pub fn options(design: &Study) -> Options {
+    Options {
+        response: PEAK_AMPLITUDE,
+        damping: PEAK_REDUCTION,
+        ..Options::from_study(design)
+    }
+}
+
+/// One run of a curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurvePoint {
+    /// Frequency ratio and frequency (rad/s).
+    pub r: f64,
+    pub omega: f64,
+    pub outcome: Outcome,
+    /// `amplitude`, `amplitude_linear` (m), `attenuation`, `impacts_per_period`, `period`,
+    /// `converged`, as stored.
+    pub amplitude: f64,
+    pub linear: f64,
+    pub attenuation: f64,
+    pub impacts_per_period: f64,
+    pub period: u32,
+    pub converged: bool,
+}
+
+impl CurvePoint {
+    fn of(rec: &ForcedRecord) -> CurvePoint {
+        CurvePoint {
+            r: rec.r,
+            omega: rec.omega,
+            outcome: rec.outcome,
+            amplitude: rec.amplitude,
+            linear: rec.amplitude_linear,
+            attenuation: rec.attenuation,
+            impacts_per_period: rec.impacts_per_period,
+            period: rec.period,
+            converged: rec.converged,
+        }
+    }
+
+    fn ok(&self) -> bool {
+        self.outcome == Outcome::Ok
+    }
+
+    /// The damper helps at this frequency: `attenuation < 1 - HELP_TOL` (an ok run).
+    pub fn helps(&self) -> bool {
+        self.ok() && self.attenuation < 1.0 - HELP_TOL
+    }
+}
+
+/// The damper helps where `attenuation < 1 - HELP_TOL`: a motion that never reaches the walls
+/// has `attenuation = 1` only to the simulator's accuracy (1e-9 relative, tests/forced.rs), and
+/// must not count as helping.
+pub const HELP_TOL: f64 = 1e-6;
+
+/// The band around the linear system's resonance where the damper helps (`attenuation < 1`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HelpBand {
+    /// Its limits in `r`: where the attenuation crosses 1 (linear between the swept
+    /// frequencies), or the end of the swept band when it still helps there (`*_edge`).
+    pub from: f64,
+    pub to: f64,
+    pub from_edge: bool,
+    pub to_edge: bool,
+}
+
+/// The frequency-response curve of one design's ideal case, in frequency order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Curve {
+    /// The design (a point of the design grid).
+    pub design: u64,
+    pub points: Vec<CurvePoint>,
+}
+
+impl Curve {
+    /// The largest amplitude over the band and the `r` where it is; NaN when a run of the
+    /// curve did not end `ok` (the peak could be there).
+    pub fn peak(&self) -> (f64, f64) {
+        self.max_of(|p| p.amplitude)
+    }
+
+    /// The linear system's largest amplitude over the band and its `r`.
+    pub fn linear_peak(&self) -> (f64, f64) {
+        let mut best = (f64::NAN, f64::NAN);
+        for p in &self.points {
+            if best.0.is_nan() || p.linear > best.0 {
+                best = (p.linear, p.r);
+            }
+        }
+        best
+    }
+
+    fn max_of(&self, f: impl Fn(&CurvePoint) -> f64) -> (f64, f64) {
+        if self.points.iter().any(|p| !p.ok()) {
+            return (f64::NAN, f64::NAN);
+        }
+        let mut best = (f64::NAN, f64::NAN);
+        for p in &self.points {
+            if best.0.is_nan() || f(p) > best.0 {
+                best = (f(p), p.r);
+            }
+        }
+        best
+    }
+
+    /// The band where the damper helps: the swept frequencies around the linear system's peak
+    /// where it helps ([`CurvePoint::helps`]), its limits interpolated where the attenuation
+    /// crosses 1. `None` when the damper does not help at the linear peak.
+    pub fn help_band(&self) -> Option<HelpBand> {
+        let pts = &self.points;
+        let helps = |i: usize| pts[i].helps();
+        let (_, r_lin) = self.linear_peak();
+        let k = pts.iter().position(|p| p.r == r_lin)?;
+        if !helps(k) {
+            return None;
+        }
+        let (mut lo, mut hi) = (k, k);
+        while lo > 0 && helps(lo - 1) {
+            lo -= 1;
+        }
+        while hi + 1 < pts.len() && helps(hi + 1) {
+            hi += 1;
+        }
+        // Where the attenuation crosses 1 between an outside and an inside point.
+        let cross = |out: usize, inside: usize| {
+            let (a, b) = (&pts[out], &pts[inside]);
+            if a.ok() && a.attenuation.is_finite() && a.attenuation != b.attenuation {
+                let t = (a.attenuation - 1.0) / (a.attenuation - b.attenuation);
+                a.r + t.clamp(0.0, 1.0) * (b.r - a.r)
+            } else {
+                b.r
+            }
+        };
+        Some(HelpBand {
+            from: if lo > 0 { cross(lo - 1, lo) } else { pts[0].r },
+            to: if hi + 1 < pts.len() {
+                cross(hi + 1, hi)
+            } else {
+                pts[hi].r
+            },
+            from_edge: lo == 0,
+            to_edge: hi + 1 == pts.len(),
+        })
+    }
+
+    /// The share of the band's frequencies where the damper helps ([`CurvePoint::helps`]).
+    pub fn help_share(&self) -> f64 {
+        self.share(CurvePoint::helps)
+    }
+
+    /// The share of the band's frequencies whose steady state is periodic (`period >= 1`).
+    pub fn periodic_share(&self) -> f64 {
+        self.share(|p| p.ok() && p.period >= 1)
+    }
+
+    fn share(&self, f: impl Fn(&CurvePoint) -> bool) -> f64 {
+        if self.points.is_empty() {
+            return f64::NAN;
+        }
+        self.points.iter().filter(|p| f(p)).count() as f64 / self.points.len() as f64
+    }
+}
+
+/// What the harmonic reduction adds to the reducer's [`Summary`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ForcedSummary {
+    /// The frequency axis (`r` or `omega`) and its values; `None` when the study has a single
+    /// frequency (then a "curve" is one point).
+    pub frequency: Option<(String, Vec<f64>)>,
+    /// Every design's ideal-case curve, in design order.
+    pub curves: Vec<Curve>,
+    /// Simulated runs, and their outcomes in [`Outcome::ALL`] order (the reducer's own counts
+    /// are per design and case).
+    pub runs: u64,
+    pub outcomes: [u64; 6],
+}
+
+impl ForcedSummary {
+    /// The curve of a design, if it is in the dataset.
+    pub fn curve(&self, design: u64) -> Option<&Curve> {
+        self.curves
+            .binary_search_by_key(&design, |c| c.design)
+            .ok()
+            .map(|i| &self.curves[i])
+    }
+}
+
+/// The summary columns of a harmonic study beyond the reducer's, for the rows of `points`
+/// (designs), from each design's ideal curve: `peak_r` (where its peak is), `linear_peak` and
+/// `linear_peak_r` (the linear system's peak over the band), `help_r_from` and `help_r_to` (the
+/// band where the damper helps, NaN when it does not help at the linear peak), `help_share` and
+/// `periodic_share` (shares of the band's frequencies).
+pub fn summary_columns(t: &mut Table, fs: &ForcedSummary, points: &[&PointStats]) {
+    let col = |g: &dyn Fn(&Curve) -> f64| {
+        Column::F64(
+            points
+                .iter()
+                .map(|p| fs.curve(p.point).map_or(f64::NAN, g))
+                .collect(),
+        )
+    };
+    let band = |c: &Curve| c.help_band();
+    t.push("peak_r", col(&|c| c.peak().1));
+    t.push("linear_peak", col(&|c| c.linear_peak().0));
+    t.push("linear_peak_r", col(&|c| c.linear_peak().1));
+    t.push(
+        "help_r_from",
+        col(&|c| band(c).map_or(f64::NAN, |b| b.from)),
+    );
+    t.push("help_r_to", col(&|c| band(c).map_or(f64::NAN, |b| b.to)));
+    t.push("help_share", col(&|c| c.help_share()));
+    t.push("periodic_share", col(&|c| c.periodic_share()));
+}
+
+/// The streaming reduction of a harmonic study's parts.
+pub struct ForcedReducer<'a> {
+    study: &'a Study,
+    reducer: Reducer<'a>,
+    /// Frequencies per curve and cases per design point.
+    n_f: u64,
+    n_cases: u64,
+    /// Rows of a design whose curve is not complete yet (a chunk that ended inside a curve).
+    pending: Vec<RunRow<ForcedRecord>>,
+    curves: Vec<Curve>,
+    runs: u64,
+    outcomes: [u64; 6],
+}
+
+impl<'a> ForcedReducer<'a> {
+    /// `design` is [`design_study`] of `study`; `options` usually [`options`] of it.
+    pub fn new(study: &'a Study, design: &'a Study, options: Options) -> Self {
+        ForcedReducer {
+            study,
+            reducer: Reducer::new(design, options),
+            n_f: study.curve_points(),
+            n_cases: study.cases.len() as u64,
+            pending: Vec::new(),
+            curves: Vec::new(),
+            runs: 0,
+            outcomes: [0; 6],
+        }
+    }
+
+    /// Reduces one part's rows (whole curves, in `point_id` order): one reducer run per design
+    /// and case, and the ideal case's curve.
+    pub fn push(&mut self, rows: Vec<RunRow<ForcedRecord>>) {
+        for r in &rows {
+            self.runs += 1;
+            self.outcomes[super::outcome_index(r.record.outcome)] += 1;
+        }
+        let mut rows = rows;
+        if !self.pending.is_empty() {
+            let mut all = std::mem::take(&mut self.pending);
+            all.append(&mut rows);
+            rows = all;
+        }
+        let full = (self.n_f * self.n_cases) as usize;
+        let n_f = self.n_f;
+        let mut groups: Vec<&[RunRow<ForcedRecord>]> = rows
+            .chunk_by(|a, b| a.point / n_f == b.point / n_f)
+            .collect();
+        // A curve the next part continues waits for it.
+        if groups.last().is_some_and(|g| g.len() < full) {
+            let last = groups.pop().unwrap_or_default();
+            self.pending = last.to_vec();
+        }
+        let mut runs = Vec::with_capacity(groups.len() * self.n_cases as usize);
+        for g in groups {
+            self.design(g, &mut runs);
+        }
+        self.reducer.push(runs);
+    }
+
+    /// One design's runs: a reducer run per case, and the ideal case's curve.
+    fn design(&mut self, rows: &[RunRow<ForcedRecord>], runs: &mut Vec<Run>) {
+        let design = rows[0].point / self.n_f;
+        let mut cases: Vec<u32> = rows.iter().map(|r| r.case).collect();
+        cases.sort_unstable();
+        cases.dedup();
+        for c in cases {
+            let of_case: Vec<&RunRow<ForcedRecord>> = rows.iter().filter(|r| r.case == c).collect();
+            let first = of_case[0];
+            let failed = of_case
+                .iter()
+                .map(|r| r.record.outcome)
+                .find(|o| *o != Outcome::Ok);
+            let peak = of_case
+                .iter()
+                .map(|r| r.record.amplitude)
+                .fold(f64::NAN, f64::max);
+            let linear = of_case
+                .iter()
+                .map(|r| r.record.amplitude_linear)
+                .fold(f64::NAN, f64::max);
+            let (response, damping) = match failed {
+                None => (peak, 1.0 - peak / linear),
+                Some(_) => (f64::NAN, f64::NAN),
+            };
+            runs.push(Run {
+                point: design,
+                case: c,
+                ideal: first.ideal,
+                dm: first.dm,
+                dd: first.dd,
+                noise_seed: first.noise_seed,
+                outcome: failed.unwrap_or(Outcome::Ok),
+                response,
+                di: damping,
+            });
+            if first.ideal {
+                self.curves.push(Curve {
+                    design,
+                    points: of_case.iter().map(|r| CurvePoint::of(&r.record)).collect(),
+                });
+            }
+        }
+    }
+
+    /// Everything that needs all the designs (the reducer's [`Reducer::finish_with`], its jumps
+    /// located with [`ForcedIdeal`]), and the curves.
+    pub fn finish(mut self) -> (Summary, ForcedSummary) {
+        let pending = std::mem::take(&mut self.pending);
+        if !pending.is_empty() {
+            let mut runs = Vec::new();
+            self.design(&pending, &mut runs);
+            self.reducer.push(runs);
+        }
+        self.curves.sort_by_key(|c| c.design);
+        self.curves.dedup_by_key(|c| c.design);
+        let ideal = ForcedIdeal::new(self.study);
+        let mut summary = self.reducer.finish_with(&ideal);
+        // The outcomes of the simulated runs, not of the designs' cases (the reducer's runs).
+        summary.outcome_totals = self.outcomes;
+        let frequency = self
+            .study
+            .frequency_axis()
+            .map(|a| (a.key.clone(), a.values.clone()));
+        (
+            summary,
+            ForcedSummary {
+                frequency,
+                curves: self.curves,
+                runs: self.runs,
+                outcomes: self.outcomes,
+            },
+        )
+    }
+}
+
+/// The ideal case of a harmonic study at any design (jump location): its whole curve simulated
+/// over the study's band, `[peak amplitude, peak reduction]`; `None` when a run does not end
+/// `ok` or the design is not valid (out of range, or resonance without damping). Each probe
+/// costs a curve (as many runs as the band has frequencies); a design probed twice (the
+/// bisections of the peak amplitude and of PR along one line share their first midpoints) is
+/// simulated once.
+pub struct ForcedIdeal<'a> {
+    study: &'a Study,
+    /// The design axes' keys, in design-grid order.
+    keys: Vec<String>,
+    /// Designs simulated so far, by the bits of their axis values.
+    seen: std::sync::Mutex<std::collections::HashMap<Vec<u64>, Option<[f64; 2]>>>,
+}
+
+impl<'a> ForcedIdeal<'a> {
+    pub fn new(study: &'a Study) -> Self {
+        let keys = design_study(study)
+            .axes
+            .iter()
+            .map(|a| a.key.clone())
+            .collect();
+        ForcedIdeal {
+            study,
+            keys,
+            seen: Default::default(),
+        }
+    }
+
+    /// The curve's `[peak amplitude, peak reduction]`, simulated.
+    fn simulate(&self, values: &[f64]) -> Option<[f64; 2]> {
+        let s = self.study;
+        let mut sys = s.system;
+        let mut scene = s.scene;
+        for (key, v) in self.keys.iter().zip(values) {
+            if !sys.set(key, *v) {
+                scene.set(key, *v);
+            }
+        }
+        sys.validate().ok()?;
+        let Scene::Harmonic(base) = scene else {
+            return None;
+        };
+        let band: Vec<Option<(&str, f64)>> = match s.frequency_axis() {
+            Some(a) => a
+                .values
+                .iter()
+                .map(|&f| Some((a.key.as_str(), f)))
+                .collect(),
+            None => vec![None],
+        };
+        let (mut peak, mut linear) = (f64::NAN, f64::NAN);
+        for f in band {
+            let mut h = base;
+            if let Some((key, v)) = f {
+                h.set(key, v);
+            }
+            h.validate(&sys).ok()?;
+            let rec = simulate_harmonic(&sys, &s.solver, &s.request, &h, None, &mut NoProbe);
+            if rec.outcome != Outcome::Ok {
+                return None;
+            }
+            peak = peak.max(rec.amplitude);
+            linear = linear.max(rec.amplitude_linear);
+        }
+        Some([peak, 1.0 - peak / linear])
+    }
+}
+
+impl IdealCase for ForcedIdeal<'_> {
+    fn at(&self, values: &[f64]) -> Option<[f64; 2]> {
+        let key: Vec<u64> = values.iter().map(|v| v.to_bits()).collect();
+        if let Some(v) = self.seen.lock().ok().and_then(|m| m.get(&key).copied()) {
+            return v;
+        }
+        let v = self.simulate(values);
+        if let Ok(mut m) = self.seen.lock() {
+            m.insert(key, v);
+        }
+        v
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pt(r: f64, amplitude: f64, linear: f64) -> CurvePoint {
+        CurvePoint {
+            r,
+            omega: r * 63.0,
+            outcome: Outcome::Ok,
+            amplitude,
+            linear,
+            attenuation: amplitude / linear,
+            impacts_per_period: 2.0,
+            period: 1,
+            converged: true,
+        }
+    }
+
+    #[test]
+    fn the_band_where_the_damper_helps_is_around_the_linear_peak() {
+        // Attenuation 2, 1.5, 0.5, 0.25 (linear peak), 0.5, 3: crosses 1 at r = 0.85 and 1.1.
+        let c = Curve {
+            design: 0,
+            points: vec![
+                pt(0.7, 2.0, 1.0),
+                pt(0.8, 3.0, 2.0),
+                pt(0.9, 2.0, 4.0),
+                pt(1.0, 2.0, 8.0),
+                pt(1.05, 2.0, 4.0),
+                pt(1.15, 6.0, 2.0),
+            ],
+        };
+        assert_eq!(c.peak(), (6.0, 1.15));
+        assert_eq!(c.linear_peak(), (8.0, 1.0));
+        let b = c.help_band().unwrap();
+        assert!((b.from - 0.85).abs() < 1e-12, "{b:?}");
+        assert!((b.to - 1.07).abs() < 1e-12, "{b:?}");
+        assert!(!b.from_edge && !b.to_edge);
+        assert_eq!(c.help_share(), 0.5);
+        // It helps to the end of the band: the limit is the band's end.
+        let c = Curve {
+            design: 0,
+            points: vec![pt(0.9, 0.5, 4.0), pt(1.0, 1.0, 8.0), pt(1.1, 1.0, 2.0)],
+        };
+        let b = c.help_band().unwrap();
+        assert_eq!(
+            (b.from, b.to, b.from_edge, b.to_edge),
+            (0.9, 1.1, true, true)
+        );
+        // It does not help at the linear peak: no band.
+        let c = Curve {
+            design: 0,
+            points: vec![pt(0.9, 0.5, 4.0), pt(1.0, 9.0, 8.0)],
+        };
+        assert_eq!(c.help_band(), None);
+        // A failed run: the peak is unknown.
+        let mut c = c;
+        c.points[0].outcome = Outcome::StepCap;
+        assert!(c.peak().0.is_nan());
+        assert_eq!(c.periodic_share(), 0.5);
+    }
+}

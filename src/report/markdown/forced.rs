@@ -1,0 +1,96 @@
+//! The harmonic scene's section (model.md §8): each design's frequency response in one table
+//! (its peak over the band, the linear system's, the band where the damper helps, how much of
+//! the band is periodic), and how to read the curves.
+
+use std::fmt::Write;
+
+use super::{MAX_ROWS, cm, design_text, f, ranked, thousands};
+use crate::reduce::forced::ForcedSummary;
+use crate::reduce::table::outcome_text;
+use crate::reduce::{PointStats, Summary};
+use crate::report::charts::plumbing::fmt_num;
+
+pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
+    let mut o = String::from("## Frequency response\n\n");
+    let band = match &fs.frequency {
+        Some((k, v)) => format!(
+            "{} frequencies, {k} from {} to {}",
+            v.len(),
+            fmt_num(v[0]),
+            fmt_num(v[v.len() - 1])
+        ),
+        None => "a single frequency".to_string(),
+    };
+    let _ = writeln!(
+        o,
+        "Every design's curve has {band}; {} runs were simulated ({}). A design's response is its **peak amplitude over the band**: for each case the largest steady amplitude of its runs, a sample of which gives the stress, R and the ranking. Its damping quantity is the **peak reduction** PR = 1 − peak amplitude / the linear system's peak over the band (the primary system without the inner mass): 0.9 means the damper removes 90 % of the resonance peak, below 0 it makes the peak worse.\n",
+        thousands(fs.runs),
+        outcome_text(&fs.outcomes, false)
+    );
+    let shown: Vec<&PointStats> = {
+        let r = ranked(s);
+        if r.is_empty() {
+            s.points.iter().collect()
+        } else {
+            r
+        }
+    };
+    let _ = writeln!(
+        o,
+        "| rank | design | peak amplitude, ideal (cm) | at r | linear peak (cm) at r | PR, ideal | the damper helps for r in | periodic | not converged |\n|---|---|---|---|---|---|---|---|---|"
+    );
+    let mut not_converged = 0usize;
+    let mut not_periodic = 0usize;
+    let mut frequencies = 0usize;
+    for c in &fs.curves {
+        frequencies += c.points.len();
+        not_converged += c.points.iter().filter(|p| !p.converged).count();
+        not_periodic += c.points.iter().filter(|p| p.period == 0).count();
+    }
+    for p in shown.iter().take(MAX_ROWS) {
+        let Some(c) = fs.curve(p.point) else {
+            continue;
+        };
+        let (peak, peak_r) = c.peak();
+        let (lin, lin_r) = c.linear_peak();
+        let helps = match c.help_band() {
+            Some(b) => format!(
+                "{}{} – {}{}",
+                if b.from_edge { "≤ " } else { "" },
+                f(b.from, 3),
+                f(b.to, 3),
+                if b.to_edge { " (band edge)" } else { "" }
+            ),
+            None => "not at the linear peak".to_string(),
+        };
+        let _ = writeln!(
+            o,
+            "| {} | {} | {} | {} | {} at {} | {} | {} | {} % | {} |",
+            p.rank.map(|r| r.to_string()).unwrap_or_default(),
+            design_text(s, p.point),
+            cm(peak),
+            f(peak_r, 3),
+            cm(lin),
+            f(lin_r, 3),
+            f(1.0 - peak / lin, 3),
+            helps,
+            f(100.0 * c.periodic_share(), 0),
+            c.points.iter().filter(|q| !q.converged).count()
+        );
+    }
+    if shown.len() > MAX_ROWS {
+        let _ = writeln!(
+            o,
+            "\n… and {} more designs (columns `peak_r`, `linear_peak`, `help_r_from`, `help_r_to`, `help_share`, `periodic_share` of the summary).",
+            shown.len() - MAX_ROWS
+        );
+    }
+    let _ = writeln!(
+        o,
+        "\n**Reading the curves.** Each run starts from the study's initial state and runs to its own steady state, independent of its neighbours on the curve (no continuation along the frequency). Where several steady states coexist, which is common with impact dampers, neighbouring frequencies may settle on different ones: a curve can jump between branches, and a jump is a real steady state, not an error, but the other branch exists there too. A point is *periodic* when the motion repeats after 1 to 8 forcing periods; the others ({} of {} frequencies over the ideal curves) are quasi-periodic or chaotic, or their transient did not converge within `n_trans_max` ({} of them), and their amplitude is the largest of a wandering motion over the window. The band where the damper helps is the stretch around the linear system's resonance where `attenuation < 1`, its ends interpolated where the attenuation crosses 1; `≤` and \"band edge\" mean it still helps at the end of the swept band.\n",
+        thousands(not_periodic as u64),
+        thousands(frequencies as u64),
+        thousands(not_converged as u64)
+    );
+    o
+}

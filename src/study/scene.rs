@@ -1,0 +1,470 @@
+//! `[scene]`: what every run simulates (model.md §8, docs/scenes.md). `kind = "free"` (the
+//! default, the paper's free decay) or `kind = "harmonic"`: a force `F0 cos(omega t)` on the main
+//! mass, run to its steady state. `F0` and the frequency (`omega`, or `r = omega / sqrt(K/M)`) are
+//! fixed here or swept in `[sweep]`, so a harmonic study is a family of frequency-response
+//! curves; the transient and measurement settings are phase 1's [`Harmonic`] settings.
+//!
+//! Resonance without damping is refused for every run of the plan (each design point, each
+//! case's perturbed `m`) at load, not discovered in the night: [`check_runs`] bounds the dynamic
+//! stiffness from below over the whole grid and, only when the bound does not settle it,
+//! enumerates the combinations of the keys it depends on (`M`, `m + dm`, `K`, `C`, the frequency).
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+
+use super::perturb::Case;
+use super::sweep::{Axis, RawAxis};
+use super::{Cx, num, range_value};
+use crate::error::InputError;
+use crate::model::{RangeError, System};
+use crate::sim::forced::motion::RESONANCE_FLOOR;
+use crate::sim::{Drive, Harmonic, Scene, SolverKind, SolverSettings};
+
+#[derive(Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub(super) struct RawScene {
+    kind: Option<String>,
+    F0: Option<f64>,
+    omega: Option<f64>,
+    r: Option<f64>,
+    n_trans: Option<u64>,
+    n_trans_max: Option<u64>,
+    n_meas: Option<u64>,
+    trans_tol: Option<f64>,
+    period_tol: Option<f64>,
+}
+
+impl RawScene {
+    /// The keys given besides `kind`, in the order of [`Harmonic::KEYS`].
+    fn given(&self) -> Vec<&'static str> {
+        let present = [
+            self.F0.is_some(),
+            self.omega.is_some(),
+            self.r.is_some(),
+            self.n_trans.is_some(),
+            self.n_trans_max.is_some(),
+            self.n_meas.is_some(),
+            self.trans_tol.is_some(),
+            self.period_tol.is_some(),
+        ];
+        Harmonic::KEYS
+            .into_iter()
+            .zip(present)
+            .filter_map(|(k, p)| p.then_some(k))
+            .collect()
+    }
+
+    fn get(&self, key: &str) -> Option<f64> {
+        match key {
+            "F0" => self.F0,
+            "omega" => self.omega,
+            "r" => self.r,
+            _ => None,
+        }
+    }
+}
+
+/// Whether `key` is a sweepable key of the harmonic scene (`F0`, `omega`, `r`).
+pub(super) fn is_scene_axis(key: &str) -> bool {
+    Harmonic::AXES.contains(&key)
+}
+
+/// Checks the range of one sweepable scene key on its own (`F0 > 0`, `omega > 0`, `r > 0`).
+pub(super) fn check_key(key: &str, v: f64) -> Result<(), RangeError> {
+    let mut h = Harmonic::default();
+    h.set(key, v);
+    h.check_ranges()
+}
+
+/// The validated `[scene]` (before its axes are known): the kind and, for the harmonic scene,
+/// its fixed settings. The keys swept in `[sweep]` are cross-checked here (a key is fixed or
+/// swept, not both; `omega` or `r`, not both; scene axes need the harmonic scene).
+pub(super) fn scene(
+    cx: &Cx,
+    raw: Option<&RawScene>,
+    sweep: &BTreeMap<String, RawAxis>,
+) -> Result<Scene, InputError> {
+    let default = RawScene::default();
+    let raw = raw.unwrap_or(&default);
+    let kind = raw.kind.as_deref().unwrap_or("free");
+    if !Scene::NAMES.contains(&kind) {
+        return Err(cx.err(
+            "[scene].kind",
+            format!("{kind:?}"),
+            format!("unknown scene; allowed: {}", Scene::NAMES.join(", ")),
+        ));
+    }
+    if kind == "free" {
+        if let Some(key) = raw.given().first() {
+            return Err(cx.err(
+                &format!("[scene].{key}"),
+                cx.source("scene", key),
+                format!(
+                    "{key} belongs to the harmonic scene; set [scene] kind = \"harmonic\" \
+                     (the free-decay scene has no forcing)"
+                ),
+            ));
+        }
+        return Ok(Scene::Free);
+    }
+    for key in Harmonic::AXES {
+        if let (Some(v), true) = (raw.get(key), sweep.contains_key(key)) {
+            return Err(cx.err(
+                &format!("[scene].{key}"),
+                num(v),
+                format!("{key} is also swept in [sweep]; a key is either fixed or swept, not both"),
+            ));
+        }
+    }
+    let omega_at = scene_key_at(raw, sweep, "omega");
+    let r_at = scene_key_at(raw, sweep, "r");
+    if let (Some(w), Some(r)) = (&omega_at, &r_at) {
+        let value = if r.starts_with("[scene]") {
+            raw.r.map(num).unwrap_or_default()
+        } else {
+            cx.source("sweep", "r")
+        };
+        return Err(cx.err(
+            r,
+            value,
+            format!("give the forcing frequency as omega or as r, not both (omega is in {w})"),
+        ));
+    }
+    let mut h = Harmonic::default();
+    if let Some(v) = raw.F0 {
+        h.F0 = v;
+    }
+    if let Some(w) = raw.omega {
+        h.drive = Drive::Omega(w);
+    }
+    if let Some(r) = raw.r {
+        h.drive = Drive::Ratio(r);
+    }
+    // A swept frequency: the drive's kind (its values come from the plan, per design point).
+    if sweep.contains_key("omega") {
+        h.drive = Drive::Omega(1.0);
+    }
+    if raw.n_trans.is_some() {
+        h.n_trans = raw.n_trans;
+    }
+    if let Some(n) = raw.n_trans_max {
+        h.n_trans_max = n;
+    }
+    if let Some(n) = raw.n_meas {
+        h.n_meas = n;
+    }
+    if let Some(v) = raw.trans_tol {
+        h.trans_tol = v;
+    }
+    if let Some(v) = raw.period_tol {
+        h.period_tol = v;
+    }
+    h.check_ranges()
+        .map_err(|e| cx.err(&format!("[scene].{}", e.key), range_value(&e), e.allowed))?;
+    Ok(Scene::Harmonic(h))
+}
+
+/// Where a frequency key is set (`[scene].r` or `[sweep].r`), if anywhere.
+fn scene_key_at(raw: &RawScene, sweep: &BTreeMap<String, RawAxis>, key: &str) -> Option<String> {
+    if raw.get(key).is_some() {
+        Some(format!("[scene].{key}"))
+    } else if sweep.contains_key(key) {
+        Some(format!("[sweep].{key}"))
+    } else {
+        None
+    }
+}
+
+/// The frequency axis of a harmonic study (`omega` or `r`), if it is swept.
+pub fn frequency_axis(axes: &[Axis]) -> Option<usize> {
+    axes.iter().position(|a| a.key == "omega" || a.key == "r")
+}
+
+/// Refuses resonance without damping at any run of the plan (every design point, every case's
+/// perturbed `m`). First a lower bound of the dynamic stiffness over the whole grid,
+/// `|K - mass omega^2 + i C omega| >= C omega >= C_min omega_min`; only when it does not clear
+/// `1e-6 K_max` are the combinations of `M`, `m + dm`, `K`, `C` and the frequency enumerated
+/// (at most the number of runs; usually only `C = 0` studies get there).
+pub(super) fn check_runs(
+    cx: &Cx,
+    scene: &Scene,
+    system: &System,
+    axes: &[Axis],
+    cases: &[Case],
+) -> Result<(), InputError> {
+    let Scene::Harmonic(h) = scene else {
+        return Ok(());
+    };
+    let values = |key: &str| -> Vec<f64> {
+        match axes.iter().find(|a| a.key == key) {
+            Some(a) => a.values.clone(),
+            None => vec![system.get(key).unwrap_or(f64::NAN)],
+        }
+    };
+    let (freq_key, freqs) = match h.drive {
+        Drive::Omega(w) => ("omega", axes_or(axes, "omega", w)),
+        Drive::Ratio(r) => ("r", axes_or(axes, "r", r)),
+    };
+    let (ms, ks, cs, bigm) = (values("m"), values("K"), values("C"), values("M"));
+    let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+    let max = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let omega_min = match h.drive {
+        Drive::Omega(_) => min(&freqs),
+        Drive::Ratio(_) => min(&freqs) * (min(&ks) / max(&bigm)).sqrt(),
+    };
+    if min(&cs) * omega_min >= RESONANCE_FLOOR * max(&ks) {
+        return Ok(());
+    }
+    let mut dms: Vec<(f64, usize)> = Vec::new();
+    for (i, c) in cases.iter().enumerate() {
+        if !dms.iter().any(|(d, _)| *d == c.dm) {
+            dms.push((c.dm, i));
+        }
+    }
+    let freq_at = if axes.iter().any(|a| a.key == freq_key) {
+        format!("[sweep].{freq_key}")
+    } else {
+        format!("[scene].{freq_key}")
+    };
+    for &big_m in &bigm {
+        for &m in &ms {
+            for &k in &ks {
+                for &c in &cs {
+                    for &f in &freqs {
+                        for &(dm, case) in &dms {
+                            let sys = System {
+                                M: big_m,
+                                m: m + dm,
+                                K: k,
+                                C: c,
+                                ..*system
+                            };
+                            let mut run = *h;
+                            run.set(freq_key, f);
+                            if let Err(e) = run.check_resonance(&sys) {
+                                let mut at = format!(
+                                    "at M = {}, m = {}, K = {}, C = {}",
+                                    num(big_m),
+                                    num(m + dm),
+                                    num(k),
+                                    num(c)
+                                );
+                                if dm != 0.0 {
+                                    at.push_str(&format!(" (case {case}: dm = {})", num(dm)));
+                                }
+                                return Err(cx.err(
+                                    &freq_at,
+                                    range_value(&e),
+                                    format!("{} ({at})", e.allowed),
+                                ));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The values of `key`'s axis, or the fixed value.
+fn axes_or(axes: &[Axis], key: &str, fixed: f64) -> Vec<f64> {
+    match axes.iter().find(|a| a.key == key) {
+        Some(a) => a.values.clone(),
+        None => vec![fixed],
+    }
+}
+
+/// The harmonic scene is solved by `exact` only (closed form with the forcing term).
+pub(super) fn check_solver(cx: &Cx, solver: &SolverSettings) -> Result<(), InputError> {
+    if solver.kind != SolverKind::Exact {
+        return Err(cx.err(
+            "[solver].kind",
+            format!("{:?}", solver.kind.name()),
+            "the harmonic scene is solved by exact only",
+        ));
+    }
+    Ok(())
+}
+
+/// Study keys that belong to the free-decay scene and are refused in a harmonic study, with
+/// what to do instead.
+pub(super) const FREE_ONLY: [(&str, &str); 3] = [
+    (
+        "outputs",
+        "the harmonic scene records all its outputs (docs/scenes.md); leave [study].outputs out",
+    ),
+    (
+        "peaks",
+        "peaks belong to the free-decay scene; a harmonic run measures over [scene].n_meas \
+         forcing periods",
+    ),
+    (
+        "t_end",
+        "t_end belongs to the free-decay scene; a harmonic run ends after its transient and \
+         [scene].n_meas forcing periods",
+    ),
+];
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use crate::sim::{Drive, Harmonic, Scene};
+    use crate::study::Study;
+
+    fn parse(body: &str) -> Result<Study, String> {
+        Study::parse(
+            Path::new("h.toml"),
+            &format!("[study]\nname = \"h\"\n{body}"),
+        )
+        .map_err(|e| e.to_string())
+    }
+
+    fn harmonic(s: &Study) -> Harmonic {
+        match s.scene {
+            Scene::Harmonic(h) => h,
+            Scene::Free => panic!("free scene"),
+        }
+    }
+
+    #[test]
+    fn no_scene_is_free_decay_and_harmonic_defaults_are_phase_1s() {
+        assert_eq!(parse("").unwrap().scene, Scene::Free);
+        assert_eq!(
+            parse("[scene]\nkind = \"free\"\n").unwrap().scene,
+            Scene::Free
+        );
+        let s = parse("[scene]\nkind = \"harmonic\"\n").unwrap();
+        assert_eq!(harmonic(&s), Harmonic::default());
+        let s = parse(
+            "[scene]\nkind = \"harmonic\"\nF0 = 0.3\nomega = 60\nn_trans = 100\nn_meas = 8\n\
+             n_trans_max = 50\ntrans_tol = 1e-8\nperiod_tol = 1e-5\n",
+        )
+        .unwrap();
+        let h = harmonic(&s);
+        assert_eq!(h.F0, 0.3);
+        assert_eq!(h.drive, Drive::Omega(60.0));
+        assert_eq!((h.n_trans, h.n_meas, h.n_trans_max), (Some(100), 8, 50));
+        assert_eq!((h.trans_tol, h.period_tol), (1e-8, 1e-5));
+    }
+
+    #[test]
+    fn the_frequency_axis_varies_fastest_wherever_it_stands() {
+        let s = parse(
+            "[scene]\nkind = \"harmonic\"\n[sweep]\nr = [0.5, 1.0, 1.5]\nm = [0.01, 0.02]\n\
+             d = [0.005, 0.01]\n",
+        )
+        .unwrap();
+        let keys: Vec<&str> = s.axes.iter().map(|a| a.key.as_str()).collect();
+        assert_eq!(keys, ["m", "d", "r"]);
+        // The default chunk holds whole curves; a chunk size that cuts one is refused.
+        assert_eq!(s.run.chunk_points % 3, 0);
+        let e = parse(
+            "[scene]\nkind = \"harmonic\"\n[sweep]\nr = [0.5, 1.0, 1.5]\n[run]\nchunk_points = 4\n",
+        )
+        .unwrap_err();
+        assert_eq!(
+            e,
+            "h.toml: [run].chunk_points = 4: must be a multiple of the 3 values of the frequency \
+             axis [sweep].r, so that every chunk holds whole frequency-response curves"
+        );
+    }
+
+    #[test]
+    fn errors_name_the_key_the_value_and_the_range() {
+        let cases = [
+            (
+                "[scene]\nkind = \"forced\"\n",
+                "h.toml: [scene].kind = \"forced\": unknown scene; allowed: free, harmonic",
+            ),
+            (
+                "[scene]\nF0 = 2\n",
+                "h.toml: [scene].F0 = 2: F0 belongs to the harmonic scene; set [scene] kind = \
+                 \"harmonic\" (the free-decay scene has no forcing)",
+            ),
+            (
+                "[scene]\nkind = \"harmonic\"\nF0 = -1\n",
+                "h.toml: [scene].F0 = -1: the force amplitude must be a finite number > 0 (N)",
+            ),
+            (
+                "[scene]\nkind = \"harmonic\"\nn_meas = 0\n",
+                "h.toml: [scene].n_meas = 0: must be in [1, 1000000]",
+            ),
+            (
+                "[scene]\nkind = \"harmonic\"\nomega = 60\nr = 1\n",
+                "h.toml: [scene].r = 1: give the forcing frequency as omega or as r, not both \
+                 (omega is in [scene].omega)",
+            ),
+            (
+                "[scene]\nkind = \"harmonic\"\nomega = 60\n[sweep]\nr = [0.5, 1]\n",
+                "h.toml: [sweep].r = [0.5, 1]: give the forcing frequency as omega or as r, not \
+                 both (omega is in [scene].omega)",
+            ),
+            (
+                "[scene]\nkind = \"harmonic\"\nr = 1.2\n[sweep]\nr = [0.5, 1]\n",
+                "h.toml: [scene].r = 1.2: r is also swept in [sweep]; a key is either fixed or \
+                 swept, not both",
+            ),
+            (
+                "[scene]\nkind = \"harmonic\"\n[sweep]\nr = [0, 1]\n",
+                "h.toml: [sweep].r = 0: the frequency ratio omega / sqrt(K/M) must be a finite \
+                 number > 0",
+            ),
+            (
+                "[sweep]\nr = [0.5, 1]\n",
+                "h.toml: [sweep].r = [0.5, 1]: unknown axis 'r'; allowed: M, m, K, C, d, e, x0, \
+                 v0, y0, w0 (F0, omega and r are axes of the harmonic scene: [scene] kind = \
+                 \"harmonic\")",
+            ),
+            (
+                "t_end = 1\n[scene]\nkind = \"harmonic\"\n",
+                "h.toml: [study].t_end = 1: t_end belongs to the free-decay scene; a harmonic \
+                 run ends after its transient and [scene].n_meas forcing periods",
+            ),
+            (
+                "[scene]\nkind = \"harmonic\"\n[solver]\nkind = \"rk4\"\n",
+                "h.toml: [solver].kind = \"rk4\": the harmonic scene is solved by exact only",
+            ),
+            (
+                "[scene]\nkind = \"harmonic\"\n[run]\naudit = 3\n",
+                "h.toml: [run].audit = 3: the accuracy audit re-runs free-decay runs; a harmonic \
+                 study has none (its accuracy is shown in tests/forced.rs, docs/scenes.md)",
+            ),
+        ];
+        for (body, want) in cases {
+            assert_eq!(parse(body).unwrap_err(), want, "{body}");
+        }
+    }
+
+    #[test]
+    fn resonance_without_damping_is_refused_at_load_for_every_run() {
+        // C = 0 and r = 1 on the main mass.
+        let e = parse("[system]\nC = 0\n[scene]\nkind = \"harmonic\"\n[sweep]\nr = [0.5, 1]\n")
+            .unwrap_err();
+        assert!(
+            e.starts_with("h.toml: [sweep].r = 1: resonance without damping"),
+            "{e}"
+        );
+        assert!(e.ends_with("(at M = 0.1, m = 0.02, K = 400, C = 0)"), "{e}");
+        // The stuck pair resonates at omega = sqrt(K / (M + m)) only for a perturbed m:
+        // M = 0.1, m + dm = 0.025 → omega = sqrt(400 / 0.125).
+        let w = (400.0f64 / 0.125).sqrt();
+        let body = format!(
+            "[system]\nC = 0\n[scene]\nkind = \"harmonic\"\nomega = {w}\n[perturb]\ndm = [0.005]\n"
+        );
+        let e = parse(&body).unwrap_err();
+        assert!(e.contains("|K - (M + m) omega^2 + i C omega|"), "{e}");
+        assert!(
+            e.ends_with("(at M = 0.1, m = 0.025, K = 400, C = 0 (case 1: dm = 0.005))"),
+            "{e}"
+        );
+        // With a little damping the same grid loads.
+        parse("[system]\nC = 0.001\n[scene]\nkind = \"harmonic\"\n[sweep]\nr = [0.5, 1]\n")
+            .unwrap();
+        // Undamped but away from resonance: enumerated and accepted.
+        parse("[system]\nC = 0\n[scene]\nkind = \"harmonic\"\n[sweep]\nr = [0.5, 2]\n").unwrap();
+    }
+}

@@ -1,0 +1,234 @@
+//! The harmonic scene's reduction (issue 12, item 4): per design (a design point without its
+//! frequency) the peak amplitude over the swept band is the response (each case's peak a
+//! sample: stress, R and the ranking use it), the peak reduction takes DI's place, the band
+//! where the damper helps is located, and the charts draw the frequency-response curves with
+//! the linear system beside them and the impacts per period and the period against r. The
+//! reduction streams whole curves.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use impactsweep::reduce::forced::{self, ForcedReducer};
+use impactsweep::sim::ForcedRecord;
+use impactsweep::store::{self, RunRow};
+use impactsweep::study::Study;
+use impactsweep::sweep::{self, SweepOptions};
+
+fn bin() -> Command {
+    Command::cargo_bin("impactsweep").unwrap()
+}
+
+/// Eleven frequency ratios around resonance, no damper and Table I's inner mass, three cases
+/// (the ideal one, a smaller and a larger clearance).
+fn study_text(name: &str, chunk_points: u64) -> String {
+    format!(
+        r#"[study]
+name = "{name}"
+seed = 3
+
+[system]
+v0 = 0.0
+
+[scene]
+kind = "harmonic"
+F0 = 0.3
+n_trans_max = 800
+n_meas = 10
+
+[sweep]
+m = [0.0, 0.02]
+r = {{ start = 0.9, stop = 1.1, num = 11 }}
+
+[perturb]
+dd = [-0.002, 0.002]
+
+[reliability]
+strength_mean = 300e6
+strength_sd = 20e6
+bootstrap = 50
+
+[run]
+chunk_points = {chunk_points}
+"#
+    )
+}
+
+/// Runs and reduces the study into `tmp/out/<name>`; returns the run directory.
+fn run_and_reduce(tmp: &Path, name: &str, chunk_points: u64) -> PathBuf {
+    let study = tmp.join(format!("{name}.toml"));
+    std::fs::write(&study, study_text(name, chunk_points)).unwrap();
+    let dir = common::run_study_file(&study, &tmp.join("out"), name);
+    bin().arg("reduce").arg(&dir).assert().success();
+    dir
+}
+
+fn rows(dir: &Path) -> Vec<RunRow<ForcedRecord>> {
+    store::part_files(dir)
+        .unwrap()
+        .iter()
+        .flat_map(|p| store::read_rows::<ForcedRecord>(p).unwrap())
+        .collect()
+}
+
+fn num(cell: &str) -> f64 {
+    if cell.is_empty() {
+        f64::NAN
+    } else {
+        cell.parse().unwrap()
+    }
+}
+
+#[test]
+fn issue_12_each_design_reduces_to_its_peak_over_the_band() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = run_and_reduce(tmp.path(), "fr", 11);
+    let (header, summary) = common::csv_by_point(&dir.join("summary.csv"));
+    // Two designs (m = 0 and 0.02): the frequency is not a column of the summary.
+    assert_eq!(summary.len(), 2);
+    assert_eq!(&header[..2], ["point", "mass_inner"]);
+    for col in [
+        "peak_amplitude_mean",
+        "peak_amplitude_ideal",
+        "peak_reduction",
+        "peak_r",
+        "linear_peak",
+        "help_r_from",
+        "help_r_to",
+        "help_share",
+        "periodic_share",
+    ] {
+        assert!(header.iter().any(|h| h == col), "{col} not in {header:?}");
+    }
+    assert!(!header.iter().any(|h| h == "xmax_mean" || h == "di"));
+
+    // Each case's peak over the band, from the stored runs.
+    let mut peaks: BTreeMap<(u64, u32), (f64, f64)> = BTreeMap::new();
+    for r in rows(&dir) {
+        let e = peaks
+            .entry((r.point / 11, r.case))
+            .or_insert((f64::NAN, f64::NAN));
+        e.0 = e.0.max(r.record.amplitude);
+        e.1 = e.1.max(r.record.amplitude_linear);
+    }
+    for (design, row) in &summary {
+        let of = |c: u32| peaks[&(*design, c)];
+        let samples: Vec<f64> = (0..3).map(|c| of(c).0).collect();
+        let max = samples.iter().copied().fold(f64::NAN, f64::max);
+        let min = samples.iter().copied().fold(f64::NAN, f64::min);
+        let mean = samples.iter().sum::<f64>() / 3.0;
+        assert_eq!(num(&row["peak_amplitude_max"]), max, "design {design}");
+        assert_eq!(num(&row["peak_amplitude_min"]), min, "design {design}");
+        assert!((num(&row["peak_amplitude_mean"]) / mean - 1.0).abs() < 1e-12);
+        assert_eq!(num(&row["peak_amplitude_ideal"]), of(0).0);
+        assert_eq!(num(&row["linear_peak"]), of(0).1);
+        let pr = 1.0 - of(0).0 / of(0).1;
+        assert_eq!(num(&row["peak_reduction_ideal"]), pr);
+        // The stress follows the peak amplitude (eq. 10: 3 E r / L^2 = 8.16e9 Pa per m).
+        let k = 3.0 * 200e9 * 3.4e-3 / 0.25;
+        assert!((num(&row["stress_mean"]) / (k * mean) - 1.0).abs() < 1e-12);
+    }
+    // No damper: the linear system, PR = 0 to the simulator's accuracy, it helps nowhere.
+    let bare = &summary[&0];
+    assert!(num(&bare["peak_reduction_ideal"]).abs() < 1e-9, "{bare:?}");
+    assert!(num(&bare["help_r_from"]).is_nan());
+    assert_eq!(num(&bare["help_share"]), 0.0);
+    assert_eq!(num(&bare["peak_r"]), 1.0);
+    assert_eq!(num(&bare["periodic_share"]), 1.0);
+    // Table I's inner mass removes most of the resonance at r = 1; over the band its peak sits
+    // lower, near the stuck pair's resonance sqrt(M / (M + m)) = 0.913.
+    let damped = &summary[&1];
+    let at_1 = rows(&dir)
+        .into_iter()
+        .find(|r| r.point == 11 + 5 && r.ideal)
+        .unwrap();
+    assert!(at_1.record.attenuation < 0.1, "{:?}", at_1.record);
+    assert!(num(&damped["peak_reduction_ideal"]) > 0.3, "{damped:?}");
+    assert_eq!(num(&damped["peak_r"]), 0.9);
+    let (from, to) = (num(&damped["help_r_from"]), num(&damped["help_r_to"]));
+    assert!(from < 1.0 && to > 1.0, "{from} {to}");
+    assert_eq!(damped["rank"], "1");
+
+    // The charts: one design axis, so one of each, with the scene's names.
+    for stem in [
+        "frequency_response",
+        "impacts_per_period",
+        "peak_reduction",
+        "design_chart",
+        "peak_amplitude_spread",
+    ] {
+        for ext in ["svg", "png", "csv"] {
+            let f = dir.join(format!("{stem}.{ext}"));
+            assert!(f.exists(), "{} missing", f.display());
+        }
+    }
+    // The frequency response's data: every run of the ideal case of both designs.
+    let text = std::fs::read_to_string(dir.join("frequency_response.csv")).unwrap();
+    let head = common::csv_cells(text.lines().next().unwrap());
+    assert_eq!(
+        head,
+        [
+            "point",
+            "mass_inner",
+            "r",
+            "omega",
+            "outcome",
+            "amplitude",
+            "amplitude_linear",
+            "attenuation",
+            "impacts_per_period",
+            "period",
+            "converged"
+        ]
+    );
+    assert_eq!(text.lines().count(), 1 + 2 * 11);
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(report.contains("## Frequency response\n"), "{report}");
+    assert!(
+        report.contains("66 runs were simulated (ok:66)"),
+        "{report}"
+    );
+    assert!(report.contains("| 1 | m = 0.02 kg | "), "{report}");
+    assert!(report.contains("## Pareto set on (R, PR)"));
+    assert!(report.contains("![frequency_response.svg](frequency_response.svg)"));
+    assert!(
+        !report.contains("DI"),
+        "the free-decay quantity leaked into the report"
+    );
+}
+
+#[test]
+fn issue_12_the_reduction_streams_whole_curves() {
+    // One curve per part, or both in one: the same summary, bit for bit.
+    let tmp = tempfile::tempdir().unwrap();
+    let one = run_and_reduce(tmp.path(), "one", 22);
+    let two = run_and_reduce(tmp.path(), "two", 11);
+    assert_eq!(store::part_files(&two).unwrap().len(), 2);
+    let strip = |dir: &Path| {
+        let (h, rows) = common::csv_by_point(&dir.join("summary.csv"));
+        (h, rows)
+    };
+    assert_eq!(strip(&one), strip(&two));
+    // A part that ends inside a curve (not what the engine writes, but a reader must not
+    // split a design): the rows are carried to the next part.
+    let study = Study::parse(Path::new("s.toml"), &study_text("lib", 22)).unwrap();
+    sweep::run_study(&study, tmp.path(), &SweepOptions::default()).unwrap();
+    let all = rows(&tmp.path().join("lib"));
+    let design = forced::design_study(&study);
+    let reduce = |cuts: &[usize]| {
+        let mut r = ForcedReducer::new(&study, &design, forced::options(&design));
+        let mut start = 0;
+        for &c in cuts.iter().chain(std::iter::once(&all.len())) {
+            r.push(all[start..c].to_vec());
+            start = c;
+        }
+        let (s, f) = r.finish();
+        (format!("{:?}", s.points), f)
+    };
+    let whole = reduce(&[]);
+    assert_eq!(reduce(&[7, 40]), whole);
+    assert_eq!(whole.1.runs, 66);
+    assert_eq!(whole.1.curves.len(), 2);
+}

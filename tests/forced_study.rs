@@ -1,0 +1,401 @@
+//! Harmonic studies (issue 12, item 3): `[scene] kind = "harmonic"` with `F0` and `omega` or
+//! `r`, the frequency and the force as sweepable axes, the forced outputs in the records, noise
+//! and the perturbation cases as in free decay, the frequency axis innermost so that chunks hold
+//! whole frequency-response curves, and records bit-identical whatever the threads, chunks,
+//! shards or interruptions.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use impactsweep::model::System;
+use impactsweep::sim::{Drive, ForcedRecord, Harmonic, NoProbe, NoiseSettings, Request, Scene};
+use impactsweep::sim::{SolverSettings, noise::NoiseStream, simulate_harmonic};
+use impactsweep::store::{self, RunRow, TableKind, schema};
+use impactsweep::study::Study;
+use impactsweep::sweep::{self, SweepOptions};
+use predicates::prelude::*;
+
+fn bin() -> Command {
+    Command::cargo_bin("impactsweep").unwrap()
+}
+
+/// Seven frequency ratios around resonance (given first in the file: the study moves the
+/// frequency axis last), two inner masses (none, and Table I's), four cases: the ideal one, a
+/// heavier inner mass, a noisy one, a noisy smaller clearance.
+fn study_text(name: &str) -> String {
+    format!(
+        r#"[study]
+name = "{name}"
+seed = 5
+
+[system]
+v0 = 0.0
+
+[scene]
+kind = "harmonic"
+F0 = 0.3
+n_trans_max = 600
+n_meas = 10
+
+[sweep]
+r = {{ start = 0.85, stop = 1.15, num = 7 }}
+m = [0.0, 0.02]
+
+[noise]
+power = 1e-12
+sample_time = 1e-3
+
+[perturb]
+cases = [
+  {{ dm = 0.002 }},
+  {{ noise_seed = 1 }},
+  {{ dd = -0.002, noise_seed = 2 }},
+]
+"#
+    )
+}
+
+fn write_study(dir: &Path, name: &str) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, study_text(name)).unwrap();
+    path
+}
+
+fn load(dir: &Path, name: &str) -> Study {
+    Study::load(&write_study(dir, name)).unwrap()
+}
+
+fn read_all(dir: &Path) -> Vec<RunRow<ForcedRecord>> {
+    store::part_files(dir)
+        .unwrap()
+        .iter()
+        .flat_map(|p| store::read_rows::<ForcedRecord>(p).unwrap())
+        .collect()
+}
+
+/// Every stored column of every row as bits.
+fn bits(rows: &[RunRow<ForcedRecord>]) -> Vec<Vec<u64>> {
+    rows.iter()
+        .map(|r| {
+            let c = &r.record;
+            let mut v = vec![
+                r.point_id,
+                u64::from(r.case),
+                r.dm.to_bits(),
+                r.dd.to_bits(),
+                c.outcome as u64,
+                u64::from(c.period),
+                c.n_trans,
+                u64::from(c.converged),
+                c.n_meas,
+                c.impacts,
+                c.sticks,
+                c.steps,
+            ];
+            for x in [
+                c.F0,
+                c.omega,
+                c.r,
+                c.amplitude,
+                c.impacts_per_period,
+                c.amplitude_linear,
+                c.attenuation,
+                c.energy_force,
+                c.energy_viscous,
+                c.energy_impact,
+                c.t_stop,
+            ] {
+                v.push(x.to_bits());
+            }
+            for k in impactsweep::model::SYSTEM_KEYS {
+                v.push(r.system.get(k).unwrap().to_bits());
+            }
+            v
+        })
+        .collect()
+}
+
+fn part_bytes(dir: &Path) -> Vec<Vec<u8>> {
+    store::part_files(dir)
+        .unwrap()
+        .iter()
+        .map(|p| std::fs::read(p).unwrap())
+        .collect()
+}
+
+#[test]
+fn issue_12_a_harmonic_study_records_the_forced_outputs_of_every_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = write_study(tmp.path(), "fr");
+    let dir = common::run_study_file(&study, &tmp.path().join("out"), "fr");
+    let part = store::part_path(&dir, 0);
+    let meta = store::part_metadata(&part).unwrap();
+    assert_eq!(meta[schema::META_TABLE], "forced_points");
+    let rows = read_all(&dir);
+    assert_eq!(rows.len(), 2 * 7 * 4);
+
+    let r_values: Vec<f64> = (0..7)
+        .map(|i| [0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15][i])
+        .collect();
+    let noise = NoiseSettings {
+        power: 1e-12,
+        sample_time: 1e-3,
+    };
+    for row in &rows {
+        // The frequency varies fastest: point = m index * 7 + r index.
+        let (mi, ri) = (row.point / 7, (row.point % 7) as usize);
+        assert_eq!(row.point_id, row.point * 4 + u64::from(row.case));
+        let case = [
+            (0.0, 0.0, None),
+            (0.002, 0.0, None),
+            (0.0, 0.0, Some(1)),
+            (0.0, -0.002, Some(2)),
+        ][row.case as usize];
+        let sys = System {
+            v0: 0.0,
+            m: [0.0, 0.02][mi as usize] + case.0,
+            d: 0.01 + case.1,
+            ..System::TABLE_I
+        };
+        assert_eq!(row.system, sys, "run {}", row.point_id);
+        assert_eq!(row.record.r.to_bits(), r_values[ri].to_bits());
+        assert_eq!(row.record.F0, 0.3);
+        // The same run, simulated here from its inputs alone.
+        let h = Harmonic {
+            F0: 0.3,
+            drive: Drive::Ratio(r_values[ri]),
+            n_trans_max: 600,
+            n_meas: 10,
+            ..Harmonic::default()
+        };
+        let want = match case.2 {
+            Some(seed) => {
+                let mut stream = NoiseStream::new(5, seed, row.point);
+                simulate_harmonic(
+                    &sys,
+                    &SolverSettings::default(),
+                    &Request::default(),
+                    &h,
+                    Some((&noise, &mut stream)),
+                    &mut NoProbe,
+                )
+            }
+            None => simulate_harmonic(
+                &sys,
+                &SolverSettings::default(),
+                &Request::default(),
+                &h,
+                None,
+                &mut NoProbe,
+            ),
+        };
+        let stored = RunRow {
+            record: want.clone(),
+            ..row.clone()
+        };
+        assert_eq!(
+            bits(std::slice::from_ref(row)),
+            bits(std::slice::from_ref(&stored)),
+            "run {}",
+            row.point_id
+        );
+        assert_eq!(row.record.n_meas, 10);
+        assert_eq!(row.record.outcome.name(), "ok", "run {}", row.point_id);
+        // Without the inner mass the primary system is linear: its amplitude is the linear one.
+        if mi == 0 && case.2.is_none() && case.0 == 0.0 {
+            let rel = (row.record.amplitude / row.record.amplitude_linear - 1.0).abs();
+            assert!(rel < 1e-9, "run {}: {rel:e}", row.point_id);
+            assert_eq!(row.record.impacts, 0);
+        }
+    }
+    // The damper helps at resonance (ideal case, m = 0.02, r = 1): Masri's regime.
+    let at_resonance = rows
+        .iter()
+        .find(|r| r.point == 7 + 3 && r.case == 0)
+        .unwrap();
+    assert!(at_resonance.record.attenuation < 0.1, "{at_resonance:?}");
+    assert_eq!(at_resonance.record.period, 1);
+    // Noise is drawn only in the noisy cases, and moves the measured amplitude, not the motion:
+    // on periodic orbits the noisy run has the same impacts per period. (The samples split the
+    // motion into more pieces, so a chaotic orbit drifts apart at rounding level.)
+    let ideal: Vec<&RunRow<ForcedRecord>> = rows.iter().filter(|r| r.case == 0).collect();
+    let noisy: Vec<&RunRow<ForcedRecord>> = rows.iter().filter(|r| r.case == 2).collect();
+    for (a, b) in ideal.iter().zip(&noisy) {
+        assert_ne!(a.record.amplitude, b.record.amplitude, "point {}", a.point);
+        if a.record.period > 0 {
+            assert_eq!(
+                a.record.impacts_per_period, b.record.impacts_per_period,
+                "point {}",
+                a.point
+            );
+        }
+    }
+    // Every field carries its unit.
+    let builder = store::open(&part).unwrap();
+    for field in builder.schema().fields() {
+        assert_eq!(
+            field.metadata().get(schema::FIELD_UNIT).map(String::as_str),
+            schema::unit(TableKind::ForcedPoints, field.name()),
+            "{}",
+            field.name()
+        );
+    }
+}
+
+#[test]
+fn issue_12_harmonic_records_are_bit_identical_across_threads_chunks_shards_and_resume() {
+    let tmp = tempfile::tempdir().unwrap();
+    let s = load(tmp.path(), "det");
+    assert_eq!(s.axes.last().unwrap().key, "r");
+    assert_eq!(s.curve_points(), 7);
+    let run = |out: &str, o: SweepOptions| {
+        sweep::run_study(&s, &tmp.path().join(out), &o).unwrap();
+        tmp.path().join(out).join("det")
+    };
+    let one = run(
+        "t1",
+        SweepOptions {
+            threads: Some(1),
+            ..SweepOptions::default()
+        },
+    );
+    let want = bits(&read_all(&one));
+    assert_eq!(want.len(), 56);
+    let two = run(
+        "t2",
+        SweepOptions {
+            threads: Some(2),
+            ..SweepOptions::default()
+        },
+    );
+    assert_eq!(part_bytes(&two), part_bytes(&one));
+    // One curve per chunk, sharded in two.
+    for i in 0..2 {
+        run(
+            "shards",
+            SweepOptions {
+                shard: (i, 2),
+                chunk_points: Some(7),
+                ..SweepOptions::default()
+            },
+        );
+    }
+    let sharded = tmp.path().join("shards").join("det");
+    assert_eq!(store::part_files(&sharded).unwrap().len(), 2);
+    assert_eq!(bits(&read_all(&sharded)), want);
+    // Interrupted after the first chunk, then resumed.
+    let o = SweepOptions {
+        chunk_points: Some(7),
+        stop_after: Some(1),
+        ..SweepOptions::default()
+    };
+    let resumed = run("resume", o);
+    assert_eq!(store::part_files(&resumed).unwrap().len(), 1);
+    run(
+        "resume",
+        SweepOptions {
+            resume: true,
+            ..SweepOptions::default()
+        },
+    );
+    assert_eq!(part_bytes(&resumed), part_bytes(&sharded));
+    assert!(sweep::status(&resumed).unwrap().complete());
+}
+
+#[test]
+fn issue_12_a_chunk_size_that_cuts_a_curve_and_the_audit_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = write_study(tmp.path(), "cut");
+    let out = tmp.path().join("out");
+    bin()
+        .arg("run")
+        .arg(&study)
+        .arg("--out")
+        .arg(&out)
+        .args(["--chunk-points", "5"])
+        .assert()
+        .code(2)
+        .stderr(predicate::eq(
+            "error: --chunk-points 5: must be a multiple of the 7 values of the frequency axis \
+             [sweep].r, so that every chunk holds whole frequency-response curves\n",
+        ));
+    bin()
+        .arg("run")
+        .arg(&study)
+        .arg("--out")
+        .arg(&out)
+        .args(["--audit", "2"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--audit 2: the accuracy audit"));
+    assert!(!out.join("cut").exists());
+}
+
+#[test]
+fn issue_12_plan_describes_the_scene_and_a_free_decay_reader_refuses_forced_parts() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = write_study(tmp.path(), "planned");
+    bin().arg("plan").arg(&study).assert().success().stdout(
+        predicate::str::contains("axes:           m = 0 .. 0.02 (2 values)\n")
+            .and(predicate::str::contains(
+                "                r = 0.85 .. 1.15 (7 values)\n",
+            ))
+            .and(predicate::str::contains(
+                "scene:          harmonic: F0 cos(omega t) on the main mass; F0 = 0.3 N, r \
+                     swept (each curve: 7 values)\n",
+            ))
+            .and(predicate::str::contains(
+                "each run:       transient until the Poincare section converges (trans_tol \
+                     1e-10), at most 600 forcing periods, then 10 periods measured",
+            )),
+    );
+    let s = load(tmp.path(), "parts");
+    sweep::run_study(&s, tmp.path(), &SweepOptions::default()).unwrap();
+    let part = store::part_path(&tmp.path().join("parts"), 0);
+    let e = store::read_part(&part).unwrap_err().to_string();
+    assert!(
+        e.ends_with("holds the forced_points table, not points (a part of another scene's study; see docs/schema.md)"),
+        "{e}"
+    );
+    assert!(matches!(s.scene, Scene::Harmonic(_)));
+}
+
+/// A harmonic run directory whose manifest and journals are gone: `--resume` verifies its parts
+/// (reading the `forced_points` table) and keeps them, without running them again.
+#[test]
+fn issue_12_unrecorded_harmonic_parts_are_verified_and_kept() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = write_study(tmp.path(), "kept");
+    let out = tmp.path().join("out");
+    bin()
+        .arg("run")
+        .arg(&study)
+        .arg("--out")
+        .arg(&out)
+        .args(["--quiet", "--chunk-points", "7"])
+        .assert()
+        .success();
+    let dir = out.join("kept");
+    let before = part_bytes(&dir);
+    assert_eq!(before.len(), 2);
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if name == "manifest.json" || name.starts_with("journal") {
+            std::fs::remove_file(&path).unwrap();
+        }
+    }
+    bin()
+        .arg("run")
+        .arg(&study)
+        .arg("--out")
+        .arg(&out)
+        .args(["--resume", "--chunk-points", "7"])
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("0 chunks written, 2 kept"));
+    assert_eq!(part_bytes(&dir), before);
+    assert!(sweep::status(&dir).unwrap().complete());
+}
