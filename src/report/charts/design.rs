@@ -10,8 +10,8 @@ use plotters::prelude::*;
 
 use super::di::{di_source, jump_keys, jump_lines};
 use super::plumbing::{
-    BLUE, Chart, GREEN, GREY, Key, LABEL, MANY, Profile, RED_LINE, SMALL, TITLE, axis_desc, err,
-    fmt_num, legend_row, minmax, pad, with_headroom, zone_color,
+    BLUE, Chart, GREEN, GREY, Key, LABEL, LEGEND_PITCH, MANY, Profile, RED_LINE, SMALL, TITLE,
+    axis_desc, err, fmt_num, legend_lines, legend_row, minmax, pad, with_headroom, zone_color,
 };
 
 /// The design chart (the paper's Figure 6) in two panels sharing the swept axis, the zones
@@ -28,6 +28,22 @@ const DESIGN_LEFT: u32 = 80;
 const DESIGN_RIGHT: u32 = 80;
 /// Height of a legend row (pixels).
 const LEGEND_ROW: u32 = 30;
+
+/// Where the legends start (pixels from the left): above the plot area.
+const LEGEND_X: i32 = (DESIGN_MARGIN + DESIGN_LEFT) as i32;
+
+/// The height of a legend area that shows all of `items` (one row, or more when they do not
+/// fit across `area`).
+fn legend_height<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    items: &[(Key, String)],
+) -> anyhow::Result<u32>
+where
+    DB::ErrorType: 'static,
+{
+    let rows = legend_lines(area, LEGEND_X, items)?;
+    Ok(LEGEND_ROW + rows.saturating_sub(1) * LEGEND_PITCH)
+}
 
 /// The R panel's range over `r` (R and its interval bounds): with `r_min` when that at most
 /// doubles the span (so the threshold never flattens R), and room for the zone names above;
@@ -133,7 +149,6 @@ impl DesignChart<'_> {
             s.r_min,
         );
         let has_r = pr.points.iter().any(|p| p.reliability.is_finite());
-        let (keys, plot) = area.split_vertically(LEGEND_ROW);
         let mut items = vec![
             (
                 Key::Swatch(blue.mix(0.3)),
@@ -162,8 +177,9 @@ impl DesignChart<'_> {
             ));
         }
         items.extend(jump_keys(pr));
+        let (keys, plot) = area.split_vertically(legend_height(area, &items)?);
         if has_r {
-            legend_row(&keys, (DESIGN_MARGIN + DESIGN_LEFT) as i32, &items)?;
+            legend_row(&keys, LEGEND_X, &items)?;
         }
         let mut chart = ChartBuilder::on(&plot)
             .margin(DESIGN_MARGIN)
@@ -248,7 +264,6 @@ impl DesignChart<'_> {
         let s = pr.s;
         let key = pr.key();
         let (green, red) = (GREEN, RED_LINE);
-        let (keys, plot) = area.split_vertically(LEGEND_ROW);
         let di_key = if pr.points.len() <= MANY {
             Key::LineDot(red)
         } else {
@@ -266,7 +281,8 @@ impl DesignChart<'_> {
                 di_source(s)
             ),
         ));
-        legend_row(&keys, (DESIGN_MARGIN + DESIGN_LEFT) as i32, &items)?;
+        let (keys, plot) = area.split_vertically(legend_height(area, &items)?);
+        legend_row(&keys, LEGEND_X, &items)?;
         let (m0, m1) = minmax(pr.points.iter().map(|p| p.safety_factor));
         let (m0, m1) = with_headroom(m0, m1, 0.0);
         let (d0, d1) = minmax(pr.points.iter().map(|p| p.di));
@@ -331,12 +347,9 @@ impl Chart for DesignChart<'_> {
             format!("Design chart along {}{}", pr.key(), pr.at())
         };
         let root = root.titled(&title, TITLE).map_err(err)?;
-        let (zone_key, rest) = root.split_vertically(LEGEND_ROW);
-        legend_row(
-            &zone_key,
-            (DESIGN_MARGIN + DESIGN_LEFT) as i32,
-            &self.zone_keys(),
-        )?;
+        let zone_keys = self.zone_keys();
+        let (zone_key, rest) = root.split_vertically(legend_height(&root, &zone_keys)?);
+        legend_row(&zone_key, LEGEND_X, &zone_keys)?;
         let h = rest.dim_in_pixel().1 as i32;
         let (top, bottom) = rest.split_vertically(h * 44 / 100);
         self.reliability_panel(&top, x)?;

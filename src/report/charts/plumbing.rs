@@ -275,8 +275,52 @@ pub enum Key {
     Swatch(RGBAColor),
 }
 
-/// Draws `items` in one row of `area`, from pixel `x`; items that would not fit are left off
-/// and an ellipsis says so.
+/// Vertical pitch of a legend's rows (pixels).
+pub const LEGEND_PITCH: u32 = 22;
+
+/// The legend items' rows: indices of `items` per row when they flow from pixel `x` across an
+/// area `width` pixels wide (each row starts again at `x`).
+fn legend_layout<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x: i32,
+    items: &[(Key, String)],
+) -> anyhow::Result<Vec<Vec<(usize, i32)>>>
+where
+    DB::ErrorType: 'static,
+{
+    let width = area.dim_in_pixel().0 as i32;
+    let mut rows: Vec<Vec<(usize, i32)>> = vec![Vec::new()];
+    let mut at = x;
+    for (i, (_, text)) in items.iter().enumerate() {
+        let (w, _) = area
+            .estimate_text_size(text, &SMALL.into_text_style(area))
+            .map_err(err)?;
+        let need = 28 + w as i32;
+        if at + need > width && at > x {
+            rows.push(Vec::new());
+            at = x;
+        }
+        rows.last_mut().expect("one row at least").push((i, at));
+        at += need + 28;
+    }
+    Ok(rows)
+}
+
+/// How many legend rows `legend_row` needs for `items` from pixel `x` in `area`'s width.
+pub fn legend_lines<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x: i32,
+    items: &[(Key, String)],
+) -> anyhow::Result<u32>
+where
+    DB::ErrorType: 'static,
+{
+    Ok(legend_layout(area, x, items)?.len() as u32)
+}
+
+/// Draws `items` in `area` from pixel `x`, flowing onto further rows (`LEGEND_PITCH` apart,
+/// centred in the area) as long as the area is tall enough; items that still would not fit are
+/// left off and an ellipsis says so. Size the area with [`legend_lines`] to show every item.
 pub fn legend_row<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     x: i32,
@@ -286,41 +330,48 @@ where
     DB::ErrorType: 'static,
 {
     use plotters::style::text_anchor::{HPos, Pos, VPos};
-    let (width, height) = area.dim_in_pixel();
-    let y = height as i32 / 2;
+    let height = area.dim_in_pixel().1 as i32;
     let font = SMALL
         .into_font()
         .color(&BLACK)
         .pos(Pos::new(HPos::Left, VPos::Center));
-    let mut x = x;
-    for (key, text) in items {
-        let (w, _) = area.estimate_text_size(text, &font).map_err(err)?;
-        if x + 28 + w as i32 > width as i32 {
-            area.draw_text("…", &font, (x, y)).map_err(err)?;
-            break;
-        }
-        match key {
-            Key::Line(c) => area.draw(&PathElement::new(
-                vec![(x, y), (x + 22, y)],
-                c.stroke_width(2),
-            )),
-            Key::LineDot(c) => area
-                .draw(&PathElement::new(
+    let rows = legend_layout(area, x, items)?;
+    let pitch = LEGEND_PITCH as i32;
+    let fit = ((height / pitch).max(1) as usize).min(rows.len());
+    let top = (height - pitch * fit as i32) / 2 + pitch / 2;
+    for (r, row) in rows.iter().take(fit).enumerate() {
+        let y = top + pitch * r as i32;
+        let last = r + 1 == fit && fit < rows.len();
+        for &(i, x) in row {
+            let (key, text) = &items[i];
+            if last && i == row.last().map_or(0, |l| l.0) {
+                area.draw_text("…", &font, (x, y)).map_err(err)?;
+                break;
+            }
+            match key {
+                Key::Line(c) => area.draw(&PathElement::new(
                     vec![(x, y), (x + 22, y)],
                     c.stroke_width(2),
-                ))
-                .and_then(|_| area.draw(&Circle::new((x + 11, y), 3, c.filled()))),
-            Key::Dashed(c) => [(0, 6), (8, 14), (16, 22)].iter().try_for_each(|&(a, b)| {
-                area.draw(&PathElement::new(
-                    vec![(x + a, y), (x + b, y)],
-                    c.stroke_width(2),
-                ))
-            }),
-            Key::Swatch(c) => area.draw(&Rectangle::new([(x, y - 7), (x + 22, y + 7)], c.filled())),
+                )),
+                Key::LineDot(c) => area
+                    .draw(&PathElement::new(
+                        vec![(x, y), (x + 22, y)],
+                        c.stroke_width(2),
+                    ))
+                    .and_then(|_| area.draw(&Circle::new((x + 11, y), 3, c.filled()))),
+                Key::Dashed(c) => [(0, 6), (8, 14), (16, 22)].iter().try_for_each(|&(a, b)| {
+                    area.draw(&PathElement::new(
+                        vec![(x + a, y), (x + b, y)],
+                        c.stroke_width(2),
+                    ))
+                }),
+                Key::Swatch(c) => {
+                    area.draw(&Rectangle::new([(x, y - 7), (x + 22, y + 7)], c.filled()))
+                }
+            }
+            .map_err(err)?;
+            area.draw_text(text, &font, (x + 28, y)).map_err(err)?;
         }
-        .map_err(err)?;
-        area.draw_text(text, &font, (x + 28, y)).map_err(err)?;
-        x += 28 + w as i32 + 28;
     }
     Ok(())
 }
@@ -499,6 +550,38 @@ pub fn shorten(text: &str, max: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_legend_that_does_not_fit_flows_onto_more_rows_and_keeps_every_key() {
+        let items: Vec<(Key, String)> = (0..5)
+            .map(|i| {
+                (
+                    Key::Line(BLUE),
+                    format!("a rather long legend entry number {i}"),
+                )
+            })
+            .collect();
+        register_fonts();
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, (1000, 60)).into_drawing_area();
+            // Five entries of ~220 px each in 1000 px: more than one row, each row within width.
+            let rows = legend_layout(&root, 90, &items).unwrap();
+            assert!(rows.len() >= 2, "{rows:?}");
+            assert_eq!(rows.iter().map(Vec::len).sum::<usize>(), 5);
+            assert_eq!(legend_lines(&root, 90, &items[..1]).unwrap(), 1);
+            // Drawn in an area two rows tall (as sized by legend_lines for two rows), every
+            // entry's text is there and no ellipsis.
+            let tall = rows.len() as u32 * LEGEND_PITCH + 8;
+            let (keys, _) = root.split_vertically(tall);
+            legend_row(&keys, 90, &items).unwrap();
+            root.present().unwrap();
+        }
+        for i in 0..5 {
+            assert!(svg.contains(&format!("number {i}")), "entry {i} missing");
+        }
+        assert!(!svg.contains('…'));
+    }
 
     #[test]
     fn thinning_keeps_the_spikes_and_bounds_the_vertices() {
