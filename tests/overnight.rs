@@ -50,10 +50,7 @@ fn issue_10_overnight_toml_reduced_has_connected_zones_a_robust_recommendation_a
             v
         })
         .collect();
-    assert_eq!(
-        axes.iter().map(Vec::len).collect::<Vec<_>>(),
-        [101, 21, 21]
-    );
+    assert_eq!(axes.iter().map(Vec::len).collect::<Vec<_>>(), [101, 21, 21]);
     let at: HashMap<[i64; 3], u64> = rows
         .iter()
         .map(|(&p, r)| {
