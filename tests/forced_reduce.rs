@@ -99,8 +99,22 @@ fn issue_12_each_design_reduces_to_its_peak_over_the_band() {
         "help_r_to",
         "help_share",
         "periodic_share",
+        "peak_periodic",
     ] {
         assert!(header.iter().any(|h| h == col), "{col} not in {header:?}");
+    }
+    // `peak_periodic`: the ideal run at the design's peak has a periodic steady state.
+    for (design, row) in &summary {
+        let peak = rows(&dir)
+            .into_iter()
+            .filter(|r| r.point / 11 == *design && r.ideal)
+            .max_by(|a, b| a.record.amplitude.total_cmp(&b.record.amplitude))
+            .unwrap();
+        assert_eq!(
+            row["peak_periodic"],
+            (peak.record.period >= 1).to_string(),
+            "design {design}"
+        );
     }
     assert!(!header.iter().any(|h| h == "xmax_mean" || h == "di"));
 

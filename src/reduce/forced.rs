@@ -137,6 +137,19 @@ impl Curve {
         self.max_of(|p| p.amplitude)
     }
 
+    /// Whether the motion at the peak's frequency settled on a periodic orbit (`period` 1 to
+    /// 8). When it did not (chaotic, quasi-periodic, or a transient that did not converge
+    /// within `n_trans_max`), the peak is the largest excursion of a wandering motion over the
+    /// measurement window: it depends on the transient, down to the last bit of the arithmetic,
+    /// and is indicative only. `false` when the curve has no peak.
+    pub fn peak_periodic(&self) -> bool {
+        let (_, r) = self.peak();
+        self.points
+            .iter()
+            .find(|p| p.r == r)
+            .is_some_and(|p| p.period >= 1)
+    }
+
     /// The linear system's largest amplitude over the band and its `r`.
     pub fn linear_peak(&self) -> (f64, f64) {
         let mut best = (f64::NAN, f64::NAN);
@@ -247,7 +260,8 @@ impl ForcedSummary {
 /// (designs), from each design's ideal curve: `peak_r` (where its peak is), `linear_peak` and
 /// `linear_peak_r` (the linear system's peak over the band), `help_r_from` and `help_r_to` (the
 /// band where the damper helps, NaN when it does not help at the linear peak), `help_share` and
-/// `periodic_share` (shares of the band's frequencies).
+/// `periodic_share` (shares of the band's frequencies), `peak_periodic` (the motion at the peak
+/// is periodic, [`Curve::peak_periodic`]).
 pub fn summary_columns(t: &mut Table, fs: &ForcedSummary, points: &[&PointStats]) {
     let col = |g: &dyn Fn(&Curve) -> f64| {
         Column::F64(
@@ -268,6 +282,15 @@ pub fn summary_columns(t: &mut Table, fs: &ForcedSummary, points: &[&PointStats]
     t.push("help_r_to", col(&|c| band(c).map_or(f64::NAN, |b| b.to)));
     t.push("help_share", col(&|c| c.help_share()));
     t.push("periodic_share", col(&|c| c.periodic_share()));
+    t.push(
+        "peak_periodic",
+        Column::Bool(
+            points
+                .iter()
+                .map(|p| fs.curve(p.point).is_some_and(Curve::peak_periodic))
+                .collect(),
+        ),
+    );
 }
 
 /// The streaming reduction of a harmonic study's parts.
@@ -547,5 +570,23 @@ mod tests {
         c.points[0].outcome = Outcome::StepCap;
         assert!(c.peak().0.is_nan());
         assert_eq!(c.periodic_share(), 0.5);
+    }
+
+    #[test]
+    fn a_peak_on_a_wandering_motion_is_flagged() {
+        let mut c = Curve {
+            design: 0,
+            points: vec![pt(0.9, 1.0, 4.0), pt(1.0, 3.0, 8.0), pt(1.1, 2.0, 2.0)],
+        };
+        assert!(c.peak_periodic());
+        // The peak's point did not settle: flagged, whatever the other points do.
+        c.points[1].period = 0;
+        assert!(!c.peak_periodic());
+        c.points[1].period = 2;
+        c.points[0].period = 0;
+        assert!(c.peak_periodic());
+        // No peak (a failed run): not periodic.
+        c.points[2].outcome = Outcome::StepCap;
+        assert!(!c.peak_periodic());
     }
 }

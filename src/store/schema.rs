@@ -228,6 +228,7 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "help_r_to"
         | "help_share"
         | "periodic_share" => "1",
+        "peak_periodic" => "",
         _ => return None,
     })
 }

@@ -47,11 +47,18 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
         not_converged += c.points.iter().filter(|p| !p.converged).count();
         not_periodic += c.points.iter().filter(|p| p.period == 0).count();
     }
+    let mut wandering_peaks = 0usize;
     for p in shown.iter().take(MAX_ROWS) {
         let Some(c) = fs.curve(p.point) else {
             continue;
         };
         let (peak, peak_r) = c.peak();
+        let mark = if peak.is_finite() && !c.peak_periodic() {
+            wandering_peaks += 1;
+            " †"
+        } else {
+            ""
+        };
         let (lin, lin_r) = c.linear_peak();
         let helps = match c.help_band() {
             Some(b) => format!(
@@ -65,7 +72,7 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
         };
         let _ = writeln!(
             o,
-            "| {} | {} | {} | {} | {} at {} | {} | {} | {} % | {} |",
+            "| {} | {} | {}{mark} | {} | {} at {} | {} | {} | {} % | {} |",
             p.rank.map(|r| r.to_string()).unwrap_or_default(),
             design_text(s, p.point),
             cm(peak),
@@ -78,10 +85,18 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
             c.points.iter().filter(|q| !q.converged).count()
         );
     }
+    if wandering_peaks > 0 {
+        let _ = writeln!(
+            o,
+            "\n† {} of these peaks {} at a frequency whose motion did not settle on a periodic orbit (column `peak_periodic` of the summary): such a peak is the largest excursion of a wandering motion over the measurement window, depends on the transient down to the last bit of the arithmetic, and is indicative only; compare these designs on their periodic stretches, or rerun with a longer `n_meas`.",
+            wandering_peaks,
+            if wandering_peaks == 1 { "lies" } else { "lie" }
+        );
+    }
     if shown.len() > MAX_ROWS {
         let _ = writeln!(
             o,
-            "\n… and {} more designs (columns `peak_r`, `linear_peak`, `help_r_from`, `help_r_to`, `help_share`, `periodic_share` of the summary).",
+            "\n… and {} more designs (columns `peak_r`, `linear_peak`, `help_r_from`, `help_r_to`, `help_share`, `periodic_share`, `peak_periodic` of the summary).",
             shown.len() - MAX_ROWS
         );
     }
