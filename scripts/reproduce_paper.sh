@@ -25,25 +25,10 @@ else
     trap 'rm -rf "$WORK"' EXIT
 fi
 
-if [ -n "${IMPACTSWEEP_BIN:-}" ]; then
-    BIN=$IMPACTSWEEP_BIN
-else
-    cargo build --release --quiet
-    BIN=$ROOT/target/release/impactsweep
-fi
-
-# The study's [study].name names the run directory OUT/<name>.
-NAME=$(sed -n 's/^name *= *"\([^"]*\)".*/\1/p' "$STUDY" | head -n 1)
-RUN=$WORK/$NAME
-rm -rf "$RUN"
-
-"$BIN" run "$STUDY" --out "$WORK" --quiet
-"$BIN" reduce "$RUN" > /dev/null
-
-rm -rf "$DEST"
-mkdir -p "$DEST"
-cp "$RUN"/report.md "$RUN"/*.csv "$DEST"/
-cp "$RUN"/*.svg "$RUN"/*.png "$DEST"/
+# The study run and reduced, its reduction copied into DEST (scripts/showcase.sh, which builds
+# the release binary unless IMPACTSWEEP_BIN names one).
+DEST="$DEST" scripts/showcase.sh "$STUDY" "$DEST" "$WORK" > /dev/null
+BIN=${IMPACTSWEEP_BIN:-$ROOT/target/release/impactsweep}
 
 # The paper's Figures 2 and 5: with/without damper, e = 0.45 against e = 0.9.
 "$BIN" plot waveform --out "$DEST" --e 0.45 0.9 --t-end 0.5 > /dev/null

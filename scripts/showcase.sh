@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs and reduces a bundled study and copies its reduction into a results directory: the
 # report, every chart (SVG + PNG, each with its data as CSV) and the summary, zones, jumps and
-# sensitivity tables as CSV. The showcase scripts call it (scripts/frequency_response.sh).
+# sensitivity tables as CSV. The showcase scripts call it (scripts/reproduce_paper.sh, scripts/design_space.sh,
+# scripts/frequency_response.sh).
 #
 #   scripts/showcase.sh STUDY DEST [WORK_DIR]
 #
