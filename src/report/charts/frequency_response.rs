@@ -15,7 +15,8 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    Chart, Key, LABEL, SMALL, TITLE, axis_desc, axis_value, err, fmt_num, legend_row, minmax, pad,
+    Chart, Key, LABEL, LEGEND_PITCH, SMALL, TITLE, axis_desc, axis_value, err, fmt_num,
+    legend_lines, legend_row, minmax, pad,
 };
 use crate::reduce::forced::{Curve, ForcedSummary};
 use crate::reduce::table::{Column, Table, axis_column};
@@ -28,6 +29,9 @@ pub const MAX_CURVES: usize = 8;
 pub const LOG_RATIO: f64 = 20.0;
 /// Above this many frequencies per curve, no markers.
 const MAX_MARKERS: usize = 200;
+
+/// Where the legend starts (pixels from the left).
+const LEGEND_X: i32 = 80;
 
 pub const SIZE: (u32, u32) = (1000, 620);
 pub const IMPACTS_SIZE: (u32, u32) = (1000, 760);
@@ -227,15 +231,8 @@ where
     Ok(())
 }
 
-/// The legend: one key per design, the linear system, and what the markers mean.
-fn legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    row: &Row,
-    linear: bool,
-) -> anyhow::Result<()>
-where
-    DB::ErrorType: 'static,
-{
+/// The legend's keys: one per design, and the linear system when it is drawn.
+fn legend_items(row: &Row, linear: bool) -> Vec<(Key, String)> {
     let mut items: Vec<(Key, String)> = row
         .labels
         .iter()
@@ -252,7 +249,24 @@ where
             },
         ));
     }
-    legend_row(area, 80, &items)
+    items
+}
+
+/// Splits the legend off the top of `area` (one row, or as many as its keys need) and draws it;
+/// returns the rest.
+fn legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    row: &Row,
+    linear: bool,
+) -> anyhow::Result<DrawingArea<DB, Shift>>
+where
+    DB::ErrorType: 'static,
+{
+    let items = legend_items(row, linear);
+    let rows = legend_lines(area, LEGEND_X, &items)?;
+    let (keys, rest) = area.split_vertically(34 + rows.saturating_sub(1) * LEGEND_PITCH);
+    legend_row(&keys, LEGEND_X, &items)?;
+    Ok(rest)
 }
 
 /// Amplitude against the frequency, with the linear system.
@@ -265,14 +279,13 @@ impl Chart for FrequencyResponse<'_> {
     {
         let row = self.0;
         let (title, rest) = root.split_vertically(40);
-        let (keys, plot) = rest.split_vertically(34);
+        let plot = legend(&rest, row, true)?;
         title
             .titled(
                 &format!("Steady amplitude against {}{}", row.x, row.at),
                 TITLE,
             )
             .map_err(err)?;
-        legend(&keys, row, true)?;
         let (x0, x1) = row.x_range();
         let (lo, hi) = minmax(row.curves.iter().flat_map(|c| {
             c.points
@@ -380,7 +393,7 @@ impl Chart for ImpactsAndPeriod<'_> {
     {
         let row = self.0;
         let (title, rest) = root.split_vertically(40);
-        let (keys, plots) = rest.split_vertically(34);
+        let plots = legend(&rest, row, false)?;
         title
             .titled(
                 &format!(
@@ -390,7 +403,6 @@ impl Chart for ImpactsAndPeriod<'_> {
                 TITLE,
             )
             .map_err(err)?;
-        legend(&keys, row, false)?;
         let (top, bottom) = plots.split_vertically(plots.dim_in_pixel().1 * 3 / 5);
         let (x0, x1) = row.x_range();
         let (_, i1) = minmax(
