@@ -25,6 +25,7 @@ pub mod cli;
 pub mod error;
 pub mod model;
 pub mod numeric;
+pub mod orbits;
 pub mod plan;
 pub mod reduce;
 pub mod report;

@@ -212,7 +212,21 @@ pub fn write_outputs_with(
     }
     let mut chart_files = Vec::new();
     if let Some(fs) = forced {
-        chart_files.extend(charts::frequency_response::charts(summary, fs, dir)?);
+        let steady = reduce::orbits::steady_states(study, fs);
+        if !steady.is_empty() {
+            for (kind, t) in [
+                (
+                    TableKind::Attractors,
+                    reduce::orbits::attractors_table(&steady),
+                ),
+                (TableKind::Branches, reduce::orbits::branches_table(&steady)),
+            ] {
+                files.extend(store::summary::write_table(dir, kind, &t)?);
+            }
+        }
+        chart_files.extend(charts::frequency_response::charts(
+            summary, fs, &steady, dir,
+        )?);
     }
     chart_files.extend(charts::summary_charts(summary, dir)?);
     let names: Vec<String> = chart_files

@@ -143,7 +143,7 @@ impl Setup {
                     forced.free_only.push(format!("{key}={raw}"));
                 }
                 "F0" | "omega" | "r" | "n_trans" | "n_trans_max" | "n_meas" | "trans_tol"
-                | "period_tol" => {
+                | "period_tol" | "starts" => {
                     let h = &mut forced.harmonic;
                     match key {
                         "F0" => h.F0 = value,
@@ -159,6 +159,7 @@ impl Setup {
                         "n_trans_max" => h.n_trans_max = integer(value)?,
                         "n_meas" => h.n_meas = integer(value)?,
                         "trans_tol" => h.trans_tol = value,
+                        "starts" => h.starts = integer(value)? as u32,
                         _ => h.period_tol = value,
                     }
                     forced.given.push(format!("{key}={raw}"));
@@ -228,14 +229,27 @@ impl Setup {
 
     /// Runs the setup's scene without noise.
     pub fn run_scene<P: Probe>(&self, probe: &mut P) -> SceneRecord {
-        sim::simulate_scene(
-            &self.system,
-            &self.solver,
-            &self.request,
-            &self.scene,
-            None,
-            probe,
-        )
+        match &self.scene {
+            // The census's starts are those of study seed 0, design point 0.
+            Scene::Harmonic(h) => SceneRecord::Harmonic(crate::orbits::forced_run(
+                &self.system,
+                &self.solver,
+                &self.request,
+                h,
+                None,
+                probe,
+                0,
+                0,
+            )),
+            Scene::Free => sim::simulate_scene(
+                &self.system,
+                &self.solver,
+                &self.request,
+                &self.scene,
+                None,
+                probe,
+            ),
+        }
     }
 }
 
@@ -384,6 +398,20 @@ pub fn forced_json(setup: &Setup, rec: &ForcedRecord) -> serde_json::Value {
         map.insert(k.into(), num(v));
     }
     map.insert("period".into(), rec.period.into());
+    let st = &rec.steady;
+    for (k, v) in [
+        ("amplitude_worst", st.amplitude_worst),
+        ("worst_impacts_per_period", st.worst_impacts_per_period),
+        ("worst_basin_share", st.worst_basin_share),
+        ("rest_amplitude", st.rest_amplitude),
+    ] {
+        map.insert(k.into(), num(v));
+    }
+    map.insert("starts".into(), st.starts.into());
+    map.insert("attractors".into(), st.attractors.into());
+    map.insert("worst_period".into(), st.worst_period.into());
+    map.insert("rest_period".into(), st.rest_period.into());
+    map.insert("census_periods".into(), st.census_periods.into());
     map.insert("n_trans".into(), rec.n_trans.into());
     map.insert("converged".into(), rec.converged.into());
     map.insert("impacts".into(), rec.impacts.into());
@@ -446,6 +474,28 @@ pub fn forced_text(setup: &Setup, rec: &ForcedRecord) -> String {
         "energy   per window: {:.4e} J by the force, {:.4e} J in impacts, {:.4e} J in the damper\n",
         rec.energy_force, rec.energy_impact, rec.energy_viscous
     ));
+    let st = &rec.steady;
+    if st.starts > 0 {
+        let period = |p: u32| {
+            if p == 0 {
+                "not periodic".to_string()
+            } else {
+                format!("period {p}")
+            }
+        };
+        out.push_str(&format!(
+            "census   {} starts, {} attractors; worst {} ({}, {:.3} impacts per period, basin \
+             share {:.2}); from the initial state {} ({})\n",
+            st.starts,
+            st.attractors,
+            cm(st.amplitude_worst),
+            period(st.worst_period),
+            st.worst_impacts_per_period,
+            st.worst_basin_share,
+            cm(st.rest_amplitude),
+            period(st.rest_period)
+        ));
+    }
     out.push_str(&format!("stopped  at t = {:.5} s\n", rec.t_stop));
     out
 }

@@ -24,7 +24,9 @@
 
 use super::table::{Column, Table};
 use super::{Damping, IdealCase, Options, PointStats, Reducer, Response, Run, Summary};
-use crate::sim::{ForcedRecord, NoProbe, Outcome, Scene, simulate_harmonic};
+use crate::orbits::forced_run;
+use crate::sim::forced::DesignPeak;
+use crate::sim::{ForcedRecord, NoProbe, Outcome, Scene};
 use crate::store::RunRow;
 use crate::study::{Study, frequency_axis};
 
@@ -44,6 +46,14 @@ pub const PEAK_REDUCTION: Damping = Damping {
     unit: "1",
     description: "peak reduction, 1 - peak amplitude / the linear system's peak over the band",
 };
+
+/// The study's `[scene].design_peak` (the worst steady state unless it says otherwise).
+pub fn design_peak(study: &Study) -> DesignPeak {
+    match study.scene {
+        Scene::Harmonic(h) => h.design_peak,
+        Scene::Free => DesignPeak::Worst,
+    }
+}
 
 /// The study of the designs: the harmonic study without its frequency axis.
 pub fn design_study(study: &Study) -> Study {
@@ -79,11 +89,41 @@ pub struct CurvePoint {
     pub impacts_per_period: f64,
     pub period: u32,
     pub converged: bool,
+    /// The design quantity at this frequency (m): the worst steady amplitude of the census
+    /// (`design_peak = "worst"`), or `amplitude` (`"from_rest"`, or a run without census).
+    pub design: f64,
+    /// The period of the steady state that carries `design` (0: not periodic), its impacts
+    /// per forcing period and its basin share (NaN without census).
+    pub design_period: u32,
+    pub design_impacts: f64,
+    pub design_share: f64,
+    /// Distinct attractors the census found (0 without census).
+    pub attractors: u32,
 }
 
 impl CurvePoint {
-    fn of(rec: &ForcedRecord) -> CurvePoint {
+    /// The point of a stored run; `peak` says which steady state is the design quantity.
+    pub fn of(rec: &ForcedRecord, peak: DesignPeak) -> CurvePoint {
+        let st = &rec.steady;
+        let worst = peak == DesignPeak::Worst && st.starts > 0;
         CurvePoint {
+            design: if worst {
+                st.amplitude_worst
+            } else {
+                rec.amplitude
+            },
+            design_period: if worst { st.worst_period } else { rec.period },
+            design_impacts: if worst {
+                st.worst_impacts_per_period
+            } else {
+                rec.impacts_per_period
+            },
+            design_share: if worst {
+                st.worst_basin_share
+            } else {
+                f64::NAN
+            },
+            attractors: st.attractors,
             r: rec.r,
             omega: rec.omega,
             outcome: rec.outcome,
@@ -128,26 +168,37 @@ pub struct Curve {
     /// The design (a point of the design grid).
     pub design: u64,
     pub points: Vec<CurvePoint>,
+    /// The ideal case's system (with its initial state) and force amplitude (N): what the
+    /// steady-state analysis of the curve starts from ([`super::orbits`]).
+    pub system: crate::model::System,
+    pub f0: f64,
 }
 
 impl Curve {
-    /// The largest amplitude over the band and the `r` where it is; NaN when a run of the
-    /// curve did not end `ok` (the peak could be there).
+    /// The design peak: the largest design quantity ([`CurvePoint::design`]) over the band and
+    /// the `r` where it is; NaN when a run of the curve did not end `ok` (the peak could be
+    /// there).
     pub fn peak(&self) -> (f64, f64) {
+        self.max_of(|p| p.design)
+    }
+
+    /// The largest amplitude reached from the study's initial state over the band, and its `r`.
+    pub fn peak_from_rest(&self) -> (f64, f64) {
         self.max_of(|p| p.amplitude)
     }
 
-    /// Whether the motion at the peak's frequency settled on a periodic orbit (`period` 1 to
-    /// 8). When it did not (chaotic, quasi-periodic, or a transient that did not converge
-    /// within `n_trans_max`), the peak is the largest excursion of a wandering motion over the
-    /// measurement window: it depends on the transient, down to the last bit of the arithmetic,
-    /// and is indicative only. `false` when the curve has no peak.
-    pub fn peak_periodic(&self) -> bool {
+    /// The point of the band that carries the design peak.
+    pub fn peak_point(&self) -> Option<&CurvePoint> {
         let (_, r) = self.peak();
-        self.points
-            .iter()
-            .find(|p| p.r == r)
-            .is_some_and(|p| p.period >= 1)
+        self.points.iter().find(|p| p.r == r)
+    }
+
+    /// Whether the steady state carrying the peak is periodic (period 1 to 8). When it is not
+    /// (chaotic, quasi-periodic, or a transient that did not converge), the peak is the largest
+    /// excursion of a wandering motion over its window: a lower bound of what the motion can
+    /// reach, and indicative only. `false` when the curve has no peak.
+    pub fn peak_periodic(&self) -> bool {
+        self.peak_point().is_some_and(|p| p.design_period >= 1)
     }
 
     /// The linear system's largest amplitude over the band and its `r`.
@@ -273,6 +324,26 @@ pub fn summary_columns(t: &mut Table, fs: &ForcedSummary, points: &[&PointStats]
     };
     let band = |c: &Curve| c.help_band();
     t.push("peak_r", col(&|c| c.peak().1));
+    t.push("peak_from_rest", col(&|c| c.peak_from_rest().0));
+    t.push(
+        "peak_attractor_period",
+        Column::U64(
+            points
+                .iter()
+                .map(|p| {
+                    fs.curve(p.point)
+                        .and_then(Curve::peak_point)
+                        .map(|q| u64::from(q.design_period))
+                })
+                .collect(),
+        ),
+    );
+    let at_peak = |g: fn(&CurvePoint) -> f64| move |c: &Curve| c.peak_point().map_or(f64::NAN, g);
+    t.push(
+        "peak_impacts_per_period",
+        col(&at_peak(|q| q.design_impacts)),
+    );
+    t.push("peak_basin_share", col(&at_peak(|q| q.design_share)));
     t.push("linear_peak", col(&|c| c.linear_peak().0));
     t.push("linear_peak_r", col(&|c| c.linear_peak().1));
     t.push(
@@ -305,6 +376,8 @@ pub struct ForcedReducer<'a> {
     curves: Vec<Curve>,
     runs: u64,
     outcomes: [u64; 6],
+    /// Which steady state is the design quantity.
+    peak: DesignPeak,
 }
 
 impl<'a> ForcedReducer<'a> {
@@ -319,6 +392,7 @@ impl<'a> ForcedReducer<'a> {
             curves: Vec::new(),
             runs: 0,
             outcomes: [0; 6],
+            peak: design_peak(study),
         }
     }
 
@@ -367,7 +441,7 @@ impl<'a> ForcedReducer<'a> {
                 .find(|o| *o != Outcome::Ok);
             let peak = of_case
                 .iter()
-                .map(|r| r.record.amplitude)
+                .map(|r| CurvePoint::of(&r.record, self.peak).design)
                 .fold(f64::NAN, f64::max);
             let linear = of_case
                 .iter()
@@ -391,7 +465,12 @@ impl<'a> ForcedReducer<'a> {
             if first.ideal {
                 self.curves.push(Curve {
                     design,
-                    points: of_case.iter().map(|r| CurvePoint::of(&r.record)).collect(),
+                    system: first.system,
+                    f0: first.record.F0,
+                    points: of_case
+                        .iter()
+                        .map(|r| CurvePoint::of(&r.record, self.peak))
+                        .collect(),
                 });
             }
         }
@@ -438,6 +517,9 @@ pub struct ForcedIdeal<'a> {
     study: &'a Study,
     /// The design axes' keys, in design-grid order.
     keys: Vec<String>,
+    /// The census's design point for probes between the grid's points (they are no grid
+    /// point; one fixed identity keeps them deterministic).
+    probe_point: u64,
     /// Designs simulated so far, by the bits of their axis values.
     seen: std::sync::Mutex<std::collections::HashMap<Vec<u64>, Option<[f64; 2]>>>,
 }
@@ -452,6 +534,7 @@ impl<'a> ForcedIdeal<'a> {
         ForcedIdeal {
             study,
             keys,
+            probe_point: u64::MAX,
             seen: Default::default(),
         }
     }
@@ -485,11 +568,20 @@ impl<'a> ForcedIdeal<'a> {
                 h.set(key, v);
             }
             h.validate(&sys).ok()?;
-            let rec = simulate_harmonic(&sys, &s.solver, &s.request, &h, None, &mut NoProbe);
+            let rec = forced_run(
+                &sys,
+                &s.solver,
+                &s.request,
+                &h,
+                None,
+                &mut NoProbe,
+                s.seed,
+                self.probe_point,
+            );
             if rec.outcome != Outcome::Ok {
                 return None;
             }
-            peak = peak.max(rec.amplitude);
+            peak = peak.max(CurvePoint::of(&rec, h.design_peak).design);
             linear = linear.max(rec.amplitude_linear);
         }
         Some([peak, 1.0 - peak / linear])
@@ -525,6 +617,11 @@ mod tests {
             impacts_per_period: 2.0,
             period: 1,
             converged: true,
+            design: amplitude,
+            design_period: 1,
+            design_impacts: 2.0,
+            design_share: f64::NAN,
+            attractors: 0,
         }
     }
 
@@ -532,6 +629,8 @@ mod tests {
     fn the_band_where_the_damper_helps_is_around_the_linear_peak() {
         // Attenuation 2, 1.5, 0.5, 0.25 (linear peak), 0.5, 3: crosses 1 at r = 0.85 and 1.1.
         let c = Curve {
+            system: crate::model::System::TABLE_I,
+            f0: 1.0,
             design: 0,
             points: vec![
                 pt(0.7, 2.0, 1.0),
@@ -551,6 +650,8 @@ mod tests {
         assert_eq!(c.help_share(), 0.5);
         // It helps to the end of the band: the limit is the band's end.
         let c = Curve {
+            system: crate::model::System::TABLE_I,
+            f0: 1.0,
             design: 0,
             points: vec![pt(0.9, 0.5, 4.0), pt(1.0, 1.0, 8.0), pt(1.1, 1.0, 2.0)],
         };
@@ -561,6 +662,8 @@ mod tests {
         );
         // It does not help at the linear peak: no band.
         let c = Curve {
+            system: crate::model::System::TABLE_I,
+            f0: 1.0,
             design: 0,
             points: vec![pt(0.9, 0.5, 4.0), pt(1.0, 9.0, 8.0)],
         };
@@ -575,15 +678,17 @@ mod tests {
     #[test]
     fn a_peak_on_a_wandering_motion_is_flagged() {
         let mut c = Curve {
+            system: crate::model::System::TABLE_I,
+            f0: 1.0,
             design: 0,
             points: vec![pt(0.9, 1.0, 4.0), pt(1.0, 3.0, 8.0), pt(1.1, 2.0, 2.0)],
         };
         assert!(c.peak_periodic());
         // The peak's point did not settle: flagged, whatever the other points do.
-        c.points[1].period = 0;
+        c.points[1].design_period = 0;
         assert!(!c.peak_periodic());
-        c.points[1].period = 2;
-        c.points[0].period = 0;
+        c.points[1].design_period = 2;
+        c.points[0].design_period = 0;
         assert!(c.peak_periodic());
         // No peak (a failed run): not periodic.
         c.points[2].outcome = Outcome::StepCap;

@@ -22,6 +22,7 @@
 pub mod forced;
 pub mod grid;
 pub mod jumps;
+pub mod orbits;
 pub mod rank;
 pub mod recommend;
 pub mod regions;

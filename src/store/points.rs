@@ -13,7 +13,10 @@
 //! * the harmonic scene ([`ForcedRecord`], table `forced_points`): the inputs `F0 omega r`,
 //!   `outcome`, `amplitude impacts_per_period period amplitude_linear attenuation`, the
 //!   transient and window `n_trans converged n_meas`, the window's energies
-//!   `energy_force energy_viscous energy_impact` and the whole run's `impacts sticks steps t_stop`.
+//!   `energy_force energy_viscous energy_impact`, the whole run's `impacts sticks steps t_stop`,
+//!   and the attractor census at that frequency, `starts attractors amplitude_worst
+//!   worst_period worst_impacts_per_period worst_basin_share rest_amplitude rest_period
+//!   census_periods` ([`Steady`]).
 //!
 //! `solver` and `outcome` are dictionary-encoded; `noise_seed` is null without noise;
 //! observables are NaN when the outcome says so. A part's key-value metadata adds the study text
@@ -32,6 +35,7 @@ use arrow::datatypes::{DataType, Int8Type, Schema, SchemaRef};
 
 use super::schema::{META_STUDY, META_TABLE, TableKind, column_name};
 use crate::model::{SYSTEM_KEYS, System};
+use crate::sim::forced::Steady;
 use crate::sim::{ForcedRecord, Outcome, Record, SolverSettings, State};
 
 /// The `f64` observable columns of a [`Record`], in schema order.
@@ -368,6 +372,15 @@ impl StoredRecord for ForcedRecord {
         cols.extend(FORCED_ENERGIES.map(f));
         cols.extend(COUNTS.map(u));
         cols.push(f("t_stop"));
+        cols.push(("starts", DataType::UInt32, false));
+        cols.push(("attractors", DataType::UInt32, false));
+        cols.push(f("amplitude_worst"));
+        cols.push(("worst_period", DataType::UInt32, false));
+        cols.push(f("worst_impacts_per_period"));
+        cols.push(f("worst_basin_share"));
+        cols.push(f("rest_amplitude"));
+        cols.push(("rest_period", DataType::UInt32, false));
+        cols.push(u("census_periods"));
         cols
     }
 
@@ -397,6 +410,34 @@ impl StoredRecord for ForcedRecord {
             u64col(rows, |r| r.record.steps),
         ];
         cols.push(f64col(rows, |r| r.record.t_stop));
+        let u32col = |g: fn(&Steady) -> u32| -> ArrayRef {
+            Arc::new(UInt32Array::from_iter_values(
+                rows.iter().map(|r| g(&r.record.steady)),
+            ))
+        };
+        cols.push(u32col(|s| s.starts));
+        cols.push(u32col(|s| s.attractors));
+        cols.push(f64col(rows, |r| r.record.steady.amplitude_worst));
+        cols.push(u32col(|s| s.worst_period));
+        cols.push(f64col(rows, |r| r.record.steady.worst_impacts_per_period));
+        cols.push(f64col(rows, |r| r.record.steady.worst_basin_share));
+        cols.push(f64col(rows, |r| r.record.steady.rest_amplitude));
+        cols.push(u32col(|s| s.rest_period));
+        cols.push(u64col(rows, |r| r.record.steady.census_periods));
+        let u32col = |g: fn(&Steady) -> u32| -> ArrayRef {
+            Arc::new(UInt32Array::from_iter_values(
+                rows.iter().map(|r| g(&r.record.steady)),
+            ))
+        };
+        cols.push(u32col(|s| s.starts));
+        cols.push(u32col(|s| s.attractors));
+        cols.push(f64col(rows, |r| r.record.steady.amplitude_worst));
+        cols.push(u32col(|s| s.worst_period));
+        cols.push(f64col(rows, |r| r.record.steady.worst_impacts_per_period));
+        cols.push(f64col(rows, |r| r.record.steady.worst_basin_share));
+        cols.push(f64col(rows, |r| r.record.steady.rest_amplitude));
+        cols.push(u32col(|s| s.rest_period));
+        cols.push(u64col(rows, |r| r.record.steady.census_periods));
         Ok(cols)
     }
 
@@ -416,10 +457,12 @@ impl StoredRecord for ForcedRecord {
             .collect::<Result<_>>()?;
         let counts: Vec<&UInt64Array> = COUNTS.iter().map(|k| u64s(k)).collect::<Result<_>>()?;
         let t_stop = f64s("t_stop")?;
+        let steady = read_steady(batch)?;
         let nan = f64::NAN;
         let mut out = Vec::with_capacity(batch.num_rows());
         for (i, outcome) in outcome.into_iter().enumerate() {
             out.push(ForcedRecord {
+                steady: steady.as_ref().map_or(Steady::NONE, |st| st(i)),
                 outcome,
                 F0: f0.value(i),
                 omega: omega.value(i),
@@ -449,6 +492,37 @@ impl StoredRecord for ForcedRecord {
         }
         Ok(out)
     }
+}
+
+/// The census columns of a forced part, as a function of the row; `None` for a part written
+/// before the census (it reduces as `design_peak = "from_rest"`).
+#[allow(clippy::type_complexity)]
+fn read_steady(batch: &RecordBatch) -> Result<Option<Box<dyn Fn(usize) -> Steady + '_>>> {
+    if batch.schema().index_of("amplitude_worst").is_err() {
+        return Ok(None);
+    }
+    let u32s = |n| column::<UInt32Array>(batch, n);
+    let f64s = |n| column::<Float64Array>(batch, n);
+    let (starts, attractors, worst_period) =
+        (u32s("starts")?, u32s("attractors")?, u32s("worst_period")?);
+    let (worst, ipp, share) = (
+        f64s("amplitude_worst")?,
+        f64s("worst_impacts_per_period")?,
+        f64s("worst_basin_share")?,
+    );
+    let (rest, rest_period) = (f64s("rest_amplitude")?, u32s("rest_period")?);
+    let periods = column::<UInt64Array>(batch, "census_periods")?;
+    Ok(Some(Box::new(move |i| Steady {
+        starts: starts.value(i),
+        attractors: attractors.value(i),
+        amplitude_worst: worst.value(i),
+        worst_period: worst_period.value(i),
+        worst_impacts_per_period: ipp.value(i),
+        worst_basin_share: share.value(i),
+        rest_amplitude: rest.value(i),
+        rest_period: rest_period.value(i),
+        census_periods: periods.value(i),
+    })))
 }
 
 /// The number of rows of a part file, from its footer (cheap; fails on a damaged file).

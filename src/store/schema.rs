@@ -93,10 +93,16 @@ pub enum TableKind {
     Sensitivity,
     /// `tradeoff.parquet`: one row per solver setting.
     Tradeoff,
+    /// `attractors.parquet`, `attractors.csv`: one row per design, frequency and attractor of a
+    /// harmonic study's ideal case.
+    Attractors,
+    /// `branches.parquet`, `branches.csv`: one row per continuation point of a harmonic study's
+    /// ideal case.
+    Branches,
 }
 
 impl TableKind {
-    pub const ALL: [TableKind; 7] = [
+    pub const ALL: [TableKind; 9] = [
         TableKind::Points,
         TableKind::ForcedPoints,
         TableKind::Summary,
@@ -104,6 +110,8 @@ impl TableKind {
         TableKind::Jumps,
         TableKind::Sensitivity,
         TableKind::Tradeoff,
+        TableKind::Attractors,
+        TableKind::Branches,
     ];
 
     /// The table's name (`impactsweep.table`, the file stem).
@@ -116,6 +124,8 @@ impl TableKind {
             TableKind::Jumps => "jumps",
             TableKind::Sensitivity => "sensitivity",
             TableKind::Tradeoff => "tradeoff",
+            TableKind::Attractors => "attractors",
+            TableKind::Branches => "branches",
         }
     }
 }
@@ -163,6 +173,7 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
         TableKind::Jumps => jumps_unit(column),
         TableKind::Sensitivity => sensitivity_unit(column),
         TableKind::Tradeoff => tradeoff_unit(column),
+        TableKind::Attractors | TableKind::Branches => orbits_unit(column),
     }
 }
 
@@ -191,6 +202,26 @@ fn forced_points_unit(column: &str) -> Option<&'static str> {
         "omega" => "rad/s",
         "energy_force" | "energy_viscous" | "energy_impact" => "J",
         "t_stop" => "s",
+        "amplitude_worst" | "rest_amplitude" => "m",
+        "starts"
+        | "attractors"
+        | "worst_period"
+        | "worst_impacts_per_period"
+        | "worst_basin_share"
+        | "rest_period"
+        | "census_periods" => "1",
+        _ => return None,
+    })
+}
+
+/// The attractors and branches tables of a harmonic study (reduce/orbits.rs).
+fn orbits_unit(column: &str) -> Option<&'static str> {
+    Some(match column {
+        "point" | "branch" | "attractor" | "kind" | "stable" | "stability" | "label" | "end" => "",
+        "r" | "period" | "impacts_per_period" | "basin_share" | "starts" | "multiplier_max" => "1",
+        "omega" => "rad/s",
+        "F0" => "N",
+        "amplitude" => "m",
         _ => return None,
     })
 }
@@ -218,6 +249,7 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "peak_amplitude_q3"
         | "peak_amplitude_max"
         | "peak_amplitude_ideal"
+        | "peak_from_rest"
         | "linear_peak" => "m",
         "peak_reduction"
         | "peak_reduction_ideal"
@@ -227,7 +259,10 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "help_r_from"
         | "help_r_to"
         | "help_share"
-        | "periodic_share" => "1",
+        | "periodic_share"
+        | "peak_attractor_period"
+        | "peak_impacts_per_period"
+        | "peak_basin_share" => "1",
         "peak_periodic" => "",
         _ => return None,
     })

@@ -18,6 +18,7 @@ use super::sweep::{Axis, RawAxis};
 use super::{Cx, num, range_value};
 use crate::error::InputError;
 use crate::model::{RangeError, System};
+use crate::sim::forced::DesignPeak;
 use crate::sim::forced::motion::RESONANCE_FLOOR;
 use crate::sim::{Drive, Harmonic, Scene, SolverKind, SolverSettings};
 
@@ -34,6 +35,8 @@ pub(super) struct RawScene {
     n_meas: Option<u64>,
     trans_tol: Option<f64>,
     period_tol: Option<f64>,
+    starts: Option<u32>,
+    design_peak: Option<String>,
 }
 
 impl RawScene {
@@ -48,12 +51,17 @@ impl RawScene {
             self.n_meas.is_some(),
             self.trans_tol.is_some(),
             self.period_tol.is_some(),
+            self.starts.is_some(),
         ];
-        Harmonic::KEYS
+        let mut keys: Vec<&'static str> = Harmonic::KEYS
             .into_iter()
             .zip(present)
             .filter_map(|(k, p)| p.then_some(k))
-            .collect()
+            .collect();
+        if self.design_peak.is_some() {
+            keys.push("design_peak");
+        }
+        keys
     }
 
     fn get(&self, key: &str) -> Option<f64> {
@@ -160,6 +168,22 @@ pub(super) fn scene(
     }
     if let Some(v) = raw.period_tol {
         h.period_tol = v;
+    }
+    if let Some(n) = raw.starts {
+        h.starts = n;
+    }
+    if let Some(p) = &raw.design_peak {
+        h.design_peak = DesignPeak::parse(p).ok_or_else(|| {
+            cx.err(
+                "[scene].design_peak",
+                format!("{p:?}"),
+                format!(
+                    "unknown design peak; allowed: {} (the worst steady state the census finds, \
+                     or the one reached from the initial state)",
+                    DesignPeak::NAMES.join(", ")
+                ),
+            )
+        })?;
     }
     h.check_ranges()
         .map_err(|e| cx.err(&format!("[scene].{}", e.key), range_value(&e), e.allowed))?;

@@ -16,8 +16,9 @@ use super::lock::LockMode;
 use super::rundir;
 use crate::accuracy::Audit;
 use crate::error::InputError;
+use crate::orbits::forced_run;
 use crate::plan::{Plan, RunSpec};
-use crate::sim::{ForcedRecord, Harmonic, NoProbe, Record, Scene, simulate, simulate_harmonic};
+use crate::sim::{ForcedRecord, Harmonic, NoProbe, Record, Scene, simulate};
 use crate::store::{self, Checksum, ChunkEntry, Manifest, RunRow, StoredRecord};
 use crate::study::{Study, whole_curves};
 
@@ -164,7 +165,8 @@ pub fn simulate_run(plan: &Plan, run: &RunSpec) -> Record {
     }
 }
 
-/// Simulates one run of a harmonic study: the run's scene (the study's, with the design point's
+/// Simulates one run of a harmonic study ([`forced_run`]: from the study's initial state, then
+/// the attractor census seeded by the study seed and the design point): the run's scene (the study's, with the design point's
 /// `F0`, `omega` or `r`; the default harmonic scene if the study is a free-decay one), the study's
 /// solver, the run's noise stream when its case has noise. The study has validated the scene
 /// for every run ([`Harmonic::validate`]).
@@ -174,22 +176,27 @@ pub fn simulate_forced_run(plan: &Plan, run: &RunSpec) -> ForcedRecord {
         Scene::Harmonic(h) => h,
         Scene::Free => Harmonic::default(),
     };
+    let (seed, point) = (study.seed, run.point);
     match (study.noise.as_ref(), plan.noise_stream(run)) {
-        (Some(ns), Some(mut stream)) => simulate_harmonic(
+        (Some(ns), Some(mut stream)) => forced_run(
             &run.system,
             &study.solver,
             &study.request,
             &scene,
             Some((ns, &mut stream)),
             &mut NoProbe,
+            seed,
+            point,
         ),
-        _ => simulate_harmonic(
+        _ => forced_run(
             &run.system,
             &study.solver,
             &study.request,
             &scene,
             None,
             &mut NoProbe,
+            seed,
+            point,
         ),
     }
 }

@@ -507,6 +507,7 @@ impl Chart for ImpactsAndPeriod<'_> {
 pub fn charts(
     s: &Summary,
     f: &ForcedSummary,
+    steady: &[crate::orbits::response::Response],
     dir: &std::path::Path,
 ) -> anyhow::Result<Vec<std::path::PathBuf>> {
     let mut files = Vec::new();
@@ -542,6 +543,9 @@ pub fn charts(
             &ImpactsAndPeriod(&row),
             &super::Data::Table(row.data(s)),
         )?);
+    }
+    if let Some(r) = steady.iter().find(|r| r.design == anchor) {
+        files.extend(super::steady_states::charts(s, f, r, dir)?);
     }
     Ok(files)
 }

@@ -30,6 +30,7 @@ pub mod map;
 pub mod multiples;
 pub mod plumbing;
 pub mod spread;
+pub mod steady_states;
 pub mod tradeoff;
 pub mod waveform;
 

@@ -113,6 +113,40 @@ pub struct Harmonic {
     /// Sections that agree to `period_tol` times the section scale repeat. Default `1e-6`,
     /// range `[1e-15, 0.1]`.
     pub period_tol: f64,
+    /// Starts of the attractor census per frequency point (the study's initial state and
+    /// `starts - 1` seeded ones, [`crate::orbits::census`]). Default 8, range `[1, 1000]`.
+    pub starts: u32,
+    /// Which steady amplitude is the design quantity. Default [`DesignPeak::Worst`].
+    pub design_peak: DesignPeak,
+}
+
+/// Which steady state carries a design's peak.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DesignPeak {
+    /// The worst steady amplitude over every attractor the census found.
+    Worst,
+    /// The steady state reached from the study's initial state (one start).
+    FromRest,
+}
+
+impl DesignPeak {
+    pub const NAMES: [&'static str; 2] = ["worst", "from_rest"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            DesignPeak::Worst => "worst",
+            DesignPeak::FromRest => "from_rest",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<DesignPeak> {
+        match s {
+            "worst" => Some(DesignPeak::Worst),
+            "from_rest" => Some(DesignPeak::FromRest),
+            _ => None,
+        }
+    }
 }
 
 impl Default for Harmonic {
@@ -125,13 +159,15 @@ impl Default for Harmonic {
             n_meas: 20,
             trans_tol: 1e-10,
             period_tol: 1e-6,
+            starts: 8,
+            design_peak: DesignPeak::Worst,
         }
     }
 }
 
 impl Harmonic {
     /// The keys `simulate --set` accepts for this scene (besides `scene`).
-    pub const KEYS: [&'static str; 8] = [
+    pub const KEYS: [&'static str; 9] = [
         "F0",
         "omega",
         "r",
@@ -140,6 +176,7 @@ impl Harmonic {
         "n_meas",
         "trans_tol",
         "period_tol",
+        "starts",
     ];
 
     /// The forcing frequency `omega` (rad/s) for this system.
@@ -219,7 +256,8 @@ impl Harmonic {
         check("n_trans_max", self.n_trans_max as f64, 1.0, 1e8)?;
         check("n_meas", self.n_meas as f64, 1.0, 1e6)?;
         check("trans_tol", self.trans_tol, 1e-15, 1e-2)?;
-        check("period_tol", self.period_tol, 1e-15, 0.1)
+        check("period_tol", self.period_tol, 1e-15, 0.1)?;
+        check("starts", f64::from(self.starts), 1.0, 1000.0)
     }
 
     /// Refuses resonance without damping on `sys`: the dynamic stiffness of the main mass (and
@@ -296,4 +334,45 @@ pub struct ForcedRecord {
     pub sticks: u64,
     pub t_stop: f64,
     pub steps: u64,
+    /// The attractor census at this frequency ([`Steady`]); empty (`starts = 0`, NaN) until
+    /// [`crate::orbits::forced_run`] fills it.
+    pub steady: Steady,
+}
+
+/// What the attractor census found at one frequency point ([`crate::orbits::census`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Steady {
+    /// Starts run (0: no census).
+    pub starts: u32,
+    /// Distinct attractors found.
+    pub attractors: u32,
+    /// The largest steady amplitude over them (m): exact on a periodic orbit, the largest over
+    /// the census window on a motion that is not periodic.
+    pub amplitude_worst: f64,
+    /// The worst attractor's period (forcing periods; 0 when not periodic), its impacts per
+    /// forcing period (over whole orbit periods) and its basin share (starts reaching it /
+    /// starts).
+    pub worst_period: u32,
+    pub worst_impacts_per_period: f64,
+    pub worst_basin_share: f64,
+    /// The attractor reached from the study's initial state: its amplitude (m) and period.
+    pub rest_amplitude: f64,
+    pub rest_period: u32,
+    /// Forcing periods the census simulated in all.
+    pub census_periods: u64,
+}
+
+impl Steady {
+    /// No census.
+    pub const NONE: Steady = Steady {
+        starts: 0,
+        attractors: 0,
+        amplitude_worst: f64::NAN,
+        worst_period: 0,
+        worst_impacts_per_period: f64::NAN,
+        worst_basin_share: f64::NAN,
+        rest_amplitude: f64::NAN,
+        rest_period: 0,
+        census_periods: 0,
+    };
 }

@@ -468,6 +468,7 @@ impl<P: Probe> Run<'_, P> {
             end: self.s,
             t_stop: self.now(),
             steps,
+            steady: super::Steady::NONE,
         }
     }
 }

@@ -1,0 +1,459 @@
+//! Continuation of periodic orbits along the frequency ratio `r` or the force amplitude `F0`:
+//! pseudo-arclength predictor–corrector on `F(s, lambda) = P^p(s; lambda) - s = 0`, with
+//! adaptive steps, fold, period-doubling and grazing labels and a switch to the doubled branch.
+//!
+//! # Predictor–corrector
+//! Unknowns `u = (s, lambda)` in scaled coordinates (`x / L`, `x' / (wn L)`, `z / L`,
+//! `y' / (wn L)`, `lambda / lambda_0`; `L = d/2`). The tangent `t` spans the null space of
+//! `[J - I | dF/dlambda]` (`J` the exact monodromy matrix of [`super::map`]; `dF/dlambda` by
+//! central differences of the map with a step of `1e-6 lambda`), oriented like the previous
+//! one. The predictor is `u + h t`; the corrector is Newton on `(F(u), t . (u - u_pred)) = 0`,
+//! which crosses folds where `lambda` turns back. A step that converges in at most 3 iterations
+//! grows `h` by 1.5 (up to [`ContSettings::h_max`]); a failed one halves it, and below
+//! [`ContSettings::h_min`] the branch ends (`step_too_small`).
+//!
+//! # Labels
+//! Between two consecutive points:
+//! * `SN`, a fold: the tangent's `lambda` component changes sign;
+//! * `PD`, period doubling: a real multiplier crosses `-1` (the count of real multipliers
+//!   below `-1` changes); the doubled branch is then followed from the eigenvector (Newton on
+//!   `P^{2p}`), once per branch;
+//! * `GR`, grazing: the number of impacts per orbit changes (an impact velocity reached zero, or
+//!   a new contact), or an impact's approach speed falls below `1e-3 omega d/2`;
+//! * `NI`: the orbit's impacts end (the branch joins the non-impacting family, and ends there).
+//!
+//! # Ends
+//! Every branch ends with a named reason ([`End`]): `range` (it left the swept interval),
+//! `no_impacts`, `step_too_small`, `max_points` ([`ContSettings::max_points`]) or `simulator`.
+//! Nothing loops forever: each step is a bounded number of map evaluations.
+
+use nalgebra::{SMatrix, SVector};
+
+use super::map::{Forcing, Section, eval};
+use super::shoot::{Newton, Orbit, Stability, Termination, multipliers, orbit_at, solve};
+use crate::sim::Outcome;
+
+/// The continuation parameter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    /// The frequency ratio `r`.
+    Ratio,
+    /// The force amplitude `F0` (N).
+    Force,
+}
+
+impl Param {
+    fn get(self, f: &Forcing) -> f64 {
+        match self {
+            Param::Ratio => f.ratio(),
+            Param::Force => f.F0,
+        }
+    }
+
+    fn at(self, f: &Forcing, value: f64) -> Forcing {
+        match self {
+            Param::Ratio => f.at_ratio(value),
+            Param::Force => f.at_force(value),
+        }
+    }
+}
+
+/// A label of a continuation point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Label {
+    None,
+    SN,
+    PD,
+    GR,
+    NI,
+}
+
+impl Label {
+    pub fn name(self) -> &'static str {
+        match self {
+            Label::None => "",
+            Label::SN => "SN",
+            Label::PD => "PD",
+            Label::GR => "GR",
+            Label::NI => "NI",
+        }
+    }
+}
+
+/// Why a branch ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum End {
+    Range,
+    NoImpacts,
+    StepTooSmall,
+    MaxPoints,
+    Simulator,
+}
+
+impl End {
+    pub fn name(self) -> &'static str {
+        match self {
+            End::Range => "range",
+            End::NoImpacts => "no_impacts",
+            End::StepTooSmall => "step_too_small",
+            End::MaxPoints => "max_points",
+            End::Simulator => "simulator",
+        }
+    }
+}
+
+/// One point of a branch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BranchPoint {
+    /// The system at this point (its `omega`, `F0`).
+    pub r: f64,
+    pub omega: f64,
+    #[allow(non_snake_case)]
+    pub F0: f64,
+    pub s: Section,
+    pub period: u32,
+    pub amplitude: f64,
+    pub impacts: u64,
+    pub multiplier_max: f64,
+    pub stable: bool,
+    pub label: Label,
+}
+
+impl BranchPoint {
+    pub fn impacts_per_period(&self) -> f64 {
+        self.impacts as f64 / self.period as f64
+    }
+}
+
+/// A followed branch: its points in parameter order along the curve, and how each end ended.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Branch {
+    pub points: Vec<BranchPoint>,
+    /// The ends (first point's side, last point's side).
+    pub ends: (End, End),
+    /// Forcing periods simulated to follow it.
+    pub periods: u64,
+}
+
+/// Continuation settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContSettings {
+    /// The swept interval of the parameter.
+    pub range: (f64, f64),
+    /// First step, and bounds of the step, in scaled arclength.
+    pub h0: f64,
+    pub h_min: f64,
+    pub h_max: f64,
+    /// Most points on one side of the start.
+    pub max_points: usize,
+    /// Follow doubled branches at PD points.
+    pub switch_pd: bool,
+}
+
+type V5 = SVector<f64, 5>;
+type M5 = SMatrix<f64, 5, 5>;
+
+struct Curve<'a> {
+    base: &'a Forcing,
+    param: Param,
+    p: u64,
+    lambda0: f64,
+    l: f64,
+    wn: f64,
+    periods: u64,
+}
+
+impl Curve<'_> {
+    fn to_u(&self, s: &Section, lambda: f64) -> V5 {
+        V5::new(
+            s[0] / self.l,
+            s[1] / (self.wn * self.l),
+            s[2] / self.l,
+            s[3] / (self.wn * self.l),
+            lambda / self.lambda0,
+        )
+    }
+
+    fn from_u(&self, u: &V5) -> (Section, f64) {
+        (
+            [
+                u[0] * self.l,
+                u[1] * self.wn * self.l,
+                u[2] * self.l,
+                u[3] * self.wn * self.l,
+            ],
+            u[4] * self.lambda0,
+        )
+    }
+
+    /// `F(u)` scaled, and its 4 x 5 Jacobian (rows 0..4 of the returned matrix).
+    fn residual(&mut self, u: &V5) -> Option<(SVector<f64, 4>, SMatrix<f64, 4, 5>)> {
+        let (s, lambda) = self.from_u(u);
+        let f = self.param.at(self.base, lambda);
+        let e = eval(&f, &s, self.p, true);
+        self.periods += self.p;
+        if e.outcome != Outcome::Ok {
+            return None;
+        }
+        let jac = e.jacobian?;
+        let sc = [
+            1.0 / self.l,
+            1.0 / (self.wn * self.l),
+            1.0 / self.l,
+            1.0 / (self.wn * self.l),
+        ];
+        let g = SVector::<f64, 4>::from_fn(|r, _| (e.end[r] - s[r]) * sc[r]);
+        let mut a = SMatrix::<f64, 4, 5>::zeros();
+        for r in 0..4 {
+            for c in 0..4 {
+                // d(scaled row) / d(scaled col) = sc[r] J[r][c] / sc[c].
+                let id = if r == c { 1.0 } else { 0.0 };
+                a[(r, c)] = sc[r] * (jac[r][c] - id) / sc[c];
+            }
+        }
+        let h = 1e-6 * lambda.abs().max(1e-12);
+        let ep = eval(&self.param.at(self.base, lambda + h), &s, self.p, false);
+        let em = eval(&self.param.at(self.base, lambda - h), &s, self.p, false);
+        self.periods += 2 * self.p;
+        if ep.outcome != Outcome::Ok || em.outcome != Outcome::Ok {
+            return None;
+        }
+        for r in 0..4 {
+            a[(r, 4)] = sc[r] * (ep.end[r] - em.end[r]) / (2.0 * h) * self.lambda0;
+        }
+        Some((g, a))
+    }
+
+    /// The unit tangent at `u` oriented along `prev`.
+    fn tangent(&self, a: &SMatrix<f64, 4, 5>, prev: &V5) -> Option<V5> {
+        let mut m = M5::zeros();
+        m.fixed_view_mut::<4, 5>(0, 0).copy_from(a);
+        m.set_row(4, &prev.transpose());
+        let rhs = V5::new(0.0, 0.0, 0.0, 0.0, 1.0);
+        let t = m.lu().solve(&rhs)?;
+        let n = t.norm();
+        (n.is_finite() && n > 0.0).then(|| t / n)
+    }
+
+    /// Newton on `(F(u), t . (u - u_pred)) = 0` from `u_pred`.
+    fn correct(&mut self, u_pred: &V5, t: &V5) -> Option<(V5, SMatrix<f64, 4, 5>, u32)> {
+        let mut u = *u_pred;
+        for it in 0..8u32 {
+            let (g, a) = self.residual(&u)?;
+            if g.norm() <= 1e-9 {
+                return Some((u, a, it));
+            }
+            let mut m = M5::zeros();
+            m.fixed_view_mut::<4, 5>(0, 0).copy_from(&a);
+            m.set_row(4, &t.transpose());
+            let mut rhs = V5::zeros();
+            rhs.fixed_rows_mut::<4>(0).copy_from(&(-g));
+            rhs[4] = -t.dot(&(u - u_pred));
+            let du = m.lu().solve(&rhs)?;
+            if !du.iter().all(|v| v.is_finite()) || du.norm() > 0.5 {
+                return None;
+            }
+            u += du;
+            // The inner mass stays in the clearance.
+            u[2] = u[2].clamp(-1.0, 1.0);
+        }
+        None
+    }
+}
+
+/// The orbit's point on a branch.
+fn point(f: &Forcing, orbit: &Orbit, label: Label) -> BranchPoint {
+    BranchPoint {
+        r: f.ratio(),
+        omega: f.omega,
+        F0: f.F0,
+        s: orbit.s,
+        period: orbit.period,
+        amplitude: orbit.amplitude,
+        impacts: orbit.impacts,
+        multiplier_max: orbit.multiplier_max(),
+        stable: orbit.stability == Stability::Stable,
+        label,
+    }
+}
+
+/// Real multipliers below `-1`.
+fn below_minus_one(orbit: &Orbit) -> usize {
+    orbit
+        .multipliers
+        .iter()
+        .filter(|&&(re, im)| im.abs() <= 1e-9 * re.abs().max(1.0) && re < -1.0)
+        .count()
+}
+
+/// Follows the branch of `orbit` (a fixed point of `P^p` at `f`) both ways in `param`; with
+/// `settings.switch_pd`, also the doubled branches met at PD points. The first branch returned
+/// is `orbit`'s.
+pub fn follow(f: &Forcing, orbit: &Orbit, param: Param, settings: &ContSettings) -> Vec<Branch> {
+    let mut out = Vec::new();
+    let mut pending = vec![(f.clone(), orbit.clone(), settings.switch_pd)];
+    while let Some((f, orbit, switch)) = pending.pop() {
+        let (branch, doublings) = follow_one(&f, &orbit, param, settings);
+        out.push(branch);
+        if switch {
+            for (fd, od) in doublings.into_iter().take(2) {
+                // A doubled branch does not switch again: bounded work.
+                pending.push((fd, od, false));
+            }
+        }
+    }
+    out
+}
+
+/// One branch both ways; returns it and the doubled orbits found at its PD points.
+fn follow_one(
+    f: &Forcing,
+    orbit: &Orbit,
+    param: Param,
+    settings: &ContSettings,
+) -> (Branch, Vec<(Forcing, Orbit)>) {
+    let mut curve = Curve {
+        base: f,
+        param,
+        p: u64::from(orbit.period),
+        lambda0: param.get(f),
+        l: f.half_gap(),
+        wn: f.sys.omega(),
+        periods: 0,
+    };
+    let mut doublings = Vec::new();
+    let start = point(f, orbit, Label::None);
+    let mut sides: Vec<(Vec<BranchPoint>, End)> = Vec::new();
+    for dir in [-1.0, 1.0] {
+        let (pts, end) = side(&mut curve, f, orbit, dir, settings, &mut doublings);
+        sides.push((pts, end));
+    }
+    let (mut down, end_down) = sides.remove(0);
+    let (up, end_up) = sides.remove(0);
+    down.reverse();
+    down.push(start);
+    down.extend(up);
+    let branch = Branch {
+        points: down,
+        ends: (end_down, end_up),
+        periods: curve.periods,
+    };
+    (branch, doublings)
+}
+
+/// The points on one side of the start (`dir` = the sign of the first step in `lambda`).
+fn side(
+    curve: &mut Curve,
+    f: &Forcing,
+    orbit: &Orbit,
+    dir: f64,
+    settings: &ContSettings,
+    doublings: &mut Vec<(Forcing, Orbit)>,
+) -> (Vec<BranchPoint>, End) {
+    let newton = Newton::default();
+    let mut pts = Vec::new();
+    let mut u = curve.to_u(&orbit.s, curve.param.get(f));
+    let Some((_, a)) = curve.residual(&u) else {
+        return (pts, End::Simulator);
+    };
+    let Some(mut t) = curve.tangent(&a, &V5::new(0.0, 0.0, 0.0, 0.0, dir)) else {
+        return (pts, End::StepTooSmall);
+    };
+    let mut prev_orbit = orbit.clone();
+    let mut h = settings.h0;
+    let mut doubled = false;
+    while pts.len() < settings.max_points {
+        let u_pred = u + t * h;
+        let Some((u_new, a_new, iters)) = curve.correct(&u_pred, &t) else {
+            h *= 0.5;
+            if h < settings.h_min {
+                return (pts, End::StepTooSmall);
+            }
+            continue;
+        };
+        let (s, lambda) = curve.from_u(&u_new);
+        if lambda < settings.range.0 || lambda > settings.range.1 {
+            return (pts, End::Range);
+        }
+        let fl = curve.param.at(f, lambda);
+        let state_eval = eval(&fl, &s, curve.p, true);
+        curve.periods += curve.p;
+        if state_eval.outcome != Outcome::Ok {
+            return (pts, End::Simulator);
+        }
+        if state_eval.impacts == 0 {
+            if let Some(last) = pts.last_mut() {
+                let last: &mut BranchPoint = last;
+                last.label = Label::NI;
+            }
+            return (pts, End::NoImpacts);
+        }
+        let Some(t_new) = curve.tangent(&a_new, &t) else {
+            return (pts, End::StepTooSmall);
+        };
+        let state = super::shoot::NewtonState {
+            s,
+            residual: 0.0,
+            iterations: 0,
+            last: state_eval,
+        };
+        let Some(orb) = orbit_at(&fl, curve.p, &state, &newton) else {
+            return (pts, End::NoImpacts);
+        };
+        let mut label = Label::None;
+        if t_new[4].signum() != t[4].signum() {
+            label = Label::SN;
+        } else if below_minus_one(&orb) != below_minus_one(&prev_orbit) {
+            label = Label::PD;
+            if !doubled && let Some(d) = doubled_orbit(&fl, &orb, &newton) {
+                doublings.push((fl.clone(), d));
+                doubled = true;
+            }
+        } else if orb.impacts != prev_orbit.impacts
+            || orb.min_impact_speed < 1e-3 * fl.omega * fl.half_gap()
+        {
+            label = Label::GR;
+        }
+        pts.push(point(&fl, &orb, label));
+        prev_orbit = orb;
+        u = u_new;
+        t = t_new;
+        h = if iters <= 3 {
+            (h * 1.5).min(settings.h_max)
+        } else {
+            h
+        };
+    }
+    (pts, End::MaxPoints)
+}
+
+/// The period-`2p` orbit born at a period doubling of `orb`: Newton on `P^{2p}` from the fixed
+/// point pushed along the eigenvector of the multiplier near `-1`, both ways.
+fn doubled_orbit(f: &Forcing, orb: &Orbit, newton: &Newton) -> Option<Orbit> {
+    let m = nalgebra::Matrix4::from_fn(|r, c| orb.monodromy[r][c]);
+    let (lam, _) = orb
+        .multipliers
+        .iter()
+        .filter(|(re, im)| *re < 0.0 && im.abs() < 1e-9)
+        .min_by(|a, b| (a.0 + 1.0).abs().total_cmp(&(b.0 + 1.0).abs()))?;
+    let a = m - nalgebra::Matrix4::identity() * *lam;
+    // The eigenvector: the null vector of `M - lambda I` by SVD.
+    let svd = a.svd(false, true);
+    let vt = svd.v_t?;
+    let k = (0..4).min_by(|&i, &j| svd.singular_values[i].total_cmp(&svd.singular_values[j]))?;
+    let v = vt.row(k);
+    let l = f.half_gap();
+    let norm = v.norm();
+    let p2 = 2 * u64::from(orb.period);
+    for sign in [1.0, -1.0] {
+        let s: Section = std::array::from_fn(|i| orb.s[i] + sign * 1e-2 * l * v[i] / norm);
+        if let (Termination::Converged { .. }, Some(st)) = solve(f, p2, &s, newton)
+            && let Some(o) = orbit_at(f, p2, &st, newton)
+            && u64::from(o.period) == p2
+        {
+            return Some(o);
+        }
+    }
+    let _ = multipliers;
+    None
+}

@@ -1,0 +1,468 @@
+//! The stroboscopic map of the forced scene and its exact Jacobian.
+//!
+//! # The map
+//! The section state is `s = (x, x', z, y')` with `z = y - x`, taken at `t = k T_f`,
+//! `T_f = 2 pi / omega`. Because the force `F0 cos(omega t)` is `T_f`-periodic, the state one
+//! forcing period later is a function of `s` alone, `P(s)`, and a period-`p` steady state is a
+//! fixed point of `P^p`. [`eval`] computes `P^p(s)` with the exact event-driven simulator of the
+//! forced scene ([`crate::sim::forced::simulate_harmonic`], the same code a sweep runs), so every
+//! impact is found, grazing contacts included, and an orbit found this way cannot pass through a
+//! wall: the impact sequence is not imposed, it is what the simulator finds.
+//!
+//! # The Jacobian
+//! Between events the motion is linear in the state. In the coordinates `q = (x, x', y, y')`:
+//!
+//! * free flight over a time `tau`: `x, x'` move by the main mass's state-transition matrix
+//!   `Phi_M(tau)` (the closed form of [`crate::sim::linear::Oscillator::propagator`]; the forcing
+//!   adds a term that does not depend on the state), the inner mass by `[[1, tau], [0, 1]]`;
+//! * stuck on a wall: the pair `(M + m)` moves by `Phi_{M+m}(tau)` and the inner mass follows the
+//!   wall (`y = x +- d/2`, `y' = x'`).
+//!
+//! At an event at `t*` on the surface `h(q) = 0` the perturbation jumps by the saltation matrix
+//!
+//! ```text
+//! S = G + (f+ - G f-) grad(h)^T / (grad(h) . f-)
+//! ```
+//!
+//! where `G` is the Jacobian of the event's jump map and `f-`, `f+` the vector fields just
+//! before and after. An impact has `h = (y - x) -+ d/2`, `grad(h) = (-1, 0, 1, 0)`, `G` the impact
+//! law (eq. 3–4) on the velocities; the plastic closing that starts a sticking phase has `G` the
+//! common velocity `(M x' + m y') / (M + m)` and `f+` the stuck pair's field. A separation happens
+//! where the contact force, and so the pair's acceleration, is zero: there the free and the
+//! stuck fields agree and `S = I`. The monodromy matrix of `P^p` is the product of the segments'
+//! matrices and the saltations in time order, turned into section coordinates. A test checks it
+//! against central differences of the map.
+
+use crate::model::System;
+use crate::sim::forced::{Drive, Harmonic, simulate_harmonic};
+use crate::sim::linear::Oscillator;
+use crate::sim::{Outcome, Probe, Request, SolverSettings, State, Wall};
+
+/// A section state `(x, x', z, y')` (m, m/s, m, m/s), `z = y - x`.
+pub type Section = [f64; 4];
+/// A 4 x 4 matrix, row-major.
+pub type Mat4 = [[f64; 4]; 4];
+
+/// One forced system: the structure, the force and the simulator's settings. The initial state
+/// of `sys` is not used (each evaluation starts from its own section state).
+#[derive(Clone, Debug)]
+#[allow(non_snake_case)]
+pub struct Forcing {
+    pub sys: System,
+    /// Force amplitude (N), `> 0`.
+    pub F0: f64,
+    /// Forcing frequency (rad/s), `> 0`.
+    pub omega: f64,
+    pub settings: SolverSettings,
+}
+
+impl Forcing {
+    /// `T_f = 2 pi / omega` (s).
+    pub fn period(&self) -> f64 {
+        std::f64::consts::TAU / self.omega
+    }
+
+    /// The frequency ratio `r = omega / sqrt(K/M)`.
+    pub fn ratio(&self) -> f64 {
+        self.omega / self.sys.omega()
+    }
+
+    /// The same system at another frequency ratio.
+    pub fn at_ratio(&self, r: f64) -> Forcing {
+        Forcing {
+            omega: r * self.sys.omega(),
+            ..self.clone()
+        }
+    }
+
+    /// The same system under another force amplitude.
+    #[allow(non_snake_case)]
+    pub fn at_force(&self, F0: f64) -> Forcing {
+        Forcing { F0, ..self.clone() }
+    }
+
+    /// Steady amplitude of the main mass without the inner mass,
+    /// `X_st / sqrt((1 - r^2)^2 + (2 zeta r)^2)` (m).
+    pub fn amplitude_linear(&self) -> f64 {
+        let r = self.ratio();
+        let z = self.sys.zeta();
+        self.F0 / self.sys.K / ((1.0 - r * r).powi(2) + (2.0 * z * r).powi(2)).sqrt()
+    }
+
+    /// Half the clearance, `d / 2` (m).
+    pub fn half_gap(&self) -> f64 {
+        0.5 * self.sys.d
+    }
+
+    /// The harmonic scene that runs `periods` forcing periods from `t = 0` and measures over all
+    /// of them.
+    fn scene(&self, periods: u64) -> Harmonic {
+        Harmonic {
+            F0: self.F0,
+            drive: Drive::Omega(self.omega),
+            n_trans: Some(0),
+            n_meas: periods,
+            ..Harmonic::default()
+        }
+    }
+
+    /// The system started in section state `s` (its `z` clamped into the clearance).
+    fn started(&self, s: &Section) -> System {
+        let hd = self.half_gap();
+        let z = s[2].clamp(-hd, hd);
+        System {
+            x0: s[0],
+            v0: s[1],
+            y0: s[0] + z,
+            w0: s[3],
+            ..self.sys
+        }
+    }
+}
+
+/// What one evaluation of `P^p` found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapEval {
+    /// The simulator's outcome; every other field is meaningful only when `Ok`.
+    pub outcome: Outcome,
+    /// `P^p(s)`.
+    pub end: Section,
+    /// `d P^p / d s` in section coordinates (`None` unless asked for, or when an impact was a
+    /// graze, `grad(h) . f- = 0`, where the map is not differentiable).
+    pub jacobian: Option<Mat4>,
+    /// `max |x|` over the `p` periods (m), exact.
+    pub amplitude: f64,
+    /// Impacts over the `p` periods.
+    pub impacts: u64,
+    /// Sticking phases begun over the `p` periods.
+    pub sticks: u64,
+    /// The smallest relative approach speed `|y' - x'|` of an impact (m/s), `inf` without
+    /// impacts: near zero the orbit is grazing.
+    pub min_impact_speed: f64,
+}
+
+/// Events of one evaluation, recorded for the Jacobian.
+#[derive(Clone, Copy, Debug)]
+enum Ev {
+    Impact { t: f64, before: State, after: State },
+    Stick { t: f64, wall: Wall, at: State },
+    Separate { t: f64 },
+}
+
+#[derive(Default)]
+struct Recorder {
+    events: Vec<Ev>,
+    min_speed: f64,
+}
+
+impl Probe for Recorder {
+    fn impact(&mut self, t: f64, _wall: Wall, before: &State, after: &State) {
+        self.min_speed = self.min_speed.min((before.w - before.v).abs());
+        self.events.push(Ev::Impact {
+            t,
+            before: *before,
+            after: *after,
+        });
+    }
+    fn stick(&mut self, t: f64, wall: Wall, at: &State) {
+        self.events.push(Ev::Stick { t, wall, at: *at });
+    }
+    fn separate(&mut self, t: f64, _wall: Wall, _at: &State) {
+        self.events.push(Ev::Separate { t });
+    }
+}
+
+/// Evaluates `P^p(s)` (`p >= 1` forcing periods from `t = 0`), with its Jacobian when
+/// `jacobian` is set. Pure.
+pub fn eval(f: &Forcing, s: &Section, p: u64, jacobian: bool) -> MapEval {
+    let sys = f.started(s);
+    let scene = f.scene(p);
+    let mut rec = Recorder {
+        events: Vec::new(),
+        min_speed: f64::INFINITY,
+    };
+    let out = simulate_harmonic(
+        &sys,
+        &f.settings,
+        &Request::default(),
+        &scene,
+        None,
+        &mut rec,
+    );
+    let end = [out.end.x, out.end.v, out.end.y - out.end.x, out.end.w];
+    let jac = (jacobian && out.outcome == Outcome::Ok)
+        .then(|| monodromy(f, &rec.events, out.t_stop))
+        .flatten();
+    MapEval {
+        outcome: out.outcome,
+        end,
+        jacobian: jac,
+        amplitude: out.amplitude,
+        impacts: out.impacts,
+        sticks: out.sticks,
+        min_impact_speed: rec.min_speed,
+    }
+}
+
+/// Which field moves the state between events.
+#[derive(Clone, Copy, PartialEq)]
+enum Mode {
+    Free,
+    Stuck,
+}
+
+/// The monodromy matrix in section coordinates from the recorded events (module doc); `None`
+/// at a graze.
+fn monodromy(f: &Forcing, events: &[Ev], t_end: f64) -> Option<Mat4> {
+    let sys = &f.sys;
+    let free = Oscillator::new(sys.M, sys.K, sys.C);
+    let pair = Oscillator::new(sys.M + sys.m, sys.K, sys.C);
+    let mut j = identity();
+    let mut mode = Mode::Free;
+    let mut t_prev = 0.0;
+    let mut i = 0;
+    while i < events.len() {
+        match events[i] {
+            Ev::Impact { t, before, after } => {
+                j = mul(&segment(mode, &free, &pair, t - t_prev), &j);
+                let s = match events.get(i + 1) {
+                    Some(Ev::Stick { t: ts, wall, at }) if *ts == t => {
+                        i += 1;
+                        mode = Mode::Stuck;
+                        stick_saltation(f, t, &before, at, *wall)?
+                    }
+                    _ => impact_saltation(f, t, &before, &after)?,
+                };
+                j = mul(&s, &j);
+                t_prev = t;
+            }
+            Ev::Stick { t, .. } => {
+                // A stick not preceded by an impact at the same instant does not occur; treat
+                // it as a change of field at a point where both agree.
+                j = mul(&segment(mode, &free, &pair, t - t_prev), &j);
+                mode = Mode::Stuck;
+                t_prev = t;
+            }
+            Ev::Separate { t } => {
+                j = mul(&segment(mode, &free, &pair, t - t_prev), &j);
+                mode = Mode::Free;
+                t_prev = t;
+            }
+        }
+        i += 1;
+    }
+    j = mul(&segment(mode, &free, &pair, t_end - t_prev), &j);
+    Some(to_section(&j))
+}
+
+/// The state-transition matrix of one smooth segment of length `tau` in `(x, x', y, y')`.
+fn segment(mode: Mode, free: &Oscillator, pair: &Oscillator, tau: f64) -> Mat4 {
+    let tau = tau.max(0.0);
+    match mode {
+        Mode::Free => {
+            let p = free.propagator(tau);
+            [
+                [p.xx, p.xv, 0.0, 0.0],
+                [p.vx, p.vv, 0.0, 0.0],
+                [0.0, 0.0, 1.0, tau],
+                [0.0, 0.0, 0.0, 1.0],
+            ]
+        }
+        Mode::Stuck => {
+            let p = pair.propagator(tau);
+            [
+                [p.xx, p.xv, 0.0, 0.0],
+                [p.vx, p.vv, 0.0, 0.0],
+                [p.xx, p.xv, 0.0, 0.0],
+                [p.vx, p.vv, 0.0, 0.0],
+            ]
+        }
+    }
+}
+
+/// The vector field `q' = (x', x'', y', y'')` of the free flight at time `t`.
+fn free_field(f: &Forcing, t: f64, q: &State) -> [f64; 4] {
+    let sys = &f.sys;
+    let a = (f.F0 * (f.omega * t).cos() - sys.C * q.v - sys.K * q.x) / sys.M;
+    [q.v, a, q.w, 0.0]
+}
+
+/// The vector field of the stuck pair at time `t`.
+fn stuck_field(f: &Forcing, t: f64, q: &State) -> [f64; 4] {
+    let sys = &f.sys;
+    let a = (f.F0 * (f.omega * t).cos() - sys.C * q.v - sys.K * q.x) / (sys.M + sys.m);
+    [q.v, a, q.v, a]
+}
+
+/// `S = G + (f+ - G f-) grad(h)^T / (grad(h) . f-)` with `grad(h) = (-1, 0, 1, 0)`.
+fn saltation(g: Mat4, f_minus: [f64; 4], f_plus: [f64; 4]) -> Option<Mat4> {
+    let grad = [-1.0, 0.0, 1.0, 0.0];
+    let den: f64 = (0..4).map(|k| grad[k] * f_minus[k]).sum();
+    if den == 0.0 || !den.is_finite() {
+        return None;
+    }
+    let gf = apply(&g, &f_minus);
+    let mut s = g;
+    for (r, row) in s.iter_mut().enumerate() {
+        for (c, cell) in row.iter_mut().enumerate() {
+            *cell += (f_plus[r] - gf[r]) * grad[c] / den;
+        }
+    }
+    Some(s)
+}
+
+/// The saltation matrix of an impact (eq. 3–4 on the velocities).
+fn impact_saltation(f: &Forcing, t: f64, before: &State, after: &State) -> Option<Mat4> {
+    let (big, m, e) = (f.sys.M, f.sys.m, f.sys.e);
+    let tot = big + m;
+    let g = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, (big - m * e) / tot, 0.0, m * (1.0 + e) / tot],
+        [0.0, 0.0, 1.0, 0.0],
+        [0.0, big * (1.0 + e) / tot, 0.0, (m - big * e) / tot],
+    ];
+    saltation(g, free_field(f, t, before), free_field(f, t, after))
+}
+
+/// The saltation matrix of the plastic closing that starts a sticking phase.
+fn stick_saltation(f: &Forcing, t: f64, before: &State, at: &State, _wall: Wall) -> Option<Mat4> {
+    let (big, m) = (f.sys.M, f.sys.m);
+    let tot = big + m;
+    let g = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, big / tot, 0.0, m / tot],
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, big / tot, 0.0, m / tot],
+    ];
+    saltation(g, free_field(f, t, before), stuck_field(f, t, at))
+}
+
+/// `J_sec = T J T^-1` with `T: (x, x', y, y') -> (x, x', y - x, y')`.
+fn to_section(j: &Mat4) -> Mat4 {
+    let t = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+        [-1.0, 0.0, 1.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ];
+    let t_inv = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+        [1.0, 0.0, 1.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ];
+    mul(&mul(&t, j), &t_inv)
+}
+
+pub(crate) fn identity() -> Mat4 {
+    let mut m = [[0.0; 4]; 4];
+    for (i, row) in m.iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    m
+}
+
+pub(crate) fn mul(a: &Mat4, b: &Mat4) -> Mat4 {
+    let mut c = [[0.0; 4]; 4];
+    for i in 0..4 {
+        for k in 0..4 {
+            let aik = a[i][k];
+            for j in 0..4 {
+                c[i][j] += aik * b[k][j];
+            }
+        }
+    }
+    c
+}
+
+pub(crate) fn apply(a: &Mat4, v: &[f64; 4]) -> [f64; 4] {
+    let mut out = [0.0; 4];
+    for i in 0..4 {
+        out[i] = (0..4).map(|k| a[i][k] * v[k]).sum();
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn table_i(m: f64, d: f64, e: f64, c: f64, f0: f64, r: f64) -> Forcing {
+        let sys = System {
+            m,
+            d,
+            e,
+            C: c,
+            ..System::TABLE_I
+        };
+        Forcing {
+            omega: r * sys.omega(),
+            sys,
+            F0: f0,
+            settings: SolverSettings::default(),
+        }
+    }
+
+    /// Central differences of `P^p` against the exact Jacobian, on impacting motions (with and
+    /// without sticking) away from grazing. Issue 16.
+    #[test]
+    fn jacobian_matches_central_differences() {
+        let cases = [
+            (
+                table_i(0.005, 0.005, 0.9, 0.1, 0.1, 0.9),
+                [0.0018, 0.0, 0.001, 0.1],
+                1,
+            ),
+            (
+                table_i(0.02, 0.01, 0.8, 0.1, 0.3, 1.0),
+                [0.003, -0.05, -0.002, 0.2],
+                2,
+            ),
+            (
+                table_i(0.01, 0.01, 0.5, 0.3, 0.3, 0.9),
+                [0.002, 0.1, 0.0, -0.1],
+                3,
+            ),
+            (
+                table_i(0.02, 0.004, 0.2, 0.1, 0.5, 1.1),
+                [0.001, 0.1, 0.001, 0.0],
+                1,
+            ),
+        ];
+        let mut checked = 0;
+        for (f, s, p) in cases {
+            let base = eval(&f, &s, p, true);
+            assert_eq!(base.outcome, Outcome::Ok);
+            let Some(jac) = base.jacobian else { continue };
+            assert!(base.impacts > 0);
+            let scale = [1e-7, 1e-7 * f.sys.omega(), 1e-7, 1e-7 * f.sys.omega()];
+            let mut worst: f64 = 0.0;
+            for c in 0..4 {
+                let (mut sp, mut sm) = (s, s);
+                sp[c] += scale[c];
+                sm[c] -= scale[c];
+                let ep = eval(&f, &sp, p, false);
+                let em = eval(&f, &sm, p, false);
+                if ep.impacts != base.impacts || em.impacts != base.impacts {
+                    continue;
+                }
+                for r in 0..4 {
+                    let fd = (ep.end[r] - em.end[r]) / (2.0 * scale[c]);
+                    // Relative to the column's size in the section's scaled norm.
+                    let norm = (0..4)
+                        .map(|k| (jac[k][c] / if k % 2 == 1 { f.sys.omega() } else { 1.0 }).abs())
+                        .fold(0.0, f64::max)
+                        .max(1e-3);
+                    let row_scale = if r % 2 == 1 { f.sys.omega() } else { 1.0 };
+                    worst = worst.max(((fd - jac[r][c]) / row_scale).abs() / norm);
+                }
+                checked += 1;
+            }
+            assert!(
+                worst < 1e-6,
+                "{s:?}, p = {p}: worst relative error {worst:e}"
+            );
+        }
+        assert!(checked >= 8, "only {checked} columns checked");
+    }
+}

@@ -1,0 +1,94 @@
+//! Steady states of the forced scene (pure; no I/O): the stroboscopic map with its exact
+//! Jacobian ([`map`]), periodic orbits by shooting with their Floquet multipliers ([`shoot`]),
+//! continuation along the frequency or the force ([`continuation`]) and the attractor census of
+//! one frequency point ([`census`]).
+
+pub mod census;
+pub mod continuation;
+pub mod map;
+pub mod response;
+pub mod shoot;
+
+use crate::model::System;
+use crate::sim::forced::Steady;
+use crate::sim::noise::NoiseStream;
+use crate::sim::{
+    ForcedRecord, Harmonic, NoiseSettings, Outcome, Probe, Request, SolverSettings,
+    simulate_harmonic,
+};
+
+/// Periods a motion that is not periodic is measured over in the census
+/// ([`census::CensusSettings::window`]).
+pub const CENSUS_WINDOW: u64 = 200;
+
+/// Relative `p`-step difference at which the census hands a start over to Newton
+/// ([`census::CensusSettings::handover`]).
+pub const HANDOVER: f64 = 1e-3;
+
+/// One run of the harmonic scene as a sweep runs it: the run from the study's initial state
+/// ([`simulate_harmonic`], with its noise), then the attractor census of `scene.starts` starts
+/// at the same frequency ([`census::census`], noise-free: the noise is a measurement noise and
+/// does not move the system). `seed` and `point` fix the census's starts. Pure.
+#[allow(clippy::too_many_arguments)]
+pub fn forced_run<P: Probe>(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    scene: &Harmonic,
+    noise: Option<(&NoiseSettings, &mut NoiseStream)>,
+    probe: &mut P,
+    seed: u64,
+    point: u64,
+) -> ForcedRecord {
+    let mut rec = simulate_harmonic(sys, settings, req, scene, noise, probe);
+    if rec.outcome != Outcome::Ok || scene.starts == 0 {
+        return rec;
+    }
+    let f = map::Forcing {
+        sys: *sys,
+        F0: scene.F0,
+        omega: rec.omega,
+        settings: *settings,
+    };
+    // Start 0 goes on from where the run from the initial state ended (a section time): the
+    // same trajectory, without running its transient again.
+    let s0 = [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w];
+    let c = census::census(
+        &f,
+        &s0,
+        &census::CensusSettings {
+            starts: scene.starts,
+            max_periods: scene.n_trans_max,
+            handover: HANDOVER,
+            window: CENSUS_WINDOW,
+            seed,
+            point,
+        },
+    );
+    rec.steady = steady_of(&c);
+    rec
+}
+
+/// The census's summary for a run's record.
+pub fn steady_of(c: &census::Census) -> Steady {
+    let Some((i, worst)) = c
+        .attractors
+        .iter()
+        .enumerate()
+        .reduce(|a, b| if b.1.amplitude > a.1.amplitude { b } else { a })
+    else {
+        return Steady::NONE;
+    };
+    let rest = &c.attractors[0];
+    Steady {
+        starts: c.starts,
+        attractors: c.attractors.len() as u32,
+        amplitude_worst: worst.amplitude,
+        worst_period: worst.period,
+        worst_impacts_per_period: worst.impacts_per_period,
+        worst_basin_share: c.share(i),
+        rest_amplitude: rest.amplitude,
+        rest_period: rest.period,
+        census_periods: c.periods,
+    }
+}

@@ -1,0 +1,262 @@
+//! Every steady state of one frequency-response curve: the attractor census at each swept
+//! frequency, then the periodic attractors followed along the frequency by continuation.
+//!
+//! The census ([`super::census`]) runs at every swept frequency. Its periodic impacting
+//! attractors seed continuation ([`super::continuation`]) in frequency order; an attractor that
+//! lies on a branch already followed (same period and impacts, amplitude within `1e-3` of the
+//! branch interpolated at its frequency) seeds nothing, so a curve costs a few branches, not one
+//! per frequency. At most [`MAX_BRANCHES`] branches are followed per curve (doubled branches
+//! included); the census still reports every attractor. The non-impacting family is a branch of
+//! its own, in closed form ([`super::shoot::non_impacting`]): its rows are `neutral` wherever it
+//! exists (`A <= d/2`).
+
+use super::census::{Census, CensusSettings, Kind, census};
+use super::continuation::{Branch, ContSettings, Label, Param, follow};
+use super::map::{Forcing, Section};
+use super::shoot::{Stability, non_impacting};
+
+/// Most branches followed per curve.
+pub const MAX_BRANCHES: usize = 8;
+
+/// One attractor at one frequency.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AttractorRow {
+    /// The design point of this frequency.
+    pub point: u64,
+    pub r: f64,
+    pub omega: f64,
+    /// Index of the attractor at this frequency (0: the one reached from the initial state).
+    pub attractor: u32,
+    /// `periodic` or `non-periodic`.
+    pub kind: &'static str,
+    pub period: u32,
+    pub amplitude: f64,
+    pub impacts_per_period: f64,
+    pub basin_share: f64,
+    pub starts: u32,
+    /// `stable`, `unstable` (never, for an attractor), `neutral` (the non-impacting family) or
+    /// `""` for a motion that is not periodic.
+    pub stability: &'static str,
+}
+
+/// One continuation point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BranchRow {
+    /// The design (a point of the design grid, without the frequency).
+    pub design: u64,
+    pub branch: u32,
+    pub r: f64,
+    pub omega: f64,
+    #[allow(non_snake_case)]
+    pub F0: f64,
+    pub amplitude: f64,
+    pub period: u32,
+    pub impacts_per_period: f64,
+    pub stable: bool,
+    pub stability: &'static str,
+    pub multiplier_max: f64,
+    pub label: &'static str,
+    /// How the branch ended at this end (on its first and last rows; `""` elsewhere).
+    pub end: &'static str,
+}
+
+/// The steady states of one curve.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Response {
+    /// The design analysed.
+    pub design: u64,
+    pub attractors: Vec<AttractorRow>,
+    pub branches: Vec<BranchRow>,
+    /// Forcing periods simulated by the census and by continuation.
+    pub periods_census: u64,
+    pub periods_continuation: u64,
+}
+
+/// Analyses the curve of `base` (whose frequency is irrelevant) over `freqs`, each a
+/// `(design point, r)`, from the initial section `s0`. `census` gives the census's settings
+/// (its `point` is replaced by each frequency's design point).
+pub fn analyse(
+    base: &Forcing,
+    design: u64,
+    s0: &Section,
+    freqs: &[(u64, f64)],
+    settings: &CensusSettings,
+) -> Response {
+    let mut out = Response {
+        design,
+        ..Response::default()
+    };
+    let mut seeds = Vec::new();
+    for &(point, r) in freqs {
+        let f = base.at_ratio(r);
+        let c = census(&f, s0, &CensusSettings { point, ..*settings });
+        out.periods_census += c.periods;
+        push_attractors(&mut out, &c, point, &f);
+        for a in &c.attractors {
+            if let Kind::Periodic(o) = &a.kind
+                && o.impacts > 0
+            {
+                seeds.push((f.clone(), o.clone()));
+            }
+        }
+    }
+    let (lo, hi) = freqs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, r)| {
+            (a.min(r), b.max(r))
+        });
+    if !(lo < hi) {
+        return out;
+    }
+    let step = (hi - lo) / (freqs.len().max(2) - 1) as f64;
+    let cont = ContSettings {
+        range: (lo, hi),
+        h0: (step / lo).max(1e-3),
+        h_min: 1e-6,
+        h_max: 0.05,
+        max_points: 400,
+        switch_pd: true,
+    };
+    let mut branches: Vec<Branch> = Vec::new();
+    for (f, orbit) in seeds {
+        if branches.len() >= MAX_BRANCHES {
+            break;
+        }
+        if branches
+            .iter()
+            .any(|b| covers(b, f.ratio(), orbit.period, orbit.impacts, orbit.amplitude))
+        {
+            continue;
+        }
+        for b in follow(&f, &orbit, Param::Ratio, &cont) {
+            out.periods_continuation += b.periods;
+            if branches.len() < MAX_BRANCHES {
+                branches.push(b);
+            }
+        }
+    }
+    for (i, b) in branches.iter().enumerate() {
+        push_branch(&mut out, design, i as u32, b);
+    }
+    push_family(&mut out, design, branches.len() as u32, base, freqs, s0);
+    out
+}
+
+fn push_attractors(out: &mut Response, c: &Census, point: u64, f: &Forcing) {
+    for (i, a) in c.attractors.iter().enumerate() {
+        let stability = match &a.kind {
+            Kind::Periodic(o) => o.stability.name(),
+            Kind::NonPeriodic => "",
+        };
+        out.attractors.push(AttractorRow {
+            point,
+            r: f.ratio(),
+            omega: f.omega,
+            attractor: i as u32,
+            kind: a.kind_name(),
+            period: a.period,
+            amplitude: a.amplitude,
+            impacts_per_period: a.impacts_per_period,
+            basin_share: c.share(i),
+            starts: a.starts,
+            stability,
+        });
+    }
+}
+
+/// Whether branch `b` passes through an orbit of this period and impact count with this
+/// amplitude at `r` (linear interpolation between its points).
+pub fn covers(b: &Branch, r: f64, period: u32, impacts: u64, amplitude: f64) -> bool {
+    b.points.windows(2).any(|w| {
+        let (a, c) = (&w[0], &w[1]);
+        if a.period != period || c.period != period || a.impacts != impacts {
+            return false;
+        }
+        let (lo, hi) = if a.r <= c.r { (a, c) } else { (c, a) };
+        if r < lo.r || r > hi.r {
+            return false;
+        }
+        let t = if hi.r > lo.r {
+            (r - lo.r) / (hi.r - lo.r)
+        } else {
+            0.0
+        };
+        let amp = lo.amplitude + t * (hi.amplitude - lo.amplitude);
+        (amp - amplitude).abs() <= 1e-3 * amplitude.abs()
+    })
+}
+
+fn push_branch(out: &mut Response, design: u64, branch: u32, b: &Branch) {
+    let n = b.points.len();
+    for (k, p) in b.points.iter().enumerate() {
+        let end = if k == 0 {
+            b.ends.0.name()
+        } else if k + 1 == n {
+            b.ends.1.name()
+        } else {
+            ""
+        };
+        out.branches.push(BranchRow {
+            design,
+            branch,
+            r: p.r,
+            omega: p.omega,
+            F0: p.F0,
+            amplitude: p.amplitude,
+            period: p.period,
+            impacts_per_period: p.impacts_per_period(),
+            stable: p.stable,
+            stability: if p.stable { "stable" } else { "unstable" },
+            multiplier_max: p.multiplier_max,
+            label: p.label.name(),
+            end,
+        });
+    }
+}
+
+/// The non-impacting family at the swept frequencies where it exists, as one branch per
+/// stretch (closed form; `neutral`).
+fn push_family(
+    out: &mut Response,
+    design: u64,
+    first: u32,
+    base: &Forcing,
+    freqs: &[(u64, f64)],
+    s0: &Section,
+) {
+    let mut branch = first;
+    let mut open = false;
+    for &(_, r) in freqs {
+        let f = base.at_ratio(r);
+        match non_impacting(&f, s0[0] + s0[2]) {
+            Some(o) if f.sys.m > 0.0 => {
+                out.branches.push(BranchRow {
+                    design,
+                    branch,
+                    r,
+                    omega: f.omega,
+                    F0: f.F0,
+                    amplitude: o.amplitude,
+                    period: 1,
+                    impacts_per_period: 0.0,
+                    stable: false,
+                    stability: Stability::Neutral.name(),
+                    multiplier_max: o.multiplier_max(),
+                    label: "",
+                    end: "",
+                });
+                open = true;
+            }
+            _ => {
+                if open {
+                    if let Some(last) = out.branches.last_mut() {
+                        last.label = Label::NI.name();
+                        last.end = "impacts_begin";
+                    }
+                    branch += 1;
+                }
+                open = false;
+            }
+        }
+    }
+}

@@ -1,0 +1,414 @@
+//! The steady states of the recommended design's curve (docs/reduce.md): its frequency response
+//! drawn as branches, and the basin shares of its attractors against the frequency.
+//!
+//! `branches`: stable periodic branches solid, unstable ones dashed, the non-impacting family
+//! dotted grey; folds (`SN`), period doublings (`PD`), grazing (`GR`) and where impacts begin
+//! or end (`NI`) marked and named; the amplitudes of the motions that are not periodic as
+//! shaded bars at their frequencies; the linear system dashed black; the design peak marked.
+//! `basin_shares`: at each frequency, the share of the census's starts that reached each kind of
+//! attractor (by period, the non-impacting family and the motions that are not periodic).
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::plumbing::{
+    Chart, Key, LABEL, LEGEND_PITCH, SMALL, TITLE, err, fmt_num, legend_lines, legend_row, minmax,
+    pad,
+};
+use crate::orbits::response::Response;
+use crate::reduce::Summary;
+use crate::reduce::forced::{Curve, ForcedSummary};
+use crate::reduce::table::{Column, Table};
+
+pub const SIZE: (u32, u32) = (1000, 640);
+const LEGEND_X: i32 = 80;
+/// Metres to centimetres.
+const CM: f64 = 100.0;
+
+const STABLE: RGBColor = RGBColor(31, 119, 180);
+const UNSTABLE: RGBColor = RGBColor(214, 39, 40);
+const FAMILY: RGBColor = RGBColor(120, 120, 120);
+const CHAOS: RGBAColor = RGBAColor(255, 127, 14, 0.35);
+const PEAK: RGBColor = RGBColor(0, 0, 0);
+
+/// The curve's steady states and where its design peak is.
+pub struct Steady<'a> {
+    pub r: &'a Response,
+    pub curve: &'a Curve,
+    pub title_at: String,
+}
+
+impl Steady<'_> {
+    /// Branch segments: `(branch, stability, points)` split where stability changes.
+    fn segments(&self) -> Vec<(&'static str, Vec<(f64, f64)>)> {
+        let mut out: Vec<(&'static str, Vec<(f64, f64)>)> = Vec::new();
+        let mut last: Option<(u32, &'static str)> = None;
+        for b in &self.r.branches {
+            let key = (b.branch, b.stability);
+            let p = (b.r, b.amplitude * CM);
+            match (last, out.last_mut()) {
+                (Some(k), Some(seg)) if k == key => seg.1.push(p),
+                (Some((br, _)), Some(seg)) if br == b.branch => {
+                    // Stability changed along the branch: the new segment starts where the
+                    // old one ended, so the curve stays joined.
+                    let joint = seg.1.last().copied();
+                    let mut pts = Vec::new();
+                    pts.extend(joint);
+                    pts.push(p);
+                    out.push((b.stability, pts));
+                }
+                _ => out.push((b.stability, vec![p])),
+            }
+            last = Some(key);
+        }
+        out
+    }
+
+    fn y_max(&self) -> f64 {
+        let (_, hi) = minmax(
+            self.r
+                .branches
+                .iter()
+                .map(|b| b.amplitude * CM)
+                .chain(self.r.attractors.iter().map(|a| a.amplitude * CM))
+                .chain(self.curve.points.iter().map(|p| p.linear * CM)),
+        );
+        if hi.is_finite() && hi > 0.0 {
+            hi * 1.08
+        } else {
+            1.0
+        }
+    }
+
+    fn x_range(&self) -> (f64, f64) {
+        let (x0, x1) = minmax(self.curve.points.iter().map(|p| p.r));
+        if x1 > x0 { (x0, x1) } else { pad(x0, x1, 0.5) }
+    }
+
+    /// The chart data: the branch rows.
+    pub fn data(&self) -> Table {
+        let b = &self.r.branches;
+        let mut t = Table::default();
+        t.push(
+            "branch",
+            Column::U64(b.iter().map(|x| Some(u64::from(x.branch))).collect()),
+        );
+        t.push("r", Column::F64(b.iter().map(|x| x.r).collect()));
+        t.push(
+            "amplitude",
+            Column::F64(b.iter().map(|x| x.amplitude).collect()),
+        );
+        t.push(
+            "period",
+            Column::U64(b.iter().map(|x| Some(u64::from(x.period))).collect()),
+        );
+        t.push(
+            "stability",
+            Column::Str(b.iter().map(|x| x.stability.to_string()).collect()),
+        );
+        t.push(
+            "label",
+            Column::Str(b.iter().map(|x| x.label.to_string()).collect()),
+        );
+        t
+    }
+}
+
+fn legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    items: &[(Key, String)],
+) -> anyhow::Result<DrawingArea<DB, Shift>>
+where
+    DB::ErrorType: 'static,
+{
+    let rows = legend_lines(area, LEGEND_X, items)?;
+    let (keys, rest) = area.split_vertically(34 + rows.saturating_sub(1) * LEGEND_PITCH);
+    legend_row(&keys, LEGEND_X, items)?;
+    Ok(rest)
+}
+
+/// The frequency response as branches.
+pub struct Branches<'a>(pub &'a Steady<'a>);
+
+impl Chart for Branches<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let st = self.0;
+        let (title, rest) = root.split_vertically(40);
+        title
+            .titled(&format!("Steady states against r{}", st.title_at), TITLE)
+            .map_err(err)?;
+        let items = vec![
+            (Key::Line(STABLE), "stable periodic orbit".to_string()),
+            (Key::Dashed(UNSTABLE), "unstable periodic orbit".to_string()),
+            (Key::Dashed(FAMILY), "no impacts (neutral)".to_string()),
+            (Key::Swatch(CHAOS), "not periodic (amplitude)".to_string()),
+            (Key::Dashed(BLACK), "linear system".to_string()),
+        ];
+        let plot = legend(&rest, &items)?;
+        let (x0, x1) = st.x_range();
+        let mut chart = ChartBuilder::on(&plot)
+            .margin(12)
+            .margin_top(4)
+            .x_label_area_size(48)
+            .y_label_area_size(80)
+            .build_cartesian_2d(x0..x1, 0.0..st.y_max())
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("frequency ratio r = omega / sqrt(K/M) (–)")
+            .y_desc("steady amplitude (cm)")
+            .y_label_formatter(&|v: &f64| fmt_num(*v))
+            .label_style(SMALL)
+            .axis_desc_style(LABEL)
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(err)?;
+        // Motions that are not periodic: a bar from 0 to the largest amplitude over the window.
+        let dx = (x1 - x0) / (st.curve.points.len().max(2) as f64) / 3.0;
+        chart
+            .draw_series(
+                st.r.attractors
+                    .iter()
+                    .filter(|a| a.kind == "non-periodic" && a.amplitude.is_finite())
+                    .map(|a| {
+                        Rectangle::new(
+                            [(a.r - dx, 0.0), (a.r + dx, a.amplitude * CM)],
+                            CHAOS.filled(),
+                        )
+                    }),
+            )
+            .map_err(err)?;
+        let lin: Vec<(f64, f64)> = st
+            .curve
+            .points
+            .iter()
+            .map(|p| (p.r, p.linear * CM))
+            .collect();
+        chart
+            .draw_series(DashedLineSeries::new(lin, 6, 4, BLACK.stroke_width(1)))
+            .map_err(err)?;
+        for (stability, pts) in st.segments() {
+            match stability {
+                "stable" => {
+                    chart
+                        .draw_series(LineSeries::new(pts, STABLE.stroke_width(2)))
+                        .map_err(err)?;
+                }
+                "unstable" => {
+                    chart
+                        .draw_series(DashedLineSeries::new(pts, 5, 4, UNSTABLE.stroke_width(2)))
+                        .map_err(err)?;
+                }
+                _ => {
+                    chart
+                        .draw_series(DashedLineSeries::new(pts, 2, 3, FAMILY.stroke_width(2)))
+                        .map_err(err)?;
+                }
+            }
+        }
+        // Labels.
+        chart
+            .draw_series(
+                st.r.branches
+                    .iter()
+                    .filter(|b| !b.label.is_empty())
+                    .map(|b| {
+                        let pos = (b.r, b.amplitude * CM);
+                        EmptyElement::at(pos)
+                            + Circle::new((0, 0), 4, BLACK.filled())
+                            + Text::new(b.label.to_string(), (5, -16), SMALL.into_font())
+                    }),
+            )
+            .map_err(err)?;
+        // The design peak.
+        let (peak, r) = st.curve.peak();
+        if peak.is_finite() {
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at((r, peak * CM))
+                        + Cross::new((0, 0), 7, PEAK.stroke_width(3))
+                        + Text::new(
+                            format!("design peak {} cm", fmt_num(peak * CM)),
+                            (9, 4),
+                            SMALL.into_font(),
+                        ),
+                ))
+                .map_err(err)?;
+        }
+        Ok(())
+    }
+}
+
+/// Basin shares against the frequency.
+pub struct Basins<'a>(pub &'a Steady<'a>);
+
+/// The attractor classes of the basin chart, and their colours.
+fn class_of(kind: &str, period: u32, impacts: f64) -> (usize, &'static str) {
+    if kind == "non-periodic" {
+        (0, "not periodic")
+    } else if impacts == 0.0 {
+        (1, "no impacts")
+    } else {
+        match period {
+            1 => (2, "period 1"),
+            2 => (3, "period 2"),
+            3 => (4, "period 3"),
+            _ => (5, "period 4 to 8"),
+        }
+    }
+}
+
+const CLASS_COLOURS: [RGBColor; 6] = [
+    RGBColor(255, 127, 14),
+    RGBColor(120, 120, 120),
+    RGBColor(31, 119, 180),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+impl Chart for Basins<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let st = self.0;
+        let (title, rest) = root.split_vertically(40);
+        title
+            .titled(
+                &format!("Basin shares of the steady states{}", st.title_at),
+                TITLE,
+            )
+            .map_err(err)?;
+        let names = [
+            "not periodic",
+            "no impacts",
+            "period 1",
+            "period 2",
+            "period 3",
+            "period 4 to 8",
+        ];
+        let items: Vec<(Key, String)> = names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (Key::Swatch(CLASS_COLOURS[i].to_rgba()), n.to_string()))
+            .collect();
+        let plot = legend(&rest, &items)?;
+        let (x0, x1) = st.x_range();
+        let n = st.curve.points.len().max(2) as f64;
+        let w = (x1 - x0) / n * 0.4;
+        let mut chart = ChartBuilder::on(&plot)
+            .margin(12)
+            .margin_top(4)
+            .x_label_area_size(48)
+            .y_label_area_size(80)
+            .build_cartesian_2d(x0 - w..x1 + w, 0.0..1.0)
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("frequency ratio r = omega / sqrt(K/M) (–)")
+            .y_desc("share of the starts")
+            .label_style(SMALL)
+            .axis_desc_style(LABEL)
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(err)?;
+        // Stacked bars: per frequency, the classes in order.
+        let mut bars = Vec::new();
+        let mut i = 0;
+        let att = &st.r.attractors;
+        while i < att.len() {
+            let point = att[i].point;
+            let mut shares = [0.0; 6];
+            let r = att[i].r;
+            while i < att.len() && att[i].point == point {
+                let (c, _) = class_of(att[i].kind, att[i].period, att[i].impacts_per_period);
+                shares[c] += att[i].basin_share;
+                i += 1;
+            }
+            let mut y = 0.0;
+            for (c, sh) in shares.iter().enumerate() {
+                if *sh > 0.0 {
+                    bars.push(Rectangle::new(
+                        [(r - w, y), (r + w, y + sh)],
+                        CLASS_COLOURS[c].filled(),
+                    ));
+                    y += sh;
+                }
+            }
+        }
+        chart.draw_series(bars).map_err(err)?;
+        Ok(())
+    }
+}
+
+/// Draws `branches` and `basin_shares` for the design of `r` into `dir`; returns the files.
+pub fn charts(
+    s: &Summary,
+    f: &ForcedSummary,
+    r: &Response,
+    dir: &std::path::Path,
+) -> anyhow::Result<Vec<std::path::PathBuf>> {
+    let Some(curve) = f.curve(r.design) else {
+        return Ok(Vec::new());
+    };
+    let g = &s.grid;
+    let at = (0..g.n_axes())
+        .map(|a| super::plumbing::axis_value(g.key(a), g.value(r.design, a)))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let st = Steady {
+        r,
+        curve,
+        title_at: if at.is_empty() {
+            String::new()
+        } else {
+            format!(" at {at}")
+        },
+    };
+    let mut files = super::plumbing::render(
+        dir,
+        "branches",
+        SIZE,
+        &Branches(&st),
+        &super::Data::Table(st.data()),
+    )?;
+    files.extend(super::plumbing::render(
+        dir,
+        "basin_shares",
+        SIZE,
+        &Basins(&st),
+        &super::Data::Table(basin_data(r)),
+    )?);
+    Ok(files)
+}
+
+fn basin_data(r: &Response) -> Table {
+    let a = &r.attractors;
+    let mut t = Table::default();
+    t.push(
+        "point",
+        Column::U64(a.iter().map(|x| Some(x.point)).collect()),
+    );
+    t.push("r", Column::F64(a.iter().map(|x| x.r).collect()));
+    t.push(
+        "kind",
+        Column::Str(a.iter().map(|x| x.kind.to_string()).collect()),
+    );
+    t.push(
+        "period",
+        Column::U64(a.iter().map(|x| Some(u64::from(x.period))).collect()),
+    );
+    t.push(
+        "amplitude",
+        Column::F64(a.iter().map(|x| x.amplitude).collect()),
+    );
+    t.push(
+        "basin_share",
+        Column::F64(a.iter().map(|x| x.basin_share).collect()),
+    );
+    t
+}
