@@ -131,7 +131,8 @@ pub fn symmetric_period1(sys: &System, f0: f64, omega: f64) -> Vec<SymmetricOrbi
     // N = Phi + I; N (x_p, x_p') = N (X, V+) + (0, V- - V+), the right side affine in X.
     let (n11, n12, n21, n22) = (phi.xx + 1.0, phi.xv, phi.vx, phi.vv + 1.0);
     let det = n11 * n22 - n12 * n21;
-    if !(det.abs() >= SINGULAR) {
+    // NaN (a non-finite input) fails the test too.
+    if det.abs().is_nan() || det.abs() < SINGULAR {
         return Vec::new();
     }
     let rhs1 = [
@@ -157,7 +158,7 @@ pub fn symmetric_period1(sys: &System, f0: f64, omega: f64) -> Vec<SymmetricOrbi
     let cross = u0[0] * u1[1] - u0[1] * u1[0];
     // |u1|^2 (A^2 - delta^2), written without the cancellation of b^2 - 4 a c.
     let disc = (amp - cross.abs() / norm2.sqrt()) * (amp + cross.abs() / norm2.sqrt());
-    if !(disc >= 0.0) {
+    if disc.is_nan() || disc < 0.0 {
         return Vec::new();
     }
     let half = disc.sqrt() / norm2.sqrt();
