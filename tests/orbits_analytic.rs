@@ -365,3 +365,29 @@ fn elastic_undamped_orbits_take_no_work_from_the_force() {
     }
     assert!(checked >= 2, "only {checked} orbits");
 }
+
+/// Heavy damping: the closed form holds in every regime (the half-period map `Phi` is the
+/// critically or over-damped closed form), and the simulator agrees there too.
+#[test]
+fn critically_and_over_damped_orbits_agree_with_the_simulator() {
+    let crit = 2.0 * (400.0f64 * 0.1).sqrt();
+    for zeta in [0.5, 1.0, 2.0] {
+        let mut checked = 0;
+        for e in [0.5, 0.9] {
+            for d in [0.001, 0.005] {
+                for f0 in [1.0, 3.0] {
+                    let sys = system(0.005, d, e, zeta * crit);
+                    for r in [0.8, 1.3, 2.0] {
+                        let omega = r * sys.omega();
+                        for o in clear_orbits(&sys, f0, omega) {
+                            let what = format!("zeta={zeta} e={e} d={d} F0={f0} r={r}");
+                            check_one_period(&sys, f0, omega, &o, &what);
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked >= 5, "zeta={zeta}: only {checked} orbits");
+    }
+}
