@@ -10,6 +10,8 @@
 //! [`store::schema`] is the data contract (column names, units, version; `docs/schema.md`).
 //! [`app`] holds the commands (arguments in, library calls, printing out) and [`cli`] the
 //! argument parsing; [`numeric`] the one median, quantile and linspace.
+//! [`orbits`] holds steady states of the forced scene known in closed form (Masri and
+//! Caughey's symmetric orbit), against which the simulator is checked.
 //!
 //! A study states its scene (`sim::Scene`): the paper's free decay (`sim::Record`, the `points`
 //! table, the reducer's design points) or harmonic forcing to a steady state

@@ -1,8 +1,10 @@
 //! Steady states of the forced scene (pure; no I/O): the stroboscopic map with its exact
 //! Jacobian ([`map`]), periodic orbits by shooting with their Floquet multipliers ([`shoot`]),
 //! continuation along the frequency or the force ([`continuation`]) and the attractor census of
-//! one frequency point ([`census`]).
+//! one frequency point ([`census`]); Masri and Caughey's symmetric period-1 orbit in closed
+//! form ([`analytic`]), which the shooting is tested against.
 
+pub mod analytic;
 pub mod census;
 pub mod continuation;
 pub mod map;
