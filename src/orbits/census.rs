@@ -31,7 +31,7 @@
 
 use super::map::{Forcing, Section, eval};
 use super::shoot::{
-    Newton, Orbit, Stability, Termination, distance, non_impacting, orbit_at, solve,
+    Newton, Orbit, Stability, Termination, distance, non_impacting, orbit_at, same_orbit, solve,
 };
 use crate::sim::Outcome;
 use crate::sim::noise::mix64;
@@ -119,7 +119,7 @@ fn uniform(c: &CensusSettings, k: u32, j: u32) -> f64 {
 }
 
 /// Start `k >= 1` (module doc).
-fn start(f: &Forcing, c: &CensusSettings, k: u32, x_ref: f64) -> Section {
+pub fn start(f: &Forcing, c: &CensusSettings, k: u32, x_ref: f64) -> Section {
     let w = f.omega;
     let a = 2.0 * x_ref * uniform(c, k, 1).sqrt();
     let th = std::f64::consts::TAU * uniform(c, k, 2);
@@ -199,15 +199,7 @@ fn same(f: &Forcing, a: &Attractor, b: &Attractor) -> bool {
             if oa.impacts == 0 {
                 return true;
             }
-            let tol = 1e-6 * super::shoot::scale(f, &oa.s).max(a.amplitude);
-            let mut s = oa.s;
-            for _ in 0..oa.period {
-                if distance(f, &s, &ob.s) <= tol {
-                    return true;
-                }
-                s = eval(f, &s, 1, false).end;
-            }
-            false
+            same_orbit(f, &oa.s, &ob.s, u64::from(oa.period))
         }
         (Kind::NonPeriodic, Kind::NonPeriodic) => {
             let close = |x: f64, y: f64| (x - y).abs() <= 0.05 * x.abs().max(y.abs());

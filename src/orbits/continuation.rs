@@ -104,11 +104,11 @@ impl End {
 
 /// One point of a branch.
 #[derive(Clone, Debug, PartialEq)]
+#[allow(non_snake_case)]
 pub struct BranchPoint {
     /// The system at this point (its `omega`, `F0`).
     pub r: f64,
     pub omega: f64,
-    #[allow(non_snake_case)]
     pub F0: f64,
     pub s: Section,
     pub period: u32,

@@ -13,7 +13,7 @@
 use super::census::{Census, CensusSettings, Kind, census};
 use super::continuation::{Branch, ContSettings, Label, Param, follow};
 use super::map::{Forcing, Section};
-use super::shoot::{Stability, non_impacting};
+use super::shoot::{Newton, Orbit, Stability, Termination, non_impacting, same_orbit, solve};
 
 /// Most branches followed per curve.
 pub const MAX_BRANCHES: usize = 8;
@@ -41,13 +41,13 @@ pub struct AttractorRow {
 
 /// One continuation point.
 #[derive(Clone, Debug, PartialEq)]
+#[allow(non_snake_case)]
 pub struct BranchRow {
     /// The design (a point of the design grid, without the frequency).
     pub design: u64,
     pub branch: u32,
     pub r: f64,
     pub omega: f64,
-    #[allow(non_snake_case)]
     pub F0: f64,
     pub amplitude: f64,
     pub period: u32,
@@ -122,10 +122,7 @@ pub fn analyse(
         if branches.len() >= MAX_BRANCHES {
             break;
         }
-        if branches
-            .iter()
-            .any(|b| covers(b, f.ratio(), orbit.period, orbit.impacts, orbit.amplitude))
-        {
+        if branches.iter().any(|b| covers(b, &f, &orbit)) {
             continue;
         }
         for b in follow(&f, &orbit, Param::Ratio, &cont) {
@@ -164,12 +161,15 @@ fn push_attractors(out: &mut Response, c: &Census, point: u64, f: &Forcing) {
     }
 }
 
-/// Whether branch `b` passes through an orbit of this period and impact count with this
-/// amplitude at `r` (linear interpolation between its points).
-pub fn covers(b: &Branch, r: f64, period: u32, impacts: u64, amplitude: f64) -> bool {
+/// Whether branch `b` passes through `orbit` (a fixed point at `f`): Newton at `f`'s frequency
+/// from the branch's section interpolated between the two points that bracket it converges to
+/// the same orbit ([`same_orbit`]).
+pub fn covers(b: &Branch, f: &Forcing, orbit: &Orbit) -> bool {
+    let r = f.ratio();
+    let p = u64::from(orbit.period);
     b.points.windows(2).any(|w| {
         let (a, c) = (&w[0], &w[1]);
-        if a.period != period || c.period != period || a.impacts != impacts {
+        if a.period != orbit.period || c.period != orbit.period || a.impacts != orbit.impacts {
             return false;
         }
         let (lo, hi) = if a.r <= c.r { (a, c) } else { (c, a) };
@@ -181,8 +181,11 @@ pub fn covers(b: &Branch, r: f64, period: u32, impacts: u64, amplitude: f64) -> 
         } else {
             0.0
         };
-        let amp = lo.amplitude + t * (hi.amplitude - lo.amplitude);
-        (amp - amplitude).abs() <= 1e-3 * amplitude.abs()
+        let s: Section = std::array::from_fn(|k| lo.s[k] + t * (hi.s[k] - lo.s[k]));
+        matches!(
+            solve(f, p, &s, &Newton::default()),
+            (Termination::Converged { .. }, Some(st)) if same_orbit(f, &st.s, &orbit.s, p)
+        )
     })
 }
 

@@ -8,7 +8,7 @@
 //! Distances are measured in the section norm
 //! `|ds| = sqrt(dx^2 + (dx'/wn)^2 + dz^2 + (dy'/wn)^2)`, `wn = sqrt(K/M)` (m). The iteration
 //! stops with a typed [`Termination`]: converged when the residual `|P^p(s) - s|` is at most
-//! [`Newton::tol`] times the orbit's scale `L = max(|x|, |x'|/omega, d/2)` (default `1e-10`:
+//! [`Newton::tol`] times the orbit's scale `L = max(|x|, |x'|/omega, d/1000)` (default `1e-10`:
 //! a few hundred times the simulator's event tolerance, `1e-12` of the period, so that rounding
 //! in the located impact times cannot stall it), after at most [`Newton::max_iter`] iterations.
 //!
@@ -145,9 +145,24 @@ pub fn distance(f: &Forcing, a: &Section, b: &Section) -> f64 {
     d.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
 
-/// The orbit's scale `L = max(|x|, |x'|/omega, d/2)` (m).
+/// The orbit's scale `L = max(|x|, |x'|/omega, d/1000)` (m): about its amplitude, floored so
+/// that a motion at rest still has a scale.
 pub fn scale(f: &Forcing, s: &Section) -> f64 {
-    s[0].abs().max(s[1].abs() / f.omega).max(f.half_gap())
+    s[0].abs().max(s[1].abs() / f.omega).max(1e-3 * f.sys.d)
+}
+
+/// Whether the sections `a` and `b` lie on the same period-`p` orbit at `f`: `b` within
+/// `1e-6` of the scale of one of the `p` sections of `a`'s orbit.
+pub fn same_orbit(f: &Forcing, a: &Section, b: &Section, p: u64) -> bool {
+    let tol = 1e-6 * scale(f, a);
+    let mut s = *a;
+    for _ in 0..p.max(1) {
+        if distance(f, &s, b) <= tol {
+            return true;
+        }
+        s = eval(f, &s, 1, false).end;
+    }
+    false
 }
 
 /// One Newton step from `state` (which holds the map at `state.s`). `Err` ends the search.

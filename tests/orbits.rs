@@ -1,0 +1,241 @@
+//! Issue 16: steady states as periodic orbits. Shooting against Masri and Caughey's closed form,
+//! every periodic steady state that brute-force transient runs reach is in the census and on a
+//! stable branch, and a design with a hysteresis loop.
+
+use impactsweep::model::System;
+use impactsweep::orbits::analytic::symmetric_period1;
+use impactsweep::orbits::census::{CensusSettings, Kind, census, start};
+use impactsweep::orbits::map::{Forcing, Section};
+use impactsweep::orbits::response::analyse;
+use impactsweep::orbits::shoot::{Newton, Stability, Termination, orbit_at, solve};
+use impactsweep::sim::{
+    Drive, Harmonic, NoProbe, Outcome, Request, SolverSettings, simulate_harmonic,
+};
+
+fn forcing(m: f64, d: f64, e: f64, c: f64, f0: f64, r: f64) -> Forcing {
+    let sys = System {
+        m,
+        d,
+        e,
+        C: c,
+        x0: 0.0,
+        v0: 0.0,
+        ..System::TABLE_I
+    };
+    Forcing {
+        omega: r * sys.omega(),
+        sys,
+        F0: f0,
+        settings: SolverSettings::default(),
+    }
+}
+
+/// The steady state a long transient reaches from `s` (the sweep's default transient rule,
+/// converged to 1e-12 of its scale); `None` when it is not periodic.
+fn brute_force(f: &Forcing, s: &Section) -> Option<(u32, f64, Section)> {
+    let sys = System {
+        x0: s[0],
+        v0: s[1],
+        y0: s[0] + s[2],
+        w0: s[3],
+        ..f.sys
+    };
+    let scene = Harmonic {
+        F0: f.F0,
+        drive: Drive::Omega(f.omega),
+        n_trans_max: 20_000,
+        trans_tol: 1e-12,
+        n_meas: 48,
+        ..Harmonic::default()
+    };
+    let rec = simulate_harmonic(
+        &sys,
+        &f.settings,
+        &Request::default(),
+        &scene,
+        None,
+        &mut NoProbe,
+    );
+    (rec.outcome == Outcome::Ok && rec.period > 0 && rec.converged).then(|| {
+        let end = [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w];
+        (rec.period, rec.amplitude, end)
+    })
+}
+
+/// Shooting from the closed form's section converges to it, and the amplitudes agree to 1e-9
+/// relative, wherever the orbit exists and is admissible, over a grid of e, m, d, r.
+#[test]
+fn issue_16_shooting_agrees_with_masri_and_caughey() {
+    let mut checked = 0;
+    for e in [0.5, 0.8, 0.9] {
+        for m in [0.005, 0.02] {
+            for d in [0.005, 0.02] {
+                for r in [0.6, 0.8, 1.1, 1.3] {
+                    let f = forcing(m, d, e, 0.1, 0.3, r);
+                    for orb in symmetric_period1(&f.sys, f.F0, f.omega) {
+                        // Near-grazing roots have an ill-conditioned impact time.
+                        if !orb.admissible || 2.0 * orb.x_impact + d < 0.1 * d {
+                            continue;
+                        }
+                        // Start a little off the orbit: Newton must bring it back.
+                        let mut s = orb.section;
+                        s[0] += 1e-6 * d;
+                        let (term, st) = solve(&f, 1, &s, &Newton::default());
+                        assert!(
+                            matches!(term, Termination::Converged { .. }),
+                            "{e} {m} {d} {r}: {term:?}"
+                        );
+                        let st = st.unwrap();
+                        let o = orbit_at(&f, 1, &st, &Newton::default()).unwrap();
+                        assert_eq!(o.impacts, 2);
+                        let rel = (o.amplitude - orb.amplitude).abs() / orb.amplitude;
+                        assert!(
+                            rel < 1e-9,
+                            "{e} {m} {d} {r}: {} vs {} ({rel:e})",
+                            o.amplitude,
+                            orb.amplitude
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked >= 20, "only {checked} orbits checked");
+}
+
+/// Every periodic steady state that brute-force transient runs reach, from rest and from each
+/// census start, is an attractor of the census (amplitude to 1e-8 relative) and lies on a
+/// stable branch followed by continuation at that frequency. Designs with coexisting orbits
+/// (issue 16's table).
+#[test]
+fn issue_16_every_brute_force_steady_state_is_in_the_census_and_on_a_stable_branch() {
+    let designs = [
+        (0.005, 0.005, 0.9, 0.1, 0.1, [0.90, 1.10]),
+        (0.01, 0.01, 0.8, 0.3, 0.3, [0.90, 1.05]),
+    ];
+    let mut found = 0;
+    for (m, d, e, c, f0, rs) in designs {
+        for r in rs {
+            let f = forcing(m, d, e, c, f0, r);
+            let settings = CensusSettings {
+                starts: 8,
+                max_periods: 2000,
+                handover: 1e-3,
+                window: 200,
+                seed: 11,
+                point: 5,
+            };
+            let cen = census(&f, &[0.0; 4], &settings);
+            let grid = [(0, r - 0.02), (1, r), (2, r + 0.02)];
+            let resp = analyse(
+                &f,
+                0,
+                &[0.0; 4],
+                &grid,
+                &CensusSettings {
+                    point: 0,
+                    ..settings
+                },
+            );
+            let x_ref = f.half_gap().max(cen.attractors[0].amplitude);
+            let mut starts = vec![[0.0; 4]];
+            starts.extend((1..settings.starts).map(|k| start(&f, &settings, k, x_ref)));
+            for s in &starts {
+                let Some((_, amp, end)) = brute_force(&f, s) else {
+                    continue;
+                };
+                let hit = cen.attractors.iter().find(|a| {
+                    matches!(a.kind, Kind::Periodic(_)) && (a.amplitude - amp).abs() <= 1e-8 * amp
+                });
+                let a = hit.unwrap_or_else(|| {
+                    panic!("{m} {d} {e} r = {r}: {amp} not in {:?}", cen.attractors)
+                });
+                let Kind::Periodic(o) = &a.kind else {
+                    unreachable!()
+                };
+                if o.impacts == 0 {
+                    assert_eq!(o.stability, Stability::Neutral);
+                    continue;
+                }
+                assert_eq!(o.stability, Stability::Stable);
+                // On a stable branch of the curve's analysis at this frequency.
+                let rows = &resp.branches;
+                let on_branch = rows.windows(2).any(|w| {
+                    let (a, b) = (&w[0], &w[1]);
+                    // The orbit may sit next to a stability change (a PD between the two
+                    // rows): one of the bracketing rows is stable.
+                    a.branch == b.branch
+                        && (a.stable || b.stable)
+                        && a.period == o.period
+                        && (a.r - r) * (b.r - r) <= 0.0
+                        && {
+                            let t = if b.r != a.r {
+                                (r - a.r) / (b.r - a.r)
+                            } else {
+                                0.0
+                            };
+                            let amp_b = a.amplitude + t * (b.amplitude - a.amplitude);
+                            (amp_b - amp).abs() <= 1e-2 * amp
+                        }
+                });
+                assert!(on_branch, "{m} {d} {e} r = {r}: {amp} on no stable branch");
+                let _ = &end;
+                found += 1;
+            }
+        }
+    }
+    assert!(found >= 4, "only {found} impacting steady states checked");
+}
+
+/// A design with a hysteresis loop: continuation along r passes two folds (`SN`), and transient
+/// sweeps up and down in r, each frequency starting from the previous steady state, disagree
+/// inside the loop. (That each sweep point lies on a stable branch is not shown: a sweep can
+/// land on an orbit whose basin none of the census's 8 starts fell into.)
+#[test]
+fn issue_16_hysteresis_two_folds_and_the_sweeps_up_and_down() {
+    let base = forcing(0.005, 0.005, 0.9, 0.1, 0.1, 1.0);
+    let n = 21;
+    let freqs: Vec<(u64, f64)> = (0..n)
+        .map(|i| (i as u64, 0.8 + 0.3 * i as f64 / (n - 1) as f64))
+        .collect();
+    let settings = CensusSettings {
+        starts: 8,
+        max_periods: 2000,
+        handover: 1e-3,
+        window: 200,
+        seed: 3,
+        point: 0,
+    };
+    let resp = analyse(&base, 0, &[0.0; 4], &freqs, &settings);
+    let folds = resp.branches.iter().filter(|b| b.label == "SN").count();
+    assert!(folds >= 2, "{folds} folds");
+    // Sweeps by transient runs, each from the previous steady state.
+    let sweep = |rs: Vec<f64>| {
+        let mut s: Section = [0.0; 4];
+        let mut out = Vec::new();
+        for r in rs {
+            let f = base.at_ratio(r);
+            if let Some((p, amp, end)) = brute_force(&f, &s) {
+                out.push((r, p, amp));
+                s = end;
+            }
+        }
+        out
+    };
+    let rs: Vec<f64> = freqs.iter().map(|f| f.1).collect();
+    let up = sweep(rs.clone());
+    let down = sweep(rs.into_iter().rev().collect());
+    let mut differ = 0;
+    for &(r, _, a_up) in &up {
+        if let Some(&(_, _, a_down)) = down.iter().find(|x| x.0 == r)
+            && (a_up - a_down).abs() > 1e-3 * a_up
+        {
+            differ += 1;
+        }
+    }
+    assert!(
+        differ >= 1,
+        "the sweeps agree everywhere: no hysteresis seen"
+    );
+}
