@@ -13,15 +13,16 @@
 //!   `[-2 omega X, 2 omega X]`.
 //!
 //! # Each start
-//! The start is run period by period. After each period `k`, for every `p` in `1..=8` whose
-//! `p`-step difference `|S_k - S_{k-p}|` (the section norm of [`super::shoot::distance`]) is below
-//! [`CensusSettings::handover`] times the scale, Newton on `P^p` starts from `S_k` (each `p` at most
-//! once every `4 p` periods). A converged, stable, impacting orbit ends the start: the motion was
-//! already near it and stays near it. A start that has made no impact for 8 periods and whose
-//! inner mass is at rest relative to the cavity (`|y'| <= 1e-12 omega X`) has reached the
-//! non-impacting family. A start that reaches neither within [`CensusSettings::max_periods`] is
-//! measured over [`CensusSettings::window`] more periods: its amplitude is the largest `|x|` over
-//! that window, a lower bound of what the motion can reach (a longer window can only raise it).
+//! The start runs the sweep's transient rule (docs/scenes.md: the `p`-step differences of the
+//! section contract geometrically, `p` in `1..=8`), stopped as soon as the predicted distance
+//! to the periodic orbit is below `1e-3` [`CensusSettings::handover`] of the scale, then 16
+//! periods in which the sections repeating to the hand-over tolerance give the period `p`.
+//! Newton on `P^p` takes over from there; a converged, stable, impacting orbit ends the start.
+//! A start that made no impact in those 16 periods, with the inner mass at rest relative to the
+//! cavity (`|y'| <= 1e-12 omega X`), has reached the non-impacting family. A start that reaches
+//! neither within [`CensusSettings::max_periods`] is measured over [`CensusSettings::window`]
+//! more periods: its amplitude is the largest `|x|` over that window, a lower bound of what the
+//! motion can reach (a longer window can only raise it).
 //!
 //! # Merging
 //! Two periodic attractors are one when their periods agree and the section of one lies within
@@ -31,10 +32,11 @@
 
 use super::map::{Forcing, Section, eval};
 use super::shoot::{
-    Newton, Orbit, Stability, Termination, distance, non_impacting, orbit_at, same_orbit, solve,
+    Newton, Orbit, Stability, Termination, non_impacting, orbit_at, same_orbit, solve,
 };
 use crate::sim::Outcome;
 use crate::sim::noise::mix64;
+use crate::sim::{Drive, Harmonic, NoProbe, Request, simulate_harmonic};
 
 /// The census's settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -211,50 +213,49 @@ fn same(f: &Forcing, a: &Attractor, b: &Attractor) -> bool {
 
 /// Runs one start to its attractor; returns where it landed and the periods simulated.
 fn run_start(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) -> (Landing, u64) {
-    let mut periods = 0u64;
-    let mut history: Vec<Section> = vec![*s0];
-    let mut s = *s0;
-    let mut quiet = 0u32;
-    let mut next_try = [0u64; MAX_PERIOD + 1];
-    let x_scale = f.half_gap().max(s0[0].abs());
-    for k in 1..=c.max_periods {
-        let step = eval(f, &s, 1, false);
-        periods += 1;
-        if step.outcome != Outcome::Ok {
-            return (nan_landing(), periods);
+    // The sweep's own transient rule, stopped at the hand-over tolerance, then a short window
+    // that says which period the motion is approaching.
+    let scene = Harmonic {
+        F0: f.F0,
+        drive: Drive::Omega(f.omega),
+        n_trans: None,
+        n_trans_max: c.max_periods.max(1),
+        n_meas: 2 * MAX_PERIOD as u64,
+        trans_tol: c.handover * 1e-3,
+        period_tol: c.handover,
+        ..Harmonic::default()
+    };
+    let sys = f.started(s0);
+    let rec = simulate_harmonic(
+        &sys,
+        &f.settings,
+        &Request::default(),
+        &scene,
+        None,
+        &mut NoProbe,
+    );
+    let mut periods = rec.n_trans + rec.n_meas;
+    if rec.outcome != Outcome::Ok {
+        return (nan_landing(), periods);
+    }
+    let s = [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w];
+    let x_scale = f.half_gap().max(rec.amplitude);
+    if rec.impacts_per_period == 0.0 && s[3].abs() <= 1e-12 * f.omega * x_scale {
+        if let Some(o) = non_impacting(f, s[0] + s[2]) {
+            return (Landing::Orbit(o), periods);
         }
-        s = step.end;
-        quiet = if step.impacts == 0 { quiet + 1 } else { 0 };
-        if quiet >= 8 && s[3].abs() <= 1e-12 * f.omega * x_scale.max(step.amplitude) {
-            if let Some(o) = non_impacting(f, s[0] + s[2]) {
-                return (Landing::Orbit(o), periods);
-            }
+    }
+    if rec.converged && rec.period >= 1 {
+        let p = u64::from(rec.period);
+        let (term, state) = solve(f, p, &s, newton);
+        if let Some(st) = &state {
+            periods += u64::from(st.iterations + 1) * p;
         }
-        if history.len() > 3 * MAX_PERIOD {
-            history.remove(0);
-        }
-        history.push(s);
-        let l = super::shoot::scale(f, &s).max(step.amplitude);
-        for p in 1..=MAX_PERIOD {
-            if history.len() <= p || k < next_try[p] {
-                continue;
-            }
-            let prev = &history[history.len() - 1 - p];
-            if distance(f, &s, prev) > c.handover * l {
-                continue;
-            }
-            next_try[p] = k + 4 * p as u64;
-            let (term, state) = solve(f, p as u64, &s, newton);
-            if let Some(st) = &state {
-                periods += u64::from(st.iterations + 1) * p as u64;
-            }
-            if let (Termination::Converged { .. }, Some(st)) = (term, state)
-                && distance(f, &st.s, &s) <= 10.0 * c.handover * l
-                && let Some(o) = orbit_at(f, p as u64, &st, newton)
-                && o.stability == Stability::Stable
-            {
-                return (Landing::Orbit(o), periods);
-            }
+        if let (Termination::Converged { .. }, Some(st)) = (term, state)
+            && let Some(o) = orbit_at(f, p, &st, newton)
+            && o.stability == Stability::Stable
+        {
+            return (Landing::Orbit(o), periods);
         }
     }
     let w = eval(f, &s, c.window.max(1), false);

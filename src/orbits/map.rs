@@ -107,7 +107,7 @@ impl Forcing {
     }
 
     /// The system started in section state `s` (its `z` clamped into the clearance).
-    fn started(&self, s: &Section) -> System {
+    pub(crate) fn started(&self, s: &Section) -> System {
         let hd = self.half_gap();
         let z = s[2].clamp(-hd, hd);
         System {

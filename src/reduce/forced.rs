@@ -295,6 +295,8 @@ pub struct ForcedSummary {
     /// are per design and case).
     pub runs: u64,
     pub outcomes: [u64; 6],
+    /// Which steady state the design quantity is.
+    pub design_peak: DesignPeak,
 }
 
 impl ForcedSummary {
@@ -502,6 +504,7 @@ impl<'a> ForcedReducer<'a> {
                 curves: self.curves,
                 runs: self.runs,
                 outcomes: self.outcomes,
+                design_peak: self.peak,
             },
         )
     }

@@ -424,20 +424,6 @@ impl StoredRecord for ForcedRecord {
         cols.push(f64col(rows, |r| r.record.steady.rest_amplitude));
         cols.push(u32col(|s| s.rest_period));
         cols.push(u64col(rows, |r| r.record.steady.census_periods));
-        let u32col = |g: fn(&Steady) -> u32| -> ArrayRef {
-            Arc::new(UInt32Array::from_iter_values(
-                rows.iter().map(|r| g(&r.record.steady)),
-            ))
-        };
-        cols.push(u32col(|s| s.starts));
-        cols.push(u32col(|s| s.attractors));
-        cols.push(f64col(rows, |r| r.record.steady.amplitude_worst));
-        cols.push(u32col(|s| s.worst_period));
-        cols.push(f64col(rows, |r| r.record.steady.worst_impacts_per_period));
-        cols.push(f64col(rows, |r| r.record.steady.worst_basin_share));
-        cols.push(f64col(rows, |r| r.record.steady.rest_amplitude));
-        cols.push(u32col(|s| s.rest_period));
-        cols.push(u64col(rows, |r| r.record.steady.census_periods));
         Ok(cols)
     }
 

@@ -37,7 +37,7 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
     };
     let _ = writeln!(
         o,
-        "| rank | design | peak amplitude, ideal (cm) | at r | linear peak (cm) at r | PR, ideal | the damper helps for r in | periodic | not converged |\n|---|---|---|---|---|---|---|---|---|"
+        "| rank | design | peak amplitude, ideal (cm) | at r | carried by | from rest (cm) | linear peak (cm) at r | PR, ideal | the damper helps for r in | periodic | not converged |\n|---|---|---|---|---|---|---|---|---|---|---|"
     );
     let mut not_converged = 0usize;
     let mut not_periodic = 0usize;
@@ -70,13 +70,32 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
             ),
             None => "not at the linear peak".to_string(),
         };
+        let carried = c.peak_point().map_or(String::new(), |q| {
+            let what = if q.design_period == 0 {
+                "not periodic".to_string()
+            } else if q.design_impacts == 0.0 {
+                "no impacts".to_string()
+            } else {
+                format!(
+                    "period {}, {} impacts per period",
+                    q.design_period,
+                    f(q.design_impacts, 2)
+                )
+            };
+            if q.design_share.is_finite() {
+                format!("{what}, basin {} %", f(100.0 * q.design_share, 0))
+            } else {
+                what
+            }
+        });
         let _ = writeln!(
             o,
-            "| {} | {} | {}{mark} | {} | {} at {} | {} | {} | {} % | {} |",
+            "| {} | {} | {}{mark} | {} | {carried} | {} | {} at {} | {} | {} | {} % | {} |",
             p.rank.map(|r| r.to_string()).unwrap_or_default(),
             design_text(s, p.point),
             cm(peak),
             f(peak_r, 3),
+            cm(c.peak_from_rest().0),
             cm(lin),
             f(lin_r, 3),
             f(1.0 - peak / lin, 3),
@@ -102,7 +121,13 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
     }
     let _ = writeln!(
         o,
-        "\n**Reading the curves.** Each run starts from the study's initial state and runs to its own steady state, independent of its neighbours on the curve (no continuation along the frequency). Where several steady states coexist, which is common with impact dampers, neighbouring frequencies may settle on different ones: a curve can jump between branches, and a jump is a real steady state, not an error, but the other branch exists there too. A point is *periodic* when the motion repeats after 1 to 8 forcing periods; the others ({} of {} frequencies over the ideal curves) are quasi-periodic or chaotic, or their transient did not converge within `n_trans_max` ({} of them), and their amplitude is the largest of a wandering motion over the window. The band where the damper helps is the stretch around the linear system's resonance where `attenuation < 1`, its ends interpolated where the attenuation crosses 1; `≤` and \"band edge\" mean it still helps at the end of the swept band.\n",
+        "\n**The design peak.** {} Each run goes from the study's initial state to its steady state (*from rest* above), then an attractor census at the same frequency runs several starts, each to its attractor (periodic orbits solved exactly by shooting), and records the worst steady amplitude with its basin share (the share of the starts that reach it). *Carried by* names the steady state behind each design's peak. The census cannot promise a steady state whose basin none of its starts fell into; `branches.csv` and `attractors.csv` hold the periodic branches followed along r (stable and unstable, with folds SN, period doublings PD and grazings GR) and every attractor of every frequency of the ideal curves.\n\n**Reading the curves.** A point is *periodic* when the motion repeats after 1 to 8 forcing periods; the others ({} of {} frequencies over the ideal curves) are quasi-periodic or chaotic, or their transient did not converge within `n_trans_max` ({} of them), and their amplitude is the largest of a wandering motion over the window. The band where the damper helps is the stretch around the linear system's resonance where `attenuation < 1`, its ends interpolated where the attenuation crosses 1; `≤` and \"band edge\" mean it still helps at the end of the swept band.\n",
+        match fs.design_peak {
+            crate::sim::forced::DesignPeak::Worst =>
+                "The peak is the **worst steady state** found at each frequency (`[scene] design_peak = \"worst\"`): near resonance several steady states coexist, and the one reached from rest can be far below the worst.",
+            crate::sim::forced::DesignPeak::FromRest =>
+                "The peak is the steady state reached **from the initial state** (`[scene] design_peak = \"from_rest\"`); the worst steady state found may be higher (column `amplitude_worst` of the points).",
+        },
         thousands(not_periodic as u64),
         thousands(frequencies as u64),
         thousands(not_converged as u64)
