@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 use super::markdown::esc;
-use super::{CSS, META_RECOMMENDED, META_THUMBNAIL};
+use super::{CSS, META_BEST, META_RECOMMENDED, META_THUMBNAIL};
 use crate::report::markdown::thousands;
 
 /// Where a study's sweep stands.
@@ -85,7 +85,9 @@ pub fn duration(s: f64) -> String {
         return "–".into();
     }
     let t = s.round() as u64;
-    if s < 10.0 {
+    if s < 0.1 {
+        "< 0.1 s".into()
+    } else if s < 10.0 {
         format!("{s:.1} s")
     } else if t < 60 {
         format!("{t} s")
@@ -162,7 +164,10 @@ fn row(root: &Path, r: &Row) -> String {
         "<td>{}</td>",
         match (&recommended, &html) {
             (Some(v), _) => esc(v),
-            (None, Some(_)) => "no robust design (see the report)".to_string(),
+            (None, Some(h)) => match read_meta(h, META_BEST).filter(|b| !b.is_empty()) {
+                Some(b) => format!("none is robust; best ranked: {}", esc(&b)),
+                None => "none (see the report)".to_string(),
+            },
             (None, None) => "–".to_string(),
         }
     );

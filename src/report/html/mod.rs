@@ -39,6 +39,8 @@ const SCRIPT: &str = include_str!("page.js");
 /// `<meta>` names the index reads back from a report page.
 pub const META_RECOMMENDED: &str = "impactsweep-recommended";
 pub const META_THUMBNAIL: &str = "impactsweep-thumbnail";
+/// The best ranked design, for a study without a robust one.
+pub const META_BEST: &str = "impactsweep-best";
 
 /// The charts drawn here, by the file name of the plotters SVG they stand for.
 fn interactive(s: &Summary) -> Vec<(String, String)> {
@@ -157,6 +159,11 @@ pub fn report(md: &str, s: &Summary, charts: &[String], dir: &Path) -> anyhow::R
         .recommended
         .map(|p| crate::report::markdown::design_text(s, p))
         .unwrap_or_default();
+    let best = s
+        .anchor()
+        .filter(|_| s.recommended.is_none())
+        .map(|p| crate::report::markdown::design_text(s, p))
+        .unwrap_or_default();
     let thumbnail = charts
         .iter()
         .find(|c| c.starts_with("design_chart") && c.ends_with(".png"))
@@ -166,8 +173,9 @@ pub fn report(md: &str, s: &Summary, charts: &[String], dir: &Path) -> anyhow::R
     let mut o = String::new();
     let _ = write!(
         o,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<meta name=\"generator\" content=\"impactsweep\">\n<meta name=\"{META_RECOMMENDED}\" content=\"{}\">\n<meta name=\"{META_THUMBNAIL}\" content=\"{}\">\n<title>{}</title>\n<style>\n{CSS}</style>\n</head>\n<body>\n",
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<meta name=\"generator\" content=\"impactsweep\">\n<meta name=\"{META_RECOMMENDED}\" content=\"{}\">\n<meta name=\"{META_BEST}\" content=\"{}\">\n<meta name=\"{META_THUMBNAIL}\" content=\"{}\">\n<title>{}</title>\n<style>\n{CSS}</style>\n</head>\n<body>\n",
         esc(&recommended),
+        esc(&best),
         esc(&thumbnail),
         esc(title)
     );

@@ -21,7 +21,7 @@ const LEFT: f64 = 90.0;
 const RIGHT: f64 = 20.0;
 const PANEL: f64 = 150.0;
 const GAP: f64 = 34.0;
-const TOP: f64 = 16.0;
+const TOP: f64 = 22.0;
 
 /// What a jump is, for its hover text: `kink of xmax along e at 0.8099 ± 7.8e-5`.
 pub fn jump_text(s: &Summary, j: &Jump) -> String {
@@ -155,7 +155,7 @@ pub fn design_svg(pr: &Profile) -> String {
             "<line class=\"anchor-line\" x1=\"{xa:.2}\" y1=\"{TOP}\" x2=\"{xa:.2}\" y2=\"{:.2}\"/><text class=\"anchor-label\" x=\"{:.2}\" y=\"{:.2}\">{what}</text>",
             TOP + 3.0 * PANEL + 2.0 * GAP,
             xa + 4.0,
-            TOP + 12.0
+            TOP + 14.0
         );
     }
     o += &x_axis(pr, &x, TOP + 3.0 * PANEL + 2.0 * GAP);
@@ -224,22 +224,30 @@ fn point(s: &Summary, p: &PointStats, xc: f64, half: f64, pn: &[Panel; 3]) -> St
     o
 }
 
-/// A panel's frame, its label and the values at its bottom and top.
+/// A panel's frame, its label above it and the values at its bottom and top.
 fn frame(pn: &Panel, label: &str) -> String {
     format!(
-        "<rect class=\"frame\" x=\"{LEFT}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{PANEL}\"/><text class=\"panel-label\" x=\"{:.2}\" y=\"{:.2}\">{}</text><text class=\"tick\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text><text class=\"tick\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>\n",
+        "<rect class=\"frame\" x=\"{LEFT}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{PANEL}\"/><text class=\"panel-label\" x=\"{LEFT}\" y=\"{:.2}\">{}</text><text class=\"tick\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text><text class=\"tick\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>\n",
         pn.top,
         W - LEFT - RIGHT,
-        LEFT + 6.0,
-        pn.top + PANEL - 6.0,
+        pn.top - 6.0,
         esc(label),
         LEFT - 6.0,
         pn.top + 10.0,
-        fmt_num(pn.hi),
+        short(pn.hi),
         LEFT - 6.0,
         pn.top + PANEL,
-        fmt_num(pn.lo)
+        short(pn.lo)
     )
+}
+
+/// A tick value to four significant digits.
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return fmt_num(v);
+    }
+    let digits = (3 - v.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    fmt_num(format!("{v:.digits$}").parse().unwrap_or(v))
 }
 
 /// The swept axis: ticks at about ten of its values and its description.
@@ -288,4 +296,17 @@ pub fn caption(pr: &Profile) -> String {
         );
     }
     c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short;
+
+    #[test]
+    fn ticks_to_four_significant_digits() {
+        assert_eq!(short(0.820812), "0.8208");
+        assert_eq!(short(-0.022888), "-0.02289");
+        assert_eq!(short(1234.56), "1235");
+        assert_eq!(short(0.0), "0");
+    }
 }
