@@ -210,7 +210,7 @@ impl Reductions {
         };
         match crate::app::reduce::reduce_dir(&args) {
             Ok((line, _)) => eprintln!(
-                "{}: {line}; report {}",
+                "{}: {line}; report {} (and report.html)",
                 study.name,
                 dir.join("report.md").display()
             ),

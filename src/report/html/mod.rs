@@ -42,6 +42,14 @@ pub const META_THUMBNAIL: &str = "impactsweep-thumbnail";
 /// The best ranked design, for a study without a robust one.
 pub const META_BEST: &str = "impactsweep-best";
 
+/// Above this many cells a map is not drawn one element per cell (the page would weigh about
+/// a kilobyte per cell): the plotters SVG stands in for it.
+pub const MAX_CELLS: usize = 20_000;
+/// Above this many points along its axis a design chart is the plotters SVG too.
+pub const MAX_PROFILE: usize = 5_000;
+/// A plotters SVG larger than this (bytes) is not inlined; the page names the file instead.
+pub const MAX_INLINE: u64 = 8_000_000;
+
 /// The charts drawn here, by the file name of the plotters SVG they stand for.
 fn interactive(s: &Summary) -> Vec<(String, String)> {
     let g = &s.grid;
@@ -116,9 +124,20 @@ fn interactive(s: &Summary) -> Vec<(String, String)> {
     out
 }
 
-/// A plotters SVG of the run directory, inlined (without an XML declaration).
+/// A plotters SVG of the run directory, inlined (without an XML declaration); a note naming
+/// the file when it is larger than [`MAX_INLINE`].
 fn inline_svg(dir: &Path, file: &str) -> anyhow::Result<String> {
     let path = dir.join(file);
+    let size = std::fs::metadata(&path)
+        .with_context(|| format!("reading {}", path.display()))?
+        .len();
+    if size > MAX_INLINE {
+        return Ok(format!(
+            "<p class=\"too-large\">This chart's SVG is {} MB, too large to inline: open <code>{}</code> or its PNG in the run directory.</p>",
+            size / 1_000_000,
+            esc(file)
+        ));
+    }
     let text =
         std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
     let start = text.find("<svg").unwrap_or(0);
