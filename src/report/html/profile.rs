@@ -63,37 +63,7 @@ pub fn design_svg(pr: &Profile) -> String {
     };
     let (x0, x1) = (edges[0], edges[edges.len() - 1]);
     let x = |v: f64| LEFT + (W - LEFT - RIGHT) * (v - x0) / (x1 - x0).max(1e-300);
-    let r = &s.options.response;
-    let (rlo, rhi) = minmax(
-        pr.points
-            .iter()
-            .flat_map(|p| [p.reliability_lo, p.reliability_hi, p.reliability])
-            .chain(std::iter::once(s.r_min).filter(|_| s.r_min.is_finite())),
-    );
-    let (rlo, rhi) = pad(rlo, rhi, 0.06);
-    let (dlo, dhi) = pad_of(pr.points.iter().map(|p| p.di));
-    let (slo, shi) = pad_of(
-        pr.points
-            .iter()
-            .flat_map(|p| [p.response.min, p.response.max]),
-    );
-    let panels = [
-        Panel {
-            top: TOP,
-            lo: rlo,
-            hi: rhi,
-        },
-        Panel {
-            top: TOP + PANEL + GAP,
-            lo: dlo,
-            hi: dhi,
-        },
-        Panel {
-            top: TOP + 2.0 * (PANEL + GAP),
-            lo: slo,
-            hi: shi,
-        },
-    ];
+    let panels = panels(pr);
     let mut o = format!(
         "<svg class=\"profile\" data-axes=\"{}\" data-points=\"{n}\" viewBox=\"0 0 {W} {h}\" width=\"{W}\" height=\"{h}\" xmlns=\"http://www.w3.org/2000/svg\" role=\"img\">\n",
         axis_column(pr.key())
@@ -109,6 +79,7 @@ pub fn design_svg(pr: &Profile) -> String {
             hex(zone_color(s, p.zone))
         );
     }
+    let r = &s.options.response;
     let labels = [
         format!("R and its {} % interval", fmt_num(100.0 * s.confidence)),
         s.options.damping.label(),
@@ -117,7 +88,7 @@ pub fn design_svg(pr: &Profile) -> String {
     for (pn, label) in panels.iter().zip(&labels) {
         o += &frame(pn, label);
     }
-    if s.r_min.is_finite() && s.r_min >= rlo && s.r_min <= rhi {
+    if s.r_min.is_finite() && s.r_min >= panels[0].lo && s.r_min <= panels[0].hi {
         let y = panels[0].y(s.r_min);
         let _ = writeln!(
             o,
@@ -131,12 +102,57 @@ pub fn design_svg(pr: &Profile) -> String {
         let half = ((x(edges[i + 1]) - x(edges[i])) * 0.3).clamp(1.0, 8.0);
         o += &point(s, p, xc, half, &panels);
     }
+    o += &marks(pr, &x);
+    o += &x_axis(pr, &x, TOP + 3.0 * PANEL + 2.0 * GAP);
+    o.push_str("</svg>\n");
+    o
+}
+
+/// The three panels' ranges: R with its interval (and `r_min`), the damping quantity, the
+/// response over the cases.
+fn panels(pr: &Profile) -> [Panel; 3] {
+    let (rlo, rhi) = minmax(
+        pr.points
+            .iter()
+            .flat_map(|p| [p.reliability_lo, p.reliability_hi, p.reliability])
+            .chain(std::iter::once(pr.s.r_min).filter(|v| v.is_finite())),
+    );
+    let (rlo, rhi) = pad(rlo, rhi, 0.06);
+    let (dlo, dhi) = pad_of(pr.points.iter().map(|p| p.di));
+    let (slo, shi) = pad_of(
+        pr.points
+            .iter()
+            .flat_map(|p| [p.response.min, p.response.max]),
+    );
+    [
+        Panel {
+            top: TOP,
+            lo: rlo,
+            hi: rhi,
+        },
+        Panel {
+            top: TOP + PANEL + GAP,
+            lo: dlo,
+            hi: dhi,
+        },
+        Panel {
+            top: TOP + 2.0 * (PANEL + GAP),
+            lo: slo,
+            hi: shi,
+        },
+    ]
+}
+
+/// The jumps located on the line (dashed, with their hover text) and the anchor design.
+fn marks(pr: &Profile, x: &dyn Fn(f64) -> f64) -> String {
+    let s = pr.s;
+    let bottom = TOP + 3.0 * PANEL + 2.0 * GAP;
+    let mut o = String::new();
     for j in &pr.jumps {
         let xj = x(j.location);
         let _ = writeln!(
             o,
-            "<line class=\"jump\" x1=\"{xj:.2}\" y1=\"{TOP}\" x2=\"{xj:.2}\" y2=\"{:.2}\"><title>{}</title></line>",
-            TOP + 3.0 * PANEL + 2.0 * GAP,
+            "<line class=\"jump\" x1=\"{xj:.2}\" y1=\"{TOP}\" x2=\"{xj:.2}\" y2=\"{bottom:.2}\"><title>{}</title></line>",
             esc(&jump_text(s, j))
         );
     }
@@ -152,14 +168,11 @@ pub fn design_svg(pr: &Profile) -> String {
         };
         let _ = writeln!(
             o,
-            "<line class=\"anchor-line\" x1=\"{xa:.2}\" y1=\"{TOP}\" x2=\"{xa:.2}\" y2=\"{:.2}\"/><text class=\"anchor-label\" x=\"{:.2}\" y=\"{:.2}\">{what}</text>",
-            TOP + 3.0 * PANEL + 2.0 * GAP,
+            "<line class=\"anchor-line\" x1=\"{xa:.2}\" y1=\"{TOP}\" x2=\"{xa:.2}\" y2=\"{bottom:.2}\"/><text class=\"anchor-label\" x=\"{:.2}\" y=\"{:.2}\">{what}</text>",
             xa + 4.0,
             TOP + 14.0
         );
     }
-    o += &x_axis(pr, &x, TOP + 3.0 * PANEL + 2.0 * GAP);
-    o.push_str("</svg>\n");
     o
 }
 
