@@ -299,6 +299,23 @@ fn issue_18_queue_and_status_write_the_index() {
     let index = std::fs::read_to_string(out.join("index.html")).unwrap();
     assert_eq!(index.matches("<tr data-study=").count(), 3);
     assert!(index.contains("complete, 48 runs, not reduced"), "{index}");
+    assert_eq!(index.matches("class=\"state-complete\"").count(), 3);
+    // A damaged part: the index says so (and still links the report it has).
+    let part = out.join("a/points/part-000000.parquet");
+    let bytes = std::fs::read(&part).unwrap();
+    std::fs::write(&part, &bytes[..bytes.len() / 2]).unwrap();
+    bin()
+        .arg("status")
+        .arg(&out)
+        .arg("--html")
+        .assert()
+        .success();
+    let index = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(
+        index.contains("<td class=\"state-damaged\">1 of 3 chunks damaged"),
+        "{index}"
+    );
+    assert!(index.contains("<a href=\"a/report.html\">"));
     // On a run directory, --html says what it takes.
     bin()
         .arg("status")
