@@ -296,7 +296,6 @@ def check_root(drv, root, screenshot=None, shot_study=None):
         if el:
             fig = el[0].find_element(By.XPATH, "ancestor::figure")
             drv.execute_script("arguments[0].scrollIntoView({block: 'start'})", fig)
-            drv.execute_script("window.scrollBy(0, -60)")
             ActionChains(drv).move_to_element(el[0]).perform()
         drv.save_screenshot(str(screenshot))
         done["screenshot"] = str(screenshot)
