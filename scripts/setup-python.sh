@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Creates .venv with the pinned Python packages the tests and scripts use (PyPI only):
-# pyarrow, DuckDB and polars read our Parquet in the interop tests; SciPy is the speed peer.
+# pyarrow, DuckDB and polars read our Parquet in the interop tests; SciPy is the speed peer;
+# Selenium drives the system Chromium (chromium-driver) in the browser test of the HTML pages.
 # Idempotent: a venv that already has the pins is left alone.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-pins=(pyarrow==26.0.1 duckdb==2.0.0 polars==2.1.0 numpy==2.4.6 scipy==1.17.1)
+pins=(pyarrow==26.0.1 duckdb==2.0.0 polars==2.1.0 numpy==2.4.6 scipy==1.17.1 selenium==4.51.0)
 stamp=.venv/.pins
 if [ -x .venv/bin/python ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "${pins[*]}" ]; then
   exit 0

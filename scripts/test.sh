@@ -1,9 +1,22 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: installs what the tests need (pinned Python packages
-# for the interop tests), checks formatting and lints, then runs every test.
+# for the interop and browser tests, Debian's chromium + chromium-driver for the browser test),
+# checks formatting and lints, then runs every test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup-python.sh
+# The browser test of the HTML pages (tests/html.rs) drives the system Chromium. Installed as
+# root with apt-get when missing; elsewhere that test says loudly that it skipped.
+if ! { command -v chromium >/dev/null && command -v chromedriver >/dev/null; }; then
+  if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
+    echo "test.sh: installing chromium and chromium-driver with apt-get" >&2
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get -o DPkg::Lock::Timeout=300 update -qq >&2
+    apt-get -o DPkg::Lock::Timeout=300 install -y -qq --no-install-recommends chromium chromium-driver >/dev/null
+  else
+    echo "test.sh: WARNING: chromium/chromium-driver missing and not installable here (not root or no apt-get): the browser test will skip" >&2
+  fi
+fi
 export IMPACTSWEEP_PYTHON="$PWD/.venv/bin/python"
 cargo fmt --check
 cargo clippy --all-targets -- -D warnings

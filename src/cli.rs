@@ -143,6 +143,10 @@ pub struct StatusCmd {
     /// A run directory (OUT/<study name>), or an output root: every study in it with its state
     /// and its report.
     pub dir: PathBuf,
+    /// For an output root, also write DIR/index.html: one row per study with its state, runs,
+    /// wall time, recommended design, design chart and a link to its report.html.
+    #[arg(long)]
+    pub html: bool,
 }
 
 #[derive(Args, Debug)]
@@ -304,7 +308,10 @@ pub fn main() -> anyhow::Result<()> {
             quiet: c.quiet,
             reduce: c.reduce,
         }),
-        Command::Status(c) => app::sweep::status(&app::sweep::StatusArgs { dir: c.dir }),
+        Command::Status(c) => app::sweep::status(&app::sweep::StatusArgs {
+            dir: c.dir,
+            html: c.html,
+        }),
         Command::Reduce(c) => app::reduce::reduce(&app::reduce::ReduceArgs {
             dir: c.dir,
             paper_safety: c.paper_safety,

@@ -5,7 +5,8 @@
 //! a chunk plus a fixed size per design point), converting the store's rows to the reducer's
 //! own ([`run_of`]), then writes into the run directory: `summary`, `zones`, `jumps` and
 //! `sensitivity` as Parquet and CSV (columns in `docs/schema.md`), `report.md` and the charts
-//! (SVG and PNG, each with its data as CSV). A dataset of another schema version is refused with
+//! (SVG and PNG, each with its data as CSV), and `report.html`, the report as one
+//! self-contained page with the charts inlined (docs/reduce.md). A dataset of another schema version is refused with
 //! what to do; the run's size guard is not applied again.
 
 use std::path::{Path, PathBuf};
@@ -14,7 +15,7 @@ use anyhow::Context;
 
 use crate::app::simulate::{Setup, trace};
 use crate::reduce::{self, Options, Summary, forced, table};
-use crate::report::{charts, markdown};
+use crate::report::{charts, html, markdown};
 use crate::sim::{ForcedRecord, Scene};
 use crate::store::{self, TableKind};
 use crate::study::{DiSource, LoadOptions, SafetyForm, Study};
@@ -238,12 +239,10 @@ pub fn write_outputs_with(
     let scene = forced
         .map(|fs| markdown::forced::section(summary, fs))
         .unwrap_or_default();
-    std::fs::write(
-        &p,
-        markdown::report_with(study, summary, &names, audit, &scene),
-    )
-    .with_context(|| format!("writing {}", p.display()))?;
+    let md = markdown::report_with(study, summary, &names, audit, &scene);
+    std::fs::write(&p, &md).with_context(|| format!("writing {}", p.display()))?;
     files.push(p);
+    files.push(html::write_report(&md, summary, &names, dir)?);
     Ok(files)
 }
 

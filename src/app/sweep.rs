@@ -1,12 +1,14 @@
 //! `plan`, `run`, `queue` and `status`: the sweep engine's commands (issue 3). With `--reduce`,
-//! `run` and `queue` reduce each study once its sweep is complete (issue 10); `status` on an
-//! output root lists every study with its state and report.
+//! `run` and `queue` reduce each study once its sweep is complete (issue 10) and rewrite the
+//! output root's `index.html` after each study (issue 18); `status` on an output root lists
+//! every study with its state and report, and writes `index.html` with `--html`.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
 use crate::error::InputError;
+use crate::report::html::index;
 use crate::study::{LoadOptions, Study};
 use crate::sweep::{self, SweepOptions};
 
@@ -48,10 +50,12 @@ pub struct QueueArgs {
     pub reduce: bool,
 }
 
-/// `impactsweep status RUN_DIR`.
+/// `impactsweep status RUN_DIR [--html]`.
 #[derive(Clone, Debug, Default)]
 pub struct StatusArgs {
     pub dir: PathBuf,
+    /// For an output root, also write `DIR/index.html`.
+    pub html: bool,
 }
 
 pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
@@ -109,6 +113,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         }
         if args.reduce {
             reductions.reduce_if_complete(study, &sweep::run_dir(&args.out, study));
+            refresh_index(&args.out);
         }
     }
     reductions.result()
@@ -149,6 +154,9 @@ pub fn queue(args: &QueueArgs) -> anyhow::Result<()> {
             if args.reduce && report_state(&dir) != ReportState::Current {
                 reductions.reduce_if_complete(&study, &dir);
             }
+            if args.reduce {
+                refresh_index(&args.out);
+            }
             continue;
         }
         let opts = SweepOptions {
@@ -163,6 +171,7 @@ pub fn queue(args: &QueueArgs) -> anyhow::Result<()> {
         }
         if args.reduce {
             reductions.reduce_if_complete(&study, &dir);
+            refresh_index(&args.out);
         }
     }
     reductions.result()
@@ -201,7 +210,7 @@ impl Reductions {
         };
         match crate::app::reduce::reduce_dir(&args) {
             Ok((line, _)) => eprintln!(
-                "{}: {line}; report {}",
+                "{}: {line}; report {} (and report.html)",
                 study.name,
                 dir.join("report.md").display()
             ),
@@ -256,6 +265,18 @@ pub fn report_state(dir: &Path) -> ReportState {
 /// root every study in it with its state and its report.
 pub fn status(args: &StatusArgs) -> anyhow::Result<()> {
     if crate::store::manifest::manifest_path(&args.dir).exists() {
+        if args.html {
+            return Err(InputError::new(format!(
+                "{}: --html writes the page of an output root (OUT/index.html); this is a run directory: pass its parent, {}",
+                args.dir.display(),
+                args.dir
+                    .parent()
+                    .filter(|p| !p.as_os_str().is_empty())
+                    .unwrap_or(Path::new("."))
+                    .display()
+            ))
+            .into());
+        }
         let st = sweep::status(&args.dir)?;
         print!("{}", st.report(&args.dir));
         return match st.damage_error(&args.dir) {
@@ -263,11 +284,7 @@ pub fn status(args: &StatusArgs) -> anyhow::Result<()> {
             None => Ok(()),
         };
     }
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&args.dir)
-        .with_context(|| format!("listing {}", args.dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| crate::store::manifest::manifest_path(p).exists())
-        .collect();
+    let dirs = run_dirs(&args.dir)?;
     if dirs.is_empty() {
         return Err(InputError::new(format!(
             "{}: not a run directory (no manifest.json), nor an output root (no run directory in it)",
@@ -275,8 +292,10 @@ pub fn status(args: &StatusArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    dirs.sort();
     print!("{}", root_status(&args.dir, &dirs));
+    if args.html {
+        println!("wrote {}", write_index(&args.dir)?.display());
+    }
     Ok(())
 }
 
@@ -290,52 +309,133 @@ pub fn root_status(root: &Path, dirs: &[PathBuf]) -> String {
         if dirs.len() == 1 { "y" } else { "ies" }
     );
     for dir in dirs {
-        let name = dir
-            .file_name()
-            .map(|n| n.to_string_lossy().to_string())
-            .unwrap_or_default();
-        let state = match sweep::status(dir) {
-            Ok(st) => {
-                let running = st
-                    .locks
-                    .iter()
-                    .any(|(_, h)| h.as_ref().is_some_and(|h| !h.stale));
-                let m = &st.manifest;
-                let what = if !st.damaged.is_empty() {
-                    format!(
-                        "{} of {} chunks damaged (status {} says which and what to do)",
-                        st.damaged.len(),
-                        m.n_chunks,
-                        dir.display()
-                    )
-                } else if st.complete() {
-                    format!("complete, {} runs", st.runs_done)
-                } else {
-                    format!(
-                        "chunks {}/{} done, {} of {} runs",
-                        st.done.len(),
-                        m.n_chunks,
-                        st.runs_done,
-                        m.n_runs
-                    )
-                };
-                if running {
-                    format!("{what} (running)")
-                } else {
-                    what
-                }
-            }
-            Err(e) => format!("unreadable: {e:#}"),
-        };
-        let report = match report_state(dir) {
-            ReportState::Missing => "not reduced".to_string(),
-            ReportState::Stale => format!(
+        let row = study_row(dir);
+        let report = match row.report {
+            index::Report::NotReduced => "not reduced".to_string(),
+            index::Report::Stale => format!(
                 "{} (older than the data: reduce again)",
                 dir.join("report.md").display()
             ),
-            ReportState::Current => dir.join("report.md").display().to_string(),
+            index::Report::Current => dir.join("report.md").display().to_string(),
         };
-        let _ = writeln!(o, "{name}: {state}; report: {report}");
+        let _ = writeln!(o, "{}: {}; report: {report}", row.name, row.state_text);
     }
     o
+}
+
+/// What a run directory holds, as `status OUT` and `OUT/index.html` say it.
+pub fn study_row(dir: &Path) -> index::Row {
+    let name = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let report = match report_state(dir) {
+        ReportState::Missing => index::Report::NotReduced,
+        ReportState::Stale => index::Report::Stale,
+        ReportState::Current => index::Report::Current,
+    };
+    let st = match sweep::status(dir) {
+        Ok(st) => st,
+        Err(e) => {
+            return index::Row {
+                name,
+                state: index::State::Unreadable(format!("{e:#}")),
+                state_text: format!("unreadable: {e:#}"),
+                runs_done: 0,
+                n_runs: 0,
+                wall_s: None,
+                report,
+            };
+        }
+    };
+    let running = st
+        .locks
+        .iter()
+        .any(|(_, h)| h.as_ref().is_some_and(|h| !h.stale));
+    let m = &st.manifest;
+    let (state, what) = if !st.damaged.is_empty() {
+        (
+            index::State::Damaged,
+            format!(
+                "{} of {} chunks damaged (status {} says which and what to do)",
+                st.damaged.len(),
+                m.n_chunks,
+                dir.display()
+            ),
+        )
+    } else if st.complete() {
+        (
+            index::State::Complete,
+            format!("complete, {} runs", st.runs_done),
+        )
+    } else {
+        (
+            index::State::Partial,
+            format!(
+                "chunks {}/{} done, {} of {} runs",
+                st.done.len(),
+                m.n_chunks,
+                st.runs_done,
+                m.n_runs
+            ),
+        )
+    };
+    let (state, state_text) = if running {
+        let state = if state == index::State::Damaged {
+            state
+        } else {
+            index::State::Running
+        };
+        (state, format!("{what} (running)"))
+    } else {
+        (state, what)
+    };
+    index::Row {
+        name,
+        state,
+        state_text,
+        runs_done: st.runs_done,
+        n_runs: m.n_runs,
+        wall_s: wall_time(dir),
+        report,
+    }
+}
+
+/// From the study's start (`study.toml` is written once, when its directory is made) to its
+/// newest part file, by the files' modification times.
+fn wall_time(dir: &Path) -> Option<f64> {
+    let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+    let start = modified(&dir.join("study.toml"))?;
+    let end = crate::store::part_files(dir)
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|p| modified(p))
+        .max()?;
+    end.duration_since(start).ok().map(|d| d.as_secs_f64())
+}
+
+/// The run directories of an output root, in name order.
+fn run_dirs(root: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(root)
+        .with_context(|| format!("listing {}", root.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| crate::store::manifest::manifest_path(p).exists())
+        .collect();
+    dirs.sort();
+    Ok(dirs)
+}
+
+/// Writes `root/index.html`: one row per run directory in it.
+pub fn write_index(root: &Path) -> anyhow::Result<PathBuf> {
+    let rows: Vec<index::Row> = run_dirs(root)?.iter().map(|d| study_row(d)).collect();
+    index::write(root, &rows)
+}
+
+/// After a study of `run`/`queue --reduce`: the output root's page again. A failure to write
+/// it is reported and does not stop the queue.
+fn refresh_index(root: &Path) {
+    match write_index(root) {
+        Ok(p) => eprintln!("index: {}", p.display()),
+        Err(e) => eprintln!("warning: {}: index.html not written: {e:#}", root.display()),
+    }
 }

@@ -308,6 +308,14 @@ impl Summary {
             .or_else(|| self.points.first().map(|p| p.point))
     }
 
+    /// The point was merged into its zone from a smaller neighbouring region: its own class is
+    /// not its zone's ([`Zone::n_merged`] counts them).
+    pub fn merged(&self, p: &PointStats) -> bool {
+        self.zone_of(p)
+            .and_then(|z| z.class)
+            .is_some_and(|c| c != p.class)
+    }
+
     /// The name of a point's zone ("" when it has none).
     pub fn zone_name(&self, p: &PointStats) -> &str {
         self.zone_of(p).map_or("", |z| z.name.as_str())

@@ -216,6 +216,10 @@ pub fn zones_table(s: &Summary) -> Table {
         "n_points",
         Column::U64(z.iter().map(|x| Some(x.n_points as u64)).collect()),
     );
+    t.push(
+        "n_merged",
+        Column::U64(z.iter().map(|x| Some(x.n_merged as u64)).collect()),
+    );
     for a in 0..g.n_axes() {
         let c = axis_column(g.key(a));
         t.push(

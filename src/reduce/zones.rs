@@ -118,6 +118,10 @@ pub struct Zone {
     /// Per axis: the smallest and largest value of the zone's points.
     pub ranges: Vec<(f64, f64)>,
     pub n_points: usize,
+    /// Of those, the points merged in from a smaller neighbouring region: their own class
+    /// ([`PointStats::class`]) is not the zone's (issue 18: a "reliable" zone can hold points
+    /// whose own R interval reaches below `r_min`). 0 for declared zones.
+    pub n_merged: usize,
     /// The point with the highest perfectibility, and the one deepest inside the zone.
     pub best: Option<u64>,
     pub representative: Option<u64>,
@@ -451,11 +455,15 @@ fn describe(
             known.iter().map(|p| p.di).sum::<f64>() / nk,
         )
     };
+    let n_merged = class.map_or(0, |c| {
+        list.iter().filter(|&&i| points[i].class != c).count()
+    });
     Zone {
         name,
         class,
         ranges,
         n_points: list.len(),
+        n_merged,
         best,
         representative,
         mean_r,

@@ -1,10 +1,12 @@
-//! Report: markdown and charts (the only module that knows plotters).
+//! Report: markdown, HTML and charts (the only module that knows plotters).
 //!
-//! [`markdown`] writes `report.md` from a reduction, one function per section; [`charts`] the
-//! summary charts, the waveforms and the solver cost/error chart of `tradeoff`, each with its
-//! data beside it.
+//! [`markdown`] writes `report.md` from a reduction, one function per section; [`html`] the
+//! same report as one self-contained page, `report.html`, and an output root's `index.html`;
+//! [`charts`] the summary charts, the waveforms and the solver cost/error chart of `tradeoff`,
+//! each with its data beside it.
 
 pub mod charts;
+pub mod html;
 pub mod markdown;
 
 pub use charts::plumbing::axis_unit;

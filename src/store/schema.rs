@@ -271,7 +271,7 @@ fn summary_unit(column: &str) -> Option<&'static str> {
 fn zones_unit(column: &str) -> Option<&'static str> {
     Some(match column {
         "zone" | "label" | "declared" | "best_point" | "rep_point" => "",
-        "n_points" | "mean_reliability" => "1",
+        "n_points" | "n_merged" | "mean_reliability" => "1",
         "mean_di" => "m/s",
         "mean_peak_reduction" => "1",
         "perfectibility" => "%",

@@ -1,13 +1,14 @@
 //! Maps over a pair of axes, the other axes fixed at the recommended design's values (the slice
 //! is named under the title): perfectibility as a colour scale, or the zones coloured by class
-//! with their names. The recommended design is ringed.
+//! with their names, the points merged in from a smaller region hatched. The recommended design
+//! is ringed.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    Chart, LABEL, SMALL, TITLE, axis_desc, axis_value, cell_edges, class_color, err, heat, minmax,
-    zone_color,
+    Chart, GREY, LABEL, SMALL, TITLE, axis_desc, axis_value, cell_edges, class_color, err, heat,
+    minmax, zone_color,
 };
 use crate::reduce::{Class, PointStats, Summary};
 
@@ -131,6 +132,17 @@ impl Chart for MapChart<'_> {
             }))
             .map_err(err)?;
         if self.kind == MapKind::Zones {
+            // Merged-in points (their own class is not their zone's) hatched (issue 18).
+            let hatch = GREY.stroke_width(1);
+            chart
+                .draw_series(
+                    points
+                        .iter()
+                        .filter(|p| s.merged(p))
+                        .flat_map(|p| hatch_lines(cell(p)))
+                        .map(|l| PathElement::new(l, hatch)),
+                )
+                .map_err(err)?;
             self.zone_names(&mut chart, &points, &ea, &eb)?;
         }
         // The design the slice goes through.
@@ -220,7 +232,22 @@ impl MapChart<'_> {
     }
 }
 
-/// One swatch per class (or declared zone) present in the slice.
+/// Three diagonal strokes across a cell `[(x0, y0), (x1, y1)]`: the lines `v = u + t` of the
+/// unit cell for `t` in {-0.5, 0, 0.5}, clipped to it.
+fn hatch_lines(c: [(f64, f64); 2]) -> Vec<Vec<(f64, f64)>> {
+    let [(x0, y0), (x1, y1)] = c;
+    let at = |u: f64, v: f64| (x0 + u * (x1 - x0), y0 + v * (y1 - y0));
+    [-0.5, 0.0, 0.5]
+        .iter()
+        .map(|&t: &f64| {
+            let (u0, u1) = ((-t).max(0.0), (1.0 - t).min(1.0));
+            vec![at(u0, u0 + t), at(u1, u1 + t)]
+        })
+        .collect()
+}
+
+/// One swatch per class (or declared zone) present in the slice, and the hatch of merged-in
+/// points when there are some.
 fn class_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     s: &Summary,
@@ -249,6 +276,22 @@ where
             .map_err(err)?;
         area.draw(&Text::new(text.clone(), (22, y + 1), SMALL.into_font()))
             .map_err(err)?;
+    }
+    if points.iter().any(|p| s.merged(p)) {
+        let y = 10 + 26 * items.len() as i32;
+        area.draw(&Rectangle::new([(0, y), (16, y + 16)], WHITE.filled()))
+            .map_err(err)?;
+        for l in hatch_lines([(0.0, f64::from(y + 16)), (16.0, f64::from(y))]) {
+            let px: Vec<(i32, i32)> = l.iter().map(|&(x, y)| (x as i32, y as i32)).collect();
+            area.draw(&PathElement::new(px, GREY.stroke_width(1)))
+                .map_err(err)?;
+        }
+        area.draw(&Text::new(
+            "hatched: merged in".to_string(),
+            (22, y + 1),
+            SMALL.into_font(),
+        ))
+        .map_err(err)?;
     }
     Ok(())
 }

@@ -45,8 +45,8 @@ pub fn section(s: &Summary) -> String {
         shown.truncate(MAX_ROWS);
         shown.sort_unstable();
     }
-    let mut head = String::from("| zone | what it is | points |");
-    let mut rule = String::from("|---|---|---|");
+    let mut head = String::from("| zone | what it is | points | merged in |");
+    let mut rule = String::from("|---|---|---|---|");
     for (k, _) in &g.axes {
         let _ = write!(head, " {k} |");
         rule.push_str("---|");
@@ -80,10 +80,11 @@ pub fn section(s: &Summary) -> String {
             .unwrap_or_else(|| "–".into());
         let _ = writeln!(
             o,
-            "| {} | {} | {} |{ranges} {best} | {rep} | {} | {} | {} |",
+            "| {} | {} | {} | {} |{ranges} {best} | {rep} | {} | {} | {} |",
             z.name,
             z.label(),
             thousands(z.n_points as u64),
+            thousands(z.n_merged as u64),
             f(z.mean_r, 4),
             f(z.mean_di, 4),
             f(z.perfectibility, 1)
@@ -104,7 +105,7 @@ pub fn section(s: &Summary) -> String {
     }
     let _ = writeln!(
         o,
-        "\nThe ranges are the zone's bounding box; the best design has the highest perfectibility in the zone, the representative one lies deepest inside it (the most grid steps from its border and from the edge of the grid). Zone perfectibility is eq. 11 on the zone means, normalised by the best zone means (as the paper's Table III). A zone \"around a jump\" is not recommended whatever its R: there a small error in the design variable changes the behaviour abruptly (the paper's zone II).\n"
+        "\nMerged in: the zone's points that came from a smaller region merged into it; their own class is not the zone's (a point of a \"reliable\" zone merged in may not show R at or above r_min: its own class is in `summary.parquet`, column `class`). The ranges are the zone's bounding box; the best design has the highest perfectibility in the zone, the representative one lies deepest inside it (the most grid steps from its border and from the edge of the grid). Zone perfectibility is eq. 11 on the zone means, normalised by the best zone means (as the paper's Table III). A zone \"around a jump\" is not recommended whatever its R: there a small error in the design variable changes the behaviour abruptly (the paper's zone II).\n"
     );
     o
 }
