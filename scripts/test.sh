@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: installs what the tests need (pinned Python packages
-# for the interop tests), checks formatting and lints, then runs every test.
+# for the interop tests), checks formatting and lints, then runs every test: the Rust suite, then
+# the Python package (python/) built and installed into .venv the way a user does
+# (`pip install ./python`) and its pytest suite, compared against the binary just tested.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup-python.sh
@@ -8,3 +10,7 @@ export IMPACTSWEEP_PYTHON="$PWD/.venv/bin/python"
 cargo fmt --check
 cargo clippy --all-targets -- -D warnings
 cargo test --all-targets
+cargo fmt --check --manifest-path python/Cargo.toml
+cargo clippy --manifest-path python/Cargo.toml --all-targets -- -D warnings
+.venv/bin/pip install --quiet --disable-pip-version-check --no-build-isolation ./python
+IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" .venv/bin/python -m pytest python/tests -q
