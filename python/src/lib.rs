@@ -10,7 +10,8 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::sync::{Condvar, Mutex};
+use std::time::Duration;
 
 use arrow::pyarrow::ToPyArrow;
 use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
@@ -122,16 +123,26 @@ fn interruptible<T: Send>(
     on_interrupt: impl Fn(),
     f: impl FnOnce() -> T + Send,
 ) -> PyResult<T> {
+    let finished = (Mutex::new(false), Condvar::new());
+    let finished = &finished;
     std::thread::scope(|scope| {
-        let handle = scope.spawn(f);
+        let handle = scope.spawn(move || {
+            let out = f();
+            *finished.0.lock().unwrap_or_else(|e| e.into_inner()) = true;
+            finished.1.notify_all();
+            out
+        });
         loop {
-            py.detach(|| {
-                let t0 = Instant::now();
-                while !handle.is_finished() && t0.elapsed() < POLL * 5 {
-                    std::thread::sleep(POLL / 4);
-                }
+            // Wakes as soon as `f` is done, else every POLL to look for Ctrl-C.
+            let done = py.detach(|| {
+                let guard = finished.0.lock().unwrap_or_else(|e| e.into_inner());
+                let (guard, _) = finished
+                    .1
+                    .wait_timeout_while(guard, POLL, |done| !*done)
+                    .unwrap_or_else(|e| e.into_inner());
+                *guard
             });
-            if handle.is_finished() {
+            if done {
                 break;
             }
             if let Err(e) = py.check_signals() {
@@ -140,11 +151,15 @@ fn interruptible<T: Send>(
                 return Err(e);
             }
         }
-        handle
-            .join()
+        py.detach(|| handle.join())
             .map_err(|_| PyRuntimeError::new_err("a worker panicked (a bug: please report it)"))
     })
 }
+
+/// Batches of up to this many rows run on the calling thread (GIL released) without a watcher
+/// thread: a few milliseconds at most, and no thread to start for the one-point calls that
+/// FORM or an optimiser make.
+const INLINE_ROWS: usize = 64;
 
 /// One run per row: `names[j]` takes `columns[j][i]` in row `i`, over the setup of `sets`.
 /// Returns a pyarrow RecordBatch with the columns of the scene's points table.
@@ -180,32 +195,46 @@ fn simulate_batch<'py>(
         })?;
         setups.push(s);
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.unwrap_or(0))
-        .build()
-        .map_err(|e| PyRuntimeError::new_err(format!("starting the thread pool: {e}")))?;
-    let stop = AtomicBool::new(false);
+    // A pool of `threads`, else rayon's global pool (every core, started once per process).
+    let pool = match threads {
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| PyRuntimeError::new_err(format!("starting the thread pool: {e}")))?,
+        ),
+        None => None,
+    };
     let settings = base.solver;
     let batch = match base.scene {
         Scene::Free => {
-            let rows = interruptible(
-                py,
-                || stop.store(true, Ordering::SeqCst),
-                || pool.install(|| batch_rows::<Record>(&setups, &stop)),
-            )?;
+            let rows = run_rows::<Record>(py, pool.as_ref(), &setups)?;
             impactsweep::store::points::to_batch(&rows, &settings)
         }
         Scene::Harmonic(_) => {
-            let rows = interruptible(
-                py,
-                || stop.store(true, Ordering::SeqCst),
-                || pool.install(|| batch_rows::<ForcedRecord>(&setups, &stop)),
-            )?;
+            let rows = run_rows::<ForcedRecord>(py, pool.as_ref(), &setups)?;
             impactsweep::store::points::to_batch(&rows, &settings)
         }
     }
     .map_err(py_err)?;
     batch.to_pyarrow(py)
+}
+
+/// The rows of `setups` on `pool` (or the global one), stopped by Ctrl-C.
+fn run_rows<R: FromScene>(
+    py: Python<'_>,
+    pool: Option<&rayon::ThreadPool>,
+    setups: &[Setup],
+) -> PyResult<Vec<RunRow<R>>> {
+    let stop = AtomicBool::new(false);
+    let work = || match pool {
+        Some(p) => p.install(|| batch_rows::<R>(setups, &stop)),
+        None => batch_rows::<R>(setups, &stop),
+    };
+    if setups.len() <= INLINE_ROWS {
+        return Ok(py.detach(work));
+    }
+    interruptible(py, || stop.store(true, Ordering::SeqCst), work)
 }
 
 /// The input columns: known keys of the setup's scene, each once, each `n_rows` long.

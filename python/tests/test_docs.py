@@ -12,14 +12,19 @@ DOC = Path(__file__).resolve().parents[2] / "docs" / "python.md"
 
 
 def blocks():
-    text = DOC.read_text()
-    found = []
-    heading = "top"
-    for m in re.finditer(r"^(#{2,3} .*)$|^```python\n(.*?)^```", text, re.S | re.M):
-        if m.group(1):
-            heading = m.group(1).lstrip("# ").strip()
-        else:
-            found.append(pytest.param(m.group(2), id=f"{len(found)}-{re.sub(r'[^A-Za-z0-9]+', '-', heading)[:40]}"))
+    found, heading, code = [], "top", None
+    for number, line in enumerate(DOC.read_text().splitlines(keepends=True), start=1):
+        if code is not None:
+            if line.startswith("```"):
+                slug = re.sub(r"[^A-Za-z0-9]+", "-", heading)[:40].strip("-")
+                found.append(pytest.param("".join(code), id=f"{len(found)}-{slug}"))
+                code = None
+            else:
+                code.append(line)
+        elif line.startswith("```python"):
+            code = ["\n"] * number  # so that a traceback gives the line of docs/python.md
+        elif line.startswith("## "):
+            heading = line[3:].strip()
     return found
 
 
