@@ -179,22 +179,12 @@ fn simulate_batch<'py>(
     if threads == Some(0) {
         return Err(PyValueError::new_err("threads=0: must be at least 1"));
     }
-    // Every row's setup, validated before the first run.
-    let mut setups = Vec::with_capacity(n_rows);
-    for i in 0..n_rows {
-        let mut s = base.clone();
-        for (name, col) in names.iter().zip(&cols) {
-            let v = col[i];
-            if !s.system.set(name, v) {
-                s.scene.set(name, v);
-            }
-        }
-        s.validate().map_err(|e| {
-            let msg = e.0.strip_prefix("--set ").unwrap_or(&e.0).to_string();
-            PyValueError::new_err(format!("row {i}: {msg}"))
-        })?;
-        setups.push(s);
-    }
+    let inputs = Inputs {
+        base: &base,
+        names: &names,
+        cols: &cols,
+        n: n_rows,
+    };
     // A pool of `threads`, else rayon's global pool (every core, started once per process).
     let pool = match threads {
         Some(n) => Some(
@@ -208,11 +198,13 @@ fn simulate_batch<'py>(
     let settings = base.solver;
     let batch = match base.scene {
         Scene::Free => {
-            let rows = run_rows::<Record>(py, pool.as_ref(), &setups)?;
+            let rows =
+                run_rows::<Record>(py, pool.as_ref(), &inputs)?.map_err(PyValueError::new_err)?;
             impactsweep::store::points::to_batch(&rows, &settings)
         }
         Scene::Harmonic(_) => {
-            let rows = run_rows::<ForcedRecord>(py, pool.as_ref(), &setups)?;
+            let rows = run_rows::<ForcedRecord>(py, pool.as_ref(), &inputs)?
+                .map_err(PyValueError::new_err)?;
             impactsweep::store::points::to_batch(&rows, &settings)
         }
     }
@@ -220,18 +212,55 @@ fn simulate_batch<'py>(
     batch.to_pyarrow(py)
 }
 
-/// The rows of `setups` on `pool` (or the global one), stopped by Ctrl-C.
+/// The batch's rows: `base` with row `i` of the input columns.
+struct Inputs<'a> {
+    base: &'a Setup,
+    names: &'a [String],
+    cols: &'a [Vec<f64>],
+    n: usize,
+}
+
+impl Inputs<'_> {
+    /// The setup of row `i`, validated; the error names the row, the key, the value and what is
+    /// allowed.
+    fn row(&self, i: usize) -> Result<Setup, String> {
+        let mut s = self.base.clone();
+        for (name, col) in self.names.iter().zip(self.cols) {
+            let v = col[i];
+            if !s.system.set(name, v) {
+                s.scene.set(name, v);
+            }
+        }
+        s.validate().map_err(|e| {
+            let msg = e.0.strip_prefix("--set ").unwrap_or(&e.0);
+            format!("row {i}: {msg}")
+        })?;
+        Ok(s)
+    }
+}
+
+/// The rows of the batch on `pool` (or the global one), stopped by Ctrl-C: every row validated
+/// first (`Err`: the first bad row's message), then run.
 fn run_rows<R: FromScene>(
     py: Python<'_>,
     pool: Option<&rayon::ThreadPool>,
-    setups: &[Setup],
-) -> PyResult<Vec<RunRow<R>>> {
+    inputs: &Inputs<'_>,
+) -> PyResult<Result<Vec<RunRow<R>>, String>> {
     let stop = AtomicBool::new(false);
-    let work = || match pool {
-        Some(p) => p.install(|| batch_rows::<R>(setups, &stop)),
-        None => batch_rows::<R>(setups, &stop),
+    let all = || -> Result<Vec<RunRow<R>>, String> {
+        if let Some(msg) = (0..inputs.n)
+            .into_par_iter()
+            .find_map_first(|i| inputs.row(i).err())
+        {
+            return Err(msg);
+        }
+        Ok(batch_rows::<R>(inputs, &stop))
     };
-    if setups.len() <= INLINE_ROWS {
+    let work = || match pool {
+        Some(p) => p.install(all),
+        None => all(),
+    };
+    if inputs.n <= INLINE_ROWS {
         return Ok(py.detach(work));
     }
     interruptible(py, || stop.store(true, Ordering::SeqCst), work)
@@ -302,14 +331,14 @@ impl FromScene for ForcedRecord {
 /// The rows of the batch, in input order, on the current rayon pool: row `i` is run `i` of a
 /// one-case, noise-free study (`point_id = point = i`, the ideal case). Once `stop` is set the
 /// remaining runs are skipped (the result is then discarded).
-fn batch_rows<R: FromScene>(setups: &[Setup], stop: &AtomicBool) -> Vec<RunRow<R>> {
-    setups
-        .par_iter()
-        .enumerate()
-        .filter_map(|(i, s)| {
+fn batch_rows<R: FromScene>(inputs: &Inputs<'_>, stop: &AtomicBool) -> Vec<RunRow<R>> {
+    (0..inputs.n)
+        .into_par_iter()
+        .filter_map(|i| {
             if stop.load(Ordering::Relaxed) {
                 return None;
             }
+            let s = inputs.row(i).ok()?;
             let rec = R::from_scene(s.run_scene(&mut NoProbe))?;
             Some(RunRow {
                 point_id: i as u64,
