@@ -119,7 +119,7 @@ def _columns(inputs: Any) -> Dict[str, np.ndarray]:
 
 
 def simulate_batch(
-    inputs: Any, *, threads: Optional[int] = None, scene: str = "free", **fixed: Any
+    inputs: Any, *, threads: Optional[int] = None, scene: str = "free", seed: int = 0, **fixed: Any
 ) -> pa.Table:
     """One run per row of ``inputs``, in parallel, as a pyarrow Table.
 
@@ -129,7 +129,8 @@ def simulate_batch(
     holds the keys shared by every row (as :func:`simulate` takes them).
 
     The result has the columns of the scene's points table (``docs/schema.md``): row ``i`` is
-    run ``i`` of a one-case noise-free study (``point_id = point = i``). The runs are spread over
+    run ``i`` of a one-case noise-free study with study seed ``seed`` (``point_id = point = i``),
+    simulated by the sweep engine's own per-run function. The runs are spread over
     ``threads`` threads (default: every core) with the GIL released; the result does not depend
     on the thread count. Every row is validated before the first run. Ctrl-C raises
     ``KeyboardInterrupt`` within a second.
@@ -140,7 +141,7 @@ def simulate_batch(
         raise ValueError(f"inputs: columns of different lengths {sorted(lengths)}")
     n = lengths.pop() if lengths else 1
     batch = _ext.simulate_batch(
-        _sets(fixed, scene), list(cols), [a.tobytes() for a in cols.values()], n, threads
+        _sets(fixed, scene), list(cols), [a.tobytes() for a in cols.values()], n, threads, int(seed)
     )
     return pa.Table.from_batches([batch])
 

@@ -22,13 +22,13 @@ use rayon::prelude::*;
 use impactsweep::app::simulate::{Setup, forced_json, record_json, trace_scene};
 use impactsweep::error::{InputError, Interrupted};
 use impactsweep::model::SYSTEM_KEYS;
-use impactsweep::plan::Plan;
+use impactsweep::plan::{Plan, RunSpec};
 use impactsweep::sim::{
     ForcedRecord, Harmonic, NoProbe, Record, Scene, SceneRecord, SolverSettings,
 };
 use impactsweep::store::RunRow;
 use impactsweep::study::{LoadOptions, Study};
-use impactsweep::sweep::{self, SweepOptions};
+use impactsweep::sweep::{self, SceneRun, SweepOptions};
 
 /// How often a long call looks for Ctrl-C.
 const POLL: Duration = Duration::from_millis(20);
@@ -164,7 +164,7 @@ const INLINE_ROWS: usize = 64;
 /// One run per row: `names[j]` takes `columns[j][i]` in row `i`, over the setup of `sets`.
 /// Returns a pyarrow RecordBatch with the columns of the scene's points table.
 #[pyfunction]
-#[pyo3(signature = (sets, names, columns, n_rows, threads=None))]
+#[pyo3(signature = (sets, names, columns, n_rows, threads=None, seed=0))]
 fn simulate_batch<'py>(
     py: Python<'py>,
     sets: Vec<String>,
@@ -172,8 +172,10 @@ fn simulate_batch<'py>(
     columns: Vec<Bound<'py, PyBytes>>,
     n_rows: usize,
     threads: Option<usize>,
+    seed: u64,
 ) -> PyResult<Bound<'py, PyAny>> {
     let base = setup(&sets)?;
+    let study = batch_study(&base, seed)?;
     let cols: Vec<Vec<f64>> = columns.iter().map(|b| f64s(b.as_bytes())).collect();
     check_columns(&base, &names, &cols, n_rows)?;
     if threads == Some(0) {
@@ -198,12 +200,12 @@ fn simulate_batch<'py>(
     let settings = base.solver;
     let batch = match base.scene {
         Scene::Free => {
-            let rows =
-                run_rows::<Record>(py, pool.as_ref(), &inputs)?.map_err(PyValueError::new_err)?;
+            let rows = run_rows::<Record>(py, pool.as_ref(), &inputs, &study)?
+                .map_err(PyValueError::new_err)?;
             impactsweep::store::points::to_batch(&rows, &settings)
         }
         Scene::Harmonic(_) => {
-            let rows = run_rows::<ForcedRecord>(py, pool.as_ref(), &inputs)?
+            let rows = run_rows::<ForcedRecord>(py, pool.as_ref(), &inputs, &study)?
                 .map_err(PyValueError::new_err)?;
             impactsweep::store::points::to_batch(&rows, &settings)
         }
@@ -241,10 +243,11 @@ impl Inputs<'_> {
 
 /// The rows of the batch on `pool` (or the global one), stopped by Ctrl-C: every row validated
 /// first (`Err`: the first bad row's message), then run.
-fn run_rows<R: FromScene>(
+fn run_rows<R: SceneRun>(
     py: Python<'_>,
     pool: Option<&rayon::ThreadPool>,
     inputs: &Inputs<'_>,
+    study: &Study,
 ) -> PyResult<Result<Vec<RunRow<R>>, String>> {
     let stop = AtomicBool::new(false);
     let all = || -> Result<Vec<RunRow<R>>, String> {
@@ -254,7 +257,7 @@ fn run_rows<R: FromScene>(
         {
             return Err(msg);
         }
-        Ok(batch_rows::<R>(inputs, &stop))
+        Ok(batch_rows::<R>(inputs, study, &stop))
     };
     let work = || match pool {
         Some(p) => p.install(all),
@@ -305,33 +308,31 @@ fn check_columns(base: &Setup, names: &[String], cols: &[Vec<f64>], n: usize) ->
     Ok(())
 }
 
-/// A record of either scene, taken out of a [`SceneRecord`].
-trait FromScene: impactsweep::store::StoredRecord + Send {
-    fn from_scene(rec: SceneRecord) -> Option<Self>;
+/// The one-case, noise-free study a batch's rows are the runs of: the base setup's solver,
+/// request and scene, the study seed `seed` (it seeds whatever a run draws from its study seed
+/// and design point), no axes. Row `i` is its design point `i`.
+fn batch_study(base: &Setup, seed: u64) -> PyResult<Study> {
+    let mut study =
+        Study::parse(Path::new("batch.toml"), "[study]\nname = \"batch\"\n").map_err(input_err)?;
+    study.seed = seed;
+    study.solver = base.solver;
+    study.request = base.request;
+    study.scene = base.scene;
+    study.system = base.system;
+    Ok(study)
 }
 
-impl FromScene for Record {
-    fn from_scene(rec: SceneRecord) -> Option<Self> {
-        match rec {
-            SceneRecord::Free(r) => Some(r),
-            SceneRecord::Harmonic(_) => None,
-        }
-    }
-}
-
-impl FromScene for ForcedRecord {
-    fn from_scene(rec: SceneRecord) -> Option<Self> {
-        match rec {
-            SceneRecord::Harmonic(r) => Some(r),
-            SceneRecord::Free(_) => None,
-        }
-    }
-}
-
-/// The rows of the batch, in input order, on the current rayon pool: row `i` is run `i` of a
-/// one-case, noise-free study (`point_id = point = i`, the ideal case). Once `stop` is set the
-/// remaining runs are skipped (the result is then discarded).
-fn batch_rows<R: FromScene>(inputs: &Inputs<'_>, stop: &AtomicBool) -> Vec<RunRow<R>> {
+/// The rows of the batch, in input order, on the current rayon pool: row `i` is simulated by
+/// the sweep engine's own per-run function ([`sweep::run_row`]) as run `i` of [`batch_study`]
+/// (`point_id = point = i`, the ideal case). Once `stop` is set the remaining runs are skipped
+/// (the result is then discarded).
+fn batch_rows<R: SceneRun>(
+    inputs: &Inputs<'_>,
+    study: &Study,
+    stop: &AtomicBool,
+) -> Vec<RunRow<R>> {
+    let plan = Plan::new(study);
+    let spec = study.cases[0];
     (0..inputs.n)
         .into_par_iter()
         .filter_map(|i| {
@@ -339,20 +340,15 @@ fn batch_rows<R: FromScene>(inputs: &Inputs<'_>, stop: &AtomicBool) -> Vec<RunRo
                 return None;
             }
             let s = inputs.row(i).ok()?;
-            let rec = R::from_scene(s.run_scene(&mut NoProbe))?;
-            Some(RunRow {
+            let run = RunSpec {
                 point_id: i as u64,
                 point: i as u64,
                 case: 0,
-                ideal: true,
-                dm: 0.0,
-                dd: 0.0,
-                noise_seed: None,
                 system: s.system,
-                solver: s.solver.kind.name().to_string(),
-                tol: s.solver.tol,
-                record: rec,
-            })
+                scene: s.scene,
+                spec,
+            };
+            Some(sweep::run_row::<R>(&plan, &run))
         })
         .collect()
 }
