@@ -6,5 +6,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup-python.sh
 cargo build --release --quiet
-.venv/bin/pip install --quiet --disable-pip-version-check --no-build-isolation ./python
+# maturin (pinned in .venv) builds it; the venv on PATH is where its pip hook finds the binary.
+PATH="$PWD/.venv/bin:$PATH" .venv/bin/pip install --quiet --disable-pip-version-check --no-build-isolation ./python
 .venv/bin/python scripts/bench_python.py --bin target/release/impactsweep "$@"

@@ -12,5 +12,6 @@ cargo clippy --all-targets -- -D warnings
 cargo test --all-targets
 cargo fmt --check --manifest-path python/Cargo.toml
 cargo clippy --manifest-path python/Cargo.toml --all-targets -- -D warnings
-.venv/bin/pip install --quiet --disable-pip-version-check --no-build-isolation ./python
+# maturin (pinned in .venv) builds it; the venv on PATH is where its pip hook finds the binary.
+PATH="$PWD/.venv/bin:$PATH" .venv/bin/pip install --quiet --disable-pip-version-check --no-build-isolation ./python
 IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" .venv/bin/python -m pytest python/tests -q
