@@ -171,6 +171,9 @@ def test_run_from_python_writes_what_the_command_line_writes(cli, tmp_path):
     assert st["complete"] and st["runs_done"] == 90
     assert st["text"] == cli("status", tmp_path / "py/batch").stdout
     assert isw.load(tmp_path / "py/batch").count_rows() == 90
+    pl = pytest.importorskip("polars")
+    lazy = isw.load(tmp_path / "py/batch", polars=True)
+    assert lazy.select(pl.len()).collect().item() == 90
     plan = isw.plan(study, out=tmp_path / "py")
     assert (plan["n_points"], plan["n_cases"], plan["n_runs"]) == (90, 1, 90)
     assert plan["axes"]["m"] == [0.005, 0.01, 0.03]
