@@ -229,7 +229,12 @@ fn outcome_col<R: StoredRecord>(rows: &[RunRow<R>]) -> Result<ArrayRef> {
     })
 }
 
-fn to_batch<R: StoredRecord>(rows: &[RunRow<R>], settings: &SolverSettings) -> Result<RecordBatch> {
+/// The rows as one Arrow batch of `R`'s table ([`schema_of`]): what a part file holds, and what
+/// the Python package's `simulate_batch` returns.
+pub fn to_batch<R: StoredRecord>(
+    rows: &[RunRow<R>],
+    settings: &SolverSettings,
+) -> Result<RecordBatch> {
     let mut cols: Vec<ArrayRef> = vec![
         u64col(rows, |r| r.point_id),
         u64col(rows, |r| r.point),

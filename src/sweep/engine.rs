@@ -255,6 +255,13 @@ pub fn request_stop() {
     STOP.store(true, std::sync::atomic::Ordering::SeqCst);
 }
 
+/// Withdraws a stop request, so that the next sweep in this process runs: for a long-lived
+/// process (the Python package) that stopped one sweep and resumes it. The command line exits
+/// instead.
+pub fn clear_stop() {
+    STOP.store(false, std::sync::atomic::Ordering::SeqCst);
+}
+
 /// Whether a stop was requested.
 pub fn stop_requested() -> bool {
     STOP.load(std::sync::atomic::Ordering::SeqCst)

@@ -62,8 +62,9 @@ pub mod verify;
 
 pub use audit::{audit_points, run_audit};
 pub use engine::{
-    SYNC_EVERY, SceneRun, SweepOptions, SweepSummary, chunk_rows, request_stop, run_dir, run_row,
-    run_study, shard_chunks, simulate_chunk, simulate_forced_run, simulate_run, stop_requested,
+    SYNC_EVERY, SceneRun, SweepOptions, SweepSummary, chunk_rows, clear_stop, request_stop,
+    run_dir, run_row, run_study, shard_chunks, simulate_chunk, simulate_forced_run, simulate_run,
+    stop_requested,
 };
 pub use lock::{LockHolder, RunLock, acquire_lock, lock_path, read_lock};
 pub use status::{Status, missing_chunks, outcome_names, ranges, status};

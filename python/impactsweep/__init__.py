@@ -1,0 +1,229 @@
+"""impactsweep from Python: the exact vibro-impact simulator, batches of runs, and the sweeps.
+
+A thin layer over the Rust library that the ``impactsweep`` command line runs (the extension
+module ``impactsweep._impactsweep``): the same simulator, study files, sweep engine, Parquet
+store and reducer, so a number computed here has the same bits as the command line's.
+
+>>> import impactsweep as isw
+>>> isw.simulate(e=0.9)["xmax"]                      # one run, as `impactsweep simulate --json`
+>>> isw.simulate_batch({"e": es, "m": ms}, d=0.01)   # one run per row, a pyarrow Table
+
+Keys are those of ``impactsweep simulate --set KEY=VALUE``: the system ``M m K C d e x0 v0 y0
+w0`` (SI units), the solver's (``solver tol h rtol atol chatter_tol max_impacts max_steps
+t_max_periods``), ``peaks``/``t_end`` for free decay, and with ``scene="harmonic"`` the forcing
+``F0 omega r n_trans n_trans_max n_meas trans_tol period_tol``.
+
+Errors: bad input raises ``ValueError`` with the command line's message (the file or key, the
+value, what is allowed); Ctrl-C raises ``KeyboardInterrupt`` in a long ``simulate_batch`` or
+``run`` within a second, and ``run(..., resume=True)`` then completes the run. See
+``docs/python.md``.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+
+import numpy as np
+import pyarrow as pa
+
+from . import _impactsweep as _ext
+
+__all__ = [
+    "simulate",
+    "simulate_batch",
+    "trace",
+    "plan",
+    "run",
+    "reduce",
+    "load",
+    "status",
+    "SYSTEM_KEYS",
+]
+
+__version__: str = _ext.__version__
+
+#: The system keys (SI units): main mass, inner mass, stiffness, damping, clearance, restitution
+#: and the initial state.
+SYSTEM_KEYS: List[str]
+SOLVER_KEYS: List[str]
+HARMONIC_KEYS: List[str]
+SYSTEM_KEYS, SOLVER_KEYS, HARMONIC_KEYS = (list(k) for k in _ext.keys())
+
+#: The points table's names of the masses (``docs/schema.md``), accepted as input columns.
+_COLUMN_KEYS = {"mass_main": "M", "mass_inner": "m"}
+
+StudyLike = Union[str, "os.PathLike[str]"]
+
+
+def _value(key: str, v: Any) -> str:
+    """One ``KEY=VALUE`` value as the command line would read it (floats round-trip exactly)."""
+    if isinstance(v, str):
+        return v
+    if isinstance(v, (bool, np.bool_)):
+        raise ValueError(f"{key}={v!r}: expected a number")
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    try:
+        return repr(float(v))
+    except (TypeError, ValueError):
+        raise ValueError(f"{key}={v!r}: expected a number") from None
+
+
+def _sets(keys: Mapping[str, Any], scene: str) -> List[str]:
+    sets = [] if scene == "free" else [f"scene={scene}"]
+    sets.extend(f"{k}={_value(k, v)}" for k, v in keys.items())
+    return sets
+
+
+def simulate(*, scene: str = "free", outputs: Optional[Sequence[str]] = None, **keys: Any) -> Dict[str, Any]:
+    """One run: the record ``impactsweep simulate --set KEY=VALUE ... --json`` prints, as a dict.
+
+    Same keys and the same float bits as the command line (NaN observables are ``None``, as
+    JSON's null). ``scene="harmonic"`` runs the forced scene. ``outputs`` keeps only those
+    keys of the record.
+    """
+    rec = _ext.simulate(_sets(keys, scene))
+    if outputs is None:
+        return rec
+    unknown = [k for k in outputs if k not in rec]
+    if unknown:
+        raise ValueError(f"outputs: unknown key '{unknown[0]}'; allowed: {' '.join(rec)}")
+    return {k: rec[k] for k in outputs}
+
+
+def _columns(inputs: Any) -> Dict[str, np.ndarray]:
+    """Input columns as contiguous float64 arrays, from a mapping, a pyarrow Table or a polars
+    DataFrame."""
+    if isinstance(inputs, pa.Table):
+        raw = {name: inputs.column(name).to_numpy() for name in inputs.column_names}
+    elif type(inputs).__module__.split(".")[0] == "polars":
+        raw = {name: inputs.get_column(name).to_numpy() for name in inputs.columns}
+    elif isinstance(inputs, Mapping):
+        raw = dict(inputs)
+    else:
+        raise ValueError(
+            f"inputs: a {type(inputs).__name__}; expected a mapping of column name to array, "
+            "a pyarrow Table or a polars DataFrame"
+        )
+    cols: Dict[str, np.ndarray] = {}
+    for name, values in raw.items():
+        key = _COLUMN_KEYS.get(name, name)
+        arr = np.ascontiguousarray(np.asarray(values, dtype=np.float64))
+        if arr.ndim != 1:
+            raise ValueError(f"input column '{name}': {arr.ndim}-dimensional; expected one value per row")
+        if key in cols:
+            raise ValueError(f"input column '{name}': given twice")
+        cols[key] = arr
+    return cols
+
+
+def simulate_batch(
+    inputs: Any, *, threads: Optional[int] = None, scene: str = "free", seed: int = 0, **fixed: Any
+) -> pa.Table:
+    """One run per row of ``inputs``, in parallel, as a pyarrow Table.
+
+    ``inputs`` maps column names (system keys such as ``e m d``, ``mass_inner``/``mass_main``
+    as the points table names them, and with ``scene="harmonic"`` also ``F0 omega r``) to
+    arrays of one value per row; a pyarrow Table or a polars DataFrame works too. ``fixed``
+    holds the keys shared by every row (as :func:`simulate` takes them).
+
+    The result has the columns of the scene's points table (``docs/schema.md``): row ``i`` is
+    run ``i`` of a one-case noise-free study with study seed ``seed`` (``point_id = point = i``),
+    simulated by the sweep engine's own per-run function. The runs are spread over
+    ``threads`` threads (default: every core) with the GIL released; the result does not depend
+    on the thread count. Every row is validated before the first run. Ctrl-C raises
+    ``KeyboardInterrupt`` within a second.
+    """
+    cols = _columns(inputs)
+    lengths = {len(a) for a in cols.values()}
+    if len(lengths) > 1:
+        raise ValueError(f"inputs: columns of different lengths {sorted(lengths)}")
+    n = lengths.pop() if lengths else 1
+    batch = _ext.simulate_batch(
+        _sets(fixed, scene), list(cols), [a.tobytes() for a in cols.values()], n, threads, int(seed)
+    )
+    return pa.Table.from_batches([batch])
+
+
+def trace(*, dt: float = 1e-4, t_end: Optional[float] = None, scene: str = "free", **keys: Any) -> Dict[str, Any]:
+    """One run with its waveform: the state every ``dt`` seconds and at every impact.
+
+    Returns NumPy arrays ``t`` (s), ``x v`` (main mass, m and m/s), ``y w`` (inner mass),
+    ``impacts`` (the impact times, s), and ``record`` (the dict of :func:`simulate`). The rows
+    are those of ``impactsweep simulate --trace FILE --dt DT``.
+    """
+    rec, samples, impacts = _ext.trace(_sets(keys, scene), float(dt), None if t_end is None else float(t_end))
+    rows = np.frombuffer(samples, dtype=np.float64).reshape(-1, 5)
+    out: Dict[str, Any] = {name: rows[:, j].copy() for j, name in enumerate(("t", "x", "v", "y", "w"))}
+    out["impacts"] = np.frombuffer(impacts, dtype=np.float64).copy()
+    out["record"] = rec
+    return out
+
+
+def _study(study: StudyLike) -> tuple:
+    """(path, text): a study file, or TOML text (any string with a line break)."""
+    if isinstance(study, str) and "\n" in study:
+        return "study.toml", study
+    return os.fspath(study), None
+
+
+def plan(study: StudyLike, *, out: StudyLike = "out", allow_large: bool = False) -> Dict[str, Any]:
+    """``impactsweep plan``: validates a study (a file, or TOML text) and sizes it.
+
+    Returns ``name scene n_points n_cases n_runs n_chunks axes run_dir`` and ``text``, what
+    the command prints (with its time and disk estimates). A bad study raises ``ValueError``
+    with the command line's message.
+    """
+    path, text = _study(study)
+    return _ext.plan(path, text, os.fspath(out), allow_large)
+
+
+def run(
+    study: StudyLike,
+    *,
+    out: StudyLike = "out",
+    resume: bool = False,
+    reduce: bool = False,
+    threads: Optional[int] = None,
+    chunk_points: Optional[int] = None,
+    allow_large: bool = False,
+) -> Dict[str, Any]:
+    """``impactsweep run``: sweeps a study (a file, or TOML text) into ``out/<name>/``.
+
+    The same engine, files and bits as the command line. ``resume=True`` continues a run
+    directory (one stopped by Ctrl-C, which raises ``KeyboardInterrupt`` after the chunks in
+    hand are written); ``reduce=True`` reduces it once complete. Returns what was done
+    (``run_dir runs chunks_written chunks_kept chunks_left outcomes seconds line``, and
+    ``reduce``, the reducer's line).
+    """
+    path, text = _study(study)
+    return _ext.run(path, text, os.fspath(out), resume, reduce, threads, chunk_points, allow_large)
+
+
+def reduce(run_dir: StudyLike) -> str:
+    """``impactsweep reduce``: writes the summary, zones, report and charts into ``run_dir``;
+    returns the reducer's one-line summary."""
+    return _ext.reduce(os.fspath(run_dir))
+
+
+def status(run_dir: StudyLike) -> Dict[str, Any]:
+    """``impactsweep status`` of a run directory: ``complete n_chunks n_runs runs_done done
+    missing damaged`` and ``text`` (what the command prints)."""
+    return _ext.status(os.fspath(run_dir))
+
+
+def load(run_dir: StudyLike, *, polars: bool = False) -> Any:
+    """The points of a run directory: a ``pyarrow.dataset.Dataset`` over its part files, or
+    with ``polars=True`` a polars ``LazyFrame``."""
+    points = os.path.join(os.fspath(run_dir), "points")
+    if polars:
+        import polars as pl
+
+        return pl.scan_parquet(os.path.join(points, "part-*.parquet"))
+    import pyarrow.dataset as ds
+
+    files = sorted(
+        os.path.join(points, f) for f in os.listdir(points) if f.startswith("part-") and f.endswith(".parquet")
+    )
+    return ds.dataset(files, format="parquet")

@@ -1,0 +1,576 @@
+//! `impactsweep._impactsweep`: the Python binding of the impactsweep library (PyO3, one abi3
+//! module). Every function here calls the library the command line calls (the same `Setup`
+//! for `simulate`, the same `Study`, plan, sweep engine, store schema and reducer); the Python
+//! layer (`impactsweep/__init__.py`) turns its arguments into what these take.
+//!
+//! Errors: bad input (`InputError` anywhere in the chain) raises `ValueError` with the text the
+//! command line prints after `error: `; an interrupted sweep raises `KeyboardInterrupt`; any
+//! other failure `RuntimeError`. Long calls release the GIL and look for Ctrl-C every
+//! [`POLL`], so `KeyboardInterrupt` stops them within a second.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Condvar, Mutex};
+use std::time::Duration;
+
+use arrow::pyarrow::ToPyArrow;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict, PyList};
+use rayon::prelude::*;
+
+use impactsweep::app::simulate::{Setup, forced_json, record_json, trace_scene};
+use impactsweep::error::{InputError, Interrupted};
+use impactsweep::model::SYSTEM_KEYS;
+use impactsweep::plan::{Plan, RunSpec};
+use impactsweep::sim::{
+    ForcedRecord, Harmonic, NoProbe, Record, Scene, SceneRecord, SolverSettings,
+};
+use impactsweep::store::RunRow;
+use impactsweep::study::{LoadOptions, Study};
+use impactsweep::sweep::{self, SceneRun, SweepOptions};
+
+/// How often a long call looks for Ctrl-C.
+const POLL: Duration = Duration::from_millis(20);
+
+/// An error of the library as a Python exception (see the module doc).
+fn py_err(err: anyhow::Error) -> PyErr {
+    let msg = format!("{err:#}");
+    if err
+        .chain()
+        .any(|e| e.downcast_ref::<Interrupted>().is_some())
+    {
+        PyKeyboardInterrupt::new_err(msg)
+    } else if err
+        .chain()
+        .any(|e| e.downcast_ref::<InputError>().is_some())
+    {
+        PyValueError::new_err(msg)
+    } else {
+        PyRuntimeError::new_err(msg)
+    }
+}
+
+fn input_err(err: InputError) -> PyErr {
+    PyValueError::new_err(err.0)
+}
+
+/// A JSON value as Python objects: objects become dicts (in the record's key order), null
+/// None, numbers int or float (the same `f64` bits the JSON text round-trips to).
+fn json_to_py<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    use serde_json::Value;
+    Ok(match v {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => b.into_pyobject(py)?.to_owned().into_any(),
+        Value::Number(n) => {
+            if let Some(u) = n.as_u64() {
+                u.into_pyobject(py)?.into_any()
+            } else if let Some(i) = n.as_i64() {
+                i.into_pyobject(py)?.into_any()
+            } else {
+                n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any()
+            }
+        }
+        Value::String(s) => s.into_pyobject(py)?.into_any(),
+        Value::Array(a) => {
+            let items = a
+                .iter()
+                .map(|x| json_to_py(py, x))
+                .collect::<PyResult<Vec<_>>>()?;
+            PyList::new(py, items)?.into_any()
+        }
+        Value::Object(m) => {
+            let d = PyDict::new(py);
+            for (k, x) in m {
+                d.set_item(k, json_to_py(py, x)?)?;
+            }
+            d.into_any()
+        }
+    })
+}
+
+/// The setup of `impactsweep simulate --set KEY=VALUE ...`.
+fn setup(sets: &[String]) -> PyResult<Setup> {
+    let mut s = Setup::default();
+    s.apply(sets).map_err(input_err)?;
+    Ok(s)
+}
+
+/// The record `impactsweep simulate --set ... --json` prints, as a dict.
+#[pyfunction]
+fn simulate<'py>(py: Python<'py>, sets: Vec<String>) -> PyResult<Bound<'py, PyAny>> {
+    let s = setup(&sets)?;
+    let json = match s.run_scene(&mut NoProbe) {
+        SceneRecord::Free(rec) => record_json(&s, &rec),
+        SceneRecord::Harmonic(rec) => forced_json(&s, &rec),
+    };
+    json_to_py(py, &json)
+}
+
+/// `f64`s from native-endian bytes (a NumPy float64 buffer).
+fn f64s(bytes: &[u8]) -> Vec<f64> {
+    bytes
+        .chunks_exact(8)
+        .map(|b| f64::from_ne_bytes(b.try_into().unwrap_or([0; 8])))
+        .collect()
+}
+
+/// Runs `f` on a scoped thread with the GIL released, looking for Ctrl-C every [`POLL`]: on
+/// one, `on_interrupt` is called (it must make `f` end soon), the thread joined, and the
+/// signal's error (`KeyboardInterrupt`) returned.
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    on_interrupt: impl Fn(),
+    f: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
+    let finished = (Mutex::new(false), Condvar::new());
+    let finished = &finished;
+    std::thread::scope(|scope| {
+        let handle = scope.spawn(move || {
+            let out = f();
+            *finished.0.lock().unwrap_or_else(|e| e.into_inner()) = true;
+            finished.1.notify_all();
+            out
+        });
+        loop {
+            // Wakes as soon as `f` is done, else every POLL to look for Ctrl-C.
+            let done = py.detach(|| {
+                let guard = finished.0.lock().unwrap_or_else(|e| e.into_inner());
+                let (guard, _) = finished
+                    .1
+                    .wait_timeout_while(guard, POLL, |done| !*done)
+                    .unwrap_or_else(|e| e.into_inner());
+                *guard
+            });
+            if done {
+                break;
+            }
+            if let Err(e) = py.check_signals() {
+                on_interrupt();
+                let _ = py.detach(|| handle.join());
+                return Err(e);
+            }
+        }
+        py.detach(|| handle.join())
+            .map_err(|_| PyRuntimeError::new_err("a worker panicked (a bug: please report it)"))
+    })
+}
+
+/// Batches of up to this many rows run on the calling thread (GIL released) without a watcher
+/// thread: a few milliseconds at most, and no thread to start for the one-point calls that
+/// FORM or an optimiser make.
+const INLINE_ROWS: usize = 64;
+
+/// One run per row: `names[j]` takes `columns[j][i]` in row `i`, over the setup of `sets`.
+/// Returns a pyarrow RecordBatch with the columns of the scene's points table.
+#[pyfunction]
+#[pyo3(signature = (sets, names, columns, n_rows, threads=None, seed=0))]
+fn simulate_batch<'py>(
+    py: Python<'py>,
+    sets: Vec<String>,
+    names: Vec<String>,
+    columns: Vec<Bound<'py, PyBytes>>,
+    n_rows: usize,
+    threads: Option<usize>,
+    seed: u64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let base = setup(&sets)?;
+    let study = batch_study(&base, seed)?;
+    let cols: Vec<Vec<f64>> = columns.iter().map(|b| f64s(b.as_bytes())).collect();
+    check_columns(&base, &names, &cols, n_rows)?;
+    if threads == Some(0) {
+        return Err(PyValueError::new_err("threads=0: must be at least 1"));
+    }
+    let inputs = Inputs {
+        base: &base,
+        names: &names,
+        cols: &cols,
+        n: n_rows,
+    };
+    // A pool of `threads`, else rayon's global pool (every core, started once per process).
+    let pool = match threads {
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| PyRuntimeError::new_err(format!("starting the thread pool: {e}")))?,
+        ),
+        None => None,
+    };
+    let settings = base.solver;
+    let batch = match base.scene {
+        Scene::Free => {
+            let rows = run_rows::<Record>(py, pool.as_ref(), &inputs, &study)?
+                .map_err(PyValueError::new_err)?;
+            impactsweep::store::points::to_batch(&rows, &settings)
+        }
+        Scene::Harmonic(_) => {
+            let rows = run_rows::<ForcedRecord>(py, pool.as_ref(), &inputs, &study)?
+                .map_err(PyValueError::new_err)?;
+            impactsweep::store::points::to_batch(&rows, &settings)
+        }
+    }
+    .map_err(py_err)?;
+    batch.to_pyarrow(py)
+}
+
+/// The batch's rows: `base` with row `i` of the input columns.
+struct Inputs<'a> {
+    base: &'a Setup,
+    names: &'a [String],
+    cols: &'a [Vec<f64>],
+    n: usize,
+}
+
+impl Inputs<'_> {
+    /// The setup of row `i`, validated; the error names the row, the key, the value and what is
+    /// allowed.
+    fn row(&self, i: usize) -> Result<Setup, String> {
+        let mut s = self.base.clone();
+        for (name, col) in self.names.iter().zip(self.cols) {
+            let v = col[i];
+            if !s.system.set(name, v) {
+                s.scene.set(name, v);
+            }
+        }
+        s.validate().map_err(|e| {
+            let msg = e.0.strip_prefix("--set ").unwrap_or(&e.0);
+            format!("row {i}: {msg}")
+        })?;
+        Ok(s)
+    }
+}
+
+/// The rows of the batch on `pool` (or the global one), stopped by Ctrl-C: every row validated
+/// first (`Err`: the first bad row's message), then run.
+fn run_rows<R: SceneRun>(
+    py: Python<'_>,
+    pool: Option<&rayon::ThreadPool>,
+    inputs: &Inputs<'_>,
+    study: &Study,
+) -> PyResult<Result<Vec<RunRow<R>>, String>> {
+    let stop = AtomicBool::new(false);
+    let all = || -> Result<Vec<RunRow<R>>, String> {
+        if let Some(msg) = (0..inputs.n)
+            .into_par_iter()
+            .find_map_first(|i| inputs.row(i).err())
+        {
+            return Err(msg);
+        }
+        Ok(batch_rows::<R>(inputs, study, &stop))
+    };
+    let work = || match pool {
+        Some(p) => p.install(all),
+        None => all(),
+    };
+    if inputs.n <= INLINE_ROWS {
+        return Ok(py.detach(work));
+    }
+    interruptible(py, || stop.store(true, Ordering::SeqCst), work)
+}
+
+/// The input columns: known keys of the setup's scene, each once, each `n_rows` long.
+fn check_columns(base: &Setup, names: &[String], cols: &[Vec<f64>], n: usize) -> PyResult<()> {
+    let harmonic = matches!(base.scene, Scene::Harmonic(_));
+    for (j, name) in names.iter().enumerate() {
+        let scene_key = Harmonic::AXES.contains(&name.as_str());
+        if !SYSTEM_KEYS.contains(&name.as_str()) && !scene_key {
+            let mut allowed: Vec<&str> = SYSTEM_KEYS.to_vec();
+            allowed.extend(Harmonic::AXES);
+            return Err(PyValueError::new_err(format!(
+                "input column '{name}': unknown key; allowed: {}",
+                allowed.join(" ")
+            )));
+        }
+        if scene_key && !harmonic {
+            return Err(PyValueError::new_err(format!(
+                "input column '{name}': a key of the harmonic scene; add scene=\"harmonic\""
+            )));
+        }
+        if names[..j].contains(name) {
+            return Err(PyValueError::new_err(format!(
+                "input column '{name}': given twice"
+            )));
+        }
+        if cols[j].len() != n {
+            return Err(PyValueError::new_err(format!(
+                "input column '{name}': {} values for {n} rows",
+                cols[j].len()
+            )));
+        }
+    }
+    if names.iter().any(|n| n == "omega") && names.iter().any(|n| n == "r") {
+        return Err(PyValueError::new_err(
+            "input columns 'omega' and 'r': give the forcing frequency once, as omega (rad/s) \
+             or as r = omega / sqrt(K/M)",
+        ));
+    }
+    Ok(())
+}
+
+/// The one-case, noise-free study a batch's rows are the runs of: the base setup's solver,
+/// request and scene, the study seed `seed` (it seeds whatever a run draws from its study seed
+/// and design point), no axes. Row `i` is its design point `i`.
+fn batch_study(base: &Setup, seed: u64) -> PyResult<Study> {
+    let mut study =
+        Study::parse(Path::new("batch.toml"), "[study]\nname = \"batch\"\n").map_err(input_err)?;
+    study.seed = seed;
+    study.solver = base.solver;
+    study.request = base.request;
+    study.scene = base.scene;
+    study.system = base.system;
+    Ok(study)
+}
+
+/// The rows of the batch, in input order, on the current rayon pool: row `i` is simulated by
+/// the sweep engine's own per-run function ([`sweep::run_row`]) as run `i` of [`batch_study`]
+/// (`point_id = point = i`, the ideal case). Once `stop` is set the remaining runs are skipped
+/// (the result is then discarded).
+fn batch_rows<R: SceneRun>(
+    inputs: &Inputs<'_>,
+    study: &Study,
+    stop: &AtomicBool,
+) -> Vec<RunRow<R>> {
+    let plan = Plan::new(study);
+    let spec = study.cases[0];
+    (0..inputs.n)
+        .into_par_iter()
+        .filter_map(|i| {
+            if stop.load(Ordering::Relaxed) {
+                return None;
+            }
+            let s = inputs.row(i).ok()?;
+            let run = RunSpec {
+                point_id: i as u64,
+                point: i as u64,
+                case: 0,
+                system: s.system,
+                scene: s.scene,
+                spec,
+            };
+            Some(sweep::run_row::<R>(&plan, &run))
+        })
+        .collect()
+}
+
+/// A run with a trace sampled every `dt` and at every impact: `(record, samples, impacts)`,
+/// the samples as bytes of `t x v y w` rows (f64, native endian), the impact times as f64
+/// bytes.
+#[pyfunction]
+#[pyo3(signature = (sets, dt, t_end=None))]
+fn trace<'py>(
+    py: Python<'py>,
+    sets: Vec<String>,
+    dt: f64,
+    t_end: Option<f64>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyBytes>, Bound<'py, PyBytes>)> {
+    let mut s = setup(&sets)?;
+    if let Some(t) = t_end {
+        if matches!(s.scene, Scene::Harmonic(_)) {
+            return Err(PyValueError::new_err(format!(
+                "t_end={t}: a free-decay option; the harmonic scene runs n_trans + n_meas forcing \
+                 periods"
+            )));
+        }
+        s.request.t_end = Some(t);
+    }
+    let check = impactsweep::sim::Request {
+        trace_dt: Some(dt),
+        ..s.request
+    };
+    check
+        .validate()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let (rec, rows) = py.detach(|| trace_scene(&s, dt));
+    let json = match &rec {
+        SceneRecord::Free(r) => record_json(&s, r),
+        SceneRecord::Harmonic(r) => forced_json(&s, r),
+    };
+    // Impact rows are the trace's rows that are not on the dt grid: the probe records them
+    // with the state just before; the Python layer gets their times from a second pass.
+    let mut probe = ImpactTimes::default();
+    let mut s2 = s.clone();
+    s2.request.trace_dt = None;
+    py.detach(|| s2.run_scene(&mut probe));
+    let mut samples = Vec::with_capacity(rows.len() * 40);
+    for (t, st) in &rows {
+        for v in [*t, st.x, st.v, st.y, st.w] {
+            samples.extend_from_slice(&v.to_ne_bytes());
+        }
+    }
+    let impacts: Vec<u8> = probe.times.iter().flat_map(|t| t.to_ne_bytes()).collect();
+    Ok((
+        json_to_py(py, &json)?,
+        PyBytes::new(py, &samples),
+        PyBytes::new(py, &impacts),
+    ))
+}
+
+#[derive(Default)]
+struct ImpactTimes {
+    times: Vec<f64>,
+}
+
+impl impactsweep::sim::Probe for ImpactTimes {
+    fn impact(
+        &mut self,
+        t: f64,
+        _wall: impactsweep::sim::Wall,
+        _before: &impactsweep::sim::State,
+        _after: &impactsweep::sim::State,
+    ) {
+        self.times.push(t);
+    }
+}
+
+/// A study from its file, or from TOML text (`path` then names it in messages).
+fn load_study(path: &str, text: Option<&str>, allow_large: bool) -> PyResult<Study> {
+    let opts = LoadOptions { allow_large };
+    match text {
+        Some(t) => Study::parse_with(Path::new(path), t, opts),
+        None => Study::load_with(Path::new(path), opts),
+    }
+    .map_err(input_err)
+}
+
+/// `impactsweep plan`: the study's sizes and the plan's text (with its timed sample).
+#[pyfunction]
+#[pyo3(signature = (path, text, out, allow_large=false))]
+fn plan<'py>(
+    py: Python<'py>,
+    path: &str,
+    text: Option<&str>,
+    out: PathBuf,
+    allow_large: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let study = load_study(path, text, allow_large)?;
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let text = py.detach(|| {
+        let sample = impactsweep::app::plan::time_sample(&study);
+        impactsweep::app::plan::describe(&study, &out, threads, Some(sample))
+    });
+    let p = Plan::new(&study);
+    let d = PyDict::new(py);
+    d.set_item("name", &study.name)?;
+    d.set_item("scene", study.scene.name())?;
+    d.set_item("n_points", p.n_points())?;
+    d.set_item("n_cases", p.n_cases())?;
+    d.set_item("n_runs", p.n_runs())?;
+    d.set_item("n_chunks", p.n_chunks())?;
+    let axes = PyDict::new(py);
+    for a in &study.axes {
+        axes.set_item(&a.key, a.values.clone())?;
+    }
+    d.set_item("axes", axes)?;
+    d.set_item("run_dir", sweep::run_dir(&out, &study))?;
+    d.set_item("text", text)?;
+    Ok(d)
+}
+
+/// `impactsweep run` of one study (and `--reduce`): a dict of what it did.
+#[pyfunction]
+#[pyo3(signature = (path, text, out, resume=false, reduce=false, threads=None, chunk_points=None, allow_large=false, stop_after=None))]
+#[allow(clippy::too_many_arguments)]
+fn run<'py>(
+    py: Python<'py>,
+    path: &str,
+    text: Option<&str>,
+    out: PathBuf,
+    resume: bool,
+    reduce: bool,
+    threads: Option<usize>,
+    chunk_points: Option<u64>,
+    allow_large: bool,
+    stop_after: Option<u64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let study = load_study(path, text, allow_large)?;
+    let opts = SweepOptions {
+        threads,
+        resume,
+        chunk_points,
+        stop_after,
+        ..SweepOptions::default()
+    };
+    sweep::clear_stop();
+    // On Ctrl-C the engine is asked to stop, as the command's handler does: it writes the
+    // chunks in hand and releases its lock, and `resume=True` continues the run.
+    let result = interruptible(py, sweep::request_stop, || {
+        sweep::run_study(&study, &out, &opts)
+    });
+    sweep::clear_stop();
+    let summary = result?.map_err(py_err)?;
+    let dir = summary.dir.clone();
+    let d = PyDict::new(py);
+    d.set_item("run_dir", &dir)?;
+    d.set_item("runs", summary.runs)?;
+    d.set_item("chunks_written", summary.chunks_written)?;
+    d.set_item("chunks_kept", summary.chunks_kept)?;
+    d.set_item("chunks_left", summary.chunks_left)?;
+    d.set_item("outcomes", summary.outcomes.clone())?;
+    d.set_item("seconds", summary.wall.as_secs_f64())?;
+    d.set_item("line", summary.line(&study.name))?;
+    if reduce && summary.chunks_left == 0 {
+        let line = reduce_dir(py, &dir)?;
+        d.set_item("reduce", line)?;
+    }
+    Ok(d)
+}
+
+fn reduce_dir(py: Python<'_>, dir: &Path) -> PyResult<String> {
+    let args = impactsweep::app::reduce::ReduceArgs {
+        dir: dir.to_path_buf(),
+        ..Default::default()
+    };
+    py.detach(|| impactsweep::app::reduce::reduce_dir(&args))
+        .map(|(line, _)| line)
+        .map_err(py_err)
+}
+
+/// `impactsweep reduce RUN_DIR`: its summary line.
+#[pyfunction]
+fn reduce(py: Python<'_>, dir: PathBuf) -> PyResult<String> {
+    reduce_dir(py, &dir)
+}
+
+/// `impactsweep status RUN_DIR`, as a dict (with the command's text).
+#[pyfunction]
+fn status<'py>(py: Python<'py>, dir: PathBuf) -> PyResult<Bound<'py, PyDict>> {
+    let st = py.detach(|| sweep::status(&dir)).map_err(py_err)?;
+    let d = PyDict::new(py);
+    d.set_item("complete", st.complete())?;
+    d.set_item("n_chunks", st.manifest.n_chunks)?;
+    d.set_item("n_runs", st.manifest.n_runs)?;
+    d.set_item("runs_done", st.runs_done)?;
+    d.set_item("done", st.done.clone())?;
+    d.set_item("missing", st.missing.clone())?;
+    d.set_item(
+        "damaged",
+        st.damaged.iter().map(|(k, _)| *k).collect::<Vec<_>>(),
+    )?;
+    d.set_item("text", st.report(&dir))?;
+    Ok(d)
+}
+
+/// The system keys and the solver defaults, for the Python layer's docs and checks.
+#[pyfunction]
+fn keys() -> (Vec<&'static str>, Vec<&'static str>, Vec<&'static str>) {
+    (
+        SYSTEM_KEYS.to_vec(),
+        SolverSettings::KEYS.to_vec(),
+        Harmonic::KEYS.to_vec(),
+    )
+}
+
+#[pymodule]
+fn _impactsweep(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(trace, m)?)?;
+    m.add_function(wrap_pyfunction!(plan, m)?)?;
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(reduce, m)?)?;
+    m.add_function(wrap_pyfunction!(status, m)?)?;
+    m.add_function(wrap_pyfunction!(keys, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

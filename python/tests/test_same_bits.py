@@ -1,0 +1,190 @@
+"""The package gives the command line's bits (issue 17's acceptance): `simulate` equals
+`impactsweep simulate --json` on 50 random systems of each scene, and `simulate_batch` equals
+the points table `impactsweep run` writes for the same study, on 1 and 2 threads."""
+
+from __future__ import annotations
+
+import json
+import math
+import struct
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
+import impactsweep as isw
+
+
+def bits(v):
+    """A JSON-like value with every float replaced by its IEEE-754 bits (so -0.0 != 0.0)."""
+    if isinstance(v, float):
+        return ("f64", struct.unpack("<Q", struct.pack("<d", v))[0])
+    if isinstance(v, dict):
+        return {k: bits(x) for k, x in v.items()}
+    if isinstance(v, list):
+        return [bits(x) for x in v]
+    return v
+
+
+def random_free(rng):
+    return {
+        "M": float(rng.uniform(0.05, 0.2)),
+        "m": float(rng.uniform(0.002, 0.04)),
+        "K": float(rng.uniform(200.0, 800.0)),
+        "C": float(rng.uniform(0.0, 0.5)),
+        "d": float(rng.uniform(0.002, 0.03)),
+        "e": float(rng.uniform(0.3, 1.0)),
+        "v0": float(rng.uniform(0.5, 3.0)),
+    }
+
+
+def random_harmonic(rng):
+    return {
+        "m": float(rng.uniform(0.002, 0.03)),
+        "d": float(rng.uniform(0.003, 0.02)),
+        "e": float(rng.uniform(0.4, 0.95)),
+        "F0": float(rng.uniform(0.05, 0.2)),
+        "r": float(rng.uniform(0.7, 1.3)),
+        "n_meas": 4,
+    }
+
+
+@pytest.mark.parametrize("scene", ["free", "harmonic"])
+def test_simulate_equals_the_command_line_on_50_random_systems(cli, scene):
+    rng = np.random.default_rng(17 if scene == "free" else 71)
+    for _ in range(50):
+        keys = random_free(rng) if scene == "free" else random_harmonic(rng)
+        ours = isw.simulate(scene=scene, **keys)
+        args = ["simulate", "--json"]
+        if scene != "free":
+            args += ["--set", f"scene={scene}"]
+        for k, v in keys.items():
+            args += ["--set", f"{k}={v!r}"]
+        p = cli(*args)
+        assert p.returncode == 0, p.stderr
+        theirs = json.loads(p.stdout)
+        assert list(ours) == list(theirs)
+        assert bits(ours) == bits(theirs), keys
+
+
+def test_the_readme_line(cli):
+    p = cli("simulate", "--set", "e=0.9", "--json")
+    assert isw.simulate(e=0.9)["xmax"] == json.loads(p.stdout)["xmax"]
+
+
+def test_outputs_selects_keys():
+    assert list(isw.simulate(e=0.8, outputs=["xmax", "di"])) == ["xmax", "di"]
+    with pytest.raises(ValueError, match="outputs: unknown key 'nope'"):
+        isw.simulate(outputs=["nope"])
+
+
+def read_points(run_dir):
+    files = sorted((run_dir / "points").glob("part-*.parquet"))
+    return pa.concat_tables([pq.read_table(f) for f in files])
+
+
+def assert_same_table(ours: pa.Table, theirs: pa.Table):
+    assert ours.column_names == theirs.column_names
+    assert ours.num_rows == theirs.num_rows
+    for name in ours.column_names:
+        a, b = ours.column(name).combine_chunks(), theirs.column(name).combine_chunks()
+        if pa.types.is_floating(a.type):
+            assert b.type == a.type, name
+            va = a.to_numpy(zero_copy_only=False).view(np.uint64)
+            vb = b.to_numpy(zero_copy_only=False).view(np.uint64)
+            assert np.array_equal(va, vb), name
+        else:
+            if pa.types.is_dictionary(a.type):
+                a, b = a.cast(pa.string()), b.cast(pa.string())
+            assert a.to_pylist() == b.to_pylist(), name
+
+
+FREE_STUDY = """
+[study]
+name = "batch"
+[system]
+C = 0.2
+[sweep]
+e = { start = 0.5, stop = 0.95, num = 10 }
+m = [0.005, 0.01, 0.03]
+d = [0.004, 0.01, 0.02]
+[run]
+chunk_points = 16
+"""
+
+HARMONIC_STUDY = """
+[study]
+name = "fbatch"
+[system]
+v0 = 0.0
+[scene]
+kind = "harmonic"
+F0 = 0.1
+n_meas = 8
+[sweep]
+m = [0.005, 0.02]
+d = [0.005, 0.015]
+r = { start = 0.85, stop = 1.15, num = 13 }
+"""
+
+
+@pytest.mark.parametrize(
+    "text,name,columns,fixed",
+    [
+        (FREE_STUDY, "batch", ["e", "mass_inner", "d"], {"C": 0.2}),
+        (HARMONIC_STUDY, "fbatch", ["mass_inner", "d", "r"], {"v0": 0.0, "F0": 0.1, "n_meas": 8, "scene": "harmonic"}),
+    ],
+    ids=["free", "harmonic"],
+)
+def test_simulate_batch_equals_the_points_table_on_1_and_2_threads(cli, tmp_path, text, name, columns, fixed):
+    study = tmp_path / "study.toml"
+    study.write_text(text)
+    p = cli("run", study, "--out", tmp_path / "out", "--quiet", "--threads", 2)
+    assert p.returncode == 0, p.stderr
+    theirs = read_points(tmp_path / "out" / name)
+    assert theirs.num_rows > 30
+    inputs = theirs.select(columns)
+    for threads in (1, 2):
+        ours = isw.simulate_batch(inputs, threads=threads, **fixed)
+        assert_same_table(ours, theirs)
+    # A mapping of NumPy arrays and (when polars is there) a polars DataFrame give the same.
+    as_dict = {c: theirs.column(c).to_numpy() for c in columns}
+    assert_same_table(isw.simulate_batch(as_dict, **fixed), theirs)
+    pl = pytest.importorskip("polars")
+    assert_same_table(isw.simulate_batch(pl.from_arrow(inputs), **fixed), theirs)
+
+
+def test_run_from_python_writes_what_the_command_line_writes(cli, tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text(FREE_STUDY)
+    p = cli("run", study, "--out", tmp_path / "cli", "--quiet")
+    assert p.returncode == 0, p.stderr
+    summary = isw.run(study, out=tmp_path / "py", threads=1)
+    assert summary["runs"] == 90 and summary["chunks_left"] == 0
+    for a, b in zip(
+        sorted((tmp_path / "cli/batch/points").glob("*.parquet")),
+        sorted((tmp_path / "py/batch/points").glob("*.parquet")),
+    ):
+        assert a.read_bytes() == b.read_bytes()
+    st = isw.status(tmp_path / "py/batch")
+    assert st["complete"] and st["runs_done"] == 90
+    assert st["text"] == cli("status", tmp_path / "py/batch").stdout
+    assert isw.load(tmp_path / "py/batch").count_rows() == 90
+    pl = pytest.importorskip("polars")
+    lazy = isw.load(tmp_path / "py/batch", polars=True)
+    assert lazy.select(pl.len()).collect().item() == 90
+    plan = isw.plan(study, out=tmp_path / "py")
+    assert (plan["n_points"], plan["n_cases"], plan["n_runs"]) == (90, 1, 90)
+    assert plan["axes"]["m"] == [0.005, 0.01, 0.03]
+    line = isw.reduce(tmp_path / "py/batch")
+    assert line and (tmp_path / "py/batch/report.md").exists()
+
+
+def test_trace_gives_the_waveform_and_the_impacts():
+    tr = isw.trace(e=0.8, dt=1e-3)
+    assert len(tr["t"]) == len(tr["x"]) == len(tr["y"]) > 100
+    assert np.all(np.diff(tr["t"]) >= 0)
+    assert tr["record"]["impacts"] == len(tr["impacts"]) > 0
+    assert math.isclose(tr["record"]["xmax"], isw.simulate(e=0.8)["xmax"], rel_tol=1e-9)
+    assert math.isclose(np.max(tr["x"]), tr["record"]["xmax"], rel_tol=0.05)
