@@ -10,6 +10,7 @@
 use std::time::Instant;
 
 use impactsweep::model::System;
+use impactsweep::orbits::analytic::symmetric_period1;
 use impactsweep::orbits::continuation::{ContSettings, Param, follow};
 use impactsweep::orbits::map::Forcing;
 use impactsweep::orbits::shoot::{Newton, orbit_at, solve};
@@ -40,22 +41,19 @@ fn main() {
         F0: 0.1,
         settings: SolverSettings::default(),
     };
-    // The orbit at r = 0.8: a transient, then Newton.
+    // The orbit at r = 0.8: Masri and Caughey's symmetric orbit (stable there), polished by
+    // Newton.
     let scene = |r: f64| Harmonic {
         F0: 0.1,
         drive: Drive::Ratio(r),
         ..Harmonic::default()
     };
-    let seed = simulate_harmonic(
-        &sys,
-        &f.settings,
-        &Request::default(),
-        &scene(0.8),
-        None,
-        &mut NoProbe,
-    );
-    let s0 = [seed.end.x, seed.end.v, seed.end.y - seed.end.x, seed.end.w];
-    let (_, st) = solve(&f, 1, &s0, &Newton::default());
+    let seed = symmetric_period1(&sys, f.F0, f.omega)
+        .into_iter()
+        .filter(|o| o.admissible)
+        .last()
+        .expect("the symmetric orbit at r = 0.8");
+    let (_, st) = solve(&f, 1, &seed.section, &Newton::default());
     let orbit =
         orbit_at(&f, 1, &st.expect("newton"), &Newton::default()).expect("an impacting orbit");
     let cont = ContSettings {

@@ -223,6 +223,7 @@ fn run_start(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) -> 
         n_meas: 2 * MAX_PERIOD as u64,
         trans_tol: c.handover * 1e-3,
         period_tol: c.handover,
+        energies: false,
         ..Harmonic::default()
     };
     let sys = f.started(s0);

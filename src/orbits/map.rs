@@ -102,6 +102,7 @@ impl Forcing {
             drive: Drive::Omega(self.omega),
             n_trans: Some(0),
             n_meas: periods,
+            energies: false,
             ..Harmonic::default()
         }
     }

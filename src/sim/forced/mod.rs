@@ -118,6 +118,10 @@ pub struct Harmonic {
     pub starts: u32,
     /// Which steady amplitude is the design quantity. Default [`DesignPeak::Worst`].
     pub design_peak: DesignPeak,
+    /// Integrate the window's energies (default `true`; no study key). The steady-state
+    /// solvers of [`crate::orbits`] evaluate the stroboscopic map without them.
+    #[serde(skip)]
+    pub energies: bool,
 }
 
 /// Which steady state carries a design's peak.
@@ -161,6 +165,7 @@ impl Default for Harmonic {
             period_tol: 1e-6,
             starts: 8,
             design_peak: DesignPeak::Worst,
+            energies: true,
         }
     }
 }

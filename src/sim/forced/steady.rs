@@ -230,7 +230,9 @@ impl<P: Probe> Run<'_, P> {
         let (f0, c) = (self.scene.F0, self.sys.C);
         let omega = self.omega;
         let h_max = self.quadrature_piece();
-        if let Some(win) = &mut self.window {
+        if let Some(win) = &mut self.window
+            && self.scene.energies
+        {
             let (wf, wv) = integrate(win.piece, t, h_max, |tt| {
                 let v = solver.at(tt).v;
                 (f0 * (omega * tt).cos() * v, c * v * v)
