@@ -50,8 +50,7 @@ fn main() {
     };
     let seed = symmetric_period1(&sys, f.F0, f.omega)
         .into_iter()
-        .filter(|o| o.admissible)
-        .last()
+        .rfind(|o| o.admissible)
         .expect("the symmetric orbit at r = 0.8");
     let (_, st) = solve(&f, 1, &seed.section, &Newton::default());
     let orbit =

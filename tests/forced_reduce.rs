@@ -206,6 +206,8 @@ fn issue_12_each_design_reduces_to_its_peak_over_the_band() {
             "omega",
             "outcome",
             "amplitude",
+            "amplitude_design",
+            "design_period",
             "amplitude_linear",
             "attenuation",
             "impacts_per_period",
@@ -223,6 +225,18 @@ fn issue_12_each_design_reduces_to_its_peak_over_the_band() {
     assert!(report.contains("| 1 | m = 0.02 kg | "), "{report}");
     assert!(report.contains("## Pareto set on (R, PR)"));
     assert!(report.contains("![frequency_response.svg](frequency_response.svg)"));
+    // Issue 16: the steady states of the recommended design's curve, and the tables.
+    for stem in ["branches", "basin_shares"] {
+        assert!(
+            dir.join(format!("{stem}.png")).exists(),
+            "{stem}.png missing"
+        );
+    }
+    for table in ["attractors", "branches"] {
+        assert!(dir.join(format!("{table}.parquet")).exists());
+        assert!(dir.join(format!("{table}.csv")).exists());
+    }
+    assert!(report.contains("carried by"), "{report}");
     assert!(
         !report.contains("DI"),
         "the free-decay quantity leaked into the report"

@@ -58,7 +58,7 @@ pub struct CensusSettings {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Kind {
     /// A periodic orbit (impacting, or the non-impacting family), exact.
-    Periodic(Orbit),
+    Periodic(Box<Orbit>),
     /// A motion that is not periodic (within the periods the start was given).
     NonPeriodic,
 }
@@ -159,7 +159,7 @@ pub fn census(f: &Forcing, s0: &Section, c: &CensusSettings) -> Census {
                 period: o.period,
                 amplitude: o.amplitude,
                 impacts_per_period: o.impacts_per_period(),
-                kind: Kind::Periodic(o),
+                kind: Kind::Periodic(Box::new(o)),
                 starts: 1,
             },
             Landing::NonPeriodic {
@@ -241,10 +241,11 @@ fn run_start(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) -> 
     }
     let s = [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w];
     let x_scale = f.half_gap().max(rec.amplitude);
-    if rec.impacts_per_period == 0.0 && s[3].abs() <= 1e-12 * f.omega * x_scale {
-        if let Some(o) = non_impacting(f, s[0] + s[2]) {
-            return (Landing::Orbit(o), periods);
-        }
+    if rec.impacts_per_period == 0.0
+        && s[3].abs() <= 1e-12 * f.omega * x_scale
+        && let Some(o) = non_impacting(f, s[0] + s[2])
+    {
+        return (Landing::Orbit(o), periods);
     }
     if rec.converged && rec.period >= 1 {
         let p = u64::from(rec.period);

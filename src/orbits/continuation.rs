@@ -174,7 +174,7 @@ impl Curve<'_> {
         )
     }
 
-    fn from_u(&self, u: &V5) -> (Section, f64) {
+    fn unscale(&self, u: &V5) -> (Section, f64) {
         (
             [
                 u[0] * self.l,
@@ -188,7 +188,7 @@ impl Curve<'_> {
 
     /// `F(u)` scaled, and its 4 x 5 Jacobian (rows 0..4 of the returned matrix).
     fn residual(&mut self, u: &V5) -> Option<(SVector<f64, 4>, SMatrix<f64, 4, 5>)> {
-        let (s, lambda) = self.from_u(u);
+        let (s, lambda) = self.unscale(u);
         let f = self.param.at(self.base, lambda);
         let e = eval(&f, &s, self.p, true);
         self.periods += self.p;
@@ -371,7 +371,7 @@ fn side(
             }
             continue;
         };
-        let (s, lambda) = curve.from_u(&u_new);
+        let (s, lambda) = curve.unscale(&u_new);
         if lambda < settings.range.0 || lambda > settings.range.1 {
             return (pts, End::Range);
         }

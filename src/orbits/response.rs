@@ -105,7 +105,7 @@ pub fn analyse(
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, r)| {
             (a.min(r), b.max(r))
         });
-    if !(lo < hi) {
+    if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
         return out;
     }
     let step = (hi - lo) / (freqs.len().max(2) - 1) as f64;

@@ -259,7 +259,7 @@ pub fn orbit_at(f: &Forcing, p: u64, state: &NewtonState, newton: &Newton) -> Op
     let mut best = state.last.clone();
     let mut period = p;
     for q in 1..p {
-        if p % q != 0 {
+        if !p.is_multiple_of(q) {
             continue;
         }
         let e = eval(f, &state.s, q, true);

@@ -5,8 +5,10 @@
 //! The designs drawn are a line of the design grid through the recommended design (the best
 //! when none is robust) along one design axis, at most [`MAX_CURVES`] of them spread evenly
 //! along it; with no design axis, the one curve. Every curve is the ideal case's (noise-free,
-//! unperturbed). Filled markers are periodic steady states (`period` 1 to 8), hollow ones are
-//! not (`period = 0`: quasi-periodic, chaotic or not converged). The amplitude axis is linear
+//! unperturbed). The amplitude drawn is the design quantity (the worst steady state of the
+//! census, or the one from rest with `design_peak = "from_rest"`). Filled markers are periodic
+//! steady states (period 1 to 8), hollow ones are not (quasi-periodic, chaotic or not
+//! converged). The amplitude axis is linear
 //! from 0, or logarithmic when the linear system's resonance peak is more than [`LOG_RATIO`]
 //! times the smallest damped peak (lightly damped systems with an effective damper).
 
@@ -134,7 +136,7 @@ impl<'a> Row<'a> {
         let (_, hi) = minmax(self.curves.iter().flat_map(|c| {
             c.points
                 .iter()
-                .flat_map(|p| [p.amplitude, p.linear])
+                .flat_map(|p| [p.design, p.linear])
                 .collect::<Vec<_>>()
         }));
         lo > 0.0 && hi / lo > LOG_RATIO
@@ -181,6 +183,15 @@ impl<'a> Row<'a> {
             Column::Str(rows.iter().map(|(_, p)| p.outcome.name().into()).collect()),
         );
         t.push("amplitude", f(&|p| p.amplitude));
+        t.push("amplitude_design", f(&|p| p.design));
+        t.push(
+            "design_period",
+            Column::U64(
+                rows.iter()
+                    .map(|(_, p)| Some(u64::from(p.design_period)))
+                    .collect(),
+            ),
+        );
         t.push("amplitude_linear", f(&|p| p.linear));
         t.push("attenuation", f(&|p| p.attenuation));
         t.push("impacts_per_period", f(&|p| p.impacts_per_period));
@@ -282,7 +293,7 @@ impl Chart for FrequencyResponse<'_> {
         let plot = legend(&rest, row, true)?;
         title
             .titled(
-                &format!("Steady amplitude against {}{}", row.x, row.at),
+                &format!("Design steady amplitude against {}{}", row.x, row.at),
                 TITLE,
             )
             .map_err(err)?;
@@ -290,7 +301,7 @@ impl Chart for FrequencyResponse<'_> {
         let (lo, hi) = minmax(row.curves.iter().flat_map(|c| {
             c.points
                 .iter()
-                .flat_map(|p| [p.amplitude * CM, p.linear * CM])
+                .flat_map(|p| [p.design * CM, p.linear * CM])
                 .filter(|v| *v > 0.0)
         }));
         let builder = |area| {
@@ -368,8 +379,8 @@ where
         let pts: Vec<(f64, f64, bool)> = xs
             .iter()
             .zip(&c.points)
-            .filter(|(_, p)| p.amplitude > 0.0 && p.amplitude.is_finite())
-            .map(|(&x, p)| (x, p.amplitude * CM, p.period >= 1))
+            .filter(|(_, p)| p.design > 0.0 && p.design.is_finite())
+            .map(|(&x, p)| (x, p.design * CM, p.design_period >= 1))
             .collect();
         chart
             .draw_series(LineSeries::new(

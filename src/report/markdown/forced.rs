@@ -107,7 +107,7 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
     if wandering_peaks > 0 {
         let _ = writeln!(
             o,
-            "\n† {} of these peaks {} at a frequency whose motion did not settle on a periodic orbit (column `peak_periodic` of the summary): such a peak is the largest excursion of a wandering motion over the measurement window, depends on the transient down to the last bit of the arithmetic, and is indicative only; compare these designs on their periodic stretches, or rerun with a longer `n_meas`.",
+            "\n† {} of these peaks {} at a frequency whose motion did not settle on a periodic orbit (column `peak_periodic` of the summary): such a peak is the largest excursion of a wandering motion over a window (the census's 200 periods, or `n_meas` from rest), a lower bound of what that motion reaches, and indicative only; compare these designs on their periodic stretches, or raise `starts` and `n_meas`.",
             wandering_peaks,
             if wandering_peaks == 1 { "lies" } else { "lie" }
         );
