@@ -17,8 +17,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    Chart, Key, LABEL, LEGEND_PITCH, SMALL, TITLE, axis_desc, axis_value, err, fmt_num,
-    legend_lines, legend_row, minmax, pad,
+    Chart, Key, LABEL, SMALL, TITLE, axis_desc, axis_value, err, fmt_num, minmax, pad,
 };
 use crate::reduce::forced::{Curve, ForcedSummary};
 use crate::reduce::table::{Column, Table, axis_column};
@@ -273,11 +272,7 @@ fn legend<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    let items = legend_items(row, linear);
-    let rows = legend_lines(area, LEGEND_X, &items)?;
-    let (keys, rest) = area.split_vertically(34 + rows.saturating_sub(1) * LEGEND_PITCH);
-    legend_row(&keys, LEGEND_X, &items)?;
-    Ok(rest)
+    super::plumbing::legend_block(area, LEGEND_X, &legend_items(row, linear))
 }
 
 /// Amplitude against the frequency, with the linear system.

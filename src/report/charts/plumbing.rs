@@ -318,6 +318,22 @@ where
     Ok(legend_layout(area, x, items)?.len() as u32)
 }
 
+/// Splits a legend off the top of `area` (one row, or as many as `items` need, from pixel `x`),
+/// draws it, and returns the rest of the area.
+pub fn legend_block<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x: i32,
+    items: &[(Key, String)],
+) -> anyhow::Result<DrawingArea<DB, Shift>>
+where
+    DB::ErrorType: 'static,
+{
+    let rows = legend_lines(area, x, items)?;
+    let (keys, rest) = area.split_vertically(34 + rows.saturating_sub(1) * LEGEND_PITCH);
+    legend_row(&keys, x, items)?;
+    Ok(rest)
+}
+
 /// Draws `items` in `area` from pixel `x`, flowing onto further rows (`LEGEND_PITCH` apart,
 /// centred in the area) as long as the area is tall enough; items that still would not fit are
 /// left off and an ellipsis says so. Size the area with [`legend_lines`] to show every item.

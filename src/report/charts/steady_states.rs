@@ -11,10 +11,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plumbing::{
-    Chart, Key, LABEL, LEGEND_PITCH, SMALL, TITLE, err, fmt_num, legend_lines, legend_row, minmax,
-    pad,
-};
+use super::plumbing::{Chart, Key, LABEL, SMALL, TITLE, err, fmt_num, minmax, pad};
 use crate::orbits::response::Response;
 use crate::reduce::Summary;
 use crate::reduce::forced::{Curve, ForcedSummary};
@@ -121,10 +118,7 @@ fn legend<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    let rows = legend_lines(area, LEGEND_X, items)?;
-    let (keys, rest) = area.split_vertically(34 + rows.saturating_sub(1) * LEGEND_PITCH);
-    legend_row(&keys, LEGEND_X, items)?;
-    Ok(rest)
+    super::plumbing::legend_block(area, LEGEND_X, items)
 }
 
 /// The frequency response as branches.
