@@ -5,10 +5,12 @@
 //! # Predictor–corrector
 //! Unknowns `u = (s, lambda)` in scaled coordinates (`x / L`, `x' / (wn L)`, `z / L`,
 //! `y' / (wn L)`, `lambda / lambda_0`; `L = d/2`). The tangent `t` spans the null space of
-//! `[J - I | dF/dlambda]` (`J` the exact monodromy matrix of [`super::map`]; `dF/dlambda` by
-//! central differences of the map with a step of `1e-6 lambda`), oriented like the previous
+//! `[J - I | dF/dlambda]` (`J` the exact monodromy matrix of [`super::map`], `dF/dlambda` its
+//! exact derivative in `omega` or `F0`, from the same evaluation), oriented like the previous
 //! one. The predictor is `u + h t`; the corrector is Newton on `(F(u), t . (u - u_pred)) = 0`,
-//! which crosses folds where `lambda` turns back. A step that converges in at most 3 iterations
+//! which crosses folds where `lambda` turns back. Each corrector iteration is one evaluation of
+//! the map; the evaluation that confirms a point also gives its multipliers and the next
+//! tangent. A step that converges in at most 3 iterations
 //! grows `h` by 1.5 (up to [`ContSettings::h_max`]); a failed one halves it, and below
 //! [`ContSettings::h_min`] the branch ends (`step_too_small`).
 //!
@@ -29,7 +31,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::map::{Forcing, Section, eval};
+use super::map::{Forcing, MapEval, Section, eval};
 use super::shoot::{Newton, Orbit, Stability, Termination, multipliers, orbit_at, solve};
 use crate::sim::Outcome;
 
@@ -186,8 +188,9 @@ impl Curve<'_> {
         )
     }
 
-    /// `F(u)` scaled, and its 4 x 5 Jacobian (rows 0..4 of the returned matrix).
-    fn residual(&mut self, u: &V5) -> Option<(SVector<f64, 4>, SMatrix<f64, 4, 5>)> {
+    /// `F(u)` scaled, its `4 x 5` Jacobian `[J - I | dF/dlambda]` (both exact, from one
+    /// evaluation of the map) and that evaluation.
+    fn residual(&mut self, u: &V5) -> Option<(SVector<f64, 4>, SMatrix<f64, 4, 5>, MapEval)> {
         let (s, lambda) = self.unscale(u);
         let f = self.param.at(self.base, lambda);
         let e = eval(&f, &s, self.p, true);
@@ -196,12 +199,14 @@ impl Curve<'_> {
             return None;
         }
         let jac = e.jacobian?;
-        let sc = [
-            1.0 / self.l,
-            1.0 / (self.wn * self.l),
-            1.0 / self.l,
-            1.0 / (self.wn * self.l),
-        ];
+        let dp = e.d_param?;
+        let d_lambda = match self.param {
+            // omega = r wn.
+            Param::Ratio => dp.omega.map(|v| v * self.wn),
+            Param::Force => dp.force,
+        };
+        let (a_l, b_l) = (1.0 / self.l, 1.0 / (self.wn * self.l));
+        let sc = [a_l, b_l, a_l, b_l];
         let g = SVector::<f64, 4>::from_fn(|r, _| (e.end[r] - s[r]) * sc[r]);
         let mut a = SMatrix::<f64, 4, 5>::zeros();
         for r in 0..4 {
@@ -210,18 +215,9 @@ impl Curve<'_> {
                 let id = if r == c { 1.0 } else { 0.0 };
                 a[(r, c)] = sc[r] * (jac[r][c] - id) / sc[c];
             }
+            a[(r, 4)] = sc[r] * d_lambda[r] * self.lambda0;
         }
-        let h = 1e-6 * lambda.abs().max(1e-12);
-        let ep = eval(&self.param.at(self.base, lambda + h), &s, self.p, false);
-        let em = eval(&self.param.at(self.base, lambda - h), &s, self.p, false);
-        self.periods += 2 * self.p;
-        if ep.outcome != Outcome::Ok || em.outcome != Outcome::Ok {
-            return None;
-        }
-        for r in 0..4 {
-            a[(r, 4)] = sc[r] * (ep.end[r] - em.end[r]) / (2.0 * h) * self.lambda0;
-        }
-        Some((g, a))
+        Some((g, a, e))
     }
 
     /// The unit tangent at `u` oriented along `prev`.
@@ -235,13 +231,15 @@ impl Curve<'_> {
         (n.is_finite() && n > 0.0).then(|| t / n)
     }
 
-    /// Newton on `(F(u), t . (u - u_pred)) = 0` from `u_pred`.
-    fn correct(&mut self, u_pred: &V5, t: &V5) -> Option<(V5, SMatrix<f64, 4, 5>, u32)> {
+    /// Newton on `(F(u), t . (u - u_pred)) = 0` from `u_pred`: one map evaluation per
+    /// iteration. Returns the point, its Jacobian, the map's evaluation there and the
+    /// iterations taken.
+    fn correct(&mut self, u_pred: &V5, t: &V5) -> Option<(V5, SMatrix<f64, 4, 5>, MapEval, u32)> {
         let mut u = *u_pred;
         for it in 0..8u32 {
-            let (g, a) = self.residual(&u)?;
+            let (g, a, e) = self.residual(&u)?;
             if g.norm() <= 1e-9 {
-                return Some((u, a, it));
+                return Some((u, a, e, it));
             }
             let mut m = M5::zeros();
             m.fixed_view_mut::<4, 5>(0, 0).copy_from(&a);
@@ -353,7 +351,7 @@ fn side(
     let newton = Newton::default();
     let mut pts = Vec::new();
     let mut u = curve.to_u(&orbit.s, curve.param.get(f));
-    let Some((_, a)) = curve.residual(&u) else {
+    let Some((_, a, _)) = curve.residual(&u) else {
         return (pts, End::Simulator);
     };
     let Some(mut t) = curve.tangent(&a, &V5::new(0.0, 0.0, 0.0, 0.0, dir)) else {
@@ -364,7 +362,7 @@ fn side(
     let mut doubled = false;
     while pts.len() < settings.max_points {
         let u_pred = u + t * h;
-        let Some((u_new, a_new, iters)) = curve.correct(&u_pred, &t) else {
+        let Some((u_new, a_new, state_eval, iters)) = curve.correct(&u_pred, &t) else {
             h *= 0.5;
             if h < settings.h_min {
                 return (pts, End::StepTooSmall);
@@ -376,11 +374,6 @@ fn side(
             return (pts, End::Range);
         }
         let fl = curve.param.at(f, lambda);
-        let state_eval = eval(&fl, &s, curve.p, true);
-        curve.periods += curve.p;
-        if state_eval.outcome != Outcome::Ok {
-            return (pts, End::Simulator);
-        }
         if state_eval.impacts == 0 {
             if let Some(last) = pts.last_mut() {
                 let last: &mut BranchPoint = last;

@@ -131,6 +131,9 @@ pub struct MapEval {
     /// `d P^p / d s` in section coordinates (`None` unless asked for, or when an impact was a
     /// graze, `grad(h) . f- = 0`, where the map is not differentiable).
     pub jacobian: Option<Mat4>,
+    /// `d P^p / d omega` and `d P^p / d F0` in section coordinates (s and s/N), exact, with the
+    /// Jacobian (`None` when it is).
+    pub d_param: Option<ParamDerivatives>,
     /// `max |x|` over the `p` periods (m), exact.
     pub amplitude: f64,
     /// Impacts over the `p` periods.
@@ -140,6 +143,15 @@ pub struct MapEval {
     /// The smallest relative approach speed `|y' - x'|` of an impact (m/s), `inf` without
     /// impacts: near zero the orbit is grazing.
     pub min_impact_speed: f64,
+}
+
+/// The map's derivatives in the forcing's parameters at fixed `s` (module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParamDerivatives {
+    /// `d P^p / d omega` (section units per rad/s).
+    pub omega: Section,
+    /// `d P^p / d F0` (section units per N).
+    pub force: Section,
 }
 
 /// Events of one evaluation, recorded for the Jacobian.
@@ -191,13 +203,19 @@ pub fn eval(f: &Forcing, s: &Section, p: u64, jacobian: bool) -> MapEval {
         &mut rec,
     );
     let end = [out.end.x, out.end.v, out.end.y - out.end.x, out.end.w];
-    let jac = (jacobian && out.outcome == Outcome::Ok)
-        .then(|| monodromy(f, &rec.events, out.t_stop))
+    let end_state = out.end;
+    let lin = (jacobian && out.outcome == Outcome::Ok)
+        .then(|| linearise(f, &rec.events, out.t_stop, &end_state))
         .flatten();
+    let (jac, d_param) = match lin {
+        Some((j, d)) => (Some(j), Some(d)),
+        None => (None, None),
+    };
     MapEval {
         outcome: out.outcome,
         end,
         jacobian: jac,
+        d_param,
         amplitude: out.amplitude,
         impacts: out.impacts,
         sticks: out.sticks,
@@ -212,48 +230,146 @@ enum Mode {
     Stuck,
 }
 
-/// The monodromy matrix in section coordinates from the recorded events (module doc); `None`
-/// at a graze.
-fn monodromy(f: &Forcing, events: &[Ev], t_end: f64) -> Option<Mat4> {
+/// The monodromy matrix in section coordinates from the recorded events, and the map's
+/// derivatives in `omega` and `F0` (module doc); `None` at a graze.
+fn linearise(
+    f: &Forcing,
+    events: &[Ev],
+    t_end: f64,
+    end: &State,
+) -> Option<(Mat4, ParamDerivatives)> {
     let sys = &f.sys;
     let free = Oscillator::new(sys.M, sys.K, sys.C);
     let pair = Oscillator::new(sys.M + sys.m, sys.K, sys.C);
-    let mut j = identity();
-    let mut mode = Mode::Free;
-    let mut t_prev = 0.0;
+    let mut lin = Linearisation {
+        f,
+        free,
+        pair,
+        j: identity(),
+        eta: [[0.0; 4]; 2],
+        mode: Mode::Free,
+        t_prev: 0.0,
+    };
     let mut i = 0;
     while i < events.len() {
         match events[i] {
             Ev::Impact { t, before, after } => {
-                j = mul(&segment(mode, &free, &pair, t - t_prev), &j);
+                lin.flow_to(t);
                 let s = match events.get(i + 1) {
                     Some(Ev::Stick { t: ts, wall, at }) if *ts == t => {
                         i += 1;
-                        mode = Mode::Stuck;
+                        lin.mode = Mode::Stuck;
                         stick_saltation(f, t, &before, at, *wall)?
                     }
                     _ => impact_saltation(f, t, &before, &after)?,
                 };
-                j = mul(&s, &j);
-                t_prev = t;
+                lin.jump(&s);
             }
             Ev::Stick { t, .. } => {
                 // A stick not preceded by an impact at the same instant does not occur; treat
                 // it as a change of field at a point where both agree.
-                j = mul(&segment(mode, &free, &pair, t - t_prev), &j);
-                mode = Mode::Stuck;
-                t_prev = t;
+                lin.flow_to(t);
+                lin.mode = Mode::Stuck;
             }
             Ev::Separate { t } => {
-                j = mul(&segment(mode, &free, &pair, t - t_prev), &j);
-                mode = Mode::Free;
-                t_prev = t;
+                lin.flow_to(t);
+                lin.mode = Mode::Free;
             }
         }
         i += 1;
     }
-    j = mul(&segment(mode, &free, &pair, t_end - t_prev), &j);
-    Some(to_section(&j))
+    lin.flow_to(t_end);
+    // The map is the state at `t_end = 2 pi p / omega`, which moves with omega:
+    // `dP/domega = dq/domega (fixed t) + q'(t_end) dt_end/domega`, `dt_end/domega = -t_end/omega`.
+    let field = match lin.mode {
+        Mode::Free => free_field(f, t_end, end),
+        Mode::Stuck => stuck_field(f, t_end, end),
+    };
+    let mut d_omega = lin.eta[0];
+    for (k, v) in d_omega.iter_mut().enumerate() {
+        *v -= field[k] * t_end / f.omega;
+    }
+    let sec = |q: [f64; 4]| [q[0], q[1], q[2] - q[0], q[3]];
+    let d = ParamDerivatives {
+        omega: sec(d_omega),
+        force: sec(lin.eta[1]),
+    };
+    Some((to_section(&lin.j), d))
+}
+
+/// The linearisation being built along the recorded motion: `j = dq(t)/dq(0)` and
+/// `eta = (dq(t)/domega, dq(t)/dF0)` at fixed `t`, in `(x, x', y, y')`.
+struct Linearisation<'a> {
+    f: &'a Forcing,
+    free: Oscillator,
+    pair: Oscillator,
+    j: Mat4,
+    eta: [[f64; 4]; 2],
+    mode: Mode,
+    t_prev: f64,
+}
+
+impl Linearisation<'_> {
+    /// Along the smooth segment from `t_prev` to `t`. The motion is
+    /// `q(t) = Phi(t - t0) (q(t0) - q_p(t0)) + q_p(t)` with `q_p` the particular solution of the
+    /// segment's oscillator, so at fixed `t`
+    /// `d q(t) = Phi d q(t0) + d q_p(t) - Phi d q_p(t0)` for a change of `omega` or `F0`.
+    fn flow_to(&mut self, t: f64) {
+        let phi = segment(self.mode, &self.free, &self.pair, t - self.t_prev);
+        self.j = mul(&phi, &self.j);
+        let d0 = particular_derivatives(self.f, self.mode, self.t_prev);
+        let d1 = particular_derivatives(self.f, self.mode, t);
+        for (k, eta) in self.eta.iter_mut().enumerate() {
+            let moved = apply(&phi, eta);
+            let from = apply(&phi, &d0[k]);
+            *eta = std::array::from_fn(|r| moved[r] + d1[k][r] - from[r]);
+        }
+        self.t_prev = t;
+    }
+
+    /// Across an event with saltation matrix `s`. The event surface and the jump law do not
+    /// depend on `omega` or `F0`, so the parameter derivatives jump by the same `s`.
+    fn jump(&mut self, s: &Mat4) {
+        self.j = mul(s, &self.j);
+        for eta in &mut self.eta {
+            *eta = apply(s, eta);
+        }
+    }
+}
+
+/// The derivatives in `omega` and in `F0` of the particular state of the mode's oscillator at
+/// time `t`, in `(x, x', y, y')` (while stuck the inner mass moves with the main mass). With
+/// `X = P - i Q = F0 / Z`, `Z = k - mass omega^2 + i c omega`: `dX/domega = -X Z'/Z`,
+/// `Z' = -2 mass omega + i c`; `x_p = P cos(omega t) + Q sin(omega t)` gives
+/// `dx_p/domega = P' cos + Q' sin + t x_p'/omega` and
+/// `dx_p'/domega = x_p'/omega + omega (Q' cos - P' sin) - omega t x_p`; both are linear in `F0`.
+fn particular_derivatives(f: &Forcing, mode: Mode, t: f64) -> [[f64; 4]; 2] {
+    let sys = &f.sys;
+    let mass = match mode {
+        Mode::Free => sys.M,
+        Mode::Stuck => sys.M + sys.m,
+    };
+    let w = f.omega;
+    let (p, q) = crate::sim::forced::motion::particular(mass, sys.K, sys.C, f.F0, w);
+    // X = P - iQ, Z = re + i im.
+    let (zr, zi) = ((-mass * w).mul_add(w, sys.K), sys.C * w);
+    let (dzr, dzi) = (-2.0 * mass * w, sys.C);
+    // X Z' / Z = X (Z' conj(Z)) / |Z|^2.
+    let n = zr * zr + zi * zi;
+    let (ur, ui) = ((dzr * zr + dzi * zi) / n, (dzi * zr - dzr * zi) / n);
+    let (xr, xi) = (p, -q);
+    let (dxr, dxi) = (-(xr * ur - xi * ui), -(xr * ui + xi * ur));
+    let (dp, dq) = (dxr, -dxi);
+    let (sn, cs) = (w * t).sin_cos();
+    let x = p * cs + q * sn;
+    let v = w * (q * cs - p * sn);
+    let dx = dp * cs + dq * sn + t * v / w;
+    let dv = v / w + w * (dq * cs - dp * sn) - w * t * x;
+    let (fx, fv) = (x / f.F0, v / f.F0);
+    match mode {
+        Mode::Free => [[dx, dv, 0.0, 0.0], [fx, fv, 0.0, 0.0]],
+        Mode::Stuck => [[dx, dv, dx, dv], [fx, fv, fx, fv]],
+    }
 }
 
 /// The state-transition matrix of one smooth segment of length `tau` in `(x, x', y, y')`.
@@ -465,5 +581,72 @@ mod tests {
             );
         }
         assert!(checked >= 8, "only {checked} columns checked");
+    }
+
+    /// Central differences of `P^p` in `omega` and in `F0` against the exact derivatives, on
+    /// the same motions (sticking included). Issue 16.
+    #[test]
+    fn parameter_derivatives_match_central_differences() {
+        let cases = [
+            (
+                table_i(0.005, 0.005, 0.9, 0.1, 0.1, 0.9),
+                [0.0018, 0.0, 0.001, 0.1],
+                1,
+            ),
+            (
+                table_i(0.02, 0.01, 0.8, 0.1, 0.3, 1.0),
+                [0.003, -0.05, -0.002, 0.2],
+                2,
+            ),
+            (
+                table_i(0.01, 0.01, 0.5, 0.3, 0.3, 0.9),
+                [0.002, 0.1, 0.0, -0.1],
+                3,
+            ),
+            (
+                table_i(0.02, 0.004, 0.2, 0.1, 0.5, 1.1),
+                [0.001, 0.1, 0.001, 0.0],
+                1,
+            ),
+        ];
+        let wn = |f: &Forcing| f.sys.omega();
+        let mut checked = 0;
+        for (f, s, p) in cases {
+            let base = eval(&f, &s, p, true);
+            let Some(d) = base.d_param else { continue };
+            let steps = [1e-7 * f.omega, 1e-7 * f.F0];
+            for (k, exact) in [d.omega, d.force].iter().enumerate() {
+                let moved = |h: f64| {
+                    let g = if k == 0 {
+                        Forcing {
+                            omega: f.omega + h,
+                            ..f.clone()
+                        }
+                    } else {
+                        f.at_force(f.F0 + h)
+                    };
+                    eval(&g, &s, p, false)
+                };
+                let (ep, em) = (moved(steps[k]), moved(-steps[k]));
+                if ep.impacts != base.impacts || em.impacts != base.impacts {
+                    continue;
+                }
+                let unit = |r: usize| if r % 2 == 1 { wn(&f) } else { 1.0 };
+                let norm = (0..4)
+                    .map(|r| (exact[r] / unit(r)).abs())
+                    .fold(0.0, f64::max)
+                    .max(1e-12);
+                for (r, want) in exact.iter().enumerate() {
+                    let fd = (ep.end[r] - em.end[r]) / (2.0 * steps[k]);
+                    let err = ((fd - want) / unit(r)).abs() / norm;
+                    assert!(
+                        err < 1e-6,
+                        "{s:?}, p = {p}, parameter {k}, row {r}: {err:e}"
+                    );
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked >= 6, "only {checked} derivatives checked");
     }
 }
