@@ -4,9 +4,9 @@
 
 use impactsweep::model::System;
 use impactsweep::orbits::analytic::symmetric_period1;
-use impactsweep::orbits::census::{CensusSettings, Kind, census, start};
+use impactsweep::orbits::census::{CensusSettings, Kind, Landing, census, settle, start};
 use impactsweep::orbits::map::{Forcing, Section};
-use impactsweep::orbits::response::analyse;
+use impactsweep::orbits::response::{BranchRow, analyse};
 use impactsweep::orbits::shoot::{Newton, Stability, Termination, orbit_at, solve};
 use impactsweep::sim::{
     Drive, Harmonic, NoProbe, Outcome, Request, SolverSettings, simulate_harmonic,
@@ -30,9 +30,10 @@ fn forcing(m: f64, d: f64, e: f64, c: f64, f0: f64, r: f64) -> Forcing {
     }
 }
 
-/// The steady state a long transient reaches from `s` (the sweep's default transient rule,
-/// converged to 1e-12 of its scale); `None` when it is not periodic.
-fn brute_force(f: &Forcing, s: &Section) -> Option<(u32, f64, Section)> {
+/// The steady state a long transient reaches from `s` within `max_periods` forcing periods
+/// (the sweep's default transient rule, converged to 1e-12 of its scale): period, amplitude,
+/// end section, impacts per period; `None` when it is not periodic by then.
+fn brute_force(f: &Forcing, s: &Section, max_periods: u64) -> Option<(u32, f64, Section, f64)> {
     let sys = System {
         x0: s[0],
         v0: s[1],
@@ -43,7 +44,7 @@ fn brute_force(f: &Forcing, s: &Section) -> Option<(u32, f64, Section)> {
     let scene = Harmonic {
         F0: f.F0,
         drive: Drive::Omega(f.omega),
-        n_trans_max: 20_000,
+        n_trans_max: max_periods,
         trans_tol: 1e-12,
         n_meas: 48,
         ..Harmonic::default()
@@ -58,7 +59,39 @@ fn brute_force(f: &Forcing, s: &Section) -> Option<(u32, f64, Section)> {
     );
     (rec.outcome == Outcome::Ok && rec.period > 0 && rec.converged).then(|| {
         let end = [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w];
-        (rec.period, rec.amplitude, end)
+        (rec.period, rec.amplitude, end, rec.impacts_per_period)
+    })
+}
+
+/// Whether a stable row of `rows` at period `period` passes through amplitude `amp` at `r`:
+/// two consecutive rows of one branch bracket `r` and their amplitude interpolated there is
+/// within `1e-2 amp` (rows lie up to a continuation step apart). The orbit may sit next to a
+/// stability change (a PD between the two rows): one of the bracketing rows is stable.
+fn on_stable_branch(rows: &[BranchRow], r: f64, period: u32, amp: f64) -> bool {
+    rows.windows(2).any(|w| {
+        let (a, b) = (&w[0], &w[1]);
+        a.branch == b.branch
+            && (a.stable || b.stable)
+            && a.period == period
+            && (a.r - r) * (b.r - r) <= 0.0
+            && {
+                let t = if b.r != a.r {
+                    (r - a.r) / (b.r - a.r)
+                } else {
+                    0.0
+                };
+                let amp_b = a.amplitude + t * (b.amplitude - a.amplitude);
+                (amp_b - amp).abs() <= 1e-2 * amp
+            }
+    })
+}
+
+/// Whether the non-impacting family's rows hold amplitude `amp` at `r` (to `1e-6`).
+fn on_family(rows: &[BranchRow], r: f64, amp: f64) -> bool {
+    rows.iter().any(|b| {
+        b.stability == "neutral"
+            && (b.r - r).abs() <= 1e-12
+            && (b.amplitude - amp).abs() <= 1e-6 * amp
     })
 }
 
@@ -142,7 +175,7 @@ fn issue_16_every_brute_force_steady_state_is_in_the_census_and_on_a_stable_bran
             let mut starts = vec![[0.0; 4]];
             starts.extend((1..settings.starts).map(|k| start(&f, &settings, k, x_ref)));
             for s in &starts {
-                let Some((_, amp, end)) = brute_force(&f, s) else {
+                let Some((_, amp, end, _)) = brute_force(&f, s, 20_000) else {
                     continue;
                 };
                 let hit = cen.attractors.iter().find(|a| {
@@ -160,25 +193,7 @@ fn issue_16_every_brute_force_steady_state_is_in_the_census_and_on_a_stable_bran
                 }
                 assert_eq!(o.stability, Stability::Stable);
                 // On a stable branch of the curve's analysis at this frequency.
-                let rows = &resp.branches;
-                let on_branch = rows.windows(2).any(|w| {
-                    let (a, b) = (&w[0], &w[1]);
-                    // The orbit may sit next to a stability change (a PD between the two
-                    // rows): one of the bracketing rows is stable.
-                    a.branch == b.branch
-                        && (a.stable || b.stable)
-                        && a.period == o.period
-                        && (a.r - r) * (b.r - r) <= 0.0
-                        && {
-                            let t = if b.r != a.r {
-                                (r - a.r) / (b.r - a.r)
-                            } else {
-                                0.0
-                            };
-                            let amp_b = a.amplitude + t * (b.amplitude - a.amplitude);
-                            (amp_b - amp).abs() <= 1e-2 * amp
-                        }
-                });
+                let on_branch = on_stable_branch(&resp.branches, r, o.period, amp);
                 assert!(on_branch, "{m} {d} {e} r = {r}: {amp} on no stable branch");
                 let _ = &end;
                 found += 1;
@@ -190,8 +205,9 @@ fn issue_16_every_brute_force_steady_state_is_in_the_census_and_on_a_stable_bran
 
 /// A design with a hysteresis loop: continuation along r passes two folds (`SN`), and transient
 /// sweeps up and down in r, each frequency starting from the previous steady state, disagree
-/// inside the loop. (That each sweep point lies on a stable branch is not shown: a sweep can
-/// land on an orbit whose basin none of the census's 8 starts fell into.)
+/// inside the loop and land on the stable branches: every periodic point of either sweep lies
+/// on a stable branch of the curve's analysis (or on the non-impacting family), and inside the
+/// loop the two sweeps are on different ones.
 #[test]
 fn issue_16_hysteresis_two_folds_and_the_sweeps_up_and_down() {
     let base = forcing(0.005, 0.005, 0.9, 0.1, 0.1, 1.0);
@@ -210,25 +226,47 @@ fn issue_16_hysteresis_two_folds_and_the_sweeps_up_and_down() {
     let resp = analyse(&base, 0, &[0.0; 4], &freqs, &settings);
     let folds = resp.branches.iter().filter(|b| b.label == "SN").count();
     assert!(folds >= 2, "{folds} folds");
-    // Sweeps by transient runs, each from the previous steady state.
+    // Sweeps by transient runs, each frequency from the previous steady state: the census's
+    // rule for one start (the sweep's transient rule to the hand-over, Newton from there, the
+    // same 2000-period budget). Inside this loop the motion passes through long chaotic
+    // transients, whose landing changes with the start's last digits: a run converged to 1e-12
+    // instead of Newton's polish can land elsewhere, so the sweeps here are exactly the ones a
+    // designer's `settle` calls make.
+    let newton = Newton::default();
     let sweep = |rs: Vec<f64>| {
         let mut s: Section = [0.0; 4];
         let mut out = Vec::new();
         for r in rs {
             let f = base.at_ratio(r);
-            if let Some((p, amp, end)) = brute_force(&f, &s) {
-                out.push((r, p, amp));
-                s = end;
+            let st = settle(&f, &s, &settings, &newton);
+            if let Landing::Orbit(o) = &st.landing {
+                out.push((r, o.period, o.amplitude, o.impacts_per_period()));
             }
+            s = st.end;
         }
         out
     };
     let rs: Vec<f64> = freqs.iter().map(|f| f.1).collect();
     let up = sweep(rs.clone());
     let down = sweep(rs.into_iter().rev().collect());
+    let mut checked = 0;
+    for &(r, p, amp, ipp) in up.iter().chain(&down) {
+        let ok = if ipp == 0.0 {
+            on_family(&resp.branches, r, amp)
+        } else {
+            on_stable_branch(&resp.branches, r, p, amp)
+        };
+        assert!(
+            ok,
+            "sweep point r = {r}, period {p}, amplitude {amp}: on no stable branch"
+        );
+        checked += 1;
+    }
+    // 33 of the 42 sweep points are periodic; the rest wander through the chaotic band.
+    assert!(checked >= 30, "only {checked} sweep points periodic");
     let mut differ = 0;
-    for &(r, _, a_up) in &up {
-        if let Some(&(_, _, a_down)) = down.iter().find(|x| x.0 == r)
+    for &(r, _, a_up, _) in &up {
+        if let Some(&(_, _, a_down, _)) = down.iter().find(|x| x.0 == r)
             && (a_up - a_down).abs() > 1e-3 * a_up
         {
             differ += 1;

@@ -132,7 +132,8 @@ pub fn start(f: &Forcing, c: &CensusSettings, k: u32, x_ref: f64) -> Section {
 }
 
 /// Where one start ended.
-enum Landing {
+#[derive(Clone, Debug, PartialEq)]
+pub enum Landing {
     Orbit(Orbit),
     NonPeriodic {
         amplitude: f64,
@@ -151,7 +152,9 @@ pub fn census(f: &Forcing, s0: &Section, c: &CensusSettings) -> Census {
     let mut x_ref = f.half_gap();
     for k in 0..c.starts.max(1) {
         let s = if k == 0 { *s0 } else { start(f, c, k, x_ref) };
-        let (landing, periods) = run_start(f, &s, c, &newton);
+        let Settled {
+            landing, periods, ..
+        } = settle(f, &s, c, &newton);
         out.periods += periods;
         out.starts += 1;
         let att = match landing {
@@ -211,8 +214,23 @@ fn same(f: &Forcing, a: &Attractor, b: &Attractor) -> bool {
     }
 }
 
-/// Runs one start to its attractor; returns where it landed and the periods simulated.
-fn run_start(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) -> (Landing, u64) {
+/// Where a start settled: its attractor, the forcing periods simulated, and the section state
+/// it ended in (a periodic orbit's own section, or where the measuring window ended), from
+/// which the next frequency of a sweep starts.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settled {
+    pub landing: Landing,
+    pub periods: u64,
+    pub end: Section,
+}
+
+/// Runs one start from `s0` to its attractor (module doc, "Each start").
+pub fn settle(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) -> Settled {
+    let done = |landing, periods, end| Settled {
+        landing,
+        periods,
+        end,
+    };
     // The sweep's own transient rule, stopped at the hand-over tolerance, then a short window
     // that says which period the motion is approaching.
     let scene = Harmonic {
@@ -237,7 +255,7 @@ fn run_start(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) -> 
     );
     let mut periods = rec.n_trans + rec.n_meas;
     if rec.outcome != Outcome::Ok {
-        return (nan_landing(), periods);
+        return done(nan_landing(), periods, *s0);
     }
     let s = [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w];
     let x_scale = f.half_gap().max(rec.amplitude);
@@ -245,7 +263,9 @@ fn run_start(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) -> 
         && s[3].abs() <= 1e-12 * f.omega * x_scale
         && let Some(o) = non_impacting(f, s[0] + s[2])
     {
-        return (Landing::Orbit(o), periods);
+        // The sweep goes on from where the motion is (the family's section places the inner
+        // mass by convention).
+        return done(Landing::Orbit(o), periods, s);
     }
     if rec.converged && rec.period >= 1 {
         let p = u64::from(rec.period);
@@ -257,19 +277,20 @@ fn run_start(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) -> 
             && let Some(o) = orbit_at(f, p, &st, newton)
             && o.stability == Stability::Stable
         {
-            return (Landing::Orbit(o), periods);
+            let end = o.s;
+            return done(Landing::Orbit(o), periods, end);
         }
     }
     let w = eval(f, &s, c.window.max(1), false);
     periods += c.window.max(1);
     if w.outcome != Outcome::Ok {
-        return (nan_landing(), periods);
+        return done(nan_landing(), periods, s);
     }
     let landing = Landing::NonPeriodic {
         amplitude: w.amplitude,
         impacts_per_period: w.impacts as f64 / c.window.max(1) as f64,
     };
-    (landing, periods)
+    done(landing, periods, w.end)
 }
 
 fn nan_landing() -> Landing {

@@ -2,7 +2,9 @@
 //! frequency, then the periodic attractors followed along the frequency by continuation.
 //!
 //! The census ([`super::census`]) runs at every swept frequency. Its periodic impacting
-//! attractors seed continuation ([`super::continuation`]) in frequency order; an attractor that
+//! attractors seed continuation ([`super::continuation`]) in frequency order, then those of two
+//! transient sweeps, up and down the frequencies, each frequency starting where the previous
+//! one settled (the branches of a hysteresis loop, which fixed starts can all miss); an attractor that
 //! lies on a branch already followed (same period and impacts, amplitude within `1e-3` of the
 //! branch interpolated at its frequency) seeds nothing, so a curve costs a few branches, not one
 //! per frequency. At most [`MAX_BRANCHES`] branches are followed per curve (doubled branches
@@ -10,13 +12,13 @@
 //! its own, in closed form ([`super::shoot::non_impacting`]): its rows are `neutral` wherever it
 //! exists (`A <= d/2`).
 
-use super::census::{Census, CensusSettings, Kind, census};
+use super::census::{Census, CensusSettings, Kind, Landing, census, settle};
 use super::continuation::{Branch, ContSettings, Label, Param, follow};
 use super::map::{Forcing, Section};
 use super::shoot::{Newton, Orbit, Stability, Termination, non_impacting, same_orbit, solve};
 
 /// Most branches followed per curve.
-pub const MAX_BRANCHES: usize = 8;
+pub const MAX_BRANCHES: usize = 16;
 
 /// One attractor at one frequency.
 #[derive(Clone, Debug, PartialEq)]
@@ -67,8 +69,9 @@ pub struct Response {
     pub design: u64,
     pub attractors: Vec<AttractorRow>,
     pub branches: Vec<BranchRow>,
-    /// Forcing periods simulated by the census and by continuation.
+    /// Forcing periods simulated by the census, by the two sweeps and by continuation.
     pub periods_census: u64,
+    pub periods_sweeps: u64,
     pub periods_continuation: u64,
 }
 
@@ -100,6 +103,7 @@ pub fn analyse(
             }
         }
     }
+    seeds.extend(sweep_seeds(base, &mut out, s0, freqs, settings));
     let (lo, hi) = freqs
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, r)| {
@@ -139,6 +143,38 @@ pub fn analyse(
     out
 }
 
+/// The periodic impacting orbits two transient sweeps land on: up and then down the swept
+/// frequencies, each frequency starting where the previous one settled ([`settle`]), the first
+/// from `s0`. Inside a hysteresis loop each sweep stays on its own branch until that branch
+/// ends, so they reach orbits whose basins the census's fixed starts may all miss.
+fn sweep_seeds(
+    base: &Forcing,
+    out: &mut Response,
+    s0: &Section,
+    freqs: &[(u64, f64)],
+    settings: &CensusSettings,
+) -> Vec<(Forcing, Box<Orbit>)> {
+    let newton = Newton::default();
+    let up: Vec<f64> = freqs.iter().map(|f| f.1).collect();
+    let down: Vec<f64> = up.iter().rev().copied().collect();
+    let mut seeds = Vec::new();
+    for rs in [up, down] {
+        let mut s = *s0;
+        for r in rs {
+            let f = base.at_ratio(r);
+            let st = settle(&f, &s, settings, &newton);
+            out.periods_sweeps += st.periods;
+            s = st.end;
+            if let Landing::Orbit(o) = st.landing
+                && o.impacts > 0
+            {
+                seeds.push((f, Box::new(o)));
+            }
+        }
+    }
+    seeds
+}
+
 fn push_attractors(out: &mut Response, c: &Census, point: u64, f: &Forcing) {
     for (i, a) in c.attractors.iter().enumerate() {
         let stability = match &a.kind {
@@ -161,15 +197,20 @@ fn push_attractors(out: &mut Response, c: &Census, point: u64, f: &Forcing) {
     }
 }
 
-/// Whether branch `b` passes through `orbit` (a fixed point at `f`): Newton at `f`'s frequency
-/// from the branch's section interpolated between the two points that bracket it converges to
-/// the same orbit ([`same_orbit`]).
+/// Whether branch `b` passes through `orbit` (a fixed point at `f`): two consecutive points of
+/// the branch with the orbit's period and impacts bracket its frequency, and either the
+/// branch's amplitude interpolated there is within `1e-3` of the orbit's, or Newton at `f`'s
+/// frequency from the branch's section interpolated there converges to the same orbit
+/// ([`same_orbit`]).
 pub fn covers(b: &Branch, f: &Forcing, orbit: &Orbit) -> bool {
     let r = f.ratio();
     let p = u64::from(orbit.period);
     b.points.windows(2).any(|w| {
         let (a, c) = (&w[0], &w[1]);
-        if a.period != orbit.period || c.period != orbit.period || a.impacts != orbit.impacts {
+        let alike = |q: &super::continuation::BranchPoint| {
+            q.period == orbit.period && q.impacts == orbit.impacts
+        };
+        if !alike(a) || !alike(c) {
             return false;
         }
         let (lo, hi) = if a.r <= c.r { (a, c) } else { (c, a) };
@@ -181,6 +222,10 @@ pub fn covers(b: &Branch, f: &Forcing, orbit: &Orbit) -> bool {
         } else {
             0.0
         };
+        let amp = lo.amplitude + t * (hi.amplitude - lo.amplitude);
+        if (amp - orbit.amplitude).abs() <= 1e-3 * orbit.amplitude {
+            return true;
+        }
         let s: Section = std::array::from_fn(|k| lo.s[k] + t * (hi.s[k] - lo.s[k]));
         matches!(
             solve(f, p, &s, &Newton::default()),
