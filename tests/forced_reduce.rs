@@ -276,3 +276,79 @@ fn issue_12_the_reduction_streams_whole_curves() {
     assert_eq!(whole.1.runs, 66);
     assert_eq!(whole.1.curves.len(), 2);
 }
+
+/// A study at one frequency that sweeps the force amplitude: `reduce` follows each design's
+/// branches along `F0` (issue 16, item 3): `branches.csv` has rows at the study's one `r`
+/// with `F0` moving over the swept range, and `attractors.csv` a census at every force.
+#[test]
+fn issue_16_a_force_sweep_is_followed_along_f0() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = r#"[study]
+name = "force"
+seed = 5
+
+[system]
+m = 0.005
+d = 0.005
+C = 0.1
+v0 = 0.0
+
+[scene]
+kind = "harmonic"
+r = 0.85
+starts = 4
+
+[sweep]
+F0 = [0.05, 0.1, 0.15, 0.2]
+
+[reliability]
+strength_mean = 300e6
+strength_sd = 20e6
+bootstrap = 20
+"#;
+    let study = tmp.path().join("force.toml");
+    std::fs::write(&study, text).unwrap();
+    let dir = common::run_study_file(&study, &tmp.path().join("out"), "force");
+    bin().arg("reduce").arg(&dir).assert().success();
+    let csv = |name: &str| -> Vec<BTreeMap<String, String>> {
+        let text = std::fs::read_to_string(dir.join(name)).unwrap();
+        let mut lines = text.lines();
+        let head: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+        lines
+            .map(|l| {
+                head.iter()
+                    .cloned()
+                    .zip(l.split(',').map(String::from))
+                    .collect()
+            })
+            .collect()
+    };
+    let branches = csv("branches.csv");
+    let impacting: Vec<_> = branches
+        .iter()
+        .filter(|b| num(&b["impacts_per_period"]) > 0.0)
+        .collect();
+    assert!(
+        impacting.len() >= 5,
+        "{} impacting branch rows",
+        impacting.len()
+    );
+    let f0s: Vec<f64> = impacting.iter().map(|b| num(&b["F0"])).collect();
+    let (lo, hi) = f0s
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    assert!(
+        lo >= 0.05 - 1e-12 && hi <= 0.2 + 1e-12 && hi - lo > 0.05,
+        "F0 in [{lo}, {hi}]"
+    );
+    for b in &branches {
+        assert!((num(&b["r"]) - 0.85).abs() < 1e-9, "{b:?}");
+    }
+    let points: std::collections::BTreeSet<String> = csv("attractors.csv")
+        .iter()
+        .map(|a| a["point"].clone())
+        .collect();
+    assert_eq!(points.len(), 4, "a census at each of the 4 forces");
+}

@@ -6,8 +6,8 @@ use impactsweep::model::System;
 use impactsweep::orbits::analytic::symmetric_period1;
 use impactsweep::orbits::census::{CensusSettings, Kind, Landing, census, settle, start};
 use impactsweep::orbits::map::{Forcing, Section};
-use impactsweep::orbits::response::{BranchRow, analyse};
-use impactsweep::orbits::shoot::{Newton, Stability, Termination, orbit_at, solve};
+use impactsweep::orbits::response::{BranchRow, analyse, analyse_along};
+use impactsweep::orbits::shoot::{Newton, Stability, Termination, distance, orbit_at, solve};
 use impactsweep::sim::{
     Drive, Harmonic, NoProbe, Outcome, Request, SolverSettings, simulate_harmonic,
 };
@@ -275,5 +275,72 @@ fn issue_16_hysteresis_two_folds_and_the_sweeps_up_and_down() {
     assert!(
         differ >= 1,
         "the sweeps agree everywhere: no hysteresis seen"
+    );
+}
+
+/// Continuation along the force amplitude `F0` (the swept axis of a study at one frequency):
+/// from Masri and Caughey's symmetric orbit, every point of the branch is a fixed point of the
+/// map at its own `F0`, and where the closed form exists at that `F0` it agrees in amplitude.
+#[test]
+fn issue_16_continuation_along_the_force() {
+    use impactsweep::orbits::continuation::{ContSettings, Param, follow};
+    use impactsweep::orbits::map::eval;
+    let f = forcing(0.005, 0.005, 0.9, 0.1, 0.1, 0.85);
+    let seed = symmetric_period1(&f.sys, f.F0, f.omega)
+        .into_iter()
+        .rfind(|o| o.admissible)
+        .expect("the symmetric orbit at r = 0.85");
+    let newton = Newton::default();
+    let (_, st) = solve(&f, 1, &seed.section, &newton);
+    let orbit = orbit_at(&f, 1, &st.expect("newton"), &newton).expect("an impacting orbit");
+    let cont = ContSettings {
+        range: (0.02, 0.4),
+        h0: 0.01,
+        h_min: 1e-6,
+        h_max: 0.05,
+        max_points: 400,
+        switch_pd: false,
+    };
+    let branch = follow(&f, &orbit, Param::Force, &cont).remove(0);
+    let mut closed = 0;
+    for p in &branch.points {
+        let g = f.at_force(p.F0);
+        let e = eval(&g, &p.s, u64::from(p.period), false);
+        // The section norm (m): velocities over sqrt(K/M).
+        let res = distance(&g, &e.end, &p.s);
+        assert!(res <= 1e-8 * p.amplitude, "F0 = {}: residual {res:e}", p.F0);
+        for o in symmetric_period1(&g.sys, g.F0, g.omega) {
+            if o.admissible && (o.amplitude - p.amplitude).abs() <= 1e-6 * p.amplitude {
+                closed += 1;
+            }
+        }
+    }
+    assert!(branch.points.len() >= 10, "{} points", branch.points.len());
+    assert!(closed >= 10, "only {closed} points on the closed form");
+    // Stable at the start, unstable at the largest forces: the branch changes stability.
+    assert!(branch.points.first().is_some_and(|p| p.stable));
+    assert!(branch.points.last().is_some_and(|p| !p.stable));
+    // The curve's analysis along F0: census at each force, branches in F0 at this frequency.
+    let forces: Vec<(u64, f64)> = (0..5).map(|i| (i, 0.05 + 0.05 * i as f64)).collect();
+    let settings = CensusSettings {
+        starts: 4,
+        max_periods: 2000,
+        handover: 1e-3,
+        window: 200,
+        seed: 7,
+        point: 0,
+    };
+    let resp = analyse_along(&f, 0, &[0.0; 4], &forces, Param::Force, &settings);
+    assert!(resp.branches.iter().any(|b| b.stable));
+    for b in &resp.branches {
+        assert!(
+            (b.r - 0.85).abs() < 1e-12 && (0.05..=0.25).contains(&b.F0),
+            "{b:?}"
+        );
+    }
+    assert_eq!(
+        resp.attractors.iter().map(|a| a.point).max(),
+        Some(4),
+        "a census at every force"
     );
 }

@@ -45,14 +45,16 @@ pub enum Param {
 }
 
 impl Param {
-    fn get(self, f: &Forcing) -> f64 {
+    /// The parameter's value at `f`.
+    pub fn get(self, f: &Forcing) -> f64 {
         match self {
             Param::Ratio => f.ratio(),
             Param::Force => f.F0,
         }
     }
 
-    fn at(self, f: &Forcing, value: f64) -> Forcing {
+    /// `f` with the parameter set to `value`.
+    pub fn at(self, f: &Forcing, value: f64) -> Forcing {
         match self {
             Param::Ratio => f.at_ratio(value),
             Param::Force => f.at_force(value),
@@ -122,6 +124,14 @@ pub struct BranchPoint {
 }
 
 impl BranchPoint {
+    /// The continuation parameter's value at this point.
+    pub fn value(&self, param: Param) -> f64 {
+        match param {
+            Param::Ratio => self.r,
+            Param::Force => self.F0,
+        }
+    }
+
     pub fn impacts_per_period(&self) -> f64 {
         self.impacts as f64 / self.period as f64
     }

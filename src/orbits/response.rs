@@ -85,13 +85,28 @@ pub fn analyse(
     freqs: &[(u64, f64)],
     settings: &CensusSettings,
 ) -> Response {
+    analyse_along(base, design, s0, freqs, Param::Ratio, settings)
+}
+
+/// [`analyse`] along either parameter: `values` are `(design point, value of param)`; the
+/// census runs at each value and continuation follows `param` (the frequency ratio, or the
+/// force amplitude `F0` at `base`'s frequency).
+pub fn analyse_along(
+    base: &Forcing,
+    design: u64,
+    s0: &Section,
+    values: &[(u64, f64)],
+    param: Param,
+    settings: &CensusSettings,
+) -> Response {
+    let freqs = values;
     let mut out = Response {
         design,
         ..Response::default()
     };
     let mut seeds = Vec::new();
-    for &(point, r) in freqs {
-        let f = base.at_ratio(r);
+    for &(point, v) in freqs {
+        let f = param.at(base, v);
         let c = census(&f, s0, &CensusSettings { point, ..*settings });
         out.periods_census += c.periods;
         push_attractors(&mut out, &c, point, &f);
@@ -103,7 +118,7 @@ pub fn analyse(
             }
         }
     }
-    seeds.extend(sweep_seeds(base, &mut out, s0, freqs, settings));
+    seeds.extend(sweep_seeds(base, &mut out, s0, freqs, param, settings));
     let (lo, hi) = freqs
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, r)| {
@@ -126,10 +141,10 @@ pub fn analyse(
         if branches.len() >= MAX_BRANCHES {
             break;
         }
-        if branches.iter().any(|b| covers(b, &f, &orbit)) {
+        if branches.iter().any(|b| covers(b, &f, &orbit, param)) {
             continue;
         }
-        for b in follow(&f, &orbit, Param::Ratio, &cont) {
+        for b in follow(&f, &orbit, param, &cont) {
             out.periods_continuation += b.periods;
             if branches.len() < MAX_BRANCHES {
                 branches.push(b);
@@ -139,7 +154,15 @@ pub fn analyse(
     for (i, b) in branches.iter().enumerate() {
         push_branch(&mut out, design, i as u32, b);
     }
-    push_family(&mut out, design, branches.len() as u32, base, freqs, s0);
+    push_family(
+        &mut out,
+        design,
+        branches.len() as u32,
+        base,
+        freqs,
+        param,
+        s0,
+    );
     out
 }
 
@@ -152,6 +175,7 @@ fn sweep_seeds(
     out: &mut Response,
     s0: &Section,
     freqs: &[(u64, f64)],
+    param: Param,
     settings: &CensusSettings,
 ) -> Vec<(Forcing, Box<Orbit>)> {
     let newton = Newton::default();
@@ -160,8 +184,8 @@ fn sweep_seeds(
     let mut seeds = Vec::new();
     for rs in [up, down] {
         let mut s = *s0;
-        for r in rs {
-            let f = base.at_ratio(r);
+        for v in rs {
+            let f = param.at(base, v);
             let st = settle(&f, &s, settings, &newton);
             out.periods_sweeps += st.periods;
             s = st.end;
@@ -202,8 +226,8 @@ fn push_attractors(out: &mut Response, c: &Census, point: u64, f: &Forcing) {
 /// branch's amplitude interpolated there is within `1e-3` of the orbit's, or Newton at `f`'s
 /// frequency from the branch's section interpolated there converges to the same orbit
 /// ([`same_orbit`]).
-pub fn covers(b: &Branch, f: &Forcing, orbit: &Orbit) -> bool {
-    let r = f.ratio();
+pub fn covers(b: &Branch, f: &Forcing, orbit: &Orbit, param: Param) -> bool {
+    let r = param.get(f);
     let p = u64::from(orbit.period);
     b.points.windows(2).any(|w| {
         let (a, c) = (&w[0], &w[1]);
@@ -213,15 +237,16 @@ pub fn covers(b: &Branch, f: &Forcing, orbit: &Orbit) -> bool {
         if !alike(a) || !alike(c) {
             return false;
         }
-        let (lo, hi) = if a.r <= c.r { (a, c) } else { (c, a) };
-        if r < lo.r || r > hi.r {
+        let (lo, hi) = if a.value(param) <= c.value(param) {
+            (a, c)
+        } else {
+            (c, a)
+        };
+        let (l, h) = (lo.value(param), hi.value(param));
+        if r < l || r > h {
             return false;
         }
-        let t = if hi.r > lo.r {
-            (r - lo.r) / (hi.r - lo.r)
-        } else {
-            0.0
-        };
+        let t = if h > l { (r - l) / (h - l) } else { 0.0 };
         let amp = lo.amplitude + t * (hi.amplitude - lo.amplitude);
         if (amp - orbit.amplitude).abs() <= 1e-3 * orbit.amplitude {
             return true;
@@ -270,12 +295,14 @@ fn push_family(
     first: u32,
     base: &Forcing,
     freqs: &[(u64, f64)],
+    param: Param,
     s0: &Section,
 ) {
     let mut branch = first;
     let mut open = false;
-    for &(_, r) in freqs {
-        let f = base.at_ratio(r);
+    for &(_, v) in freqs {
+        let f = param.at(base, v);
+        let r = f.ratio();
         match non_impacting(&f, s0[0] + s0[2]) {
             Some(o) if f.sys.m > 0.0 => {
                 out.branches.push(BranchRow {

@@ -550,7 +550,11 @@ pub fn charts(
             &super::Data::Table(row.data(s)),
         )?);
     }
-    if let Some(r) = steady.iter().find(|r| r.design == anchor) {
+    // The steady-state charts are drawn against the frequency (a study along F0 has its
+    // branches in the tables only).
+    if f.frequency.is_some()
+        && let Some(r) = steady.iter().find(|r| r.design == anchor)
+    {
         files.extend(super::steady_states::charts(s, f, r, dir)?);
     }
     Ok(files)
