@@ -81,8 +81,11 @@ pub struct CurvePoint {
     pub r: f64,
     pub omega: f64,
     pub outcome: Outcome,
-    /// `amplitude`, `amplitude_linear` (m), `attenuation`, `impacts_per_period`, `period`,
-    /// `converged`, as stored.
+    /// `amplitude`, `amplitude_linear` (m), `impacts_per_period`, `period`, `converged`, as
+    /// stored (from the study's initial state); `attenuation` is the design quantity's,
+    /// `design / amplitude_linear` (the stored from-rest value with `design_peak = "from_rest"`
+    /// or without census), so the band where the damper helps is judged on the same steady
+    /// state as the peak.
     pub amplitude: f64,
     pub linear: f64,
     pub attenuation: f64,
@@ -129,7 +132,12 @@ impl CurvePoint {
             outcome: rec.outcome,
             amplitude: rec.amplitude,
             linear: rec.amplitude_linear,
-            attenuation: rec.attenuation,
+            // The design quantity's attenuation: with the census, the worst steady state's.
+            attenuation: if worst {
+                st.amplitude_worst / rec.amplitude_linear
+            } else {
+                rec.attenuation
+            },
             impacts_per_period: rec.impacts_per_period,
             period: rec.period,
             converged: rec.converged,
