@@ -86,6 +86,35 @@ fn on_stable_branch(rows: &[BranchRow], r: f64, period: u32, amp: f64) -> bool {
     })
 }
 
+/// The amplitude of the orbit Newton finds at `f` from the section interpolated between the
+/// two rows of a stable period-`period` branch that bracket `f`'s ratio, the one nearest `amp`.
+fn branch_orbit_at(f: &Forcing, rows: &[BranchRow], period: u32, amp: f64) -> Option<f64> {
+    let r = f.ratio();
+    let newton = Newton::default();
+    rows.windows(2)
+        .filter(|w| {
+            let (a, b) = (&w[0], &w[1]);
+            a.branch == b.branch
+                && (a.stable || b.stable)
+                && a.period == period
+                && b.period == period
+                && (a.r - r) * (b.r - r) <= 0.0
+        })
+        .filter_map(|w| {
+            let (a, b) = (&w[0], &w[1]);
+            let t = if b.r != a.r {
+                (r - a.r) / (b.r - a.r)
+            } else {
+                0.0
+            };
+            let s: Section = std::array::from_fn(|k| a.s[k] + t * (b.s[k] - a.s[k]));
+            let (term, st) = solve(f, u64::from(period), &s, &newton);
+            let st = st.filter(|_| matches!(term, Termination::Converged { .. }))?;
+            orbit_at(f, u64::from(period), &st, &newton).map(|o| o.amplitude)
+        })
+        .min_by(|x, y| (x - amp).abs().total_cmp(&(y - amp).abs()))
+}
+
 /// Whether the non-impacting family's rows hold amplitude `amp` at `r` (to `1e-6`).
 fn on_family(rows: &[BranchRow], r: f64, amp: f64) -> bool {
     rows.iter().any(|b| {
@@ -192,9 +221,16 @@ fn issue_16_every_brute_force_steady_state_is_in_the_census_and_on_a_stable_bran
                     continue;
                 }
                 assert_eq!(o.stability, Stability::Stable);
-                // On a stable branch of the curve's analysis at this frequency.
+                // On a stable branch of the curve's analysis at this frequency: two rows of a
+                // stable branch bracket r, and Newton at r from their interpolated section
+                // lands on this orbit, amplitude to 1e-8.
                 let on_branch = on_stable_branch(&resp.branches, r, o.period, amp);
                 assert!(on_branch, "{m} {d} {e} r = {r}: {amp} on no stable branch");
+                let exact = branch_orbit_at(&f, &resp.branches, o.period, amp);
+                assert!(
+                    exact.is_some_and(|a| (a - amp).abs() <= 1e-8 * amp),
+                    "{m} {d} {e} r = {r}: the branch gives {exact:?}, the transient {amp}"
+                );
                 let _ = &end;
                 found += 1;
             }
@@ -206,8 +242,8 @@ fn issue_16_every_brute_force_steady_state_is_in_the_census_and_on_a_stable_bran
 /// A design with a hysteresis loop: continuation along r passes two folds (`SN`), and transient
 /// sweeps up and down in r, each frequency starting from the previous steady state, disagree
 /// inside the loop and land on the stable branches: every periodic point of either sweep lies
-/// on a stable branch of the curve's analysis (or on the non-impacting family), and inside the
-/// loop the two sweeps are on different ones.
+/// on a stable branch of the curve's analysis (Newton from the branch at that frequency gives
+/// its amplitude to 1e-8) or on the non-impacting family.
 #[test]
 fn issue_16_hysteresis_two_folds_and_the_sweeps_up_and_down() {
     let base = forcing(0.005, 0.005, 0.9, 0.1, 0.1, 1.0);
@@ -254,7 +290,9 @@ fn issue_16_hysteresis_two_folds_and_the_sweeps_up_and_down() {
         let ok = if ipp == 0.0 {
             on_family(&resp.branches, r, amp)
         } else {
+            let exact = branch_orbit_at(&base.at_ratio(r), &resp.branches, p, amp);
             on_stable_branch(&resp.branches, r, p, amp)
+                && exact.is_some_and(|a| (a - amp).abs() <= 1e-8 * amp)
         };
         assert!(
             ok,

@@ -60,6 +60,9 @@ pub struct BranchRow {
     pub label: &'static str,
     /// How the branch ended at this end (on its first and last rows; `""` elsewhere).
     pub end: &'static str,
+    /// The orbit's section state at forcing phase 0 (not a table column: for starting Newton
+    /// on the branch).
+    pub s: Section,
 }
 
 /// The steady states of one curve.
@@ -283,6 +286,7 @@ fn push_branch(out: &mut Response, design: u64, branch: u32, b: &Branch) {
             multiplier_max: p.multiplier_max,
             label: p.label.name(),
             end,
+            s: p.s,
         });
     }
 }
@@ -319,6 +323,7 @@ fn push_family(
                     multiplier_max: o.multiplier_max(),
                     label: "",
                     end: "",
+                    s: o.s,
                 });
                 open = true;
             }
