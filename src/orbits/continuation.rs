@@ -16,7 +16,8 @@
 //!
 //! # Labels
 //! Between two consecutive points:
-//! * `SN`, a fold: the tangent's `lambda` component changes sign;
+//! * `SN`, a fold: the tangent's `lambda` component changes sign (and the orbit's minimal period
+//!   does not: on `P^{2p}` a change of period is where the doubled branch crosses, a `PD`);
 //! * `PD`, period doubling: a real multiplier crosses `-1` (the count of real multipliers
 //!   below `-1` changes); the doubled branch is then followed from the eigenvector (Newton on
 //!   `P^{2p}`), once per branch;
@@ -26,7 +27,10 @@
 //!
 //! # Ends
 //! Every branch ends with a named reason ([`End`]): `range` (it left the swept interval),
-//! `no_impacts`, `step_too_small`, `max_points` ([`ContSettings::max_points`]) or `simulator`.
+//! `no_impacts`, `step_too_small`, `max_points` ([`ContSettings::max_points`]), `simulator`, or
+//! `grazing`: the corrector came back along the branch it came from (nearer the point before
+//! than half a step), which happens at a corner of the branch where an impact grazes and the
+//! map is not smooth; the last point is labelled `GR` rather than taken for a fold.
 //! Nothing loops forever: each step is a bounded number of map evaluations.
 
 use nalgebra::{SMatrix, SVector};
@@ -92,6 +96,8 @@ pub enum End {
     StepTooSmall,
     MaxPoints,
     Simulator,
+    /// The corrector came back along the branch: a corner of the branch (grazing).
+    Grazing,
 }
 
 impl End {
@@ -102,6 +108,7 @@ impl End {
             End::StepTooSmall => "step_too_small",
             End::MaxPoints => "max_points",
             End::Simulator => "simulator",
+            End::Grazing => "grazing",
         }
     }
 }
@@ -370,6 +377,8 @@ fn side(
     let mut prev_orbit = orbit.clone();
     let mut h = settings.h0;
     let mut doubled = false;
+    // The point before `u`, to see the branch fold back onto itself.
+    let mut u_before: Option<V5> = None;
     while pts.len() < settings.max_points {
         let u_pred = u + t * h;
         let Some((u_new, a_new, state_eval, iters)) = curve.correct(&u_pred, &t) else {
@@ -379,6 +388,15 @@ fn side(
             }
             continue;
         };
+        if u_before.is_some_and(|b| retraces(&b, &u, &u_new)) {
+            // The corrector found the branch it came along: the branch has a corner here (a
+            // grazing, where the map is not smooth), not a fold.
+            if let Some(last) = pts.last_mut() {
+                let last: &mut BranchPoint = last;
+                last.label = Label::GR;
+            }
+            return (pts, End::Grazing);
+        }
         let (s, lambda) = curve.unscale(&u_new);
         if lambda < settings.range.0 || lambda > settings.range.1 {
             return (pts, End::Range);
@@ -404,7 +422,10 @@ fn side(
             return (pts, End::NoImpacts);
         };
         let mut label = Label::None;
-        if t_new[4].signum() != t[4].signum() {
+        if orb.period != prev_orbit.period {
+            // On `P^{2p}` the branch of period `p` and the doubled one cross at the doubling.
+            label = Label::PD;
+        } else if t_new[4].signum() != t[4].signum() {
             label = Label::SN;
         } else if below_minus_one(&orb) != below_minus_one(&prev_orbit) {
             label = Label::PD;
@@ -419,6 +440,7 @@ fn side(
         }
         pts.push(point(&fl, &orb, label));
         prev_orbit = orb;
+        u_before = Some(u);
         u = u_new;
         t = t_new;
         h = if iters <= 3 {
@@ -428,6 +450,12 @@ fn side(
         };
     }
     (pts, End::MaxPoints)
+}
+
+/// Whether `next` goes back along the branch through `before` and `now`: it is nearer `before`
+/// than half the distance from `before` to `now`.
+fn retraces(before: &V5, now: &V5, next: &V5) -> bool {
+    (next - before).norm() < 0.5 * (now - before).norm()
 }
 
 /// The period-`2p` orbit born at a period doubling of `orb`: Newton on `P^{2p}` from the fixed
@@ -459,4 +487,26 @@ fn doubled_orbit(f: &Forcing, orb: &Orbit, newton: &Newton) -> Option<Orbit> {
     }
     let _ = multipliers;
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A step that comes back towards the point before is a retrace; steps along a branch,
+    /// through a fold included (the parameter turns, the state goes on), are not.
+    #[test]
+    fn a_retrace_is_told_from_a_fold() {
+        let before = V5::new(0.0, 0.0, 0.0, 0.0, 1.0);
+        let now = V5::new(0.1, 0.0, 0.0, 0.0, 1.01);
+        // Straight on, and round a fold in lambda.
+        assert!(!retraces(&before, &now, &V5::new(0.2, 0.0, 0.0, 0.0, 1.02)));
+        assert!(!retraces(&before, &now, &V5::new(0.2, 0.0, 0.0, 0.0, 1.0)));
+        // Back onto the way it came.
+        assert!(retraces(
+            &before,
+            &now,
+            &V5::new(0.01, 0.0, 0.0, 0.0, 1.001)
+        ));
+    }
 }
