@@ -1,33 +1,7 @@
-//! The event loop shared by every solver: impact law, chatter and sticking, observables,
-//! horizon and outcomes. A solver only moves the main mass through one smooth phase and reports
-//! the first watched event ([`PhaseSolver`]).
-//!
-//! # Phases
-//! * **Free**: the main mass is the oscillator `(M, K, C)`; the inner mass moves at constant
-//!   velocity; events are the walls, `x = 0`, `v = 0` (in positive half-cycles) and time limits.
-//! * **Stuck** on a wall: the pair is the oscillator `(M + m, K, C)` with `y = x ± d/2`; it
-//!   separates when the contact force would have to pull: on the right wall contact holds while
-//!   the pair's acceleration is `<= 0`, i.e. while `C v + K x >= 0`; on the left wall the reverse.
-//!
-//! # Chatter rule
-//! After an impact on a wall, let `u >= 0` be the speed at which the inner mass leaves it and
-//! `a` the acceleration with which the wall moves toward the inner mass (`a = -x''` on the right
-//! wall, `+x''` on the left, the free main mass's acceleration). If `a > 0` the inner mass comes
-//! back after `2u/a`, the next rebound is `e` times slower, and the impacts accumulate at a
-//! finite time `2u / (a (1 - e))` later (a Zeno point). When that remaining time is below
-//! `chatter_tol * period`, the rest of the sequence is replaced by its limit: a plastic impact
-//! (relative velocity to zero, momentum conserved, the remaining relative kinetic energy
-//! `mu u^2 / 2`, `mu = M m / (M + m)`, counted as impact loss) and a sticking phase. The
-//! neglected motion lasts at most `chatter_tol * period`, during which the inner mass is never
-//! more than `u^2 / (2a)` from the wall; the main mass's displacement error is of order
-//! `(m / (M + m)) a (chatter_tol * period)^2`, about `4 pi^2 chatter_tol^2` of the amplitude.
-//! `e = 0` gives `u = 0` and sticks at the first impact where the force allows. For `e` near 1
-//! the denominator uses `max(1 - e, chatter_tol)`, so a rebound slower than
-//! `a chatter_tol^2 period / 2` also sticks and `e = 1` cannot chatter forever. The threshold
-//! used is `max(chatter_tol, 10 tol)`: rebounds shorter than the event tolerance cannot be
-//! resolved, and without this a loose `tol` left chatters running into the impact cap. The number of
-//! impacts in one chatter sequence is therefore at most about
-//! `ln(chatter_tol period a (1 - e) / 2 u0) / ln e`; the impact cap bounds the rest.
+//! The free-decay scene: observables (half-cycle maxima, noise), horizon and outcomes, on the
+//! event map of [`super::phase`] (impact law, chatter and sticking, separation), with any of the
+//! solvers. A solver only moves the main mass through one smooth phase and reports the first
+//! watched event ([`PhaseSolver`]).
 //!
 //! # Energy
 //! The total mechanical energy `(M v^2 + m w^2 + K x^2) / 2` drops at impacts by
@@ -40,69 +14,12 @@ use super::exact::ExactPhase;
 use super::linear::Oscillator;
 use super::linear::Propagator;
 use super::noise::{NoiseStream, NoisyPeak};
-use super::rk4::Rk4;
-use super::{
-    NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings, State, Wall, impact,
+use super::phase::{
+    Event, PhaseSolver, State, StepCap, Wall, Walls, Watch, chatter_ends, impact, side_of,
 };
+use super::rk4::Rk4;
+use super::{NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings};
 use crate::model::System;
-
-/// The inner mass's free motion `y(t) = y0 + w (t - t0)` and the half clearance.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Walls {
-    pub t0: f64,
-    pub y0: f64,
-    pub w: f64,
-    pub half_d: f64,
-}
-
-/// What a solver watches during one call of [`PhaseSolver::next_event`]. Each `*_side` is the
-/// sign the quantity has now (`+1`/`-1`); the solver reports when it reaches zero.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Watch {
-    /// The walls, during free flight.
-    pub walls: Option<Walls>,
-    /// Sign of `x`.
-    pub x_side: f64,
-    /// Sign of `v`, when maxima are being looked for.
-    pub v_side: Option<f64>,
-    /// Sign of the contact condition `C v + K x` times the wall sign, while stuck (+1).
-    pub sep_side: Option<f64>,
-    /// Stop here at the latest.
-    pub t_limit: f64,
-}
-
-/// The first event a solver found.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Event {
-    Wall(Wall),
-    XZero,
-    VZero,
-    Separation,
-    Limit,
-    NonFinite,
-}
-
-/// The solver's step cap was hit.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct StepCap;
-
-/// Moves the main mass through one smooth phase (free, or the stuck pair).
-pub(crate) trait PhaseSolver {
-    /// Starts a phase of oscillator `osc` at time `t` in state `(x, v)`.
-    fn begin(&mut self, osc: &Oscillator, t: f64, x: f64, v: f64);
-    /// Advances to the first watched event (or `watch.t_limit`) and stops there.
-    fn next_event(&mut self, watch: &Watch) -> Result<Event, StepCap>;
-    /// The current time, displacement and velocity.
-    fn state(&self) -> (f64, f64, f64);
-    /// Steps taken so far.
-    fn steps(&self) -> u64;
-    /// The current phase in closed form, when the solver has it: the oscillator, the phase's
-    /// start time and its state there. The driver then evaluates noise samples itself, by a
-    /// constant propagator, instead of stopping the solver at each.
-    fn closed_form(&self) -> Option<(Oscillator, f64, f64, f64)> {
-        None
-    }
-}
 
 /// Runs one simulation. Pure: the same inputs give the same bits. `noise` carries the noise
 /// settings and the run's own random stream; without it no random number is drawn.
@@ -242,7 +159,7 @@ impl<'a, P: Probe> Run<'a, P> {
         lim
     }
 
-    fn watch(&self) -> super::driver::Watch {
+    fn watch(&self) -> Watch {
         let (walls, sep_side) = match self.phase {
             Phase::Free => (
                 Some(Walls {
@@ -257,14 +174,14 @@ impl<'a, P: Probe> Run<'a, P> {
         };
         Watch {
             walls,
-            x_side: self.x_side,
+            x_side: Some(self.x_side),
             v_side: (self.x_side > 0.0 && !self.noisy()).then_some(self.v_side),
             sep_side,
             t_limit: self.t_limit(),
         }
     }
 
-    fn begin_phase<S: PhaseSolver>(&self, solver: &mut S) {
+    fn begin_phase<S: PhaseSolver<Motion = Oscillator>>(&self, solver: &mut S) {
         let osc = match self.phase {
             Phase::Free => &self.free,
             Phase::Stuck(_) => &self.pair,
@@ -273,7 +190,7 @@ impl<'a, P: Probe> Run<'a, P> {
     }
 
     /// Brings the run's state to the solver's current point, booking the viscous loss.
-    fn sync<S: PhaseSolver>(&mut self, solver: &S, walls: &Option<Walls>) {
+    fn sync<S: PhaseSolver<Motion = Oscillator>>(&mut self, solver: &S, walls: &Option<Walls>) {
         let (t, x, v) = solver.state();
         self.t = t;
         self.s.x = x;
@@ -304,7 +221,7 @@ impl<'a, P: Probe> Run<'a, P> {
         self.running = Some((x, t));
     }
 
-    fn go<S: PhaseSolver>(mut self, solver: &mut S) -> Record {
+    fn go<S: PhaseSolver<Motion = Oscillator>>(mut self, solver: &mut S) -> Record {
         let want = self.req.peaks.max(1);
         self.batch_noise = self.noise.is_some() && solver.closed_form().is_some();
         self.begin_phase(solver);
@@ -312,7 +229,7 @@ impl<'a, P: Probe> Run<'a, P> {
             let watch = self.watch();
             let ev = match solver.next_event(&watch) {
                 Ok(ev) => ev,
-                Err(super::driver::StepCap) => {
+                Err(StepCap) => {
                     self.sync(solver, &watch.walls);
                     break Outcome::StepCap;
                 }
@@ -420,7 +337,7 @@ impl<'a, P: Probe> Run<'a, P> {
     /// and including it with `inclusive`), inside a positive half-cycle: the phase's closed form
     /// at the first sample and at every 64th, the constant propagator over one sample time in
     /// between (one 2 x 2 multiply a sample; the chain's rounding stays below 64 ulps).
-    fn noise_between<S: PhaseSolver>(&mut self, solver: &S, inclusive: bool) {
+    fn noise_between<S: PhaseSolver<Motion = Oscillator>>(&mut self, solver: &S, inclusive: bool) {
         let Some((ns, stream)) = &mut self.noise else {
             return;
         };
@@ -531,29 +448,4 @@ impl<'a, P: Probe> Run<'a, P> {
             steps,
         }
     }
-}
-
-/// The chatter rule (module doc): after an impact the inner mass leaves the wall at speed
-/// `u >= 0` while the wall accelerates toward it at `a`; `true` when the accumulation of the
-/// rebounds that follow ends within the chatter threshold, so the pair sticks now.
-#[inline]
-pub(crate) fn chatter_ends(u: f64, a: f64, e: f64, settings: &SolverSettings, period: f64) -> bool {
-    // A rebound shorter than the event tolerance cannot be resolved: the threshold is at least
-    // ten tolerances, so a loose `tol` cannot turn a chatter into an endless one.
-    let ct = settings.chatter_tol.max(10.0 * settings.tol);
-    let remaining = 2.0 * u / (a * (1.0 - e).max(ct));
-    a > 0.0 && remaining <= ct * period || (u == 0.0 && a >= 0.0)
-}
-
-/// The sign a quantity has now or, when exactly zero, is about to take from its derivatives.
-pub(crate) fn side_of(f: f64, f1: f64, f2: f64) -> f64 {
-    for g in [f, f1, f2] {
-        if g > 0.0 {
-            return 1.0;
-        }
-        if g < 0.0 {
-            return -1.0;
-        }
-    }
-    -1.0
 }

@@ -1,12 +1,14 @@
 //! The forced scene's event loop: transient, measurement window, Poincaré sections, outcome.
 
-use super::events::{Event, ForcedPhase, Watch};
+use super::events::ForcedPhase;
 use super::motion::Forced;
 use super::{ForcedRecord, Harmonic};
 use crate::model::System;
-use crate::sim::driver::{StepCap, Walls, chatter_ends, side_of};
 use crate::sim::noise::NoiseStream;
-use crate::sim::{NoiseSettings, Outcome, Probe, Request, SolverSettings, State, Wall, impact};
+use crate::sim::phase::{
+    Event, PhaseSolver, State, StepCap, Wall, Walls, Watch, chatter_ends, impact, side_of,
+};
+use crate::sim::{NoiseSettings, Outcome, Probe, Request, SolverSettings};
 
 /// Most sections the transient test looks back: `3 p + 1` for `p <= 8`.
 const HISTORY: usize = 25;
@@ -187,6 +189,7 @@ impl<P: Probe> Run<'_, P> {
         };
         Watch {
             walls,
+            x_side: None,
             v_side: self.exact_extrema().then_some(self.v_side),
             sep_side,
             t_limit,
@@ -303,6 +306,8 @@ impl<P: Probe> Run<'_, P> {
                     self.candidate(self.s.x);
                     self.v_side = -self.v_side;
                 }
+                // Not watched here (`x_side: None`).
+                Event::XZero => {}
                 Event::Limit => {
                     self.samples();
                     if self.t >= self.section_time(k_next) {
