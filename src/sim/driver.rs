@@ -15,7 +15,7 @@ use super::linear::Oscillator;
 use super::linear::Propagator;
 use super::noise::{NoiseStream, NoisyPeak};
 use super::phase::{
-    Event, PhaseSolver, State, StepCap, Wall, Walls, Watch, chatter_ends, impact, side_of,
+    Event, EventMap, Hit, Phase, PhaseSolver, SceneEvents, State, Wall, Watch, run, side_of,
 };
 use super::rk4::Rk4;
 use super::{NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings};
@@ -48,31 +48,18 @@ pub fn simulate<P: Probe>(
     }
 }
 
-enum Phase {
-    Free,
-    Stuck(Wall),
-}
-
 struct Run<'a, P: Probe> {
-    sys: &'a System,
-    settings: &'a SolverSettings,
+    /// Phase, state, impact and sticking counts, `v`'s sign: the shared event map.
+    map: EventMap<'a, Oscillator>,
     req: &'a Request,
     noise: Option<(&'a NoiseSettings, &'a mut NoiseStream)>,
     probe: &'a mut P,
-    free: Oscillator,
-    pair: Oscillator,
-    period: f64,
-    // state
-    phase: Phase,
-    t: f64,
-    s: State,
+    /// Positive half-cycle maxima wanted (at least one).
+    want: usize,
     // observables
     peaks: Vec<(f64, f64)>,
     running: Option<(f64, f64)>,
     x_side: f64,
-    v_side: f64,
-    impacts: u64,
-    sticks: u64,
     energy: f64,
     energy_impact: f64,
     energy_viscous: f64,
@@ -94,34 +81,21 @@ impl<'a, P: Probe> Run<'a, P> {
         noise: Option<(&'a NoiseSettings, &'a mut NoiseStream)>,
         probe: &'a mut P,
     ) -> Self {
-        let s = State {
-            x: sys.x0,
-            v: sys.v0,
-            y: sys.y0,
-            w: sys.w0,
-        };
         let free = Oscillator::new(sys.M, sys.K, sys.C);
+        let pair = Oscillator::new(sys.M + sys.m, sys.K, sys.C);
+        let mut map = EventMap::new(sys, settings, free, pair);
         // The sign x has, or is about to have, at t = 0.
         let x_side = side_of(sys.x0, sys.v0, free.accel(sys.x0, sys.v0));
-        let v_side = side_of(sys.v0, free.accel(sys.x0, sys.v0), 0.0);
+        map.v_side = side_of(sys.v0, free.accel(sys.x0, sys.v0), 0.0);
         Run {
-            sys,
-            settings,
+            map,
             req,
             noise,
             probe,
-            free,
-            pair: Oscillator::new(sys.M + sys.m, sys.K, sys.C),
-            period: sys.period(),
-            phase: Phase::Free,
-            t: 0.0,
-            s,
+            want: req.peaks.max(1),
             peaks: Vec::with_capacity(req.peaks),
             running: (x_side > 0.0).then_some((sys.x0, 0.0)),
             x_side,
-            v_side,
-            impacts: 0,
-            sticks: 0,
             energy: sys.energy(sys.x0, sys.v0, sys.w0),
             energy_impact: 0.0,
             energy_viscous: 0.0,
@@ -137,7 +111,7 @@ impl<'a, P: Probe> Run<'a, P> {
     fn horizon(&self) -> f64 {
         self.req
             .t_end
-            .unwrap_or(self.settings.t_max_periods * self.period)
+            .unwrap_or(self.map.settings.t_max_periods * self.map.period)
     }
 
     fn noisy(&self) -> bool {
@@ -159,59 +133,6 @@ impl<'a, P: Probe> Run<'a, P> {
         lim
     }
 
-    fn watch(&self) -> Watch {
-        let (walls, sep_side) = match self.phase {
-            Phase::Free => (
-                Some(Walls {
-                    t0: self.t,
-                    y0: self.s.y,
-                    w: self.s.w,
-                    half_d: 0.5 * self.sys.d,
-                }),
-                None,
-            ),
-            Phase::Stuck(wall) => (None, Some(wall.sign())),
-        };
-        Watch {
-            walls,
-            x_side: Some(self.x_side),
-            v_side: (self.x_side > 0.0 && !self.noisy()).then_some(self.v_side),
-            sep_side,
-            t_limit: self.t_limit(),
-        }
-    }
-
-    fn begin_phase<S: PhaseSolver<Motion = Oscillator>>(&self, solver: &mut S) {
-        let osc = match self.phase {
-            Phase::Free => &self.free,
-            Phase::Stuck(_) => &self.pair,
-        };
-        solver.begin(osc, self.t, self.s.x, self.s.v);
-    }
-
-    /// Brings the run's state to the solver's current point, booking the viscous loss.
-    fn sync<S: PhaseSolver<Motion = Oscillator>>(&mut self, solver: &S, walls: &Option<Walls>) {
-        let (t, x, v) = solver.state();
-        self.t = t;
-        self.s.x = x;
-        self.s.v = v;
-        match (&self.phase, walls) {
-            (Phase::Free, Some(wl)) => {
-                self.s.y = wl.y0 + wl.w * (t - wl.t0);
-            }
-            (Phase::Stuck(wall), _) => {
-                self.s.y = x + wall.sign() * 0.5 * self.sys.d;
-                self.s.w = v;
-            }
-            _ => {}
-        }
-        let e = self.sys.energy(self.s.x, self.s.v, self.s.w);
-        // The closed form keeps energy non-increasing up to rounding; never book a gain.
-        self.energy_viscous += (self.energy - e).max(0.0);
-        self.energy = e.min(self.energy);
-        self.probe.energy(t, e);
-    }
-
     fn candidate(&mut self, x: f64, t: f64) {
         if let Some((best, _)) = self.running
             && x <= best
@@ -222,101 +143,18 @@ impl<'a, P: Probe> Run<'a, P> {
     }
 
     fn go<S: PhaseSolver<Motion = Oscillator>>(mut self, solver: &mut S) -> Record {
-        let want = self.req.peaks.max(1);
         self.batch_noise = self.noise.is_some() && solver.closed_form().is_some();
-        self.begin_phase(solver);
-        let outcome = loop {
-            let watch = self.watch();
-            let ev = match solver.next_event(&watch) {
-                Ok(ev) => ev,
-                Err(StepCap) => {
-                    self.sync(solver, &watch.walls);
-                    break Outcome::StepCap;
-                }
-            };
-            if self.batch_noise {
-                // The samples between the last event and this one, on the phase's closed form;
-                // at a time limit the sample at the limit itself too.
-                self.noise_between(solver, ev == Event::Limit);
-            }
-            self.sync(solver, &watch.walls);
-            match ev {
-                Event::NonFinite => break Outcome::NonFinite,
-                Event::Wall(wall) => {
-                    if self.x_side > 0.0 && !self.noisy() {
-                        self.candidate(self.s.x, self.t);
-                    }
-                    if self.impacts >= self.settings.max_impacts {
-                        break Outcome::EventCap;
-                    }
-                    self.collide(wall);
-                    // The impact changed v discontinuously; re-read its sign, or a maximum that
-                    // follows an impact reversing v inside a positive half-cycle goes unwatched
-                    // (found at e = 0.80..0.83 by a dense-trace test and by the SciPy peer;
-                    // regression tests in tests/simulator.rs and tests/solvers.rs).
-                    self.v_side = self.v_sign();
-                    self.begin_phase(solver);
-                }
-                Event::Separation => {
-                    if let Phase::Stuck(wall) = self.phase {
-                        self.probe.separate(self.t, wall, &self.s);
-                    }
-                    self.phase = Phase::Free;
-                    self.begin_phase(solver);
-                }
-                Event::VZero => {
-                    if self.v_side > 0.0 && !self.noisy() {
-                        self.candidate(self.s.x, self.t);
-                    }
-                    self.v_side = -self.v_side;
-                }
-                Event::XZero => {
-                    if self.x_side > 0.0 {
-                        if let Some((ns, _)) = &self.noise {
-                            self.noisy_peak.flush(ns, &mut self.running);
-                        }
-                        if let Some(peak) = self.running.take() {
-                            self.peaks.push(peak);
-                        }
-                        if self.peaks.len() >= want && self.req.t_end.is_none() {
-                            break Outcome::Ok;
-                        }
-                        self.x_side = -1.0;
-                    } else {
-                        self.x_side = 1.0;
-                        self.v_side = 1.0;
-                        if let Some((ns, _)) = &self.noise {
-                            self.next_noise = (self.t / ns.sample_time).ceil() as u64;
-                        }
-                    }
-                }
-                Event::Limit => {
-                    let horizon = self.t >= self.horizon();
-                    self.samples();
-                    if horizon {
-                        break self.outcome_at_horizon(want);
-                    }
-                }
-            }
-        };
+        let outcome = run(&mut self, solver);
         self.finish(outcome, solver.steps())
-    }
-
-    /// The sign `v` has now or is about to take, in the current phase.
-    fn v_sign(&self) -> f64 {
-        let osc = match self.phase {
-            Phase::Free => &self.free,
-            Phase::Stuck(_) => &self.pair,
-        };
-        side_of(self.s.v, osc.accel(self.s.x, self.s.v), 0.0)
     }
 
     /// Handles the trace and noise samples due at the current time.
     fn samples(&mut self) {
+        let t = self.map.t;
         if let Some(dt) = self.req.trace_dt
-            && self.next_trace as f64 * dt <= self.t
+            && self.next_trace as f64 * dt <= t
         {
-            self.probe.sample(self.t, &self.s);
+            self.probe.sample(t, &self.map.s);
             self.next_trace += 1;
         }
         if self.x_side > 0.0
@@ -324,9 +162,8 @@ impl<'a, P: Probe> Run<'a, P> {
             && let Some((ns, stream)) = &mut self.noise
         {
             let k = self.next_noise;
-            if k as f64 * ns.sample_time <= self.t {
-                let measured = self.s.x + stream.sample(k, ns);
-                let t = self.t;
+            if k as f64 * ns.sample_time <= t {
+                let measured = self.map.s.x + stream.sample(k, ns);
                 self.next_noise = k + 1;
                 self.candidate(measured, t);
             }
@@ -359,7 +196,7 @@ impl<'a, P: Probe> Run<'a, P> {
         if !due(k) {
             return;
         }
-        let slot = usize::from(matches!(self.phase, Phase::Stuck(_)));
+        let slot = usize::from(matches!(self.map.phase, Phase::Stuck(_)));
         let prop = *self.prop[slot].get_or_insert_with(|| osc.propagator(ts));
         let (mut x, mut v) = (0.0, 0.0);
         let mut i = 0u32;
@@ -377,47 +214,17 @@ impl<'a, P: Probe> Run<'a, P> {
         self.next_noise = k;
     }
 
-    fn outcome_at_horizon(&self, want: usize) -> Outcome {
+    fn outcome_at_horizon(&self) -> Outcome {
         match self.peaks.len() {
-            n if n >= want => Outcome::Ok,
+            n if n >= self.want => Outcome::Ok,
             n if n >= 2 => Outcome::FewPeaks,
             _ => Outcome::NoSecondPeak,
         }
     }
 
-    /// Applies the impact law on `wall`, then decides between rebound and sticking.
-    fn collide(&mut self, wall: Wall) {
-        let sys = self.sys;
-        let sign = wall.sign();
-        // The probe sees the state as located; then the inner mass is put exactly on the wall
-        // (the event is within tolerance of it) so the next phase starts from the wall.
-        let before = self.s;
-        self.s.y = self.s.x + sign * 0.5 * sys.d;
-        let (va, wa) = impact(sys.M, sys.m, sys.e, before.v, before.w);
-        self.s.v = va;
-        self.s.w = wa;
-        self.impacts += 1;
-        self.book_impact_loss();
-        self.probe.impact(self.t, wall, &before, &self.s);
-        // Speed away from the wall and the wall's acceleration toward the inner mass.
-        let u = (sign * (self.s.v - self.s.w)).max(0.0);
-        let a = -sign * self.free.accel(self.s.x, self.s.v);
-        if chatter_ends(u, a, sys.e, self.settings, self.period) {
-            let common = (sys.M * self.s.v + sys.m * self.s.w) / (sys.M + sys.m);
-            self.s.v = common;
-            self.s.w = common;
-            self.book_impact_loss();
-            self.sticks += 1;
-            self.phase = Phase::Stuck(wall);
-            self.probe.stick(self.t, wall, &self.s);
-        } else {
-            self.phase = Phase::Free;
-        }
-        self.probe.energy(self.t, self.energy);
-    }
-
-    fn book_impact_loss(&mut self) {
-        let e = self.sys.energy(self.s.x, self.s.v, self.s.w);
+    /// Books the drop of energy to the state `s` as impact loss (never a gain).
+    fn book_impact_loss(&mut self, s: &State) {
+        let e = self.map.sys.energy(s.x, s.v, s.w);
         self.energy_impact += (self.energy - e).max(0.0);
         self.energy = e.min(self.energy);
     }
@@ -440,12 +247,108 @@ impl<'a, P: Probe> Run<'a, P> {
             xmax,
             di: (x1 - x2) / (t2 - t1),
             peaks: self.peaks,
-            impacts: self.impacts,
-            sticks: self.sticks,
+            impacts: self.map.impacts,
+            sticks: self.map.sticks,
             energy_impact: self.energy_impact,
             energy_viscous: self.energy_viscous,
-            t_stop: self.t,
+            t_stop: self.map.t,
             steps,
         }
+    }
+}
+
+/// Free decay on the event map: half-cycles and their maxima, samples, the horizon.
+impl<'a, P: Probe, S: PhaseSolver<Motion = Oscillator>> SceneEvents<'a, S> for Run<'a, P> {
+    fn map(&self) -> &EventMap<'a, Oscillator> {
+        &self.map
+    }
+
+    fn map_mut(&mut self) -> &mut EventMap<'a, Oscillator> {
+        &mut self.map
+    }
+
+    fn watch(&self) -> Watch {
+        let (walls, sep_side) = self.map.contact();
+        Watch {
+            walls,
+            x_side: Some(self.x_side),
+            v_side: (self.x_side > 0.0 && !self.noisy()).then_some(self.map.v_side),
+            sep_side,
+            t_limit: self.t_limit(),
+        }
+    }
+
+    fn arrived(&mut self, solver: &S, ev: Event) {
+        if self.batch_noise {
+            // The samples between the last event and this one, on the phase's closed form;
+            // at a time limit the sample at the limit itself too.
+            self.noise_between(solver, ev == Event::Limit);
+        }
+    }
+
+    /// Books the viscous loss of the piece just travelled.
+    fn synced(&mut self, _solver: &S) {
+        let s = self.map.s;
+        let e = self.map.sys.energy(s.x, s.v, s.w);
+        // The closed form keeps energy non-increasing up to rounding; never book a gain.
+        self.energy_viscous += (self.energy - e).max(0.0);
+        self.energy = e.min(self.energy);
+        self.probe.energy(self.map.t, e);
+    }
+
+    fn at_wall(&mut self) {
+        if self.x_side > 0.0 && !self.noisy() {
+            self.candidate(self.map.s.x, self.map.t);
+        }
+    }
+
+    fn impacted(&mut self, hit: &Hit) {
+        let t = self.map.t;
+        self.book_impact_loss(&hit.after);
+        self.probe.impact(t, hit.wall, &hit.before, &hit.after);
+        if hit.stuck {
+            let s = self.map.s;
+            self.book_impact_loss(&s);
+            self.probe.stick(t, hit.wall, &s);
+        }
+        self.probe.energy(t, self.energy);
+    }
+
+    fn separated(&mut self, wall: Wall) {
+        self.probe.separate(self.map.t, wall, &self.map.s);
+    }
+
+    fn v_zero(&mut self) {
+        if self.map.v_side > 0.0 && !self.noisy() {
+            self.candidate(self.map.s.x, self.map.t);
+        }
+    }
+
+    fn x_zero(&mut self) -> Option<Outcome> {
+        if self.x_side > 0.0 {
+            if let Some((ns, _)) = &self.noise {
+                self.noisy_peak.flush(ns, &mut self.running);
+            }
+            if let Some(peak) = self.running.take() {
+                self.peaks.push(peak);
+            }
+            if self.peaks.len() >= self.want && self.req.t_end.is_none() {
+                return Some(Outcome::Ok);
+            }
+            self.x_side = -1.0;
+        } else {
+            self.x_side = 1.0;
+            self.map.v_side = 1.0;
+            if let Some((ns, _)) = &self.noise {
+                self.next_noise = (self.map.t / ns.sample_time).ceil() as u64;
+            }
+        }
+        None
+    }
+
+    fn limit(&mut self, _solver: &mut S) -> Option<Outcome> {
+        let horizon = self.map.t >= self.horizon();
+        self.samples();
+        horizon.then(|| self.outcome_at_horizon())
     }
 }

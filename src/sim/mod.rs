@@ -43,8 +43,8 @@ use serde::Serialize;
 use crate::model::{RangeError, fmt_value};
 
 pub use driver::simulate;
-pub use phase::{State, Wall, impact};
 pub use forced::{Drive, ForcedRecord, Harmonic, simulate_harmonic};
+pub use phase::{State, Wall, impact};
 
 /// What a run simulates: the paper's free decay, or steady-state forced vibration (model.md §8).
 /// A study states its scene; the free-decay scene is exactly what [`simulate`] does.

@@ -9,11 +9,14 @@
 //! rule, sticking and separation) is the same in both scenes and lives here.
 //!
 //! # Phases
-//! * **Free**: the main mass is the oscillator `(M, K, C)`; the inner mass moves at constant
-//!   velocity; events are the walls, `x = 0`, `v = 0` (in positive half-cycles) and time limits.
-//! * **Stuck** on a wall: the pair is the oscillator `(M + m, K, C)` with `y = x ± d/2`; it
-//!   separates when the contact force would have to pull: on the right wall contact holds while
-//!   the pair's acceleration is `<= 0`, i.e. while `C v + K x >= 0`; on the left wall the reverse.
+//! * **Free**: the main mass is the oscillator `(M, K, C)` (driven by `F0 cos(omega t)` in the
+//!   forced scene); the inner mass moves at constant velocity; events are the walls, `x = 0`,
+//!   `v = 0` (in positive half-cycles, or in the forced scene's measurement window) and time
+//!   limits.
+//! * **Stuck** on a wall: the pair is the oscillator `(M + m, K, C)` (driven alike) with
+//!   `y = x ± d/2`; it separates when the contact force would have to pull: on the right wall
+//!   contact holds while the pair's acceleration is `<= 0`, i.e. while `C v + K x >= 0`
+//!   (`C v + K x - F0 cos(omega t) >= 0` when forced); on the left wall the reverse.
 //!
 //! # Chatter rule
 //! After an impact on a wall, let `u >= 0` be the speed at which the inner mass leaves it and
@@ -43,11 +46,21 @@
 //! numbers, or that its step cap was hit ([`StepCap`]). Each crossing is reported only toward
 //! zero from the side the scene names (the `*_side` fields of [`Watch`]).
 //!
+//! # The loop
+//! [`run`] is the one event loop: it asks the [`SceneEvents`] what to watch, lets the solver find the
+//! first event, brings the [`EventMap`] (phase, state, counts, the sign of `v`) to it, and at a
+//! wall applies the impact law and the chatter rule ([`EventMap::collide`]), at a separation
+//! frees the pair ([`EventMap::separate`]), at `v = 0` flips the sign of `v`; the scene books
+//! its observables, energies and probes at each step and decides at `x = 0` and at its time
+//! limits when the run ends. The free scene's noise, peaks and horizon
+//! ([`super::driver`]) and the forced scene's sections, window and transient
+//! ([`super::forced`]) stay in their modules.
 
 use serde::Serialize;
 
-use super::SolverSettings;
 use super::linear::Oscillator;
+use super::{Outcome, SolverSettings};
+use crate::model::System;
 
 /// A wall of the cavity: `Right` is `y - x = +d/2`, `Left` is `y - x = -d/2`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -165,6 +178,279 @@ impl Motion for Oscillator {
     fn accel_at(&self, _t: f64, x: f64, v: f64) -> f64 {
         self.accel(x, v)
     }
+}
+
+/// A phase of the event map: free flight, or the pair stuck on a wall.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Phase {
+    Free,
+    Stuck(Wall),
+}
+
+/// What one impact did ([`EventMap::collide`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Hit {
+    pub wall: Wall,
+    /// The state just before, as located (its `y - x` is within the event tolerance of the
+    /// wall).
+    pub before: State,
+    /// Just after the impact law, the inner mass exactly on the wall.
+    pub after: State,
+    /// The chatter rule closed the sequence: the map's state is the stuck pair's, after the
+    /// plastic closing.
+    pub stuck: bool,
+}
+
+/// The state of the event map both scenes share: the phase, the two masses, the impact and
+/// sticking counts and the sign of `v` (for extrema). The scene owns its clock's meaning: `t`
+/// is the solver's time (absolute in free decay, since the last section when forced).
+pub(crate) struct EventMap<'a, M> {
+    pub sys: &'a System,
+    pub settings: &'a SolverSettings,
+    /// The free main mass (`M`, `K`, `C`, and the force when forced).
+    pub free: M,
+    /// The stuck pair (mass `M + m`).
+    pub pair: M,
+    /// The undamped period `2 pi sqrt(M/K)` (s), the chatter rule's time scale.
+    pub period: f64,
+    pub phase: Phase,
+    pub t: f64,
+    pub s: State,
+    /// The sign `v` has now or is about to take (flipped at each watched `v = 0`, re-read after
+    /// each impact).
+    pub v_side: f64,
+    /// Impacts so far (a chatter sequence ended by sticking counts its impacts).
+    pub impacts: u64,
+    /// Sticking phases entered.
+    pub sticks: u64,
+}
+
+impl<'a, M: Motion> EventMap<'a, M> {
+    /// At `t = 0` in the system's initial state, free, with `v_side = +1`.
+    pub fn new(sys: &'a System, settings: &'a SolverSettings, free: M, pair: M) -> Self {
+        EventMap {
+            sys,
+            settings,
+            free,
+            pair,
+            period: sys.period(),
+            phase: Phase::Free,
+            t: 0.0,
+            s: State {
+                x: sys.x0,
+                v: sys.v0,
+                y: sys.y0,
+                w: sys.w0,
+            },
+            v_side: 1.0,
+            impacts: 0,
+            sticks: 0,
+        }
+    }
+
+    /// The motion of the current phase.
+    pub fn motion(&self) -> &M {
+        match self.phase {
+            Phase::Free => &self.free,
+            Phase::Stuck(_) => &self.pair,
+        }
+    }
+
+    /// Starts the current phase on `solver` at the map's time and state.
+    pub fn begin<S: PhaseSolver<Motion = M>>(&self, solver: &mut S) {
+        solver.begin(self.motion(), self.t, self.s.x, self.s.v);
+    }
+
+    /// The sign `v` has now or is about to take, in the current phase.
+    pub fn v_sign(&self) -> f64 {
+        let a = self.motion().accel_at(self.t, self.s.x, self.s.v);
+        side_of(self.s.v, a, 0.0)
+    }
+
+    /// What the current phase watches: the walls during free flight (the inner mass's line from
+    /// now), the wall's sign for the separation while stuck.
+    pub fn contact(&self) -> (Option<Walls>, Option<f64>) {
+        match self.phase {
+            Phase::Free => (
+                Some(Walls {
+                    t0: self.t,
+                    y0: self.s.y,
+                    w: self.s.w,
+                    half_d: 0.5 * self.sys.d,
+                }),
+                None,
+            ),
+            Phase::Stuck(wall) => (None, Some(wall.sign())),
+        }
+    }
+
+    /// Brings the map to the solver's point `(t, x, v)`: the inner mass on its line while free
+    /// (`walls`, as watched), on the wall with the main mass's velocity while stuck, carried
+    /// along at its initial place in the cavity when no walls were watched in free flight (a
+    /// massless inner mass, which the forced scene does not simulate).
+    pub fn follow(&mut self, (t, x, v): (f64, f64, f64), walls: &Option<Walls>) {
+        self.t = t;
+        self.s.x = x;
+        self.s.v = v;
+        match (self.phase, walls) {
+            (Phase::Free, Some(wl)) => self.s.y = wl.y0 + wl.w * (t - wl.t0),
+            (Phase::Free, None) => {
+                self.s.y = x + (self.sys.y0 - self.sys.x0);
+                self.s.w = v;
+            }
+            (Phase::Stuck(wall), _) => {
+                self.s.y = x + wall.sign() * 0.5 * self.sys.d;
+                self.s.w = v;
+            }
+        }
+    }
+
+    /// Applies the impact law on `wall`, then decides between rebound and sticking by the
+    /// chatter rule (module doc), with the free main mass's acceleration. The probe is the
+    /// scene's: it reports [`Hit`].
+    pub fn collide(&mut self, wall: Wall) -> Hit {
+        let sys = self.sys;
+        let sign = wall.sign();
+        // The state as located; then the inner mass is put exactly on the wall (the event is
+        // within tolerance of it) so the next phase starts from the wall.
+        let before = self.s;
+        self.s.y = self.s.x + sign * 0.5 * sys.d;
+        let (va, wa) = impact(sys.M, sys.m, sys.e, before.v, before.w);
+        self.s.v = va;
+        self.s.w = wa;
+        self.impacts += 1;
+        let after = self.s;
+        // Speed away from the wall and the wall's acceleration toward the inner mass.
+        let u = (sign * (self.s.v - self.s.w)).max(0.0);
+        let a = -sign * self.free.accel_at(self.t, self.s.x, self.s.v);
+        let stuck = chatter_ends(u, a, sys.e, self.settings, self.period);
+        if stuck {
+            // The plastic closing: relative velocity to zero, momentum conserved.
+            let common = (sys.M * self.s.v + sys.m * self.s.w) / (sys.M + sys.m);
+            self.s.v = common;
+            self.s.w = common;
+            self.sticks += 1;
+            self.phase = Phase::Stuck(wall);
+        } else {
+            self.phase = Phase::Free;
+        }
+        Hit {
+            wall,
+            before,
+            after,
+            stuck,
+        }
+    }
+
+    /// Ends a sticking phase: the wall the inner mass leaves, if it was stuck.
+    pub fn separate(&mut self) -> Option<Wall> {
+        let left = match self.phase {
+            Phase::Stuck(wall) => Some(wall),
+            Phase::Free => None,
+        };
+        self.phase = Phase::Free;
+        left
+    }
+}
+
+/// A scene on the event map: what it watches and what it makes of the events. [`run`] calls it;
+/// every method but [`SceneEvents::watch`], [`SceneEvents::synced`], [`SceneEvents::impacted`],
+/// [`SceneEvents::separated`] and [`SceneEvents::limit`] defaults to doing nothing.
+pub(crate) trait SceneEvents<'a, S: PhaseSolver> {
+    fn map(&self) -> &EventMap<'a, S::Motion>;
+    fn map_mut(&mut self) -> &mut EventMap<'a, S::Motion>;
+    /// What the solver watches next (walls and separation from [`EventMap::contact`]).
+    fn watch(&self) -> Watch;
+    /// The solver has stopped at `ev`; the map has not yet followed it.
+    fn arrived(&mut self, _solver: &S, _ev: Event) {}
+    /// The map has followed the solver to its point (energies, probes).
+    fn synced(&mut self, solver: &S);
+    /// A wall is reached, before the cap check and the impact law.
+    fn at_wall(&mut self) {}
+    /// An impact happened ([`EventMap::collide`]): bookkeeping and probes.
+    fn impacted(&mut self, hit: &Hit);
+    /// The inner mass left `wall` (the map is free again).
+    fn separated(&mut self, wall: Wall);
+    /// `v` reached zero from the watched side, before `v_side` flips.
+    fn v_zero(&mut self) {}
+    /// `x` reached zero; `Some` ends the run.
+    fn x_zero(&mut self) -> Option<Outcome> {
+        None
+    }
+    /// The watched time limit is reached; `Some` ends the run.
+    fn limit(&mut self, solver: &mut S) -> Option<Outcome>;
+}
+
+/// The one event loop: moves `solver` from event to event and applies the event map (impact law
+/// and chatter rule at the walls, separation, the sign of `v`), handing the scene its events,
+/// until the scene ends the run or the solver's caps or the finite numbers do.
+pub(crate) fn run<'a, S: PhaseSolver, C: SceneEvents<'a, S>>(
+    scene: &mut C,
+    solver: &mut S,
+) -> Outcome {
+    scene.map().begin(solver);
+    loop {
+        let watch = scene.watch();
+        let ev = match solver.next_event(&watch) {
+            Ok(ev) => ev,
+            Err(StepCap) => {
+                sync(scene, solver, &watch.walls);
+                return Outcome::StepCap;
+            }
+        };
+        scene.arrived(solver, ev);
+        sync(scene, solver, &watch.walls);
+        match ev {
+            Event::NonFinite => return Outcome::NonFinite,
+            Event::Wall(wall) => {
+                scene.at_wall();
+                let map = scene.map_mut();
+                if map.impacts >= map.settings.max_impacts {
+                    return Outcome::EventCap;
+                }
+                let hit = map.collide(wall);
+                scene.impacted(&hit);
+                // The impact changed v discontinuously; re-read its sign, or a maximum that
+                // follows an impact reversing v inside a positive half-cycle goes unwatched
+                // (found at e = 0.80..0.83 by a dense-trace test and by the SciPy peer;
+                // regression tests in tests/simulator.rs and tests/solvers.rs).
+                let map = scene.map_mut();
+                map.v_side = map.v_sign();
+                map.begin(solver);
+            }
+            Event::Separation => {
+                if let Some(wall) = scene.map_mut().separate() {
+                    scene.separated(wall);
+                }
+                scene.map().begin(solver);
+            }
+            Event::VZero => {
+                scene.v_zero();
+                let map = scene.map_mut();
+                map.v_side = -map.v_side;
+            }
+            Event::XZero => {
+                if let Some(outcome) = scene.x_zero() {
+                    return outcome;
+                }
+            }
+            Event::Limit => {
+                if let Some(outcome) = scene.limit(solver) {
+                    return outcome;
+                }
+            }
+        }
+    }
+}
+
+/// The map follows the solver, then the scene books what it keeps.
+fn sync<'a, S: PhaseSolver, C: SceneEvents<'a, S>>(
+    scene: &mut C,
+    solver: &S,
+    walls: &Option<Walls>,
+) {
+    scene.map_mut().follow(solver.state(), walls);
+    scene.synced(solver);
 }
 
 /// Safe step of one watched function from energy bounds (the forced scene's event finder,
