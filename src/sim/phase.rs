@@ -354,9 +354,10 @@ impl<'a, M: Motion> EventMap<'a, M> {
 }
 
 /// A scene on the event map: what it watches and what it makes of the events. [`run`] calls it;
-/// every method but [`SceneEvents::watch`], [`SceneEvents::synced`], [`SceneEvents::impacted`],
-/// [`SceneEvents::separated`] and [`SceneEvents::limit`] defaults to doing nothing.
+/// the optional hooks ([`SceneEvents::arrived`], [`SceneEvents::at_wall`],
+/// [`SceneEvents::v_zero`], [`SceneEvents::x_zero`]) do nothing by default.
 pub(crate) trait SceneEvents<'a, S: PhaseSolver> {
+    /// The scene's event map.
     fn map(&self) -> &EventMap<'a, S::Motion>;
     fn map_mut(&mut self) -> &mut EventMap<'a, S::Motion>;
     /// What the solver watches next (walls and separation from [`EventMap::contact`]).
