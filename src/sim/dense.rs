@@ -36,9 +36,8 @@
 //! reported just past the zero of the contact force (the force's sign checked on re-integrated
 //! states), so the freed inner mass is not caught by the wall again at the same instant.
 
-use super::Wall;
-use super::driver::{Event, PhaseSolver, StepCap, Watch};
 use super::linear::Oscillator;
+use super::phase::{Event, PhaseSolver, StepCap, Wall, Watch, toward};
 
 /// A polynomial `c[0] + c[1] s + ... + c[5] s^5` in the step fraction `s`.
 pub(crate) type Poly = [f64; 6];
@@ -218,12 +217,6 @@ fn bernstein_min(p: &Poly) -> f64 {
     lo
 }
 
-/// Does a function at its zero head into it?
-#[inline]
-fn toward(g1: f64, g2: f64) -> bool {
-    g1 < 0.0 || (g1 == 0.0 && g2 < 0.0)
-}
-
 /// The first `s` in `[0, 1]` at which `g` reaches zero from the positive side (see the module
 /// doc), located to `tol_s`; the returned point is on the positive side of the root when the
 /// root is interior.
@@ -344,7 +337,10 @@ impl<I: Integrator> Stepping<I> {
         [
             (Event::Wall(Wall::Right), walls.map(|p| p.0)),
             (Event::Wall(Wall::Left), walls.map(|p| p.1)),
-            (Event::XZero, Some(combo(w.x_side, &xp, 0.0, &vp, 0.0, 0.0))),
+            (
+                Event::XZero,
+                w.x_side.map(|s| combo(s, &xp, 0.0, &vp, 0.0, 0.0)),
+            ),
             (
                 Event::VZero,
                 w.v_side.map(|s| combo(0.0, &xp, s, &vp, 0.0, 0.0)),
@@ -376,6 +372,8 @@ impl<I: Integrator> Stepping<I> {
 }
 
 impl<I: Integrator> PhaseSolver for Stepping<I> {
+    type Motion = Oscillator;
+
     fn begin(&mut self, osc: &Oscillator, t: f64, x: f64, v: f64) {
         self.osc = *osc;
         self.t = t;

@@ -22,8 +22,8 @@
 //! Differential Equations I*, 2nd ed., Springer 1993, §II.4–II.6 (the `DOPRI5` code).
 
 use super::dense::{Integrator, Step};
-use super::driver::StepCap;
 use super::linear::Oscillator;
+use super::phase::StepCap;
 
 // Butcher tableau (nodes c = 0, 1/5, 3/10, 4/5, 8/9, 1, 1; autonomous ODE, so only a_ij enter).
 const A21: f64 = 1.0 / 5.0;

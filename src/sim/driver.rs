@@ -1,33 +1,7 @@
-//! The event loop shared by every solver: impact law, chatter and sticking, observables,
-//! horizon and outcomes. A solver only moves the main mass through one smooth phase and reports
-//! the first watched event ([`PhaseSolver`]).
-//!
-//! # Phases
-//! * **Free**: the main mass is the oscillator `(M, K, C)`; the inner mass moves at constant
-//!   velocity; events are the walls, `x = 0`, `v = 0` (in positive half-cycles) and time limits.
-//! * **Stuck** on a wall: the pair is the oscillator `(M + m, K, C)` with `y = x ± d/2`; it
-//!   separates when the contact force would have to pull: on the right wall contact holds while
-//!   the pair's acceleration is `<= 0`, i.e. while `C v + K x >= 0`; on the left wall the reverse.
-//!
-//! # Chatter rule
-//! After an impact on a wall, let `u >= 0` be the speed at which the inner mass leaves it and
-//! `a` the acceleration with which the wall moves toward the inner mass (`a = -x''` on the right
-//! wall, `+x''` on the left, the free main mass's acceleration). If `a > 0` the inner mass comes
-//! back after `2u/a`, the next rebound is `e` times slower, and the impacts accumulate at a
-//! finite time `2u / (a (1 - e))` later (a Zeno point). When that remaining time is below
-//! `chatter_tol * period`, the rest of the sequence is replaced by its limit: a plastic impact
-//! (relative velocity to zero, momentum conserved, the remaining relative kinetic energy
-//! `mu u^2 / 2`, `mu = M m / (M + m)`, counted as impact loss) and a sticking phase. The
-//! neglected motion lasts at most `chatter_tol * period`, during which the inner mass is never
-//! more than `u^2 / (2a)` from the wall; the main mass's displacement error is of order
-//! `(m / (M + m)) a (chatter_tol * period)^2`, about `4 pi^2 chatter_tol^2` of the amplitude.
-//! `e = 0` gives `u = 0` and sticks at the first impact where the force allows. For `e` near 1
-//! the denominator uses `max(1 - e, chatter_tol)`, so a rebound slower than
-//! `a chatter_tol^2 period / 2` also sticks and `e = 1` cannot chatter forever. The threshold
-//! used is `max(chatter_tol, 10 tol)`: rebounds shorter than the event tolerance cannot be
-//! resolved, and without this a loose `tol` left chatters running into the impact cap. The number of
-//! impacts in one chatter sequence is therefore at most about
-//! `ln(chatter_tol period a (1 - e) / 2 u0) / ln e`; the impact cap bounds the rest.
+//! The free-decay scene: observables (half-cycle maxima, noise), horizon and outcomes, on the
+//! event map of [`super::phase`] (impact law, chatter and sticking, separation), with any of the
+//! solvers. A solver only moves the main mass through one smooth phase and reports the first
+//! watched event ([`PhaseSolver`]).
 //!
 //! # Energy
 //! The total mechanical energy `(M v^2 + m w^2 + K x^2) / 2` drops at impacts by
@@ -40,69 +14,12 @@ use super::exact::ExactPhase;
 use super::linear::Oscillator;
 use super::linear::Propagator;
 use super::noise::{NoiseStream, NoisyPeak};
-use super::rk4::Rk4;
-use super::{
-    NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings, State, Wall, impact,
+use super::phase::{
+    Event, EventMap, Hit, Phase, PhaseSolver, SceneEvents, State, Wall, Watch, run, side_of,
 };
+use super::rk4::Rk4;
+use super::{NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings};
 use crate::model::System;
-
-/// The inner mass's free motion `y(t) = y0 + w (t - t0)` and the half clearance.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Walls {
-    pub t0: f64,
-    pub y0: f64,
-    pub w: f64,
-    pub half_d: f64,
-}
-
-/// What a solver watches during one call of [`PhaseSolver::next_event`]. Each `*_side` is the
-/// sign the quantity has now (`+1`/`-1`); the solver reports when it reaches zero.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Watch {
-    /// The walls, during free flight.
-    pub walls: Option<Walls>,
-    /// Sign of `x`.
-    pub x_side: f64,
-    /// Sign of `v`, when maxima are being looked for.
-    pub v_side: Option<f64>,
-    /// Sign of the contact condition `C v + K x` times the wall sign, while stuck (+1).
-    pub sep_side: Option<f64>,
-    /// Stop here at the latest.
-    pub t_limit: f64,
-}
-
-/// The first event a solver found.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Event {
-    Wall(Wall),
-    XZero,
-    VZero,
-    Separation,
-    Limit,
-    NonFinite,
-}
-
-/// The solver's step cap was hit.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct StepCap;
-
-/// Moves the main mass through one smooth phase (free, or the stuck pair).
-pub(crate) trait PhaseSolver {
-    /// Starts a phase of oscillator `osc` at time `t` in state `(x, v)`.
-    fn begin(&mut self, osc: &Oscillator, t: f64, x: f64, v: f64);
-    /// Advances to the first watched event (or `watch.t_limit`) and stops there.
-    fn next_event(&mut self, watch: &Watch) -> Result<Event, StepCap>;
-    /// The current time, displacement and velocity.
-    fn state(&self) -> (f64, f64, f64);
-    /// Steps taken so far.
-    fn steps(&self) -> u64;
-    /// The current phase in closed form, when the solver has it: the oscillator, the phase's
-    /// start time and its state there. The driver then evaluates noise samples itself, by a
-    /// constant propagator, instead of stopping the solver at each.
-    fn closed_form(&self) -> Option<(Oscillator, f64, f64, f64)> {
-        None
-    }
-}
 
 /// Runs one simulation. Pure: the same inputs give the same bits. `noise` carries the noise
 /// settings and the run's own random stream; without it no random number is drawn.
@@ -131,31 +48,18 @@ pub fn simulate<P: Probe>(
     }
 }
 
-enum Phase {
-    Free,
-    Stuck(Wall),
-}
-
 struct Run<'a, P: Probe> {
-    sys: &'a System,
-    settings: &'a SolverSettings,
+    /// Phase, state, impact and sticking counts, `v`'s sign: the shared event map.
+    map: EventMap<'a, Oscillator>,
     req: &'a Request,
     noise: Option<(&'a NoiseSettings, &'a mut NoiseStream)>,
     probe: &'a mut P,
-    free: Oscillator,
-    pair: Oscillator,
-    period: f64,
-    // state
-    phase: Phase,
-    t: f64,
-    s: State,
+    /// Positive half-cycle maxima wanted (at least one).
+    want: usize,
     // observables
     peaks: Vec<(f64, f64)>,
     running: Option<(f64, f64)>,
     x_side: f64,
-    v_side: f64,
-    impacts: u64,
-    sticks: u64,
     energy: f64,
     energy_impact: f64,
     energy_viscous: f64,
@@ -177,34 +81,21 @@ impl<'a, P: Probe> Run<'a, P> {
         noise: Option<(&'a NoiseSettings, &'a mut NoiseStream)>,
         probe: &'a mut P,
     ) -> Self {
-        let s = State {
-            x: sys.x0,
-            v: sys.v0,
-            y: sys.y0,
-            w: sys.w0,
-        };
         let free = Oscillator::new(sys.M, sys.K, sys.C);
+        let pair = Oscillator::new(sys.M + sys.m, sys.K, sys.C);
+        let mut map = EventMap::new(sys, settings, free, pair);
         // The sign x has, or is about to have, at t = 0.
         let x_side = side_of(sys.x0, sys.v0, free.accel(sys.x0, sys.v0));
-        let v_side = side_of(sys.v0, free.accel(sys.x0, sys.v0), 0.0);
+        map.v_side = side_of(sys.v0, free.accel(sys.x0, sys.v0), 0.0);
         Run {
-            sys,
-            settings,
+            map,
             req,
             noise,
             probe,
-            free,
-            pair: Oscillator::new(sys.M + sys.m, sys.K, sys.C),
-            period: sys.period(),
-            phase: Phase::Free,
-            t: 0.0,
-            s,
+            want: req.peaks.max(1),
             peaks: Vec::with_capacity(req.peaks),
             running: (x_side > 0.0).then_some((sys.x0, 0.0)),
             x_side,
-            v_side,
-            impacts: 0,
-            sticks: 0,
             energy: sys.energy(sys.x0, sys.v0, sys.w0),
             energy_impact: 0.0,
             energy_viscous: 0.0,
@@ -220,7 +111,7 @@ impl<'a, P: Probe> Run<'a, P> {
     fn horizon(&self) -> f64 {
         self.req
             .t_end
-            .unwrap_or(self.settings.t_max_periods * self.period)
+            .unwrap_or(self.map.settings.t_max_periods * self.map.period)
     }
 
     fn noisy(&self) -> bool {
@@ -242,59 +133,6 @@ impl<'a, P: Probe> Run<'a, P> {
         lim
     }
 
-    fn watch(&self) -> super::driver::Watch {
-        let (walls, sep_side) = match self.phase {
-            Phase::Free => (
-                Some(Walls {
-                    t0: self.t,
-                    y0: self.s.y,
-                    w: self.s.w,
-                    half_d: 0.5 * self.sys.d,
-                }),
-                None,
-            ),
-            Phase::Stuck(wall) => (None, Some(wall.sign())),
-        };
-        Watch {
-            walls,
-            x_side: self.x_side,
-            v_side: (self.x_side > 0.0 && !self.noisy()).then_some(self.v_side),
-            sep_side,
-            t_limit: self.t_limit(),
-        }
-    }
-
-    fn begin_phase<S: PhaseSolver>(&self, solver: &mut S) {
-        let osc = match self.phase {
-            Phase::Free => &self.free,
-            Phase::Stuck(_) => &self.pair,
-        };
-        solver.begin(osc, self.t, self.s.x, self.s.v);
-    }
-
-    /// Brings the run's state to the solver's current point, booking the viscous loss.
-    fn sync<S: PhaseSolver>(&mut self, solver: &S, walls: &Option<Walls>) {
-        let (t, x, v) = solver.state();
-        self.t = t;
-        self.s.x = x;
-        self.s.v = v;
-        match (&self.phase, walls) {
-            (Phase::Free, Some(wl)) => {
-                self.s.y = wl.y0 + wl.w * (t - wl.t0);
-            }
-            (Phase::Stuck(wall), _) => {
-                self.s.y = x + wall.sign() * 0.5 * self.sys.d;
-                self.s.w = v;
-            }
-            _ => {}
-        }
-        let e = self.sys.energy(self.s.x, self.s.v, self.s.w);
-        // The closed form keeps energy non-increasing up to rounding; never book a gain.
-        self.energy_viscous += (self.energy - e).max(0.0);
-        self.energy = e.min(self.energy);
-        self.probe.energy(t, e);
-    }
-
     fn candidate(&mut self, x: f64, t: f64) {
         if let Some((best, _)) = self.running
             && x <= best
@@ -304,102 +142,19 @@ impl<'a, P: Probe> Run<'a, P> {
         self.running = Some((x, t));
     }
 
-    fn go<S: PhaseSolver>(mut self, solver: &mut S) -> Record {
-        let want = self.req.peaks.max(1);
+    fn go<S: PhaseSolver<Motion = Oscillator>>(mut self, solver: &mut S) -> Record {
         self.batch_noise = self.noise.is_some() && solver.closed_form().is_some();
-        self.begin_phase(solver);
-        let outcome = loop {
-            let watch = self.watch();
-            let ev = match solver.next_event(&watch) {
-                Ok(ev) => ev,
-                Err(super::driver::StepCap) => {
-                    self.sync(solver, &watch.walls);
-                    break Outcome::StepCap;
-                }
-            };
-            if self.batch_noise {
-                // The samples between the last event and this one, on the phase's closed form;
-                // at a time limit the sample at the limit itself too.
-                self.noise_between(solver, ev == Event::Limit);
-            }
-            self.sync(solver, &watch.walls);
-            match ev {
-                Event::NonFinite => break Outcome::NonFinite,
-                Event::Wall(wall) => {
-                    if self.x_side > 0.0 && !self.noisy() {
-                        self.candidate(self.s.x, self.t);
-                    }
-                    if self.impacts >= self.settings.max_impacts {
-                        break Outcome::EventCap;
-                    }
-                    self.collide(wall);
-                    // The impact changed v discontinuously; re-read its sign, or a maximum that
-                    // follows an impact reversing v inside a positive half-cycle goes unwatched
-                    // (found at e = 0.80..0.83 by a dense-trace test and by the SciPy peer;
-                    // regression tests in tests/simulator.rs and tests/solvers.rs).
-                    self.v_side = self.v_sign();
-                    self.begin_phase(solver);
-                }
-                Event::Separation => {
-                    if let Phase::Stuck(wall) = self.phase {
-                        self.probe.separate(self.t, wall, &self.s);
-                    }
-                    self.phase = Phase::Free;
-                    self.begin_phase(solver);
-                }
-                Event::VZero => {
-                    if self.v_side > 0.0 && !self.noisy() {
-                        self.candidate(self.s.x, self.t);
-                    }
-                    self.v_side = -self.v_side;
-                }
-                Event::XZero => {
-                    if self.x_side > 0.0 {
-                        if let Some((ns, _)) = &self.noise {
-                            self.noisy_peak.flush(ns, &mut self.running);
-                        }
-                        if let Some(peak) = self.running.take() {
-                            self.peaks.push(peak);
-                        }
-                        if self.peaks.len() >= want && self.req.t_end.is_none() {
-                            break Outcome::Ok;
-                        }
-                        self.x_side = -1.0;
-                    } else {
-                        self.x_side = 1.0;
-                        self.v_side = 1.0;
-                        if let Some((ns, _)) = &self.noise {
-                            self.next_noise = (self.t / ns.sample_time).ceil() as u64;
-                        }
-                    }
-                }
-                Event::Limit => {
-                    let horizon = self.t >= self.horizon();
-                    self.samples();
-                    if horizon {
-                        break self.outcome_at_horizon(want);
-                    }
-                }
-            }
-        };
+        let outcome = run(&mut self, solver);
         self.finish(outcome, solver.steps())
-    }
-
-    /// The sign `v` has now or is about to take, in the current phase.
-    fn v_sign(&self) -> f64 {
-        let osc = match self.phase {
-            Phase::Free => &self.free,
-            Phase::Stuck(_) => &self.pair,
-        };
-        side_of(self.s.v, osc.accel(self.s.x, self.s.v), 0.0)
     }
 
     /// Handles the trace and noise samples due at the current time.
     fn samples(&mut self) {
+        let t = self.map.t;
         if let Some(dt) = self.req.trace_dt
-            && self.next_trace as f64 * dt <= self.t
+            && self.next_trace as f64 * dt <= t
         {
-            self.probe.sample(self.t, &self.s);
+            self.probe.sample(t, &self.map.s);
             self.next_trace += 1;
         }
         if self.x_side > 0.0
@@ -407,9 +162,8 @@ impl<'a, P: Probe> Run<'a, P> {
             && let Some((ns, stream)) = &mut self.noise
         {
             let k = self.next_noise;
-            if k as f64 * ns.sample_time <= self.t {
-                let measured = self.s.x + stream.sample(k, ns);
-                let t = self.t;
+            if k as f64 * ns.sample_time <= t {
+                let measured = self.map.s.x + stream.sample(k, ns);
                 self.next_noise = k + 1;
                 self.candidate(measured, t);
             }
@@ -420,7 +174,7 @@ impl<'a, P: Probe> Run<'a, P> {
     /// and including it with `inclusive`), inside a positive half-cycle: the phase's closed form
     /// at the first sample and at every 64th, the constant propagator over one sample time in
     /// between (one 2 x 2 multiply a sample; the chain's rounding stays below 64 ulps).
-    fn noise_between<S: PhaseSolver>(&mut self, solver: &S, inclusive: bool) {
+    fn noise_between<S: PhaseSolver<Motion = Oscillator>>(&mut self, solver: &S, inclusive: bool) {
         let Some((ns, stream)) = &mut self.noise else {
             return;
         };
@@ -442,7 +196,7 @@ impl<'a, P: Probe> Run<'a, P> {
         if !due(k) {
             return;
         }
-        let slot = usize::from(matches!(self.phase, Phase::Stuck(_)));
+        let slot = usize::from(matches!(self.map.phase, Phase::Stuck(_)));
         let prop = *self.prop[slot].get_or_insert_with(|| osc.propagator(ts));
         let (mut x, mut v) = (0.0, 0.0);
         let mut i = 0u32;
@@ -460,47 +214,17 @@ impl<'a, P: Probe> Run<'a, P> {
         self.next_noise = k;
     }
 
-    fn outcome_at_horizon(&self, want: usize) -> Outcome {
+    fn outcome_at_horizon(&self) -> Outcome {
         match self.peaks.len() {
-            n if n >= want => Outcome::Ok,
+            n if n >= self.want => Outcome::Ok,
             n if n >= 2 => Outcome::FewPeaks,
             _ => Outcome::NoSecondPeak,
         }
     }
 
-    /// Applies the impact law on `wall`, then decides between rebound and sticking.
-    fn collide(&mut self, wall: Wall) {
-        let sys = self.sys;
-        let sign = wall.sign();
-        // The probe sees the state as located; then the inner mass is put exactly on the wall
-        // (the event is within tolerance of it) so the next phase starts from the wall.
-        let before = self.s;
-        self.s.y = self.s.x + sign * 0.5 * sys.d;
-        let (va, wa) = impact(sys.M, sys.m, sys.e, before.v, before.w);
-        self.s.v = va;
-        self.s.w = wa;
-        self.impacts += 1;
-        self.book_impact_loss();
-        self.probe.impact(self.t, wall, &before, &self.s);
-        // Speed away from the wall and the wall's acceleration toward the inner mass.
-        let u = (sign * (self.s.v - self.s.w)).max(0.0);
-        let a = -sign * self.free.accel(self.s.x, self.s.v);
-        if chatter_ends(u, a, sys.e, self.settings, self.period) {
-            let common = (sys.M * self.s.v + sys.m * self.s.w) / (sys.M + sys.m);
-            self.s.v = common;
-            self.s.w = common;
-            self.book_impact_loss();
-            self.sticks += 1;
-            self.phase = Phase::Stuck(wall);
-            self.probe.stick(self.t, wall, &self.s);
-        } else {
-            self.phase = Phase::Free;
-        }
-        self.probe.energy(self.t, self.energy);
-    }
-
-    fn book_impact_loss(&mut self) {
-        let e = self.sys.energy(self.s.x, self.s.v, self.s.w);
+    /// Books the drop of energy to the state `s` as impact loss (never a gain).
+    fn book_impact_loss(&mut self, s: &State) {
+        let e = self.map.sys.energy(s.x, s.v, s.w);
         self.energy_impact += (self.energy - e).max(0.0);
         self.energy = e.min(self.energy);
     }
@@ -523,37 +247,108 @@ impl<'a, P: Probe> Run<'a, P> {
             xmax,
             di: (x1 - x2) / (t2 - t1),
             peaks: self.peaks,
-            impacts: self.impacts,
-            sticks: self.sticks,
+            impacts: self.map.impacts,
+            sticks: self.map.sticks,
             energy_impact: self.energy_impact,
             energy_viscous: self.energy_viscous,
-            t_stop: self.t,
+            t_stop: self.map.t,
             steps,
         }
     }
 }
 
-/// The chatter rule (module doc): after an impact the inner mass leaves the wall at speed
-/// `u >= 0` while the wall accelerates toward it at `a`; `true` when the accumulation of the
-/// rebounds that follow ends within the chatter threshold, so the pair sticks now.
-#[inline]
-pub(crate) fn chatter_ends(u: f64, a: f64, e: f64, settings: &SolverSettings, period: f64) -> bool {
-    // A rebound shorter than the event tolerance cannot be resolved: the threshold is at least
-    // ten tolerances, so a loose `tol` cannot turn a chatter into an endless one.
-    let ct = settings.chatter_tol.max(10.0 * settings.tol);
-    let remaining = 2.0 * u / (a * (1.0 - e).max(ct));
-    a > 0.0 && remaining <= ct * period || (u == 0.0 && a >= 0.0)
-}
+/// Free decay on the event map: half-cycles and their maxima, samples, the horizon.
+impl<'a, P: Probe, S: PhaseSolver<Motion = Oscillator>> SceneEvents<'a, S> for Run<'a, P> {
+    fn map(&self) -> &EventMap<'a, Oscillator> {
+        &self.map
+    }
 
-/// The sign a quantity has now or, when exactly zero, is about to take from its derivatives.
-pub(crate) fn side_of(f: f64, f1: f64, f2: f64) -> f64 {
-    for g in [f, f1, f2] {
-        if g > 0.0 {
-            return 1.0;
-        }
-        if g < 0.0 {
-            return -1.0;
+    fn map_mut(&mut self) -> &mut EventMap<'a, Oscillator> {
+        &mut self.map
+    }
+
+    fn watch(&self) -> Watch {
+        let (walls, sep_side) = self.map.contact();
+        Watch {
+            walls,
+            x_side: Some(self.x_side),
+            v_side: (self.x_side > 0.0 && !self.noisy()).then_some(self.map.v_side),
+            sep_side,
+            t_limit: self.t_limit(),
         }
     }
-    -1.0
+
+    fn arrived(&mut self, solver: &S, ev: Event) {
+        if self.batch_noise {
+            // The samples between the last event and this one, on the phase's closed form;
+            // at a time limit the sample at the limit itself too.
+            self.noise_between(solver, ev == Event::Limit);
+        }
+    }
+
+    /// Books the viscous loss of the piece just travelled.
+    fn synced(&mut self, _solver: &S) {
+        let s = self.map.s;
+        let e = self.map.sys.energy(s.x, s.v, s.w);
+        // The closed form keeps energy non-increasing up to rounding; never book a gain.
+        self.energy_viscous += (self.energy - e).max(0.0);
+        self.energy = e.min(self.energy);
+        self.probe.energy(self.map.t, e);
+    }
+
+    fn at_wall(&mut self) {
+        if self.x_side > 0.0 && !self.noisy() {
+            self.candidate(self.map.s.x, self.map.t);
+        }
+    }
+
+    fn impacted(&mut self, hit: &Hit) {
+        let t = self.map.t;
+        self.book_impact_loss(&hit.after);
+        self.probe.impact(t, hit.wall, &hit.before, &hit.after);
+        if hit.stuck {
+            let s = self.map.s;
+            self.book_impact_loss(&s);
+            self.probe.stick(t, hit.wall, &s);
+        }
+        self.probe.energy(t, self.energy);
+    }
+
+    fn separated(&mut self, wall: Wall) {
+        self.probe.separate(self.map.t, wall, &self.map.s);
+    }
+
+    fn v_zero(&mut self) {
+        if self.map.v_side > 0.0 && !self.noisy() {
+            self.candidate(self.map.s.x, self.map.t);
+        }
+    }
+
+    fn x_zero(&mut self) -> Option<Outcome> {
+        if self.x_side > 0.0 {
+            if let Some((ns, _)) = &self.noise {
+                self.noisy_peak.flush(ns, &mut self.running);
+            }
+            if let Some(peak) = self.running.take() {
+                self.peaks.push(peak);
+            }
+            if self.peaks.len() >= self.want && self.req.t_end.is_none() {
+                return Some(Outcome::Ok);
+            }
+            self.x_side = -1.0;
+        } else {
+            self.x_side = 1.0;
+            self.map.v_side = 1.0;
+            if let Some((ns, _)) = &self.noise {
+                self.next_noise = (self.map.t / ns.sample_time).ceil() as u64;
+            }
+        }
+        None
+    }
+
+    fn limit(&mut self, _solver: &mut S) -> Option<Outcome> {
+        let horizon = self.map.t >= self.horizon();
+        self.samples();
+        horizon.then(|| self.outcome_at_horizon())
+    }
 }

@@ -64,9 +64,8 @@
 
 use std::f64::consts::{FRAC_1_PI, PI, TAU};
 
-use super::Wall;
-use super::driver::{Event, PhaseSolver, StepCap, Walls, Watch};
 use super::linear::{Kinematics, Oscillator};
+use super::phase::{Event, PhaseSolver, StepCap, Wall, Walls, Watch, toward};
 
 /// Why a search stopped early.
 enum Stop {
@@ -116,52 +115,13 @@ impl Shape {
     }
 }
 
-/// The pure solutions the driver watches.
+/// The pure solutions a scene watches.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(usize)]
 enum Pure {
     X,
     V,
     Force,
-}
-
-/// Safe step of one watched function from energy bounds (the forced scene's event finder,
-/// `sim::forced::events`, steps by it): distance `g >= 0` to zero with derivatives `g1, g2,
-/// g3`, and bounds `b2 >= |g''|`, `b4 >= |g''''|` over the future. The function cannot reach
-/// zero before `g + g1 tau - b2 tau^2 / 2` does, nor, when `g1 >= 0` and `g2 > 0`, before
-/// `g''` can (by the same bound one derivative up).
-#[inline]
-pub(crate) fn safe_step(g: f64, g1: f64, g2: f64, g3: f64, b2: f64, b4: f64) -> f64 {
-    let g = g.max(0.0);
-    let hq = quad_step(g, g1, b2);
-    if g1 >= 0.0 && g2 > 0.0 {
-        hq.max(quad_step(g2, g3, b4))
-    } else {
-        hq
-    }
-}
-
-/// Largest `tau` with `g + g1 tau - b tau^2 / 2 > 0`, in the form free of cancellation.
-#[inline]
-fn quad_step(g: f64, g1: f64, b: f64) -> f64 {
-    if b > 0.0 {
-        let disc = (g1 * g1 + 2.0 * b * g).sqrt();
-        if g1 >= 0.0 {
-            (g1 + disc) / b
-        } else {
-            2.0 * g / (disc - g1)
-        }
-    } else if g1 < 0.0 {
-        g / -g1
-    } else {
-        f64::INFINITY
-    }
-}
-
-/// Does a function at (or below) zero with slope `g1` and curvature `g2` head into it?
-#[inline]
-pub(crate) fn toward(g1: f64, g2: f64) -> bool {
-    g1 < 0.0 || (g1 == 0.0 && g2 < 0.0)
 }
 
 /// `v.floor()` for `|v| < 2^52` without a library call (the default x86-64 target has no
@@ -841,7 +801,9 @@ impl ExactPhase {
                 best = (t, ev);
             }
         };
-        take(self.crossing(Pure::X, w.x_side), Event::XZero);
+        if let Some(s) = w.x_side {
+            take(self.crossing(Pure::X, s), Event::XZero);
+        }
         if let Some(s) = w.v_side {
             take(self.crossing(Pure::V, s), Event::VZero);
         }
@@ -875,6 +837,8 @@ impl ExactPhase {
 }
 
 impl PhaseSolver for ExactPhase {
+    type Motion = Oscillator;
+
     fn begin(&mut self, osc: &Oscillator, t: f64, x: f64, v: f64) {
         if *osc != self.osc {
             self.osc = *osc;
@@ -954,24 +918,6 @@ mod tests {
         assert_eq!(model_root(1.0, 1.0, 1.0, 0.0, true), f64::INFINITY);
         // The nearest root may lie behind.
         assert!(model_root(-1.0, -2.0, 0.0, 0.0, false) < 0.0);
-    }
-
-    #[test]
-    fn quad_step_is_the_root_of_the_bound() {
-        for (g, g1, b) in [(1.0, 2.0, 3.0), (1.0, -2.0, 3.0), (0.5, 0.0, 1.0)] {
-            let h = quad_step(g, g1, b);
-            let r = g + g1 * h - 0.5 * b * h * h;
-            assert!(r.abs() < 1e-12, "{g} {g1} {b}: {r}");
-        }
-        assert_eq!(quad_step(1.0, -2.0, 0.0), 0.5);
-        assert_eq!(quad_step(1.0, 2.0, 0.0), f64::INFINITY);
-    }
-
-    #[test]
-    fn convex_step_lets_a_resting_function_depart() {
-        // At zero, at rest, curving away: the quadratic bound gives nothing, the convex one does.
-        assert_eq!(quad_step(0.0, 0.0, 1.0), 0.0);
-        assert!(safe_step(0.0, 0.0, 1.0, 0.0, 1.0, 1.0) > 1.0);
     }
 
     #[test]

@@ -13,7 +13,7 @@
 //!   see [`impact`];
 //! * chatter (an accumulation of impacts on a wall that accelerates into the inner mass) is
 //!   detected and replaced by sticking: the pair moves as one oscillator of mass `M + m` until the
-//!   contact force would have to pull (see [`driver`] for the rule and its error);
+//!   contact force would have to pull (see [`phase`] for the rule and its error);
 //! * observables: positive half-cycle maxima `X_k, t_k`, `xmax`, the damping inclination
 //!   `DI = (X1 - X2) / (t2 - t1)` (eq. 5, m/s), impact and sticking counts, energy lost in
 //!   impacts and in the damper.
@@ -35,6 +35,7 @@ pub mod exact;
 pub mod forced;
 pub mod linear;
 pub mod noise;
+pub mod phase;
 pub mod rk4;
 
 use serde::Serialize;
@@ -43,6 +44,7 @@ use crate::model::{RangeError, fmt_value};
 
 pub use driver::simulate;
 pub use forced::{Drive, ForcedRecord, Harmonic, simulate_harmonic};
+pub use phase::{State, Wall, impact};
 
 /// What a run simulates: the paper's free decay, or steady-state forced vibration (model.md §8).
 /// A study states its scene; the free-decay scene is exactly what [`simulate`] does.
@@ -171,7 +173,7 @@ pub struct SolverSettings {
     pub atol: f64,
     /// Chatter tolerance, relative to the undamped period: an accumulation of impacts whose
     /// predicted remaining duration `2 u / (a (1 - e))` is below `chatter_tol * period` is replaced by
-    /// sticking (see [`driver`]). Default `1e-6`, range `[1e-12, 1e-2]`.
+    /// sticking (see [`phase`]). Default `1e-6`, range `[1e-12, 1e-2]`.
     pub chatter_tol: f64,
     /// At most this many impacts, then the run ends with outcome `event_cap`. Default `100000`.
     pub max_impacts: u64,
@@ -368,34 +370,6 @@ impl std::fmt::Display for Outcome {
     }
 }
 
-/// A wall of the cavity: `Right` is `y - x = +d/2`, `Left` is `y - x = -d/2`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Wall {
-    Left,
-    Right,
-}
-
-impl Wall {
-    /// `+1` for the right wall, `-1` for the left.
-    #[inline]
-    pub fn sign(self) -> f64 {
-        match self {
-            Wall::Right => 1.0,
-            Wall::Left => -1.0,
-        }
-    }
-}
-
-/// Positions and velocities of both masses (m, m/s).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct State {
-    pub x: f64,
-    pub v: f64,
-    pub y: f64,
-    pub w: f64,
-}
-
 /// The result of one run. Times in s, displacements in m, energies in J.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Record {
@@ -423,20 +397,6 @@ pub struct Record {
     /// Solver steps taken: for `exact`, evaluations of the closed form (or of its local Taylor
     /// polynomials) plus one per event search; integration steps otherwise.
     pub steps: u64,
-}
-
-/// The impact law (eq. 3–4): velocities just after an impact from those just before.
-/// Conserves momentum `M v + m w` exactly up to rounding and reverses the relative velocity
-/// scaled by `e`. Written as the change of each velocity,
-/// `x'_a = x'_b + m (1 + e) (y'_b - x'_b) / (M + m)` and
-/// `y'_a = y'_b + M (1 + e) (x'_b - y'_b) / (M + m)`, so that a massless inner mass (`m = 0`,
-/// no damper) leaves the main mass's velocity exactly as it was.
-#[inline]
-#[allow(non_snake_case)]
-pub fn impact(M: f64, m: f64, e: f64, v: f64, w: f64) -> (f64, f64) {
-    let k = (1.0 + e) / (M + m);
-    let rel = w - v;
-    (v + m * k * rel, w - M * k * rel)
 }
 
 /// Observer of a run's events, for traces and tests. Every method defaults to doing nothing, so

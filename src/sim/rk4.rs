@@ -15,8 +15,8 @@
 //! G. Wanner, *Solving Ordinary Differential Equations I*, 2nd ed., Springer 1993, §II.1.
 
 use super::dense::{Integrator, Step};
-use super::driver::StepCap;
 use super::linear::Oscillator;
+use super::phase::StepCap;
 
 /// One RK4 step of length `h` from `(x, v)`.
 #[inline]

@@ -1,41 +1,16 @@
 //! Event location for the forced scene, by the guaranteed brackets of [`crate::sim::exact`].
 //!
-//! Each watched function (a gap to a wall, the velocity, the contact force of a stuck pair) is a
-//! smooth function of the forced motion whose second and fourth derivatives are bounded for the
-//! rest of the phase by `Forced::bounds` (the free part's energy bound plus `A omega^j` of the
-//! particular part; for the contact force `C B3 + K B2 + F0 omega^2` and
-//! `C B5 + K B4 + F0 omega^4`). The safe step (`safe_step` of `sim::exact`) from a point where
-//! the function is `g >= 0` away from zero cannot step over a root, grazing (double) roots
-//! included; an event is declared when a function heading into zero has a safe step below
+//! Each watched function (a gap to a wall, the displacement, the velocity, the contact force of a
+//! stuck pair) is a smooth function of the forced motion whose second and fourth derivatives
+//! are bounded for the rest of the phase by `Forced::bounds` (the free part's energy bound plus
+//! `A omega^j` of the particular part; for the contact force `C B3 + K B2 + F0 omega^2` and
+//! `C B5 + K B4 + F0 omega^4`). The safe step ([`safe_step`] of [`crate::sim::phase`]) from a
+//! point where the function is `g >= 0` away from zero cannot step over a root, grazing (double)
+//! roots included; an event is declared when a function heading into zero has a safe step below
 //! `tol_t`, so its time is within `tol_t` of the true root.
 
 use super::motion::{Forced, Jet};
-use crate::sim::Wall;
-use crate::sim::driver::{StepCap, Walls};
-use crate::sim::exact::{safe_step, toward};
-
-/// What one call of [`ForcedPhase::next_event`] watches.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Watch {
-    /// The walls, during free flight.
-    pub walls: Option<Walls>,
-    /// Sign of `v`, when extrema of `x` are being looked for.
-    pub v_side: Option<f64>,
-    /// The wall's sign while stuck: contact holds while `side (C v + K x - F) >= 0`.
-    pub sep_side: Option<f64>,
-    /// Stop here at the latest.
-    pub t_limit: f64,
-}
-
-/// The first event found.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Event {
-    Wall(Wall),
-    VZero,
-    Separation,
-    Limit,
-    NonFinite,
-}
+use crate::sim::phase::{Event, PhaseSolver, StepCap, Wall, Watch, safe_step, toward};
 
 /// One smooth phase of the forced main mass (free, or the stuck pair), in closed form.
 pub(crate) struct ForcedPhase {
@@ -65,27 +40,6 @@ impl ForcedPhase {
         }
     }
 
-    /// Starts a phase of `f` at `t` in `(x, v)`.
-    pub fn begin(&mut self, f: &Forced, t: f64, x: f64, v: f64) {
-        self.f = *f;
-        self.t0 = t;
-        (self.h0, self.g0) = f.free_start(t, x, v);
-        self.t = t;
-        self.jet = f.jet(t, self.h0, self.g0, t);
-        // The phase starts exactly where it was asked to, not at the rounded sum.
-        self.jet.x = x;
-        self.jet.v = v;
-    }
-
-    /// Current time, displacement and velocity.
-    pub fn state(&self) -> (f64, f64, f64) {
-        (self.t, self.jet.x, self.jet.v)
-    }
-
-    pub fn steps(&self) -> u64 {
-        self.steps
-    }
-
     /// The phase's motion at any time (for quadrature), without moving.
     #[inline]
     pub fn at(&self, t: f64) -> Jet {
@@ -111,9 +65,31 @@ impl ForcedPhase {
             tau *= 2.0;
         }
     }
+}
 
-    /// Advances to the first watched event (or `w.t_limit`) and stops there.
-    pub fn next_event(&mut self, w: &Watch) -> Result<Event, StepCap> {
+impl PhaseSolver for ForcedPhase {
+    type Motion = Forced;
+
+    fn begin(&mut self, f: &Forced, t: f64, x: f64, v: f64) {
+        self.f = *f;
+        self.t0 = t;
+        (self.h0, self.g0) = f.free_start(t, x, v);
+        self.t = t;
+        self.jet = f.jet(t, self.h0, self.g0, t);
+        // The phase starts exactly where it was asked to, not at the rounded sum.
+        self.jet.x = x;
+        self.jet.v = v;
+    }
+
+    fn state(&self) -> (f64, f64, f64) {
+        (self.t, self.jet.x, self.jet.v)
+    }
+
+    fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    fn next_event(&mut self, w: &Watch) -> Result<Event, StepCap> {
         let f = self.f;
         let (c, k) = (f.osc.c, f.osc.k);
         loop {
@@ -158,6 +134,9 @@ impl ForcedPhase {
                     b[2],
                     b[4],
                 );
+            }
+            if let Some(s) = w.x_side {
+                consider(Event::XZero, s * x, s * v, s * a, s * j, b[2], b[4]);
             }
             if let Some(s) = w.v_side {
                 consider(Event::VZero, s * v, s * a, s * j, s * j2, b[3], b[5]);

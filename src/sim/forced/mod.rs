@@ -10,7 +10,7 @@
 //!
 //! with `t` the time from the start of the run (forcing phase 0 at `t = 0`). Impacts at
 //! `|y - x| = d/2` obey the same law as free decay ([`crate::sim::impact`], eq. 3–4), and the
-//! same chatter rule turns an accumulation of impacts into sticking ([`crate::sim::driver`]). While
+//! same chatter rule turns an accumulation of impacts into sticking ([`crate::sim::phase`]). While
 //! stuck on a wall the pair of mass `M + m` feels the force,
 //! `(M + m) x'' + C x' + K x = F0 cos(omega t)`, and separates when the contact force would
 //! have to pull: on the right wall contact holds while `C x' + K x - F0 cos(omega t) >= 0`, on

@@ -17,6 +17,7 @@
 //! forced motion's derivatives for the rest of the phase.
 
 use crate::sim::linear::Oscillator;
+use crate::sim::phase::Motion;
 
 /// The forced oscillator of one phase (the free main mass, or the stuck pair).
 #[derive(Clone, Copy, Debug)]
@@ -149,6 +150,14 @@ pub(crate) fn particular(mass: f64, k: f64, c: f64, f0: f64, omega: f64) -> (f64
 /// `|k - mass omega^2 + i c omega|` (N/m), the dynamic stiffness.
 pub(crate) fn dynamic_stiffness(mass: f64, k: f64, c: f64, omega: f64) -> f64 {
     (-mass * omega).mul_add(omega, k).hypot(c * omega)
+}
+
+impl Motion for Forced {
+    /// `(F0 cos(omega t) - c v - k x) / mass`.
+    #[inline]
+    fn accel_at(&self, t: f64, x: f64, v: f64) -> f64 {
+        self.accel(t, x, v)
+    }
 }
 
 #[cfg(test)]

@@ -1,12 +1,13 @@
-//! The forced scene's event loop: transient, measurement window, Poincaré sections, outcome.
+//! The forced scene on the event map of [`crate::sim::phase`] (impact law, chatter and sticking,
+//! separation): transient, measurement window, Poincaré sections, outcome.
 
-use super::events::{Event, ForcedPhase, Watch};
+use super::events::ForcedPhase;
 use super::motion::Forced;
 use super::{ForcedRecord, Harmonic};
 use crate::model::System;
-use crate::sim::driver::{StepCap, Walls, chatter_ends, side_of};
 use crate::sim::noise::NoiseStream;
-use crate::sim::{NoiseSettings, Outcome, Probe, Request, SolverSettings, State, Wall, impact};
+use crate::sim::phase::{self, EventMap, Hit, Phase, PhaseSolver, SceneEvents, Wall, Watch};
+use crate::sim::{NoiseSettings, Outcome, Probe, Request, SolverSettings};
 
 /// Most sections the transient test looks back: `3 p + 1` for `p <= 8`.
 const HISTORY: usize = 25;
@@ -34,43 +35,24 @@ pub fn simulate_harmonic<P: Probe>(
     let tol_t = settings.tol * sys.period();
     let mut solver = ForcedPhase::new(&free, tol_t, settings.max_steps);
     let mut run = Run {
-        sys,
-        settings,
+        map: EventMap::new(sys, settings, free, pair),
         req,
         scene,
         noise,
         probe,
-        free,
-        pair,
         omega,
         t_f: std::f64::consts::TAU / omega,
-        phase: Phase::Free,
-        t: 0.0,
         k_base: 0,
-        s: State {
-            x: sys.x0,
-            v: sys.v0,
-            y: sys.y0,
-            w: sys.w0,
-        },
-        impacts: 0,
-        sticks: 0,
+        k_next: 0,
         window: None,
         history: Vec::with_capacity(HISTORY),
         n_trans: 0,
         converged: false,
-        v_side: 1.0,
         next_trace: 0,
         next_noise: 0,
     };
-    let outcome = run.go(&mut solver);
+    let outcome = phase::run(&mut run, &mut solver);
     run.finish(outcome, solver.steps())
-}
-
-#[derive(Clone, Copy, PartialEq)]
-enum Phase {
-    Free,
-    Stuck(Wall),
 }
 
 /// What the measurement window has gathered.
@@ -86,42 +68,31 @@ struct Window {
 }
 
 struct Run<'a, P: Probe> {
-    sys: &'a System,
-    settings: &'a SolverSettings,
+    /// Phase, state, impact and sticking counts, `v`'s sign: the shared event map. Its time
+    /// `map.t` is the time since the last section `k_base T_f` (s). The forcing is
+    /// `T_f`-periodic, so each period runs on a fresh clock: absolute times near `10^4 T_f`
+    /// would leave too few bits for the event tolerance (an ulp of 1000 s is 2e-13 s) and for
+    /// the forcing phase.
+    map: EventMap<'a, Forced>,
     req: &'a Request,
     scene: &'a Harmonic,
     noise: Option<(&'a NoiseSettings, &'a mut NoiseStream)>,
     probe: &'a mut P,
-    free: Forced,
-    pair: Forced,
     omega: f64,
     t_f: f64,
-    phase: Phase,
-    /// Time since the last section `k_base T_f` (s). The forcing is `T_f`-periodic, so each
-    /// period runs on a fresh clock: absolute times near `10^4 T_f` would leave too few bits
-    /// for the event tolerance (an ulp of 1000 s is 2e-13 s) and for the forcing phase.
-    t: f64,
     k_base: u64,
-    s: State,
-    impacts: u64,
-    sticks: u64,
+    /// The next section to stop at (section 0 at t = 0: a Limit at t = 0 is handled like every
+    /// other section).
+    k_next: u64,
     window: Option<Window>,
     history: Vec<Section>,
     n_trans: u64,
     converged: bool,
-    v_side: f64,
     next_trace: u64,
     next_noise: u64,
 }
 
 impl<P: Probe> Run<'_, P> {
-    fn forced(&self) -> &Forced {
-        match self.phase {
-            Phase::Free => &self.free,
-            Phase::Stuck(_) => &self.pair,
-        }
-    }
-
     /// Local time of section `k` (`k >= k_base`).
     fn section_time(&self, k: u64) -> f64 {
         (k - self.k_base) as f64 * self.t_f
@@ -134,7 +105,7 @@ impl<P: Probe> Run<'_, P> {
 
     /// Absolute time now.
     fn now(&self) -> f64 {
-        self.base() + self.t
+        self.base() + self.map.t
     }
 
     /// Local time of the absolute time `t`.
@@ -143,10 +114,11 @@ impl<P: Probe> Run<'_, P> {
     }
 
     fn section(&self) -> Section {
-        if self.sys.m > 0.0 {
-            [self.s.x, self.s.v, self.s.y - self.s.x, self.s.w]
+        let s = &self.map.s;
+        if self.map.sys.m > 0.0 {
+            [s.x, s.v, s.y - s.x, s.w]
         } else {
-            [self.s.x, self.s.v, 0.0, 0.0]
+            [s.x, s.v, 0.0, 0.0]
         }
     }
 
@@ -159,100 +131,16 @@ impl<P: Probe> Run<'_, P> {
         self.measuring() && self.noise.is_none()
     }
 
-    fn watch(&self, k_next: u64) -> Watch {
-        let mut t_limit = self.section_time(k_next);
-        if let Some(dt) = self.req.trace_dt {
-            t_limit = t_limit.min(self.local(self.next_trace as f64 * dt));
-        }
-        if self.measuring()
-            && let Some((ns, _)) = &self.noise
-        {
-            t_limit = t_limit.min(self.local(self.next_noise as f64 * ns.sample_time));
-        }
-        // A sample due at a time that rounds to just before now is taken now.
-        let t_limit = t_limit.max(self.t);
-        let (walls, sep_side) = match self.phase {
-            // `m = 0` is the primary system alone: a massless inner mass cannot act on it.
-            Phase::Free if self.sys.m == 0.0 => (None, None),
-            Phase::Free => (
-                Some(Walls {
-                    t0: self.t,
-                    y0: self.s.y,
-                    w: self.s.w,
-                    half_d: 0.5 * self.sys.d,
-                }),
-                None,
-            ),
-            Phase::Stuck(wall) => (None, Some(wall.sign())),
-        };
-        Watch {
-            walls,
-            v_side: self.exact_extrema().then_some(self.v_side),
-            sep_side,
-            t_limit,
-        }
-    }
-
-    fn begin_phase(&self, solver: &mut ForcedPhase) {
-        solver.begin(self.forced(), self.t, self.s.x, self.s.v);
-    }
-
-    /// The sign `x'` has now or is about to take.
-    fn v_sign(&self) -> f64 {
-        let f = self.forced();
-        let a = f.accel(self.t, self.s.x, self.s.v);
-        side_of(self.s.v, a, 0.0)
-    }
-
     fn energy(&self) -> f64 {
-        self.sys.energy(self.s.x, self.s.v, self.s.w)
-    }
-
-    /// Brings the run's state to the solver's point; integrates the window's energies over the
-    /// smooth piece just travelled.
-    fn sync(&mut self, solver: &ForcedPhase, walls: &Option<Walls>) {
-        let (t, x, v) = solver.state();
-        self.t = t;
-        self.s.x = x;
-        self.s.v = v;
-        match (self.phase, walls) {
-            (Phase::Free, Some(wl)) => self.s.y = wl.y0 + wl.w * (t - wl.t0),
-            // `m = 0`: the massless inner mass is carried along where it started in the cavity.
-            (Phase::Free, None) => {
-                self.s.y = x + (self.sys.y0 - self.sys.x0);
-                self.s.w = v;
-            }
-            (Phase::Stuck(wall), _) => {
-                self.s.y = x + wall.sign() * 0.5 * self.sys.d;
-                self.s.w = v;
-            }
-        }
-        let (f0, c) = (self.scene.F0, self.sys.C);
-        let omega = self.omega;
-        let h_max = self.quadrature_piece();
-        if let Some(win) = &mut self.window
-            && self.scene.energies
-        {
-            let (wf, wv) = integrate(win.piece, t, h_max, |tt| {
-                let v = solver.at(tt).v;
-                (f0 * (omega * tt).cos() * v, c * v * v)
-            });
-            win.energy_force += wf;
-            win.energy_viscous += wv;
-            win.piece = t;
-        }
-        let e = self.energy();
-        let now = self.now();
-        self.probe.energy(now, e);
+        let s = &self.map.s;
+        self.map.sys.energy(s.x, s.v, s.w)
     }
 
     /// Longest quadrature piece: 1/16 of the fastest period of the motion (forcing, natural,
     /// or the damping rate `C / M` when heavily over-damped).
     fn quadrature_piece(&self) -> f64 {
-        let fastest = self
-            .omega
-            .max(self.sys.omega())
-            .max(self.sys.C / self.sys.M);
+        let sys = self.map.sys;
+        let fastest = self.omega.max(sys.omega()).max(sys.C / sys.M);
         std::f64::consts::TAU / fastest / 16.0
     }
 
@@ -264,72 +152,14 @@ impl<P: Probe> Run<'_, P> {
         }
     }
 
-    fn go(&mut self, solver: &mut ForcedPhase) -> Outcome {
-        self.begin_phase(solver);
-        let mut k_next: u64 = 0;
-        // Section 0 at t = 0 (a Limit at t = 0 is handled like every other section).
-        loop {
-            let watch = self.watch(k_next);
-            let ev = match solver.next_event(&watch) {
-                Ok(ev) => ev,
-                Err(StepCap) => {
-                    self.sync(solver, &watch.walls);
-                    return Outcome::StepCap;
-                }
-            };
-            self.sync(solver, &watch.walls);
-            match ev {
-                Event::NonFinite => return Outcome::NonFinite,
-                Event::Wall(wall) => {
-                    if self.exact_extrema() {
-                        self.candidate(self.s.x);
-                    }
-                    if self.impacts >= self.settings.max_impacts {
-                        return Outcome::EventCap;
-                    }
-                    self.collide(wall);
-                    self.v_side = self.v_sign();
-                    self.begin_phase(solver);
-                }
-                Event::Separation => {
-                    if let Phase::Stuck(wall) = self.phase {
-                        let now = self.now();
-                        self.probe.separate(now, wall, &self.s);
-                    }
-                    self.phase = Phase::Free;
-                    self.begin_phase(solver);
-                }
-                Event::VZero => {
-                    self.candidate(self.s.x);
-                    self.v_side = -self.v_side;
-                }
-                Event::Limit => {
-                    self.samples();
-                    if self.t >= self.section_time(k_next) {
-                        if self.at_section(k_next) {
-                            return Outcome::Ok;
-                        }
-                        // A fresh clock for the next period (see `t`).
-                        self.k_base = k_next;
-                        self.t = 0.0;
-                        if let Some(win) = &mut self.window {
-                            win.piece = 0.0;
-                        }
-                        self.begin_phase(solver);
-                        k_next += 1;
-                    }
-                }
-            }
-        }
-    }
-
     /// Handles section `k`; `true` when the window is complete.
     fn at_section(&mut self, k: u64) -> bool {
         let s = self.section();
+        let x = self.map.s.x;
         if let Some(win) = &mut self.window {
             win.sections.push(s);
             if k == self.n_trans + self.scene.n_meas {
-                self.candidate(self.s.x);
+                self.candidate(x);
                 return true;
             }
             return false;
@@ -346,7 +176,7 @@ impl<P: Probe> Run<'_, P> {
                 self.converged = transient_converged(
                     &self.history,
                     self.omega,
-                    self.sys.omega(),
+                    self.map.sys.omega(),
                     self.scene.trans_tol,
                 );
                 self.converged || k >= self.scene.n_trans_max
@@ -361,11 +191,11 @@ impl<P: Probe> Run<'_, P> {
                 energy_force: 0.0,
                 energy_viscous: 0.0,
                 energy_impact: 0.0,
-                piece: self.t,
+                piece: self.map.t,
             });
-            self.v_side = self.v_sign();
+            self.map.v_side = self.map.v_sign();
             if self.noise.is_none() {
-                self.candidate(self.s.x);
+                self.candidate(x);
             } else if let Some((ns, _)) = &self.noise {
                 self.next_noise = (self.now() / ns.sample_time).ceil() as u64;
                 // A sample due exactly now is taken by the Limit that follows at once.
@@ -377,10 +207,10 @@ impl<P: Probe> Run<'_, P> {
     /// Trace and noise samples due now.
     fn samples(&mut self) {
         if let Some(dt) = self.req.trace_dt
-            && self.local(self.next_trace as f64 * dt) <= self.t
+            && self.local(self.next_trace as f64 * dt) <= self.map.t
         {
             let now = self.now();
-            self.probe.sample(now, &self.s);
+            self.probe.sample(now, &self.map.s);
             self.next_trace += 1;
         }
         let base = self.base();
@@ -388,50 +218,16 @@ impl<P: Probe> Run<'_, P> {
             && let Some((ns, stream)) = &mut self.noise
         {
             let k = self.next_noise;
-            if k as f64 * ns.sample_time - base <= self.t {
-                let measured = self.s.x + stream.sample(k, ns);
+            if k as f64 * ns.sample_time - base <= self.map.t {
+                let measured = self.map.s.x + stream.sample(k, ns);
                 self.next_noise = k + 1;
                 self.candidate(measured);
             }
         }
     }
 
-    /// The impact law on `wall`, then rebound or sticking (the free-decay chatter rule with the
-    /// forced acceleration).
-    fn collide(&mut self, wall: Wall) {
-        let sys = self.sys;
-        let sign = wall.sign();
-        let before = self.s;
-        let e_before = self.energy();
-        self.s.y = self.s.x + sign * 0.5 * sys.d;
-        let (va, wa) = impact(sys.M, sys.m, sys.e, before.v, before.w);
-        self.s.v = va;
-        self.s.w = wa;
-        self.impacts += 1;
-        let now = self.now();
-        self.probe.impact(now, wall, &before, &self.s);
-        let u = (sign * (self.s.v - self.s.w)).max(0.0);
-        let a = -sign * self.free.accel(self.t, self.s.x, self.s.v);
-        if chatter_ends(u, a, sys.e, self.settings, sys.period()) {
-            let common = (sys.M * self.s.v + sys.m * self.s.w) / (sys.M + sys.m);
-            self.s.v = common;
-            self.s.w = common;
-            self.sticks += 1;
-            self.phase = Phase::Stuck(wall);
-            self.probe.stick(now, wall, &self.s);
-        } else {
-            self.phase = Phase::Free;
-        }
-        let e_after = self.energy();
-        if let Some(win) = &mut self.window {
-            win.impacts += 1;
-            win.energy_impact += e_before - e_after;
-        }
-        self.probe.energy(now, e_after);
-    }
-
     fn finish(self, outcome: Outcome, steps: u64) -> ForcedRecord {
-        let sys = self.sys;
+        let sys = self.map.sys;
         let scene = self.scene;
         let r = scene.ratio(sys);
         let amplitude_linear =
@@ -465,13 +261,125 @@ impl<P: Probe> Run<'_, P> {
             energy_force: ef,
             energy_viscous: ev,
             energy_impact: ei,
-            impacts: self.impacts,
-            sticks: self.sticks,
-            end: self.s,
+            impacts: self.map.impacts,
+            sticks: self.map.sticks,
+            end: self.map.s,
             t_stop: self.now(),
             steps,
             steady: super::Steady::NONE,
         }
+    }
+}
+
+/// The harmonic scene on the event map: extrema in the window, samples, sections, the window's
+/// energies.
+impl<'a, P: Probe> SceneEvents<'a, ForcedPhase> for Run<'a, P> {
+    fn map(&self) -> &EventMap<'a, Forced> {
+        &self.map
+    }
+
+    fn map_mut(&mut self) -> &mut EventMap<'a, Forced> {
+        &mut self.map
+    }
+
+    fn watch(&self) -> Watch {
+        let mut t_limit = self.section_time(self.k_next);
+        if let Some(dt) = self.req.trace_dt {
+            t_limit = t_limit.min(self.local(self.next_trace as f64 * dt));
+        }
+        if self.measuring()
+            && let Some((ns, _)) = &self.noise
+        {
+            t_limit = t_limit.min(self.local(self.next_noise as f64 * ns.sample_time));
+        }
+        // A sample due at a time that rounds to just before now is taken now.
+        let t_limit = t_limit.max(self.map.t);
+        let (walls, sep_side) = match self.map.phase {
+            // `m = 0` is the primary system alone: a massless inner mass cannot act on it (the
+            // map carries it along where it started in the cavity).
+            Phase::Free if self.map.sys.m == 0.0 => (None, None),
+            _ => self.map.contact(),
+        };
+        Watch {
+            walls,
+            x_side: None,
+            v_side: self.exact_extrema().then_some(self.map.v_side),
+            sep_side,
+            t_limit,
+        }
+    }
+
+    /// Integrates the window's energies over the smooth piece just travelled.
+    fn synced(&mut self, solver: &ForcedPhase) {
+        let t = self.map.t;
+        let (f0, c) = (self.scene.F0, self.map.sys.C);
+        let omega = self.omega;
+        let h_max = self.quadrature_piece();
+        if let Some(win) = &mut self.window
+            && self.scene.energies
+        {
+            let (wf, wv) = integrate(win.piece, t, h_max, |tt| {
+                let v = solver.at(tt).v;
+                (f0 * (omega * tt).cos() * v, c * v * v)
+            });
+            win.energy_force += wf;
+            win.energy_viscous += wv;
+            win.piece = t;
+        }
+        let e = self.energy();
+        let now = self.now();
+        self.probe.energy(now, e);
+    }
+
+    fn at_wall(&mut self) {
+        if self.exact_extrema() {
+            self.candidate(self.map.s.x);
+        }
+    }
+
+    /// Probes the impact (and the sticking), and books it in the window: the drop of
+    /// `(M x'^2 + m y'^2 + K x^2) / 2` over the impact and any plastic closing.
+    fn impacted(&mut self, hit: &Hit) {
+        let sys = self.map.sys;
+        let e_before = sys.energy(hit.before.x, hit.before.v, hit.before.w);
+        let now = self.now();
+        self.probe.impact(now, hit.wall, &hit.before, &hit.after);
+        if hit.stuck {
+            self.probe.stick(now, hit.wall, &self.map.s);
+        }
+        let e_after = self.energy();
+        if let Some(win) = &mut self.window {
+            win.impacts += 1;
+            win.energy_impact += e_before - e_after;
+        }
+        self.probe.energy(now, e_after);
+    }
+
+    fn separated(&mut self, wall: Wall) {
+        let now = self.now();
+        self.probe.separate(now, wall, &self.map.s);
+    }
+
+    fn v_zero(&mut self) {
+        self.candidate(self.map.s.x);
+    }
+
+    fn limit(&mut self, solver: &mut ForcedPhase) -> Option<Outcome> {
+        self.samples();
+        if self.map.t >= self.section_time(self.k_next) {
+            if self.at_section(self.k_next) {
+                return Some(Outcome::Ok);
+            }
+            // A fresh clock for the next period (see `map`).
+            self.k_base = self.k_next;
+            self.map.t = 0.0;
+            if let Some(win) = &mut self.window {
+                win.piece = 0.0;
+            }
+            self.map.begin(solver);
+            self.k_next += 1;
+        }
+        None
     }
 }
 
