@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Regenerates results/frequency-response/: configs/frequency-response.toml (harmonic forcing;
 # 3 inner masses x 3 clearances, each over 81 frequency ratios, 5 cases: 3,645 runs) run and
-# reduced by scripts/showcase.sh. A release build takes about 4 s of CPU to run it and 5 s to
-# reduce it (most of that locating jumps: each probe simulates a whole curve); 5 s and 5 s of
-# wall time on 2 shared cores at load 2.6-3.4. tests/reproduce.rs checks the committed files
-# byte for byte.
+# reduced by scripts/showcase.sh. With the attractor census (8 starts per run) a release build
+# runs it in about 38 s and reduces it in about 40 s of wall time on 2 cores (most of the
+# reduction locates jumps: each probe runs a whole curve's census; BENCHMARKS.md).
+# tests/reproduce.rs checks the committed files byte for byte.
 #
 #   scripts/frequency_response.sh [WORK_DIR]
 set -euo pipefail
