@@ -346,9 +346,15 @@ bootstrap = 20
     for b in &branches {
         assert!((num(&b["r"]) - 0.85).abs() < 1e-9, "{b:?}");
     }
-    let points: std::collections::BTreeSet<String> = csv("attractors.csv")
-        .iter()
-        .map(|a| a["point"].clone())
-        .collect();
-    assert_eq!(points.len(), 4, "a census at each of the 4 forces");
+    let attractors = csv("attractors.csv");
+    let column = |name: &str| -> std::collections::BTreeSet<String> {
+        attractors.iter().map(|a| a[name].clone()).collect()
+    };
+    assert_eq!(column("point").len(), 4, "a census at each of the 4 forces");
+    assert_eq!(
+        column("F0").len(),
+        4,
+        "the attractors' F0: {:?}",
+        column("F0")
+    );
 }

@@ -22,11 +22,14 @@ pub const MAX_BRANCHES: usize = 16;
 
 /// One attractor at one frequency.
 #[derive(Clone, Debug, PartialEq)]
+#[allow(non_snake_case)]
 pub struct AttractorRow {
     /// The design point of this frequency.
     pub point: u64,
     pub r: f64,
     pub omega: f64,
+    /// The force amplitude (N): the curve's parameter in a study along `F0`.
+    pub F0: f64,
     /// Index of the attractor at this frequency (0: the one reached from the initial state).
     pub attractor: u32,
     /// `periodic` or `non-periodic`.
@@ -212,6 +215,7 @@ fn push_attractors(out: &mut Response, c: &Census, point: u64, f: &Forcing) {
             point,
             r: f.ratio(),
             omega: f.omega,
+            F0: f.F0,
             attractor: i as u32,
             kind: a.kind_name(),
             period: a.period,

@@ -137,6 +137,7 @@ pub fn attractors_table(responses: &[Response]) -> Table {
     t.push("point", u(&|a| a.point));
     t.push("r", f(&|a| a.r));
     t.push("omega", f(&|a| a.omega));
+    t.push("F0", f(&|a| a.F0));
     t.push("attractor", u(&|a| u64::from(a.attractor)));
     t.push(
         "kind",
