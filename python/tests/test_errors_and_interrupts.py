@@ -69,7 +69,10 @@ def test_bad_batches_raise_value_error():
 
 
 def interrupt_after(seconds: float) -> threading.Timer:
-    """Sends this process SIGINT (as Ctrl-C does) after `seconds`."""
+    """Sends this process SIGINT (as Ctrl-C does) after `seconds`. Python's own Ctrl-C handler
+    is installed first: a process started in the background by a non-interactive shell (nohup,
+    some CI runners) inherits SIGINT ignored, and then Python never raises KeyboardInterrupt."""
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(seconds, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     return timer
