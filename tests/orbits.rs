@@ -2,33 +2,16 @@
 //! every periodic steady state that brute-force transient runs reach is in the census and on a
 //! stable branch, and a design with a hysteresis loop.
 
+mod common;
+
+use common::table_i as forcing;
 use impactsweep::model::System;
 use impactsweep::orbits::analytic::symmetric_period1;
 use impactsweep::orbits::census::{CensusSettings, Kind, Landing, census, settle, start};
 use impactsweep::orbits::map::{Forcing, Section};
 use impactsweep::orbits::response::{BranchRow, analyse, analyse_along};
 use impactsweep::orbits::shoot::{Newton, Stability, Termination, distance, orbit_at, solve};
-use impactsweep::sim::{
-    Drive, Harmonic, NoProbe, Outcome, Request, SolverSettings, simulate_harmonic,
-};
-
-fn forcing(m: f64, d: f64, e: f64, c: f64, f0: f64, r: f64) -> Forcing {
-    let sys = System {
-        m,
-        d,
-        e,
-        C: c,
-        x0: 0.0,
-        v0: 0.0,
-        ..System::TABLE_I
-    };
-    Forcing {
-        omega: r * sys.omega(),
-        sys,
-        F0: f0,
-        settings: SolverSettings::default(),
-    }
-}
+use impactsweep::sim::{Drive, Harmonic, NoProbe, Outcome, Request, simulate_harmonic};
 
 /// The steady state a long transient reaches from `s` within `max_periods` forcing periods
 /// (the sweep's default transient rule, converged to 1e-12 of its scale): period, amplitude,

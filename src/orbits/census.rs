@@ -303,26 +303,7 @@ fn nan_landing() -> Landing {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::System;
-    use crate::sim::SolverSettings;
-
-    fn forcing(m: f64, d: f64, e: f64, c: f64, f0: f64, r: f64) -> Forcing {
-        let sys = System {
-            m,
-            d,
-            e,
-            C: c,
-            x0: 0.0,
-            v0: 0.0,
-            ..System::TABLE_I
-        };
-        Forcing {
-            omega: r * sys.omega(),
-            sys,
-            F0: f0,
-            settings: SolverSettings::default(),
-        }
-    }
+    use crate::orbits::map::tests::table_i as forcing;
 
     fn settings(starts: u32) -> CensusSettings {
         CensusSettings {

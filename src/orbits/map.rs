@@ -501,15 +501,19 @@ pub(crate) fn apply(a: &Mat4, v: &[f64; 4]) -> [f64; 4] {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
+    /// Table I's `M`, `K` with the inner mass, clearance, restitution and damping given, at
+    /// rest, under `f0 cos(omega t)` at `omega = r sqrt(K/M)`: the orbits tests' system.
     pub(crate) fn table_i(m: f64, d: f64, e: f64, c: f64, f0: f64, r: f64) -> Forcing {
         let sys = System {
             m,
             d,
             e,
             C: c,
+            x0: 0.0,
+            v0: 0.0,
             ..System::TABLE_I
         };
         Forcing {
@@ -520,11 +524,9 @@ mod tests {
         }
     }
 
-    /// Central differences of `P^p` against the exact Jacobian, on impacting motions (with and
-    /// without sticking) away from grazing. Issue 16.
-    #[test]
-    fn jacobian_matches_central_differences() {
-        let cases = [
+    /// Impacting motions, with and without sticking, away from grazing: `(system, start, p)`.
+    fn motions() -> [(Forcing, Section, u64); 4] {
+        [
             (
                 table_i(0.005, 0.005, 0.9, 0.1, 0.1, 0.9),
                 [0.0018, 0.0, 0.001, 0.1],
@@ -545,7 +547,14 @@ mod tests {
                 [0.001, 0.1, 0.001, 0.0],
                 1,
             ),
-        ];
+        ]
+    }
+
+    /// Central differences of `P^p` against the exact Jacobian, on impacting motions (with and
+    /// without sticking) away from grazing. Issue 16.
+    #[test]
+    fn jacobian_matches_central_differences() {
+        let cases = motions();
         let mut checked = 0;
         for (f, s, p) in cases {
             let base = eval(&f, &s, p, true);
@@ -587,28 +596,7 @@ mod tests {
     /// the same motions (sticking included). Issue 16.
     #[test]
     fn parameter_derivatives_match_central_differences() {
-        let cases = [
-            (
-                table_i(0.005, 0.005, 0.9, 0.1, 0.1, 0.9),
-                [0.0018, 0.0, 0.001, 0.1],
-                1,
-            ),
-            (
-                table_i(0.02, 0.01, 0.8, 0.1, 0.3, 1.0),
-                [0.003, -0.05, -0.002, 0.2],
-                2,
-            ),
-            (
-                table_i(0.01, 0.01, 0.5, 0.3, 0.3, 0.9),
-                [0.002, 0.1, 0.0, -0.1],
-                3,
-            ),
-            (
-                table_i(0.02, 0.004, 0.2, 0.1, 0.5, 1.1),
-                [0.001, 0.1, 0.001, 0.0],
-                1,
-            ),
-        ];
+        let cases = motions();
         let wn = |f: &Forcing| f.sys.omega();
         let mut checked = 0;
         for (f, s, p) in cases {

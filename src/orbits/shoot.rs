@@ -332,24 +332,7 @@ pub fn non_impacting(f: &Forcing, y_hint: f64) -> Option<Orbit> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::System;
-    use crate::sim::SolverSettings;
-
-    fn forcing(m: f64, d: f64, e: f64, c: f64, f0: f64, r: f64) -> Forcing {
-        let sys = System {
-            m,
-            d,
-            e,
-            C: c,
-            ..System::TABLE_I
-        };
-        Forcing {
-            omega: r * sys.omega(),
-            sys,
-            F0: f0,
-            settings: SolverSettings::default(),
-        }
-    }
+    use crate::orbits::map::tests::table_i as forcing;
 
     /// Runs `n` periods from `s` and returns the section.
     fn run(f: &Forcing, s: &Section, n: u64) -> Section {

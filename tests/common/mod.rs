@@ -329,3 +329,30 @@ pub fn python() -> PathBuf {
     );
     venv
 }
+
+/// Table I's `M`, `K` with the inner mass, clearance, restitution and damping given, at rest,
+/// under `f0 cos(omega t)` at `omega = r sqrt(K/M)`: the steady-state tests' system.
+pub fn table_i(
+    m: f64,
+    d: f64,
+    e: f64,
+    c: f64,
+    f0: f64,
+    r: f64,
+) -> impactsweep::orbits::map::Forcing {
+    let sys = System {
+        m,
+        d,
+        e,
+        C: c,
+        x0: 0.0,
+        v0: 0.0,
+        ..System::TABLE_I
+    };
+    impactsweep::orbits::map::Forcing {
+        omega: r * sys.omega(),
+        sys,
+        F0: f0,
+        settings: SolverSettings::default(),
+    }
+}

@@ -17,7 +17,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    Chart, Key, LABEL, SMALL, TITLE, axis_desc, axis_value, err, fmt_num, minmax, pad,
+    Chart, Key, LABEL, SMALL, TITLE, axis_desc, axis_value, err, fmt_num, minmax, pad, plot_builder,
 };
 use crate::reduce::forced::{Curve, ForcedSummary};
 use crate::reduce::table::{Column, Table, axis_column};
@@ -299,16 +299,8 @@ impl Chart for FrequencyResponse<'_> {
                 .flat_map(|p| [p.design * CM, p.linear * CM])
                 .filter(|v| *v > 0.0)
         }));
-        let builder = |area| {
-            let mut b = ChartBuilder::on(area);
-            b.margin(12)
-                .margin_top(4)
-                .x_label_area_size(48)
-                .y_label_area_size(80);
-            b
-        };
         if row.log_scale() && lo > 0.0 && hi > lo {
-            let mut chart = builder(&plot)
+            let mut chart = plot_builder(&plot, 48)
                 .build_cartesian_2d(x0..x1, (lo / 1.5..hi * 1.5).log_scale())
                 .map_err(err)?;
             chart
@@ -325,7 +317,7 @@ impl Chart for FrequencyResponse<'_> {
             curves(&mut chart, row)
         } else {
             let top = if hi.is_finite() { hi * 1.08 } else { 1.0 };
-            let mut chart = builder(&plot)
+            let mut chart = plot_builder(&plot, 48)
                 .build_cartesian_2d(x0..x1, 0.0..top)
                 .map_err(err)?;
             chart
@@ -421,11 +413,7 @@ impl Chart for ImpactsAndPeriod<'_> {
         } else {
             1.0
         };
-        let mut chart = ChartBuilder::on(&top)
-            .margin(12)
-            .margin_top(4)
-            .x_label_area_size(30)
-            .y_label_area_size(80)
+        let mut chart = plot_builder(&top, 30)
             .build_cartesian_2d(x0..x1, 0.0..i1)
             .map_err(err)?;
         chart
@@ -454,11 +442,7 @@ impl Chart for ImpactsAndPeriod<'_> {
         }
         // The period: 1 to 8, and 0 for none (not periodic), each design a little apart so
         // that equal periods stay visible.
-        let mut chart = ChartBuilder::on(&bottom)
-            .margin(12)
-            .margin_top(4)
-            .x_label_area_size(48)
-            .y_label_area_size(80)
+        let mut chart = plot_builder(&bottom, 48)
             .build_cartesian_2d(x0..x1, -0.6..8.6)
             .map_err(err)?;
         chart

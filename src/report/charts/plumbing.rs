@@ -249,6 +249,21 @@ where
     Ok(chart)
 }
 
+/// The chart builder of a plot under a title and a legend block (the frequency-response and
+/// steady-state charts): 12 px margins, 4 px at the top, `x_label` px under the x axis, 80 px
+/// beside the y axis.
+pub fn plot_builder<'a, 'b, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    x_label: u32,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut b = ChartBuilder::on(area);
+    b.margin(12)
+        .margin_top(4)
+        .x_label_area_size(x_label)
+        .y_label_area_size(80);
+    b
+}
+
 /// The legend of a chart's labelled series, boxed, at `position`.
 pub fn series_legend<'a, DB: DrawingBackend + 'a>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,

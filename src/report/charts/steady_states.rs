@@ -11,7 +11,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plumbing::{Chart, Key, LABEL, SMALL, TITLE, err, fmt_num, minmax, pad};
+use super::plumbing::{Chart, Key, LABEL, SMALL, TITLE, err, fmt_num, minmax, pad, plot_builder};
 use crate::orbits::response::Response;
 use crate::reduce::Summary;
 use crate::reduce::forced::{Curve, ForcedSummary};
@@ -143,11 +143,7 @@ impl Chart for Branches<'_> {
         ];
         let plot = legend(&rest, &items)?;
         let (x0, x1) = st.x_range();
-        let mut chart = ChartBuilder::on(&plot)
-            .margin(12)
-            .margin_top(4)
-            .x_label_area_size(48)
-            .y_label_area_size(80)
+        let mut chart = plot_builder(&plot, 48)
             .build_cartesian_2d(x0..x1, 0.0..st.y_max())
             .map_err(err)?;
         chart
@@ -294,11 +290,7 @@ impl Chart for Basins<'_> {
         let (x0, x1) = st.x_range();
         let n = st.curve.points.len().max(2) as f64;
         let w = (x1 - x0) / n * 0.4;
-        let mut chart = ChartBuilder::on(&plot)
-            .margin(12)
-            .margin_top(4)
-            .x_label_area_size(48)
-            .y_label_area_size(80)
+        let mut chart = plot_builder(&plot, 48)
             .build_cartesian_2d(x0 - w..x1 + w, 0.0..1.0)
             .map_err(err)?;
         chart
