@@ -163,6 +163,10 @@ pub struct ReduceCmd {
     /// interval, and with it the lower end that decides "reliable").
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(0..=10_000_000))]
     pub bootstrap: Option<u64>,
+    /// A harmonic study: run only shard I of N of the per-design analysis (continuation and jump
+    /// probes) and write it to DIR/analysis/; a later `reduce` without --shard uses every shard's.
+    #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+    pub shard: Option<(u64, u64)>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -317,6 +321,7 @@ pub fn main() -> anyhow::Result<()> {
             paper_safety: c.paper_safety,
             di_mean: c.di_mean,
             bootstrap: c.bootstrap.map(|b| b as usize),
+            shard: c.shard,
         }),
         Command::Plot(PlotCmd::Waveform(c)) => app::reduce::waveform(&app::reduce::WaveformArgs {
             sets: c.sets,

@@ -39,11 +39,16 @@ pub struct ArrayJob {
     pub time: Option<String>,
     /// `--cpus-per-task`; each task runs that many threads (1 when absent).
     pub cpus_per_task: Option<u32>,
+    /// Tasks of the analysis array (a harmonic study with an attractor census): between the
+    /// sweep and the reduce, task `i` runs shard `i` of the per-design analysis. `None`: no
+    /// analysis array (free decay, or a study without a census).
+    pub analysis_tasks: Option<u64>,
 }
 
 /// The scripts' file names inside [`ArrayJob::slurm_dir`].
 pub const ARRAY_SCRIPT: &str = "array.sbatch";
 pub const REDUCE_SCRIPT: &str = "reduce.sbatch";
+pub const ANALYSIS_SCRIPT: &str = "analysis.sbatch";
 
 impl ArrayJob {
     /// `OUT/<name>`: the run directory.
@@ -65,6 +70,11 @@ impl ArrayJob {
     /// The log of array task `task` of job `job` (what `%A_%a` expands to).
     pub fn task_log(&self, job: &str, task: &str) -> PathBuf {
         self.logs_dir().join(format!("run-{job}_{task}.out"))
+    }
+
+    /// The log of analysis task `task` of job `job`.
+    pub fn analysis_log(&self, job: &str, task: &str) -> PathBuf {
+        self.logs_dir().join(format!("analysis-{job}_{task}.out"))
     }
 
     /// The log of reduce job `job`.
@@ -227,7 +237,64 @@ impl ArrayJob {
         }
     }
 
-    /// The reduce script, to be submitted with `--dependency=afterok:<array job id>`.
+    /// The analysis array's script (a harmonic study with a census), to be submitted with
+    /// `--dependency=afterok:<array job id>`: task `i` of `M` runs `impactsweep reduce RUN_DIR
+    /// --shard i/M`, its share of the per-design analysis (continuation and jump probes), into
+    /// `RUN_DIR/analysis/`. `None` without an analysis array.
+    pub fn analysis_script(&self) -> Result<Option<String>, InputError> {
+        self.validate()?;
+        let Some(m) = self.analysis_tasks else {
+            return Ok(None);
+        };
+        if m == 0 {
+            return Err(InputError::new(
+                "--tasks 0: the analysis array needs at least 1 task",
+            ));
+        }
+        let mut s = String::new();
+        s += "#!/bin/bash\n";
+        s += &format!(
+            "# impactsweep: the per-design analysis of study '{}' as a job array of {m} task{}.\n",
+            self.study_name,
+            if m == 1 { "" } else { "s" }
+        );
+        s += &format!(
+            "# Task i runs shard i/{m}: the branches of the designs d with d % {m} == i and the\n\
+             # jump probes of its grid lines, into {}/analysis/. The reduce job\n\
+             # then reads every shard's results instead of computing them.\n",
+            self.run_dir().display()
+        );
+        s += "# Submit:   sbatch --parsable --dependency=afterok:<array job id> THIS_FILE\n";
+        s += "# Re-run task i: sbatch --array=i THIS_FILE (a shard's files are rewritten whole).\n";
+        s += &format!(
+            "#SBATCH --job-name=impactsweep-{}-analysis\n",
+            self.study_name
+        );
+        s += &format!("#SBATCH --array=0-{}\n", m - 1);
+        s += &self.common_options();
+        s += &format!(
+            "#SBATCH --output=\"{}\"\n",
+            self.logs_dir().join("analysis-%A_%a.out").display()
+        );
+        s += "#SBATCH --kill-on-invalid-dep=yes\n";
+        s += "#SBATCH --requeue\n";
+        s += "\nset -euo pipefail\n";
+        s += &format!(
+            "echo \"impactsweep: analysis shard $SLURM_ARRAY_TASK_ID/{m} of job \
+             $SLURM_ARRAY_JOB_ID on $(hostname), $(date -u +%FT%TZ)\"\n"
+        );
+        s += "# The analysis runs on the CPUs Slurm gave the task.\n";
+        s += "export RAYON_NUM_THREADS=\"${SLURM_CPUS_PER_TASK:-1}\"\n";
+        s += &format!(
+            "exec {} reduce {} --shard \"$SLURM_ARRAY_TASK_ID/{m}\"\n",
+            shell_word(&self.exe),
+            shell_word(&self.run_dir())
+        );
+        Ok(Some(s))
+    }
+
+    /// The reduce script, to be submitted with `--dependency=afterok:<array job id>` (or the
+    /// analysis array's, when there is one).
     pub fn reduce_script(&self) -> Result<String, InputError> {
         self.validate()?;
         let mut s = String::new();
@@ -237,6 +304,9 @@ impl ArrayJob {
             self.study_name
         );
         s += "# Submit:   sbatch --parsable --dependency=afterok:<array job id> THIS_FILE\n";
+        if self.analysis_tasks.is_some() {
+            s += "# (the analysis array's id: it waits for the sweep, and this job for it.)\n";
+        }
         s += "# afterok waits for every array task to succeed. If a task fails, this job is\n";
         s += "# cancelled (--kill-on-invalid-dep): re-run the task (sbatch --array=i array.sbatch),\n";
         s += "# then submit this script again with the new id.\n";
@@ -312,6 +382,7 @@ mod tests {
             partition: None,
             time: None,
             cpus_per_task: None,
+            analysis_tasks: None,
         }
     }
 
@@ -391,6 +462,32 @@ mod tests {
         );
         assert!(s.contains("#SBATCH --kill-on-invalid-dep=yes\n"), "{s}");
         assert!(!s.contains("#SBATCH --array"), "{s}");
+    }
+
+    #[test]
+    fn analysis_script_runs_reduce_shard_i_of_m() {
+        assert_eq!(job().analysis_script().unwrap(), None);
+        let mut j = job();
+        j.analysis_tasks = Some(3);
+        let s = j.analysis_script().unwrap().unwrap();
+        assert!(s.contains("#SBATCH --array=0-2\n"), "{s}");
+        assert!(
+            s.contains(
+                "\nexec /opt/bin/impactsweep reduce /scratch/u/out/quick --shard \"$SLURM_ARRAY_TASK_ID/3\"\n"
+            ),
+            "{s}"
+        );
+        assert!(
+            s.contains("#SBATCH --output=\"/scratch/u/out/quick/slurm/logs/analysis-%A_%a.out\"\n"),
+            "{s}"
+        );
+        j.analysis_tasks = Some(0);
+        assert!(
+            j.analysis_script()
+                .unwrap_err()
+                .to_string()
+                .starts_with("--tasks 0: the analysis")
+        );
     }
 
     #[test]

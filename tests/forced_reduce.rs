@@ -232,10 +232,13 @@ fn issue_12_each_design_reduces_to_its_peak_over_the_band() {
             "{stem}.png missing"
         );
     }
-    for table in ["attractors", "branches"] {
-        assert!(dir.join(format!("{table}.parquet")).exists());
-        assert!(dir.join(format!("{table}.csv")).exists());
-    }
+    // Issue 23: the attractors are the sweep's (a part per chunk); reduce writes the ideal
+    // case's rows as CSV, and the branches.
+    assert!(dir.join("attractors/part-000000.parquet").exists());
+    assert!(dir.join("attractors.csv").exists());
+    assert!(!dir.join("attractors.parquet").exists());
+    assert!(dir.join("branches.parquet").exists());
+    assert!(dir.join("branches.csv").exists());
     assert!(report.contains("carried by"), "{report}");
     assert!(
         !report.contains("DI"),
@@ -265,10 +268,10 @@ fn issue_12_the_reduction_streams_whole_curves() {
         let mut r = ForcedReducer::new(&study, &design, forced::options(&design));
         let mut start = 0;
         for &c in cuts.iter().chain(std::iter::once(&all.len())) {
-            r.push(all[start..c].to_vec());
+            r.push(all[start..c].to_vec(), None);
             start = c;
         }
-        let (s, f) = r.finish();
+        let (s, f, _) = r.finish(&Default::default());
         (format!("{:?}", s.points), f)
     };
     let whole = reduce(&[]);
@@ -357,4 +360,42 @@ bootstrap = 20
         "the attractors' F0: {:?}",
         column("F0")
     );
+}
+
+/// Issue 23: `reduce` reads the attractors the sweep stored and runs no census (the process's
+/// count of census starts does not move), and every design's peak in the summary is an
+/// attractor of the `attractors` table: the same number, at the frequency `peak_r` names.
+#[test]
+fn issue_23_reduce_runs_no_census_and_every_peak_is_an_attractor() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("nocensus.toml");
+    std::fs::write(&study, study_text("nocensus", 22)).unwrap();
+    let dir = common::run_study_file(&study, &tmp.path().join("out"), "nocensus");
+    let before = impactsweep::reduce::orbits::census_starts();
+    impactsweep::app::reduce::reduce_dir(&impactsweep::app::reduce::ReduceArgs {
+        dir: dir.clone(),
+        ..Default::default()
+    })
+    .unwrap();
+    assert_eq!(impactsweep::reduce::orbits::census_starts(), before);
+    let (_, summary) = common::csv_by_point(&dir.join("summary.csv"));
+    let text = std::fs::read_to_string(dir.join("attractors.csv")).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let attractors: Vec<Vec<String>> = lines.map(common::csv_cells).collect();
+    assert!(!attractors.is_empty());
+    for (design, row) in &summary {
+        let peak = num(&row["peak_amplitude_ideal"]);
+        let r = num(&row["peak_r"]);
+        let hit = attractors.iter().any(|a| {
+            num(&a[at("point")]) as u64 / 11 == *design
+                && num(&a[at("r")]) == r
+                && num(&a[at("amplitude")]) == peak
+        });
+        assert!(
+            hit,
+            "design {design}: peak {peak} at r = {r} is no attractor"
+        );
+    }
 }

@@ -399,3 +399,140 @@ fn issue_12_unrecorded_harmonic_parts_are_verified_and_kept() {
     assert_eq!(part_bytes(&dir), before);
     assert!(sweep::status(&dir).unwrap().complete());
 }
+
+/// Issue 23's study: seven inner masses, four frequencies around resonance, two cases, a short
+/// census (4 starts, 400-period budget): cheap, with coexisting and rattling steady states.
+fn census_study_text(name: &str) -> String {
+    format!(
+        r#"[study]
+name = "{name}"
+seed = 23
+
+[system]
+v0 = 0.0
+
+[scene]
+kind = "harmonic"
+F0 = 0.3
+n_trans_max = 400
+starts = 4
+
+[sweep]
+m = {{ start = 0.0, stop = 0.03, num = 7 }}
+r = {{ start = 0.9, stop = 1.05, num = 4 }}
+
+[perturb]
+dd = [0.001]
+"#
+    )
+}
+
+/// Every attractors part's rows, in chunk order, as text (every value to its last bit).
+fn attractor_rows(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    for p in store::part_files(dir).unwrap() {
+        let k = store::part_chunk(&p).unwrap();
+        let side = store::attractors::attractors_part_path(dir, k);
+        for a in store::attractors::read_part(&side).unwrap() {
+            out.push(format!("{a:?}"));
+        }
+    }
+    out
+}
+
+/// Issue 23: the sweep stores every run's attractors, every case's, beside its points: the same
+/// rows for 1 and 2 threads, for one chunk and for seven, sharded in three, and after a
+/// `kill -9` and `--resume` the dataset (points, attractors and manifest) of an uninterrupted run.
+#[test]
+fn issue_23_attractor_tables_are_identical_across_threads_chunks_shards_and_kill_9() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("att.toml");
+    std::fs::write(&path, census_study_text("att")).unwrap();
+    let s = Study::load(&path).unwrap();
+    let run = |out: &str, o: SweepOptions| {
+        sweep::run_study(&s, &tmp.path().join(out), &o).unwrap();
+        tmp.path().join(out).join("att")
+    };
+    let one = run(
+        "t1",
+        SweepOptions {
+            threads: Some(1),
+            ..SweepOptions::default()
+        },
+    );
+    assert_eq!(store::part_files(&one).unwrap().len(), 1);
+    let want = attractor_rows(&one);
+    // Every run has its attractors, every case's.
+    let runs: std::collections::BTreeSet<(u64, u32)> =
+        store::attractors::read_part(&store::attractors::attractors_part_path(&one, 0))
+            .unwrap()
+            .iter()
+            .map(|a| (a.run.point, a.run.case))
+            .collect();
+    assert_eq!(runs.len(), 7 * 4 * 2);
+    let seven = run(
+        "t2",
+        SweepOptions {
+            threads: Some(2),
+            chunk_points: Some(4),
+            ..SweepOptions::default()
+        },
+    );
+    assert_eq!(store::part_files(&seven).unwrap().len(), 7);
+    assert_eq!(attractor_rows(&seven), want);
+    for i in 0..3 {
+        run(
+            "shards",
+            SweepOptions {
+                shard: (i, 3),
+                chunk_points: Some(4),
+                ..SweepOptions::default()
+            },
+        );
+    }
+    let sharded = tmp.path().join("shards").join("att");
+    // The same part files (the manifests differ in the shards they name).
+    let parts = |dir: &Path| -> Vec<(String, u64)> {
+        common::dataset(dir)
+            .into_iter()
+            .filter(|f| f.0 != "manifest.json")
+            .map(|(n, b)| (n, store::Checksum::DEFAULT.of(&b)))
+            .collect()
+    };
+    assert_eq!(parts(&sharded), parts(&seven));
+    // kill -9 in the middle of a one-thread run of seven chunks, then --resume.
+    let out = tmp.path().join("killed");
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("impactsweep"))
+        .arg("run")
+        .arg(&path)
+        .args(["--quiet", "--threads", "1", "--chunk-points", "4", "--out"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let dir = out.join("att");
+    let start = std::time::Instant::now();
+    while store::part_files(&dir).map_or(0, |p| p.len()) < 2 && child.try_wait().unwrap().is_none()
+    {
+        assert!(start.elapsed() < std::time::Duration::from_secs(300));
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    let running = child.try_wait().unwrap().is_none();
+    let _ = child.kill();
+    child.wait().unwrap();
+    assert!(running, "the run ended before the kill");
+    bin()
+        .arg("run")
+        .arg(&path)
+        .arg("--out")
+        .arg(&out)
+        .args(["--quiet", "--resume"])
+        .assert()
+        .success();
+    assert_eq!(parts(&dir), parts(&seven));
+    assert_eq!(
+        std::fs::read(dir.join("manifest.json")).unwrap(),
+        std::fs::read(seven.join("manifest.json")).unwrap()
+    );
+}

@@ -360,7 +360,7 @@ fn issue_16_continuation_along_the_force() {
         );
     }
     assert_eq!(
-        resp.attractors.iter().map(|a| a.point).max(),
+        resp.attractors.iter().map(|a| a.run.point).max(),
         Some(4),
         "a census at every force"
     );

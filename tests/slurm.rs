@@ -5,6 +5,8 @@
 //! are there, any failure is a test failure. The cluster is stopped by PID on every exit path
 //! (a Drop guard), and the test checks that its daemons are gone.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::path::{Path, PathBuf};
@@ -501,6 +503,7 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
         partition: Some("debug".into()),
         time: Some("5".into()),
         cpus_per_task: Some(2),
+        analysis_tasks: None,
     };
     std::fs::create_dir_all(job.logs_dir()).unwrap();
     let a = cluster.sbatch(&[], &job.array_script().unwrap());
@@ -779,9 +782,111 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
     assert_same_dataset("--dry-run scripts", &run_dir_b, &reference, n_chunks);
     assert!(run_dir_b.join("report.md").is_file());
 
+    // --- 6. Issue 23: a harmonic study with an attractor census gets a third job, the analysis
+    // array (`reduce --shard i/N`) between the sweep and the reduce. The sweep's points and
+    // attractors parts and the reduce's tables equal a single machine's `run` and `reduce`.
+    let fr = w.join("fr.toml");
+    std::fs::write(&fr, HARMONIC_STUDY).unwrap();
+    let single = w.join("fr-single");
+    let out = Command::new(cargo_bin("impactsweep"))
+        .arg("run")
+        .arg(&fr)
+        .arg("--out")
+        .arg(&single)
+        .args(["--quiet", "--reduce"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "single-machine run:\n{}", show(&out));
+    let out_h = w.join("fr-slurm");
+    let out = cluster
+        .impactsweep()
+        .arg("slurm")
+        .arg(&fr)
+        .args(["--tasks", "2", "--out"])
+        .arg(&out_h)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "impactsweep slurm:\n{}", show(&out));
+    let stdout = text(&out.stdout);
+    eprintln!("{stdout}");
+    let (a, r) = job_ids(&stdout);
+    let an = stdout
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("analysis"))
+        .and_then(|l| l.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no analysis job in:\n{stdout}"))
+        .to_string();
+    let run_h = out_h.join("frs");
+    let logs_h = run_h.join("slurm/logs");
+    assert_eq!(cluster.wait_ok(&[&a, &an, &r], &logs_h), 5);
+    let want = single.join("frs");
+    assert_eq!(
+        common::dataset(&run_h)
+            .into_iter()
+            .filter(|f| f.0 != "manifest.json")
+            .collect::<Vec<_>>(),
+        common::dataset(&want)
+            .into_iter()
+            .filter(|f| f.0 != "manifest.json")
+            .collect::<Vec<_>>(),
+        "the sharded sweep's points and attractors differ from one machine's"
+    );
+    for i in 0..2 {
+        for t in ["probes", "branches"] {
+            let f = run_h.join(format!("analysis/{t}-{i}-of-2.parquet"));
+            assert!(
+                f.is_file(),
+                "{} missing:\n{}",
+                f.display(),
+                cluster.diagnostics(&logs_h)
+            );
+        }
+    }
+    for f in [
+        "summary.csv",
+        "jumps.csv",
+        "branches.csv",
+        "attractors.csv",
+        "zones.csv",
+    ] {
+        assert_eq!(
+            std::fs::read(run_h.join(f)).unwrap(),
+            std::fs::read(want.join(f)).unwrap(),
+            "{f}: the sharded analysis differs from one machine's reduce"
+        );
+    }
+
     cluster.stop().unwrap();
     eprintln!("slurm test: total {:.1} s", t_all.elapsed().as_secs_f64());
 }
+
+/// Issue 23's harmonic study for the analysis array: three inner masses (a jump between them
+/// to locate), five frequencies, a short census, two chunks.
+const HARMONIC_STUDY: &str = r#"[study]
+name = "frs"
+seed = 9
+
+[system]
+v0 = 0.0
+
+[scene]
+kind = "harmonic"
+F0 = 0.3
+n_trans_max = 400
+starts = 4
+
+[sweep]
+m = [0.0, 0.01, 0.02]
+r = { start = 0.9, stop = 1.1, num = 5 }
+
+[reliability]
+strength_mean = 300e6
+strength_sd = 20e6
+bootstrap = 20
+
+[run]
+chunk_points = 5
+"#;
 
 #[test]
 fn without_sbatch_on_path_it_says_so_and_dry_run_still_works() {

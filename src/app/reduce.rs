@@ -30,6 +30,9 @@ pub struct ReduceArgs {
     pub di_mean: bool,
     /// Overrides `[reliability].bootstrap`.
     pub bootstrap: Option<usize>,
+    /// `(I, N)`: only shard `I` of `N` of a harmonic study's per-design analysis
+    /// ([`crate::reduce::analysis`]), written to `RUN_DIR/analysis/`; no report.
+    pub shard: Option<(u64, u64)>,
 }
 
 /// `impactsweep plot waveform`.
@@ -118,13 +121,25 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
             let design = forced::design_study(&study);
             let opts = options_over(forced::options(&design), args);
             let mut r = forced::ForcedReducer::new(&study, &design, opts);
-            for p in &parts {
+            for (&k, p) in st.done.iter().zip(&parts) {
+                let side = store::attractors::attractors_part_path(dir, k);
+                let recorded = st.manifest.chunk(k).is_some_and(|c| c.attractors.is_some());
+                let attractors = if recorded || side.exists() {
+                    Some(store::attractors::read_part(&side)?)
+                } else {
+                    None
+                };
                 r.push(
                     store::read_rows::<ForcedRecord>(p)
                         .with_context(|| format!("reading {}", p.display()))?,
+                    attractors,
                 );
             }
-            let (summary, fs) = r.finish();
+            let plan = analysis_plan(&study, dir, args.shard)?;
+            let (summary, fs, probes) = r.finish(&plan);
+            if let Some(shard) = args.shard {
+                return write_analysis_shard(&study, dir, shard, &fs, &probes);
+            }
             let files = write_outputs_with(&study, &summary, dir, audit.as_ref(), Some(&fs))?;
             (summary, files)
         }
@@ -142,6 +157,84 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
             ),
             None => "; no robust design".to_string(),
         }
+    );
+    Ok((line, files))
+}
+
+/// How this reduction runs the per-design analysis: as shard `shard`, or whole with what a
+/// complete set of earlier shards left in `RUN_DIR/analysis/`.
+fn analysis_plan(
+    study: &Study,
+    dir: &Path,
+    shard: Option<(u64, u64)>,
+) -> anyhow::Result<reduce::analysis::Plan> {
+    use reduce::analysis::{Plan, Prior, Shard, branches_from_part, probes_from_table};
+    if let Some((index, count)) = shard {
+        return Ok(Plan {
+            shard: Some(Shard { index, count }),
+            prior: Prior::default(),
+        });
+    }
+    let Some((probes, branches)) = store::analysis::read_complete(dir, &study.source)? else {
+        return Ok(Plan::default());
+    };
+    let keys: Vec<String> = forced::design_study(study)
+        .axes
+        .iter()
+        .map(|a| a.key.clone())
+        .collect();
+    let mut prior = Prior {
+        complete: true,
+        ..Prior::default()
+    };
+    let bad = || {
+        anyhow::anyhow!(
+            "{}: an analysis shard's table lacks a column",
+            dir.display()
+        )
+    };
+    for t in &probes {
+        prior
+            .probes
+            .extend(probes_from_table(&keys, t).ok_or_else(bad)?);
+    }
+    for t in &branches {
+        prior
+            .branches
+            .extend(branches_from_part(t).ok_or_else(bad)?);
+    }
+    Ok(Plan { shard: None, prior })
+}
+
+/// Writes what shard `shard` of the analysis computed (its designs' branches, its jump probes)
+/// into `RUN_DIR/analysis/`.
+fn write_analysis_shard(
+    study: &Study,
+    dir: &Path,
+    shard: (u64, u64),
+    fs: &forced::ForcedSummary,
+    probes: &[(Vec<u64>, Option<[f64; 2]>)],
+) -> anyhow::Result<(String, Vec<PathBuf>)> {
+    let keys: Vec<String> = forced::design_study(study)
+        .axes
+        .iter()
+        .map(|a| a.key.clone())
+        .collect();
+    let steady = reduce::orbits::steady_states(study, fs);
+    let branches: usize = steady.iter().map(|r| r.branches.len()).sum();
+    let files = store::analysis::write_shard(
+        dir,
+        shard,
+        &study.source,
+        reduce::analysis::probes_table(&keys, probes),
+        reduce::analysis::branches_part(&steady),
+    )?;
+    let line = format!(
+        "analysis shard {}/{}: {} jump probes, {} branch points",
+        shard.0,
+        shard.1,
+        probes.len(),
+        branches
     );
     Ok((line, files))
 }
@@ -215,15 +308,12 @@ pub fn write_outputs_with(
     if let Some(fs) = forced {
         let steady = reduce::orbits::steady_states(study, fs);
         if !steady.is_empty() {
-            for (kind, t) in [
-                (
-                    TableKind::Attractors,
-                    reduce::orbits::attractors_table(&steady),
-                ),
-                (TableKind::Branches, reduce::orbits::branches_table(&steady)),
-            ] {
-                files.extend(store::summary::write_table(dir, kind, &t)?);
-            }
+            let t = reduce::orbits::attractors_table(&steady);
+            let csv = dir.join("attractors.csv");
+            store::summary::write_csv_in_batches(&csv, t.n_rows(), |r| t.rows(r))?;
+            files.push(csv);
+            let t = reduce::orbits::branches_table(&steady);
+            files.extend(store::summary::write_table(dir, TableKind::Branches, &t)?);
         }
         chart_files.extend(charts::frequency_response::charts(
             summary, fs, &steady, dir,

@@ -12,7 +12,7 @@ use std::process::Command;
 use anyhow::Context;
 
 use crate::plan::Plan;
-use crate::slurm::{ARRAY_SCRIPT, ArrayJob, REDUCE_SCRIPT, shell_word};
+use crate::slurm::{ANALYSIS_SCRIPT, ARRAY_SCRIPT, ArrayJob, REDUCE_SCRIPT, shell_word};
 use crate::study::Study;
 
 /// `impactsweep slurm STUDY.toml --tasks N [--out DIR] [--partition P] [--time T] [--cpus-per-task C] [--dry-run]`.
@@ -40,8 +40,12 @@ pub fn slurm(args: &SlurmArgs) -> anyhow::Result<()> {
         partition: args.partition.clone(),
         time: args.time.clone(),
         cpus_per_task: args.cpus_per_task,
+        // A harmonic study with a census: its per-design analysis is an array of its own.
+        analysis_tasks: matches!(study.scene, crate::sim::Scene::Harmonic(h) if h.starts > 0)
+            .then_some(args.tasks),
     };
     let array = job.array_script()?;
+    let analysis = job.analysis_script()?;
     let reduce = job.reduce_script()?;
 
     // Before touching anything: without sbatch there is nothing to submit to.
@@ -72,20 +76,31 @@ pub fn slurm(args: &SlurmArgs) -> anyhow::Result<()> {
     let logs = job.logs_dir();
     std::fs::create_dir_all(&logs).with_context(|| format!("creating {}", logs.display()))?;
     let array_path = job.slurm_dir().join(ARRAY_SCRIPT);
+    let analysis_path = job.slurm_dir().join(ANALYSIS_SCRIPT);
     let reduce_path = job.slurm_dir().join(REDUCE_SCRIPT);
-    for (path, text) in [(&array_path, &array), (&reduce_path, &reduce)] {
+    let mut scripts = vec![(&array_path, &array)];
+    if let Some(a) = &analysis {
+        scripts.push((&analysis_path, a));
+    }
+    scripts.push((&reduce_path, &reduce));
+    for (path, text) in &scripts {
         std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
     }
 
     let Some(sbatch) = sbatch else {
-        println!("# ==> {} <==", array_path.display());
-        print!("{array}");
-        println!();
-        println!("# ==> {} <==", reduce_path.display());
-        print!("{reduce}");
-        println!();
+        for (path, text) in &scripts {
+            println!("# ==> {} <==", path.display());
+            print!("{text}");
+            println!();
+        }
         println!("# Dry run: nothing submitted. To submit by hand:");
         println!("#   id=$(sbatch --parsable {})", shell_word(&array_path));
+        if analysis.is_some() {
+            println!(
+                "#   id=$(sbatch --parsable --dependency=afterok:${{id%%;*}} {})",
+                shell_word(&analysis_path)
+            );
+        }
         println!(
             "#   sbatch --parsable --dependency=afterok:${{id%%;*}} {}",
             shell_word(&reduce_path)
@@ -94,15 +109,33 @@ pub fn slurm(args: &SlurmArgs) -> anyhow::Result<()> {
     };
 
     let array_id = submit(&sbatch, &[], &array_path)?;
+    let analysis_id = match &analysis {
+        Some(_) => Some(
+            submit(
+                &sbatch,
+                &[format!("--dependency=afterok:{array_id}")],
+                &analysis_path,
+            )
+            .with_context(|| {
+                format!(
+                    "the array was submitted as job {array_id}, but its analysis array was not \
+                     (cancel the array with `scancel {array_id}` or submit {} by hand)",
+                    analysis_path.display()
+                )
+            })?,
+        ),
+        None => None,
+    };
+    let before = analysis_id.as_deref().unwrap_or(&array_id);
     let reduce_id = submit(
         &sbatch,
-        &[format!("--dependency=afterok:{array_id}")],
+        &[format!("--dependency=afterok:{before}")],
         &reduce_path,
     )
     .with_context(|| {
         format!(
-            "the array was submitted as job {array_id}, but its reduce job was not \
-             (cancel the array with `scancel {array_id}` or submit {} by hand)",
+            "job {before} was submitted, but its reduce job was not \
+             (cancel the jobs with `scancel {array_id} {before}` or submit {} by hand)",
             reduce_path.display()
         )
     })?;
@@ -113,13 +146,28 @@ pub fn slurm(args: &SlurmArgs) -> anyhow::Result<()> {
         "  array job  {array_id}  ({n} task{}, task i runs shard i/{n})",
         plural(n)
     );
-    println!("  reduce job {reduce_id}  (starts when every task has succeeded)");
+    if let Some(a) = &analysis_id {
+        println!(
+            "  analysis   {a}  ({n} task{}, task i analyses shard i/{n}; after the array)",
+            plural(n)
+        );
+    }
+    println!("  reduce job {reduce_id}  (starts when every task before it has succeeded)");
     println!("Follow:");
-    println!("  squeue -j {array_id},{reduce_id}");
+    match &analysis_id {
+        Some(a) => println!("  squeue -j {array_id},{a},{reduce_id}"),
+        None => println!("  squeue -j {array_id},{reduce_id}"),
+    }
     println!(
         "  logs:     {}  (task i: run-{array_id}_i.out)",
         job.task_log(&array_id, "*").display()
     );
+    if let Some(a) = &analysis_id {
+        println!(
+            "            {}  (analysis task i)",
+            job.analysis_log(a, "i").display()
+        );
+    }
     println!("            {}", job.reduce_log(&reduce_id).display());
     println!("  progress: impactsweep status {}", job.run_dir().display());
     println!("Re-run a failed task i (it resumes its shard):");

@@ -73,8 +73,36 @@ pub struct Attractor {
     pub amplitude: f64,
     /// Impacts per forcing period (over whole orbit periods, or over the window).
     pub impacts_per_period: f64,
-    /// Starts that reached it.
+    /// Census starts that reached it (seeds from a neighbouring frequency are not counted).
     pub starts: u32,
+    /// How it was first reached.
+    pub origin: Origin,
+    /// A section state on it: a periodic orbit's own section, or where the measuring window of a
+    /// motion that is not periodic ended (a state on the attractor, from which a neighbouring
+    /// frequency's census, continuation or a longer measurement can start).
+    pub section: Section,
+}
+
+/// How an attractor of a census was first reached.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin {
+    /// Census start `k` (0: the study's initial state).
+    Start(u32),
+    /// Continued from an attractor of the next lower frequency of the curve (the up pass).
+    Up,
+    /// Continued from an attractor of the next higher frequency (the down pass).
+    Down,
+}
+
+impl Origin {
+    /// The name stored in the `origin` column.
+    pub fn name(self) -> &'static str {
+        match self {
+            Origin::Start(_) => "start",
+            Origin::Up => "up",
+            Origin::Down => "down",
+        }
+    }
 }
 
 impl Attractor {
@@ -87,7 +115,7 @@ impl Attractor {
 }
 
 /// The census of one frequency point.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Census {
     /// Distinct attractors, in the order they were first reached (start 0's first).
     pub attractors: Vec<Attractor>,
@@ -141,58 +169,109 @@ pub enum Landing {
     },
 }
 
-/// Runs the census at one frequency point from `s0` (the study's initial section).
+/// Runs the census at one frequency point from `s0` (the study's initial section): starts
+/// `0..c.starts`.
 pub fn census(f: &Forcing, s0: &Section, c: &CensusSettings) -> Census {
-    let newton = Newton::default();
-    let mut out = Census {
-        attractors: Vec::new(),
-        starts: 0,
-        periods: 0,
-    };
-    let mut x_ref = f.half_gap();
-    for k in 0..c.starts.max(1) {
-        let s = if k == 0 { *s0 } else { start(f, c, k, x_ref) };
-        let Settled {
-            landing, periods, ..
-        } = settle(f, &s, c, &newton);
-        out.periods += periods;
-        out.starts += 1;
-        let att = match landing {
-            Landing::Orbit(o) => Attractor {
-                period: o.period,
-                amplitude: o.amplitude,
-                impacts_per_period: o.impacts_per_period(),
-                kind: Kind::Periodic(Box::new(o)),
-                starts: 1,
-            },
-            Landing::NonPeriodic {
-                amplitude,
-                impacts_per_period,
-            } => Attractor {
-                kind: Kind::NonPeriodic,
-                period: 0,
-                amplitude,
-                impacts_per_period,
-                starts: 1,
-            },
-        };
-        if k == 0 && att.amplitude.is_finite() {
-            x_ref = x_ref.max(att.amplitude);
-        }
-        merge(f, &mut out, att);
-    }
+    let mut out = Census::default();
+    out.run_starts(f, s0, c, &Newton::default());
     out
 }
 
-/// Adds `att` to the census, merged with an equal attractor (module doc).
-fn merge(f: &Forcing, census: &mut Census, att: Attractor) {
-    for known in &mut census.attractors {
-        if same(f, known, &att) {
-            known.starts += 1;
-            return;
+impl Census {
+    /// Runs the census's own starts at `f` (module doc, "Starts"), start 0 from `s0`.
+    pub fn run_starts(&mut self, f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) {
+        let mut x_ref = f.half_gap();
+        for k in 0..c.starts.max(1) {
+            let s = if k == 0 { *s0 } else { start(f, c, k, x_ref) };
+            let st = settle(f, &s, c, newton);
+            self.periods += st.periods;
+            self.starts += 1;
+            let att = attractor(st, Origin::Start(k), 1);
+            if k == 0 && att.amplitude.is_finite() {
+                x_ref = x_ref.max(att.amplitude);
+            }
+            self.merge(f, att);
         }
     }
-    census.attractors.push(att);
+
+    /// Continues `from`, an attractor of a neighbouring frequency of the same curve, to `f`:
+    /// a periodic orbit by Newton on `P^p` from its section (kept when it converges to a stable
+    /// orbit), anything else (a motion that is not periodic, an orbit that lost its stability or
+    /// that Newton cannot reach) by [`settle`] from its section. What it lands on joins the
+    /// census (a new attractor, or merged into a known one) without counting as a start: basin
+    /// shares stay those of the census's own starts.
+    pub fn seed(
+        &mut self,
+        f: &Forcing,
+        from: &Attractor,
+        origin: Origin,
+        c: &CensusSettings,
+        newton: &Newton,
+    ) {
+        if let Kind::Periodic(o) = &from.kind
+            && o.impacts > 0
+        {
+            let p = u64::from(o.period);
+            let (term, state) = solve(f, p, &o.s, newton);
+            if let Some(st) = &state {
+                self.periods += u64::from(st.iterations + 1) * p;
+            }
+            if let (Termination::Converged { .. }, Some(st)) = (term, state)
+                && let Some(orbit) = orbit_at(f, p, &st, newton)
+                && orbit.stability == Stability::Stable
+            {
+                let end = orbit.s;
+                let landing = Settled {
+                    landing: Landing::Orbit(orbit),
+                    periods: 0,
+                    end,
+                };
+                self.merge(f, attractor(landing, origin, 0));
+                return;
+            }
+        }
+        let st = settle(f, &from.section, c, newton);
+        self.periods += st.periods;
+        self.merge(f, attractor(st, origin, 0));
+    }
+
+    /// Adds `att` to the census, merged with an equal attractor (module doc).
+    fn merge(&mut self, f: &Forcing, att: Attractor) {
+        for known in &mut self.attractors {
+            if same(f, known, &att) {
+                known.starts += att.starts;
+                return;
+            }
+        }
+        self.attractors.push(att);
+    }
+}
+
+/// The attractor a settled start landed on, reached by `starts` census starts (0 or 1).
+fn attractor(st: Settled, origin: Origin, starts: u32) -> Attractor {
+    match st.landing {
+        Landing::Orbit(o) => Attractor {
+            period: o.period,
+            amplitude: o.amplitude,
+            impacts_per_period: o.impacts_per_period(),
+            section: o.s,
+            kind: Kind::Periodic(Box::new(o)),
+            starts,
+            origin,
+        },
+        Landing::NonPeriodic {
+            amplitude,
+            impacts_per_period,
+        } => Attractor {
+            kind: Kind::NonPeriodic,
+            period: 0,
+            amplitude,
+            impacts_per_period,
+            starts,
+            origin,
+            section: st.end,
+        },
+    }
 }
 
 fn same(f: &Forcing, a: &Attractor, b: &Attractor) -> bool {

@@ -5,8 +5,10 @@
 //! form ([`analytic`]), which the shooting is tested against.
 
 pub mod analytic;
+pub mod attractors;
 pub mod census;
 pub mod continuation;
+pub mod curve;
 pub mod map;
 pub mod response;
 pub mod shoot;

@@ -1,10 +1,12 @@
 //! Every steady state of one frequency-response curve: the attractor census at each swept
 //! frequency, then the periodic attractors followed along the frequency by continuation.
 //!
-//! The census ([`super::census`]) runs at every swept frequency. Its periodic impacting
-//! attractors seed continuation ([`super::continuation`]) in frequency order, then those of two
-//! transient sweeps, up and down the frequencies, each frequency starting where the previous
-//! one settled (the branches of a hysteresis loop, which fixed starts can all miss); an attractor that
+//! The census ([`super::census`]) runs at every swept frequency, in the up and down passes of
+//! [`super::curve`] (each frequency also continues its neighbours' attractors: the transient
+//! sweeps up and down the band, which reach the branches of a hysteresis loop that fixed starts
+//! can all miss). A sweep stores those attractors; `reduce` follows branches from them
+//! ([`branches`]) without a census. Periodic impacting attractors seed continuation
+//! ([`super::continuation`]) in frequency order; an attractor that
 //! lies on a branch already followed (same period and impacts, amplitude within `1e-3` of the
 //! branch interpolated at its frequency) seeds nothing, so a curve costs a few branches, not one
 //! per frequency. At most [`MAX_BRANCHES`] branches are followed per curve (doubled branches
@@ -12,37 +14,17 @@
 //! its own, in closed form ([`super::shoot::non_impacting`]): its rows are `neutral` wherever it
 //! exists (`A <= d/2`).
 
-use super::census::{Census, CensusSettings, Kind, Landing, census, settle};
+use super::attractors::{AttractorRow, RunId};
+use super::census::{Census, CensusSettings, Kind};
 use super::continuation::{Branch, ContSettings, Label, Param, follow};
+use super::curve::census_passes;
 use super::map::{Forcing, Section};
-use super::shoot::{Newton, Orbit, Stability, Termination, non_impacting, same_orbit, solve};
+use super::shoot::{
+    Newton, Orbit, Stability, Termination, non_impacting, orbit_at, same_orbit, solve,
+};
 
 /// Most branches followed per curve.
 pub const MAX_BRANCHES: usize = 16;
-
-/// One attractor at one frequency.
-#[derive(Clone, Debug, PartialEq)]
-#[allow(non_snake_case)]
-pub struct AttractorRow {
-    /// The design point of this frequency.
-    pub point: u64,
-    pub r: f64,
-    pub omega: f64,
-    /// The force amplitude (N): the curve's parameter in a study along `F0`.
-    pub F0: f64,
-    /// Index of the attractor at this frequency (0: the one reached from the initial state).
-    pub attractor: u32,
-    /// `periodic` or `non-periodic`.
-    pub kind: &'static str,
-    pub period: u32,
-    pub amplitude: f64,
-    pub impacts_per_period: f64,
-    pub basin_share: f64,
-    pub starts: u32,
-    /// `stable`, `unstable` (never, for an attractor), `neutral` (the non-impacting family) or
-    /// `""` for a motion that is not periodic.
-    pub stability: &'static str,
-}
 
 /// One continuation point.
 #[derive(Clone, Debug, PartialEq)]
@@ -75,9 +57,8 @@ pub struct Response {
     pub design: u64,
     pub attractors: Vec<AttractorRow>,
     pub branches: Vec<BranchRow>,
-    /// Forcing periods simulated by the census, by the two sweeps and by continuation.
+    /// Forcing periods simulated by the census (its up and down passes) and by continuation.
     pub periods_census: u64,
-    pub periods_sweeps: u64,
     pub periods_continuation: u64,
 }
 
@@ -95,8 +76,10 @@ pub fn analyse(
 }
 
 /// [`analyse`] along either parameter: `values` are `(design point, value of param)`; the
-/// census runs at each value and continuation follows `param` (the frequency ratio, or the
-/// force amplitude `F0` at `base`'s frequency).
+/// census runs at each value, in the up and down passes of a sweep's curve
+/// ([`super::curve::census_passes`], every start from `s0`), and continuation follows `param`
+/// (the frequency ratio, or the force amplitude `F0` at `base`'s frequency) from every periodic
+/// impacting attractor ([`branches`]).
 pub fn analyse_along(
     base: &Forcing,
     design: u64,
@@ -105,17 +88,27 @@ pub fn analyse_along(
     param: Param,
     settings: &CensusSettings,
 ) -> Response {
-    let freqs = values;
+    let points: Vec<_> = values
+        .iter()
+        .map(|&(point, v)| {
+            Some((
+                param.at(base, v),
+                CensusSettings { point, ..*settings },
+                *s0,
+            ))
+        })
+        .collect();
+    let censuses = census_passes(&points);
     let mut out = Response {
         design,
         ..Response::default()
     };
     let mut seeds = Vec::new();
-    for &(point, v) in freqs {
+    for (&(point, v), c) in values.iter().zip(&censuses) {
+        let Some(c) = c else { continue };
         let f = param.at(base, v);
-        let c = census(&f, s0, &CensusSettings { point, ..*settings });
         out.periods_census += c.periods;
-        push_attractors(&mut out, &c, point, &f);
+        push_attractors(&mut out, c, point, &f);
         for a in &c.attractors {
             if let Kind::Periodic(o) = &a.kind
                 && o.impacts > 0
@@ -124,16 +117,35 @@ pub fn analyse_along(
             }
         }
     }
-    seeds.extend(sweep_seeds(base, &mut out, s0, freqs, param, settings));
-    let (lo, hi) = freqs
+    let (branches, periods) = branches(base, design, s0, values, param, seeds);
+    out.branches = branches;
+    out.periods_continuation = periods;
+    out
+}
+
+/// The periodic branches of one curve: every seed (a periodic impacting attractor at a point of
+/// the curve, in the curve's order) followed along `param` over the range of `values`, unless it
+/// lies on a branch already followed (module doc), at most [`MAX_BRANCHES`]; then the
+/// non-impacting family in closed form (placed at `s0`'s inner-mass position). Returns the rows
+/// and the forcing periods continuation simulated.
+pub fn branches(
+    base: &Forcing,
+    design: u64,
+    s0: &Section,
+    values: &[(u64, f64)],
+    param: Param,
+    seeds: Vec<(Forcing, Box<Orbit>)>,
+) -> (Vec<BranchRow>, u64) {
+    let mut out = Response::default();
+    let (lo, hi) = values
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, r)| {
             (a.min(r), b.max(r))
         });
     if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
-        return out;
+        return (Vec::new(), 0);
     }
-    let step = (hi - lo) / (freqs.len().max(2) - 1) as f64;
+    let step = (hi - lo) / (values.len().max(2) - 1) as f64;
     let cont = ContSettings {
         range: (lo, hi),
         h0: (step / lo).max(1e-3),
@@ -142,90 +154,65 @@ pub fn analyse_along(
         max_points: 400,
         switch_pd: true,
     };
-    let mut branches: Vec<Branch> = Vec::new();
+    let mut followed: Vec<Branch> = Vec::new();
     for (f, orbit) in seeds {
-        if branches.len() >= MAX_BRANCHES {
+        if followed.len() >= MAX_BRANCHES {
             break;
         }
-        if branches.iter().any(|b| covers(b, &f, &orbit, param)) {
+        if followed.iter().any(|b| covers(b, &f, &orbit, param)) {
             continue;
         }
         for b in follow(&f, &orbit, param, &cont) {
             out.periods_continuation += b.periods;
-            if branches.len() < MAX_BRANCHES {
-                branches.push(b);
+            if followed.len() < MAX_BRANCHES {
+                followed.push(b);
             }
         }
     }
-    for (i, b) in branches.iter().enumerate() {
+    for (i, b) in followed.iter().enumerate() {
         push_branch(&mut out, design, i as u32, b);
     }
     push_family(
         &mut out,
         design,
-        branches.len() as u32,
+        followed.len() as u32,
         base,
-        freqs,
+        values,
         param,
         s0,
     );
-    out
+    (out.branches, out.periods_continuation)
 }
 
-/// The periodic impacting orbits two transient sweeps land on: up and then down the swept
-/// frequencies, each frequency starting where the previous one settled ([`settle`]), the first
-/// from `s0`. Inside a hysteresis loop each sweep stays on its own branch until that branch
-/// ends, so they reach orbits whose basins the census's fixed starts may all miss.
-fn sweep_seeds(
-    base: &Forcing,
-    out: &mut Response,
-    s0: &Section,
-    freqs: &[(u64, f64)],
-    param: Param,
-    settings: &CensusSettings,
-) -> Vec<(Forcing, Box<Orbit>)> {
+/// The periodic impacting orbit at `f` whose section `s` a stored attractor gives (its period
+/// `p`): Newton from there (it converges at once: the section is the orbit's to Newton's
+/// tolerance) and the orbit's multipliers; `None` when it no longer converges to a stable
+/// impacting orbit.
+pub fn orbit_from_section(f: &Forcing, s: &Section, p: u32) -> Option<Box<Orbit>> {
     let newton = Newton::default();
-    let up: Vec<f64> = freqs.iter().map(|f| f.1).collect();
-    let down: Vec<f64> = up.iter().rev().copied().collect();
-    let mut seeds = Vec::new();
-    for rs in [up, down] {
-        let mut s = *s0;
-        for v in rs {
-            let f = param.at(base, v);
-            let st = settle(&f, &s, settings, &newton);
-            out.periods_sweeps += st.periods;
-            s = st.end;
-            if let Landing::Orbit(o) = st.landing
-                && o.impacts > 0
-            {
-                seeds.push((f, Box::new(o)));
-            }
+    let p = u64::from(p.max(1));
+    match solve(f, p, s, &newton) {
+        (Termination::Converged { .. }, Some(st)) => {
+            let o = orbit_at(f, p, &st, &newton)?;
+            (o.stability == Stability::Stable).then(|| Box::new(o))
         }
+        _ => None,
     }
-    seeds
 }
 
+/// The census's rows for the design point `point` (its ideal case; `point_id = point`).
 fn push_attractors(out: &mut Response, c: &Census, point: u64, f: &Forcing) {
-    for (i, a) in c.attractors.iter().enumerate() {
-        let stability = match &a.kind {
-            Kind::Periodic(o) => o.stability.name(),
-            Kind::NonPeriodic => "",
-        };
-        out.attractors.push(AttractorRow {
-            point,
-            r: f.ratio(),
-            omega: f.omega,
-            F0: f.F0,
-            attractor: i as u32,
-            kind: a.kind_name(),
-            period: a.period,
-            amplitude: a.amplitude,
-            impacts_per_period: a.impacts_per_period,
-            basin_share: c.share(i),
-            starts: a.starts,
-            stability,
-        });
-    }
+    let run = RunId {
+        point_id: point,
+        point,
+        case: 0,
+        ideal: true,
+        r: f.ratio(),
+        omega: f.omega,
+        F0: f.F0,
+    };
+    out.attractors
+        .extend(AttractorRow::of_census(run, c, f.period()));
 }
 
 /// Whether branch `b` passes through `orbit` (a fixed point at `f`): two consecutive points of

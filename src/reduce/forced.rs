@@ -19,14 +19,14 @@
 //! The reducer ([`super::Reducer`]) then does over the designs what it does over free-decay
 //! design points: stress, R and the safety factor from the peak amplitudes of the cases (each
 //! case's peak is a sample), perfectibility from R and PR, zones, jumps (located with the ideal
-//! case's whole curve simulated at each probe, [`ForcedIdeal`]), sensitivity and the robust
-//! recommendation.
+//! case's curve continued to each probe from its grid neighbours' attractors,
+//! [`super::probe::ForcedIdeal`]), sensitivity and the robust recommendation.
 
 use super::table::{Column, Table};
-use super::{Damping, IdealCase, Options, PointStats, Reducer, Response, Run, Summary};
-use crate::orbits::forced_run;
+use super::{Damping, Options, PointStats, Reducer, Response, Run, Summary};
+use crate::orbits::attractors::AttractorRow;
 use crate::sim::forced::DesignPeak;
-use crate::sim::{ForcedRecord, NoProbe, Outcome, Scene};
+use crate::sim::{ForcedRecord, Outcome, Scene};
 use crate::store::RunRow;
 use crate::study::{Study, frequency_axis};
 
@@ -180,6 +180,9 @@ pub struct Curve {
     /// steady-state analysis of the curve starts from ([`super::orbits`]).
     pub system: crate::model::System,
     pub f0: f64,
+    /// The ideal case's attractors at every frequency, as the sweep stored them (the
+    /// `attractors` table); `None` for a dataset written before the sweep stored them.
+    pub attractors: Option<Vec<AttractorRow>>,
 }
 
 impl Curve {
@@ -305,6 +308,8 @@ pub struct ForcedSummary {
     pub outcomes: [u64; 6],
     /// Which steady state the design quantity is.
     pub design_peak: DesignPeak,
+    /// How the per-design analysis runs (one shard of it, what earlier shards computed).
+    pub analysis: super::analysis::Plan,
 }
 
 impl ForcedSummary {
@@ -383,6 +388,10 @@ pub struct ForcedReducer<'a> {
     n_cases: u64,
     /// Rows of a design whose curve is not complete yet (a chunk that ended inside a curve).
     pending: Vec<RunRow<ForcedRecord>>,
+    /// The ideal case's stored attractors, by design.
+    attractors: std::collections::BTreeMap<u64, Vec<AttractorRow>>,
+    /// Whether the parts came with attractors.
+    stored: bool,
     curves: Vec<Curve>,
     runs: u64,
     outcomes: [u64; 6],
@@ -399,6 +408,8 @@ impl<'a> ForcedReducer<'a> {
             n_f: study.curve_points(),
             n_cases: study.cases.len() as u64,
             pending: Vec::new(),
+            attractors: Default::default(),
+            stored: false,
             curves: Vec::new(),
             runs: 0,
             outcomes: [0; 6],
@@ -407,8 +418,16 @@ impl<'a> ForcedReducer<'a> {
     }
 
     /// Reduces one part's rows (whole curves, in `point_id` order): one reducer run per design
-    /// and case, and the ideal case's curve.
-    pub fn push(&mut self, rows: Vec<RunRow<ForcedRecord>>) {
+    /// and case, and the ideal case's curve; `attractors` are the part's stored attractors
+    /// (`None`: a dataset written before the sweep stored them).
+    pub fn push(&mut self, rows: Vec<RunRow<ForcedRecord>>, attractors: Option<Vec<AttractorRow>>) {
+        self.stored |= attractors.is_some();
+        for a in attractors.into_iter().flatten().filter(|a| a.run.ideal) {
+            self.attractors
+                .entry(a.run.point / self.n_f)
+                .or_default()
+                .push(a);
+        }
         for r in &rows {
             self.runs += 1;
             self.outcomes[super::outcome_index(r.record.outcome)] += 1;
@@ -477,6 +496,7 @@ impl<'a> ForcedReducer<'a> {
                     design,
                     system: first.system,
                     f0: first.record.F0,
+                    attractors: None,
                     points: of_case
                         .iter()
                         .map(|r| CurvePoint::of(&r.record, self.peak))
@@ -487,8 +507,14 @@ impl<'a> ForcedReducer<'a> {
     }
 
     /// Everything that needs all the designs (the reducer's [`Reducer::finish_with`], its jumps
-    /// located with [`ForcedIdeal`]), and the curves.
-    pub fn finish(mut self) -> (Summary, ForcedSummary) {
+    /// located with [`super::probe::ForcedIdeal`]), and the curves.
+    ///
+    /// `plan` says whether this is one shard of the analysis and what earlier shards computed;
+    /// the jump probes computed here are returned with the summaries (what a shard stores).
+    pub fn finish(
+        mut self,
+        plan: &super::analysis::Plan,
+    ) -> (Summary, ForcedSummary, super::analysis::Probes) {
         let pending = std::mem::take(&mut self.pending);
         if !pending.is_empty() {
             let mut runs = Vec::new();
@@ -497,8 +523,14 @@ impl<'a> ForcedReducer<'a> {
         }
         self.curves.sort_by_key(|c| c.design);
         self.curves.dedup_by_key(|c| c.design);
-        let ideal = ForcedIdeal::new(self.study);
+        for c in &mut self.curves {
+            let rows = self.attractors.remove(&c.design);
+            c.attractors = self.stored.then(|| rows.unwrap_or_default());
+        }
+        let ideal = super::probe::ForcedIdeal::new(self.study, &self.curves, plan);
         let mut summary = self.reducer.finish_with(&ideal);
+        let probes = ideal.computed();
+        drop(ideal);
         // The outcomes of the simulated runs, not of the designs' cases (the reducer's runs).
         summary.outcome_totals = self.outcomes;
         let frequency = self
@@ -513,103 +545,10 @@ impl<'a> ForcedReducer<'a> {
                 runs: self.runs,
                 outcomes: self.outcomes,
                 design_peak: self.peak,
+                analysis: plan.clone(),
             },
+            probes,
         )
-    }
-}
-
-/// The ideal case of a harmonic study at any design (jump location): its whole curve simulated
-/// over the study's band, `[peak amplitude, peak reduction]`; `None` when a run does not end
-/// `ok` or the design is not valid (out of range, or resonance without damping). Each probe
-/// costs a curve (as many runs as the band has frequencies); a design probed twice (the
-/// bisections of the peak amplitude and of PR along one line share their first midpoints) is
-/// simulated once.
-pub struct ForcedIdeal<'a> {
-    study: &'a Study,
-    /// The design axes' keys, in design-grid order.
-    keys: Vec<String>,
-    /// The census's design point for probes between the grid's points (they are no grid
-    /// point; one fixed identity keeps them deterministic).
-    probe_point: u64,
-    /// Designs simulated so far, by the bits of their axis values.
-    seen: std::sync::Mutex<std::collections::HashMap<Vec<u64>, Option<[f64; 2]>>>,
-}
-
-impl<'a> ForcedIdeal<'a> {
-    pub fn new(study: &'a Study) -> Self {
-        let keys = design_study(study)
-            .axes
-            .iter()
-            .map(|a| a.key.clone())
-            .collect();
-        ForcedIdeal {
-            study,
-            keys,
-            probe_point: u64::MAX,
-            seen: Default::default(),
-        }
-    }
-
-    /// The curve's `[peak amplitude, peak reduction]`, simulated.
-    fn simulate(&self, values: &[f64]) -> Option<[f64; 2]> {
-        let s = self.study;
-        let mut sys = s.system;
-        let mut scene = s.scene;
-        for (key, v) in self.keys.iter().zip(values) {
-            if !sys.set(key, *v) {
-                scene.set(key, *v);
-            }
-        }
-        sys.validate().ok()?;
-        let Scene::Harmonic(base) = scene else {
-            return None;
-        };
-        let band: Vec<Option<(&str, f64)>> = match s.frequency_axis() {
-            Some(a) => a
-                .values
-                .iter()
-                .map(|&f| Some((a.key.as_str(), f)))
-                .collect(),
-            None => vec![None],
-        };
-        let (mut peak, mut linear) = (f64::NAN, f64::NAN);
-        for f in band {
-            let mut h = base;
-            if let Some((key, v)) = f {
-                h.set(key, v);
-            }
-            h.validate(&sys).ok()?;
-            let rec = forced_run(
-                &sys,
-                &s.solver,
-                &s.request,
-                &h,
-                None,
-                &mut NoProbe,
-                s.seed,
-                self.probe_point,
-            );
-            if rec.outcome != Outcome::Ok {
-                return None;
-            }
-            peak = peak.max(CurvePoint::of(&rec, h.design_peak).design);
-            linear = linear.max(rec.amplitude_linear);
-        }
-        Some([peak, 1.0 - peak / linear])
-    }
-}
-
-impl IdealCase for ForcedIdeal<'_> {
-    fn at(&self, values: &[f64]) -> Option<[f64; 2]> {
-        let key: Vec<u64> = values.iter().map(|v| v.to_bits()).collect();
-        if let Some(v) = self.seen.lock().ok().and_then(|m| m.get(&key).copied()) {
-            return v;
-        }
-        let v = self.simulate(values);
-        if let Ok(mut m) = self.seen.lock() {
-            m.insert(key, v);
-        }
-        v
     }
 }
 
@@ -642,6 +581,7 @@ mod tests {
         let c = Curve {
             system: crate::model::System::TABLE_I,
             f0: 1.0,
+            attractors: None,
             design: 0,
             points: vec![
                 pt(0.7, 2.0, 1.0),
@@ -663,6 +603,7 @@ mod tests {
         let c = Curve {
             system: crate::model::System::TABLE_I,
             f0: 1.0,
+            attractors: None,
             design: 0,
             points: vec![pt(0.9, 0.5, 4.0), pt(1.0, 1.0, 8.0), pt(1.1, 1.0, 2.0)],
         };
@@ -675,6 +616,7 @@ mod tests {
         let c = Curve {
             system: crate::model::System::TABLE_I,
             f0: 1.0,
+            attractors: None,
             design: 0,
             points: vec![pt(0.9, 0.5, 4.0), pt(1.0, 9.0, 8.0)],
         };
@@ -691,6 +633,7 @@ mod tests {
         let mut c = Curve {
             system: crate::model::System::TABLE_I,
             f0: 1.0,
+            attractors: None,
             design: 0,
             points: vec![pt(0.9, 1.0, 4.0), pt(1.0, 3.0, 8.0), pt(1.1, 2.0, 2.0)],
         };

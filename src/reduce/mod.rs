@@ -19,10 +19,12 @@
 //!   the safety factor (eq. 7–8, exact or the paper's form), Anderson–Darling on `ln xmax`;
 //! * `DI` from the ideal case, or the mean over the cases.
 
+pub mod analysis;
 pub mod forced;
 pub mod grid;
 pub mod jumps;
 pub mod orbits;
+pub mod probe;
 pub mod rank;
 pub mod recommend;
 pub mod regions;

@@ -1,21 +1,25 @@
 //! The steady states of a harmonic study's curves (docs/reduce.md): for each design's ideal
-//! case, the attractor census at every swept frequency and the periodic branches followed
-//! along the frequency ([`crate::orbits::response`]), as the `attractors` and `branches` tables.
+//! case, the attractors the sweep stored at every swept frequency (the `attractors` table) and
+//! the periodic branches followed from them along the frequency ([`crate::orbits::response`]),
+//! as the `attractors.csv` and `branches` tables.
+//!
+//! No census runs here: continuation starts from each stored periodic attractor's section
+//! (Newton converges at once there). A dataset written before the sweep stored its attractors
+//! gets them recomputed, once per design, by the sweep's own census passes
+//! ([`crate::orbits::curve::census_passes`]); [`census_starts`] counts the starts that took.
 //!
 //! The designs are analysed in parallel on the current rayon pool and collected in design
-//! order, so the tables are the same for any thread count. The census's starts are seeded by
-//! the study seed and each frequency's design point, as in the sweep, so the table's census of
-//! an ideal run draws the starts the sweep drew (its start 0 runs from the initial state here,
-//! where the sweep went on from its run's end: the same trajectory).
+//! order, so the tables are the same for any thread count.
 
 use rayon::prelude::*;
 
 use super::forced::{Curve, ForcedSummary};
 use super::table::{Column, Table};
+use crate::orbits::attractors::{AttractorRow, SteadyKind};
 use crate::orbits::census::CensusSettings;
 use crate::orbits::continuation::Param;
-use crate::orbits::map::Forcing;
-use crate::orbits::response::{Response, analyse, analyse_along};
+use crate::orbits::map::{Forcing, Section};
+use crate::orbits::response::{Response, analyse_along, branches, orbit_from_section};
 use crate::orbits::{CENSUS_WINDOW, HANDOVER};
 use crate::sim::Scene;
 use crate::study::Study;
@@ -34,11 +38,107 @@ pub fn steady_states(study: &Study, fs: &ForcedSummary) -> Vec<Response> {
     if fs.frequency.is_none() {
         return along_force(study, &h, fs);
     }
-    let n_f = study.curve_points();
+    let plan = &fs.analysis;
     fs.curves
         .par_iter()
-        .map(|c| curve(study, &h, c, n_f))
+        .map(|c| {
+            if let Some(b) = plan.prior.branches_of(c.design) {
+                return Response {
+                    design: c.design,
+                    attractors: c.attractors.clone().unwrap_or_default(),
+                    branches: b,
+                    ..Response::default()
+                };
+            }
+            if !plan.computes_design(c.design) {
+                return Response {
+                    design: c.design,
+                    ..Response::default()
+                };
+            }
+            let sys = c.system;
+            let base = Forcing {
+                sys,
+                F0: c.f0,
+                omega: sys.omega(),
+                settings: study.solver,
+            };
+            let values: Vec<(u64, f64)> = c
+                .points
+                .iter()
+                .enumerate()
+                .map(|(i, p)| {
+                    (
+                        c.design * study.curve_points() + i as u64,
+                        p.omega / sys.omega(),
+                    )
+                })
+                .collect();
+            curve_states(
+                study,
+                &h,
+                &base,
+                c.design,
+                &values,
+                Param::Ratio,
+                c.attractors.as_deref(),
+            )
+        })
         .collect()
+}
+
+/// The steady states of one curve (`values`: its points as `(design point, value of param)`):
+/// the stored attractors (or, for an older dataset, the census recomputed) and the branches
+/// followed from their periodic impacting orbits.
+fn curve_states(
+    study: &Study,
+    h: &crate::sim::Harmonic,
+    base: &Forcing,
+    design: u64,
+    values: &[(u64, f64)],
+    param: Param,
+    stored: Option<&[AttractorRow]>,
+) -> Response {
+    let s0 = initial_section(&base.sys);
+    let Some(rows) = stored else {
+        CENSUS_STARTS.fetch_add(
+            u64::from(h.starts) * values.len() as u64,
+            std::sync::atomic::Ordering::Relaxed,
+        );
+        return analyse_along(base, design, &s0, values, param, &census_settings(study, h));
+    };
+    let mut seeds = Vec::new();
+    for &(point, v) in values {
+        let f = param.at(base, v);
+        for a in rows.iter().filter(|a| a.run.point == point) {
+            if a.kind == SteadyKind::Periodic
+                && let Some(o) = orbit_from_section(&f, &a.section, a.period)
+            {
+                seeds.push((f.clone(), o));
+            }
+        }
+    }
+    let (branches, periods) = branches(base, design, &s0, values, param, seeds);
+    Response {
+        design,
+        attractors: rows.to_vec(),
+        branches,
+        periods_census: 0,
+        periods_continuation: periods,
+    }
+}
+
+/// Census starts `reduce` ran in this process (only for datasets written before the sweep stored
+/// its attractors): a reduction of a current dataset runs none.
+static CENSUS_STARTS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// Census starts the steady-state analysis has run in this process ([`CENSUS_STARTS`]).
+pub fn census_starts() -> u64 {
+    CENSUS_STARTS.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+fn initial_section(sys: &crate::model::System) -> Section {
+    [sys.x0, sys.v0, sys.y0 - sys.x0, sys.w0]
 }
 
 /// A study at one frequency that sweeps `F0`: its one-point curves grouped by everything but
@@ -67,6 +167,7 @@ fn along_force(study: &Study, h: &crate::sim::Harmonic, fs: &ForcedSummary) -> V
             None => groups.push((k, vec![c])),
         }
     }
+    let plan = &fs.analysis;
     groups
         .par_iter()
         .filter(|g| g.1.len() >= 2)
@@ -74,6 +175,23 @@ fn along_force(study: &Study, h: &crate::sim::Harmonic, fs: &ForcedSummary) -> V
             let mut cs = cs.clone();
             cs.sort_by(|a, b| a.f0.total_cmp(&b.f0));
             let first = cs[0];
+            if let Some(b) = plan.prior.branches_of(first.design) {
+                return Response {
+                    design: first.design,
+                    attractors: cs
+                        .iter()
+                        .flat_map(|c| c.attractors.clone().unwrap_or_default())
+                        .collect(),
+                    branches: b,
+                    ..Response::default()
+                };
+            }
+            if !plan.computes_design(first.design) {
+                return Response {
+                    design: first.design,
+                    ..Response::default()
+                };
+            }
             let sys = first.system;
             let base = Forcing {
                 sys,
@@ -82,14 +200,19 @@ fn along_force(study: &Study, h: &crate::sim::Harmonic, fs: &ForcedSummary) -> V
                 settings: study.solver,
             };
             let values: Vec<(u64, f64)> = cs.iter().map(|c| (c.design, c.f0)).collect();
-            let s0 = [sys.x0, sys.v0, sys.y0 - sys.x0, sys.w0];
-            analyse_along(
+            let stored: Option<Vec<AttractorRow>> = cs
+                .iter()
+                .map(|c| c.attractors.clone())
+                .collect::<Option<Vec<_>>>()
+                .map(|v| v.concat());
+            curve_states(
+                study,
+                h,
                 &base,
                 first.design,
-                &s0,
                 &values,
                 Param::Force,
-                &census_settings(study, h),
+                stored.as_deref(),
             )
         })
         .collect()
@@ -106,52 +229,47 @@ fn census_settings(study: &Study, h: &crate::sim::Harmonic) -> CensusSettings {
     }
 }
 
-fn curve(study: &Study, h: &crate::sim::Harmonic, c: &Curve, n_f: u64) -> Response {
-    let sys = c.system;
-    let base = Forcing {
-        sys,
-        F0: c.f0,
-        omega: sys.omega(),
-        settings: study.solver,
-    };
-    let freqs: Vec<(u64, f64)> = c
-        .points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| (c.design * n_f + i as u64, p.omega / sys.omega()))
-        .collect();
-    let s0 = [sys.x0, sys.v0, sys.y0 - sys.x0, sys.w0];
-    analyse(&base, c.design, &s0, &freqs, &census_settings(study, h))
+/// `attractors.csv`: the ideal case's rows of the attractors table, every column of
+/// docs/schema.md ("attractors").
+pub fn attractors_table(responses: &[Response]) -> Table {
+    let rows: Vec<&AttractorRow> = responses.iter().flat_map(|r| &r.attractors).collect();
+    attractor_rows_table(&rows)
 }
 
-/// `attractors`: one row per design point (design and frequency) and attractor.
-pub fn attractors_table(responses: &[Response]) -> Table {
-    let rows: Vec<_> = responses.iter().flat_map(|r| &r.attractors).collect();
+/// The attractors table of `rows`, in the column order of the sweep's parts.
+pub fn attractor_rows_table(rows: &[&AttractorRow]) -> Table {
     let mut t = Table::default();
-    let f = |g: &dyn Fn(&crate::orbits::response::AttractorRow) -> f64| {
-        Column::F64(rows.iter().map(|a| g(a)).collect())
+    let f = |g: &dyn Fn(&AttractorRow) -> f64| Column::F64(rows.iter().map(|a| g(a)).collect());
+    let u =
+        |g: &dyn Fn(&AttractorRow) -> u64| Column::U64(rows.iter().map(|a| Some(g(a))).collect());
+    let s = |g: &dyn Fn(&AttractorRow) -> &str| {
+        Column::Str(rows.iter().map(|a| g(a).to_string()).collect())
     };
-    let u = |g: &dyn Fn(&crate::orbits::response::AttractorRow) -> u64| {
-        Column::U64(rows.iter().map(|a| Some(g(a))).collect())
-    };
-    t.push("point", u(&|a| a.point));
-    t.push("r", f(&|a| a.r));
-    t.push("omega", f(&|a| a.omega));
-    t.push("F0", f(&|a| a.F0));
-    t.push("attractor", u(&|a| u64::from(a.attractor)));
+    t.push("point_id", u(&|a| a.run.point_id));
+    t.push("point", u(&|a| a.run.point));
+    t.push("case", u(&|a| u64::from(a.run.case)));
     t.push(
-        "kind",
-        Column::Str(rows.iter().map(|a| a.kind.to_string()).collect()),
+        "ideal",
+        Column::Bool(rows.iter().map(|a| a.run.ideal).collect()),
     );
+    t.push("r", f(&|a| a.run.r));
+    t.push("omega", f(&|a| a.run.omega));
+    t.push("F0", f(&|a| a.run.F0));
+    t.push("attractor", u(&|a| u64::from(a.attractor)));
+    t.push("kind", s(&|a| a.kind.name()));
+    t.push("stability", s(&|a| a.stability));
+    t.push("origin", s(&|a| a.origin));
     t.push("period", u(&|a| u64::from(a.period)));
-    t.push("amplitude", f(&|a| a.amplitude));
-    t.push("impacts_per_period", f(&|a| a.impacts_per_period));
-    t.push("basin_share", f(&|a| a.basin_share));
     t.push("starts", u(&|a| u64::from(a.starts)));
     t.push(
-        "stability",
-        Column::Str(rows.iter().map(|a| a.stability.to_string()).collect()),
+        "life_capped",
+        Column::Bool(rows.iter().map(|a| a.life_capped).collect()),
     );
+    t.push("exceedances", u(&|a| a.exceedances));
+    t.push("measured_periods", u(&|a| a.measured_periods));
+    for (name, g) in crate::store::attractors::F64_COLUMNS {
+        t.push(name, Column::F64(rows.iter().map(|a| g(a)).collect()));
+    }
     t
 }
 

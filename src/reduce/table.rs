@@ -31,6 +31,17 @@ impl Column {
         self.len() == 0
     }
 
+    /// Appends `other`'s cells (a column of the same type; another type is left as it is).
+    pub fn extend(&mut self, other: Column) {
+        match (self, other) {
+            (Column::F64(a), Column::F64(b)) => a.extend(b),
+            (Column::U64(a), Column::U64(b)) => a.extend(b),
+            (Column::Bool(a), Column::Bool(b)) => a.extend(b),
+            (Column::Str(a), Column::Str(b)) => a.extend(b),
+            _ => {}
+        }
+    }
+
     /// Cell `i` as CSV text: shortest round-trip numbers, empty for NaN and null.
     pub fn cell(&self, i: usize) -> String {
         match self {

@@ -52,6 +52,17 @@ pub struct ChunkEntry {
     /// The part file's checksum by the manifest's algorithm (its `checksum` key), 16 hex digits.
     pub checksum: String,
     pub outcomes: BTreeMap<String, u64>,
+    /// The chunk's attractors part (a harmonic study with a census), checked with its points
+    /// part: absent for free decay and for datasets written before the sweep stored attractors.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attractors: Option<AttractorsEntry>,
+}
+
+/// A chunk's attractors part ([`crate::store::attractors`]): its rows and checksum.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AttractorsEntry {
+    pub rows: u64,
+    pub checksum: String,
 }
 
 /// The checksum of a study text, as `study_checksum` holds it.

@@ -3,6 +3,8 @@
 //! One writer ([`write_batch`]) and one reader ([`open`], [`read_batches`]) serve every table:
 //!
 //! * [`points`]: the sweep's runs, one part file per chunk (`points/part-NNNNNN.parquet`);
+//! * [`attractors`]: a harmonic sweep's steady states, one part file per chunk beside the
+//!   points (`attractors/part-NNNNNN.parquet`);
 //! * [`summary`]: the reducer's summary, zones and jumps tables (Parquet and CSV);
 //! * [`tradeoff`]: the solver trade-off table;
 //! * [`manifest`]: `manifest.json`, the run directory's summary (JSON, not Parquet).
@@ -17,6 +19,8 @@
 //! renamed, so a finished name always holds a complete file. A file's checksum is
 //! [`Checksum::DEFAULT`] (xxh3-64) of its bytes; a run directory's manifest names its algorithm.
 
+pub mod analysis;
+pub mod attractors;
 pub mod manifest;
 pub mod points;
 pub mod schema;

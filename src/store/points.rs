@@ -157,10 +157,12 @@ pub struct PartInfo {
     /// The file's checksum (16 hex digits) by the algorithm asked for.
     pub checksum: String,
     pub bytes: u64,
+    /// The chunk's attractors part, when it has one.
+    pub attractors: Option<super::manifest::AttractorsEntry>,
 }
 
 /// Encodes rows as one part file (see [`super::encode`]; `outcome` and `solver`
-/// dictionary-encoded, the study text in the metadata).
+/// dictionary-encoded, the study text and `extra` in the metadata).
 ///
 /// `settings` fills the free-decay table's `h`, `rtol`, `atol` columns (one study, one solver
 /// setting; [`RunRow`] carries `solver` and `tol` only).
@@ -168,33 +170,60 @@ pub fn encode_part<R: StoredRecord>(
     rows: &[RunRow<R>],
     study_toml: &str,
     settings: &SolverSettings,
+    extra: &[(&str, &str)],
 ) -> Result<Vec<u8>> {
     let batch = to_batch(rows, settings)?;
+    let mut meta = vec![(META_STUDY.to_string(), study_toml.to_string())];
+    meta.extend(extra.iter().map(|(k, v)| (k.to_string(), v.to_string())));
     super::encode(
         R::TABLE,
         &batch,
         &super::WriteOptions {
             dictionary: &DICTIONARY,
-            extra: vec![(META_STUDY.to_string(), study_toml.to_string())],
+            extra: meta,
         },
     )
 }
 
-/// Writes rows to `path` atomically ([`super::write_bytes`], not synced: the sweep engine syncs
-/// its file system about once a second) and returns their `checksum`.
+/// Writes chunk `k`'s rows into the run directory `dir` atomically ([`super::write_bytes`], not
+/// synced: the sweep engine syncs its file system about once a second) and returns their
+/// `checksum`. With `attractors` (a harmonic study with a census), the chunk's attractors part
+/// is written first and the points part says it has one ([`super::attractors`]), so the points
+/// part, renamed last, stays the chunk's commit marker.
 pub fn write_part<R: StoredRecord>(
-    path: &Path,
+    dir: &Path,
+    k: u64,
     rows: &[RunRow<R>],
+    attractors: Option<&[crate::orbits::attractors::AttractorRow]>,
     study_toml: &str,
     settings: &SolverSettings,
     checksum: super::Checksum,
 ) -> Result<PartInfo> {
-    let bytes = encode_part(rows, study_toml, settings)?;
-    let info = super::write_bytes(path, &bytes, super::Durability::Later)?;
+    let side = match attractors {
+        Some(a) => {
+            let path = super::attractors::attractors_part_path(dir, k);
+            if let Some(parent) = path.parent() {
+                std::fs::create_dir_all(parent)
+                    .with_context(|| format!("creating {}", parent.display()))?;
+            }
+            let bytes = super::attractors::encode_part(a, study_toml)?;
+            super::write_bytes(&path, &bytes, super::Durability::Later)?;
+            Some(super::manifest::AttractorsEntry {
+                rows: a.len() as u64,
+                checksum: checksum.hex(&bytes),
+            })
+        }
+        None => None,
+    };
+    let marker = [(super::attractors::META_ATTRACTORS, "1")];
+    let extra: &[(&str, &str)] = if side.is_some() { &marker } else { &[] };
+    let bytes = encode_part(rows, study_toml, settings, extra)?;
+    let info = super::write_bytes(&part_path(dir, k), &bytes, super::Durability::Later)?;
     Ok(PartInfo {
         rows: rows.len() as u64,
         checksum: checksum.hex(&bytes),
         bytes: info.bytes,
+        attractors: side,
     })
 }
 
@@ -700,8 +729,10 @@ mod tests {
         let path = part_path(dir.path(), 3);
         let rows = rows();
         let info = write_part(
-            &path,
+            dir.path(),
+            3,
             &rows,
+            None,
             "name = 'x'",
             &SolverSettings::default(),
             super::super::Checksum::DEFAULT,
@@ -727,7 +758,7 @@ mod tests {
         assert_eq!(meta[META_SCHEMA_VERSION], SCHEMA_VERSION.to_string());
         assert_eq!(meta[super::super::META_TABLE], "points");
         assert_eq!(
-            encode_part(&want, "name = 'x'", &SolverSettings::default()).unwrap(),
+            encode_part(&want, "name = 'x'", &SolverSettings::default(), &[]).unwrap(),
             std::fs::read(&path).unwrap()
         );
         assert_eq!(part_files(dir.path()).unwrap(), vec![path]);

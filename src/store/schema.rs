@@ -93,16 +93,18 @@ pub enum TableKind {
     Sensitivity,
     /// `tradeoff.parquet`: one row per solver setting.
     Tradeoff,
-    /// `attractors.parquet`, `attractors.csv`: one row per design, frequency and attractor of a
-    /// harmonic study's ideal case.
+    /// `attractors/part-NNNNNN.parquet` (the sweep) and `attractors.csv` (`reduce`: the ideal
+    /// case's rows): one row per run of a harmonic study and attractor.
     Attractors,
     /// `branches.parquet`, `branches.csv`: one row per continuation point of a harmonic study's
-    /// ideal case.
+    /// ideal case (and `analysis/branches-I-of-N.parquet`, a shard's, with each row's section).
     Branches,
+    /// `analysis/probes-I-of-N.parquet`: the jump probes a shard of the analysis computed.
+    Probes,
 }
 
 impl TableKind {
-    pub const ALL: [TableKind; 9] = [
+    pub const ALL: [TableKind; 10] = [
         TableKind::Points,
         TableKind::ForcedPoints,
         TableKind::Summary,
@@ -112,6 +114,7 @@ impl TableKind {
         TableKind::Tradeoff,
         TableKind::Attractors,
         TableKind::Branches,
+        TableKind::Probes,
     ];
 
     /// The table's name (`impactsweep.table`, the file stem).
@@ -126,6 +129,7 @@ impl TableKind {
             TableKind::Tradeoff => "tradeoff",
             TableKind::Attractors => "attractors",
             TableKind::Branches => "branches",
+            TableKind::Probes => "probes",
         }
     }
 }
@@ -148,8 +152,10 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
         return system_unit(key);
     }
     // A design axis (a harmonic study's `F0` too).
-    if matches!(table, TableKind::Summary | TableKind::Jumps)
-        && let Some(key) = axis_key(column)
+    if matches!(
+        table,
+        TableKind::Summary | TableKind::Jumps | TableKind::Probes
+    ) && let Some(key) = axis_key(column)
     {
         return axis_unit(key);
     }
@@ -174,6 +180,12 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
         TableKind::Sensitivity => sensitivity_unit(column),
         TableKind::Tradeoff => tradeoff_unit(column),
         TableKind::Attractors | TableKind::Branches => orbits_unit(column),
+        TableKind::Probes => match column {
+            "ok" => Some(""),
+            "peak_amplitude" => Some("m"),
+            "peak_reduction" => Some("1"),
+            _ => None,
+        },
     }
 }
 
@@ -214,14 +226,21 @@ fn forced_points_unit(column: &str) -> Option<&'static str> {
     })
 }
 
-/// The attractors and branches tables of a harmonic study (reduce/orbits.rs).
+/// The attractors table (the sweep's parts, store/attractors.rs) and the branches table of a
+/// harmonic study (reduce/orbits.rs).
 fn orbits_unit(column: &str) -> Option<&'static str> {
     Some(match column {
-        "point" | "branch" | "attractor" | "kind" | "stable" | "stability" | "label" | "end" => "",
-        "r" | "period" | "impacts_per_period" | "basin_share" | "starts" | "multiplier_max" => "1",
+        "point_id" | "point" | "case" | "ideal" | "branch" | "attractor" | "kind" | "stable"
+        | "stability" | "label" | "end" | "origin" | "life_capped" => "",
+        "r" | "period" | "impacts_per_period" | "basin_share" | "starts" | "multiplier_max"
+        | "tail_shape" | "exceedances" | "measured_periods" => "1",
+        "lyapunov" | "lyapunov_se" => "1/period",
+        "lyapunov_per_s" => "1/s",
         "omega" => "rad/s",
         "F0" => "N",
-        "amplitude" => "m",
+        "amplitude" | "window_amplitude" | "life_amplitude" | "life_lo" | "life_hi"
+        | "tail_end" | "section_x" | "section_z" => "m",
+        "section_v" | "section_w" => "m/s",
         _ => return None,
     })
 }

@@ -46,8 +46,17 @@ fn record_batch(kind: TableKind, table: Table) -> Result<arrow::record_batch::Re
 
 /// Encodes `table` as Parquet in memory (one row group; see [`super::encode`]).
 pub fn encode_table(kind: TableKind, table: Table) -> Result<Vec<u8>> {
+    encode_table_with(kind, table, &super::WriteOptions::default())
+}
+
+/// [`encode_table`] with other write options (metadata).
+pub fn encode_table_with(
+    kind: TableKind,
+    table: Table,
+    opts: &super::WriteOptions,
+) -> Result<Vec<u8>> {
     let batch = record_batch(kind, table)?;
-    super::encode(kind, &batch, &super::WriteOptions::default())
+    super::encode(kind, &batch, opts)
 }
 
 /// Writes `table` into `dir` as `NAME.parquet` and `NAME.csv` (`NAME` the table's name), each
@@ -175,4 +184,51 @@ pub fn write_csv_in_batches(
     out.flush()
         .with_context(|| format!("writing {}", tmp.display()))?;
     finish(out, &tmp, path)
+}
+
+/// Reads a Parquet file of the reducer's kind of table back into a [`Table`] (Float64, UInt64,
+/// Boolean and Utf8 columns, in file order): what an analysis shard wrote
+/// ([`crate::reduce::analysis`]).
+pub fn read_table(path: &Path) -> Result<Table> {
+    use arrow::array::Array;
+    let builder = super::open(path)?;
+    let meta = super::metadata_of(&builder);
+    super::check_version(path, &meta)?;
+    let mut table = Table::default();
+    // Every column, even of a table without rows.
+    for field in builder.schema().fields() {
+        let empty = match field.data_type() {
+            arrow::datatypes::DataType::Float64 => Column::F64(Vec::new()),
+            arrow::datatypes::DataType::UInt64 => Column::U64(Vec::new()),
+            arrow::datatypes::DataType::Boolean => Column::Bool(Vec::new()),
+            _ => Column::Str(Vec::new()),
+        };
+        table.push(field.name().clone(), empty);
+    }
+    for batch in super::read_batches(path, builder)? {
+        let schema = batch.schema();
+        for (i, field) in schema.fields().iter().enumerate() {
+            let a = batch.column(i);
+            let col = if let Some(v) = a.as_any().downcast_ref::<Float64Array>() {
+                Column::F64(v.values().to_vec())
+            } else if let Some(v) = a.as_any().downcast_ref::<UInt64Array>() {
+                Column::U64(v.iter().collect())
+            } else if let Some(v) = a.as_any().downcast_ref::<BooleanArray>() {
+                Column::Bool((0..v.len()).map(|k| v.value(k)).collect())
+            } else if let Some(v) = a.as_any().downcast_ref::<StringArray>() {
+                Column::Str((0..v.len()).map(|k| v.value(k).to_string()).collect())
+            } else {
+                bail!(
+                    "{}: column `{}` has a type the reducer's tables do not use",
+                    path.display(),
+                    field.name()
+                );
+            };
+            match table.columns.iter_mut().find(|c| c.0 == *field.name()) {
+                Some((_, have)) => have.extend(col),
+                None => table.push(field.name().clone(), col),
+            }
+        }
+    }
+    Ok(table)
 }

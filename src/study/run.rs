@@ -22,6 +22,12 @@ pub struct RunSettings {
 /// Runs per chunk aimed at when `[run].chunk_points` is absent.
 pub const DEFAULT_CHUNK_RUNS: u64 = 65_536;
 
+/// Runs per chunk aimed at in a harmonic study with an attractor census: such a run costs
+/// milliseconds (tens of thousands of free-decay runs' worth), so a chunk of 4096 runs is
+/// already seconds to minutes of work: what a crash can lose, and enough curves to keep every
+/// core busy.
+pub const DEFAULT_CHUNK_RUNS_CENSUS: u64 = 4_096;
+
 #[derive(Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawRun {
@@ -42,7 +48,11 @@ pub(super) fn run(
     curve: Option<&Axis>,
 ) -> Result<RunSettings, InputError> {
     let per_curve = curve.map_or(1, |a| a.values.len() as u64);
-    let default = (DEFAULT_CHUNK_RUNS / n_cases).max(1);
+    let aim = match scene {
+        Scene::Harmonic(h) if h.starts > 0 => DEFAULT_CHUNK_RUNS_CENSUS,
+        _ => DEFAULT_CHUNK_RUNS,
+    };
+    let default = (aim / n_cases).max(1);
     let mut run = RunSettings {
         chunk_points: (default / per_curve).max(1) * per_curve,
         audit: 0,

@@ -16,6 +16,8 @@ use super::lock::LockMode;
 use super::rundir;
 use crate::accuracy::Audit;
 use crate::error::InputError;
+use crate::orbits::attractors::{AttractorRow, RunId};
+use crate::orbits::curve::{CurveFrequency, run_curve};
 use crate::orbits::forced_run;
 use crate::plan::{Plan, RunSpec};
 use crate::sim::{ForcedRecord, Harmonic, NoProbe, Record, Scene, simulate};
@@ -129,6 +131,22 @@ impl SweepSummary {
 pub trait SceneRun: StoredRecord + Send + Sync {
     /// Simulates one run of the plan.
     fn simulate(plan: &Plan, run: &RunSpec) -> Self;
+
+    /// Simulates chunk `k` (in parallel, on the current rayon pool): its rows in `point_id`
+    /// order, and the attractors of its runs when the scene takes a census. By default each run
+    /// on its own ([`SceneRun::simulate`]).
+    fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> ChunkRows<Self> {
+        ChunkRows {
+            rows: simulate_chunk(plan, k, progress),
+            attractors: None,
+        }
+    }
+}
+
+/// A simulated chunk: its runs, and their attractors (a harmonic study with a census).
+pub struct ChunkRows<R> {
+    pub rows: Vec<RunRow<R>>,
+    pub attractors: Option<Vec<AttractorRow>>,
 }
 
 impl SceneRun for Record {
@@ -141,6 +159,103 @@ impl SceneRun for ForcedRecord {
     fn simulate(plan: &Plan, run: &RunSpec) -> Self {
         simulate_forced_run(plan, run)
     }
+
+    /// With a census, each frequency-response curve (a design and a case) is one task
+    /// ([`simulate_curve`]); without one, each run on its own.
+    fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> ChunkRows<Self> {
+        let census = matches!(plan.study.scene, Scene::Harmonic(h) if h.starts > 0);
+        if !census {
+            return ChunkRows {
+                rows: simulate_chunk(plan, k, progress),
+                attractors: None,
+            };
+        }
+        let n_f = plan.study.curve_points();
+        let n_cases = plan.n_cases();
+        let points = plan.chunk_points(k);
+        let curves: Vec<(u64, u32)> = (points.start / n_f..points.end.div_ceil(n_f))
+            .flat_map(|design| (0..n_cases as u32).map(move |c| (design, c)))
+            .collect();
+        let done: Vec<(Vec<RunRow<ForcedRecord>>, Vec<AttractorRow>)> = curves
+            .into_par_iter()
+            .map(|(design, case)| {
+                let out = simulate_curve(plan, design, case);
+                if let Some(pb) = progress {
+                    pb.inc(out.0.len() as u64);
+                }
+                out
+            })
+            .collect();
+        let mut rows = Vec::with_capacity(done.iter().map(|d| d.0.len()).sum());
+        let mut attractors = Vec::new();
+        for (r, a) in done {
+            rows.extend(r);
+            attractors.extend(a);
+        }
+        rows.sort_by_key(|r| r.point_id);
+        // Stable: each run's attractors stay in their census order.
+        attractors.sort_by_key(|a| a.run.point_id);
+        ChunkRows {
+            rows,
+            attractors: Some(attractors),
+        }
+    }
+}
+
+/// One frequency-response curve of a harmonic study, the runs of design `design` and case
+/// `case` at every frequency, as one task ([`run_curve`]: in frequency order, each frequency's
+/// census seeded with its neighbours' attractors): its rows and their attractors.
+pub fn simulate_curve(
+    plan: &Plan,
+    design: u64,
+    case: u32,
+) -> (Vec<RunRow<ForcedRecord>>, Vec<AttractorRow>) {
+    let study = plan.study;
+    let n_f = study.curve_points();
+    let runs: Vec<RunSpec> = (design * n_f..(design + 1) * n_f)
+        .map(|p| plan.run(p, case))
+        .collect();
+    let freqs = runs
+        .iter()
+        .map(|run| CurveFrequency {
+            scene: match run.scene {
+                Scene::Harmonic(h) => h,
+                Scene::Free => Harmonic::default(),
+            },
+            point: run.point,
+            noise: plan.noise_stream(run),
+        })
+        .collect();
+    let curve = run_curve(
+        &runs[0].system,
+        &study.solver,
+        &study.request,
+        study.noise.as_ref(),
+        study.seed,
+        freqs,
+    );
+    let mut attractors = Vec::new();
+    let mut rows = Vec::with_capacity(runs.len());
+    for ((run, record), census) in runs.iter().zip(curve.records).zip(&curve.censuses) {
+        if let Some(c) = census {
+            let id = RunId {
+                point_id: run.point_id,
+                point: run.point,
+                case: run.case,
+                ideal: run.spec.ideal,
+                r: record.r,
+                omega: record.omega,
+                F0: record.F0,
+            };
+            attractors.extend(AttractorRow::of_census(
+                id,
+                c,
+                std::f64::consts::TAU / record.omega,
+            ));
+        }
+        rows.push(row_of(plan, run, record));
+    }
+    (rows, attractors)
 }
 
 /// Simulates one run: the study's solver and request, the run's noise stream when its case has
@@ -203,6 +318,11 @@ pub fn simulate_forced_run(plan: &Plan, run: &RunSpec) -> ForcedRecord {
 
 /// The stored row of a run.
 pub fn run_row<R: SceneRun>(plan: &Plan, run: &RunSpec) -> RunRow<R> {
+    row_of(plan, run, R::simulate(plan, run))
+}
+
+/// The stored row of `run` with its simulated `record`.
+fn row_of<R>(plan: &Plan, run: &RunSpec, record: R) -> RunRow<R> {
     RunRow {
         point_id: run.point_id,
         point: run.point,
@@ -214,7 +334,7 @@ pub fn run_row<R: SceneRun>(plan: &Plan, run: &RunSpec) -> RunRow<R> {
         system: run.system,
         solver: plan.study.solver.kind.name().to_string(),
         tol: plan.study.solver.tol,
-        record: R::simulate(plan, run),
+        record,
     }
 }
 
@@ -479,10 +599,13 @@ fn write_chunks<R: SceneRun>(
     let mut outcomes = BTreeMap::new();
     let mut written = 0u64;
     let mut last_sync = Instant::now();
-    let mut write = |k: u64, rows: Vec<RunRow<R>>| -> Result<BTreeMap<String, u64>> {
+    let mut write = |k: u64, chunk: ChunkRows<R>| -> Result<BTreeMap<String, u64>> {
+        let rows = chunk.rows;
         let info = store::write_part(
-            &store::part_path(dir, k),
+            dir,
+            k,
             &rows,
+            chunk.attractors.as_deref(),
             &study.source,
             &study.solver,
             algorithm,
@@ -493,6 +616,7 @@ fn write_chunks<R: SceneRun>(
             rows: info.rows,
             checksum: info.checksum,
             outcomes: counts.clone(),
+            attractors: info.attractors,
         }))?;
         if last_sync.elapsed() >= SYNC_EVERY {
             store::sync_file_system(dir)?;
@@ -500,14 +624,14 @@ fn write_chunks<R: SceneRun>(
         }
         Ok(counts)
     };
-    let mut prev: Option<(u64, Vec<RunRow<R>>)> = None;
+    let mut prev: Option<(u64, ChunkRows<R>)> = None;
     for &k in pending {
         if stop_requested() {
             break;
         }
         let (done, rows) = rayon::join(
             || prev.take().map(|(pk, rows)| write(pk, rows)).transpose(),
-            || simulate_chunk::<R>(plan, k, pb.as_ref()),
+            || R::simulate_chunk(plan, k, pb.as_ref()),
         );
         if let Some(counts) = done? {
             merge_counts(&mut outcomes, &counts);

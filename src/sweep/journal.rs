@@ -268,6 +268,7 @@ mod tests {
             rows: 4,
             checksum: format!("{k:016x}"),
             outcomes: BTreeMap::from([("ok".to_string(), 4)]),
+            attractors: None,
         })
     }
 

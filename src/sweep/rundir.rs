@@ -124,6 +124,25 @@ pub fn claim(
     Ok(lock)
 }
 
+/// Removes the `part-K.parquet.tmp` files of this shard's chunks `mine` in `sub` (a part this
+/// shard was writing when it stopped; other shards' may be in progress).
+fn remove_own_temp_files(sub: &Path, mine: &[u64]) -> Result<()> {
+    let Ok(entries) = std::fs::read_dir(sub) else {
+        return Ok(());
+    };
+    for e in entries {
+        let path = e?.path();
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        if let Some(base) = name.strip_suffix(".tmp")
+            && let Some(k) = store::part_chunk(&sub.join(base))
+            && mine.binary_search(&k).is_ok()
+        {
+            std::fs::remove_file(&path).with_context(|| format!("removing {}", path.display()))?;
+        }
+    }
+    Ok(())
+}
+
 /// What [`find_done`] found.
 #[derive(Debug, Default)]
 pub struct Done {
@@ -164,6 +183,7 @@ pub fn find_done(
             present.insert(k);
         }
     }
+    remove_own_temp_files(&dir.join("attractors"), mine)?;
     let sizes = &ledger.manifest;
     let mut done = Done::default();
     for &k in mine {

@@ -6,6 +6,10 @@
 //! * A part nothing records (its writer stopped between the rename and the journal line, or the
 //!   manifest was rebuilt) is good when it is a readable Parquet file of this study with exactly
 //!   the chunk's rows (count and point ids); it is then recorded.
+//! * A chunk of a harmonic study with a census also has an attractors part
+//!   ([`crate::store::attractors`]): recorded, it must have its recorded checksum; unrecorded
+//!   (its points part says it has one), it must be a readable attractors table of this study
+//!   whose rows belong to the chunk's runs. Either way a chunk is good only when both are.
 
 use std::path::Path;
 
@@ -22,14 +26,31 @@ pub fn check_recorded(sizes: &Manifest, path: &Path, entry: &ChunkEntry) -> Opti
             entry.rows, entry.chunk
         ));
     }
+    if let Some(why) = check_bytes(sizes, path, &entry.checksum) {
+        return Some(why);
+    }
+    let a = entry.attractors.as_ref()?;
+    let side = attractors_of(path, entry.chunk);
+    check_bytes(sizes, &side, &a.checksum)
+        .map(|why| format!("its attractors part {}: {why}", side.display()))
+}
+
+/// The attractors part beside the points part `path` of chunk `k`.
+fn attractors_of(path: &Path, k: u64) -> std::path::PathBuf {
+    let dir = path
+        .parent()
+        .and_then(Path::parent)
+        .unwrap_or(Path::new("."));
+    store::attractors::attractors_part_path(dir, k)
+}
+
+/// Why the file at `path` does not have `checksum`; `None` when it does.
+fn check_bytes(sizes: &Manifest, path: &Path, checksum: &str) -> Option<String> {
     match std::fs::read(path) {
         Ok(bytes) => {
             let got = sizes.algorithm().hex(&bytes);
-            (got != entry.checksum).then(|| {
-                format!(
-                    "its checksum is {got}, the run recorded {}: the file is damaged",
-                    entry.checksum
-                )
+            (got != checksum).then(|| {
+                format!("its checksum is {got}, the run recorded {checksum}: the file is damaged")
             })
         }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
@@ -83,10 +104,50 @@ fn check_unrecorded_part(
     if meta.get(store::META_STUDY).map(String::as_str) != Some(study_text) {
         return Err("was written for another study (its study text differs)".into());
     }
+    let attractors = if meta
+        .get(store::attractors::META_ATTRACTORS)
+        .map(String::as_str)
+        == Some("1")
+    {
+        let side = attractors_of(path, k);
+        Some(
+            check_unrecorded_attractors(sizes, study_text, &side, &ids)
+                .map_err(|why| format!("its attractors part {}: {why}", side.display()))?,
+        )
+    } else {
+        None
+    };
     Ok(ChunkEntry {
         chunk: k,
         rows: want_rows,
         checksum: sizes.algorithm().hex(&bytes),
         outcomes,
+        attractors,
+    })
+}
+
+/// The record of an unrecorded attractors part of the runs `ids` when it is good, else why not.
+fn check_unrecorded_attractors(
+    sizes: &Manifest,
+    study_text: &str,
+    path: &Path,
+    ids: &std::ops::Range<u64>,
+) -> Result<store::manifest::AttractorsEntry, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot be read: {e}"))?;
+    let rows = store::attractors::read_part(path).map_err(|e| format!("is not readable: {e:#}"))?;
+    if rows.iter().any(|a| !ids.contains(&a.run.point_id))
+        || rows
+            .windows(2)
+            .any(|w| w[0].run.point_id > w[1].run.point_id)
+    {
+        return Err("its rows are not this chunk's runs (point ids)".into());
+    }
+    let meta = store::part_metadata(path).map_err(|e| format!("is not readable: {e:#}"))?;
+    if meta.get(store::META_STUDY).map(String::as_str) != Some(study_text) {
+        return Err("was written for another study (its study text differs)".into());
+    }
+    Ok(store::manifest::AttractorsEntry {
+        rows: rows.len() as u64,
+        checksum: sizes.algorithm().hex(&bytes),
     })
 }

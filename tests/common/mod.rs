@@ -276,8 +276,9 @@ pub fn run_study_file(study: &Path, out: &Path, name: &str) -> PathBuf {
     out.join(name)
 }
 
-/// A run directory's dataset as bytes: every part file by name, then `manifest.json`. Two runs
-/// of one study are the same dataset, bit for bit, when these are equal.
+/// A run directory's dataset as bytes: every part file by name (the points', then a harmonic
+/// study's attractors parts), then `manifest.json`. Two runs of one study are the same dataset,
+/// bit for bit, when these are equal.
 pub fn dataset(run_dir: &Path) -> Vec<(String, Vec<u8>)> {
     let mut files: Vec<(String, Vec<u8>)> = impactsweep::store::part_files(run_dir)
         .unwrap()
@@ -289,6 +290,18 @@ pub fn dataset(run_dir: &Path) -> Vec<(String, Vec<u8>)> {
             )
         })
         .collect();
+    let side = run_dir.join("attractors");
+    if let Ok(entries) = std::fs::read_dir(&side) {
+        let mut names: Vec<_> = entries
+            .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+            .filter(|n| n.ends_with(".parquet"))
+            .collect();
+        names.sort();
+        for n in names {
+            let bytes = std::fs::read(side.join(&n)).unwrap();
+            files.push((format!("attractors/{n}"), bytes));
+        }
+    }
     files.push((
         "manifest.json".into(),
         std::fs::read(run_dir.join("manifest.json")).unwrap_or_default(),

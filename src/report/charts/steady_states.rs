@@ -8,6 +8,7 @@
 //! `basin_shares`: at each frequency, the share of the census's starts that reached each kind of
 //! attractor (by period, the non-impacting family and the motions that are not periodic).
 
+use crate::orbits::attractors::SteadyKind;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -162,10 +163,10 @@ impl Chart for Branches<'_> {
             .draw_series(
                 st.r.attractors
                     .iter()
-                    .filter(|a| a.kind == "non-periodic" && a.amplitude.is_finite())
+                    .filter(|a| !a.kind.periodic() && a.amplitude.is_finite())
                     .map(|a| {
                         Rectangle::new(
-                            [(a.r - dx, 0.0), (a.r + dx, a.amplitude * CM)],
+                            [(a.run.r - dx, 0.0), (a.run.r + dx, a.amplitude * CM)],
                             CHAOS.filled(),
                         )
                     }),
@@ -236,8 +237,8 @@ impl Chart for Branches<'_> {
 pub struct Basins<'a>(pub &'a Steady<'a>);
 
 /// The attractor classes of the basin chart, and their colours.
-fn class_of(kind: &str, period: u32, impacts: f64) -> (usize, &'static str) {
-    if kind == "non-periodic" {
+fn class_of(kind: SteadyKind, period: u32, impacts: f64) -> (usize, &'static str) {
+    if !kind.periodic() {
         (0, "not periodic")
     } else if impacts == 0.0 {
         (1, "no impacts")
@@ -307,10 +308,10 @@ impl Chart for Basins<'_> {
         let mut i = 0;
         let att = &st.r.attractors;
         while i < att.len() {
-            let point = att[i].point;
+            let point = att[i].run.point;
             let mut shares = [0.0; 6];
-            let r = att[i].r;
-            while i < att.len() && att[i].point == point {
+            let r = att[i].run.r;
+            while i < att.len() && att[i].run.point == point {
                 let (c, _) = class_of(att[i].kind, att[i].period, att[i].impacts_per_period);
                 shares[c] += att[i].basin_share;
                 i += 1;
@@ -377,12 +378,12 @@ fn basin_data(r: &Response) -> Table {
     let mut t = Table::default();
     t.push(
         "point",
-        Column::U64(a.iter().map(|x| Some(x.point)).collect()),
+        Column::U64(a.iter().map(|x| Some(x.run.point)).collect()),
     );
-    t.push("r", Column::F64(a.iter().map(|x| x.r).collect()));
+    t.push("r", Column::F64(a.iter().map(|x| x.run.r).collect()));
     t.push(
         "kind",
-        Column::Str(a.iter().map(|x| x.kind.to_string()).collect()),
+        Column::Str(a.iter().map(|x| x.kind.name().to_string()).collect()),
     );
     t.push(
         "period",

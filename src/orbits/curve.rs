@@ -1,0 +1,155 @@
+//! A frequency-response curve as one unit of work: the runs of one design and case at every
+//! swept frequency, in frequency order, each frequency's attractor census seeded with the
+//! attractors its neighbours found.
+//!
+//! # Order
+//! For each frequency (in the curve's own order) the run from the study's initial state comes
+//! first ([`simulate_harmonic`], with the run's noise), then the census:
+//!
+//! 1. **Up.** In increasing frequency, each frequency runs its own seeded starts
+//!    ([`Census::run_starts`]), then continues every attractor of the next lower frequency to
+//!    its own ([`Census::seed`]: Newton on a periodic orbit, a run from its state otherwise).
+//! 2. **Down.** In decreasing frequency, each frequency continues every attractor of the next
+//!    higher frequency (as it stands after both passes) to its own.
+//!
+//! The up pass contains the transient sweep up the band (each frequency started where the
+//! previous one settled) and the down pass the sweep down it: inside a hysteresis loop the two
+//! sweeps stay on the two branches of the loop. A frequency's census therefore holds what its
+//! own starts reach, plus what its neighbours' attractors become when the frequency moves by
+//! one step: the census can only find more than its starts alone, never less, and a branch
+//! that one start reached anywhere along the curve is followed to every frequency where it
+//! stays stable. Basin shares remain those of the frequency's own starts (a continued
+//! attractor that no start reached has share 0).
+//!
+//! Pure: the same inputs give the same bits, whatever runs beside it.
+
+use super::census::{Census, CensusSettings, Origin};
+use super::map::{Forcing, Section};
+use super::shoot::Newton;
+use super::{CENSUS_WINDOW, HANDOVER, steady_of};
+use crate::model::System;
+use crate::sim::noise::NoiseStream;
+use crate::sim::{
+    ForcedRecord, Harmonic, NoProbe, NoiseSettings, Outcome, Request, SolverSettings,
+    simulate_harmonic,
+};
+
+/// One frequency of a curve: its scene, the census's identity for its starts (the design
+/// point) and its run's noise stream, if any.
+pub struct CurveFrequency {
+    pub scene: Harmonic,
+    pub point: u64,
+    pub noise: Option<NoiseStream>,
+}
+
+/// What a curve's runs found: per frequency (in the input order) the record of the run from
+/// the initial state (its `steady` summary filled from the census) and the census.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveRun {
+    pub records: Vec<ForcedRecord>,
+    pub censuses: Vec<Option<Census>>,
+}
+
+/// Runs one curve (module doc): the system `sys` (one design and case) at each of `freqs`.
+/// A frequency whose run from the initial state does not end `ok`, or a scene with
+/// `starts = 0`, has no census (`None`) and takes no part in the passes.
+pub fn run_curve(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    noise: Option<&NoiseSettings>,
+    seed: u64,
+    freqs: Vec<CurveFrequency>,
+) -> CurveRun {
+    let mut records = Vec::with_capacity(freqs.len());
+    let mut forcings = Vec::with_capacity(freqs.len());
+    for fq in freqs {
+        let mut stream = fq.noise;
+        let rec = match (noise, stream.as_mut()) {
+            (Some(ns), Some(st)) => {
+                simulate_harmonic(sys, settings, req, &fq.scene, Some((ns, st)), &mut NoProbe)
+            }
+            _ => simulate_harmonic(sys, settings, req, &fq.scene, None, &mut NoProbe),
+        };
+        let census = (rec.outcome == Outcome::Ok && fq.scene.starts > 0).then(|| {
+            let f = Forcing {
+                sys: *sys,
+                F0: fq.scene.F0,
+                omega: rec.omega,
+                settings: *settings,
+            };
+            let c = CensusSettings {
+                starts: fq.scene.starts,
+                max_periods: fq.scene.n_trans_max,
+                handover: HANDOVER,
+                window: CENSUS_WINDOW,
+                seed,
+                point: fq.point,
+            };
+            // Start 0 goes on from where the run from the initial state ended (a section time).
+            let s0: Section = [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w];
+            (f, c, s0)
+        });
+        records.push(rec);
+        forcings.push(census);
+    }
+    let censuses = census_passes(&forcings);
+    for (rec, c) in records.iter_mut().zip(&censuses) {
+        if let Some(c) = c {
+            rec.steady = steady_of(c);
+        }
+    }
+    CurveRun { records, censuses }
+}
+
+/// The census of every point of a curve by the up and down passes (module doc): `points[i]` is
+/// the forcing of point `i`, its census settings and its start 0 (`None`: no census there).
+/// The passes go in increasing `omega`, then `F0` (a curve along the force), then input order.
+pub fn census_passes(points: &[Option<(Forcing, CensusSettings, Section)>]) -> Vec<Option<Census>> {
+    let forcings = points;
+    let newton = Newton::default();
+    let mut order: Vec<usize> = (0..forcings.len())
+        .filter(|&i| forcings[i].is_some())
+        .collect();
+    order.sort_by(|&a, &b| {
+        let key = |i: usize| {
+            forcings[i]
+                .as_ref()
+                .map_or((f64::NAN, f64::NAN), |x| (x.0.omega, x.0.F0))
+        };
+        let (ka, kb) = (key(a), key(b));
+        ka.0.total_cmp(&kb.0)
+            .then(ka.1.total_cmp(&kb.1))
+            .then(a.cmp(&b))
+    });
+    let mut out: Vec<Option<Census>> = vec![None; forcings.len()];
+    let mut prev: Option<usize> = None;
+    for &i in &order {
+        let Some((f, c, s0)) = &forcings[i] else {
+            continue;
+        };
+        let mut census = Census::default();
+        census.run_starts(f, s0, c, &newton);
+        if let Some(j) = prev
+            && let Some(below) = &out[j]
+        {
+            for a in below.attractors.clone() {
+                census.seed(f, &a, Origin::Up, c, &newton);
+            }
+        }
+        out[i] = Some(census);
+        prev = Some(i);
+    }
+    for w in order.windows(2).rev() {
+        let (i, above) = (w[0], w[1]);
+        let (Some((f, c, _)), Some(from)) = (&forcings[i], out[above].clone()) else {
+            continue;
+        };
+        if let Some(census) = out[i].as_mut() {
+            for a in &from.attractors {
+                census.seed(f, a, Origin::Down, c, &newton);
+            }
+        }
+    }
+    out
+}
