@@ -235,6 +235,12 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
     let dir = run_and_reduce(tmp.path(), "docs");
     let forced = run_harmonic(tmp.path(), "forced");
     bin().arg("reduce").arg(&forced).assert().success();
+    bin()
+        .arg("reduce")
+        .arg(&forced)
+        .args(["--shard", "0/1"])
+        .assert()
+        .success();
     let tradeoff = tmp.path().join("tradeoff.parquet");
     impactsweep::store::tradeoff::write(&tradeoff, &[]).unwrap();
     let docs = documented();
@@ -255,6 +261,16 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
         (TableKind::Jumps, both("jumps.parquet")),
         (TableKind::Sensitivity, both("sensitivity.parquet")),
         (TableKind::Tradeoff, vec![tradeoff.clone()]),
+        // Issue 23: the sweep's attractors parts, the branches, an analysis shard's probes.
+        (
+            TableKind::Attractors,
+            vec![forced.join("attractors/part-000000.parquet")],
+        ),
+        (TableKind::Branches, vec![forced.join("branches.parquet")]),
+        (
+            TableKind::Probes,
+            vec![forced.join("analysis/probes-0-of-1.parquet")],
+        ),
     ] {
         let doc = &docs
             .iter()
