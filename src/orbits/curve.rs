@@ -61,45 +61,84 @@ pub fn run_curve(
     seed: u64,
     freqs: Vec<CurveFrequency>,
 ) -> CurveRun {
-    let mut records = Vec::with_capacity(freqs.len());
-    let mut forcings = Vec::with_capacity(freqs.len());
-    for fq in freqs {
-        let mut stream = fq.noise;
-        let rec = match (noise, stream.as_mut()) {
-            (Some(ns), Some(st)) => {
-                simulate_harmonic(sys, settings, req, &fq.scene, Some((ns, st)), &mut NoProbe)
+    let targets: Vec<(Harmonic, u64)> = freqs.iter().map(|f| (f.scene, f.point)).collect();
+    let mut records = from_rest(sys, settings, req, noise, freqs);
+    let censuses = curve_census(sys, settings, seed, &targets, &records);
+    fill_steady(&mut records, &censuses);
+    CurveRun { records, censuses }
+}
+
+/// The run from the study's initial state at each frequency, with its noise: the records
+/// without their census.
+pub fn from_rest(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    noise: Option<&NoiseSettings>,
+    freqs: Vec<CurveFrequency>,
+) -> Vec<ForcedRecord> {
+    freqs
+        .into_iter()
+        .map(|fq| {
+            let mut stream = fq.noise;
+            match (noise, stream.as_mut()) {
+                (Some(ns), Some(st)) => {
+                    simulate_harmonic(sys, settings, req, &fq.scene, Some((ns, st)), &mut NoProbe)
+                }
+                _ => simulate_harmonic(sys, settings, req, &fq.scene, None, &mut NoProbe),
             }
-            _ => simulate_harmonic(sys, settings, req, &fq.scene, None, &mut NoProbe),
-        };
-        let census = (rec.outcome == Outcome::Ok && fq.scene.starts > 0).then(|| {
-            let f = Forcing {
-                sys: *sys,
-                F0: fq.scene.F0,
-                omega: rec.omega,
-                settings: *settings,
-            };
-            let c = CensusSettings {
-                starts: fq.scene.starts,
-                max_periods: fq.scene.n_trans_max,
-                handover: HANDOVER,
-                window: CENSUS_WINDOW,
-                seed,
-                point: fq.point,
-            };
-            // Start 0 goes on from where the run from the initial state ended (a section time).
-            let s0: Section = [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w];
-            (f, c, s0)
-        });
-        records.push(rec);
-        forcings.push(census);
-    }
-    let censuses = census_passes(&forcings);
-    for (rec, c) in records.iter_mut().zip(&censuses) {
+        })
+        .collect()
+}
+
+/// The census of every frequency of a curve (module doc), each frequency's `(scene, design
+/// point)` in `targets`, from the records of its runs from the initial state (start 0 goes on
+/// from where each ended). The noise of those runs is a measurement noise that does not move
+/// the system, so the census depends on the system, the scenes and the points only: the cases
+/// of a design that differ only in their noise share it.
+pub fn curve_census(
+    sys: &System,
+    settings: &SolverSettings,
+    seed: u64,
+    targets: &[(Harmonic, u64)],
+    records: &[ForcedRecord],
+) -> Vec<Option<Census>> {
+    let points: Vec<_> = targets
+        .iter()
+        .zip(records)
+        .map(|(&(scene, point), rec)| {
+            (rec.outcome == Outcome::Ok && scene.starts > 0).then(|| {
+                let f = Forcing {
+                    sys: *sys,
+                    F0: scene.F0,
+                    omega: rec.omega,
+                    settings: *settings,
+                };
+                let c = CensusSettings {
+                    starts: scene.starts,
+                    max_periods: scene.n_trans_max,
+                    handover: HANDOVER,
+                    window: CENSUS_WINDOW,
+                    seed,
+                    point,
+                };
+                // Start 0 goes on from where the run from the initial state ended (a section
+                // time).
+                let s0: Section = [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w];
+                (f, c, s0)
+            })
+        })
+        .collect();
+    census_passes(&points)
+}
+
+/// Each record's census summary ([`steady_of`]) from its census.
+pub fn fill_steady(records: &mut [ForcedRecord], censuses: &[Option<Census>]) {
+    for (rec, c) in records.iter_mut().zip(censuses) {
         if let Some(c) = c {
             rec.steady = steady_of(c);
         }
     }
-    CurveRun { records, censuses }
 }
 
 /// The census of every point of a curve by the up and down passes (module doc): `points[i]` is

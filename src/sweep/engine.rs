@@ -17,7 +17,7 @@ use super::rundir;
 use crate::accuracy::Audit;
 use crate::error::InputError;
 use crate::orbits::attractors::{AttractorRow, RunId};
-use crate::orbits::curve::{CurveFrequency, run_curve};
+use crate::orbits::curve::{CurveFrequency, curve_census, fill_steady, from_rest};
 use crate::orbits::forced_run;
 use crate::plan::{Plan, RunSpec};
 use crate::sim::{ForcedRecord, Harmonic, NoProbe, Record, Scene, simulate};
@@ -171,15 +171,20 @@ impl SceneRun for ForcedRecord {
             };
         }
         let n_f = plan.study.curve_points();
-        let n_cases = plan.n_cases();
         let points = plan.chunk_points(k);
-        let curves: Vec<(u64, u32)> = (points.start / n_f..points.end.div_ceil(n_f))
-            .flat_map(|design| (0..n_cases as u32).map(move |c| (design, c)))
+        let designs: Vec<u64> = (points.start / n_f..points.end.div_ceil(n_f)).collect();
+        let tasks: Vec<(u64, Vec<u32>)> = designs
+            .into_iter()
+            .flat_map(|design| {
+                same_system_cases(plan, design)
+                    .into_iter()
+                    .map(move |cases| (design, cases))
+            })
             .collect();
-        let done: Vec<(Vec<RunRow<ForcedRecord>>, Vec<AttractorRow>)> = curves
+        let done: Vec<(Vec<RunRow<ForcedRecord>>, Vec<AttractorRow>)> = tasks
             .into_par_iter()
-            .map(|(design, case)| {
-                let out = simulate_curve(plan, design, case);
+            .map(|(design, cases)| {
+                let out = simulate_curve(plan, design, &cases);
                 if let Some(pb) = progress {
                     pb.inc(out.0.len() as u64);
                 }
@@ -202,58 +207,87 @@ impl SceneRun for ForcedRecord {
     }
 }
 
-/// One frequency-response curve of a harmonic study, the runs of design `design` and case
-/// `case` at every frequency, as one task ([`run_curve`]: in frequency order, each frequency's
-/// census seeded with its neighbours' attractors): its rows and their attractors.
+/// The cases of design `design` grouped by their system (a case that differs from another only
+/// in its noise has the same system, and so the same census), in case order.
+fn same_system_cases(plan: &Plan, design: u64) -> Vec<Vec<u32>> {
+    let n_f = plan.study.curve_points();
+    let mut groups: Vec<(Vec<u64>, Vec<u32>)> = Vec::new();
+    for c in 0..plan.n_cases() as u32 {
+        let sys = plan.run(design * n_f, c).system;
+        let key: Vec<u64> = crate::model::SYSTEM_KEYS
+            .iter()
+            .map(|k| sys.get(k).unwrap_or(f64::NAN).to_bits())
+            .collect();
+        match groups.iter_mut().find(|g| g.0 == key) {
+            Some(g) => g.1.push(c),
+            None => groups.push((key, vec![c])),
+        }
+    }
+    groups.into_iter().map(|g| g.1).collect()
+}
+
+/// The frequency-response curves of a harmonic study's design `design` for `cases` (cases with
+/// one system), as one task: each case's runs at every frequency from the initial state (with
+/// its noise), and one census along the curve ([`curve_census`]: in frequency order, each
+/// frequency seeded with its neighbours' attractors), which every case of the group shares.
+/// Returns the rows and their attractors (every case's).
 pub fn simulate_curve(
     plan: &Plan,
     design: u64,
-    case: u32,
+    cases: &[u32],
 ) -> (Vec<RunRow<ForcedRecord>>, Vec<AttractorRow>) {
     let study = plan.study;
     let n_f = study.curve_points();
-    let runs: Vec<RunSpec> = (design * n_f..(design + 1) * n_f)
-        .map(|p| plan.run(p, case))
-        .collect();
-    let freqs = runs
-        .iter()
-        .map(|run| CurveFrequency {
-            scene: match run.scene {
-                Scene::Harmonic(h) => h,
-                Scene::Free => Harmonic::default(),
-            },
-            point: run.point,
-            noise: plan.noise_stream(run),
-        })
-        .collect();
-    let curve = run_curve(
-        &runs[0].system,
-        &study.solver,
-        &study.request,
-        study.noise.as_ref(),
-        study.seed,
-        freqs,
-    );
+    let mut censuses = None;
+    let mut rows = Vec::with_capacity(cases.len() * n_f as usize);
     let mut attractors = Vec::new();
-    let mut rows = Vec::with_capacity(runs.len());
-    for ((run, record), census) in runs.iter().zip(curve.records).zip(&curve.censuses) {
-        if let Some(c) = census {
-            let id = RunId {
-                point_id: run.point_id,
+    for &case in cases {
+        let runs: Vec<RunSpec> = (design * n_f..(design + 1) * n_f)
+            .map(|p| plan.run(p, case))
+            .collect();
+        let freqs: Vec<CurveFrequency> = runs
+            .iter()
+            .map(|run| CurveFrequency {
+                scene: match run.scene {
+                    Scene::Harmonic(h) => h,
+                    Scene::Free => Harmonic::default(),
+                },
                 point: run.point,
-                case: run.case,
-                ideal: run.spec.ideal,
-                r: record.r,
-                omega: record.omega,
-                F0: record.F0,
-            };
-            attractors.extend(AttractorRow::of_census(
-                id,
-                c,
-                std::f64::consts::TAU / record.omega,
-            ));
+                noise: plan.noise_stream(run),
+            })
+            .collect();
+        let targets: Vec<(Harmonic, u64)> = freqs.iter().map(|f| (f.scene, f.point)).collect();
+        let sys = runs[0].system;
+        let mut records = from_rest(
+            &sys,
+            &study.solver,
+            &study.request,
+            study.noise.as_ref(),
+            freqs,
+        );
+        let cs = censuses.get_or_insert_with(|| {
+            curve_census(&sys, &study.solver, study.seed, &targets, &records)
+        });
+        fill_steady(&mut records, cs);
+        for ((run, record), census) in runs.iter().zip(records).zip(cs.iter()) {
+            if let Some(c) = census {
+                let id = RunId {
+                    point_id: run.point_id,
+                    point: run.point,
+                    case: run.case,
+                    ideal: run.spec.ideal,
+                    r: record.r,
+                    omega: record.omega,
+                    F0: record.F0,
+                };
+                attractors.extend(AttractorRow::of_census(
+                    id,
+                    c,
+                    std::f64::consts::TAU / record.omega,
+                ));
+            }
+            rows.push(row_of(plan, run, record));
         }
-        rows.push(row_of(plan, run, record));
     }
     (rows, attractors)
 }
