@@ -170,6 +170,7 @@ fn issue_16_every_brute_force_steady_state_is_in_the_census_and_on_a_stable_bran
                 window: 200,
                 seed: 11,
                 point: 5,
+                spent0: 0,
             };
             let cen = census(&f, &[0.0; 4], &settings);
             let grid = [(0, r - 0.02), (1, r), (2, r + 0.02)];
@@ -241,6 +242,7 @@ fn issue_16_hysteresis_two_folds_and_the_sweeps_up_and_down() {
         window: 200,
         seed: 3,
         point: 0,
+        spent0: 0,
     };
     let resp = analyse(&base, 0, &[0.0; 4], &freqs, &settings);
     let folds = resp.branches.iter().filter(|b| b.label == "SN").count();
@@ -350,6 +352,7 @@ fn issue_16_continuation_along_the_force() {
         window: 200,
         seed: 7,
         point: 0,
+        spent0: 0,
     };
     let resp = analyse_along(&f, 0, &[0.0; 4], &forces, Param::Force, &settings);
     assert!(resp.branches.iter().any(|b| b.stable));

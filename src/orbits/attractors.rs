@@ -117,6 +117,16 @@ pub struct AttractorRow {
     pub section: Section,
 }
 
+/// The kind of a motion that is not periodic: `chaotic` when its probe's exponent is
+/// significantly positive and it ran its whole budget without reaching a periodic orbit;
+/// otherwise `not settled`.
+fn steady_kind(w: &super::census::Wandering) -> SteadyKind {
+    match w.probe {
+        Some(p) if p.chaotic() && w.exhausted => SteadyKind::Chaotic,
+        _ => SteadyKind::NotSettled,
+    }
+}
+
 impl AttractorRow {
     /// The rows of `census`, the census of run `run` at forcing period `t_f` (s).
     pub fn of_census(run: RunId, census: &Census, t_f: f64) -> Vec<AttractorRow> {
@@ -130,13 +140,14 @@ impl AttractorRow {
                         (SteadyKind::Neutral, "neutral", o.multiplier_max())
                     }
                     Kind::Periodic(o) => (SteadyKind::Periodic, "stable", o.multiplier_max()),
-                    Kind::NonPeriodic => (SteadyKind::NotSettled, "", f64::NAN),
+                    Kind::NonPeriodic(w) => (steady_kind(w), "", f64::NAN),
                 };
                 // A periodic orbit's exponent is exact: ln|mu_max| / p per forcing period.
-                let lyapunov = if kind.periodic() {
-                    mu.ln() / f64::from(a.period.max(1))
-                } else {
-                    f64::NAN
+                let (lyapunov, se) = match &a.kind {
+                    Kind::Periodic(_) => (mu.ln() / f64::from(a.period.max(1)), 0.0),
+                    Kind::NonPeriodic(w) => {
+                        w.probe.map_or((f64::NAN, f64::NAN), |p| (p.lambda, p.se))
+                    }
                 };
                 let periodic = kind.periodic();
                 AttractorRow {
@@ -154,7 +165,7 @@ impl AttractorRow {
                     multiplier_max: mu,
                     lyapunov,
                     lyapunov_per_s: lyapunov / t_f,
-                    lyapunov_se: if periodic { 0.0 } else { f64::NAN },
+                    lyapunov_se: se,
                     life_amplitude: a.amplitude,
                     life_lo: a.amplitude,
                     life_hi: a.amplitude,

@@ -19,16 +19,34 @@
 //! periods in which the sections repeating to the hand-over tolerance give the period `p`.
 //! Newton on `P^p` takes over from there; a converged, stable, impacting orbit ends the start.
 //! A start that made no impact in those 16 periods, with the inner mass at rest relative to the
-//! cavity (`|y'| <= 1e-12 omega X`), has reached the non-impacting family. A start that reaches
-//! neither within [`CensusSettings::max_periods`] is measured over [`CensusSettings::window`]
-//! more periods: its amplitude is the largest `|x|` over that window, a lower bound of what the
-//! motion can reach (a longer window can only raise it).
+//! cavity (`|y'| <= 1e-12 omega X`), has reached the non-impacting family.
+//!
+//! # Starts that wander: chaos, and transient chaos
+//! A start that has not converged after [`FIRST_CHECK`] periods is probed for [`PROBE`] periods
+//! with the tangent map (its largest Lyapunov exponent, [`ChaosProbe`]). Near resonance many
+//! starts first wander chaotically and only then settle on a periodic orbit (transient chaos:
+//! measured on the showcase, lifetimes of 200 to 1400 periods with an exponent near 1 per
+//! period all along), so a positive exponent does not end a start by itself. Instead the
+//! census defers its wandering starts and resolves them by cloud ([`Cloud`]: where in the
+//! section they wander):
+//!
+//! * of the wanderers in one cloud, one (the first) runs on for the rest of the
+//!   [`CensusSettings::max_periods`] budget;
+//! * when it escapes to a periodic orbit, the cloud was transient: every other member runs on
+//!   for its own budget too (each may leave by another door);
+//! * when it does not, the cloud is a chaotic attractor within the budget: the others are that
+//!   attractor without running further, and its statistics are measured once.
+//!
+//! So a chaotic attractor costs one budget, not one per start, and transient chaos costs what
+//! it always did. A start that reaches nothing within the budget is measured over
+//! [`CensusSettings::window`] more periods: its amplitude is the largest `|x|` over that
+//! window, a lower bound of what the motion can reach (a longer window can only raise it).
 //!
 //! # Merging
 //! Two periodic attractors are one when their periods agree and the section of one lies within
 //! `1e-6 X` of one of the other's `p` sections; all non-impacting starts are one attractor (the
-//! family); two non-periodic motions are one when their amplitudes agree within 5 % and their
-//! impact rates within 5 %. Basin share = starts that reached the attractor / starts.
+//! family); two motions that are not periodic are one when their clouds are ([`Cloud::same`]).
+//! Basin share = starts that reached the attractor / starts.
 
 use super::map::{Forcing, Section, eval};
 use super::shoot::{
@@ -36,7 +54,7 @@ use super::shoot::{
 };
 use crate::sim::Outcome;
 use crate::sim::noise::mix64;
-use crate::sim::{Drive, Harmonic, NoProbe, Request, simulate_harmonic};
+use crate::sim::{Drive, ForcedRecord, Harmonic, NoProbe, Request, simulate_harmonic};
 
 /// The census's settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -52,6 +70,9 @@ pub struct CensusSettings {
     /// The study seed and the design point: they fix the starts.
     pub seed: u64,
     pub point: u64,
+    /// Periods start 0 has already run without converging (the run from the initial state it
+    /// goes on from): they count toward its budget. 0 by default.
+    pub spent0: u64,
 }
 
 /// What kind of steady state an attractor is.
@@ -60,7 +81,37 @@ pub enum Kind {
     /// A periodic orbit (impacting, or the non-impacting family), exact.
     Periodic(Box<Orbit>),
     /// A motion that is not periodic (within the periods the start was given).
-    NonPeriodic,
+    NonPeriodic(Box<Wandering>),
+}
+
+/// What is known of a motion that is not periodic.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Wandering {
+    /// Where in the section it wanders (from its probe, or its window).
+    pub cloud: Cloud,
+    /// The tangent-map probe of its first wandering periods (`None` when the start's first
+    /// check came at the end of its budget).
+    pub probe: Option<ProbeResult>,
+    /// It ran its whole budget without reaching a periodic orbit.
+    pub exhausted: bool,
+    /// Stable periodic orbits found by Newton from its close returns ([`close_returns`]).
+    pub embedded: Vec<Orbit>,
+}
+
+/// The exponent a [`ChaosProbe`] measured.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProbeResult {
+    /// Largest Lyapunov exponent per forcing period and its standard error.
+    pub lambda: f64,
+    pub se: f64,
+    pub periods: u64,
+}
+
+impl ProbeResult {
+    /// Chaotic: `lambda > 3 se` and above [`CHAOS_FLOOR`].
+    pub fn chaotic(&self) -> bool {
+        self.lambda > 3.0 * self.se && self.lambda > CHAOS_FLOOR
+    }
 }
 
 /// One distinct attractor at a frequency point.
@@ -92,6 +143,9 @@ pub enum Origin {
     Up,
     /// Continued from an attractor of the next higher frequency (the down pass).
     Down,
+    /// A stable periodic orbit found by Newton from the close returns of a wandering motion
+    /// ([`close_returns`]); no start is known to reach it.
+    Recurrence,
 }
 
 impl Origin {
@@ -101,15 +155,7 @@ impl Origin {
             Origin::Start(_) => "start",
             Origin::Up => "up",
             Origin::Down => "down",
-        }
-    }
-}
-
-impl Attractor {
-    pub fn kind_name(&self) -> &'static str {
-        match self.kind {
-            Kind::Periodic(_) => "periodic",
-            Kind::NonPeriodic => "non-periodic",
+            Origin::Recurrence => "recurrence",
         }
     }
 }
@@ -121,7 +167,7 @@ pub struct Census {
     pub attractors: Vec<Attractor>,
     /// Starts run.
     pub starts: u32,
-    /// Forcing periods simulated in all (transients, Newton's maps, windows).
+    /// Forcing periods simulated in all (transients, probes, Newton's maps, windows).
     pub periods: u64,
 }
 
@@ -166,6 +212,7 @@ pub enum Landing {
     NonPeriodic {
         amplitude: f64,
         impacts_per_period: f64,
+        wandering: Box<Wandering>,
     },
 }
 
@@ -177,29 +224,66 @@ pub fn census(f: &Forcing, s0: &Section, c: &CensusSettings) -> Census {
     out
 }
 
+/// A start between its first check and its end (module doc, "Starts that wander").
+#[derive(Clone, Debug)]
+struct Wanderer {
+    origin: Origin,
+    /// Census starts it stands for (1, or 0 for a seed).
+    starts: u32,
+    /// Where it is, what it has run, its probe and cloud so far.
+    state: Section,
+    periods: u64,
+    probe: ProbeResult,
+    cloud: Cloud,
+}
+
 impl Census {
-    /// Runs the census's own starts at `f` (module doc, "Starts"), start 0 from `s0`.
+    /// Runs the census's own starts at `f` (module doc, "Starts"), start 0 from `s0`. Start 0
+    /// runs to its end first (its amplitude scales the other starts' box); the others are
+    /// resolved by cloud, with start 0's attractor among those they can join.
     pub fn run_starts(&mut self, f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) {
-        let mut x_ref = f.half_gap();
-        for k in 0..c.starts.max(1) {
-            let s = if k == 0 { *s0 } else { start(f, c, k, x_ref) };
-            let st = settle(f, &s, c, newton);
-            self.periods += st.periods;
+        let budget0 = c
+            .max_periods
+            .saturating_sub(c.spent0)
+            .max(FIRST_CHECK + PROBE + 1);
+        let st = match begin(f, s0, c, newton, Origin::Start(0), 1, budget0) {
+            Early::Landed(st) => st,
+            Early::Wandering(w) => conclude(f, w, budget0, c, newton),
+        };
+        self.periods += st.periods;
+        self.starts += 1;
+        let first = attractor(st, Origin::Start(0), 1);
+        let x_ref = if first.amplitude.is_finite() {
+            f.half_gap().max(first.amplitude)
+        } else {
+            f.half_gap()
+        };
+        self.merge(f, first);
+        let mut wanderers = Vec::new();
+        for k in 1..c.starts.max(1) {
+            let s = start(f, c, k, x_ref);
             self.starts += 1;
-            let att = attractor(st, Origin::Start(k), 1);
-            if k == 0 && att.amplitude.is_finite() {
-                x_ref = x_ref.max(att.amplitude);
+            match begin(f, &s, c, newton, Origin::Start(k), 1, c.max_periods) {
+                Early::Landed(st) => {
+                    self.periods += st.periods;
+                    self.merge(f, attractor(st, Origin::Start(k), 1));
+                }
+                Early::Wandering(w) => {
+                    self.periods += w.periods;
+                    wanderers.push(w);
+                }
             }
-            self.merge(f, att);
         }
+        self.resolve(f, wanderers, c, newton);
     }
 
     /// Continues `from`, an attractor of a neighbouring frequency of the same curve, to `f`:
     /// a periodic orbit by Newton on `P^p` from its section (kept when it converges to a stable
     /// orbit), anything else (a motion that is not periodic, an orbit that lost its stability or
-    /// that Newton cannot reach) by [`settle`] from its section. What it lands on joins the
-    /// census (a new attractor, or merged into a known one) without counting as a start: basin
-    /// shares stay those of the census's own starts.
+    /// that Newton cannot reach) as a start from its section. A seed that wanders in the cloud
+    /// of a chaotic attractor already found here joins it without running its budget. What it
+    /// lands on joins the census (a new attractor, or merged into a known one) without counting
+    /// as a start: basin shares stay those of the census's own starts.
     pub fn seed(
         &mut self,
         f: &Forcing,
@@ -230,20 +314,153 @@ impl Census {
                 return;
             }
         }
-        let st = settle(f, &from.section, c, newton);
-        self.periods += st.periods;
-        self.merge(f, attractor(st, origin, 0));
-    }
-
-    /// Adds `att` to the census, merged with an equal attractor (module doc).
-    fn merge(&mut self, f: &Forcing, att: Attractor) {
-        for known in &mut self.attractors {
-            if same(f, known, &att) {
-                known.starts += att.starts;
+        // A motion that was not periodic there is probed first: when it wanders in the cloud of
+        // a chaotic attractor found here, it is that attractor (no transient to run).
+        if matches!(from.kind, Kind::NonPeriodic(_)) && self.has_exhausted_cloud() {
+            let probe = chaos_probe(f, &from.section, PROBE);
+            self.periods += probe.periods;
+            if probe.ok
+                && let Some(i) = self.exhausted_cloud(&probe.cloud)
+            {
+                let _ = i;
                 return;
             }
         }
+        match begin(f, &from.section, c, newton, origin, 0, c.max_periods) {
+            Early::Landed(st) => {
+                self.periods += st.periods;
+                self.merge(f, attractor(st, origin, 0));
+            }
+            Early::Wandering(w) => {
+                self.periods += w.periods;
+                self.resolve(f, vec![w], c, newton);
+            }
+        }
+    }
+
+    /// Whether a motion that is not periodic here ran a whole budget (a chaotic attractor).
+    fn has_exhausted_cloud(&self) -> bool {
+        self.attractors
+            .iter()
+            .any(|a| matches!(&a.kind, Kind::NonPeriodic(x) if x.exhausted))
+    }
+
+    /// The attractor whose whole-budget cloud `cloud` is, if any.
+    fn exhausted_cloud(&self, cloud: &Cloud) -> Option<usize> {
+        self.attractors.iter().position(
+            |a| matches!(&a.kind, Kind::NonPeriodic(x) if x.exhausted && x.cloud.same(cloud)),
+        )
+    }
+
+    /// Resolves wandering starts by cloud (module doc, "Starts that wander").
+    fn resolve(
+        &mut self,
+        f: &Forcing,
+        wanderers: Vec<Wanderer>,
+        c: &CensusSettings,
+        newton: &Newton,
+    ) {
+        let mut groups: Vec<Vec<Wanderer>> = Vec::new();
+        for w in wanderers {
+            // A chaotic attractor this census already ran a whole budget on: the wanderer runs
+            // to JOIN_AFTER periods, then joins it unless it escaped.
+            if let Some(i) = self.exhausted_cloud(&w.cloud) {
+                self.join_or_land(f, i, w, c, newton);
+                continue;
+            }
+            match groups.iter_mut().find(|g| g[0].cloud.same(&w.cloud)) {
+                Some(g) => g.push(w),
+                None => groups.push(vec![w]),
+            }
+        }
+        for group in groups {
+            let mut members = group.into_iter();
+            let Some(first) = members.next() else {
+                continue;
+            };
+            let st = conclude(f, first.clone(), c.max_periods, c, newton);
+            self.periods += st.periods - first.periods;
+            let exhausted = matches!(&st.landing, Landing::NonPeriodic { wandering, .. } if wandering.exhausted);
+            let index = self.merge(f, attractor(st, first.origin, first.starts));
+            for w in members {
+                if exhausted {
+                    self.join_or_land(f, index, w, c, newton);
+                } else {
+                    // The cloud proved transient: each member runs its own budget.
+                    let st = conclude(f, w.clone(), c.max_periods, c, newton);
+                    self.periods += st.periods - w.periods;
+                    self.merge(f, attractor(st, w.origin, w.starts));
+                }
+            }
+        }
+    }
+
+    /// A wanderer in the cloud of attractor `index` (which ran a whole budget without leaving
+    /// it): it runs on to [`JOIN_AFTER`] periods; what converges by then lands where it lands,
+    /// the rest joins attractor `index` (not measured again).
+    fn join_or_land(
+        &mut self,
+        f: &Forcing,
+        index: usize,
+        w: Wanderer,
+        c: &CensusSettings,
+        newton: &Newton,
+    ) {
+        let left = c
+            .max_periods
+            .min(JOIN_AFTER)
+            .saturating_sub(w.periods)
+            .max(1);
+        let (rec, p) = transient(f, &w.state, c, left);
+        self.periods += p;
+        if rec.outcome == Outcome::Ok && rec.converged {
+            let s = section_of(&rec);
+            let st = land(
+                f,
+                &rec,
+                &s,
+                c,
+                newton,
+                w.periods + p,
+                Some((w.probe, w.cloud)),
+            );
+            self.periods += st.periods - w.periods - p;
+            if matches!(st.landing, Landing::Orbit(_)) {
+                self.merge(f, attractor(st, w.origin, w.starts));
+                return;
+            }
+        }
+        self.attractors[index].starts += w.starts;
+    }
+
+    /// Adds `att` to the census, merged with an equal attractor (module doc), and the stable
+    /// orbits found in its close returns; returns its index.
+    fn merge(&mut self, f: &Forcing, mut att: Attractor) -> usize {
+        let embedded = match &mut att.kind {
+            Kind::NonPeriodic(w) => std::mem::take(&mut w.embedded),
+            Kind::Periodic(_) => Vec::new(),
+        };
+        let index = self.merge_one(f, att);
+        for o in embedded {
+            let found = Settled {
+                end: o.s,
+                landing: Landing::Orbit(o),
+                periods: 0,
+            };
+            self.merge_one(f, attractor(found, Origin::Recurrence, 0));
+        }
+        index
+    }
+
+    fn merge_one(&mut self, f: &Forcing, att: Attractor) -> usize {
+        for (i, known) in self.attractors.iter_mut().enumerate() {
+            if same(f, known, &att) {
+                known.starts += att.starts;
+                return i;
+            }
+        }
         self.attractors.push(att);
+        self.attractors.len() - 1
     }
 }
 
@@ -262,8 +479,9 @@ fn attractor(st: Settled, origin: Origin, starts: u32) -> Attractor {
         Landing::NonPeriodic {
             amplitude,
             impacts_per_period,
+            wandering,
         } => Attractor {
-            kind: Kind::NonPeriodic,
+            kind: Kind::NonPeriodic(wandering),
             period: 0,
             amplitude,
             impacts_per_period,
@@ -285,10 +503,7 @@ fn same(f: &Forcing, a: &Attractor, b: &Attractor) -> bool {
             }
             same_orbit(f, &oa.s, &ob.s, u64::from(oa.period))
         }
-        (Kind::NonPeriodic, Kind::NonPeriodic) => {
-            let close = |x: f64, y: f64| (x - y).abs() <= 0.05 * x.abs().max(y.abs());
-            close(a.amplitude, b.amplitude) && close(a.impacts_per_period, b.impacts_per_period)
-        }
+        (Kind::NonPeriodic(wa), Kind::NonPeriodic(wb)) => wa.cloud.same(&wb.cloud),
         _ => false,
     }
 }
@@ -303,40 +518,86 @@ pub struct Settled {
     pub end: Section,
 }
 
-/// Runs one start from `s0` to its attractor (module doc, "Each start").
+/// A start after its first check: landed, or wandering.
+enum Early {
+    Landed(Settled),
+    Wandering(Wanderer),
+}
+
+/// Runs one start from `s0` to its attractor (module doc, "Each start"), wandering included:
+/// what a sweep from frequency to frequency, or a probe between designs, runs for one start.
 pub fn settle(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) -> Settled {
-    let done = |landing, periods, end| Settled {
-        landing,
-        periods,
-        end,
-    };
-    // The sweep's own transient rule, stopped at the hand-over tolerance, then a short window
-    // that says which period the motion is approaching.
-    let scene = Harmonic {
-        F0: f.F0,
-        drive: Drive::Omega(f.omega),
-        n_trans: None,
-        n_trans_max: c.max_periods.max(1),
-        n_meas: 2 * MAX_PERIOD as u64,
-        trans_tol: c.handover * 1e-3,
-        period_tol: c.handover,
-        energies: false,
-        ..Harmonic::default()
-    };
-    let sys = f.started(s0);
-    let rec = simulate_harmonic(
-        &sys,
-        &f.settings,
-        &Request::default(),
-        &scene,
-        None,
-        &mut NoProbe,
-    );
-    let mut periods = rec.n_trans + rec.n_meas;
-    if rec.outcome != Outcome::Ok {
-        return done(nan_landing(), periods, *s0);
+    match begin(f, s0, c, newton, Origin::Start(0), 1, c.max_periods) {
+        Early::Landed(st) => st,
+        Early::Wandering(w) => conclude(f, w, c.max_periods, c, newton),
     }
-    let s = [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w];
+}
+
+/// A start from `s0` up to its first check ([`FIRST_CHECK`] periods, then the probe), with a
+/// budget of `budget` periods in all.
+fn begin(
+    f: &Forcing,
+    s0: &Section,
+    c: &CensusSettings,
+    newton: &Newton,
+    origin: Origin,
+    starts: u32,
+    budget: u64,
+) -> Early {
+    let budget = budget.max(1);
+    let first = budget.min(FIRST_CHECK);
+    let (rec, periods) = transient(f, s0, c, first);
+    if rec.outcome != Outcome::Ok {
+        return Early::Landed(failed(periods, *s0));
+    }
+    let s = section_of(&rec);
+    if rec.converged || budget <= first {
+        return Early::Landed(land(f, &rec, &s, c, newton, periods, None));
+    }
+    let probe = chaos_probe(f, &s, PROBE);
+    let periods = periods + probe.periods;
+    if !probe.ok {
+        return Early::Landed(failed(periods, s));
+    }
+    Early::Wandering(Wanderer {
+        origin,
+        starts,
+        state: probe.end,
+        periods,
+        probe: ProbeResult {
+            lambda: probe.lambda,
+            se: probe.se,
+            periods: probe.periods,
+        },
+        cloud: probe.cloud,
+    })
+}
+
+/// A wandering start run on until `budget` periods in all: the transient rule, then Newton or
+/// the measuring window.
+fn conclude(f: &Forcing, w: Wanderer, budget: u64, c: &CensusSettings, newton: &Newton) -> Settled {
+    let left = budget.max(1).saturating_sub(w.periods).max(1);
+    let (rec, p) = transient(f, &w.state, c, left);
+    let periods = w.periods + p;
+    if rec.outcome != Outcome::Ok {
+        return failed(periods, w.state);
+    }
+    let s = section_of(&rec);
+    land(f, &rec, &s, c, newton, periods, Some((w.probe, w.cloud)))
+}
+
+/// Where a transient run `rec` (ending at section `s`, `periods` simulated) leads: the
+/// non-impacting family, a stable periodic orbit by Newton, or the measuring window. `probe`:
+/// what a wandering start's probe found.
+fn land(
+    f: &Forcing,
+    rec: &ForcedRecord,
+    s: &Section,
+    c: &CensusSettings,
+    newton: &Newton,
+    mut periods: u64,
+    probe: Option<(ProbeResult, Cloud)>,
+) -> Settled {
     let x_scale = f.half_gap().max(rec.amplitude);
     if rec.impacts_per_period == 0.0
         && s[3].abs() <= 1e-12 * f.omega * x_scale
@@ -344,11 +605,15 @@ pub fn settle(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) ->
     {
         // The sweep goes on from where the motion is (the family's section places the inner
         // mass by convention).
-        return done(Landing::Orbit(o), periods, s);
+        return Settled {
+            landing: Landing::Orbit(o),
+            periods,
+            end: *s,
+        };
     }
     if rec.converged && rec.period >= 1 {
         let p = u64::from(rec.period);
-        let (term, state) = solve(f, p, &s, newton);
+        let (term, state) = solve(f, p, s, newton);
         if let Some(st) = &state {
             periods += u64::from(st.iterations + 1) * p;
         }
@@ -357,26 +622,292 @@ pub fn settle(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) ->
             && o.stability == Stability::Stable
         {
             let end = o.s;
-            return done(Landing::Orbit(o), periods, end);
+            return Settled {
+                landing: Landing::Orbit(o),
+                periods,
+                end,
+            };
         }
     }
-    let w = eval(f, &s, c.window.max(1), false);
-    periods += c.window.max(1);
-    if w.outcome != Outcome::Ok {
-        return done(nan_landing(), periods, s);
-    }
-    let landing = Landing::NonPeriodic {
-        amplitude: w.amplitude,
-        impacts_per_period: w.impacts as f64 / c.window.max(1) as f64,
-    };
-    done(landing, periods, w.end)
+    measure(f, s, c, periods, probe, !rec.converged)
 }
 
-fn nan_landing() -> Landing {
-    Landing::NonPeriodic {
-        amplitude: f64::NAN,
-        impacts_per_period: f64::NAN,
+/// A start that is not periodic, measured over [`CensusSettings::window`] periods from `s`
+/// (`periods` simulated before); `exhausted`: it ran its whole budget without converging.
+fn measure(
+    f: &Forcing,
+    s: &Section,
+    c: &CensusSettings,
+    periods: u64,
+    probe: Option<(ProbeResult, Cloud)>,
+    exhausted: bool,
+) -> Settled {
+    let n = c.window.max(1);
+    let mut cloud = Cloud::new(f);
+    let mut sections = Vec::with_capacity(n as usize + 1);
+    sections.push(*s);
+    let (mut amplitude, mut impacts) = (0.0_f64, 0u64);
+    for _ in 0..n {
+        let w = eval(f, sections.last().unwrap_or(s), 1, false);
+        if w.outcome != Outcome::Ok {
+            return failed(periods + n, *s);
+        }
+        amplitude = amplitude.max(w.amplitude);
+        impacts += w.impacts;
+        cloud.add(&w.end);
+        sections.push(w.end);
     }
+    let (embedded, newton_periods) = if exhausted {
+        close_returns(f, &sections)
+    } else {
+        (Vec::new(), 0)
+    };
+    let end = *sections.last().unwrap_or(s);
+    Settled {
+        landing: Landing::NonPeriodic {
+            amplitude,
+            impacts_per_period: impacts as f64 / n as f64,
+            wandering: Box::new(Wandering {
+                cloud,
+                probe: probe.map(|p| p.0),
+                exhausted,
+                embedded,
+            }),
+        },
+        periods: periods + n + newton_periods,
+        end,
+    }
+}
+
+/// Distance, relative to `d/2`, within which a section that returns after `p` periods is
+/// handed to Newton ([`close_returns`]).
+pub const CLOSE_RETURN: f64 = 0.1;
+/// Most Newton searches [`close_returns`] makes from one window (measured on the showcase: the
+/// stable orbits of its chaotic windows were found within 50 tries).
+pub const CLOSE_RETURN_TRIES: usize = 64;
+
+/// The stable impacting periodic orbits found by Newton on `P^p` (`p` = 1 to 4) from every
+/// close return of a wandering motion's sections (`|s_{k+p} - s_k| < CLOSE_RETURN d/2`; the
+/// close-returns method of Lathrop and Kostelich), distinct, and the periods Newton simulated.
+/// A chaotic set is threaded with periodic orbits, almost all unstable; a stable one among
+/// them, or beside it, is an attractor that starts reach only by a rare escape (transient
+/// chaos), which Newton from the cloud finds in a few tries.
+pub fn close_returns(f: &Forcing, sections: &[Section]) -> (Vec<Orbit>, u64) {
+    let newton = Newton::default();
+    let tol = CLOSE_RETURN * f.half_gap();
+    let mut found: Vec<Orbit> = Vec::new();
+    let mut periods = 0;
+    let mut tries = 0;
+    for p in 1..=4usize {
+        for k in 0..sections.len().saturating_sub(p) {
+            if tries >= CLOSE_RETURN_TRIES
+                || super::shoot::distance(f, &sections[k + p], &sections[k]) >= tol
+            {
+                continue;
+            }
+            tries += 1;
+            let pp = p as u64;
+            let (term, state) = solve(f, pp, &sections[k], &newton);
+            if let Some(st) = &state {
+                periods += u64::from(st.iterations + 1) * pp;
+            }
+            if let (Termination::Converged { .. }, Some(st)) = (term, state)
+                && let Some(o) = orbit_at(f, pp, &st, &newton)
+                && o.stability == Stability::Stable
+                && !found
+                    .iter()
+                    .any(|q| q.period == o.period && same_orbit(f, &q.s, &o.s, u64::from(o.period)))
+            {
+                found.push(o);
+            }
+        }
+    }
+    (found, periods)
+}
+
+fn failed(periods: u64, end: Section) -> Settled {
+    Settled {
+        landing: Landing::NonPeriodic {
+            amplitude: f64::NAN,
+            impacts_per_period: f64::NAN,
+            wandering: Box::new(Wandering {
+                cloud: Cloud::default(),
+                probe: None,
+                exhausted: false,
+                embedded: Vec::new(),
+            }),
+        },
+        periods,
+        end,
+    }
+}
+
+/// Periods of the transient rule before a start that has not converged is probed for chaos.
+pub const FIRST_CHECK: u64 = 100;
+/// Periods of that probe (the tangent map's exponent over them).
+pub const PROBE: u64 = 64;
+/// Periods in all after which a member of a cloud whose first wanderer ran its whole budget
+/// joins that attractor (module doc).
+pub const JOIN_AFTER: u64 = FIRST_CHECK + PROBE;
+
+/// The sweep's transient rule from `s` for at most `max` periods, stopped at the hand-over
+/// tolerance, then `2 * MAX_PERIOD` periods that give the period approached. Returns the run and
+/// the periods it simulated.
+fn transient(f: &Forcing, s: &Section, c: &CensusSettings, max: u64) -> (ForcedRecord, u64) {
+    let scene = Harmonic {
+        F0: f.F0,
+        drive: Drive::Omega(f.omega),
+        n_trans: None,
+        n_trans_max: max.max(1),
+        n_meas: 2 * MAX_PERIOD as u64,
+        trans_tol: c.handover * 1e-3,
+        period_tol: c.handover,
+        energies: false,
+        ..Harmonic::default()
+    };
+    let sys = f.started(s);
+    let rec = simulate_harmonic(
+        &sys,
+        &f.settings,
+        &Request::default(),
+        &scene,
+        None,
+        &mut NoProbe,
+    );
+    let periods = rec.n_trans + rec.n_meas;
+    (rec, periods)
+}
+
+/// Where a motion wanders in the section: the mean and spread of each section coordinate in
+/// the map's scaled units (`x / L`, `x' / (wn L)`, `z / L`, `y' / (wn L)`, `L = d/2`), over the
+/// sections sampled.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Cloud {
+    n: u64,
+    sum: [f64; 4],
+    sum2: [f64; 4],
+    scale: [f64; 4],
+}
+
+impl Cloud {
+    fn new(f: &Forcing) -> Cloud {
+        let l = f.half_gap();
+        let wl = f.sys.omega() * l;
+        Cloud {
+            scale: [1.0 / l, 1.0 / wl, 1.0 / l, 1.0 / wl],
+            ..Cloud::default()
+        }
+    }
+
+    fn add(&mut self, s: &Section) {
+        self.n += 1;
+        for (k, x) in s.iter().enumerate() {
+            let v = x * self.scale[k];
+            self.sum[k] += v;
+            self.sum2[k] += v * v;
+        }
+    }
+
+    /// Mean and standard deviation of coordinate `k`.
+    fn stats(&self, k: usize) -> (f64, f64) {
+        let n = self.n.max(1) as f64;
+        let mean = self.sum[k] / n;
+        (mean, (self.sum2[k] / n - mean * mean).max(0.0).sqrt())
+    }
+
+    /// Whether two clouds are one: in every coordinate their means differ by less than half
+    /// the larger spread and their spreads by less than a factor 2 (a chaotic motion sampled
+    /// over tens of periods; two distinct attractors differ in where they are or how far they
+    /// reach). Empty clouds are never one.
+    pub fn same(&self, other: &Cloud) -> bool {
+        if self.n == 0 || other.n == 0 {
+            return false;
+        }
+        (0..4).all(|k| {
+            let (ma, sa) = self.stats(k);
+            let (mb, sb) = other.stats(k);
+            let spread = sa.max(sb);
+            (ma - mb).abs() <= 0.5 * spread + 1e-9 && sa.max(sb) <= 2.0 * sa.min(sb) + 1e-9
+        })
+    }
+}
+
+/// What the tangent-map probe of a wandering start found.
+struct ChaosProbe {
+    /// Every period's map evaluated `ok`.
+    ok: bool,
+    periods: u64,
+    end: Section,
+    /// The largest Lyapunov exponent per forcing period over the probe and its standard error
+    /// (batch means over 8 batches).
+    lambda: f64,
+    se: f64,
+    cloud: Cloud,
+}
+
+/// The smallest exponent (per forcing period) that counts as chaotic: a motion whose nearby
+/// states separate by less than 1 % per period is not told from a slow transient here.
+pub const CHAOS_FLOOR: f64 = 0.01;
+
+/// `n` periods from `s` with the tangent map: Benettin's renormalised product of the per-period
+/// Jacobians (each with its saltations) applied to one vector; a period whose map is not
+/// differentiable (a graze) contributes nothing to the sum and is not counted.
+fn chaos_probe(f: &Forcing, s: &Section, n: u64) -> ChaosProbe {
+    let mut v = [1.0, 0.0, 0.0, 0.0];
+    let mut logs = Vec::with_capacity(n as usize);
+    let mut s = *s;
+    let mut cloud = Cloud::new(f);
+    for k in 0..n {
+        let e = eval(f, &s, 1, true);
+        if e.outcome != Outcome::Ok {
+            return ChaosProbe {
+                ok: false,
+                periods: k + 1,
+                end: s,
+                lambda: f64::NAN,
+                se: f64::NAN,
+                cloud,
+            };
+        }
+        s = e.end;
+        cloud.add(&s);
+        let Some(j) = e.jacobian else { continue };
+        let w: [f64; 4] = std::array::from_fn(|r| (0..4).map(|k| j[r][k] * v[k]).sum());
+        let norm = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if norm.is_finite() && norm > 0.0 {
+            logs.push(norm.ln());
+            v = w.map(|x| x / norm);
+        }
+    }
+    let (lambda, se) = batch_means(&logs, 8);
+    ChaosProbe {
+        ok: true,
+        periods: n,
+        end: s,
+        lambda,
+        se,
+        cloud,
+    }
+}
+
+/// The mean of `x` and its standard error by `batches` batch means.
+fn batch_means(x: &[f64], batches: usize) -> (f64, f64) {
+    let b = x.len() / batches;
+    if b == 0 {
+        return (f64::NAN, f64::NAN);
+    }
+    let used = &x[..b * batches];
+    let mean = used.iter().sum::<f64>() / used.len() as f64;
+    let means: Vec<f64> = used
+        .chunks(b)
+        .map(|c| c.iter().sum::<f64>() / b as f64)
+        .collect();
+    let var = means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (batches - 1) as f64;
+    (mean, (var / batches as f64).sqrt())
+}
+
+fn section_of(rec: &ForcedRecord) -> Section {
+    [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w]
 }
 
 #[cfg(test)]
@@ -392,6 +923,7 @@ mod tests {
             window: 200,
             seed: 7,
             point: 3,
+            spent0: 0,
         }
     }
 

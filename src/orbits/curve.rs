@@ -121,6 +121,8 @@ pub fn curve_census(
                     window: CENSUS_WINDOW,
                     seed,
                     point,
+                    // The run from the initial state is start 0's transient so far.
+                    spent0: if rec.converged { 0 } else { rec.n_trans },
                 };
                 // Start 0 goes on from where the run from the initial state ended (a section
                 // time).

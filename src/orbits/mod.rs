@@ -67,6 +67,8 @@ pub fn forced_run<P: Probe>(
             window: CENSUS_WINDOW,
             seed,
             point,
+            // The run from the initial state is start 0's transient so far.
+            spent0: if rec.converged { 0 } else { rec.n_trans },
         },
     );
     rec.steady = steady_of(&c);

@@ -226,6 +226,7 @@ fn census_settings(study: &Study, h: &crate::sim::Harmonic) -> CensusSettings {
         window: CENSUS_WINDOW,
         seed: study.seed,
         point: 0,
+        spent0: 0,
     }
 }
 

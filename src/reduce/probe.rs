@@ -174,6 +174,7 @@ impl<'a> ForcedIdeal<'a> {
                 window: CENSUS_WINDOW,
                 seed: self.study.seed,
                 point: self.probe_point,
+                spent0: 0,
             };
             for c0 in corners {
                 let point = c0.design * band.len() as u64 + i as u64;

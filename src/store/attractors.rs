@@ -206,7 +206,7 @@ fn read_batch(batch: &RecordBatch, out: &mut Vec<AttractorRow>) -> Result<()> {
             kind: SteadyKind::parse(&kind[i])
                 .ok_or_else(|| anyhow!("column `kind`: unknown value {:?}", kind[i]))?,
             stability: known(&["stable", "neutral", ""], &stability[i], "stability")?,
-            origin: known(&["start", "up", "down"], &origin[i], "origin")?,
+            origin: known(&["start", "up", "down", "recurrence"], &origin[i], "origin")?,
             period: period.value(i),
             starts: starts.value(i),
             life_capped: capped.value(i),
