@@ -33,6 +33,7 @@ pub mod reduce;
 pub mod report;
 pub mod sim;
 pub mod slurm;
+pub mod stats;
 pub mod store;
 pub mod study;
 pub mod sweep;

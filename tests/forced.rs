@@ -564,3 +564,45 @@ fn amplitude_is_the_maximum_of_a_dense_trace_over_the_window() {
         );
     }
 }
+
+/// Issue 22, item 5: a long window gives an amplitude. At the showcase's chaotic point (m = 20 g,
+/// d = 20 mm, r = 1.01) a window of 200,000 forcing periods (about 216,000 impacts) ends `ok`:
+/// the harmonic scene's caps on impacts and steps scale with the periods the run may take.
+#[test]
+fn issue_22_a_window_of_200000_periods_gives_an_amplitude() {
+    let sys = System {
+        m: 0.02,
+        d: 0.02,
+        e: 0.9,
+        C: 0.1,
+        x0: 0.0,
+        v0: 0.0,
+        ..System::TABLE_I
+    };
+    let scene = Harmonic {
+        F0: 0.1,
+        drive: Drive::Ratio(1.01),
+        n_meas: 200_000,
+        ..Harmonic::default()
+    };
+    let rec = simulate_harmonic(
+        &sys,
+        &SolverSettings::default(),
+        &Request::default(),
+        &scene,
+        None,
+        &mut NoProbe,
+    );
+    assert_eq!(rec.outcome, Outcome::Ok, "{rec:?}");
+    assert!(
+        rec.impacts > SolverSettings::default().max_impacts,
+        "{}",
+        rec.impacts
+    );
+    // The issue's brute force: 0.95 cm over 200,000 periods.
+    assert!(
+        (0.0085..0.0100).contains(&rec.amplitude),
+        "{}",
+        rec.amplitude
+    );
+}

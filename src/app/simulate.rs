@@ -143,7 +143,8 @@ impl Setup {
                     forced.free_only.push(format!("{key}={raw}"));
                 }
                 "F0" | "omega" | "r" | "n_trans" | "n_trans_max" | "n_meas" | "trans_tol"
-                | "period_tol" | "starts" => {
+                | "period_tol" | "starts" | "design_life" | "life_quantile" | "life_tol"
+                | "life_max_periods" => {
                     let h = &mut forced.harmonic;
                     match key {
                         "F0" => h.F0 = value,
@@ -160,6 +161,10 @@ impl Setup {
                         "n_meas" => h.n_meas = integer(value)?,
                         "trans_tol" => h.trans_tol = value,
                         "starts" => h.starts = integer(value)? as u32,
+                        "design_life" => h.design_life = value,
+                        "life_quantile" => h.life_quantile = value,
+                        "life_tol" => h.life_tol = value,
+                        "life_max_periods" => h.life_max_periods = integer(value)?,
                         _ => h.period_tol = value,
                     }
                     forced.given.push(format!("{key}={raw}"));

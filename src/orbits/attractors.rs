@@ -150,6 +150,12 @@ impl AttractorRow {
                     }
                 };
                 let periodic = kind.periodic();
+                let summary = match &a.kind {
+                    Kind::NonPeriodic(w) => w.life,
+                    Kind::Periodic(_) => None,
+                };
+                let life = summary.and_then(|s| s.estimate);
+                let exact = if periodic { a.amplitude } else { f64::NAN };
                 AttractorRow {
                     run,
                     attractor: i as u32,
@@ -157,7 +163,7 @@ impl AttractorRow {
                     stability,
                     period: a.period,
                     amplitude: a.amplitude,
-                    window_amplitude: a.amplitude,
+                    window_amplitude: a.window_amplitude,
                     impacts_per_period: a.impacts_per_period,
                     basin_share: census.share(i),
                     starts: a.starts,
@@ -166,14 +172,20 @@ impl AttractorRow {
                     lyapunov,
                     lyapunov_per_s: lyapunov / t_f,
                     lyapunov_se: se,
-                    life_amplitude: a.amplitude,
-                    life_lo: a.amplitude,
-                    life_hi: a.amplitude,
-                    life_capped: false,
-                    tail_shape: f64::NAN,
-                    tail_end: f64::NAN,
-                    exceedances: 0,
-                    measured_periods: if periodic { u64::from(a.period) } else { 0 },
+                    // A periodic orbit's life amplitude is its amplitude; a motion the race did
+                    // not measure has none (NaN).
+                    life_amplitude: life.map_or(exact, |l| l.amplitude),
+                    life_lo: life.map_or(exact, |l| l.lo),
+                    life_hi: life.map_or(exact, |l| l.hi),
+                    life_capped: summary.is_some_and(|s| s.capped),
+                    tail_shape: life.map_or(f64::NAN, |l| l.xi),
+                    tail_end: life.map_or(f64::NAN, |l| l.end_point),
+                    exceedances: life.map_or(0, |l| l.exceedances),
+                    measured_periods: match summary {
+                        Some(s) => s.measured,
+                        None if periodic => u64::from(a.period),
+                        None => 0,
+                    },
                     section: a.section,
                 }
             })

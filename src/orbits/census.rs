@@ -48,6 +48,7 @@
 //! family); two motions that are not periodic are one when their clouds are ([`Cloud::same`]).
 //! Basin share = starts that reached the attractor / starts.
 
+use super::lyapunov::Benettin;
 use super::map::{Forcing, Section, eval};
 use super::shoot::{
     Newton, Orbit, Stability, Termination, non_impacting, orbit_at, same_orbit, solve,
@@ -96,7 +97,17 @@ pub struct Wandering {
     pub exhausted: bool,
     /// Stable periodic orbits found by Newton from its close returns ([`close_returns`]).
     pub embedded: Vec<Orbit>,
+    /// Its largest amplitude over the design life, when the curve's race measured it
+    /// ([`super::race`]).
+    pub life: Option<super::life::LifeSummary>,
+    /// States on it of other starts that joined it (at most [`CHAINS`] - 1): the race measures
+    /// its life from these and its own section, one run each.
+    pub chains: Vec<Section>,
 }
+
+/// Most runs a life measurement uses for one attractor (its own section and the states of
+/// starts that joined it).
+pub const CHAINS: usize = 8;
 
 /// The exponent a [`ChaosProbe`] measured.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -120,8 +131,11 @@ pub struct Attractor {
     pub kind: Kind,
     /// Orbit period in forcing periods; 0 when not periodic.
     pub period: u32,
-    /// `max |x|` (m): exact on a periodic orbit, the largest over the window otherwise.
+    /// The design amplitude (m): `max |x|` of a periodic orbit, exact; of a motion that is not
+    /// periodic, its largest amplitude over the design life when measured, else its window's.
     pub amplitude: f64,
+    /// `max |x|` over the census's measuring window (m); the amplitude of a periodic orbit.
+    pub window_amplitude: f64,
     /// Impacts per forcing period (over whole orbit periods, or over the window).
     pub impacts_per_period: f64,
     /// Census starts that reached it (seeds from a neighbouring frequency are not counted).
@@ -413,24 +427,33 @@ impl Census {
             .max(1);
         let (rec, p) = transient(f, &w.state, c, left);
         self.periods += p;
-        if rec.outcome == Outcome::Ok && rec.converged {
-            let s = section_of(&rec);
-            let st = land(
-                f,
-                &rec,
-                &s,
-                c,
-                newton,
-                w.periods + p,
-                Some((w.probe, w.cloud)),
-            );
+        if rec.outcome != Outcome::Ok {
+            self.join(index, w.starts, w.state);
+            return;
+        }
+        let s = section_of(&rec);
+        if rec.converged {
+            let probe = Some((w.probe, w.cloud.clone()));
+            let st = land(f, &rec, &s, c, newton, w.periods + p, probe);
             self.periods += st.periods - w.periods - p;
             if matches!(st.landing, Landing::Orbit(_)) {
                 self.merge(f, attractor(st, w.origin, w.starts));
                 return;
             }
         }
-        self.attractors[index].starts += w.starts;
+        self.join(index, w.starts, s);
+    }
+
+    /// A wanderer (`starts` census starts, now at `state`) joins attractor `index`: its starts
+    /// count there, its state is one more chain for the life measurement.
+    fn join(&mut self, index: usize, starts: u32, state: Section) {
+        let a = &mut self.attractors[index];
+        a.starts += starts;
+        if let Kind::NonPeriodic(x) = &mut a.kind
+            && x.chains.len() + 1 < CHAINS
+        {
+            x.chains.push(state);
+        }
     }
 
     /// Adds `att` to the census, merged with an equal attractor (module doc), and the stable
@@ -456,6 +479,12 @@ impl Census {
         for (i, known) in self.attractors.iter_mut().enumerate() {
             if same(f, known, &att) {
                 known.starts += att.starts;
+                // One more run on a motion that is not periodic, for its life measurement.
+                if let Kind::NonPeriodic(x) = &mut known.kind
+                    && x.chains.len() + 1 < CHAINS
+                {
+                    x.chains.push(att.section);
+                }
                 return i;
             }
         }
@@ -470,6 +499,7 @@ fn attractor(st: Settled, origin: Origin, starts: u32) -> Attractor {
         Landing::Orbit(o) => Attractor {
             period: o.period,
             amplitude: o.amplitude,
+            window_amplitude: o.amplitude,
             impacts_per_period: o.impacts_per_period(),
             section: o.s,
             kind: Kind::Periodic(Box::new(o)),
@@ -484,6 +514,7 @@ fn attractor(st: Settled, origin: Origin, starts: u32) -> Attractor {
             kind: Kind::NonPeriodic(wandering),
             period: 0,
             amplitude,
+            window_amplitude: amplitude,
             impacts_per_period,
             starts,
             origin,
@@ -672,6 +703,8 @@ fn measure(
                 probe: probe.map(|p| p.0),
                 exhausted,
                 embedded,
+                life: None,
+                chains: Vec::new(),
             }),
         },
         periods: periods + n + newton_periods,
@@ -735,6 +768,8 @@ fn failed(periods: u64, end: Section) -> Settled {
                 probe: None,
                 exhausted: false,
                 embedded: Vec::new(),
+                life: None,
+                chains: Vec::new(),
             }),
         },
         periods,
@@ -849,12 +884,10 @@ struct ChaosProbe {
 /// states separate by less than 1 % per period is not told from a slow transient here.
 pub const CHAOS_FLOOR: f64 = 0.01;
 
-/// `n` periods from `s` with the tangent map: Benettin's renormalised product of the per-period
-/// Jacobians (each with its saltations) applied to one vector; a period whose map is not
-/// differentiable (a graze) contributes nothing to the sum and is not counted.
+/// `n` periods from `s` with the tangent map ([`Benettin`], 8 periods of burn-in), the sections
+/// gathered into a cloud.
 fn chaos_probe(f: &Forcing, s: &Section, n: u64) -> ChaosProbe {
-    let mut v = [1.0, 0.0, 0.0, 0.0];
-    let mut logs = Vec::with_capacity(n as usize);
+    let mut b = Benettin::new(PROBE_BURN);
     let mut s = *s;
     let mut cloud = Cloud::new(f);
     for k in 0..n {
@@ -871,15 +904,9 @@ fn chaos_probe(f: &Forcing, s: &Section, n: u64) -> ChaosProbe {
         }
         s = e.end;
         cloud.add(&s);
-        let Some(j) = e.jacobian else { continue };
-        let w: [f64; 4] = std::array::from_fn(|r| (0..4).map(|k| j[r][k] * v[k]).sum());
-        let norm = w.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if norm.is_finite() && norm > 0.0 {
-            logs.push(norm.ln());
-            v = w.map(|x| x / norm);
-        }
+        b.step(e.jacobian.as_ref());
     }
-    let (lambda, se) = batch_means(&logs, 8);
+    let (lambda, se) = b.estimate();
     ChaosProbe {
         ok: true,
         periods: n,
@@ -890,21 +917,9 @@ fn chaos_probe(f: &Forcing, s: &Section, n: u64) -> ChaosProbe {
     }
 }
 
-/// The mean of `x` and its standard error by `batches` batch means.
-fn batch_means(x: &[f64], batches: usize) -> (f64, f64) {
-    let b = x.len() / batches;
-    if b == 0 {
-        return (f64::NAN, f64::NAN);
-    }
-    let used = &x[..b * batches];
-    let mean = used.iter().sum::<f64>() / used.len() as f64;
-    let means: Vec<f64> = used
-        .chunks(b)
-        .map(|c| c.iter().sum::<f64>() / b as f64)
-        .collect();
-    let var = means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (batches - 1) as f64;
-    (mean, (var / batches as f64).sqrt())
-}
+/// Periods of a probe's tangent vector not counted (it turns towards the most unstable
+/// direction first).
+const PROBE_BURN: u64 = 8;
 
 fn section_of(rec: &ForcedRecord) -> Section {
     [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w]

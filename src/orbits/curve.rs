@@ -91,8 +91,9 @@ pub fn from_rest(
         .collect()
 }
 
-/// The census of every frequency of a curve (module doc), each frequency's `(scene, design
-/// point)` in `targets`, from the records of its runs from the initial state (start 0 goes on
+/// The census of every frequency of a curve (module doc), then the race for the life
+/// amplitudes of its motions that are not periodic ([`super::race`]), each frequency's `(scene,
+/// design point)` in `targets`, from the records of its runs from the initial state (start 0 goes on
 /// from where each ended). The noise of those runs is a measurement noise that does not move
 /// the system, so the census depends on the system, the scenes and the points only: the cases
 /// of a design that differ only in their noise share it.
@@ -131,7 +132,14 @@ pub fn curve_census(
             })
         })
         .collect();
-    census_passes(&points)
+    let mut censuses = census_passes(&points);
+    let race_points: Vec<Option<(Forcing, Harmonic)>> = points
+        .iter()
+        .zip(targets)
+        .map(|(p, (scene, _))| p.as_ref().map(|(f, _, _)| (f.clone(), *scene)))
+        .collect();
+    super::race::race(&race_points, &mut censuses);
+    censuses
 }
 
 /// Each record's census summary ([`steady_of`]) from its census.

@@ -9,7 +9,10 @@ pub mod attractors;
 pub mod census;
 pub mod continuation;
 pub mod curve;
+pub mod life;
+pub mod lyapunov;
 pub mod map;
+pub mod race;
 pub mod response;
 pub mod shoot;
 

@@ -37,6 +37,10 @@ pub(super) struct RawScene {
     period_tol: Option<f64>,
     starts: Option<u32>,
     design_peak: Option<String>,
+    design_life: Option<f64>,
+    life_quantile: Option<f64>,
+    life_tol: Option<f64>,
+    life_max_periods: Option<u64>,
 }
 
 impl RawScene {
@@ -52,6 +56,10 @@ impl RawScene {
             self.trans_tol.is_some(),
             self.period_tol.is_some(),
             self.starts.is_some(),
+            self.design_life.is_some(),
+            self.life_quantile.is_some(),
+            self.life_tol.is_some(),
+            self.life_max_periods.is_some(),
         ];
         let mut keys: Vec<&'static str> = Harmonic::KEYS
             .into_iter()
@@ -171,6 +179,18 @@ pub(super) fn scene(
     }
     if let Some(n) = raw.starts {
         h.starts = n;
+    }
+    if let Some(v) = raw.design_life {
+        h.design_life = v;
+    }
+    if let Some(v) = raw.life_quantile {
+        h.life_quantile = v;
+    }
+    if let Some(v) = raw.life_tol {
+        h.life_tol = v;
+    }
+    if let Some(n) = raw.life_max_periods {
+        h.life_max_periods = n;
     }
     if let Some(p) = &raw.design_peak {
         h.design_peak = DesignPeak::parse(p).ok_or_else(|| {

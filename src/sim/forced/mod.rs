@@ -118,6 +118,19 @@ pub struct Harmonic {
     pub starts: u32,
     /// Which steady amplitude is the design quantity. Default [`DesignPeak::Worst`].
     pub design_peak: DesignPeak,
+    /// The design life (s of operation) over which a steady state that is not periodic reaches
+    /// its design amplitude (docs/scenes.md). Default `3.6e6` (1000 hours), range
+    /// `[1, 1e12]`.
+    pub design_life: f64,
+    /// The quantile of the largest amplitude over the design life that is the design amplitude.
+    /// Default 0.5 (its median), range `[0.01, 0.99]`.
+    pub life_quantile: f64,
+    /// The 90 % interval's half-width, relative to the estimate, at which a life measurement
+    /// stops growing. Default 0.05, range `[0.001, 1]`.
+    pub life_tol: f64,
+    /// The longest life measurement of one steady state (forcing periods). Default 20000,
+    /// range `[2000, 10^7]`.
+    pub life_max_periods: u64,
     /// Integrate the window's energies (default `true`; no study key). The steady-state
     /// solvers of [`crate::orbits`] evaluate the stroboscopic map without them.
     #[serde(skip)]
@@ -165,6 +178,10 @@ impl Default for Harmonic {
             period_tol: 1e-6,
             starts: 8,
             design_peak: DesignPeak::Worst,
+            design_life: 3.6e6,
+            life_quantile: 0.5,
+            life_tol: 0.05,
+            life_max_periods: 20_000,
             energies: true,
         }
     }
@@ -172,7 +189,7 @@ impl Default for Harmonic {
 
 impl Harmonic {
     /// The keys `simulate --set` accepts for this scene (besides `scene`).
-    pub const KEYS: [&'static str; 9] = [
+    pub const KEYS: [&'static str; 13] = [
         "F0",
         "omega",
         "r",
@@ -182,6 +199,10 @@ impl Harmonic {
         "trans_tol",
         "period_tol",
         "starts",
+        "design_life",
+        "life_quantile",
+        "life_tol",
+        "life_max_periods",
     ];
 
     /// The forcing frequency `omega` (rad/s) for this system.
@@ -262,7 +283,16 @@ impl Harmonic {
         check("n_meas", self.n_meas as f64, 1.0, 1e6)?;
         check("trans_tol", self.trans_tol, 1e-15, 1e-2)?;
         check("period_tol", self.period_tol, 1e-15, 0.1)?;
-        check("starts", f64::from(self.starts), 1.0, 1000.0)
+        check("starts", f64::from(self.starts), 1.0, 1000.0)?;
+        check("design_life", self.design_life, 1.0, 1e12)?;
+        check("life_quantile", self.life_quantile, 0.01, 0.99)?;
+        check("life_tol", self.life_tol, 1e-3, 1.0)?;
+        check(
+            "life_max_periods",
+            self.life_max_periods as f64,
+            2000.0,
+            1e7,
+        )
     }
 
     /// Refuses resonance without damping on `sys`: the dynamic stiffness of the main mass (and

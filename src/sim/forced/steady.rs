@@ -33,6 +33,7 @@ pub fn simulate_harmonic<P: Probe>(
     let free = Forced::new(sys.M, sys.K, sys.C, scene.F0, omega);
     let pair = Forced::new(sys.M + sys.m, sys.K, sys.C, scene.F0, omega);
     let tol_t = settings.tol * sys.period();
+    let settings = &scaled_caps(settings, scene);
     let mut solver = ForcedPhase::new(&free, tol_t, settings.max_steps);
     let mut run = Run {
         map: EventMap::new(sys, settings, free, pair),
@@ -53,6 +54,29 @@ pub fn simulate_harmonic<P: Probe>(
     };
     let outcome = phase::run(&mut run, &mut solver);
     run.finish(outcome, solver.steps())
+}
+
+/// Impacts and steps a forced run may take per forcing period before its caps stop it: the
+/// caps of `settings` hold for a run of up to a few thousand periods (a transient and a
+/// window); a long window (`n_meas` in the hundreds of thousands) gets caps in proportion, so
+/// that only a run that chatters without end, or steps without end, is stopped.
+pub const IMPACTS_PER_PERIOD: u64 = 100;
+pub const STEPS_PER_PERIOD: u64 = 10_000;
+
+/// `settings` with its impact and step caps raised to [`IMPACTS_PER_PERIOD`] and
+/// [`STEPS_PER_PERIOD`] times the longest run the scene can make (its transient budget and its
+/// window), when that is more.
+fn scaled_caps(settings: &SolverSettings, scene: &Harmonic) -> SolverSettings {
+    let periods = scene.n_trans.unwrap_or(scene.n_trans_max) + scene.n_meas;
+    SolverSettings {
+        max_impacts: settings
+            .max_impacts
+            .max(IMPACTS_PER_PERIOD.saturating_mul(periods)),
+        max_steps: settings
+            .max_steps
+            .max(STEPS_PER_PERIOD.saturating_mul(periods)),
+        ..*settings
+    }
 }
 
 /// What the measurement window has gathered.

@@ -1,0 +1,177 @@
+//! The largest amplitude of a motion that is not periodic over a design life (docs/model.md,
+//! "The amplitude over a design life"): the motion is run period by period from a state on
+//! it, its per-period maxima `z_k = max |x|` over period `k` are collected, and the
+//! peaks-over-threshold estimate of [`crate::stats::extremes`] gives the quantile of the
+//! largest of `N` periods with its 90 % interval. The window grows (doubling) until the
+//! interval's half-width is within the tolerance of the estimate, or a cap is reached.
+//!
+//! Clusters of exceedances are separated by `run` periods below the threshold: three times the
+//! motion's Lyapunov time `1 / lambda_1` (the time over which it forgets where it was; about 3
+//! periods on the showcase's chaotic motions, `lambda_1` near 1 per forcing period), clamped to
+//! `[2, 50]` (50 when the exponent is not positive: a slowly mixing motion).
+
+use super::map::{Forcing, Section, eval};
+use crate::sim::Outcome;
+use crate::stats::extremes::{Life, LifeEstimate, life_pot};
+
+/// What the life estimate of one motion asks for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LifeSettings {
+    /// The design life in forcing periods, `N`.
+    pub n_life: f64,
+    /// The quantile of the largest amplitude over the life (0.5: its median).
+    pub quantile: f64,
+    /// The interval's half-width, relative to the estimate, at which the window stops growing.
+    pub tol: f64,
+    /// The first window (periods), and the cap on the window.
+    pub first: u64,
+    pub cap: u64,
+}
+
+/// One motion's measurement so far, over one or more chains (runs from different states on
+/// the same attractor: a chaotic motion that lingers in one part of its attractor for a while
+/// is sampled more evenly by several runs than by one of the same total length). Resumable:
+/// more periods give the bits of longer runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LifeRun {
+    /// Each chain's per-period maxima and where it is now.
+    pub chains: Vec<(Vec<f64>, Section)>,
+    /// The simulator stopped a chain (its outcome was not `ok`).
+    pub failed: bool,
+    /// The estimate from the periods measured (when one could be made).
+    pub estimate: Option<LifeEstimate>,
+    /// The window reached [`LifeSettings::cap`] before the interval met the tolerance.
+    pub capped: bool,
+}
+
+impl LifeRun {
+    /// A measurement of one chain starting at `state`.
+    pub fn new(state: Section) -> LifeRun {
+        LifeRun::chains(vec![state])
+    }
+
+    /// A measurement of one chain per state (at least one).
+    pub fn chains(states: Vec<Section>) -> LifeRun {
+        LifeRun {
+            chains: states.into_iter().map(|s| (Vec::new(), s)).collect(),
+            failed: false,
+            estimate: None,
+            capped: false,
+        }
+    }
+
+    /// Periods measured over all chains.
+    pub fn periods(&self) -> u64 {
+        self.chains.iter().map(|c| c.0.len() as u64).sum()
+    }
+
+    /// Runs `n` more periods in all, shared out evenly over the chains (the first chains take
+    /// the remainder).
+    pub fn extend(&mut self, f: &Forcing, n: u64) {
+        let k = self.chains.len().max(1) as u64;
+        for (i, (z, state)) in self.chains.iter_mut().enumerate() {
+            if self.failed {
+                return;
+            }
+            let m = n / k + u64::from((i as u64) < n % k);
+            z.reserve(m as usize);
+            for _ in 0..m {
+                let e = eval(f, state, 1, false);
+                if e.outcome != Outcome::Ok {
+                    self.failed = true;
+                    return;
+                }
+                z.push(e.amplitude);
+                *state = e.end;
+            }
+        }
+    }
+
+    /// The largest amplitude over the periods measured.
+    pub fn window_max(&self) -> f64 {
+        self.chains
+            .iter()
+            .flat_map(|c| c.0.iter().copied())
+            .fold(f64::NAN, f64::max)
+    }
+
+    /// Estimates from the periods measured so far ([`life_pot`]), clusters separated by
+    /// [`cluster_run`] of the motion's exponent `lambda` (per forcing period).
+    pub fn estimate(&mut self, s: &LifeSettings, lambda: f64) -> Option<LifeEstimate> {
+        let chains: Vec<&[f64]> = self.chains.iter().map(|c| c.0.as_slice()).collect();
+        self.estimate = life_pot(
+            &chains,
+            cluster_run(lambda),
+            Life {
+                n_life: s.n_life,
+                q: s.quantile,
+            },
+        );
+        self.estimate
+    }
+
+    /// Whether the estimate meets the tolerance.
+    pub fn settled(&self, s: &LifeSettings) -> bool {
+        self.estimate.is_some_and(|e| e.rel_halfwidth() <= s.tol)
+    }
+
+    /// One step of refinement: the window grows (to `first`, then doubling, at most to `cap`)
+    /// and the estimate is made again. Returns whether another step could follow (not failed,
+    /// not within the tolerance, not at the cap); at the cap without meeting the tolerance the
+    /// run is `capped`.
+    pub fn grow(&mut self, f: &Forcing, s: &LifeSettings, lambda: f64) -> bool {
+        let have = self.periods();
+        let want = if have < s.first {
+            s.first
+        } else {
+            (2 * have).min(s.cap)
+        };
+        if want > have {
+            self.extend(f, want - have);
+        }
+        if self.failed {
+            return false;
+        }
+        self.estimate(s, lambda);
+        self.capped = !self.settled(s) && self.periods() >= s.cap;
+        !self.settled(s) && !self.capped
+    }
+
+    /// Grows until the tolerance is met or the cap is reached.
+    pub fn refine(&mut self, f: &Forcing, s: &LifeSettings, lambda: f64) {
+        while self.grow(f, s, lambda) {}
+    }
+
+    /// What the census keeps of the measurement.
+    pub fn summary(&self) -> LifeSummary {
+        LifeSummary {
+            estimate: self.estimate,
+            measured: self.periods(),
+            capped: self.capped,
+            window_max: self.window_max(),
+        }
+    }
+}
+
+/// What the census keeps of a life measurement.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LifeSummary {
+    pub estimate: Option<LifeEstimate>,
+    /// Periods measured.
+    pub measured: u64,
+    pub capped: bool,
+    /// The largest per-period maximum over the periods measured.
+    pub window_max: f64,
+}
+
+impl LifeRun {}
+
+/// Periods below the threshold that separate clusters of exceedances (module doc).
+pub fn cluster_run(lambda: f64) -> usize {
+    let n = 3.0 / lambda;
+    if n.is_finite() && n > 0.0 {
+        n.round().clamp(2.0, 50.0) as usize
+    } else {
+        50
+    }
+}

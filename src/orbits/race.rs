@@ -1,0 +1,133 @@
+//! Life amplitudes only where they can change the decision: a race over one curve's steady
+//! states that are not periodic (docs/scenes.md, "The amplitude over a design life").
+//!
+//! A curve's design quantity is the largest design amplitude over its frequencies and their
+//! attractors. A periodic orbit's amplitude is exact; a motion that is not periodic has an
+//! amplitude over the design life that only a long measurement estimates
+//! ([`super::life`], 10^3 to 10^5 periods each). So:
+//!
+//! 1. **Screen.** `L` is the largest known lower bound over the curve: every periodic amplitude
+//!    and every census window maximum (the largest `|x|` seen over 200 periods is below the
+//!    largest over a life). A motion whose window maximum is below [`SCREEN`]` L` is not
+//!    measured: its life amplitude would have to exceed its window maximum by more than
+//!    `1 / SCREEN` to matter (the largest ratio seen on the showcase is in BENCHMARKS.md).
+//! 2. **Estimate** every other one from [`LifeSettings::first`] periods, with its 90 % interval.
+//! 3. **Race.** The leader's lower bound is the largest of the periodic amplitudes and the
+//!    estimates' lower ends. A motion is refined (its window doubled) while its interval's
+//!    upper end reaches the leader's lower bound and it has neither met the tolerance nor its
+//!    cap; the race ends when none is left. The leader itself is refined to the tolerance.
+//!
+//! Deterministic: the motions are measured from their stored states, in curve order.
+
+use super::census::{Census, Kind};
+use super::life::{LifeRun, LifeSettings};
+use super::map::Forcing;
+use crate::sim::Harmonic;
+
+/// A motion whose census window maximum is below this share of the curve's largest lower
+/// bound is not measured (module doc).
+pub const SCREEN: f64 = 0.5;
+
+/// Periods of a motion's first life estimate.
+pub const FIRST: u64 = 2000;
+
+/// The life settings of a scene at forcing `f`: its design life in forcing periods.
+pub fn settings(f: &Forcing, h: &Harmonic) -> LifeSettings {
+    LifeSettings {
+        n_life: h.design_life / f.period(),
+        quantile: h.life_quantile,
+        tol: h.life_tol,
+        first: FIRST.min(h.life_max_periods),
+        cap: h.life_max_periods,
+    }
+}
+
+/// A motion in the race: where it is (frequency and attractor index), its forcing, settings,
+/// exponent and measurement.
+struct Runner {
+    at: (usize, usize),
+    f: Forcing,
+    s: LifeSettings,
+    lambda: f64,
+    run: LifeRun,
+    active: bool,
+}
+
+/// Runs the race over a curve (module doc): `points[i]` is frequency `i`'s forcing and scene
+/// (`None` where it has no census); the life estimates land in each motion's
+/// [`super::census::Wandering::life`] and its design amplitude becomes the estimate.
+pub fn race(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Census>]) {
+    let mut lower = f64::NEG_INFINITY;
+    for c in censuses.iter().flatten() {
+        for a in &c.attractors {
+            if a.window_amplitude.is_finite() {
+                lower = lower.max(a.window_amplitude);
+            }
+        }
+    }
+    let mut runners = Vec::new();
+    for (i, (p, c)) in points.iter().zip(censuses.iter()).enumerate() {
+        let (Some((f, h)), Some(c)) = (p, c) else {
+            continue;
+        };
+        for (j, a) in c.attractors.iter().enumerate() {
+            if let Kind::NonPeriodic(w) = &a.kind
+                && a.window_amplitude.is_finite()
+                && a.window_amplitude >= SCREEN * lower
+            {
+                runners.push(Runner {
+                    at: (i, j),
+                    f: f.clone(),
+                    s: settings(f, h),
+                    lambda: w.probe.map_or(f64::NAN, |p| p.lambda),
+                    run: LifeRun::chains(
+                        std::iter::once(a.section)
+                            .chain(w.chains.iter().copied())
+                            .collect(),
+                    ),
+                    active: true,
+                });
+            }
+        }
+    }
+    for r in &mut runners {
+        r.active = r.run.grow(&r.f, &r.s, r.lambda);
+    }
+    loop {
+        let periodic = censuses
+            .iter()
+            .flatten()
+            .flat_map(|c| &c.attractors)
+            .filter(|a| matches!(a.kind, Kind::Periodic(_)))
+            .map(|a| a.amplitude)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let leader = runners
+            .iter()
+            .filter_map(|r| r.run.estimate.map(|e| e.lo))
+            .fold(periodic, f64::max);
+        let mut any = false;
+        for r in &mut runners {
+            let reaches = r.run.estimate.is_none_or(|e| e.hi >= leader);
+            if r.active && reaches {
+                r.active = r.run.grow(&r.f, &r.s, r.lambda);
+                any = true;
+            }
+        }
+        if !any {
+            break;
+        }
+    }
+    for r in runners {
+        let Some(c) = censuses[r.at.0].as_mut() else {
+            continue;
+        };
+        let a = &mut c.attractors[r.at.1];
+        let summary = r.run.summary();
+        if let Some(e) = summary.estimate {
+            a.amplitude = e.amplitude.max(a.window_amplitude);
+        }
+        if let Kind::NonPeriodic(w) = &mut a.kind {
+            w.life = Some(summary);
+        }
+    }
+}
