@@ -315,8 +315,15 @@ pub fn write_outputs_with(
             let t = reduce::orbits::branches_table(&steady);
             files.extend(store::summary::write_table(dir, TableKind::Branches, &t)?);
         }
+        // The recommended design's bifurcation diagram: its attractors' sections.
+        let samples = summary
+            .anchor()
+            .filter(|_| fs.frequency.is_some() && !steady.is_empty())
+            .and_then(|a| fs.curve(a))
+            .map(|c| reduce::orbits::section_samples(study, c))
+            .unwrap_or_default();
         chart_files.extend(charts::frequency_response::charts(
-            summary, fs, &steady, dir,
+            summary, fs, &steady, &samples, dir,
         )?);
     }
     chart_files.extend(charts::summary_charts(summary, dir)?);

@@ -417,6 +417,15 @@ pub fn forced_json(setup: &Setup, rec: &ForcedRecord) -> serde_json::Value {
     map.insert("worst_period".into(), st.worst_period.into());
     map.insert("rest_period".into(), st.rest_period.into());
     map.insert("census_periods".into(), st.census_periods.into());
+    map.insert("worst_kind".into(), st.worst_kind.into());
+    for (k, v) in [
+        ("worst_lyapunov", st.worst_lyapunov),
+        ("worst_window_amplitude", st.worst_window_amplitude),
+        ("worst_life_lo", st.worst_life_lo),
+        ("worst_life_hi", st.worst_life_hi),
+    ] {
+        map.insert(k.into(), num(v));
+    }
     map.insert("n_trans".into(), rec.n_trans.into());
     map.insert("converged".into(), rec.converged.into());
     map.insert("impacts".into(), rec.impacts.into());
@@ -500,6 +509,17 @@ pub fn forced_text(setup: &Setup, rec: &ForcedRecord) -> String {
             cm(st.rest_amplitude),
             period(st.rest_period)
         ));
+        if st.worst_period == 0 {
+            out.push_str(&format!(
+                "worst    {} (largest Lyapunov exponent {:.3} per period): {} over the census \
+                 window, {} to {} (90 %) over the design life\n",
+                st.worst_kind,
+                st.worst_lyapunov,
+                cm(st.worst_window_amplitude),
+                cm(st.worst_life_lo),
+                cm(st.worst_life_hi)
+            ));
+        }
     }
     out.push_str(&format!("stopped  at t = {:.5} s\n", rec.t_stop));
     out

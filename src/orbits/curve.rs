@@ -104,7 +104,22 @@ pub fn curve_census(
     targets: &[(Harmonic, u64)],
     records: &[ForcedRecord],
 ) -> Vec<Option<Census>> {
-    let points: Vec<_> = targets
+    let points = curve_points(sys, settings, seed, targets, records);
+    let mut censuses = census_passes(&points);
+    super::race::race(&race_points(&points, targets), &mut censuses);
+    censuses
+}
+
+/// Each frequency's forcing, census settings and start 0 for [`census_passes`] (`None` where
+/// its run failed or the scene takes no census): the first half of [`curve_census`].
+pub fn curve_points(
+    sys: &System,
+    settings: &SolverSettings,
+    seed: u64,
+    targets: &[(Harmonic, u64)],
+    records: &[ForcedRecord],
+) -> Vec<Option<(Forcing, CensusSettings, Section)>> {
+    targets
         .iter()
         .zip(records)
         .map(|(&(scene, point), rec)| {
@@ -131,15 +146,19 @@ pub fn curve_census(
                 (f, c, s0)
             })
         })
-        .collect();
-    let mut censuses = census_passes(&points);
-    let race_points: Vec<Option<(Forcing, Harmonic)>> = points
+        .collect()
+}
+
+/// What the race of [`super::race`] needs of each frequency: its forcing and scene.
+pub fn race_points(
+    points: &[Option<(Forcing, CensusSettings, Section)>],
+    targets: &[(Harmonic, u64)],
+) -> Vec<Option<(Forcing, Harmonic)>> {
+    points
         .iter()
         .zip(targets)
         .map(|(p, (scene, _))| p.as_ref().map(|(f, _, _)| (f.clone(), *scene)))
-        .collect();
-    super::race::race(&race_points, &mut censuses);
-    censuses
+        .collect()
 }
 
 /// Each record's census summary ([`steady_of`]) from its census.

@@ -89,6 +89,16 @@ pub fn steady_of(c: &census::Census) -> Steady {
         return Steady::NONE;
     };
     let rest = &c.attractors[0];
+    let run = attractors::RunId {
+        point_id: 0,
+        point: 0,
+        case: 0,
+        ideal: true,
+        r: f64::NAN,
+        omega: f64::NAN,
+        F0: f64::NAN,
+    };
+    let row = attractors::AttractorRow::of_census(run, c, f64::NAN).swap_remove(i);
     Steady {
         starts: c.starts,
         attractors: c.attractors.len() as u32,
@@ -99,5 +109,10 @@ pub fn steady_of(c: &census::Census) -> Steady {
         rest_amplitude: rest.amplitude,
         rest_period: rest.period,
         census_periods: c.periods,
+        worst_kind: row.kind.name(),
+        worst_lyapunov: row.lyapunov,
+        worst_window_amplitude: row.window_amplitude,
+        worst_life_lo: row.life_lo,
+        worst_life_hi: row.life_hi,
     }
 }

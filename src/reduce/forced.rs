@@ -212,6 +212,25 @@ impl Curve {
         self.peak_point().is_some_and(|p| p.design_period >= 1)
     }
 
+    /// The stored attractor that carries the design peak (ideal case): at the peak's frequency,
+    /// the attractor whose design amplitude is the peak. `None` without stored attractors.
+    pub fn peak_attractor(&self) -> Option<&AttractorRow> {
+        let (_, r) = self.peak();
+        self.design_attractor(self.points.iter().position(|p| p.r == r)?)
+    }
+
+    /// The stored attractor that carries the design quantity of the curve's `i`-th point: the
+    /// attractor at that frequency whose design amplitude is [`CurvePoint::design`]. `None`
+    /// without stored attractors.
+    pub fn design_attractor(&self, i: usize) -> Option<&AttractorRow> {
+        let design = self.points.get(i)?.design;
+        let point = self.design * self.points.len() as u64 + i as u64;
+        self.attractors
+            .as_ref()?
+            .iter()
+            .find(|a| a.run.point == point && a.amplitude == design)
+    }
+
     /// The linear system's largest amplitude over the band and its `r`.
     pub fn linear_peak(&self) -> (f64, f64) {
         let mut best = (f64::NAN, f64::NAN);
@@ -310,6 +329,10 @@ pub struct ForcedSummary {
     pub design_peak: DesignPeak,
     /// How the per-design analysis runs (one shard of it, what earlier shards computed).
     pub analysis: super::analysis::Plan,
+    /// The design life (s) a motion that is not periodic is measured over, and the quantile of
+    /// its largest amplitude that is the design amplitude (`[scene]`).
+    pub design_life: f64,
+    pub life_quantile: f64,
 }
 
 impl ForcedSummary {
@@ -376,6 +399,33 @@ pub fn summary_columns(t: &mut Table, fs: &ForcedSummary, points: &[&PointStats]
                 .map(|p| fs.curve(p.point).is_some_and(Curve::peak_periodic))
                 .collect(),
         ),
+    );
+    // Issue 22: the steady state carrying the peak, and the design life its amplitude is over.
+    let attractor =
+        |g: fn(&AttractorRow) -> f64| move |c: &Curve| c.peak_attractor().map_or(f64::NAN, g);
+    t.push(
+        "peak_kind",
+        Column::Str(
+            points
+                .iter()
+                .map(|p| {
+                    fs.curve(p.point)
+                        .and_then(Curve::peak_attractor)
+                        .map_or(String::new(), |a| a.kind.name().to_string())
+                })
+                .collect(),
+        ),
+    );
+    t.push(
+        "peak_window_amplitude",
+        col(&attractor(|a| a.window_amplitude)),
+    );
+    t.push("peak_life_lo", col(&attractor(|a| a.life_lo)));
+    t.push("peak_life_hi", col(&attractor(|a| a.life_hi)));
+    t.push("peak_lyapunov", col(&attractor(|a| a.lyapunov)));
+    t.push(
+        "design_life",
+        Column::F64(vec![fs.design_life; points.len()]),
     );
 }
 
@@ -546,6 +596,14 @@ impl<'a> ForcedReducer<'a> {
                 outcomes: self.outcomes,
                 design_peak: self.peak,
                 analysis: plan.clone(),
+                design_life: match self.study.scene {
+                    Scene::Harmonic(h) => h.design_life,
+                    Scene::Free => f64::NAN,
+                },
+                life_quantile: match self.study.scene {
+                    Scene::Harmonic(h) => h.life_quantile,
+                    Scene::Free => f64::NAN,
+                },
             },
             probes,
         )

@@ -305,3 +305,59 @@ pub fn branches_table(responses: &[Response]) -> Table {
     t.push("end", s(&|b| b.end));
     t
 }
+
+/// Forcing periods sampled on each attractor that is not periodic for the bifurcation diagram
+/// ([`section_samples`]); a periodic orbit of period `p` gives its `p` points.
+pub const SECTION_SAMPLES: u64 = 200;
+
+/// One point of a bifurcation diagram: the main mass's displacement `x(kT)` (m) at the start of
+/// a forcing period, on attractor `attractor` of the census at frequency ratio `r`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SectionSample {
+    pub r: f64,
+    pub attractor: u32,
+    pub kind: SteadyKind,
+    pub x: f64,
+}
+
+/// The bifurcation diagram of curve `c` (the Poincaré section `x(kT)` of every stored attractor
+/// against `r`): `p` consecutive sections of a periodic orbit of period `p`, and
+/// [`SECTION_SAMPLES`] of a motion that is not periodic, each from the attractor's stored
+/// section. Pure; the attractors run in parallel and come back in table order.
+pub fn section_samples(study: &Study, c: &Curve) -> Vec<SectionSample> {
+    let Some(rows) = c.attractors.as_deref() else {
+        return Vec::new();
+    };
+    let base = Forcing {
+        sys: c.system,
+        F0: c.f0,
+        omega: c.system.omega(),
+        settings: study.solver,
+    };
+    rows.par_iter()
+        .flat_map_iter(|a| {
+            let f = base.at_ratio(a.run.r);
+            let n = if a.kind.periodic() {
+                u64::from(a.period.max(1))
+            } else {
+                SECTION_SAMPLES
+            };
+            let mut s = a.section;
+            let mut out = Vec::with_capacity(n as usize);
+            for _ in 0..n {
+                out.push(SectionSample {
+                    r: a.run.r,
+                    attractor: a.attractor,
+                    kind: a.kind,
+                    x: s[0],
+                });
+                let e = crate::orbits::map::eval(&f, &s, 1, false);
+                if e.outcome != crate::sim::Outcome::Ok {
+                    break;
+                }
+                s = e.end;
+            }
+            out
+        })
+        .collect()
+}

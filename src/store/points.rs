@@ -415,6 +415,8 @@ impl StoredRecord for ForcedRecord {
         cols.push(f("rest_amplitude"));
         cols.push(("rest_period", DataType::UInt32, false));
         cols.push(u("census_periods"));
+        cols.push(("worst_kind", DataType::Utf8, false));
+        cols.extend(WORST_LIFE.map(f));
         cols
     }
 
@@ -458,6 +460,13 @@ impl StoredRecord for ForcedRecord {
         cols.push(f64col(rows, |r| r.record.steady.rest_amplitude));
         cols.push(u32col(|s| s.rest_period));
         cols.push(u64col(rows, |r| r.record.steady.census_periods));
+        cols.push(Arc::new(StringArray::from_iter_values(
+            rows.iter().map(|r| r.record.steady.worst_kind),
+        )));
+        cols.push(f64col(rows, |r| r.record.steady.worst_lyapunov));
+        cols.push(f64col(rows, |r| r.record.steady.worst_window_amplitude));
+        cols.push(f64col(rows, |r| r.record.steady.worst_life_lo));
+        cols.push(f64col(rows, |r| r.record.steady.worst_life_hi));
         Ok(cols)
     }
 
@@ -532,18 +541,55 @@ fn read_steady(batch: &RecordBatch) -> Result<Option<Box<dyn Fn(usize) -> Steady
     );
     let (rest, rest_period) = (f64s("rest_amplitude")?, u32s("rest_period")?);
     let periods = column::<UInt64Array>(batch, "census_periods")?;
-    Ok(Some(Box::new(move |i| Steady {
-        starts: starts.value(i),
-        attractors: attractors.value(i),
-        amplitude_worst: worst.value(i),
-        worst_period: worst_period.value(i),
-        worst_impacts_per_period: ipp.value(i),
-        worst_basin_share: share.value(i),
-        rest_amplitude: rest.value(i),
-        rest_period: rest_period.value(i),
-        census_periods: periods.value(i),
+    // The worst attractor's kind and life columns (issue 22); absent from older parts.
+    let life = if batch.schema().index_of("worst_kind").is_ok() {
+        let kind = column::<StringArray>(batch, "worst_kind")?;
+        let cols = WORST_LIFE
+            .iter()
+            .map(|n| f64s(n))
+            .collect::<Result<Vec<_>>>()?;
+        Some((kind, cols))
+    } else {
+        None
+    };
+    let life_of = move |i: usize| -> (&'static str, [f64; 4]) {
+        match &life {
+            Some((kind, cols)) => (
+                crate::orbits::attractors::SteadyKind::parse(kind.value(i))
+                    .map_or("", |k| k.name()),
+                [0, 1, 2, 3].map(|j| cols[j].value(i)),
+            ),
+            None => ("", [f64::NAN; 4]),
+        }
+    };
+    Ok(Some(Box::new(move |i| {
+        let (worst_kind, [lyapunov, window, lo, hi]) = life_of(i);
+        Steady {
+            starts: starts.value(i),
+            attractors: attractors.value(i),
+            amplitude_worst: worst.value(i),
+            worst_period: worst_period.value(i),
+            worst_impacts_per_period: ipp.value(i),
+            worst_basin_share: share.value(i),
+            rest_amplitude: rest.value(i),
+            rest_period: rest_period.value(i),
+            census_periods: periods.value(i),
+            worst_kind,
+            worst_lyapunov: lyapunov,
+            worst_window_amplitude: window,
+            worst_life_lo: lo,
+            worst_life_hi: hi,
+        }
     })))
 }
+
+/// The worst attractor's Float64 columns after `worst_kind` ([`Steady`]).
+const WORST_LIFE: [&str; 4] = [
+    "worst_lyapunov",
+    "worst_window_amplitude",
+    "worst_life_lo",
+    "worst_life_hi",
+];
 
 /// The number of rows of a part file, from its footer (cheap; fails on a damaged file).
 pub fn part_rows(path: &Path) -> Result<u64> {

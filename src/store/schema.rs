@@ -222,6 +222,9 @@ fn forced_points_unit(column: &str) -> Option<&'static str> {
         | "worst_basin_share"
         | "rest_period"
         | "census_periods" => "1",
+        "worst_kind" => "",
+        "worst_lyapunov" => "1/period",
+        "worst_window_amplitude" | "worst_life_lo" | "worst_life_hi" => "m",
         _ => return None,
     })
 }
@@ -269,7 +272,13 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "peak_amplitude_max"
         | "peak_amplitude_ideal"
         | "peak_from_rest"
-        | "linear_peak" => "m",
+        | "linear_peak"
+        | "peak_window_amplitude"
+        | "peak_life_lo"
+        | "peak_life_hi" => "m",
+        "peak_lyapunov" => "1/period",
+        "design_life" => "s",
+        "peak_kind" => "",
         "peak_reduction"
         | "peak_reduction_ideal"
         | "peak_reduction_sd"

@@ -249,6 +249,12 @@ fn legend_items(row: &Row, linear: bool) -> Vec<(Key, String)> {
         .enumerate()
         .map(|(i, l)| (Key::LineDot(color(i)), l.clone()))
         .collect();
+    if linear && row.curves.iter().any(|c| !intervals(c).is_empty()) {
+        items.push((
+            Key::Whisker(BLACK),
+            "90 % interval of a motion that is not periodic, over the design life".to_string(),
+        ));
+    }
     if linear {
         items.push((
             Key::Dashed(BLACK),
@@ -293,12 +299,21 @@ impl Chart for FrequencyResponse<'_> {
             )
             .map_err(err)?;
         let (x0, x1) = row.x_range();
-        let (lo, hi) = minmax(row.curves.iter().flat_map(|c| {
-            c.points
+        let (lo, hi) = minmax(
+            row.curves
                 .iter()
-                .flat_map(|p| [p.design * CM, p.linear * CM])
-                .filter(|v| *v > 0.0)
-        }));
+                .flat_map(|c| {
+                    c.points
+                        .iter()
+                        .flat_map(|p| [p.design * CM, p.linear * CM])
+                        .chain(
+                            intervals(c)
+                                .into_iter()
+                                .flat_map(|(_, l, h)| [l * CM, h * CM]),
+                        )
+                })
+                .filter(|v| *v > 0.0),
+        );
         if row.log_scale() && lo > 0.0 && hi > lo {
             let mut chart = plot_builder(&plot, 48)
                 .build_cartesian_2d(x0..x1, (lo / 1.5..hi * 1.5).log_scale())
@@ -376,6 +391,55 @@ where
             ))
             .map_err(err)?;
         markers(chart, &pts, color(i))?;
+        whiskers(chart, &xs, c, color(i))?;
+    }
+    Ok(())
+}
+
+/// The points of `c` whose design amplitude is carried by a motion that is not periodic with a
+/// measured life interval: `(index, lo, hi)` in metres.
+fn intervals(c: &Curve) -> Vec<(usize, f64, f64)> {
+    (0..c.points.len())
+        .filter_map(|i| {
+            let a = c.design_attractor(i)?;
+            (!a.kind.periodic() && a.life_lo.is_finite() && a.life_hi.is_finite()).then_some((
+                i,
+                a.life_lo.min(a.amplitude),
+                a.life_hi,
+            ))
+        })
+        .collect()
+}
+
+/// Draws the 90 % interval of every design amplitude of `c` that is a life estimate: a bar
+/// from its lower to its upper end, with caps.
+fn whiskers<DB: DrawingBackend, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, Y>>,
+    xs: &[f64],
+    c: &Curve,
+    colour: RGBColor,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+    Y: plotters::coord::ranged1d::Ranged<ValueType = f64>,
+{
+    let style = colour.stroke_width(1);
+    for (i, lo, hi) in intervals(c) {
+        let x = xs[i];
+        let (lo, hi) = (lo * CM, hi * CM);
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(x, lo), (x, hi)],
+                style,
+            )))
+            .map_err(err)?;
+        chart
+            .draw_series(
+                [lo, hi].map(|y| {
+                    EmptyElement::at((x, y)) + PathElement::new(vec![(-4, 0), (4, 0)], style)
+                }),
+            )
+            .map_err(err)?;
     }
     Ok(())
 }
@@ -498,6 +562,7 @@ pub fn charts(
     s: &Summary,
     f: &ForcedSummary,
     steady: &[crate::orbits::response::Response],
+    samples: &[crate::reduce::orbits::SectionSample],
     dir: &std::path::Path,
 ) -> anyhow::Result<Vec<std::path::PathBuf>> {
     let mut files = Vec::new();
@@ -539,7 +604,7 @@ pub fn charts(
     if f.frequency.is_some()
         && let Some(r) = steady.iter().find(|r| r.design == anchor)
     {
-        files.extend(super::steady_states::charts(s, f, r, dir)?);
+        files.extend(super::steady_states::charts(s, f, r, samples, dir)?);
     }
     Ok(files)
 }

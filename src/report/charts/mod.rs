@@ -23,6 +23,7 @@
 //! And [`waveform`] (the paper's Figures 2 and 5), [`tradeoff`] (the solver chart of
 //! `tradeoff`). [`plumbing`] holds what they share.
 
+pub mod bifurcation;
 pub mod design;
 pub mod di;
 pub mod frequency_response;

@@ -288,6 +288,8 @@ pub enum Key {
     LineDot(RGBColor),
     Dashed(RGBColor),
     Swatch(RGBAColor),
+    /// An interval: a vertical bar with caps.
+    Whisker(RGBColor),
 }
 
 /// Vertical pitch of a legend's rows (pixels).
@@ -399,6 +401,13 @@ where
                 Key::Swatch(c) => {
                     area.draw(&Rectangle::new([(x, y - 7), (x + 22, y + 7)], c.filled()))
                 }
+                Key::Whisker(c) => [
+                    vec![(x + 11, y - 7), (x + 11, y + 7)],
+                    vec![(x + 6, y - 7), (x + 16, y - 7)],
+                    vec![(x + 6, y + 7), (x + 16, y + 7)],
+                ]
+                .into_iter()
+                .try_for_each(|p| area.draw(&PathElement::new(p, c.stroke_width(1)))),
             }
             .map_err(err)?;
             area.draw_text(text, &font, (x + 28, y)).map_err(err)?;

@@ -332,11 +332,13 @@ impl Chart for Basins<'_> {
     }
 }
 
-/// Draws `branches` and `basin_shares` for the design of `r` into `dir`; returns the files.
+/// Draws `branches`, `basin_shares` and `bifurcation` (from `samples`, the design's section
+/// samples) for the design of `r` into `dir`; returns the files.
 pub fn charts(
     s: &Summary,
     f: &ForcedSummary,
     r: &Response,
+    samples: &[crate::reduce::orbits::SectionSample],
     dir: &std::path::Path,
 ) -> anyhow::Result<Vec<std::path::PathBuf>> {
     let Some(curve) = f.curve(r.design) else {
@@ -370,6 +372,20 @@ pub fn charts(
         &Basins(&st),
         &super::Data::Table(basin_data(r)),
     )?);
+    if !samples.is_empty() {
+        let b = super::bifurcation::Bifurcation {
+            samples,
+            response: r,
+            title_at: st.title_at.clone(),
+        };
+        files.extend(super::plumbing::render(
+            dir,
+            "bifurcation",
+            super::bifurcation::SIZE,
+            &b,
+            &super::Data::Table(b.data()),
+        )?);
+    }
     Ok(files)
 }
 

@@ -37,7 +37,7 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
     };
     let _ = writeln!(
         o,
-        "| rank | design | peak amplitude, ideal (cm) | at r | carried by | from rest (cm) | linear peak (cm) at r | PR, ideal | the damper helps for r in | periodic | not converged |\n|---|---|---|---|---|---|---|---|---|---|---|"
+        "| rank | design | peak amplitude, ideal (cm) [90 % interval] | at r | carried by | from rest (cm) | linear peak (cm) at r | PR, ideal | the damper helps for r in | periodic | not converged |\n|---|---|---|---|---|---|---|---|---|---|---|"
     );
     let mut not_converged = 0usize;
     let mut not_periodic = 0usize;
@@ -53,11 +53,16 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
             continue;
         };
         let (peak, peak_r) = c.peak();
-        let mark = if peak.is_finite() && !c.peak_periodic() {
-            wandering_peaks += 1;
-            " †"
-        } else {
-            ""
+        let life = c
+            .peak_attractor()
+            .filter(|a| !a.kind.periodic() && a.life_lo.is_finite());
+        let mark = match life {
+            Some(a) => format!(" [{} – {}]", cm(a.life_lo), cm(a.life_hi)),
+            None if peak.is_finite() && !c.peak_periodic() => {
+                wandering_peaks += 1;
+                " †".to_string()
+            }
+            None => String::new(),
         };
         let (lin, lin_r) = c.linear_peak();
         let helps = match c.help_band() {
@@ -72,7 +77,9 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
         };
         let carried = c.peak_point().map_or(String::new(), |q| {
             let what = if q.design_period == 0 {
-                "not periodic".to_string()
+                c.peak_attractor()
+                    .map_or("not periodic", |a| a.kind.name())
+                    .to_string()
             } else if q.design_impacts == 0.0 {
                 "no impacts".to_string()
             } else {
@@ -107,11 +114,16 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
     if wandering_peaks > 0 {
         let _ = writeln!(
             o,
-            "\n† {} of these peaks {} at a frequency whose motion did not settle on a periodic orbit (column `peak_periodic` of the summary): such a peak is the largest excursion of a wandering motion over a window (the census's 200 periods, or `n_meas` from rest), a lower bound of what that motion reaches, and indicative only; compare these designs on their periodic stretches, or raise `starts` and `n_meas`.",
+            "\n† {} of these peaks {} at a frequency whose motion did not settle on a periodic orbit and whose amplitude over the design life was not measured (a dataset written before life estimates, or `design_peak = \"from_rest\"`): such a peak is the largest excursion of a wandering motion over a window, a lower bound of what that motion reaches, and indicative only.",
             wandering_peaks,
             if wandering_peaks == 1 { "lies" } else { "lie" }
         );
     }
+    o.push_str(&super::life::section(
+        s,
+        fs,
+        &shown[..shown.len().min(MAX_ROWS)],
+    ));
     if shown.len() > MAX_ROWS {
         let _ = writeln!(
             o,

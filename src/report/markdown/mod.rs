@@ -11,6 +11,7 @@ mod audit;
 mod cases;
 pub mod forced;
 mod jumps;
+mod life;
 mod ranking;
 mod recommendation;
 mod sensitivity;

@@ -395,6 +395,16 @@ pub struct Steady {
     pub rest_period: u32,
     /// Forcing periods the census simulated in all.
     pub census_periods: u64,
+    /// The worst attractor's kind (`periodic`, `neutral`, `chaotic`, `quasi-periodic`,
+    /// `not settled`; empty without a census), its largest Lyapunov exponent per forcing
+    /// period, its largest displacement over the census window (m) and the 90 % interval of its
+    /// amplitude over the design life (m; equal to `amplitude_worst` when periodic, NaN when
+    /// not measured).
+    pub worst_kind: &'static str,
+    pub worst_lyapunov: f64,
+    pub worst_window_amplitude: f64,
+    pub worst_life_lo: f64,
+    pub worst_life_hi: f64,
 }
 
 impl Steady {
@@ -409,5 +419,10 @@ impl Steady {
         rest_amplitude: f64::NAN,
         rest_period: 0,
         census_periods: 0,
+        worst_kind: "",
+        worst_lyapunov: f64::NAN,
+        worst_window_amplitude: f64::NAN,
+        worst_life_lo: f64::NAN,
+        worst_life_hi: f64::NAN,
     };
 }

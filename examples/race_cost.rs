@@ -1,0 +1,112 @@
+//! What the race of the design life saves (issue 22): on the nine designs of
+//! `configs/frequency-response.toml` (ideal case, 81 frequencies each, 8 starts, the study's
+//! seed and design points), the census passes once, then the life amplitudes are measured two
+//! ways from the same censuses: by the race (`orbits::race::race`, what the sweep does) and by
+//! refining every motion that is not periodic to the tolerance (`race::refine_all`). Prints one
+//! JSON object: per design and in all, the periods the census simulated, the motions that are
+//! not periodic, the periods each way of measuring their lives spent, the wall time of each,
+//! and whether the curve's design peak is the same both ways.
+//!
+//! `cargo run --release --example race_cost`
+
+use impactsweep::model::System;
+use impactsweep::orbits::census::{Census, Kind};
+use impactsweep::orbits::curve::{
+    CurveFrequency, census_passes, curve_points, from_rest, race_points,
+};
+use impactsweep::orbits::race::{race, refine_all};
+use impactsweep::sim::{Drive, Harmonic, Request, SolverSettings};
+use std::time::Instant;
+
+/// Periods the life measurements spent, and the motions that are not periodic.
+fn life_periods(cs: &[Option<Census>]) -> (u64, u64) {
+    let mut periods = 0;
+    let mut motions = 0;
+    for a in cs.iter().flatten().flat_map(|c| &c.attractors) {
+        if let Kind::NonPeriodic(w) = &a.kind {
+            motions += 1;
+            periods += w.life.map_or(0, |l| l.measured);
+        }
+    }
+    (periods, motions)
+}
+
+/// The curve's design peak: the largest attractor amplitude over its frequencies.
+fn peak(cs: &[Option<Census>]) -> f64 {
+    cs.iter()
+        .flatten()
+        .flat_map(|c| &c.attractors)
+        .map(|a| a.amplitude)
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+fn main() {
+    let settings = SolverSettings::default();
+    let rs: Vec<f64> = (0..81).map(|i| 0.8 + 0.005 * f64::from(i)).collect();
+    let mut rows = Vec::new();
+    let (mut census_total, mut race_total, mut all_total, mut motions_total) = (0, 0, 0, 0);
+    let (mut race_s, mut all_s) = (0.0, 0.0);
+    let mut design = 0u64;
+    for m in [0.005, 0.01, 0.02] {
+        for d in [0.005, 0.01, 0.02] {
+            let sys = System {
+                M: 0.1,
+                K: 400.0,
+                C: 0.1,
+                e: 0.9,
+                m,
+                d,
+                x0: 0.0,
+                v0: 0.0,
+                y0: 0.0,
+                w0: 0.0,
+            };
+            let freqs: Vec<CurveFrequency> = rs
+                .iter()
+                .enumerate()
+                .map(|(i, &r)| CurveFrequency {
+                    scene: Harmonic {
+                        F0: 0.1,
+                        drive: Drive::Ratio(r),
+                        starts: 8,
+                        ..Harmonic::default()
+                    },
+                    point: design * 81 + i as u64,
+                    noise: None,
+                })
+                .collect();
+            let targets: Vec<(Harmonic, u64)> = freqs.iter().map(|f| (f.scene, f.point)).collect();
+            let records = from_rest(&sys, &settings, &Request::default(), None, freqs);
+            let points = curve_points(&sys, &settings, 1966, &targets, &records);
+            let censuses = census_passes(&points);
+            let census_periods: u64 = censuses.iter().flatten().map(|c| c.periods).sum();
+            let rp = race_points(&points, &targets);
+            let mut raced = censuses.clone();
+            let t = Instant::now();
+            race(&rp, &mut raced);
+            let t_race = t.elapsed().as_secs_f64();
+            let mut all = censuses.clone();
+            let t = Instant::now();
+            refine_all(&rp, &mut all);
+            let t_all = t.elapsed().as_secs_f64();
+            let (p_race, motions) = life_periods(&raced);
+            let (p_all, _) = life_periods(&all);
+            rows.push(format!(
+                "{{\"m\": {m}, \"d\": {d}, \"census_periods\": {census_periods}, \"motions\": {motions}, \"race_periods\": {p_race}, \"all_periods\": {p_all}, \"race_s\": {t_race:.3}, \"all_s\": {t_all:.3}, \"peak_race\": {:.6e}, \"peak_all\": {:.6e}}}",
+                peak(&raced),
+                peak(&all)
+            ));
+            census_total += census_periods;
+            race_total += p_race;
+            all_total += p_all;
+            motions_total += motions;
+            race_s += t_race;
+            all_s += t_all;
+            design += 1;
+        }
+    }
+    println!(
+        "{{\"designs\": [{}], \"census_periods\": {census_total}, \"motions\": {motions_total}, \"race_periods\": {race_total}, \"all_periods\": {all_total}, \"race_s\": {race_s:.3}, \"all_s\": {all_s:.3}}}",
+        rows.join(", ")
+    );
+}

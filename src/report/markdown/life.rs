@@ -1,0 +1,122 @@
+//! The harmonic section's part on steady states that are not periodic (docs/scenes.md, "The
+//! amplitude over a design life"): the design life, each design whose peak such a motion
+//! carries (its kind, Lyapunov exponent, window maximum and life amplitude with its interval),
+//! and the designs ranked apart although their peak intervals overlap.
+
+use std::fmt::Write;
+
+use super::{cm, design_text, f};
+use crate::orbits::attractors::AttractorRow;
+use crate::reduce::PointStats;
+use crate::reduce::Summary;
+use crate::reduce::forced::ForcedSummary;
+
+/// `s` seconds as the report says a design life: hours (and years beyond 10,000 h).
+pub fn life_text(s: f64) -> String {
+    let h = s / 3600.0;
+    if h >= 10_000.0 {
+        format!("{} s ({} h, {} years)", f(s, 3), f(h, 0), f(h / 8766.0, 1))
+    } else {
+        format!("{} s ({} h)", f(s, 3), f(h, 1))
+    }
+}
+
+/// The peak of design `p` as an interval `[lo, hi]` (zero width when exact).
+fn interval(fs: &ForcedSummary, p: u64) -> Option<(f64, f64)> {
+    let a = fs.curve(p)?.peak_attractor()?;
+    if a.kind.periodic() {
+        Some((a.amplitude, a.amplitude))
+    } else if a.life_lo.is_finite() {
+        Some((a.life_lo.min(a.amplitude), a.life_hi))
+    } else {
+        // Not measured by the race: at least its window maximum, the rest unknown.
+        Some((a.amplitude, f64::INFINITY))
+    }
+}
+
+/// The section's paragraph and table on peaks carried by motions that are not periodic, and
+/// the overlap note; empty when every shown design's peak is periodic.
+pub fn section(s: &Summary, fs: &ForcedSummary, shown: &[&PointStats]) -> String {
+    let mut o = String::new();
+    let rows: Vec<(&PointStats, &AttractorRow)> = shown
+        .iter()
+        .filter_map(|p| {
+            let a = fs.curve(p.point)?.peak_attractor()?;
+            (!a.kind.periodic()).then_some((*p, a))
+        })
+        .collect();
+    let _ = writeln!(
+        o,
+        "\n**The design life.** A steady state that is not periodic has no single amplitude: the largest excursion grows with the time watched. Its design amplitude is the {} of its largest amplitude over a design life of {} (`[scene] design_life`, `life_quantile`), estimated from its per-period maxima by a generalized Pareto tail above a threshold and given with its 90 % interval (docs/scenes.md); a periodic orbit's amplitude is exact.",
+        quantile_text(fs),
+        life_text(fs.design_life)
+    );
+    if !rows.is_empty() {
+        let _ = writeln!(
+            o,
+            "\n| design | carried by | λ1 per period (per s) | window max, 200 periods (cm) | life amplitude (cm) | 90 % interval (cm) | tail shape ξ | periods measured |\n|---|---|---|---|---|---|---|---|"
+        );
+        for (p, a) in &rows {
+            let _ = writeln!(
+                o,
+                "| {} | {} | {} ± {} ({}) | {} | {} | {} | {} | {}{} |",
+                design_text(s, p.point),
+                a.kind.name(),
+                f(a.lyapunov, 3),
+                f(a.lyapunov_se, 3),
+                f(a.lyapunov_per_s, 1),
+                cm(a.window_amplitude),
+                cm(a.amplitude),
+                if a.life_lo.is_finite() {
+                    format!("{} – {}", cm(a.life_lo), cm(a.life_hi))
+                } else {
+                    "not measured".to_string()
+                },
+                f(a.tail_shape, 2),
+                a.measured_periods,
+                if a.life_capped { " (capped)" } else { "" }
+            );
+        }
+    }
+    o.push_str(&overlaps(s, fs, shown));
+    o
+}
+
+fn quantile_text(fs: &ForcedSummary) -> String {
+    let q = fs.life_quantile;
+    if q == 0.5 {
+        "median".to_string()
+    } else {
+        format!("{} quantile", f(q, 3))
+    }
+}
+
+/// Designs ranked next to each other whose peak intervals overlap: their order rests on a
+/// difference inside the estimates' uncertainty.
+fn overlaps(s: &Summary, fs: &ForcedSummary, shown: &[&PointStats]) -> String {
+    let mut pairs = Vec::new();
+    for w in shown.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if a.rank.is_none() || b.rank.is_none() {
+            continue;
+        }
+        if let (Some(ia), Some(ib)) = (interval(fs, a.point), interval(fs, b.point))
+            && ia.0 <= ib.1
+            && ib.0 <= ia.1
+            && (ia.0 != ia.1 || ib.0 != ib.1)
+        {
+            pairs.push(format!(
+                "{} and {}",
+                design_text(s, a.point),
+                design_text(s, b.point)
+            ));
+        }
+    }
+    if pairs.is_empty() {
+        return String::new();
+    }
+    format!(
+        "\n**Ranked apart within their uncertainty.** The peak intervals of these neighbours in the ranking overlap, so their order is not established by the estimates: {}. Measure longer (`life_max_periods`, `life_tol`) or weigh them as equals.\n",
+        pairs.join("; ")
+    )
+}
