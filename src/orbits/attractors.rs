@@ -119,14 +119,18 @@ pub struct AttractorRow {
 
 /// The kind of a motion that is not periodic, from its probe's largest Lyapunov exponent
 /// `lambda ± se` and whether it ran its whole budget without reaching a periodic orbit
-/// (`exhausted`): `chaotic` when exhausted and `lambda > 3 se`; `quasi-periodic` when exhausted
-/// and `|lambda| <= 3 max(se, 1e-3)` (zero within its error: a motion on a torus; the section's
-/// closed curve is not tested); otherwise `not settled` (a transient still dying out, or too
-/// short a run to tell).
+/// (`exhausted`): `chaotic` when exhausted and `lambda > 3 se`; `quasi-periodic` when exhausted,
+/// `|lambda| <= 3 se` and `|lambda|` below [`super::census::CHAOS_FLOOR`] (zero, and measured
+/// to be: a motion on a torus; the section's closed curve is not tested); otherwise
+/// `not settled` (a transient still dying out, or an exponent too uncertain to tell).
 fn steady_kind(w: &super::census::Wandering) -> SteadyKind {
     match w.probe {
         Some(p) if p.chaotic() && w.exhausted => SteadyKind::Chaotic,
-        Some(p) if w.exhausted && p.lambda.abs() <= 3.0 * p.se.max(1e-3) => {
+        Some(p)
+            if w.exhausted
+                && p.lambda.abs() <= 3.0 * p.se
+                && p.lambda.abs() < super::census::CHAOS_FLOOR =>
+        {
             SteadyKind::QuasiPeriodic
         }
         _ => SteadyKind::NotSettled,

@@ -105,7 +105,8 @@ impl Chart for Bifurcation<'_> {
         chart
             .configure_mesh()
             .y_desc("x(kT), section of each attractor (cm)")
-            .y_label_formatter(&|v: &f64| fmt_num(*v))
+            // A tick at zero computed as 5e-17 reads as zero.
+            .y_label_formatter(&|v: &f64| fmt_num(if v.abs() < 1e-12 { 0.0 } else { *v }))
             .label_style(SMALL)
             .axis_desc_style(LABEL)
             .light_line_style(RGBColor(235, 235, 235))

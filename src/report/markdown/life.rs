@@ -14,10 +14,11 @@ use crate::reduce::forced::ForcedSummary;
 /// `s` seconds as the report says a design life: hours (and years beyond 10,000 h).
 pub fn life_text(s: f64) -> String {
     let h = s / 3600.0;
+    let hours = if h >= 10.0 { f(h, 0) } else { f(h, 2) };
     if h >= 10_000.0 {
-        format!("{} s ({} h, {} years)", f(s, 3), f(h, 0), f(h / 8766.0, 1))
+        format!("{s:.4e} s ({hours} h, {} years)", f(h / 8766.0, 1))
     } else {
-        format!("{} s ({} h)", f(s, 3), f(h, 1))
+        format!("{s:.4e} s ({hours} h)")
     }
 }
 
@@ -38,6 +39,11 @@ fn interval(fs: &ForcedSummary, p: u64) -> Option<(f64, f64)> {
 /// the overlap note; empty when every shown design's peak is periodic.
 pub fn section(s: &Summary, fs: &ForcedSummary, shown: &[&PointStats]) -> String {
     let mut o = String::new();
+    // Without stored attractors (no census, or a dataset written before them) there is no
+    // life estimate to speak of.
+    if !fs.curves.iter().any(|c| c.attractors.is_some()) {
+        return o;
+    }
     let rows: Vec<(&PointStats, &AttractorRow)> = shown
         .iter()
         .filter_map(|p| {
