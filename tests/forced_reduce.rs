@@ -36,6 +36,7 @@ v0 = 0.0
 kind = "harmonic"
 F0 = 0.3
 n_trans_max = 800
+life_max_periods = 2000
 n_meas = 10
 
 [sweep]
@@ -372,7 +373,7 @@ fn issue_23_reduce_runs_no_census_and_every_peak_is_an_attractor() {
     std::fs::write(&study, study_text("nocensus", 22)).unwrap();
     let dir = common::run_study_file(&study, &tmp.path().join("out"), "nocensus");
     let before = impactsweep::reduce::orbits::census_starts();
-    impactsweep::app::reduce::reduce_dir(&impactsweep::app::reduce::ReduceArgs {
+    impactsweep::api::reduce::reduce_dir(&impactsweep::api::reduce::ReduceArgs {
         dir: dir.clone(),
         ..Default::default()
     })

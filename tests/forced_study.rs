@@ -37,6 +37,7 @@ v0 = 0.0
 kind = "harmonic"
 F0 = 0.3
 n_trans_max = 600
+life_max_periods = 2000
 n_meas = 10
 
 [sweep]
@@ -415,6 +416,7 @@ v0 = 0.0
 kind = "harmonic"
 F0 = 0.3
 n_trans_max = 400
+life_max_periods = 2000
 starts = 4
 
 [sweep]

@@ -873,6 +873,7 @@ v0 = 0.0
 kind = "harmonic"
 F0 = 0.3
 n_trans_max = 400
+life_max_periods = 2000
 starts = 4
 
 [sweep]

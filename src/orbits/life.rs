@@ -184,3 +184,20 @@ pub fn cluster_run(lambda: f64) -> usize {
         50
     }
 }
+
+/// The per-period maxima of `|x|` of the motion from section `s` under `f`: `burn` periods
+/// dropped (its transient), then `n` recorded; `None` when the simulator stopped (its outcome
+/// was not `ok`). What [`LifeRun`] measures, for a caller with its own statistics.
+pub fn period_maxima(f: &Forcing, s: &Section, burn: u64, n: u64) -> Option<Vec<f64>> {
+    let mut state = *s;
+    if burn > 0 {
+        let e = eval(f, &state, burn, false);
+        if e.outcome != Outcome::Ok {
+            return None;
+        }
+        state = e.end;
+    }
+    let mut run = LifeRun::new(state);
+    run.extend(f, n);
+    (!run.failed).then(|| run.chains.swap_remove(0).0)
+}

@@ -35,7 +35,8 @@ pub const HANDOVER: f64 = 1e-3;
 /// One run of the harmonic scene as a sweep runs it: the run from the study's initial state
 /// ([`simulate_harmonic`], with its noise), then the attractor census of `scene.starts` starts
 /// at the same frequency ([`census::census`], noise-free: the noise is a measurement noise and
-/// does not move the system). `seed` and `point` fix the census's starts. Pure.
+/// does not move the system) with the life amplitudes of its motions that are not periodic
+/// ([`race`]). `seed` and `point` fix the census's starts. Pure.
 #[allow(clippy::too_many_arguments)]
 pub fn forced_run<P: Probe>(
     sys: &System,
@@ -74,7 +75,13 @@ pub fn forced_run<P: Probe>(
             spent0: if rec.converged { 0 } else { rec.n_trans },
         },
     );
-    rec.steady = steady_of(&c);
+    // The life amplitudes of its motions that are not periodic, where they can change its
+    // worst amplitude (a curve of one point: [`race`]).
+    let mut cs = [Some(c)];
+    race::race(&[Some((f, *scene))], &mut cs);
+    if let Some(c) = &cs[0] {
+        rec.steady = steady_of(c);
+    }
     rec
 }
 
