@@ -288,7 +288,7 @@ pub fn main() -> anyhow::Result<()> {
             dt: Some(c.dt),
             t_end: c.t_end,
         }),
-        Command::Plan(c) => app::sweep::plan(&app::sweep::PlanArgs {
+        Command::Plan(c) => app::plan::plan(&app::plan::PlanArgs {
             study: c.study,
             out: c.out,
             allow_large: c.allow_large,

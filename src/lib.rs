@@ -22,6 +22,7 @@
 //! each stage needs.
 
 pub mod accuracy;
+pub mod api;
 pub mod app;
 pub mod cli;
 pub mod error;

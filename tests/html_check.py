@@ -137,6 +137,8 @@ def num_equal(attr, value):
     if isinstance(value, bool):
         return attr == ("true" if value else "false")
     if isinstance(value, float):
+        if attr == "":
+            return math.isnan(value)
         a = float(attr)
         return (math.isnan(a) and math.isnan(value)) or a == value
     if isinstance(value, int):
@@ -212,9 +214,47 @@ def check_report(drv, page):
         missing = [w for w in want if title is None or w not in title]
         if missing:
             raise PageError(f"{page}: point {d['point']}: hover text {title!r} lacks {missing}")
+    text = drv.execute_script("return document.querySelector('main, body').innerText")
+    stray = re.search(r"(?:^|\s)\*+\w|\w\*+(?:\s|$|[.,;:)])", text)
+    if stray:
+        raise PageError(f"{page}: Markdown emphasis shown literally: ...{text[max(0, stray.start() - 40):stray.end() + 40]!r}...")
     hover(drv, page, by_point)
+    forced_hovers(drv, page)
     zone_click(drv, page)
     return len(points), len(charts)
+
+
+FORCED_CHARTS = ("fig-frequency_response", "fig-branches", "fig-basin_shares")
+
+
+def forced_hovers(drv, page):
+    """The forced charts' points (frequency response, branches, basin shares) carry hover
+    texts: each such figure has targets whose <title> names the frequency, and hovering one
+    shows that text beside the pointer."""
+    figs = drv.execute_script(
+        """
+        return [...document.querySelectorAll('figure.chart')].filter(f =>
+            arguments[0].some(p => f.id.startsWith(p))).map(f => [f.id,
+            [...f.querySelectorAll('[data-hover]')].map(el => {
+              const t = el.querySelector(':scope > title');
+              return t ? t.textContent : null;
+            })]);""",
+        list(FORCED_CHARTS),
+    )
+    for fid, titles in figs:
+        if not titles or any(t is None or "r = " not in t for t in titles):
+            raise PageError(f"{page}: chart {fid} has {len(titles)} hover targets, each needs a text naming r")
+    for prefix in FORCED_CHARTS:
+        els = drv.find_elements(By.CSS_SELECTOR, f'figure.chart[id^="{prefix}"] [data-hover]')
+        if not els:
+            continue
+        el = els[len(els) // 2]
+        want = el.find_element(By.TAG_NAME, "title").get_attribute("textContent")
+        drv.execute_script("arguments[0].scrollIntoView({block: 'center'})", el)
+        ActionChains(drv).move_to_element(el).perform()
+        tip = drv.find_element(By.ID, "tip")
+        if not tip.is_displayed() or tip.get_attribute("textContent") != want:
+            raise PageError(f"{page}: hovering a point of {prefix} shows {tip.text!r}, not {want!r}")
 
 
 def hover(drv, page, by_point):

@@ -5,7 +5,7 @@ use std::path::Path;
 
 mod common;
 
-use impactsweep::app::reduce::{WaveformArgs, waveform_files, write_outputs};
+use impactsweep::api::reduce::{WaveformArgs, waveform_files, write_outputs};
 use impactsweep::reduce::testing::{FnIdeal, paper_study, row, simulate_chunks, study};
 use impactsweep::reduce::{
     Class, JumpKind, Options, Quantity, Reducer, Run, Summary, reduce, regions::NO_REGION,
@@ -566,7 +566,7 @@ fn paper_safety_form_and_mean_di_are_options() {
 #[test]
 fn audit_reaches_the_report_as_a_typed_value() {
     use impactsweep::accuracy::{Audit, ErrorStats};
-    use impactsweep::app::reduce::read_audit;
+    use impactsweep::api::reduce::read_audit;
     let dir = tempfile::tempdir().unwrap();
     assert!(read_audit(dir.path()).unwrap().is_none());
     let e = |max: f64| ErrorStats {
@@ -652,7 +652,7 @@ fn many_points_draw_bands_and_stay_small() {
 
 #[test]
 fn command_line_flags_override_the_study() {
-    use impactsweep::app::reduce::{ReduceArgs, options};
+    use impactsweep::api::reduce::{ReduceArgs, options};
     use impactsweep::study::{DiSource, SafetyForm};
     let s = paper();
     let o = options(&s, &ReduceArgs::default());
@@ -916,4 +916,78 @@ print("ok", t.num_rows, z.num_rows)
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.starts_with("ok 51 "), "{stdout}");
+}
+
+/// Issue 25: the smallest study a newcomer writes (a name and one swept axis, no strength) runs
+/// and reduces to a report that says at its top what R needs, zones and a ranking by DI, and no
+/// `NaN` or `inf` in any text file it writes.
+#[test]
+fn issue_25_a_study_without_strength_reduces_by_di_without_nan() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("tiny.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"tiny\"\n[sweep]\ne = {start = 0.5, stop = 0.9, step = 0.1}\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    for args in [
+        vec![
+            "run".into(),
+            study.display().to_string(),
+            "--out".into(),
+            out.display().to_string(),
+        ],
+        vec!["reduce".into(), out.join("tiny").display().to_string()],
+    ] {
+        assert_cmd::Command::cargo_bin("impactsweep")
+            .unwrap()
+            .args(&args)
+            .assert()
+            .success();
+    }
+    let run = out.join("tiny");
+    let md = std::fs::read_to_string(run.join("report.md")).unwrap();
+    assert!(
+        md.contains("Reliability not computed: the study gives no strength")
+            && md.contains("strength_mean = ")
+            && md.contains("strength_sd = "),
+        "{md}"
+    );
+    assert!(md.contains("reliability not computed"), "class names");
+    assert!(!md.contains("| no data |"), "{md}");
+    // The ranking by DI: every design ranked, perfectibility 100 at the best.
+    let top: Vec<&str> = md
+        .split("## Top 10 by perfectibility")
+        .nth(1)
+        .unwrap()
+        .split("\n## ")
+        .next()
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| rank"))
+        .collect();
+    assert_eq!(top.len(), 5, "{md}");
+    assert!(top[0].contains("| 100.00 |"), "{}", top[0]);
+    let word = |text: &str, w: &str| {
+        text.match_indices(w).any(|(i, _)| {
+            let before = text[..i].chars().next_back();
+            let after = text[i + w.len()..].chars().next();
+            !before.is_some_and(char::is_alphanumeric) && !after.is_some_and(char::is_alphanumeric)
+        })
+    };
+    let mut checked = 0;
+    for e in std::fs::read_dir(&run).unwrap() {
+        let p = e.unwrap().path();
+        let ext = p.extension().and_then(|x| x.to_str()).unwrap_or("");
+        if !["md", "html", "csv", "svg", "json", "toml"].contains(&ext) {
+            continue;
+        }
+        let text = std::fs::read_to_string(&p).unwrap();
+        for w in ["NaN", "inf", "-inf"] {
+            assert!(!word(&text, w), "{} contains {w}", p.display());
+        }
+        checked += 1;
+    }
+    assert!(checked >= 8, "{checked} text files");
 }

@@ -7,7 +7,7 @@ use std::path::Path;
 
 mod common;
 
-use impactsweep::app::reduce::write_outputs;
+use impactsweep::api::reduce::write_outputs;
 use impactsweep::reduce::testing::{FnIdeal, paper_study, reduce_simulated, row, study};
 use impactsweep::reduce::{Options, Reducer, Summary};
 use impactsweep::sim::Outcome;

@@ -33,6 +33,8 @@ __all__ = [
     "simulate",
     "simulate_batch",
     "trace",
+    "period_maxima",
+    "life_amplitude",
     "plan",
     "run",
     "reduce",
@@ -159,6 +161,38 @@ def trace(*, dt: float = 1e-4, t_end: Optional[float] = None, scene: str = "free
     out["impacts"] = np.frombuffer(impacts, dtype=np.float64).copy()
     out["record"] = rec
     return out
+
+
+def period_maxima(periods: int, *, burn: int = 2000, **keys: Any) -> np.ndarray:
+    """The largest ``|x|`` (m) in each of ``periods`` forcing periods of the harmonic scene's
+    motion from the initial state, after ``burn`` periods of transient: the per-period maxima a
+    design-life estimate starts from (docs/scenes.md, "The amplitude over a design life").
+    Keys as :func:`simulate` with ``scene="harmonic"`` (implied).
+    """
+    raw = _ext.period_maxima(_sets(keys, "harmonic"), int(periods), int(burn))
+    return np.frombuffer(raw, dtype=np.float64).copy()
+
+
+def life_amplitude(
+    maxima: Any,
+    design_periods: float,
+    *,
+    quantile: float = 0.5,
+    run: int = 3,
+    xi_max: float = 0.0,
+) -> Optional[Dict[str, float]]:
+    """The ``quantile`` of the largest value over ``design_periods`` periods, from per-period
+    maxima, by the tool's own estimator (peaks over an automatic threshold, declustered by runs
+    of ``run`` periods below it, a generalized Pareto tail of shape at most ``xi_max``;
+    docs/model.md §11). Returns ``amplitude lo hi`` (the estimate and its 90 % profile-likelihood
+    interval), ``threshold sigma xi xi_se end_point exceedances measured``; ``None`` when no
+    threshold leaves enough clusters. ``xi_max = 0`` is the tool's bounded tail; up to 0.95 lets
+    the shape free, as a general-purpose fit does.
+    """
+    z = np.ascontiguousarray(np.asarray(maxima, dtype=np.float64))
+    if z.ndim != 1:
+        raise ValueError(f"maxima: {z.ndim}-dimensional; expected one value per period")
+    return _ext.life_estimate(z.tobytes(), float(design_periods), float(quantile), int(run), float(xi_max))
 
 
 def _study(study: StudyLike) -> tuple:

@@ -19,7 +19,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
 use rayon::prelude::*;
 
-use impactsweep::app::simulate::{Setup, forced_json, record_json, trace_scene};
+use impactsweep::api::setup::{Setup, forced_json, record_json, trace_scene};
 use impactsweep::error::{InputError, Interrupted};
 use impactsweep::model::SYSTEM_KEYS;
 use impactsweep::plan::{Plan, RunSpec};
@@ -406,6 +406,110 @@ fn trace<'py>(
     ))
 }
 
+/// The per-period maxima of `|x|` of the harmonic setup's motion from its initial state: `burn`
+/// forcing periods dropped, then `periods` recorded (f64 bytes, native endian).
+#[pyfunction]
+#[pyo3(signature = (sets, periods, burn))]
+fn period_maxima<'py>(
+    py: Python<'py>,
+    sets: Vec<String>,
+    periods: u64,
+    burn: u64,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let s = setup(&sets)?;
+    let Scene::Harmonic(h) = s.scene else {
+        return Err(PyValueError::new_err(
+            "period_maxima: a harmonic-scene function; add scene=\"harmonic\"",
+        ));
+    };
+    if periods == 0 || periods > 100_000_000 {
+        return Err(PyValueError::new_err(format!(
+            "periods={periods}: allowed 1 ..= 1e8"
+        )));
+    }
+    let sys = s.system;
+    let f = impactsweep::orbits::map::Forcing {
+        sys,
+        F0: h.F0,
+        omega: h.omega(&sys),
+        settings: s.solver,
+    };
+    let s0 = [sys.x0, sys.v0, sys.y0 - sys.x0, sys.w0];
+    let z = py
+        .detach(|| impactsweep::orbits::life::period_maxima(&f, &s0, burn, periods))
+        .ok_or_else(|| {
+            PyRuntimeError::new_err(
+                "period_maxima: the simulator stopped (event_cap, step_cap or non_finite)",
+            )
+        })?;
+    let bytes: Vec<u8> = z.iter().flat_map(|v| v.to_ne_bytes()).collect();
+    Ok(PyBytes::new(py, &bytes))
+}
+
+/// The peaks-over-threshold estimate of the largest value over `design_periods` periods from
+/// per-period maxima (f64 bytes): the dict of its fields, or `None` when no threshold leaves
+/// enough clusters.
+#[pyfunction]
+#[pyo3(signature = (maxima, design_periods, quantile, run, xi_max))]
+fn life_estimate<'py>(
+    py: Python<'py>,
+    maxima: Bound<'py, PyBytes>,
+    design_periods: f64,
+    quantile: f64,
+    run: usize,
+    xi_max: f64,
+) -> PyResult<Option<Bound<'py, PyDict>>> {
+    use impactsweep::stats::extremes::{Life, XI_MAX, life_pot};
+    let z = f64s(maxima.as_bytes());
+    if !(design_periods.is_finite() && design_periods >= 1.0) {
+        return Err(PyValueError::new_err(format!(
+            "design_periods={design_periods}: allowed a finite number >= 1"
+        )));
+    }
+    if !(quantile > 0.0 && quantile < 1.0) {
+        return Err(PyValueError::new_err(format!(
+            "quantile={quantile}: allowed 0 < quantile < 1"
+        )));
+    }
+    if run == 0 {
+        return Err(PyValueError::new_err("run=0: allowed at least 1"));
+    }
+    if !(xi_max.is_finite() && (-XI_MAX..=XI_MAX).contains(&xi_max)) {
+        return Err(PyValueError::new_err(format!(
+            "xi_max={xi_max}: allowed [-{XI_MAX}, {XI_MAX}]"
+        )));
+    }
+    if let Some(v) = z.iter().find(|v| !v.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "maxima: {v} is not finite"
+        )));
+    }
+    let life = Life {
+        n_life: design_periods,
+        q: quantile,
+        xi_max,
+    };
+    let Some(e) = py.detach(|| life_pot(&[z.as_slice()], run, life)) else {
+        return Ok(None);
+    };
+    let d = PyDict::new(py);
+    for (k, v) in [
+        ("amplitude", e.amplitude),
+        ("lo", e.lo),
+        ("hi", e.hi),
+        ("threshold", e.threshold),
+        ("sigma", e.sigma),
+        ("xi", e.xi),
+        ("xi_se", e.xi_se),
+        ("end_point", e.end_point),
+    ] {
+        d.set_item(k, v)?;
+    }
+    d.set_item("exceedances", e.exceedances)?;
+    d.set_item("measured", e.measured)?;
+    Ok(Some(d))
+}
+
 #[derive(Default)]
 struct ImpactTimes {
     times: Vec<f64>,
@@ -446,8 +550,8 @@ fn plan<'py>(
     let study = load_study(path, text, allow_large)?;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let text = py.detach(|| {
-        let sample = impactsweep::app::plan::time_sample(&study);
-        impactsweep::app::plan::describe(&study, &out, threads, Some(sample))
+        let sample = impactsweep::api::plan::time_sample(&study);
+        impactsweep::api::plan::describe(&study, &out, threads, Some(sample))
     });
     let p = Plan::new(&study);
     let d = PyDict::new(py);
@@ -517,11 +621,11 @@ fn run<'py>(
 }
 
 fn reduce_dir(py: Python<'_>, dir: &Path) -> PyResult<String> {
-    let args = impactsweep::app::reduce::ReduceArgs {
+    let args = impactsweep::api::reduce::ReduceArgs {
         dir: dir.to_path_buf(),
         ..Default::default()
     };
-    py.detach(|| impactsweep::app::reduce::reduce_dir(&args))
+    py.detach(|| impactsweep::api::reduce::reduce_dir(&args))
         .map(|(line, _)| line)
         .map_err(py_err)
 }
@@ -566,6 +670,8 @@ fn _impactsweep(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
     m.add_function(wrap_pyfunction!(trace, m)?)?;
+    m.add_function(wrap_pyfunction!(period_maxima, m)?)?;
+    m.add_function(wrap_pyfunction!(life_estimate, m)?)?;
     m.add_function(wrap_pyfunction!(plan, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(reduce, m)?)?;

@@ -12,14 +12,6 @@ use crate::report::html::index;
 use crate::study::{LoadOptions, Study};
 use crate::sweep::{self, SweepOptions};
 
-/// `impactsweep plan STUDY.toml`.
-#[derive(Clone, Debug, Default)]
-pub struct PlanArgs {
-    pub study: PathBuf,
-    pub out: PathBuf,
-    pub allow_large: bool,
-}
-
 /// `impactsweep run STUDY.toml... [--out DIR] [--threads N] [--shard I/N] [--resume] [--quiet]`.
 #[derive(Clone, Debug, Default)]
 pub struct RunArgs {
@@ -56,10 +48,6 @@ pub struct StatusArgs {
     pub dir: PathBuf,
     /// For an output root, also write `DIR/index.html`.
     pub html: bool,
-}
-
-pub fn plan(args: &PlanArgs) -> anyhow::Result<()> {
-    crate::app::plan::plan(args)
 }
 
 /// Runs each study in turn into `OUT/<name>/`. Every study file is validated before the first
@@ -204,11 +192,11 @@ impl Reductions {
                 return;
             }
         }
-        let args = crate::app::reduce::ReduceArgs {
+        let args = crate::api::reduce::ReduceArgs {
             dir: dir.to_path_buf(),
             ..Default::default()
         };
-        match crate::app::reduce::reduce_dir(&args) {
+        match crate::api::reduce::reduce_dir(&args) {
             Ok((line, _)) => eprintln!(
                 "{}: {line}; report {} (and report.html)",
                 study.name,

@@ -231,6 +231,25 @@ impl Curve {
             .find(|a| a.run.point == point && a.amplitude == design)
     }
 
+    /// The linear system's steady amplitude (m) at frequency ratio `r`, in closed form: the
+    /// main mass without the inner one, `F0 / K / sqrt((1 - r^2)^2 + (2 zeta r)^2)`.
+    pub fn linear_at(&self, r: f64) -> f64 {
+        let s = &self.system;
+        let z = s.zeta();
+        self.f0 / s.K / ((1.0 - r * r).powi(2) + (2.0 * z * r).powi(2)).sqrt()
+    }
+
+    /// `(r, amplitude)` of the linear system on `n + 1` evenly spaced ratios from `r0` to `r1`:
+    /// a smooth line between the swept frequencies, for the charts.
+    pub fn linear_line(&self, r0: f64, r1: f64, n: usize) -> Vec<(f64, f64)> {
+        (0..=n)
+            .map(|i| {
+                let r = r0 + (r1 - r0) * i as f64 / n.max(1) as f64;
+                (r, self.linear_at(r))
+            })
+            .collect()
+    }
+
     /// The linear system's largest amplitude over the band and its `r`.
     pub fn linear_peak(&self) -> (f64, f64) {
         let mut best = (f64::NAN, f64::NAN);

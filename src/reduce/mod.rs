@@ -296,6 +296,12 @@ impl Summary {
         self.zones.get(p.zone as usize)
     }
 
+    /// Whether R is computed anywhere: false for a study without a strength
+    /// ([`rank::computes_r`]).
+    pub fn computes_r(&self) -> bool {
+        rank::computes_r(&self.points)
+    }
+
     /// The design point the report and the charts centre on: the recommended one, else the best
     /// ranked, else the first.
     pub fn anchor(&self) -> Option<u64> {

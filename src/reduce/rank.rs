@@ -1,4 +1,9 @@
 //! Ranking: perfectibility (eq. 11), rank by it, and the Pareto set on (R, DI).
+//!
+//! A study without a strength (`[reliability] strength_mean`, `strength_sd`) has no R at any
+//! point ([`computes_r`] is false): perfectibility is then the damping quantity alone,
+//! `P = 100 DI / DI_max` (eq. 11 with `WF1 = 0`, `WF2 = 1`), the ranking follows it, and the
+//! Pareto set, which needs R, is empty.
 
 use super::PointStats;
 use super::stats::perfectibility;
@@ -9,7 +14,8 @@ use super::stats::perfectibility;
 /// Rank 1 is the highest perfectibility; ties go to the lower point index. A point whose R or
 /// DI is unknown (no ok run, no ideal run) gets no rank and is never Pareto-optimal.
 pub fn apply(points: &mut [PointStats], wf1: f64, wf2: f64) -> (f64, f64) {
-    let known = |p: &PointStats| p.reliability.is_finite() && p.di.is_finite();
+    let with_r = computes_r(points);
+    let known = |p: &PointStats| (!with_r || p.reliability.is_finite()) && p.di.is_finite();
     let r_max = points
         .iter()
         .filter(|p| known(p))
@@ -21,8 +27,10 @@ pub fn apply(points: &mut [PointStats], wf1: f64, wf2: f64) -> (f64, f64) {
         .map(|p| p.di)
         .fold(f64::NAN, f64::max);
     for p in points.iter_mut() {
-        p.perfectibility = if known(p) {
+        p.perfectibility = if known(p) && with_r {
             perfectibility(p.reliability, p.di, r_max, di_max, wf1, wf2)
+        } else if known(p) {
+            100.0 * p.di / di_max
         } else {
             f64::NAN
         };
@@ -43,6 +51,11 @@ pub fn apply(points: &mut [PointStats], wf1: f64, wf2: f64) -> (f64, f64) {
         points[i].pareto = true;
     }
     (r_max, di_max)
+}
+
+/// Whether the sweep has an R anywhere: false for a study without a strength (module doc).
+pub fn computes_r(points: &[PointStats]) -> bool {
+    points.iter().any(|p| p.reliability.is_finite())
 }
 
 /// Indices of the points not dominated on (R, DI), both maximised: no other point has R and

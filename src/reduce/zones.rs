@@ -11,6 +11,9 @@
 //!    * `strong damping, reliability not shown` / `weak damping, reliability not shown` — the
 //!      interval of R reaches below `r_min`: with a dozen cases a point whose R is just above
 //!      the threshold is not shown to reach it;
+//!    * `strong damping, reliability not computed` / `weak damping, reliability not computed` —
+//!      a study without a strength (`[reliability] strength_mean`, `strength_sd`): no point
+//!      has an R, so the class follows DI alone;
 //!    * `no data` — R or DI unknown (no ok run, or no ok ideal run).
 //!
 //!    `r_min` is `[zones].r_min` (default 0.98), `di_strong` is `[zones].di_strong` (default:
@@ -45,16 +48,20 @@ pub enum Class {
     WeakNotShown,
     AroundJump,
     NoData,
+    StrongNotComputed,
+    WeakNotComputed,
 }
 
 impl Class {
-    pub const ALL: [Class; 6] = [
+    pub const ALL: [Class; 8] = [
         Class::StrongReliable,
         Class::WeakReliable,
         Class::StrongNotShown,
         Class::WeakNotShown,
         Class::AroundJump,
         Class::NoData,
+        Class::StrongNotComputed,
+        Class::WeakNotComputed,
     ];
 
     pub fn label(self) -> &'static str {
@@ -65,6 +72,8 @@ impl Class {
             Class::WeakNotShown => "weak damping, reliability not shown",
             Class::AroundJump => "around a jump",
             Class::NoData => "no data",
+            Class::StrongNotComputed => "strong damping, reliability not computed",
+            Class::WeakNotComputed => "weak damping, reliability not computed",
         }
     }
 
@@ -195,12 +204,24 @@ pub fn roman(mut n: usize) -> String {
     s
 }
 
-/// The class of a point (module doc).
-pub fn classify(p: &PointStats, near_jump: bool, r_min: f64, di_strong: f64) -> Class {
-    if !(p.reliability.is_finite() && p.di.is_finite()) {
+/// The class of a point (module doc); `with_r`: the study computes R (it gives a strength).
+pub fn classify(
+    p: &PointStats,
+    near_jump: bool,
+    r_min: f64,
+    di_strong: f64,
+    with_r: bool,
+) -> Class {
+    if !p.di.is_finite() || (with_r && !p.reliability.is_finite()) {
         Class::NoData
     } else if near_jump {
         Class::AroundJump
+    } else if !with_r {
+        if p.di >= di_strong {
+            Class::StrongNotComputed
+        } else {
+            Class::WeakNotComputed
+        }
     } else {
         // The lower end of the interval; R itself when there is no interval (one ok case).
         let lo = if p.reliability_lo.is_finite() {
@@ -282,8 +303,9 @@ pub fn find(
         }
     }
     let mut class = vec![MISSING; grid.len() as usize];
+    let with_r = super::rank::computes_r(points);
     for (i, p) in points.iter_mut().enumerate() {
-        let c = classify(p, near[i], cfg.r_min, di_strong);
+        let c = classify(p, near[i], cfg.r_min, di_strong, with_r);
         p.class = c;
         class[p.point as usize] = c as u8;
     }
@@ -328,8 +350,12 @@ pub fn find(
     };
     let (r_max, di_max) = (best(|z| z.mean_r), best(|z| z.mean_di));
     for z in &mut zones {
-        z.perfectibility =
-            perfectibility(z.mean_r, z.mean_di, r_max, di_max, ranking.wf1, ranking.wf2);
+        z.perfectibility = if r_max.is_finite() {
+            perfectibility(z.mean_r, z.mean_di, r_max, di_max, ranking.wf1, ranking.wf2)
+        } else {
+            // No R anywhere (no strength): the damping quantity alone (rank::apply).
+            100.0 * z.mean_di / di_max
+        };
     }
     Found {
         zones,
@@ -441,17 +467,23 @@ fn describe(
         let d = depth[p as usize];
         (if d == u32::MAX { 0 } else { d }, std::cmp::Reverse(p))
     });
+    // Without a strength no point has R: the zone's DI is still its mean (rank::apply).
+    let with_r = list.iter().any(|&i| points[i].reliability.is_finite());
     let known: Vec<&PointStats> = list
         .iter()
         .map(|&i| &points[i])
-        .filter(|p| p.reliability.is_finite() && p.di.is_finite())
+        .filter(|p| (!with_r || p.reliability.is_finite()) && p.di.is_finite())
         .collect();
     let nk = known.len() as f64;
     let (mean_r, mean_di) = if known.is_empty() {
         (f64::NAN, f64::NAN)
     } else {
         (
-            known.iter().map(|p| p.reliability).sum::<f64>() / nk,
+            if with_r {
+                known.iter().map(|p| p.reliability).sum::<f64>() / nk
+            } else {
+                f64::NAN
+            },
             known.iter().map(|p| p.di).sum::<f64>() / nk,
         )
     };

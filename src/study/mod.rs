@@ -23,6 +23,7 @@ use crate::error::InputError;
 use crate::model::{RangeError, System, fmt_value};
 use crate::sim::{NoiseSettings, Request, Scene, SolverSettings};
 
+mod axis;
 mod noise;
 mod perturb;
 mod ranking;
@@ -35,12 +36,12 @@ mod system;
 mod toml_error;
 mod zones;
 
+pub use axis::Axis;
 pub use perturb::Case;
 pub use ranking::{DiSource, Ranking};
 pub use reliability::{Reliability, SafetyForm};
 pub use run::{DEFAULT_CHUNK_RUNS, RunSettings, whole_curves};
 pub use scene::frequency_axis;
-pub use sweep::Axis;
 pub use zones::{DeclaredZone, Zones};
 
 /// A validated study.
@@ -211,7 +212,7 @@ struct RawStudy {
     #[serde(default)]
     system: system::RawSystem,
     #[serde(default)]
-    sweep: BTreeMap<String, sweep::RawAxis>,
+    sweep: BTreeMap<String, axis::RawAxis>,
     perturb: Option<perturb::RawPerturb>,
     noise: Option<noise::RawNoise>,
     #[serde(default)]

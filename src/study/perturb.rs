@@ -4,7 +4,7 @@
 
 use serde::Deserialize;
 
-use super::sweep::{Axis, extent};
+use super::axis::{Axis, extent};
 use super::{Cx, num};
 use crate::error::InputError;
 use crate::model::System;

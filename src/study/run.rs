@@ -3,7 +3,7 @@
 use serde::Deserialize;
 
 use super::Cx;
-use super::sweep::Axis;
+use super::axis::Axis;
 use crate::error::InputError;
 use crate::sim::Scene;
 

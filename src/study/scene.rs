@@ -13,8 +13,8 @@ use std::collections::BTreeMap;
 
 use serde::Deserialize;
 
+use super::axis::{Axis, RawAxis};
 use super::perturb::Case;
-use super::sweep::{Axis, RawAxis};
 use super::{Cx, num, range_value};
 use crate::error::InputError;
 use crate::model::{RangeError, System};

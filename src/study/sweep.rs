@@ -4,39 +4,14 @@
 
 use std::collections::BTreeMap;
 
-use serde::Deserialize;
-
+use super::axis::{Axis, RawAxis};
 use super::scene::is_scene_axis;
 use super::system::RawSystem;
 use super::{Cx, MAX_AXIS_VALUES, num};
 use crate::error::InputError;
-use crate::model::{SYSTEM_KEYS, System};
+use crate::model::SYSTEM_KEYS;
 use crate::numeric::{linspace, round15};
 use crate::sim::Scene;
-
-/// One swept axis: a system key (or, in a harmonic study, `F0`, `omega` or `r`) and its values
-/// (computed from an integer index, never accumulated).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Axis {
-    pub key: String,
-    pub values: Vec<f64>,
-}
-
-#[derive(Deserialize)]
-#[serde(untagged)]
-pub(super) enum RawAxis {
-    List(Vec<f64>),
-    Range(RawRange),
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct RawRange {
-    start: f64,
-    stop: f64,
-    step: Option<f64>,
-    num: Option<u64>,
-}
 
 /// The validated `[sweep]`: the axes in file order. A key is either fixed in `[system]` or
 /// swept, not both. A harmonic study may also sweep `F0`, `omega` or `r` (their cross-checks
@@ -238,20 +213,4 @@ fn linspace_values(
         ));
     }
     Ok(values)
-}
-
-/// The smallest and largest value of a system key over the design points, and where the study
-/// sets it (`[sweep].m` or `[system].m`), for cross-checks and their messages.
-pub(super) fn extent(axes: &[Axis], system: &System, key: &str) -> (f64, f64, String) {
-    match axes.iter().find(|a| a.key == key) {
-        Some(a) => (
-            a.values[0],
-            a.values[a.values.len() - 1],
-            format!("[sweep].{key}"),
-        ),
-        None => {
-            let v = system.get(key).unwrap_or(f64::NAN);
-            (v, v, format!("[system].{key}"))
-        }
-    }
 }

@@ -3,7 +3,7 @@
 
 use serde::Deserialize;
 
-use super::sweep::Axis;
+use super::axis::Axis;
 use super::{Cx, num};
 use crate::error::InputError;
 

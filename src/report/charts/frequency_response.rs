@@ -17,7 +17,8 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    Chart, Key, LABEL, SMALL, TITLE, axis_desc, axis_value, err, fmt_num, minmax, pad, plot_builder,
+    Chart, Hovers, Key, LABEL, SMALL, TITLE, axis_desc, axis_value, err, fmt_num, minmax, pad,
+    plot_builder,
 };
 use crate::reduce::forced::{Curve, ForcedSummary};
 use crate::reduce::table::{Column, Table, axis_column};
@@ -281,10 +282,14 @@ where
     super::plumbing::legend_block(area, LEGEND_X, &legend_items(row, linear))
 }
 
-/// Amplitude against the frequency, with the linear system.
-pub struct FrequencyResponse<'a>(pub &'a Row<'a>);
+/// Amplitude against the frequency, with the linear system; every point a hover target.
+pub struct FrequencyResponse<'a>(pub &'a Row<'a>, pub Hovers);
 
 impl Chart for FrequencyResponse<'_> {
+    fn hovers(&self) -> Option<&Hovers> {
+        Some(&self.1)
+    }
+
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
     where
         DB::ErrorType: 'static,
@@ -311,6 +316,11 @@ impl Chart for FrequencyResponse<'_> {
                                 .into_iter()
                                 .flat_map(|(_, l, h)| [l * CM, h * CM]),
                         )
+                        .chain(
+                            linear_line(row, c, &row.xs(c))
+                                .into_iter()
+                                .map(|(_, a)| a * CM),
+                        )
                 })
                 .filter(|v| *v > 0.0),
         );
@@ -329,7 +339,7 @@ impl Chart for FrequencyResponse<'_> {
                 .light_line_style(TRANSPARENT)
                 .draw()
                 .map_err(err)?;
-            curves(&mut chart, row)
+            curves(&mut chart, row, &self.1)
         } else {
             let top = if hi.is_finite() { hi * 1.08 } else { 1.0 };
             let mut chart = plot_builder(&plot, 48)
@@ -345,7 +355,7 @@ impl Chart for FrequencyResponse<'_> {
                 .light_line_style(RGBColor(235, 235, 235))
                 .draw()
                 .map_err(err)?;
-            curves(&mut chart, row)
+            curves(&mut chart, row, &self.1)
         }
     }
 }
@@ -358,6 +368,7 @@ const CM: f64 = 100.0;
 fn curves<DB: DrawingBackend, Y>(
     chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, Y>>,
     row: &Row,
+    hovers: &Hovers,
 ) -> anyhow::Result<()>
 where
     DB::ErrorType: 'static,
@@ -368,10 +379,9 @@ where
         let xs = row.xs(c);
         if i == 0 || !one {
             let lc = if one { BLACK } else { color(i) };
-            let lin: Vec<(f64, f64)> = xs
-                .iter()
-                .zip(&c.points)
-                .map(|(&x, p)| (x, p.linear * CM))
+            let lin: Vec<(f64, f64)> = linear_line(row, c, &xs)
+                .into_iter()
+                .map(|(x, a)| (x, a * CM))
                 .filter(|p| p.1 > 0.0)
                 .collect();
             chart
@@ -392,8 +402,69 @@ where
             .map_err(err)?;
         markers(chart, &pts, color(i))?;
         whiskers(chart, &xs, c, color(i))?;
+        for (j, p) in c.points.iter().enumerate() {
+            if p.design > 0.0 && p.design.is_finite() {
+                let at = chart.backend_coord(&(xs[j], p.design * CM));
+                hovers.point(at, 5, point_text(row, i, c, j));
+            }
+        }
     }
     Ok(())
+}
+
+/// The hover text of point `j` of curve `i` of the row: the design, the frequency, the design
+/// amplitude with its kind (and interval), the period and the impacts per period.
+fn point_text(row: &Row, i: usize, c: &Curve, j: usize) -> String {
+    let p = &c.points[j];
+    let kind = match c.design_attractor(j) {
+        Some(a) if !a.kind.periodic() && a.life_lo.is_finite() => format!(
+            "{}, over the design life [{} – {}] cm (90 %)",
+            a.kind.name(),
+            fmt_num(a.life_lo.min(a.amplitude) * CM),
+            fmt_num(a.life_hi * CM)
+        ),
+        Some(a) => a.kind.name().to_string(),
+        None if p.design_period >= 1 => "periodic".to_string(),
+        None => "not periodic".to_string(),
+    };
+    format!(
+        "{}{}\nr = {}, omega = {} rad/s\namplitude {} cm ({kind})\nperiod {}, {} impacts per period\nlinear system {} cm",
+        row.labels[i],
+        row.at,
+        fmt_num(p.r),
+        fmt_num(p.omega),
+        fmt_num(p.design * CM),
+        if p.design_period >= 1 {
+            p.design_period.to_string()
+        } else {
+            "none".to_string()
+        },
+        fmt_num(p.design_impacts),
+        fmt_num(p.linear * CM)
+    )
+}
+
+/// The linear system of `c` against the row's x axis (`xs`, its points' x): in closed form on a
+/// fine grid when the axis is the frequency (`r` or `omega`), else through the points.
+fn linear_line(row: &Row, c: &Curve, xs: &[f64]) -> Vec<(f64, f64)> {
+    let (r0, r1) = minmax(c.points.iter().map(|p| p.r));
+    let scale = match (row.x.as_str(), c.points.first()) {
+        ("r", _) => Some(1.0),
+        ("omega", Some(p)) if p.r > 0.0 => Some(p.omega / p.r),
+        _ => None,
+    };
+    match scale {
+        Some(k) if r1 > r0 => c
+            .linear_line(r0, r1, 600)
+            .into_iter()
+            .map(|(r, a)| (r * k, a))
+            .collect(),
+        _ => xs
+            .iter()
+            .zip(&c.points)
+            .map(|(&x, p)| (x, p.linear))
+            .collect(),
+    }
 }
 
 /// The points of `c` whose design amplitude is carried by a motion that is not periodic with a
@@ -588,7 +659,7 @@ pub fn charts(
             dir,
             &format!("frequency_response{suffix}"),
             SIZE,
-            &FrequencyResponse(&row),
+            &FrequencyResponse(&row, Hovers::default()),
             &super::Data::Table(row.data(s)),
         )?);
         files.extend(super::plumbing::render(

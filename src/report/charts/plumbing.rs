@@ -41,6 +41,87 @@ pub trait Chart {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
     where
         DB::ErrorType: 'static;
+
+    /// Where the chart records its hover targets while it draws ([`render`] puts them into the
+    /// SVG); `None` for a chart without.
+    fn hovers(&self) -> Option<&Hovers> {
+        None
+    }
+}
+
+/// A hover target of a chart: a box in the SVG's pixels and what hovering it says.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Hover {
+    pub x0: i32,
+    pub y0: i32,
+    pub x1: i32,
+    pub y1: i32,
+    pub text: String,
+}
+
+/// The hover targets a chart's draw recorded (a chart holds one, [`Chart::hovers`]).
+#[derive(Debug, Default)]
+pub struct Hovers(std::cell::RefCell<Vec<Hover>>);
+
+impl Hovers {
+    /// A target `half` pixels around the point `(x, y)`.
+    pub fn point(&self, (x, y): (i32, i32), half: i32, text: String) {
+        self.0.borrow_mut().push(Hover {
+            x0: x - half,
+            y0: y - half,
+            x1: x + half,
+            y1: y + half,
+            text,
+        });
+    }
+
+    /// A target over the box between two corners.
+    pub fn area(&self, a: (i32, i32), b: (i32, i32), text: String) {
+        self.0.borrow_mut().push(Hover {
+            x0: a.0.min(b.0),
+            y0: a.1.min(b.1),
+            x1: a.0.max(b.0),
+            y1: a.1.max(b.1),
+            text,
+        });
+    }
+
+    fn take(&self) -> Vec<Hover> {
+        std::mem::take(&mut *self.0.borrow_mut())
+    }
+}
+
+/// Escapes text for XML content.
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// Adds `hovers` to the SVG file at `path`: each an invisible box (`data-hover`) with its text
+/// as `<title>`, above everything drawn, so a viewer shows the text on hovering it (and
+/// `report.html` beside the pointer at once).
+fn add_hovers(path: &Path, hovers: &[Hover]) -> anyhow::Result<()> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let Some(end) = text.rfind("</svg>") else {
+        return Ok(());
+    };
+    let mut layer = String::from("<g class=\"hovers\">\n");
+    for h in hovers {
+        layer.push_str(&format!(
+            "<rect data-hover=\"\" x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"#000\" fill-opacity=\"0\"><title>{}</title></rect>\n",
+            h.x0,
+            h.y0,
+            (h.x1 - h.x0).max(1),
+            (h.y1 - h.y0).max(1),
+            xml_escape(&h.text)
+        ));
+    }
+    layer.push_str("</g>\n");
+    let out = format!("{}{layer}{}", &text[..end], &text[end..]);
+    std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
 }
 
 /// A chart's data: the summary rows of the points it draws with the columns it draws (after
@@ -85,10 +166,19 @@ pub fn render<C: Chart>(
     {
         let root = SVGBackend::new(&svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
+        if let Some(h) = chart.hovers() {
+            h.take();
+        }
         chart
             .draw(&root)
             .with_context(|| format!("drawing {}", svg.display()))?;
         root.present().map_err(err)?;
+    }
+    if let Some(h) = chart.hovers() {
+        let list = h.take();
+        if !list.is_empty() {
+            add_hovers(&svg, &list)?;
+        }
     }
     {
         let root = BitMapBackend::new(&png, size).into_drawing_area();
@@ -97,6 +187,9 @@ pub fn render<C: Chart>(
             .draw(&root)
             .with_context(|| format!("drawing {}", png.display()))?;
         root.present().map_err(err)?;
+        if let Some(h) = chart.hovers() {
+            h.take();
+        }
     }
     data.write(&csv)?;
     Ok(vec![svg, png, csv])
@@ -126,6 +219,8 @@ pub fn class_color(c: Class) -> RGBColor {
         Class::StrongNotShown => RGBColor(253, 219, 130),
         Class::WeakNotShown => RGBColor(215, 190, 230),
         Class::NoData => RGBColor(200, 200, 200),
+        Class::StrongNotComputed => RGBColor(141, 211, 199),
+        Class::WeakNotComputed => RGBColor(222, 222, 170),
     }
 }
 

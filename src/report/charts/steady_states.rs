@@ -12,7 +12,9 @@ use crate::orbits::attractors::SteadyKind;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plumbing::{Chart, Key, LABEL, SMALL, TITLE, err, fmt_num, minmax, pad, plot_builder};
+use super::plumbing::{
+    Chart, Hovers, Key, LABEL, SMALL, TITLE, err, fmt_num, minmax, pad, plot_builder,
+};
 use crate::orbits::response::Response;
 use crate::reduce::Summary;
 use crate::reduce::forced::{Curve, ForcedSummary};
@@ -22,6 +24,8 @@ pub const SIZE: (u32, u32) = (1000, 640);
 const LEGEND_X: i32 = 80;
 /// Metres to centimetres.
 const CM: f64 = 100.0;
+/// Intervals of the fine grid the closed-form curves are drawn on.
+const FINE: usize = 600;
 
 const STABLE: RGBColor = RGBColor(31, 119, 180);
 const UNSTABLE: RGBColor = RGBColor(214, 39, 40);
@@ -69,7 +73,13 @@ impl Steady<'_> {
                 .iter()
                 .map(|b| b.amplitude * CM)
                 .chain(self.r.attractors.iter().map(|a| a.amplitude * CM))
-                .chain(self.curve.points.iter().map(|p| p.linear * CM)),
+                .chain({
+                    let (x0, x1) = self.x_range();
+                    self.curve
+                        .linear_line(x0, x1, FINE)
+                        .into_iter()
+                        .map(|(_, a)| a * CM)
+                }),
         );
         if hi.is_finite() && hi > 0.0 {
             hi * 1.08
@@ -122,10 +132,14 @@ where
     super::plumbing::legend_block(area, LEGEND_X, items)
 }
 
-/// The frequency response as branches.
-pub struct Branches<'a>(pub &'a Steady<'a>);
+/// The frequency response as branches; every branch point a hover target.
+pub struct Branches<'a>(pub &'a Steady<'a>, pub Hovers);
 
 impl Chart for Branches<'_> {
+    fn hovers(&self) -> Option<&Hovers> {
+        Some(&self.1)
+    }
+
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
     where
         DB::ErrorType: 'static,
@@ -172,11 +186,13 @@ impl Chart for Branches<'_> {
                     }),
             )
             .map_err(err)?;
+        // The linear system in closed form on a fine grid (not a polygon through the swept
+        // frequencies).
         let lin: Vec<(f64, f64)> = st
             .curve
-            .points
-            .iter()
-            .map(|p| (p.r, p.linear * CM))
+            .linear_line(x0, x1, FINE)
+            .into_iter()
+            .map(|(r, a)| (r, a * CM))
             .collect();
         chart
             .draw_series(DashedLineSeries::new(lin, 6, 4, BLACK.stroke_width(1)))
@@ -194,8 +210,17 @@ impl Chart for Branches<'_> {
                         .map_err(err)?;
                 }
                 _ => {
+                    // The non-impacting family is the linear steady state: drawn in closed form
+                    // over the stretch where continuation found it.
+                    let (r0, r1) = minmax(pts.iter().map(|p| p.0));
+                    let fine: Vec<(f64, f64)> = st
+                        .curve
+                        .linear_line(r0, r1, FINE)
+                        .into_iter()
+                        .map(|(r, a)| (r, a * CM))
+                        .collect();
                     chart
-                        .draw_series(DashedLineSeries::new(pts, 2, 3, FAMILY.stroke_width(2)))
+                        .draw_series(DashedLineSeries::new(fine, 2, 3, FAMILY.stroke_width(2)))
                         .map_err(err)?;
                 }
             }
@@ -214,6 +239,26 @@ impl Chart for Branches<'_> {
                     }),
             )
             .map_err(err)?;
+        for b in &st.r.branches {
+            let at = chart.backend_coord(&(b.r, b.amplitude * CM));
+            self.1.point(
+                at,
+                3,
+                format!(
+                    "branch {}, period {}, {}{}\nr = {}, amplitude {} cm",
+                    b.branch,
+                    b.period,
+                    b.stability,
+                    if b.label.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" ({})", b.label)
+                    },
+                    fmt_num(b.r),
+                    fmt_num(b.amplitude * CM)
+                ),
+            );
+        }
         // The design peak.
         let (peak, r) = st.curve.peak();
         if peak.is_finite() {
@@ -233,8 +278,8 @@ impl Chart for Branches<'_> {
     }
 }
 
-/// Basin shares against the frequency.
-pub struct Basins<'a>(pub &'a Steady<'a>);
+/// Basin shares against the frequency; every bar a hover target.
+pub struct Basins<'a>(pub &'a Steady<'a>, pub Hovers);
 
 /// The attractor classes of the basin chart, and their colours.
 fn class_of(kind: SteadyKind, period: u32, impacts: f64) -> (usize, &'static str) {
@@ -262,6 +307,10 @@ const CLASS_COLOURS: [RGBColor; 6] = [
 ];
 
 impl Chart for Basins<'_> {
+    fn hovers(&self) -> Option<&Hovers> {
+        Some(&self.1)
+    }
+
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
     where
         DB::ErrorType: 'static,
@@ -317,6 +366,7 @@ impl Chart for Basins<'_> {
                 i += 1;
             }
             let mut y = 0.0;
+            let mut text = format!("r = {}", fmt_num(r));
             for (c, sh) in shares.iter().enumerate() {
                 if *sh > 0.0 {
                     bars.push(Rectangle::new(
@@ -324,8 +374,14 @@ impl Chart for Basins<'_> {
                         CLASS_COLOURS[c].filled(),
                     ));
                     y += sh;
+                    text.push_str(&format!("\n{}: {} %", names[c], fmt_num(100.0 * sh)));
                 }
             }
+            self.1.area(
+                chart.backend_coord(&(r - w, 0.0)),
+                chart.backend_coord(&(r + w, y)),
+                text,
+            );
         }
         chart.draw_series(bars).map_err(err)?;
         Ok(())
@@ -362,14 +418,14 @@ pub fn charts(
         dir,
         "branches",
         SIZE,
-        &Branches(&st),
+        &Branches(&st, Hovers::default()),
         &super::Data::Table(st.data()),
     )?;
     files.extend(super::plumbing::render(
         dir,
         "basin_shares",
         SIZE,
-        &Basins(&st),
+        &Basins(&st, Hovers::default()),
         &super::Data::Table(basin_data(r)),
     )?);
     if !samples.is_empty() {

@@ -18,6 +18,16 @@ pub fn hex(c: RGBColor) -> String {
     format!("#{:02x}{:02x}{:02x}", c.0, c.1, c.2)
 }
 
+/// A number as an attribute value: Rust's shortest round-trip form, empty when not finite (the
+/// summary's empty cell; a page never shows `NaN`).
+fn num(v: f64) -> String {
+    if v.is_finite() {
+        v.to_string()
+    } else {
+        String::new()
+    }
+}
+
 /// The `data-*` attributes of a design point (with a leading space): `point`, the axes, the
 /// zone and class, R and its interval, the damping column, perfectibility, rank, merged.
 pub fn data(s: &Summary, p: &PointStats) -> String {
@@ -35,12 +45,12 @@ pub fn data(s: &Summary, p: &PointStats) -> String {
         " data-zone=\"{}\" data-class=\"{}\" data-reliability=\"{}\" data-reliability_lo=\"{}\" data-reliability_hi=\"{}\" data-{}=\"{}\" data-perfectibility=\"{}\" data-rank=\"{}\"",
         esc(s.zone_name(p)),
         esc(p.class.label()),
-        p.reliability,
-        p.reliability_lo,
-        p.reliability_hi,
+        num(p.reliability),
+        num(p.reliability_lo),
+        num(p.reliability_hi),
         s.options.damping.name,
-        p.di,
-        p.perfectibility,
+        num(p.di),
+        num(p.perfectibility),
         p.rank.map(|r| r.to_string()).unwrap_or_default(),
     );
     if s.merged(p) {

@@ -1,10 +1,15 @@
-//! `report.md` as HTML: the small Markdown the report writes (headings, paragraphs, lists,
-//! tables, `**bold**`, `` `code` ``, and image lines), so the page has exactly the report's
-//! sections and words. An image line (`![a.svg](a.svg)`) becomes what `figure` returns for
-//! its file name; a row of the zones table (first column `zone`) carries `data-zone`, so the
-//! page's script can highlight that zone's cells on the maps.
+//! `report.md` as HTML, parsed by pulldown-cmark (CommonMark with tables): every construct the
+//! report writes (headings, paragraphs, lists, tables, `**bold**`, `*emphasis*`, `` `code` ``,
+//! image lines) is rendered as CommonMark defines it, rather than by a hand-written subset that
+//! must be taught each new construct. Three things are the page's own: each `##` heading opens a
+//! `<section>` (its id the heading's [`slug`]), an image alone in its paragraph
+//! (`![a.svg](a.svg)`) becomes what `figure` returns for its file name, and a row of the zones
+//! table (first column `zone`) carries `data-zone`, so the page's script can highlight that
+//! zone's cells on the maps. Raw HTML in the text is shown as text, never passed through.
 
 use std::fmt::Write;
+
+use pulldown_cmark::{Event, HeadingLevel, Options, Parser, Tag, TagEnd};
 
 /// Escapes text for HTML content and attribute values.
 pub fn esc(s: &str) -> String {
@@ -35,65 +40,115 @@ pub fn slug(s: &str) -> String {
     o.trim_end_matches('-').to_string()
 }
 
-/// Inline Markdown: `` `code` `` and `**bold**`, the rest escaped.
-pub fn inline(s: &str) -> String {
+/// The report's Markdown as events, raw HTML turned into text.
+fn events(md: &str) -> Vec<Event<'_>> {
+    Parser::new_ext(md, Options::ENABLE_TABLES)
+        .map(|e| match e {
+            Event::Html(t) | Event::InlineHtml(t) => Event::Text(t),
+            e => e,
+        })
+        .collect()
+}
+
+/// Events as HTML.
+fn render(events: &[Event<'_>]) -> String {
     let mut o = String::new();
-    for (i, part) in s.split('`').enumerate() {
-        if i % 2 == 1 {
-            let _ = write!(o, "<code>{}</code>", esc(part));
-            continue;
-        }
-        for (j, t) in esc(part).split("**").enumerate() {
-            if j % 2 == 1 {
-                let _ = write!(o, "<strong>{t}</strong>");
-            } else {
-                o.push_str(t);
-            }
-        }
-    }
+    pulldown_cmark::html::push_html(&mut o, events.iter().cloned());
     o
 }
 
-/// The cells of a table row `| a | b |`.
-fn cells(line: &str) -> Vec<&str> {
-    let t = line.trim();
-    let t = t.strip_prefix('|').unwrap_or(t);
-    let t = t.strip_suffix('|').unwrap_or(t);
-    t.split('|').map(str::trim).collect()
+/// The text of events (for anchors and the zone names).
+fn text_of(events: &[Event<'_>]) -> String {
+    events
+        .iter()
+        .filter_map(|e| match e {
+            Event::Text(t) | Event::Code(t) => Some(t.as_ref()),
+            _ => None,
+        })
+        .collect()
 }
 
-/// The file of an image line `![alt](file)`.
-fn image(line: &str) -> Option<&str> {
-    let t = line.trim();
-    let rest = t.strip_prefix("![")?;
-    let (_, tail) = rest.split_once("](")?;
-    tail.strip_suffix(')')
+/// Inline Markdown (one line: emphasis, strong, code) as HTML without a paragraph around it.
+pub fn inline(s: &str) -> String {
+    let evs: Vec<Event<'_>> = events(s)
+        .into_iter()
+        .filter(|e| {
+            !matches!(
+                e,
+                Event::Start(Tag::Paragraph) | Event::End(TagEnd::Paragraph)
+            )
+        })
+        .collect();
+    render(&evs).trim_end().to_string()
 }
 
-/// A table block (header, rule, rows); the zones table's rows carry `data-zone`.
-fn table(lines: &[&str], zones: &[String]) -> String {
-    let head = cells(lines[0]);
-    let zone_table = head.first() == Some(&"zone");
+/// The index of the first event from `from` that ends the block opened at `from`.
+fn end_of(evs: &[Event<'_>], from: usize, end: fn(&TagEnd) -> bool) -> usize {
+    (from + 1..evs.len())
+        .find(|&j| matches!(&evs[j], Event::End(t) if end(t)))
+        .unwrap_or(evs.len() - 1)
+}
+
+/// The file of a paragraph that holds one image and nothing else (`evs` its inner events).
+fn lone_image<'a>(evs: &'a [Event<'_>]) -> Option<&'a str> {
+    match evs.first()? {
+        Event::Start(Tag::Image { dest_url, .. })
+            if matches!(evs.last()?, Event::End(TagEnd::Image))
+                && !evs[1..evs.len() - 1]
+                    .iter()
+                    .any(|e| matches!(e, Event::Start(_))) =>
+        {
+            Some(dest_url.as_ref())
+        }
+        _ => None,
+    }
+}
+
+/// A table's events (from its start to its end) as HTML; the zones table's rows carry
+/// `data-zone`.
+fn table(evs: &[Event<'_>], zones: &[String]) -> String {
+    // Rows of cells, each cell's inner events; the first row is the header.
+    let mut rows: Vec<Vec<&[Event<'_>]>> = Vec::new();
+    let mut i = 0;
+    while i < evs.len() {
+        match &evs[i] {
+            Event::Start(Tag::TableHead) | Event::Start(Tag::TableRow) => {
+                rows.push(Vec::new());
+                i += 1;
+            }
+            Event::Start(Tag::TableCell) => {
+                let end = end_of(evs, i, |t| matches!(t, TagEnd::TableCell));
+                if let Some(row) = rows.last_mut() {
+                    row.push(&evs[i + 1..end]);
+                }
+                i = end + 1;
+            }
+            _ => i += 1,
+        }
+    }
+    let Some((head, body)) = rows.split_first() else {
+        return String::new();
+    };
+    let zone_table = head.first().map(|c| text_of(c)).as_deref() == Some("zone");
     let mut o = String::from("<div class=\"table\"><table>\n<thead><tr>");
-    for h in &head {
-        let _ = write!(o, "<th>{}</th>", inline(h));
+    for h in head {
+        let _ = write!(o, "<th>{}</th>", render(h));
     }
     o.push_str("</tr></thead>\n<tbody>\n");
-    for line in lines.iter().skip(2) {
-        let row = cells(line);
-        match row.first() {
-            Some(z) if zone_table && zones.iter().any(|n| n == z) => {
-                let _ = write!(
-                    o,
-                    "<tr class=\"zone-row\" data-zone=\"{}\" tabindex=\"0\" title=\"click: show zone {} on the maps\">",
-                    esc(z),
-                    esc(z)
-                );
-            }
-            _ => o.push_str("<tr>"),
+    for row in body {
+        let first = row.first().map(|c| text_of(c)).unwrap_or_default();
+        if zone_table && zones.contains(&first) {
+            let _ = write!(
+                o,
+                "<tr class=\"zone-row\" data-zone=\"{}\" tabindex=\"0\" title=\"click: show zone {} on the maps\">",
+                esc(&first),
+                esc(&first)
+            );
+        } else {
+            o.push_str("<tr>");
         }
-        for c in &row {
-            let _ = write!(o, "<td>{}</td>", inline(c));
+        for c in row {
+            let _ = write!(o, "<td>{}</td>", render(c));
         }
         o.push_str("</tr>\n");
     }
@@ -116,68 +171,59 @@ pub fn to_html(
     zones: &[String],
     figure: &mut dyn FnMut(&str) -> anyhow::Result<String>,
 ) -> anyhow::Result<String> {
-    let lines: Vec<&str> = md.lines().collect();
+    let evs = events(md);
     let mut o = String::new();
-    let mut i = 0;
+    let mut plain: Vec<Event<'_>> = Vec::new();
     let mut open_section = false;
-    while i < lines.len() {
-        let line = lines[i];
-        let t = line.trim_start();
-        if t.is_empty() {
-            i += 1;
-        } else if let Some(h) = t.strip_prefix("# ") {
-            let _ = writeln!(o, "<h1>{}</h1>", inline(h));
-            i += 1;
-        } else if let Some(h) = t.strip_prefix("## ") {
-            if open_section {
-                o.push_str("</section>\n");
-            }
-            open_section = true;
-            let _ = writeln!(o, "<section id=\"{}\">\n<h2>{}</h2>", slug(h), inline(h));
-            i += 1;
-        } else if let Some(h) = t.strip_prefix("### ") {
-            let _ = writeln!(o, "<h3 id=\"{}\">{}</h3>", slug(h), inline(h));
-            i += 1;
-        } else if let Some(file) = image(t) {
-            o.push_str(&figure(file)?);
-            i += 1;
-        } else if t.starts_with('|') {
-            let start = i;
-            while i < lines.len() && lines[i].trim_start().starts_with('|') {
-                i += 1;
-            }
-            if i - start >= 2 {
-                o.push_str(&table(&lines[start..i], zones));
-            } else {
-                let _ = writeln!(o, "<p>{}</p>", inline(t));
-            }
-        } else if t.starts_with("- ") {
-            o.push_str("<ul>\n");
-            while i < lines.len() && lines[i].trim_start().starts_with("- ") {
-                let item = &lines[i].trim_start()[2..];
-                let _ = writeln!(o, "<li>{}</li>", inline(item));
-                i += 1;
-            }
-            o.push_str("</ul>\n");
-        } else {
-            // A paragraph: the lines up to a blank line or another block.
-            let mut text = Vec::new();
-            while i < lines.len() {
-                let l = lines[i].trim_start();
-                if l.is_empty()
-                    || l.starts_with('#')
-                    || l.starts_with('|')
-                    || l.starts_with("- ")
-                    || image(l).is_some()
-                {
-                    break;
+    let mut i = 0;
+    while i < evs.len() {
+        match &evs[i] {
+            Event::Start(Tag::Heading { level, .. }) => {
+                o.push_str(&render(&std::mem::take(&mut plain)));
+                let end = end_of(&evs, i, |t| matches!(t, TagEnd::Heading(_)));
+                let inner = &evs[i + 1..end];
+                let (html, id) = (render(inner), slug(&text_of(inner)));
+                match level {
+                    HeadingLevel::H1 => {
+                        let _ = writeln!(o, "<h1>{html}</h1>");
+                    }
+                    HeadingLevel::H2 => {
+                        if open_section {
+                            o.push_str("</section>\n");
+                        }
+                        open_section = true;
+                        let _ = writeln!(o, "<section id=\"{id}\">\n<h2>{html}</h2>");
+                    }
+                    other => {
+                        let _ = writeln!(o, "<{other} id=\"{id}\">{html}</{other}>");
+                    }
                 }
-                text.push(l);
+                i = end + 1;
+            }
+            Event::Start(Tag::Paragraph) => {
+                let end = end_of(&evs, i, |t| matches!(t, TagEnd::Paragraph));
+                match lone_image(&evs[i + 1..end]) {
+                    Some(file) => {
+                        o.push_str(&render(&std::mem::take(&mut plain)));
+                        o.push_str(&figure(file)?);
+                    }
+                    None => plain.extend(evs[i..=end].iter().cloned()),
+                }
+                i = end + 1;
+            }
+            Event::Start(Tag::Table(_)) => {
+                o.push_str(&render(&std::mem::take(&mut plain)));
+                let end = end_of(&evs, i, |t| matches!(t, TagEnd::Table));
+                o.push_str(&table(&evs[i..=end], zones));
+                i = end + 1;
+            }
+            e => {
+                plain.push(e.clone());
                 i += 1;
             }
-            let _ = writeln!(o, "<p>{}</p>", inline(&text.join(" ")));
         }
     }
+    o.push_str(&render(&plain));
     if open_section {
         o.push_str("</section>\n");
     }
@@ -190,7 +236,7 @@ mod tests {
 
     #[test]
     fn blocks_and_inline() {
-        let md = "# T\n\nA **b** `c<d>` e\nf.\n\n## Zones (Table III)\n\n| zone | n |\n|---|---|\n| I | 3 |\n| x | 4 |\n\n- one\n- two\n\n![a.svg](a.svg)\n";
+        let md = "# T\n\nA **b** `c<d>` *e*\nf <g>.\n\n## Zones (Table III)\n\n| zone | n |\n|---|---|\n| I | 3 |\n| x | 4 |\n\n- one\n- two\n\n![a.svg](a.svg)\n";
         let mut figs = Vec::new();
         let html = to_html(md, &["I".to_string()], &mut |f| {
             figs.push(f.to_string());
@@ -198,7 +244,13 @@ mod tests {
         })
         .unwrap();
         assert!(html.contains("<h1>T</h1>"));
-        assert!(html.contains("<p>A <strong>b</strong> <code>c&lt;d&gt;</code> e f.</p>"));
+        assert!(
+            html.contains(
+                "<p>A <strong>b</strong> <code>c&lt;d&gt;</code> <em>e</em>\nf &lt;g&gt;.</p>"
+            ),
+            "{html}"
+        );
+        assert!(!html.contains('*'));
         assert!(html.contains("<section id=\"zones-table-iii\">"));
         assert!(html.contains("<tr class=\"zone-row\" data-zone=\"I\""));
         assert!(html.contains("<tr><td>x</td><td>4</td></tr>"));

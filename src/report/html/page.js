@@ -5,10 +5,10 @@
     tip.style.left = (e.pageX + 14) + "px";
     tip.style.top = (e.pageY + 14) + "px";
   }
-  // The hover text of a design point beside the pointer at once (its <title> otherwise shows
-  // only after a pause).
+  // The hover text of a design point, or of a point of a forced chart, beside the pointer at
+  // once (its <title> otherwise shows only after a pause).
   document.addEventListener("mouseover", function (e) {
-    var t = e.target.closest ? e.target.closest("[data-point]") : null;
+    var t = e.target.closest ? e.target.closest("[data-point],[data-hover]") : null;
     var title = t ? t.querySelector("title") : null;
     if (!title) { tip.hidden = true; return; }
     tip.textContent = title.textContent;

@@ -50,6 +50,7 @@ pub fn report_with(
 ) -> String {
     let mut o = format!("# impactsweep report: {}\n\n", study.name);
     o += &cases::overview(study, s);
+    o += &settings::no_strength(s);
     o += &recommendation::section(s);
     o += scene;
     o += &zones::section(s);

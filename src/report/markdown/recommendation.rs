@@ -61,6 +61,24 @@ pub fn section(s: &Summary) -> String {
                 let _ = writeln!(o);
             }
         }
+        None if !s.computes_r() => {
+            let _ = writeln!(
+                o,
+                "**No design is recommended**: a recommendation needs R, and the study gives no strength (above)."
+            );
+            if let Some(p) = ranked.first() {
+                let _ = writeln!(
+                    o,
+                    "\nThe best ranked design, by {} alone, is {} (design point {}).\n",
+                    s.options.damping.symbol,
+                    design_text(s, p.point),
+                    p.point
+                );
+                o += &figures(s, p, ranked.len());
+            } else {
+                let _ = writeln!(o);
+            }
+        }
         None => {
             let _ = writeln!(
                 o,
@@ -90,13 +108,20 @@ fn figures(s: &Summary, p: &PointStats, n_ranked: usize) -> String {
         .zone_of(p)
         .map(|z| format!(" Zone {} ({}).", z.name, z.label()))
         .unwrap_or_default();
+    let reliability = if s.computes_r() {
+        format!(
+            "R = {} ({} interval {} – {}), μn = {}, ",
+            f(p.reliability, 5),
+            confidence(s),
+            f(p.reliability_lo, 5),
+            f(p.reliability_hi, 5),
+            f(p.safety_factor, 3)
+        )
+    } else {
+        String::new()
+    };
     format!(
-        "R = {} ({} interval {} – {}), μn = {}, {} = {}, {} mean {} cm (SD {} cm), perfectibility {} % (rank {} of {}).{zone}\n\n",
-        f(p.reliability, 5),
-        confidence(s),
-        f(p.reliability_lo, 5),
-        f(p.reliability_hi, 5),
-        f(p.safety_factor, 3),
+        "{reliability}{} = {}, {} mean {} cm (SD {} cm), perfectibility {} % (rank {} of {}).{zone}\n\n",
         s.options.damping.symbol,
         s.options.damping.with_unit(&f(p.di, 5)),
         s.options.response.name,

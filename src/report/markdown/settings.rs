@@ -20,15 +20,22 @@ pub fn section(study: &Study, s: &Summary) -> String {
         fmt_num(rel.L),
         s.stress_per_m * 0.01 / 1e6
     );
-    let _ = writeln!(
-        o,
-        "- Strength: lognormal, mean {} MPa, SD {} MPa (Cv {:.3}; μ_ln = {:.4}, σ_ln = {:.4}).",
-        fmt_num(rel.strength_mean / 1e6),
-        fmt_num(rel.strength_sd / 1e6),
-        s.strength.cv(),
-        s.strength.mu_ln,
-        s.strength.sigma_ln
-    );
+    if s.computes_r() {
+        let _ = writeln!(
+            o,
+            "- Strength: lognormal, mean {} MPa, SD {} MPa (Cv {:.3}; μ_ln = {:.4}, σ_ln = {:.4}).",
+            fmt_num(rel.strength_mean / 1e6),
+            fmt_num(rel.strength_sd / 1e6),
+            s.strength.cv(),
+            s.strength.mu_ln,
+            s.strength.sigma_ln
+        );
+    } else {
+        let _ = writeln!(
+            o,
+            "- Strength: not given (`[reliability] strength_mean` and `strength_sd`): R, μn and the safety factor are not computed."
+        );
+    }
     let _ = writeln!(
         o,
         "- Safety factor: {}.",
@@ -87,4 +94,17 @@ pub fn section(study: &Study, s: &Summary) -> String {
         }
     );
     o
+}
+
+/// The report's warning, at its top, when the study gives no strength: R and the safety factor
+/// are not computed, what the zones and the ranking use instead, and the lines to add. Empty
+/// when R is computed.
+pub fn no_strength(s: &Summary) -> String {
+    if s.computes_r() || s.points.iter().all(|p| !p.di.is_finite()) {
+        return String::new();
+    }
+    let q = s.options.damping.symbol;
+    format!(
+        "**Reliability not computed: the study gives no strength.** R, its interval, μn and the safety factor need the strength of the part the stress acts on, as a lognormal law: add to the study\n\n```toml\n[reliability]\nstrength_mean = 300e6   # Pa, mean strength (e.g. a structural steel's endurance limit)\nstrength_sd = 24e6      # Pa, its standard deviation\n```\n\nand reduce again (`impactsweep reduce RUN_DIR`; nothing is simulated again). Until then the zones are classed by {q} alone (\"reliability not computed\"), perfectibility is {q} relative to the best, P = 100 {q} / {q}_max (eq. 11 without its R term), the ranking follows it, no design is recommended (a recommendation needs R) and the Pareto set on R and {q} is empty.\n\n"
+    )
 }

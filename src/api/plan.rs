@@ -1,0 +1,346 @@
+//! The sizing of a study (`impactsweep plan STUDY.toml`, the Python binding's `plan`): its size, where its dataset would
+//! go, and an estimate of run time and disk size.
+//!
+//! The time estimate comes from a short timed sample: up to [`SAMPLE_RUNS`] runs drawn evenly
+//! over the plan (same systems, cases and noise as the real sweep), simulated on one thread;
+//! the mean time per run is scaled by the total and divided by the threads a `run` would use.
+//! It measures the binary it runs in, so a debug build predicts a debug build.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use crate::plan::Plan;
+use crate::sim::{self, Drive, NoProbe, Scene};
+use crate::study::{Study, num as fmt_value};
+
+/// Runs simulated by the timed sample.
+pub const SAMPLE_RUNS: u64 = 200;
+
+/// Rough Parquet size of one run (bytes). Measured: 88.4 bytes per run for a 200,000-run
+/// noise-free e × m × d sweep (one case per point, 4 part files, 17.7 MB) written by the sweep
+/// engine's store. Most of it is the 9 Float64 observables that change on every run
+/// (`x1 t1 x2 t2 xmax di energy_impact energy_viscous t_stop`), whose mantissas barely compress;
+/// ids, parameters and counts dictionary/RLE-encode to a few bytes. Rounded up to 90; an
+/// estimate, not a promise (other grids compress differently).
+pub const BYTES_PER_RUN: u64 = 90;
+
+/// Rough Parquet size of one run of a harmonic study (bytes): the forced table's Float64
+/// outputs (`amplitude impacts_per_period amplitude_linear attenuation energy_* t_stop`, and
+/// `omega r` along the frequency axis). Measured: 69 bytes per run for a one-case 3 x 3 x 81
+/// study (729 runs, one part file), 38 for `configs/frequency-response.toml` (five cases,
+/// whose runs off the impact band are identical and compress); rounded up to 70.
+pub const BYTES_PER_FORCED_RUN: u64 = 70;
+
+/// A timed sample: runs simulated and seconds taken.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    pub runs: u64,
+    pub seconds: f64,
+}
+
+/// Simulates up to [`SAMPLE_RUNS`] runs spread evenly over the plan, on this thread.
+pub fn time_sample(study: &Study) -> Sample {
+    let plan = Plan::new(study);
+    let total = plan.n_runs();
+    let n = total.min(SAMPLE_RUNS);
+    let n_cases = plan.n_cases();
+    let start = Instant::now();
+    for j in 0..n {
+        // Evenly spread run indices; u128 so that j * total cannot overflow.
+        let r = (u128::from(j) * u128::from(total) / u128::from(n)) as u64;
+        let run = plan.run(r / n_cases, (r % n_cases) as u32);
+        let mut stream = plan.noise_stream(&run);
+        let noise = match (&study.noise, stream.as_mut()) {
+            (Some(ns), Some(s)) => Some((ns, s)),
+            _ => None,
+        };
+        let rec = sim::simulate_scene(
+            &run.system,
+            &study.solver,
+            &study.request,
+            &run.scene,
+            noise,
+            &mut NoProbe,
+        );
+        std::hint::black_box(rec);
+    }
+    Sample {
+        runs: n,
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// The plan as text.
+pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample>) -> String {
+    let plan = Plan::new(study);
+    let mut s = String::new();
+    let w = &mut s;
+    let _ = writeln!(
+        w,
+        "study:          {} ({})",
+        study.name,
+        study.path.display()
+    );
+    if study.axes.is_empty() {
+        let _ = writeln!(w, "axes:           none (one design point)");
+    }
+    for (i, a) in study.axes.iter().enumerate() {
+        let label = if i == 0 { "axes:" } else { "" };
+        let n = a.values.len();
+        let range = if n == 1 {
+            fmt_value(a.values[0])
+        } else {
+            format!(
+                "{} .. {}",
+                fmt_value(a.values[0]),
+                fmt_value(a.values[n - 1])
+            )
+        };
+        let _ = writeln!(w, "{label:<16}{} = {range} ({n} values)", a.key);
+    }
+    let n_cases = plan.n_cases();
+    let noisy = study
+        .cases
+        .iter()
+        .filter(|c| c.noise_seed.is_some())
+        .count();
+    let perturbed = study
+        .cases
+        .iter()
+        .filter(|c| c.dm != 0.0 || c.dd != 0.0)
+        .count();
+    let _ = writeln!(w, "design points:  {}", plan.n_points());
+    let _ = writeln!(
+        w,
+        "cases/point:    {n_cases} (1 ideal, {perturbed} perturbed, {noisy} with noise)"
+    );
+    let _ = writeln!(w, "total runs:     {}", plan.n_runs());
+    match &study.noise {
+        Some(ns) => {
+            let sd = (ns.power / ns.sample_time).sqrt();
+            let _ = writeln!(
+                w,
+                "noise:          on: power {} m^2 s, sample time {} s (sd {:.3e} m per sample)",
+                fmt_value(ns.power),
+                fmt_value(ns.sample_time),
+                sd
+            );
+        }
+        None => {
+            let _ = writeln!(w, "noise:          off");
+        }
+    }
+    if let Scene::Harmonic(h) = &study.scene {
+        describe_harmonic(w, study, h);
+    } else {
+        describe_free(w, study);
+    }
+    let _ = writeln!(
+        w,
+        "chunks:         {} of up to {} design points",
+        plan.n_chunks(),
+        study.run.chunk_points
+    );
+    if let Some(warning) = tiny_parts(&plan) {
+        let _ = writeln!(w, "warning:        {warning}");
+    }
+    let _ = writeln!(w, "output:         {}/", out.join(&study.name).display());
+    if let Some(sm) = sample
+        && sm.runs > 0
+    {
+        let per_run = sm.seconds / sm.runs as f64;
+        let total = per_run * plan.n_runs() as f64 / threads.max(1) as f64;
+        let _ = writeln!(
+            w,
+            "time estimate:  {} on {threads} thread{} ({:.1} us/run over a sample of {} runs)",
+            fmt_duration(total),
+            if threads == 1 { "" } else { "s" },
+            per_run * 1e6,
+            sm.runs
+        );
+    }
+    let per_run = match study.scene {
+        Scene::Free => BYTES_PER_RUN,
+        Scene::Harmonic(_) => BYTES_PER_FORCED_RUN,
+    };
+    let _ = writeln!(
+        w,
+        "disk estimate:  {} (rough: about {per_run} bytes of Parquet per run)",
+        fmt_bytes(plan.n_runs().saturating_mul(per_run))
+    );
+    s
+}
+
+/// The free-decay lines: the solver's accuracy on the study's own design points and each run's
+/// horizon.
+fn describe_free(w: &mut String, study: &Study) {
+    let sv = &study.solver;
+    let _ = writeln!(
+        w,
+        "solver:         {} ({} {}, chatter_tol {}, max_impacts {}, max_steps {}, t_max_periods {})",
+        sv.kind.name(),
+        sv.kind.knob(),
+        fmt_value(sv.knob_value()),
+        fmt_value(sv.chatter_tol),
+        sv.max_impacts,
+        sv.max_steps,
+        fmt_value(sv.t_max_periods)
+    );
+    // What the chosen setting costs and how wrong it is, measured now on the study's own design
+    // points against `exact` at its tightest tolerance (issue 5).
+    let reference = crate::accuracy::Reference::study(study);
+    let q = crate::accuracy::quote_on(&reference, sv);
+    let _ = writeln!(
+        w,
+        "accuracy:       {} = {}: max relative error against exact (tol 1e-14) DI {:.1e}, xmax {:.1e}, t1 {:.1e}; {} of {} runs changed impact count",
+        sv.kind.knob(),
+        fmt_value(sv.knob_value()),
+        q.di_err,
+        q.xmax_err,
+        q.t1_err,
+        q.changed_impacts,
+        q.runs
+    );
+    let _ = writeln!(
+        w,
+        "                ({}; {:.1} us CPU per noise-free run)",
+        reference.label,
+        q.cpu_per_run * 1e6
+    );
+    let horizon = match study.request.t_end {
+        Some(t) => format!("to t = {} s", fmt_value(t)),
+        None => format!("to the end of positive half-cycle {}", study.request.peaks),
+    };
+    let _ = writeln!(w, "each run:       {horizon}");
+}
+
+/// The harmonic scene's lines: the force, the frequency band (fixed or swept) and each run's
+/// transient and window.
+fn describe_harmonic(w: &mut String, study: &Study, h: &sim::Harmonic) {
+    let swept = |key: &str| study.axis(key).is_some();
+    let force = if swept("F0") {
+        "F0 swept".to_string()
+    } else {
+        format!("F0 = {} N", fmt_value(h.F0))
+    };
+    let freq = match (h.drive, study.frequency_axis()) {
+        (_, Some(a)) => format!("{} swept (each curve: {} values)", a.key, a.values.len()),
+        (Drive::Omega(w), None) => format!("omega = {} rad/s", fmt_value(w)),
+        (Drive::Ratio(r), None) => format!("r = {}", fmt_value(r)),
+    };
+    let _ = writeln!(
+        w,
+        "scene:          harmonic: F0 cos(omega t) on the main mass; {force}, {freq}"
+    );
+    let _ = writeln!(
+        w,
+        "solver:         exact (tol {}, chatter_tol {}, max_impacts {}, max_steps {})",
+        fmt_value(study.solver.tol),
+        fmt_value(study.solver.chatter_tol),
+        study.solver.max_impacts,
+        study.solver.max_steps
+    );
+    let transient = match h.n_trans {
+        Some(n) => format!("{n} forcing periods"),
+        None => format!(
+            "until the Poincare section converges (trans_tol {}), at most {} forcing periods",
+            fmt_value(h.trans_tol),
+            h.n_trans_max
+        ),
+    };
+    let _ = writeln!(
+        w,
+        "each run:       transient {transient}, then {} periods measured (period_tol {})",
+        h.n_meas,
+        fmt_value(h.period_tol)
+    );
+}
+
+/// Runs per part file under which `plan` calls the part files tiny (with [`TINY_MIN_CHUNKS`]
+/// chunks or more): below it a part's fixed cost, [`PART_OVERHEAD_BYTES`] of schema and metadata
+/// and a file to create, rename and record, is a tenth of the part or more.
+pub const TINY_PART_RUNS: u64 = 1000;
+/// Chunks from which tiny parts are worth a warning (fewer tiny files cost little).
+pub const TINY_MIN_CHUNKS: u64 = 100;
+/// The fixed size of a part file: its footer (the schema with every column's unit, statistics)
+/// and the study text. Measured: 10.8 kB for a 2-run part of a 9-line study.
+pub const PART_OVERHEAD_BYTES: u64 = 10_600;
+
+/// A warning when the study's part files will be tiny (see [`TINY_PART_RUNS`]).
+pub fn tiny_parts(plan: &Plan) -> Option<String> {
+    let study = plan.study;
+    let runs_per_part = study.run.chunk_points.min(plan.n_points()) * plan.n_cases();
+    if plan.n_chunks() < TINY_MIN_CHUNKS || runs_per_part >= TINY_PART_RUNS {
+        return None;
+    }
+    let suggest = TINY_PART_RUNS.div_ceil(plan.n_cases().max(1));
+    Some(format!(
+        "{} part files of {runs_per_part} runs (about {}, of which {} is each file's fixed \
+         schema and metadata): tiny files slow the sweep and every reader that opens them all. \
+         Set [run].chunk_points to {suggest} or more, or leave it out (about {} runs per part)",
+        plan.n_chunks(),
+        fmt_bytes(runs_per_part * BYTES_PER_RUN + PART_OVERHEAD_BYTES),
+        fmt_bytes(PART_OVERHEAD_BYTES),
+        crate::study::DEFAULT_CHUNK_RUNS
+    ))
+}
+
+/// `1.2 s`, `3 min 20 s`, `2 h 05 min`.
+pub fn fmt_duration(secs: f64) -> String {
+    if secs < 1.0 {
+        format!("{:.0} ms", secs * 1e3)
+    } else if secs < 60.0 {
+        format!("{secs:.1} s")
+    } else if secs < 3600.0 {
+        format!("{} min {:02} s", (secs / 60.0) as u64, (secs % 60.0) as u64)
+    } else {
+        format!(
+            "{} h {:02} min",
+            (secs / 3600.0) as u64,
+            ((secs % 3600.0) / 60.0) as u64
+        )
+    }
+}
+
+/// `512 B`, `48.8 kB`, `1.2 GB` (powers of 1000).
+pub fn fmt_bytes(b: u64) -> String {
+    let units = ["B", "kB", "MB", "GB", "TB", "PB"];
+    let mut v = b as f64;
+    let mut u = 0;
+    while v >= 1000.0 && u + 1 < units.len() {
+        v /= 1000.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{b} B")
+    } else {
+        format!("{v:.1} {}", units[u])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations_and_sizes_read_well() {
+        assert_eq!(fmt_duration(1.234), "1.2 s");
+        assert_eq!(fmt_duration(0.0123), "12 ms");
+        assert_eq!(fmt_duration(200.0), "3 min 20 s");
+        assert_eq!(fmt_duration(7500.0), "2 h 05 min");
+        assert_eq!(fmt_bytes(512), "512 B");
+        assert_eq!(fmt_bytes(48_800), "48.8 kB");
+        assert_eq!(fmt_bytes(1_234_000_000), "1.2 GB");
+    }
+
+    #[test]
+    fn sample_is_spread_over_the_plan_and_bounded() {
+        let text = "[study]\nname = \"s\"\n[sweep]\ne = { start = 0.5, stop = 0.9, num = 300 }\n";
+        let study = Study::parse(Path::new("s.toml"), text).unwrap();
+        assert_eq!(time_sample(&study).runs, SAMPLE_RUNS);
+        let text = "[study]\nname = \"s\"\n[sweep]\ne = [0.5, 0.9]\n";
+        let study = Study::parse(Path::new("s.toml"), text).unwrap();
+        assert_eq!(time_sample(&study).runs, 2);
+    }
+}
