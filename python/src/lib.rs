@@ -480,9 +480,7 @@ fn life_estimate<'py>(
         )));
     }
     if let Some(v) = z.iter().find(|v| !v.is_finite()) {
-        return Err(PyValueError::new_err(format!(
-            "maxima: {v} is not finite"
-        )));
+        return Err(PyValueError::new_err(format!("maxima: {v} is not finite")));
     }
     let life = Life {
         n_life: design_periods,
