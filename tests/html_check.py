@@ -249,11 +249,21 @@ def forced_hovers(drv, page):
         if not els:
             continue
         el = els[len(els) // 2]
-        want = el.find_element(By.TAG_NAME, "title").get_attribute("textContent")
         drv.execute_script("arguments[0].scrollIntoView({block: 'center'})", el)
         ActionChains(drv).move_to_element(el).perform()
+        # Targets of neighbouring curves can overlap: the one under the pointer is the one
+        # whose text must show.
+        want = drv.execute_script(
+            """
+            const r = arguments[0].getBoundingClientRect();
+            const top = document.elementFromPoint(r.x + r.width / 2, r.y + r.height / 2);
+            const t = top && top.closest('[data-hover]');
+            const title = t && t.querySelector(':scope > title');
+            return title ? title.textContent : null;""",
+            el,
+        )
         tip = drv.find_element(By.ID, "tip")
-        if not tip.is_displayed() or tip.get_attribute("textContent") != want:
+        if want is None or not tip.is_displayed() or tip.get_attribute("textContent") != want:
             raise PageError(f"{page}: hovering a point of {prefix} shows {tip.text!r}, not {want!r}")
 
 
