@@ -226,6 +226,14 @@ impl System {
         self.C / (2.0 * (self.K * self.M).sqrt())
     }
 
+    /// Steady amplitude (m) of the main mass alone (no inner mass) under `F0 cos(omega t)` at
+    /// the frequency ratio `r = omega / sqrt(K/M)`: `X_st / sqrt((1 - r^2)^2 + (2 zeta r)^2)`,
+    /// `X_st = F0 / K`.
+    #[allow(non_snake_case)]
+    pub fn linear_amplitude(&self, F0: f64, r: f64) -> f64 {
+        F0 / self.K / ((1.0 - r * r).powi(2) + (2.0 * self.zeta() * r).powi(2)).sqrt()
+    }
+
     /// Total mechanical energy (J) of a state of this system: both kinetic energies and the
     /// spring's potential energy.
     pub fn energy(&self, x: f64, v: f64, w: f64) -> f64 {

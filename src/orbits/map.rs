@@ -84,9 +84,7 @@ impl Forcing {
     /// Steady amplitude of the main mass without the inner mass,
     /// `X_st / sqrt((1 - r^2)^2 + (2 zeta r)^2)` (m).
     pub fn amplitude_linear(&self) -> f64 {
-        let r = self.ratio();
-        let z = self.sys.zeta();
-        self.F0 / self.sys.K / ((1.0 - r * r).powi(2) + (2.0 * z * r).powi(2)).sqrt()
+        self.sys.linear_amplitude(self.F0, self.ratio())
     }
 
     /// Half the clearance, `d / 2` (m).

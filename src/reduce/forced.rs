@@ -234,9 +234,7 @@ impl Curve {
     /// The linear system's steady amplitude (m) at frequency ratio `r`, in closed form: the
     /// main mass without the inner one, `F0 / K / sqrt((1 - r^2)^2 + (2 zeta r)^2)`.
     pub fn linear_at(&self, r: f64) -> f64 {
-        let s = &self.system;
-        let z = s.zeta();
-        self.f0 / s.K / ((1.0 - r * r).powi(2) + (2.0 * z * r).powi(2)).sqrt()
+        self.system.linear_amplitude(self.f0, r)
     }
 
     /// `(r, amplitude)` of the linear system on `n + 1` evenly spaced ratios from `r0` to `r1`:

@@ -254,8 +254,7 @@ impl<P: Probe> Run<'_, P> {
         let sys = self.map.sys;
         let scene = self.scene;
         let r = scene.ratio(sys);
-        let amplitude_linear =
-            scene.F0 / sys.K / ((1.0 - r * r).powi(2) + (2.0 * sys.zeta() * r).powi(2)).sqrt();
+        let amplitude_linear = sys.linear_amplitude(scene.F0, r);
         let nan = f64::NAN;
         let ok = outcome == Outcome::Ok;
         let (amplitude, ipp, period, ef, ev, ei) = match (&self.window, ok) {
