@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Regenerates results/frequency-response/: configs/frequency-response.toml (harmonic forcing;
 # 3 inner masses x 3 clearances, each over 81 frequency ratios, 5 cases: 3,645 runs) run and
-# reduced by scripts/showcase.sh. With the attractor census (8 starts per run) a release build
-# runs it in about 38 s and reduces it in about 40 s of wall time on 2 cores (most of the
-# reduction locates jumps: each probe runs a whole curve's census; BENCHMARKS.md).
+# reduced by scripts/showcase.sh. With the attractor census (8 starts per run) and the design
+# lives of its chaotic motions, a release build runs it in about 75 s and reduces it in about
+# 5 s of wall time on 2 cores (results/bench_forced_scale.md).
 # tests/reproduce.rs checks the committed files byte for byte.
 #
 #   scripts/frequency_response.sh [WORK_DIR]

@@ -328,6 +328,17 @@ bootstrap = 20
             .collect()
     };
     let branches = csv("branches.csv");
+    assert!(
+        branches[0].contains_key("impacts_per_period") && branches[0].contains_key("multiplier_max"),
+        "branches.csv is the branches table, not a chart's columns: {:?}",
+        branches[0].keys()
+    );
+    // Issue 25: the steady-state charts of a force sweep are drawn against F0.
+    for chart in ["branches", "basin_shares"] {
+        let svg = std::fs::read_to_string(dir.join(format!("{chart}.svg"))).unwrap();
+        assert!(svg.contains("force amplitude F0 (N)"), "{chart}.svg");
+        assert!(svg.contains("F0 = "), "{chart}.svg has hover texts in F0");
+    }
     let impacting: Vec<_> = branches
         .iter()
         .filter(|b| num(&b["impacts_per_period"]) > 0.0)

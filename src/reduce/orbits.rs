@@ -141,6 +141,17 @@ fn initial_section(sys: &crate::model::System) -> Section {
     [sys.x0, sys.v0, sys.y0 - sys.x0, sys.w0]
 }
 
+/// The key of a one-point curve's group along `F0`: the bits of its ideal system (with its
+/// initial state) and its frequency; curves with the same key differ only in `F0`.
+pub fn force_group(c: &Curve) -> Vec<u64> {
+    let s = &c.system;
+    let omega = c.points.first().map_or(f64::NAN, |p| p.omega);
+    [s.M, s.m, s.K, s.C, s.e, s.d, s.x0, s.v0, s.y0, s.w0, omega]
+        .iter()
+        .map(|v| v.to_bits())
+        .collect()
+}
+
 /// A study at one frequency that sweeps `F0`: its one-point curves grouped by everything but
 /// `F0` (the ideal system and the frequency), each group followed along `F0`.
 fn along_force(study: &Study, h: &crate::sim::Harmonic, fs: &ForcedSummary) -> Vec<Response> {
@@ -151,14 +162,7 @@ fn along_force(study: &Study, h: &crate::sim::Harmonic, fs: &ForcedSummary) -> V
     {
         return Vec::new();
     }
-    let key = |c: &Curve| -> Vec<u64> {
-        let s = &c.system;
-        let omega = c.points.first().map_or(f64::NAN, |p| p.omega);
-        [s.M, s.m, s.K, s.C, s.e, s.d, s.x0, s.v0, s.y0, s.w0, omega]
-            .iter()
-            .map(|v| v.to_bits())
-            .collect()
-    };
+    let key = force_group;
     let mut groups: Vec<(Vec<u64>, Vec<&Curve>)> = Vec::new();
     for c in &fs.curves {
         let k = key(c);

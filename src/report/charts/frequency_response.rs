@@ -670,12 +670,18 @@ pub fn charts(
             &super::Data::Table(row.data(s)),
         )?);
     }
-    // The steady-state charts are drawn against the frequency (a study along F0 has its
-    // branches in the tables only).
-    if f.frequency.is_some()
-        && let Some(r) = steady.iter().find(|r| r.design == anchor)
-    {
-        files.extend(super::steady_states::charts(s, f, r, samples, dir)?);
+    // The steady-state charts: against the frequency, or against F0 for a study at one
+    // frequency that sweeps the force (the response of the anchor's group of forces).
+    let found = if f.frequency.is_some() {
+        steady.iter().find(|r| r.design == anchor)
+    } else {
+        let key = f.curve(anchor).map(crate::reduce::orbits::force_group);
+        steady.iter().find(|r| {
+            key.is_some() && f.curve(r.design).map(crate::reduce::orbits::force_group) == key
+        })
+    };
+    if let Some(r) = found {
+        files.extend(super::steady_states::charts(s, f, r, anchor, samples, dir)?);
     }
     Ok(files)
 }

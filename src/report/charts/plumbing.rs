@@ -129,6 +129,9 @@ fn add_hovers(path: &Path, hovers: &[Hover]) -> anyhow::Result<()> {
 pub enum Data<'a> {
     Rows(&'a Summary, &'a [&'a PointStats], &'a [&'a str]),
     Table(Table),
+    /// The chart draws from a table `reduce` has already written under the chart's name
+    /// (`<stem>.csv`, every design's rows; the chart shows one design's): no file is written.
+    Written,
 }
 
 impl Data<'_> {
@@ -146,12 +149,13 @@ impl Data<'_> {
                 })
             }
             Data::Table(t) => write_csv_in_batches(path, t.n_rows(), |r| t.rows(r)),
+            Data::Written => Ok(()),
         }
     }
 }
 
 /// Writes `<dir>/<stem>.svg`, `<dir>/<stem>.png` and the chart's data `<dir>/<stem>.csv`;
-/// returns the three paths.
+/// returns the three paths (two with [`Data::Written`], whose table is already there).
 pub fn render<C: Chart>(
     dir: &Path,
     stem: &str,
@@ -190,6 +194,9 @@ pub fn render<C: Chart>(
         if let Some(h) = chart.hovers() {
             h.take();
         }
+    }
+    if matches!(data, Data::Written) {
+        return Ok(vec![svg, png]);
     }
     data.write(&csv)?;
     Ok(vec![svg, png, csv])

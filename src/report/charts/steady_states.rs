@@ -36,18 +36,93 @@ const PEAK: RGBColor = RGBColor(0, 0, 0);
 /// The curve's steady states and where its design peak is.
 pub struct Steady<'a> {
     pub r: &'a Response,
+    /// The design's curve (the recommended design's; along `F0`, the one-point curve of its
+    /// force).
     pub curve: &'a Curve,
     pub title_at: String,
+    pub along: Along<'a>,
+}
+
+/// What the steady states are followed along: the frequency ratio, or (a study at one
+/// frequency that sweeps `F0`) the force amplitude over the one-point curves of a group that
+/// differ only in `F0`, in increasing `F0`.
+pub enum Along<'a> {
+    Ratio,
+    Force(Vec<&'a Curve>),
 }
 
 impl Steady<'_> {
+    /// The abscissa of a branch row.
+    fn x_branch(&self, b: &crate::orbits::response::BranchRow) -> f64 {
+        match self.along {
+            Along::Ratio => b.r,
+            Along::Force(_) => b.F0,
+        }
+    }
+
+    /// The abscissa of an attractor row.
+    fn x_attractor(&self, a: &crate::orbits::attractors::AttractorRow) -> f64 {
+        match self.along {
+            Along::Ratio => a.run.r,
+            Along::Force(_) => a.run.F0,
+        }
+    }
+
+    /// The parameter's name in hover texts and titles, and the axis description.
+    fn x_name(&self) -> (&'static str, &'static str) {
+        match self.along {
+            Along::Ratio => ("r", "frequency ratio r = omega / sqrt(K/M) (–)"),
+            Along::Force(_) => ("F0", "force amplitude F0 (N)"),
+        }
+    }
+
+    /// The swept values (their count sets the bar widths).
+    fn n_values(&self) -> usize {
+        match &self.along {
+            Along::Ratio => self.curve.points.len(),
+            Along::Force(cs) => cs.len(),
+        }
+    }
+
+    /// The linear system in closed form on `FINE` intervals from `x0` to `x1`, `(x, amplitude
+    /// in m)`: against `r` the resonance curve, against `F0` a line through the origin.
+    fn linear_line(&self, x0: f64, x1: f64) -> Vec<(f64, f64)> {
+        match self.along {
+            Along::Ratio => self.curve.linear_line(x0, x1, FINE),
+            Along::Force(_) => {
+                let r = self.curve.points.first().map_or(f64::NAN, |p| p.r);
+                (0..=FINE)
+                    .map(|i| {
+                        let f0 = x0 + (x1 - x0) * i as f64 / FINE as f64;
+                        (f0, self.curve.system.linear_amplitude(f0, r))
+                    })
+                    .collect()
+            }
+        }
+    }
+
+    /// The design peaks to mark, `(x, peak in m, named)`: the curve's peak against `r`;
+    /// against `F0`, the peak at each force of the group, the design's own named.
+    fn peaks(&self) -> Vec<(f64, f64, bool)> {
+        match &self.along {
+            Along::Ratio => {
+                let (peak, r) = self.curve.peak();
+                vec![(r, peak, true)]
+            }
+            Along::Force(cs) => cs
+                .iter()
+                .map(|c| (c.f0, c.peak().0, c.design == self.curve.design))
+                .collect(),
+        }
+    }
+
     /// Branch segments: `(branch, stability, points)` split where stability changes.
     fn segments(&self) -> Vec<(&'static str, Vec<(f64, f64)>)> {
         let mut out: Vec<(&'static str, Vec<(f64, f64)>)> = Vec::new();
         let mut last: Option<(u32, &'static str)> = None;
         for b in &self.r.branches {
             let key = (b.branch, b.stability);
-            let p = (b.r, b.amplitude * CM);
+            let p = (self.x_branch(b), b.amplitude * CM);
             match (last, out.last_mut()) {
                 (Some(k), Some(seg)) if k == key => seg.1.push(p),
                 (Some((br, _)), Some(seg)) if br == b.branch => {
@@ -75,10 +150,7 @@ impl Steady<'_> {
                 .chain(self.r.attractors.iter().map(|a| a.amplitude * CM))
                 .chain({
                     let (x0, x1) = self.x_range();
-                    self.curve
-                        .linear_line(x0, x1, FINE)
-                        .into_iter()
-                        .map(|(_, a)| a * CM)
+                    self.linear_line(x0, x1).into_iter().map(|(_, a)| a * CM)
                 }),
         );
         if hi.is_finite() && hi > 0.0 {
@@ -89,36 +161,11 @@ impl Steady<'_> {
     }
 
     fn x_range(&self) -> (f64, f64) {
-        let (x0, x1) = minmax(self.curve.points.iter().map(|p| p.r));
+        let (x0, x1) = match &self.along {
+            Along::Ratio => minmax(self.curve.points.iter().map(|p| p.r)),
+            Along::Force(cs) => minmax(cs.iter().map(|c| c.f0)),
+        };
         if x1 > x0 { (x0, x1) } else { pad(x0, x1, 0.5) }
-    }
-
-    /// The chart data: the branch rows.
-    pub fn data(&self) -> Table {
-        let b = &self.r.branches;
-        let mut t = Table::default();
-        t.push(
-            "branch",
-            Column::U64(b.iter().map(|x| Some(u64::from(x.branch))).collect()),
-        );
-        t.push("r", Column::F64(b.iter().map(|x| x.r).collect()));
-        t.push(
-            "amplitude",
-            Column::F64(b.iter().map(|x| x.amplitude).collect()),
-        );
-        t.push(
-            "period",
-            Column::U64(b.iter().map(|x| Some(u64::from(x.period))).collect()),
-        );
-        t.push(
-            "stability",
-            Column::Str(b.iter().map(|x| x.stability.to_string()).collect()),
-        );
-        t.push(
-            "label",
-            Column::Str(b.iter().map(|x| x.label.to_string()).collect()),
-        );
-        t
     }
 }
 
@@ -147,7 +194,10 @@ impl Chart for Branches<'_> {
         let st = self.0;
         let (title, rest) = root.split_vertically(40);
         title
-            .titled(&format!("Steady states against r{}", st.title_at), TITLE)
+            .titled(
+                &format!("Steady states against {}{}", st.x_name().0, st.title_at),
+                TITLE,
+            )
             .map_err(err)?;
         let items = vec![
             (Key::Line(STABLE), "stable periodic orbit".to_string()),
@@ -163,7 +213,7 @@ impl Chart for Branches<'_> {
             .map_err(err)?;
         chart
             .configure_mesh()
-            .x_desc("frequency ratio r = omega / sqrt(K/M) (–)")
+            .x_desc(st.x_name().1)
             .y_desc("steady amplitude (cm)")
             .y_label_formatter(&|v: &f64| fmt_num(*v))
             .label_style(SMALL)
@@ -172,25 +222,22 @@ impl Chart for Branches<'_> {
             .draw()
             .map_err(err)?;
         // Motions that are not periodic: a bar from 0 to the largest amplitude over the window.
-        let dx = (x1 - x0) / (st.curve.points.len().max(2) as f64) / 3.0;
+        let dx = (x1 - x0) / (st.n_values().max(2) as f64) / 3.0;
         chart
             .draw_series(
                 st.r.attractors
                     .iter()
                     .filter(|a| !a.kind.periodic() && a.amplitude.is_finite())
                     .map(|a| {
-                        Rectangle::new(
-                            [(a.run.r - dx, 0.0), (a.run.r + dx, a.amplitude * CM)],
-                            CHAOS.filled(),
-                        )
+                        let x = st.x_attractor(a);
+                        Rectangle::new([(x - dx, 0.0), (x + dx, a.amplitude * CM)], CHAOS.filled())
                     }),
             )
             .map_err(err)?;
         // The linear system in closed form on a fine grid (not a polygon through the swept
         // frequencies).
         let lin: Vec<(f64, f64)> = st
-            .curve
-            .linear_line(x0, x1, FINE)
+            .linear_line(x0, x1)
             .into_iter()
             .map(|(r, a)| (r, a * CM))
             .collect();
@@ -214,8 +261,7 @@ impl Chart for Branches<'_> {
                     // over the stretch where continuation found it.
                     let (r0, r1) = minmax(pts.iter().map(|p| p.0));
                     let fine: Vec<(f64, f64)> = st
-                        .curve
-                        .linear_line(r0, r1, FINE)
+                        .linear_line(r0, r1)
                         .into_iter()
                         .map(|(r, a)| (r, a * CM))
                         .collect();
@@ -232,7 +278,7 @@ impl Chart for Branches<'_> {
                     .iter()
                     .filter(|b| !b.label.is_empty())
                     .map(|b| {
-                        let pos = (b.r, b.amplitude * CM);
+                        let pos = (st.x_branch(b), b.amplitude * CM);
                         EmptyElement::at(pos)
                             + Circle::new((0, 0), 4, BLACK.filled())
                             + Text::new(b.label.to_string(), (5, -16), SMALL.into_font())
@@ -240,12 +286,12 @@ impl Chart for Branches<'_> {
             )
             .map_err(err)?;
         for b in &st.r.branches {
-            let at = chart.backend_coord(&(b.r, b.amplitude * CM));
+            let at = chart.backend_coord(&(st.x_branch(b), b.amplitude * CM));
             self.1.point(
                 at,
                 3,
                 format!(
-                    "branch {}, period {}, {}{}\nr = {}, amplitude {} cm",
+                    "branch {}, period {}, {}{}\n{} = {}, amplitude {} cm",
                     b.branch,
                     b.period,
                     b.stability,
@@ -254,23 +300,27 @@ impl Chart for Branches<'_> {
                     } else {
                         format!(" ({})", b.label)
                     },
-                    fmt_num(b.r),
+                    st.x_name().0,
+                    fmt_num(st.x_branch(b)),
                     fmt_num(b.amplitude * CM)
                 ),
             );
         }
-        // The design peak.
-        let (peak, r) = st.curve.peak();
-        if peak.is_finite() {
+        // The design peak (along F0, at every force; the design's own named).
+        for (x, peak, named) in st.peaks() {
+            if !peak.is_finite() {
+                continue;
+            }
+            let name = if named {
+                format!("design peak {} cm", fmt_num(peak * CM))
+            } else {
+                String::new()
+            };
             chart
                 .draw_series(std::iter::once(
-                    EmptyElement::at((r, peak * CM))
+                    EmptyElement::at((x, peak * CM))
                         + Cross::new((0, 0), 7, PEAK.stroke_width(3))
-                        + Text::new(
-                            format!("design peak {} cm", fmt_num(peak * CM)),
-                            (9, 4),
-                            SMALL.into_font(),
-                        ),
+                        + Text::new(name, (9, 4), SMALL.into_font()),
                 ))
                 .map_err(err)?;
         }
@@ -278,7 +328,7 @@ impl Chart for Branches<'_> {
     }
 }
 
-/// Basin shares against the frequency; every bar a hover target.
+/// Basin shares against the frequency (or `F0`); every bar a hover target.
 pub struct Basins<'a>(pub &'a Steady<'a>, pub Hovers);
 
 /// The attractor classes of the basin chart, and their colours.
@@ -338,14 +388,14 @@ impl Chart for Basins<'_> {
             .collect();
         let plot = legend(&rest, &items)?;
         let (x0, x1) = st.x_range();
-        let n = st.curve.points.len().max(2) as f64;
+        let n = st.n_values().max(2) as f64;
         let w = (x1 - x0) / n * 0.4;
         let mut chart = plot_builder(&plot, 48)
             .build_cartesian_2d(x0 - w..x1 + w, 0.0..1.0)
             .map_err(err)?;
         chart
             .configure_mesh()
-            .x_desc("frequency ratio r = omega / sqrt(K/M) (–)")
+            .x_desc(st.x_name().1)
             .y_desc("share of the starts")
             .label_style(SMALL)
             .axis_desc_style(LABEL)
@@ -359,14 +409,14 @@ impl Chart for Basins<'_> {
         while i < att.len() {
             let point = att[i].run.point;
             let mut shares = [0.0; 6];
-            let r = att[i].run.r;
+            let r = st.x_attractor(&att[i]);
             while i < att.len() && att[i].run.point == point {
                 let (c, _) = class_of(att[i].kind, att[i].period, att[i].impacts_per_period);
                 shares[c] += att[i].basin_share;
                 i += 1;
             }
             let mut y = 0.0;
-            let mut text = format!("r = {}", fmt_num(r));
+            let mut text = format!("{} = {}", st.x_name().0, fmt_num(r));
             for (c, sh) in shares.iter().enumerate() {
                 if *sh > 0.0 {
                     bars.push(Rectangle::new(
@@ -389,20 +439,36 @@ impl Chart for Basins<'_> {
 }
 
 /// Draws `branches`, `basin_shares` and `bifurcation` (from `samples`, the design's section
-/// samples) for the design of `r` into `dir`; returns the files.
+/// samples) for `design` into `dir`; returns the files. `r` holds the design's steady states:
+/// along the frequency its own; along `F0` (a study without a frequency axis) those of the
+/// group of forces it belongs to, drawn against `F0`.
 pub fn charts(
     s: &Summary,
     f: &ForcedSummary,
     r: &Response,
+    design: u64,
     samples: &[crate::reduce::orbits::SectionSample],
     dir: &std::path::Path,
 ) -> anyhow::Result<Vec<std::path::PathBuf>> {
-    let Some(curve) = f.curve(r.design) else {
+    let Some(curve) = f.curve(design) else {
         return Ok(Vec::new());
+    };
+    let along = if f.frequency.is_some() {
+        Along::Ratio
+    } else {
+        let key = crate::reduce::orbits::force_group(curve);
+        let mut cs: Vec<&Curve> = f
+            .curves
+            .iter()
+            .filter(|c| crate::reduce::orbits::force_group(c) == key)
+            .collect();
+        cs.sort_by(|a, b| a.f0.total_cmp(&b.f0));
+        Along::Force(cs)
     };
     let g = &s.grid;
     let at = (0..g.n_axes())
-        .map(|a| super::plumbing::axis_value(g.key(a), g.value(r.design, a)))
+        .filter(|&a| matches!(along, Along::Ratio) || g.key(a) != "F0")
+        .map(|a| super::plumbing::axis_value(g.key(a), g.value(design, a)))
         .collect::<Vec<_>>()
         .join(", ");
     let st = Steady {
@@ -413,13 +479,15 @@ pub fn charts(
         } else {
             format!(" at {at}")
         },
+        along,
     };
     let mut files = super::plumbing::render(
         dir,
         "branches",
         SIZE,
         &Branches(&st, Hovers::default()),
-        &super::Data::Table(st.data()),
+        // `branches.csv` is the branches table (every design), written before the charts.
+        &super::Data::Written,
     )?;
     files.extend(super::plumbing::render(
         dir,
@@ -453,6 +521,7 @@ fn basin_data(r: &Response) -> Table {
         Column::U64(a.iter().map(|x| Some(x.run.point)).collect()),
     );
     t.push("r", Column::F64(a.iter().map(|x| x.run.r).collect()));
+    t.push("F0", Column::F64(a.iter().map(|x| x.run.F0).collect()));
     t.push(
         "kind",
         Column::Str(a.iter().map(|x| x.kind.name().to_string()).collect()),
