@@ -329,7 +329,8 @@ bootstrap = 20
     };
     let branches = csv("branches.csv");
     assert!(
-        branches[0].contains_key("impacts_per_period") && branches[0].contains_key("multiplier_max"),
+        branches[0].contains_key("impacts_per_period")
+            && branches[0].contains_key("multiplier_max"),
         "branches.csv is the branches table, not a chart's columns: {:?}",
         branches[0].keys()
     );

@@ -418,3 +418,105 @@ fn issue_22_life_amplitude_matches_the_median_of_brute_force_lives() {
     );
     assert!(e.lo <= median && median <= e.hi, "{e:?} vs {median}");
 }
+
+/// Issue 24, item 1: on the issue's study (Table I with C = 0.1 N s/m, m = 5 g, d = 5 mm,
+/// e = 0.9, F0 = 0.1 N, r = 0.85 … 1.15 by 0.01, 48 census starts), folds, branch points,
+/// period doublings and Neimark–Sacker points are located on their branches: each labelled row
+/// flagged `located` solves its test function (a real multiplier at +1, at -1, a complex pair
+/// on the unit circle) to 1e-8, is a fixed point of its map, and two independent locations of
+/// one point (the mirror halves of a symmetric pair, or the two halves of a doubled orbit, each
+/// followed on its own) agree to 1e-8 in r. The stable two-impact orbit's doubling is located
+/// between the grid's frequencies (the label used to sit on the first point past it).
+#[test]
+fn issue_24_bifurcations_are_located_on_their_branches() {
+    use impactsweep::orbits::map::eval;
+    let f = forcing(0.005, 0.005, 0.9, 0.1, 0.1, 0.85);
+    let values: Vec<(u64, f64)> = (0..=30)
+        .map(|i| (i as u64, 0.85 + 0.01 * i as f64))
+        .collect();
+    let settings = CensusSettings {
+        starts: 48,
+        max_periods: 2000,
+        handover: 1e-3,
+        window: 200,
+        seed: 1,
+        point: 0,
+        spent0: 0,
+    };
+    let resp = analyse(&f, 0, &[0.0; 4], &values, &settings);
+    let located: Vec<&BranchRow> = resp.branches.iter().filter(|b| b.located).collect();
+    let mut seen = std::collections::BTreeSet::new();
+    for b in &located {
+        let mus = b.multipliers;
+        let real = |target: f64| {
+            mus.iter()
+                .filter(|m| m.1.abs() < 1e-9)
+                .map(|m| (m.0 - target).abs())
+                .fold(f64::INFINITY, f64::min)
+        };
+        let circle = mus
+            .iter()
+            .filter(|m| m.1.abs() >= 1e-9)
+            .map(|m| (m.0.hypot(m.1) - 1.0).abs())
+            .fold(f64::INFINITY, f64::min);
+        let test = match b.label {
+            "SN" | "BP" => real(1.0),
+            "PD" => real(-1.0),
+            "NS" => circle,
+            "GR" | "NI" => 0.0,
+            other => panic!("located row with label {other:?}"),
+        };
+        assert!(
+            test <= 1e-8,
+            "{} at r = {}: test function {test:e}, multipliers {mus:?}",
+            b.label,
+            b.r
+        );
+        let g = f.at_ratio(b.r);
+        let e = eval(&g, &b.s, u64::from(b.period), false);
+        let res = distance(&g, &e.end, &b.s);
+        assert!(
+            res <= 1e-8 * b.amplitude,
+            "{} at r = {}: residual {res:e}",
+            b.label,
+            b.r
+        );
+        assert!(
+            values.iter().all(|v| (v.1 - b.r).abs() > 1e-6),
+            "{} at r = {} sits on a grid frequency",
+            b.label,
+            b.r
+        );
+        seen.insert(b.label);
+    }
+    for kind in ["SN", "BP", "PD", "NS"] {
+        assert!(seen.contains(kind), "no located {kind}: {seen:?}");
+    }
+    // Independent locations of one point agree to 1e-8 in r.
+    let mut pairs = 0;
+    for (i, a) in located.iter().enumerate() {
+        for b in &located[i + 1..] {
+            if a.label == b.label
+                && a.period == b.period
+                && (a.amplitude - b.amplitude).abs() <= 1e-9 * a.amplitude
+            {
+                assert!(
+                    (a.r - b.r).abs() <= 1e-8,
+                    "{} at r = {} and {}",
+                    a.label,
+                    a.r,
+                    b.r
+                );
+                pairs += 1;
+            }
+        }
+    }
+    assert!(pairs >= 2, "{pairs} pairs located twice");
+    // The stable two-impact period-1 orbit's doubling (0.199 cm at r = 0.9) lies between the
+    // grid points 0.90 and 0.91.
+    let pd = located
+        .iter()
+        .find(|b| b.label == "PD" && b.period == 1 && b.impacts_per_period == 2.0)
+        .expect("the two-impact orbit's doubling");
+    assert!(pd.r > 0.9 && pd.r < 0.91, "PD at r = {}", pd.r);
+}

@@ -1,6 +1,6 @@
 //! Continuation of periodic orbits along the frequency ratio `r` or the force amplitude `F0`:
 //! pseudo-arclength predictor–corrector on `F(s, lambda) = P^p(s; lambda) - s = 0`, with
-//! adaptive steps, fold, period-doubling and grazing labels and a switch to the doubled branch.
+//! adaptive steps, located bifurcation labels and a switch to the doubled branch.
 //!
 //! # Predictor–corrector
 //! Unknowns `u = (s, lambda)` in scaled coordinates (`x / L`, `x' / (wn L)`, `z / L`,
@@ -15,15 +15,23 @@
 //! [`ContSettings::h_min`] the branch ends (`step_too_small`).
 //!
 //! # Labels
-//! Between two consecutive points:
+//! Between two consecutive points ([`classify`]):
 //! * `SN`, a fold: the tangent's `lambda` component changes sign (and the orbit's minimal period
 //!   does not: on `P^{2p}` a change of period is where the doubled branch crosses, a `PD`);
+//! * `GR`, grazing: the number of impacts per orbit changes (an impact velocity reached zero, or
+//!   a new contact), or an impact's approach speed falls below `1e-3 omega d/2`;
 //! * `PD`, period doubling: a real multiplier crosses `-1` (the count of real multipliers
 //!   below `-1` changes); the doubled branch is then followed from the eigenvector (Newton on
 //!   `P^{2p}`), once per branch;
-//! * `GR`, grazing: the number of impacts per orbit changes (an impact velocity reached zero, or
-//!   a new contact), or an impact's approach speed falls below `1e-3 omega d/2`;
+//! * `BP`, a branch point: a real multiplier crosses `+1` without a fold (`det(J - I)` changes
+//!   sign, the tangent's `lambda` component does not);
+//! * `NS`, Neimark–Sacker: the count of complex multipliers outside the unit circle changes;
 //! * `NI`: the orbit's impacts end (the branch joins the non-impacting family, and ends there).
+//!
+//! Each is then solved on the branch between the two points ([`super::locate`]; docs/model.md,
+//! §12) and inserted as its own row (`located`); the point past it stays, unlabelled. Where it
+//! cannot be solved (the map is not smooth there) a `BP` or `NS` is dropped and the others stay
+//! on the point past the change.
 //!
 //! # Ends
 //! Every branch ends with a named reason ([`End`]): `range` (it left the swept interval),
@@ -35,6 +43,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use super::locate::{self, OnBranch, complex_outside, ns_value, test_function};
 use super::map::{Forcing, MapEval, Section, eval};
 use super::shoot::{Newton, Orbit, Stability, Termination, multipliers, orbit_at, solve};
 use crate::sim::Outcome;
@@ -71,7 +80,11 @@ impl Param {
 pub enum Label {
     None,
     SN,
+    /// A branch point: a real multiplier through `+1` where the branch does not fold.
+    BP,
     PD,
+    /// Neimark–Sacker: a complex pair of multipliers through the unit circle.
+    NS,
     GR,
     NI,
 }
@@ -81,7 +94,9 @@ impl Label {
         match self {
             Label::None => "",
             Label::SN => "SN",
+            Label::BP => "BP",
             Label::PD => "PD",
+            Label::NS => "NS",
             Label::GR => "GR",
             Label::NI => "NI",
         }
@@ -126,8 +141,14 @@ pub struct BranchPoint {
     pub amplitude: f64,
     pub impacts: u64,
     pub multiplier_max: f64,
+    /// The Floquet multipliers `(re, im)`, by decreasing modulus (NaN past the fourth).
+    pub multipliers: [(f64, f64); 4],
+    /// The smallest approach speed of an impact over the orbit (m/s): near zero it grazes.
+    pub min_impact_speed: f64,
     pub stable: bool,
     pub label: Label,
+    /// The point is a located bifurcation: its label's test function solved on the branch.
+    pub located: bool,
 }
 
 impl BranchPoint {
@@ -150,8 +171,11 @@ pub struct Branch {
     pub points: Vec<BranchPoint>,
     /// The ends (first point's side, last point's side).
     pub ends: (End, End),
-    /// Forcing periods simulated to follow it.
+    /// Forcing periods simulated to follow it (locating its labels included).
     pub periods: u64,
+    /// Labels located on it ([`super::locate`]), and the forcing periods that took.
+    pub located: u32,
+    pub periods_locating: u64,
 }
 
 /// Continuation settings.
@@ -180,6 +204,20 @@ struct Curve<'a> {
     l: f64,
     wn: f64,
     periods: u64,
+    located: u32,
+    periods_locating: u64,
+}
+
+/// The unit tangent of the branch where the extended Jacobian is `a`, oriented along `prev`:
+/// the null vector of `a` with `prev . t > 0`.
+fn tangent(a: &SMatrix<f64, 4, 5>, prev: &V5) -> Option<V5> {
+    let mut m = M5::zeros();
+    m.fixed_view_mut::<4, 5>(0, 0).copy_from(a);
+    m.set_row(4, &prev.transpose());
+    let rhs = V5::new(0.0, 0.0, 0.0, 0.0, 1.0);
+    let t = m.lu().solve(&rhs)?;
+    let n = t.norm();
+    (n.is_finite() && n > 0.0).then(|| t / n)
 }
 
 impl Curve<'_> {
@@ -237,17 +275,6 @@ impl Curve<'_> {
         Some((g, a, e))
     }
 
-    /// The unit tangent at `u` oriented along `prev`.
-    fn tangent(&self, a: &SMatrix<f64, 4, 5>, prev: &V5) -> Option<V5> {
-        let mut m = M5::zeros();
-        m.fixed_view_mut::<4, 5>(0, 0).copy_from(a);
-        m.set_row(4, &prev.transpose());
-        let rhs = V5::new(0.0, 0.0, 0.0, 0.0, 1.0);
-        let t = m.lu().solve(&rhs)?;
-        let n = t.norm();
-        (n.is_finite() && n > 0.0).then(|| t / n)
-    }
-
     /// Newton on `(F(u), t . (u - u_pred)) = 0` from `u_pred`: one map evaluation per
     /// iteration. Returns the point, its Jacobian, the map's evaluation there and the
     /// iterations taken.
@@ -287,8 +314,17 @@ fn point(f: &Forcing, orbit: &Orbit, label: Label) -> BranchPoint {
         amplitude: orbit.amplitude,
         impacts: orbit.impacts,
         multiplier_max: orbit.multiplier_max(),
+        multipliers: std::array::from_fn(|i| {
+            orbit
+                .multipliers
+                .get(i)
+                .copied()
+                .unwrap_or((f64::NAN, f64::NAN))
+        }),
+        min_impact_speed: orbit.min_impact_speed,
         stable: orbit.stability == Stability::Stable,
         label,
+        located: false,
     }
 }
 
@@ -335,6 +371,8 @@ fn follow_one(
         l: f.half_gap(),
         wn: f.sys.omega(),
         periods: 0,
+        located: 0,
+        periods_locating: 0,
     };
     let mut doublings = Vec::new();
     let start = point(f, orbit, Label::None);
@@ -352,6 +390,8 @@ fn follow_one(
         points: down,
         ends: (end_down, end_up),
         periods: curve.periods,
+        located: curve.located,
+        periods_locating: curve.periods_locating,
     };
     (branch, doublings)
 }
@@ -368,12 +408,15 @@ fn side(
     let newton = Newton::default();
     let mut pts = Vec::new();
     let mut u = curve.to_u(&orbit.s, curve.param.get(f));
-    let Some((_, a, _)) = curve.residual(&u) else {
+    let Some((_, a, e)) = curve.residual(&u) else {
         return (pts, End::Simulator);
     };
-    let Some(mut t) = curve.tangent(&a, &V5::new(0.0, 0.0, 0.0, 0.0, dir)) else {
+    let Some(mut t) = tangent(&a, &V5::new(0.0, 0.0, 0.0, 0.0, dir)) else {
         return (pts, End::StepTooSmall);
     };
+    // The current point on the branch (its extended Jacobian and map evaluation): the left
+    // end of the bracket when a label is located.
+    let mut here = OnBranch { u, a, eval: e };
     let mut prev_orbit = orbit.clone();
     let mut h = settings.h0;
     let mut doubled = false;
@@ -402,14 +445,25 @@ fn side(
             return (pts, End::Range);
         }
         let fl = curve.param.at(f, lambda);
+        let next = OnBranch {
+            u: u_new,
+            a: a_new,
+            eval: state_eval.clone(),
+        };
         if state_eval.impacts == 0 {
-            if let Some(last) = pts.last_mut() {
-                let last: &mut BranchPoint = last;
-                last.label = Label::NI;
+            // Where the impacts end, located; failing that, on the last impacting point.
+            match locate_between(curve, f, &here, &next, &t, h, Label::NI, settings) {
+                Some(p) => pts.push(p),
+                None => {
+                    if let Some(last) = pts.last_mut() {
+                        let last: &mut BranchPoint = last;
+                        last.label = Label::NI;
+                    }
+                }
             }
             return (pts, End::NoImpacts);
         }
-        let Some(t_new) = curve.tangent(&a_new, &t) else {
+        let Some(t_new) = tangent(&a_new, &t) else {
             return (pts, End::StepTooSmall);
         };
         let state = super::shoot::NewtonState {
@@ -421,28 +475,35 @@ fn side(
         let Some(orb) = orbit_at(&fl, curve.p, &state, &newton) else {
             return (pts, End::NoImpacts);
         };
-        let mut label = Label::None;
-        if orb.period != prev_orbit.period {
-            // On `P^{2p}` the branch of period `p` and the doubled one cross at the doubling.
-            label = Label::PD;
-        } else if t_new[4].signum() != t[4].signum() {
-            label = Label::SN;
-        } else if below_minus_one(&orb) != below_minus_one(&prev_orbit) {
-            label = Label::PD;
-            if !doubled && let Some(d) = doubled_orbit(&fl, &orb, &newton) {
-                doublings.push((fl.clone(), d));
-                doubled = true;
-            }
-        } else if orb.impacts != prev_orbit.impacts
-            || orb.min_impact_speed < 1e-3 * fl.omega * fl.half_gap()
+        let (mut label, locatable) = classify(&prev_orbit, &orb, &t, &t_new, &fl);
+        if label == Label::PD
+            && locatable
+            && !doubled
+            && let Some(d) = doubled_orbit(&fl, &orb, &newton)
         {
-            label = Label::GR;
+            doublings.push((fl.clone(), d));
+            doubled = true;
+        }
+        if locatable {
+            match locate_between(curve, f, &here, &next, &t, h, label, settings) {
+                Some(p) => {
+                    // The located point is the label's row; the point past it is plain.
+                    pts.push(p);
+                    label = Label::None;
+                }
+                // A multiplier that jumped across +1 or the unit circle (the monodromy matrix
+                // is discontinuous where a sticking phase begins or ends) is not a branch
+                // point or a torus: no label. The others stay on the point past the change.
+                None if matches!(label, Label::BP | Label::NS) => label = Label::None,
+                None => {}
+            }
         }
         pts.push(point(&fl, &orb, label));
         prev_orbit = orb;
         u_before = Some(u);
         u = u_new;
         t = t_new;
+        here = next;
         h = if iters <= 3 {
             (h * 1.5).min(settings.h_max)
         } else {
@@ -451,6 +512,104 @@ fn side(
     }
     (pts, End::MaxPoints)
 }
+
+/// The label between two consecutive points of a branch (`prev` then `orb`, tangents `t` then
+/// `t_new`, the later one at `f`), and whether it can be located on the branch:
+/// * the orbit's minimal period changes: `PD` (on `P^{2p}` the branch of period `p` and the
+///   doubled one cross at the doubling; not located);
+/// * the tangent's parameter component changes sign: `SN`;
+/// * the impact count changes: `GR`;
+/// * a real multiplier crosses `-1`: `PD`; `+1` (without a fold): `BP`;
+/// * a complex pair crosses the unit circle: `NS`;
+/// * an impact's approach speed is below `1e-3 omega d/2` (a graze on its way, the count not
+///   yet changed): `GR`, not located.
+fn classify(prev: &Orbit, orb: &Orbit, t: &V5, t_new: &V5, f: &Forcing) -> (Label, bool) {
+    let det = |m: &super::map::Mat4, sign: f64| {
+        (nalgebra::Matrix4::from_fn(|r, c| m[r][c]) - nalgebra::Matrix4::identity() * sign)
+            .determinant()
+    };
+    let same_p = orb.period == prev.period;
+    if !same_p {
+        (Label::PD, false)
+    } else if t_new[4].signum() != t[4].signum() {
+        (Label::SN, true)
+    } else if orb.impacts != prev.impacts {
+        (Label::GR, true)
+    } else if below_minus_one(orb) != below_minus_one(prev) {
+        (Label::PD, true)
+    } else if det(&orb.monodromy, 1.0).signum() != det(&prev.monodromy, 1.0).signum() {
+        (Label::BP, true)
+    } else if complex_outside(&orb.monodromy) != complex_outside(&prev.monodromy)
+        && ns_value(&orb.monodromy).is_finite()
+        && ns_value(&prev.monodromy).is_finite()
+    {
+        (Label::NS, true)
+    } else if orb.min_impact_speed < 1e-3 * f.omega * f.half_gap() {
+        (Label::GR, false)
+    } else {
+        (Label::None, false)
+    }
+}
+
+/// `label` located between the points `here` and `next` (the step from `here` along `t` of
+/// length `h` found `next`), as a branch point at the located parameter ([`super::locate`]);
+/// `None` when it cannot be solved there or falls outside the swept range.
+#[allow(clippy::too_many_arguments)]
+fn locate_between(
+    curve: &mut Curve,
+    f: &Forcing,
+    here: &OnBranch,
+    next: &OnBranch,
+    t: &V5,
+    h: f64,
+    label: Label,
+    settings: &ContSettings,
+) -> Option<BranchPoint> {
+    let periods0 = curve.periods;
+    let impacts_left = here.eval.impacts;
+    let phi = |p: &OnBranch| test_function(label, p, &|a| tangent(a, t), impacts_left);
+    let ends = (phi(here), phi(next));
+    let found = locate::solve(
+        label,
+        h,
+        ends,
+        |sigma| {
+            let (u, a, eval, _) = curve.correct(&(here.u + t * sigma), t)?;
+            Some(OnBranch { u, a, eval })
+        },
+        phi,
+    );
+    curve.periods_locating += curve.periods - periods0;
+    let p = found?;
+    let (s, lambda) = curve.unscale(&p.u);
+    if lambda < settings.range.0 || lambda > settings.range.1 {
+        return None;
+    }
+    let fl = curve.param.at(f, lambda);
+    let state = super::shoot::NewtonState {
+        s,
+        residual: 0.0,
+        iterations: 0,
+        last: p.eval,
+    };
+    let orb = orbit_at(&fl, curve.p, &state, &Newton::default())?;
+    // The root is the bifurcation only where its multiplier is there: a fold or a branch
+    // point of a smooth map has one at +1, a doubling at -1, a torus a pair on the unit
+    // circle. Where the test function changed sign through a jump or a corner (the map not
+    // smooth: a sticking phase begins or ends), the point is not located.
+    if locate::multiplier_test(label, &orb.multipliers) > LOCATED_TOL {
+        return None;
+    }
+    curve.located += 1;
+    Some(BranchPoint {
+        located: true,
+        ..point(&fl, &orb, label)
+    })
+}
+
+/// How near its critical value (+1, -1, the unit circle) the multiplier of a located point
+/// must be ([`locate::multiplier_test`]).
+pub const LOCATED_TOL: f64 = 1e-8;
 
 /// Whether `next` goes back along the branch through `before` and `now`: it is nearer `before`
 /// than half the distance from `before` to `now`.

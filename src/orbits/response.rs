@@ -42,7 +42,15 @@ pub struct BranchRow {
     pub stable: bool,
     pub stability: &'static str,
     pub multiplier_max: f64,
+    /// The Floquet multipliers `(re, im)`, by decreasing modulus.
+    pub multipliers: [(f64, f64); 4],
+    /// The smallest approach speed of an impact over the orbit (m/s; `inf` without impacts).
+    pub min_impact_speed: f64,
     pub label: &'static str,
+    /// The row is the located point of its label (docs/model.md, §12); a label on a row that is
+    /// not located sits on the first point past a change that could not be solved for (the map
+    /// is not smooth there).
+    pub located: bool,
     /// How the branch ended at this end (on its first and last rows; `""` elsewhere).
     pub end: &'static str,
     /// The orbit's section state at forcing phase 0 (not a table column: for starting Newton
@@ -181,7 +189,43 @@ pub fn branches(
         param,
         s0,
     );
+    branch_points_met(&mut out.branches);
     (out.branches, out.periods_continuation)
+}
+
+/// A bifurcation seen from the branch born there. Where the symmetric orbit's branch has a
+/// located `BP`, the asymmetric pair born there turns back in the parameter (its two halves are
+/// mirror images with the same amplitude), so along it the point is located as a fold; where a
+/// branch of period `p` has a located `PD`, the doubled branch (of `P^{2p}`, whose two halves are
+/// one orbit shifted by `p` periods) turns back there too. Such an `SN` (the same parameter to
+/// `1e-4` relative, the same amplitude to `1e-3` relative, near the degenerate point where the
+/// corrector is least accurate, and the period of a `BP` or twice that of a `PD`) is relabelled
+/// with the other branch's label.
+fn branch_points_met(rows: &mut [BranchRow]) {
+    let marks: Vec<(u32, f64, f64, f64, u32, &'static str)> = rows
+        .iter()
+        .filter(|b| b.label == Label::BP.name() || b.label == Label::PD.name())
+        .map(|b| {
+            let p = if b.label == Label::PD.name() {
+                2 * b.period
+            } else {
+                b.period
+            };
+            (b.branch, b.r, b.F0, b.amplitude, p, b.label)
+        })
+        .collect();
+    let near = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol * a.abs().max(b.abs());
+    for b in rows.iter_mut().filter(|b| b.label == Label::SN.name()) {
+        if let Some(m) = marks.iter().find(|&&(br, r, f0, amp, p, _)| {
+            br != b.branch
+                && near(r, b.r, 1e-4)
+                && near(f0, b.F0, 1e-4)
+                && near(amp, b.amplitude, 1e-3)
+                && p == b.period
+        }) {
+            b.label = m.5;
+        }
+    }
 }
 
 /// The periodic impacting orbit at `f` whose section `s` a stored attractor gives (its period
@@ -275,7 +319,10 @@ fn push_branch(out: &mut Response, design: u64, branch: u32, b: &Branch) {
             stable: p.stable,
             stability: if p.stable { "stable" } else { "unstable" },
             multiplier_max: p.multiplier_max,
+            multipliers: p.multipliers,
+            min_impact_speed: p.min_impact_speed,
             label: p.label.name(),
+            located: p.located,
             end,
             s: p.s,
         });
@@ -312,7 +359,15 @@ fn push_family(
                     stable: false,
                     stability: Stability::Neutral.name(),
                     multiplier_max: o.multiplier_max(),
+                    multipliers: std::array::from_fn(|i| {
+                        o.multipliers
+                            .get(i)
+                            .copied()
+                            .unwrap_or((f64::NAN, f64::NAN))
+                    }),
+                    min_impact_speed: o.min_impact_speed,
                     label: "",
+                    located: false,
                     end: "",
                     s: o.s,
                 });

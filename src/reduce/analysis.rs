@@ -191,6 +191,17 @@ pub fn branches_from_part(t: &Table) -> Option<BTreeMap<u64, Vec<BranchRow>>> {
         f("section_z")?,
         f("section_w")?,
     ];
+    // The multipliers and the grazing speed (absent from parts of older versions: NaN).
+    let nan = vec![f64::NAN; t.n_rows()];
+    let g = |name: &str| f(name).unwrap_or(&nan);
+    let mus: Vec<[&Vec<f64>; 2]> = (1..=4)
+        .map(|k| [g(&format!("mu{k}_re")), g(&format!("mu{k}_im"))])
+        .collect();
+    let graze = g("min_impact_speed");
+    let located = match t.get("located") {
+        Some(Column::Bool(v)) => v.clone(),
+        _ => vec![false; t.n_rows()],
+    };
     let mut out: BTreeMap<u64, Vec<BranchRow>> = BTreeMap::new();
     for i in 0..t.n_rows() {
         let design = point[i]?;
@@ -206,7 +217,10 @@ pub fn branches_from_part(t: &Table) -> Option<BTreeMap<u64, Vec<BranchRow>>> {
             stable: stable[i],
             stability: intern(&stability[i]),
             multiplier_max: mu[i],
+            multipliers: std::array::from_fn(|k| (mus[k][0][i], mus[k][1][i])),
+            min_impact_speed: graze[i],
             label: intern(&label[i]),
+            located: located[i],
             end: intern(&end[i]),
             s: [sec[0][i], sec[1][i], sec[2][i], sec[3][i]],
         });

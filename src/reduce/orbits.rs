@@ -305,7 +305,16 @@ pub fn branches_table(responses: &[Response]) -> Table {
     );
     t.push("stability", s(&|b| b.stability));
     t.push("multiplier_max", f(&|b| b.multiplier_max));
+    for k in 0..4 {
+        t.push(format!("mu{}_re", k + 1), f(&|b| b.multipliers[k].0));
+        t.push(format!("mu{}_im", k + 1), f(&|b| b.multipliers[k].1));
+    }
+    t.push("min_impact_speed", f(&|b| b.min_impact_speed));
     t.push("label", s(&|b| b.label));
+    t.push(
+        "located",
+        Column::Bool(rows.iter().map(|b| b.located).collect()),
+    );
     t.push("end", s(&|b| b.end));
     t
 }

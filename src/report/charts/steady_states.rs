@@ -2,8 +2,9 @@
 //! drawn as branches, and the basin shares of its attractors against the frequency.
 //!
 //! `branches`: stable periodic branches solid, unstable ones dashed, the non-impacting family
-//! dotted grey; folds (`SN`), period doublings (`PD`), grazing (`GR`) and where impacts begin
-//! or end (`NI`) marked and named; the amplitudes of the motions that are not periodic as
+//! dotted grey; folds (`SN`), branch points (`BP`), period doublings (`PD`), Neimark–Sacker
+//! points (`NS`), grazing (`GR`) and where impacts begin or end (`NI`) marked where they were
+//! located and named (names that would overlap stacked; a hover gives the multipliers); the amplitudes of the motions that are not periodic as
 //! shaded bars at their frequencies; the linear system dashed black; the design peak marked.
 //! `basin_shares`: at each frequency, the share of the census's starts that reached each kind of
 //! attractor (by period, the non-impacting family and the motions that are not periodic).
@@ -271,40 +272,80 @@ impl Chart for Branches<'_> {
                 }
             }
         }
-        // Labels.
+        // Labels: a dot exactly at each (located) point, its name beside it, names that would
+        // overlap stacked upwards.
+        let labelled: Vec<_> =
+            st.r.branches
+                .iter()
+                .filter(|b| !b.label.is_empty())
+                .collect();
+        let at: Vec<(i32, i32)> = labelled
+            .iter()
+            .map(|b| chart.backend_coord(&(st.x_branch(b), b.amplitude * CM)))
+            .collect();
+        // The same label at the same spot (the two mirror halves of a pair, located each on
+        // its own branch) is named once.
+        let named: Vec<bool> = (0..labelled.len())
+            .map(|i| {
+                !(0..i).any(|j| {
+                    labelled[j].label == labelled[i].label
+                        && (at[j].0 - at[i].0).abs() <= 4
+                        && (at[j].1 - at[i].1).abs() <= 4
+                })
+            })
+            .collect();
+        let shown: Vec<(i32, i32)> = at
+            .iter()
+            .zip(&named)
+            .filter(|p| *p.1)
+            .map(|p| *p.0)
+            .collect();
+        let mut lifts = spread(&shown).into_iter();
+        let lifts: Vec<Option<i32>> = named
+            .iter()
+            .map(|&n| if n { lifts.next() } else { None })
+            .collect();
         chart
-            .draw_series(
-                st.r.branches
-                    .iter()
-                    .filter(|b| !b.label.is_empty())
-                    .map(|b| {
-                        let pos = (st.x_branch(b), b.amplitude * CM);
-                        EmptyElement::at(pos)
-                            + Circle::new((0, 0), 4, BLACK.filled())
-                            + Text::new(b.label.to_string(), (5, -16), SMALL.into_font())
-                    }),
-            )
+            .draw_series(labelled.iter().zip(&lifts).map(|(b, lift)| {
+                let pos = (st.x_branch(b), b.amplitude * CM);
+                let name = if lift.is_some() { b.label } else { "" };
+                EmptyElement::at(pos)
+                    + Circle::new((0, 0), 4, BLACK.filled())
+                    + Text::new(
+                        name.to_string(),
+                        (5, -16 - lift.unwrap_or(0)),
+                        SMALL.into_font(),
+                    )
+            }))
             .map_err(err)?;
-        for b in &st.r.branches {
+        // The labelled points last, so that their targets lie on top of their neighbours'.
+        let order =
+            st.r.branches
+                .iter()
+                .filter(|b| b.label.is_empty())
+                .chain(labelled.iter().copied());
+        for b in order {
             let at = chart.backend_coord(&(st.x_branch(b), b.amplitude * CM));
-            self.1.point(
-                at,
-                3,
-                format!(
-                    "branch {}, period {}, {}{}\n{} = {}, amplitude {} cm",
-                    b.branch,
-                    b.period,
-                    b.stability,
-                    if b.label.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" ({})", b.label)
-                    },
-                    st.x_name().0,
-                    fmt_num(st.x_branch(b)),
-                    fmt_num(b.amplitude * CM)
-                ),
+            let mut text = format!(
+                "branch {}, period {}, {}\n{} = {}, amplitude {} cm",
+                b.branch,
+                b.period,
+                b.stability,
+                st.x_name().0,
+                fmt_num(st.x_branch(b)),
+                fmt_num(b.amplitude * CM)
             );
+            if !b.label.is_empty() {
+                text = format!(
+                    "{} ({}){}\n{text}\nmultipliers {}",
+                    b.label,
+                    label_name(b.label),
+                    if b.located { ", located" } else { "" },
+                    multipliers_text(&b.multipliers)
+                );
+            }
+            self.1
+                .point(at, if b.label.is_empty() { 3 } else { 5 }, text);
         }
         // The design peak (along F0, at every force; the design's own named).
         for (x, peak, named) in st.peaks() {
@@ -326,6 +367,54 @@ impl Chart for Branches<'_> {
         }
         Ok(())
     }
+}
+
+/// Upward shifts (px) of the labels at pixel positions `at` so that no two names overlap: a
+/// name within 22 px across and 14 px up or down of one already placed goes 15 px higher.
+fn spread(at: &[(i32, i32)]) -> Vec<i32> {
+    let mut placed: Vec<(i32, i32)> = Vec::new();
+    let mut out = Vec::with_capacity(at.len());
+    for &(x, y) in at {
+        let mut lift = 0;
+        while placed
+            .iter()
+            .any(|&(px, py)| (px - x).abs() < 22 && (py - (y - lift)).abs() < 14)
+        {
+            lift += 15;
+        }
+        placed.push((x, y - lift));
+        out.push(lift);
+    }
+    out
+}
+
+/// A label's meaning, for hover texts.
+fn label_name(label: &str) -> &'static str {
+    match label {
+        "SN" => "fold",
+        "BP" => "branch point",
+        "PD" => "period doubling",
+        "NS" => "Neimark–Sacker",
+        "GR" => "grazing",
+        "NI" => "impacts begin or end",
+        _ => "",
+    }
+}
+
+/// The Floquet multipliers as `a ± bi` (the pairs once), by decreasing modulus.
+fn multipliers_text(mu: &[(f64, f64); 4]) -> String {
+    let mut parts = Vec::new();
+    for &(re, im) in mu {
+        if !re.is_finite() || im < 0.0 {
+            continue;
+        }
+        parts.push(if im > 0.0 {
+            format!("{:.6} ± {:.6}i", re, im)
+        } else {
+            format!("{re:.6}")
+        });
+    }
+    parts.join(", ")
 }
 
 /// Basin shares against the frequency (or `F0`); every bar a hover target.

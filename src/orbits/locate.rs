@@ -1,0 +1,244 @@
+//! Locating a bifurcation between two consecutive continuation points
+//! ([`super::continuation`]): the sign change of its test function is bracketed by the two
+//! points and solved on the branch.
+//!
+//! # On the branch
+//! A trial point at arclength `sigma` in `(0, h)` from the earlier point `u` (with tangent `t`)
+//! is the corrector's point from the predictor `u + sigma t` on the hyperplane through it normal
+//! to `t` (the step that found the later point used `sigma = h`). So every trial is a point of
+//! the branch, to the corrector's tolerance, and `sigma` moves monotonically along it.
+//!
+//! # Test functions (docs/model.md, §12)
+//! With `J` the exact Jacobian of `P^p` at the trial point and `t_lambda` the parameter component
+//! of the unit tangent there (oriented along the earlier point's):
+//! * `SN`, a fold: `t_lambda = 0`;
+//! * `BP`, a branch point (a real multiplier through `+1` where the branch does not fold, as
+//!   where the symmetric two-impact orbit meets its asymmetric pair): `det(J - I) = 0`;
+//! * `PD`, a period doubling: `det(J + I) = 0`;
+//! * `NS`, a Neimark–Sacker point (a complex pair through the unit circle; a torus is born):
+//!   `|mu| - 1 = 0` for the complex pair of modulus nearest 1;
+//! * `GR` and `NI`, grazing (the impact count changes: an impact's approach speed reaches zero,
+//!   or a new contact appears at zero speed; `NI`, the impacts end): the map is not smooth there,
+//!   so the impact count itself is the (discontinuous) test function; the located row is the
+//!   orbit on the side with the grazing impact, its approach speed near zero.
+//!
+//! The smooth ones are solved by the Illinois variant of regula falsi, the grazings by
+//! bisection, until the bracket in `sigma` (scaled arclength: `r / r_0` moves by at most as
+//! much) is below [`SIGMA_TOL`]. Each trial is one corrector solve: a few evaluations of `P^p`.
+
+use nalgebra::{Matrix4, SMatrix, SVector};
+
+use super::continuation::Label;
+use super::map::MapEval;
+use super::shoot::multipliers;
+
+type V5 = SVector<f64, 5>;
+
+/// The bracket in scaled arclength below which a located point is taken: with `|t| = 1` the
+/// parameter moves by at most `SIGMA_TOL * lambda_0`, well under `1e-8` in `r` or `F0 / F0_0`.
+pub const SIGMA_TOL: f64 = 1e-11;
+/// A located root's test function, relative to its larger value at the two bracketing points.
+pub const ROOT_TOL: f64 = 1e-6;
+/// Most trials for one located point.
+const MAX_TRIALS: u32 = 80;
+
+/// A point of the branch found by the corrector: scaled unknowns, the `4 x 5` Jacobian of the
+/// extended system and the map's evaluation there.
+#[derive(Clone, Debug)]
+pub struct OnBranch {
+    pub u: V5,
+    pub a: SMatrix<f64, 4, 5>,
+    pub eval: MapEval,
+}
+
+/// The value of `label`'s test function at `p` (module doc); `tangent` gives the unit tangent
+/// at a point from its Jacobian (oriented along the earlier point's). NaN where it is not
+/// defined (no Jacobian; no complex pair for `NS`).
+pub fn test_function(
+    label: Label,
+    p: &OnBranch,
+    tangent: &dyn Fn(&SMatrix<f64, 4, 5>) -> Option<V5>,
+    impacts_left: u64,
+) -> f64 {
+    let j = || p.eval.jacobian.map(|m| Matrix4::from_fn(|r, c| m[r][c]));
+    match label {
+        Label::SN => tangent(&p.a).map_or(f64::NAN, |t| t[4]),
+        Label::BP => j().map_or(f64::NAN, |m| (m - Matrix4::identity()).determinant()),
+        Label::PD => j().map_or(f64::NAN, |m| (m + Matrix4::identity()).determinant()),
+        Label::NS => p.eval.jacobian.map_or(f64::NAN, |m| ns_value(&m)),
+        Label::GR | Label::NI => {
+            if p.eval.impacts == impacts_left {
+                1.0
+            } else {
+                -1.0
+            }
+        }
+        Label::None => f64::NAN,
+    }
+}
+
+/// `|mu| - 1` for the complex pair of multipliers of `m` whose modulus is nearest 1; NaN
+/// without a complex pair.
+pub fn ns_value(m: &[[f64; 4]; 4]) -> f64 {
+    multipliers(m)
+        .iter()
+        .filter(|(re, im)| im.abs() > 1e-9 * re.abs().max(1.0))
+        .map(|(re, im)| re.hypot(*im) - 1.0)
+        .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+        .unwrap_or(f64::NAN)
+}
+
+/// How far the multipliers `mu` are from `label`'s bifurcation: the distance of the nearest
+/// real multiplier from +1 (`SN`, `BP`) or -1 (`PD`), or of the modulus of the nearest complex
+/// pair from 1 (`NS`); 0 for the grazings (their test is the impact count), infinite when no
+/// multiplier of the kind exists.
+pub fn multiplier_test(label: Label, mu: &[(f64, f64)]) -> f64 {
+    let complex = |m: &&(f64, f64)| m.1.abs() > 1e-9 * m.0.abs().max(1.0);
+    let real = |target: f64| {
+        mu.iter()
+            .filter(|m| !complex(m))
+            .map(|m| (m.0 - target).abs())
+            .fold(f64::INFINITY, f64::min)
+    };
+    match label {
+        Label::SN | Label::BP => real(1.0),
+        Label::PD => real(-1.0),
+        Label::NS => mu
+            .iter()
+            .filter(complex)
+            .map(|m| (m.0.hypot(m.1) - 1.0).abs())
+            .fold(f64::INFINITY, f64::min),
+        Label::GR | Label::NI | Label::None => 0.0,
+    }
+}
+
+/// Complex multipliers outside the unit circle (a change of this count between two points is
+/// a Neimark–Sacker crossing).
+pub fn complex_outside(m: &[[f64; 4]; 4]) -> usize {
+    multipliers(m)
+        .iter()
+        .filter(|(re, im)| im.abs() > 1e-9 * re.abs().max(1.0) && re.hypot(*im) > 1.0)
+        .count()
+}
+
+/// Solves `label`'s test function between `sigma = 0` (value `phi0`) and `sigma = h` (value
+/// `phi1`, of the other sign): `at(sigma)` corrects the trial point. Returns the located point
+/// (for a grazing, the end of the final bracket with more impacts), or `None` when a trial
+/// fails (the corrector does not converge, or the test function is undefined there) or the
+/// sign changed through a jump rather than a root ([`ROOT_TOL`]).
+pub fn solve(
+    label: Label,
+    h: f64,
+    (phi0, phi1): (f64, f64),
+    mut at: impl FnMut(f64) -> Option<OnBranch>,
+    phi: impl Fn(&OnBranch) -> f64,
+) -> Option<OnBranch> {
+    if phi0 * phi1 >= 0.0 || !(phi0 * phi1).is_finite() {
+        return None;
+    }
+    let smooth = !matches!(label, Label::GR | Label::NI);
+    let (mut a, mut fa, mut pa) = (0.0, phi0, None::<OnBranch>);
+    let (mut b, mut fb, mut pb) = (h, phi1, None::<OnBranch>);
+    // Which end the last two trials replaced (Illinois: halve the other end's value when the
+    // same end moves twice).
+    let mut side = 0i8;
+    for _ in 0..MAX_TRIALS {
+        if b - a <= SIGMA_TOL {
+            break;
+        }
+        let s = if smooth {
+            let s = (a * fb - b * fa) / (fb - fa);
+            // Keep the trial strictly inside, away from the ends.
+            let margin = 1e-3 * (b - a);
+            s.clamp(a + margin, b - margin)
+        } else {
+            0.5 * (a + b)
+        };
+        let p = at(s)?;
+        let fs = phi(&p);
+        if !fs.is_finite() {
+            return None;
+        }
+        if fs == 0.0 {
+            return Some(p);
+        }
+        if fs.signum() == fa.signum() {
+            (a, fa, pa) = (s, fs, Some(p));
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        } else {
+            (b, fb, pb) = (s, fs, Some(p));
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    if b - a > SIGMA_TOL {
+        return None;
+    }
+    if smooth {
+        // The end with the smaller test function; a root only where the function is small
+        // against its values at the two points (a sign change through a jump, where the
+        // monodromy matrix is discontinuous, is not a root).
+        let (p, fp) = match (pa, pb) {
+            (Some(x), Some(_)) if fa.abs() <= fb.abs() => (x, fa),
+            (Some(_), Some(y)) => (y, fb),
+            (Some(x), None) => (x, fa),
+            (None, Some(y)) => (y, fb),
+            (None, None) => return None,
+        };
+        (fp.abs() <= ROOT_TOL * phi0.abs().max(phi1.abs())).then_some(p)
+    } else {
+        // The grazing orbit: the side with more impacts.
+        match (pa, pb) {
+            (Some(x), Some(y)) => Some(if x.eval.impacts >= y.eval.impacts {
+                x
+            } else {
+                y
+            }),
+            (x, y) => x.or(y),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The Illinois iteration solves a smooth function to the bracket tolerance, and bisection
+    /// a sign step.
+    #[test]
+    fn a_sign_change_is_solved_to_the_tolerance() {
+        let dummy = |s: f64| OnBranch {
+            u: V5::new(0.0, 0.0, 0.0, 0.0, s),
+            a: SMatrix::zeros(),
+            eval: MapEval {
+                outcome: crate::sim::Outcome::Ok,
+                end: [0.0; 4],
+                jacobian: None,
+                d_param: None,
+                amplitude: 0.0,
+                impacts: 1,
+                sticks: 0,
+                min_impact_speed: 1.0,
+            },
+        };
+        let root = 0.012_345_678_9;
+        let f = |p: &OnBranch| (p.u[4] - root) * (1.0 + 30.0 * p.u[4]);
+        let p = solve(
+            Label::PD,
+            0.05,
+            (f(&dummy(0.0)), f(&dummy(0.05))),
+            |s| Some(dummy(s)),
+            f,
+        )
+        .unwrap();
+        assert!((p.u[4] - root).abs() < 1e-11, "{}", p.u[4]);
+        let step = |p: &OnBranch| if p.u[4] < root { 1.0 } else { -1.0 };
+        let p = solve(Label::GR, 0.05, (1.0, -1.0), |s| Some(dummy(s)), step).unwrap();
+        assert!((p.u[4] - root).abs() < 2e-11, "{}", p.u[4]);
+    }
+}
