@@ -520,3 +520,91 @@ fn issue_24_bifurcations_are_located_on_their_branches() {
         .expect("the two-impact orbit's doubling");
     assert!(pd.r > 0.9 && pd.r < 0.91, "PD at r = {}", pd.r);
 }
+
+/// Issue 24, item 4: a bifurcation followed in two parameters passes through the bifurcation
+/// located along `r` at each grid value of the design axis. On Table I (C = 0.1 N s/m,
+/// m = 5 g, e = 0.9, F0 = 0.1 N) the period doubling of the stable asymmetric two-impact orbit
+/// (located along `r` at d = 5 mm, r = 0.9014) is followed in `(r, d)` over d = 4.5 … 5.5 mm.
+/// At 4.5 and 5.5 mm, the branch through the stable two-impact orbit that a census finds just
+/// below the curve's r is followed along `r` on its own, and its located doubling agrees with
+/// the curve's point to 1e-7 in r.
+#[test]
+fn issue_24_a_bifurcation_curve_passes_through_the_located_points() {
+    use impactsweep::orbits::continuation::{ContSettings, Label, Param, follow};
+    use impactsweep::orbits::twopar::{self, Axis};
+    let cont = ContSettings {
+        range: (0.8, 1.0),
+        h0: 0.01,
+        h_min: 1e-6,
+        h_max: 0.05,
+        max_points: 400,
+        switch_pd: false,
+    };
+    // The located doubling on the branch through the stable two-impact period-1 orbit that a
+    // census at (d, r) reaches.
+    let located = |d: f64, r: f64| -> (Forcing, Section, u32) {
+        let f = forcing(0.005, d, 0.9, 0.1, 0.1, r);
+        let settings = CensusSettings {
+            starts: 24,
+            max_periods: 2000,
+            handover: 1e-3,
+            window: 200,
+            seed: 1,
+            point: 0,
+            spent0: 0,
+        };
+        let c = census(&f, &[0.0; 4], &settings);
+        let orbit = c
+            .attractors
+            .iter()
+            .find_map(|a| match &a.kind {
+                Kind::Periodic(o)
+                    if o.period == 1 && o.impacts == 2 && o.stability == Stability::Stable =>
+                {
+                    Some((**o).clone())
+                }
+                _ => None,
+            })
+            .unwrap_or_else(|| panic!("no stable two-impact orbit at d = {d}, r = {r}"));
+        let b = follow(&f, &orbit, Param::Ratio, &cont).remove(0);
+        let p = b
+            .points
+            .iter()
+            .find(|p| p.located && p.label == Label::PD)
+            .unwrap_or_else(|| panic!("no located PD at d = {d}"));
+        (f.at_ratio(p.r), p.s, p.period)
+    };
+    let (f, s, period) = located(0.005, 0.9);
+    assert!((f.ratio() - 0.9014).abs() < 1e-3, "PD at r = {}", f.ratio());
+    let grid = [0.0045, 0.005, 0.0055];
+    let seed = twopar::Seed {
+        f,
+        s,
+        period,
+        label: Label::PD,
+    };
+    let curve = twopar::follow(&seed, Axis::D, (0.0045, 0.0055), (0.8, 1.2), &grid)
+        .expect("the seed solves the extended system");
+    assert!(curve.points.len() >= 5, "{} points", curve.points.len());
+    for d in [0.0045, 0.0055] {
+        let on = curve
+            .points
+            .iter()
+            .find(|p| p.at_value && p.p == d)
+            .unwrap_or_else(|| panic!("the curve has no point at d = {d}"));
+        let (g, _, _) = located(d, on.r - 0.005);
+        eprintln!(
+            "PD at d = {d}: curve r = {}, located {} ({} curve points, {} periods)",
+            on.r,
+            g.ratio(),
+            curve.points.len(),
+            curve.periods
+        );
+        assert!(
+            (on.r - g.ratio()).abs() <= 1e-7,
+            "PD at d = {d}: curve r = {}, located along r: {}",
+            on.r,
+            g.ratio()
+        );
+    }
+}

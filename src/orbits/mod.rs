@@ -16,6 +16,7 @@ pub mod map;
 pub mod race;
 pub mod response;
 pub mod shoot;
+pub mod twopar;
 
 use crate::model::System;
 use crate::sim::forced::Steady;
