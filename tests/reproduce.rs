@@ -72,6 +72,13 @@ fn frequency_response_regenerates_the_committed_showcase() {
     regenerates("frequency_response.sh", "frequency-response");
 }
 
+/// Issue 24: `scripts/design_map.sh` regenerates `results/design-map/` (a harmonic study over r
+/// and d: its bifurcation curves and the forced design map) the same way.
+#[test]
+fn design_map_regenerates_the_committed_showcase() {
+    regenerates("design_map.sh", "design-map");
+}
+
 /// Reads a CSV file into its header and rows of fields (the files here have no quoted commas).
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).unwrap();

@@ -243,6 +243,17 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
         .success();
     let tradeoff = tmp.path().join("tradeoff.parquet");
     impactsweep::store::tradeoff::write(&tradeoff, &[]).unwrap();
+    // Issue 24: a harmonic study over r and d whose period doublings are followed over d.
+    let bif_study = tmp.path().join("bif.toml");
+    std::fs::write(
+        &bif_study,
+        "[study]\nname = \"bif\"\nseed = 1\n[system]\nm = 0.005\nC = 0.1\ne = 0.9\n\
+         x0 = 0.0\nv0 = 0.0\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\nstarts = 8\n\
+         [sweep]\nd = [0.004, 0.005]\nr = {start = 0.87, stop = 0.93, step = 0.01}\n",
+    )
+    .unwrap();
+    let bif = common::run_study_file(&bif_study, &tmp.path().join("out"), "bif");
+    bin().arg("reduce").arg(&bif).assert().success();
     let docs = documented();
     // Each table with the files that hold it: a free-decay and a harmonic reduction write the
     // same reducer tables, with the columns of their scene (issue 12).
@@ -270,6 +281,10 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
         (
             TableKind::Probes,
             vec![forced.join("analysis/probes-0-of-1.parquet")],
+        ),
+        (
+            TableKind::Bifurcations,
+            vec![bif.join("bifurcations.parquet")],
         ),
     ] {
         let doc = &docs

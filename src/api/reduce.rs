@@ -307,6 +307,16 @@ pub fn write_outputs_with(
             let t = reduce::orbits::branches_table(&steady);
             files.extend(store::summary::write_table(dir, TableKind::Branches, &t)?);
         }
+        // The located bifurcations followed over the design axes.
+        let curves = reduce::bifurcations::curves(study, &summary.grid, fs, &steady);
+        if !curves.is_empty() {
+            let t = reduce::bifurcations::table(&curves);
+            files.extend(store::summary::write_table(
+                dir,
+                TableKind::Bifurcations,
+                &t,
+            )?);
+        }
         // The recommended design's bifurcation diagram: its attractors' sections.
         let samples = summary
             .anchor()
@@ -317,6 +327,11 @@ pub fn write_outputs_with(
         chart_files.extend(charts::frequency_response::charts(
             summary, fs, &steady, &samples, dir,
         )?);
+        if let Some(anchor) = summary.anchor() {
+            chart_files.extend(charts::design_map::charts(
+                summary, fs, &curves, anchor, dir,
+            )?);
+        }
     }
     chart_files.extend(charts::summary_charts(summary, dir)?);
     let names: Vec<String> = chart_files

@@ -373,7 +373,11 @@ pub fn follow(
                     let mut yv = &y + (&y1 - &y) * w;
                     yv[5] = v / sys.p0;
                     if let Some((yv, _, ev)) = sys.correct(&yv, None) {
-                        pts.push(sys.point(&yv, &ev, true));
+                        // `p` is the grid value itself (not `v / p0 * p0`).
+                        pts.push(CurvePoint {
+                            p: v,
+                            ..sys.point(&yv, &ev, true)
+                        });
                     }
                     done.retain(|&x| x != v);
                 }

@@ -231,6 +231,29 @@ impl Curve {
             .find(|a| a.run.point == point && a.amplitude == design)
     }
 
+    /// The bands of `r` (first and last grid frequency of each run of neighbours) where the
+    /// census found two or more steady states: a jump between them is possible there. Empty
+    /// without stored attractors.
+    pub fn coexistence_bands(&self) -> Vec<(f64, f64)> {
+        let Some(rows) = &self.attractors else {
+            return Vec::new();
+        };
+        let n = self.points.len() as u64;
+        let mut bands: Vec<(f64, f64)> = Vec::new();
+        let mut open = false;
+        for (i, p) in self.points.iter().enumerate() {
+            let point = self.design * n + i as u64;
+            let states = rows.iter().filter(|a| a.run.point == point).count();
+            match (states >= 2, open, bands.last_mut()) {
+                (true, true, Some(b)) => b.1 = p.r,
+                (true, _, _) => bands.push((p.r, p.r)),
+                _ => {}
+            }
+            open = states >= 2;
+        }
+        bands
+    }
+
     /// The linear system's steady amplitude (m) at frequency ratio `r`, in closed form: the
     /// main mass without the inner one, `F0 / K / sqrt((1 - r^2)^2 + (2 zeta r)^2)`.
     pub fn linear_at(&self, r: f64) -> f64 {

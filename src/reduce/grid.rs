@@ -51,6 +51,11 @@ impl Grid {
         &self.axes[a].0
     }
 
+    /// The values of axis `a`, in grid order.
+    pub fn axis_values(&self, a: usize) -> &[f64] {
+        &self.axes[a].1
+    }
+
     /// The step in the point index between neighbours along axis `a`.
     pub fn stride(&self, a: usize) -> u64 {
         self.strides[a]

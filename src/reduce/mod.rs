@@ -20,6 +20,7 @@
 //! * `DI` from the ideal case, or the mean over the cases.
 
 pub mod analysis;
+pub mod bifurcations;
 pub mod forced;
 pub mod grid;
 pub mod jumps;

@@ -101,10 +101,13 @@ pub enum TableKind {
     Branches,
     /// `analysis/probes-I-of-N.parquet`: the jump probes a shard of the analysis computed.
     Probes,
+    /// `bifurcations.parquet`, `bifurcations.csv`: one row per point of a bifurcation curve
+    /// followed in `(r, p)` over a design axis `p` (`reduce` of a harmonic study).
+    Bifurcations,
 }
 
 impl TableKind {
-    pub const ALL: [TableKind; 10] = [
+    pub const ALL: [TableKind; 11] = [
         TableKind::Points,
         TableKind::ForcedPoints,
         TableKind::Summary,
@@ -115,6 +118,7 @@ impl TableKind {
         TableKind::Attractors,
         TableKind::Branches,
         TableKind::Probes,
+        TableKind::Bifurcations,
     ];
 
     /// The table's name (`impactsweep.table`, the file stem).
@@ -130,6 +134,7 @@ impl TableKind {
             TableKind::Attractors => "attractors",
             TableKind::Branches => "branches",
             TableKind::Probes => "probes",
+            TableKind::Bifurcations => "bifurcations",
         }
     }
 }
@@ -137,6 +142,8 @@ impl TableKind {
 /// A unit written as `[col]` means "the unit of the quantity named in column `col` of the same
 /// row" (a jump's `at` is in the unit of its `axis`).
 pub const UNIT_OF_AXIS: &str = "[axis]";
+/// The unit of a bifurcation curve's `p`: that of the axis its `p_name` names.
+pub const UNIT_OF_P: &str = "[p_name]";
 /// See [`UNIT_OF_AXIS`].
 pub const UNIT_OF_KNOB: &str = "[knob]";
 /// See [`UNIT_OF_AXIS`]: a jump's size is in the unit named in its `size_unit` column (the
@@ -180,6 +187,13 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
         TableKind::Sensitivity => sensitivity_unit(column),
         TableKind::Tradeoff => tradeoff_unit(column),
         TableKind::Attractors | TableKind::Branches => orbits_unit(column),
+        TableKind::Bifurcations => match column {
+            "curve" | "point" | "kind" | "p_name" | "at_grid" => Some(""),
+            "p" => Some(UNIT_OF_P),
+            "r" | "period" | "impacts_per_period" => Some("1"),
+            "amplitude" => Some("m"),
+            _ => None,
+        },
         TableKind::Probes => match column {
             "ok" => Some(""),
             "peak_amplitude" => Some("m"),

@@ -25,6 +25,7 @@
 
 pub mod bifurcation;
 pub mod design;
+pub mod design_map;
 pub mod di;
 pub mod frequency_response;
 pub mod map;

@@ -124,6 +124,7 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
         fs,
         &shown[..shown.len().min(MAX_ROWS)],
     ));
+    o.push_str(&coexistence(s, fs, &shown[..shown.len().min(MAX_ROWS)]));
     if shown.len() > MAX_ROWS {
         let _ = writeln!(
             o,
@@ -145,4 +146,42 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
         thousands(not_converged as u64)
     );
     o
+}
+
+/// Where each design of `shown` has coexisting steady states (docs/reduce.md, "Bifurcations
+/// over the design space"): the bands of r, and how they enter the ranking.
+fn coexistence(s: &Summary, fs: &ForcedSummary, shown: &[&PointStats]) -> String {
+    let mut lines = Vec::new();
+    for p in shown {
+        let Some(c) = fs.curve(p.point) else {
+            continue;
+        };
+        let bands = c.coexistence_bands();
+        if c.attractors.is_none() {
+            continue;
+        }
+        let text = if bands.is_empty() {
+            "one steady state at every frequency".to_string()
+        } else {
+            bands
+                .iter()
+                .map(|(a, b)| {
+                    if a == b {
+                        format!("r = {}", f(*a, 3))
+                    } else {
+                        format!("r = {} – {}", f(*a, 3), f(*b, 3))
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        lines.push(format!("- {}: {text}", design_text(s, p.point)));
+    }
+    if lines.is_empty() {
+        return String::new();
+    }
+    format!(
+        "\n**Coexisting steady states.** Where the census found two or more steady states at a frequency, the response can jump between them (the forced counterpart of the paper's zone II; the shaded cells of `design_map`, with the folds, doublings and Neimark–Sacker curves of `bifurcations.csv` over the design axes). The bands of r, per design:\n\n{}\n\nThey enter the ranking through the design peak: with `design_peak = \"worst\"` a design's peak is the worst of its coexisting states, so the upper state of a jump is already counted; a design whose band reaches its peak's frequency can jump to that peak from a lower state.\n",
+        lines.join("\n")
+    )
 }
