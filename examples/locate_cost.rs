@@ -1,10 +1,12 @@
-//! Issue 24's cost figure: what locating a bifurcation costs against an ordinary continuation
-//! point. The issue's study (Table I's M, K, C = 0.1 N s/m, m = 5 g, d = 5 mm, e = 0.9,
+//! Issue 24's cost figures: what locating a bifurcation costs against an ordinary continuation
+//! point, and what a point of a two-parameter bifurcation curve costs. The issue's study (Table I's M, K, C = 0.1 N s/m, m = 5 g, d = 5 mm, e = 0.9,
 //! F0 = 0.1 N, r = 0.85 … 1.15 by 0.01, 48 census starts): the census finds the periodic
 //! attractors, and every branch through them is followed as `reduce` follows it (the doubled
 //! branches included), `reps` times. Prints JSON: points, located points, forcing periods and
 //! wall time split between continuation steps and locating (time split in proportion to the
-//! periods simulated, which is where the time goes: every period is one evaluation of the map).
+//! periods simulated, which is where the time goes: every period is one evaluation of the map);
+//! then every located fold, doubling and Neimark–Sacker point followed in `(r, d)` over
+//! d = 4.5 … 5.5 mm (grid 4.5, 5, 5.5 mm): curve points, periods and wall time per point.
 //!
 //! `cargo run --release --example locate_cost -- [reps]`
 
@@ -13,9 +15,10 @@ use std::time::Instant;
 use impactsweep::model::System;
 use impactsweep::orbits::attractors::SteadyKind;
 use impactsweep::orbits::census::CensusSettings;
-use impactsweep::orbits::continuation::{Branch, ContSettings, Param, follow};
+use impactsweep::orbits::continuation::{Branch, ContSettings, Label, Param, follow};
 use impactsweep::orbits::map::Forcing;
 use impactsweep::orbits::response::{MAX_BRANCHES, analyse, covers, orbit_from_section};
+use impactsweep::orbits::twopar::{self, Axis, Seed};
 use impactsweep::sim::SolverSettings;
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -106,5 +109,45 @@ fn main() {
         (periods - locating) as f64 / plain as f64 * per_period * 1e6,
         locating as f64 / located.max(1) as f64 * per_period * 1e6,
         locating as f64 / periods as f64,
+    );
+    // Two-parameter curves from every located SN, PD and NS.
+    let seeds2: Vec<Seed> = branches
+        .iter()
+        .flat_map(|b| b.points.iter())
+        .filter(|p| p.located && matches!(p.label, Label::SN | Label::PD | Label::NS))
+        .map(|p| Seed {
+            f: f.at_ratio(p.r),
+            s: p.s,
+            period: p.period,
+            label: p.label,
+        })
+        .collect();
+    let mut times2 = Vec::new();
+    let (mut curves, mut curve_points, mut curve_periods) = (0usize, 0usize, 0u64);
+    for _ in 0..reps {
+        let t = Instant::now();
+        (curves, curve_points, curve_periods) = (0, 0, 0);
+        for s in &seeds2 {
+            if let Some(c) = twopar::follow(
+                s,
+                Axis::D,
+                (0.0045, 0.0055),
+                (0.85, 1.15),
+                &[0.0045, 0.005, 0.0055],
+            ) {
+                curves += 1;
+                curve_points += c.points.len();
+                curve_periods += c.periods;
+            }
+        }
+        times2.push(t.elapsed().as_secs_f64());
+    }
+    let seconds2 = median(times2);
+    println!(
+        "{{\"curves\": {curves}, \"curve_points\": {curve_points}, \"curve_periods\": {curve_periods}, \
+         \"curve_seconds\": {seconds2:.4}, \"periods_per_curve_point\": {:.1}, \
+         \"us_per_curve_point\": {:.1}}}",
+        curve_periods as f64 / curve_points.max(1) as f64,
+        seconds2 / curve_points.max(1) as f64 * 1e6,
     );
 }

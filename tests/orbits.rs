@@ -608,3 +608,52 @@ fn issue_24_a_bifurcation_curve_passes_through_the_located_points() {
         );
     }
 }
+
+/// Issue 24, item 3: at the located branch point where Masri and Caughey's symmetric
+/// two-impact orbit loses stability (r = 0.8645 on the issue's design), continuation switches to
+/// the other branch through it (the asymmetric pair) and follows it: the switched branch passes
+/// through the branch point and carries the asymmetric orbit's located period doubling
+/// (r = 0.9014), with no census seed.
+#[test]
+fn issue_24_a_branch_point_switches_to_the_asymmetric_pair() {
+    use impactsweep::orbits::continuation::{ContSettings, Label, Param, follow};
+    let f = forcing(0.005, 0.005, 0.9, 0.1, 0.1, 0.85);
+    let seed = symmetric_period1(&f.sys, f.F0, f.omega)
+        .into_iter()
+        .rfind(|o| o.admissible)
+        .expect("the symmetric orbit at r = 0.85");
+    let newton = Newton::default();
+    let (_, st) = solve(&f, 1, &seed.section, &newton);
+    let orbit = orbit_at(&f, 1, &st.expect("newton"), &newton).expect("an impacting orbit");
+    let cont = ContSettings {
+        range: (0.85, 0.95),
+        h0: 0.01,
+        h_min: 1e-6,
+        h_max: 0.05,
+        max_points: 400,
+        switch_pd: true,
+    };
+    let branches = follow(&f, &orbit, Param::Ratio, &cont);
+    let bp = branches[0]
+        .points
+        .iter()
+        .find(|p| p.label == Label::BP && p.located)
+        .expect("a located branch point on the symmetric branch");
+    assert!((bp.r - 0.8645).abs() < 1e-3, "BP at r = {}", bp.r);
+    let other = branches
+        .iter()
+        .skip(1)
+        .find(|b| {
+            b.points.iter().any(|p| {
+                (p.r - bp.r).abs() < 1e-4
+                    && (p.amplitude - bp.amplitude).abs() < 1e-3 * bp.amplitude
+            })
+        })
+        .expect("a branch switched to at the branch point");
+    let pd = other
+        .points
+        .iter()
+        .find(|p| p.label == Label::PD && p.located)
+        .expect("the asymmetric orbit's located doubling");
+    assert!((pd.r - 0.9014).abs() < 1e-3, "PD at r = {}", pd.r);
+}

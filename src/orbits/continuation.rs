@@ -1,6 +1,7 @@
 //! Continuation of periodic orbits along the frequency ratio `r` or the force amplitude `F0`:
 //! pseudo-arclength predictor–corrector on `F(s, lambda) = P^p(s; lambda) - s = 0`, with
-//! adaptive steps, located bifurcation labels and a switch to the doubled branch.
+//! adaptive steps, located bifurcation labels and switches to the doubled branch at a period
+//! doubling and to the other branch at a branch point.
 //!
 //! # Predictor–corrector
 //! Unknowns `u = (s, lambda)` in scaled coordinates (`x / L`, `x' / (wn L)`, `z / L`,
@@ -24,7 +25,9 @@
 //!   below `-1` changes); the doubled branch is then followed from the eigenvector (Newton on
 //!   `P^{2p}`), once per branch;
 //! * `BP`, a branch point: a real multiplier crosses `+1` without a fold (`det(J - I)` changes
-//!   sign, the tangent's `lambda` component does not);
+//!   sign, the tangent's `lambda` component does not); once located, the other branch through
+//!   it is followed from the null direction of the extended Jacobian orthogonal to the tangent
+//!   (once per branch);
 //! * `NS`, Neimark–Sacker: the count of complex multipliers outside the unit circle changes;
 //! * `NI`: the orbit's impacts end (the branch joins the non-impacting family, and ends there).
 //!
@@ -189,7 +192,7 @@ pub struct ContSettings {
     pub h_max: f64,
     /// Most points on one side of the start.
     pub max_points: usize,
-    /// Follow doubled branches at PD points.
+    /// Follow doubled branches at PD points and the other branch at branch points (`BP`).
     pub switch_pd: bool,
 }
 
@@ -338,17 +341,17 @@ fn below_minus_one(orbit: &Orbit) -> usize {
 }
 
 /// Follows the branch of `orbit` (a fixed point of `P^p` at `f`) both ways in `param`; with
-/// `settings.switch_pd`, also the doubled branches met at PD points. The first branch returned
-/// is `orbit`'s.
+/// `settings.switch_pd`, also the doubled branches met at PD points and the other branch at
+/// located branch points (`BP`). The first branch returned is `orbit`'s.
 pub fn follow(f: &Forcing, orbit: &Orbit, param: Param, settings: &ContSettings) -> Vec<Branch> {
     let mut out = Vec::new();
     let mut pending = vec![(f.clone(), orbit.clone(), settings.switch_pd)];
     while let Some((f, orbit, switch)) = pending.pop() {
-        let (branch, doublings) = follow_one(&f, &orbit, param, settings);
+        let (branch, switches) = follow_one(&f, &orbit, param, settings);
         out.push(branch);
         if switch {
-            for (fd, od) in doublings.into_iter().take(2) {
-                // A doubled branch does not switch again: bounded work.
+            for (fd, od) in switches.into_iter().take(4) {
+                // A branch switched to does not switch again: bounded work.
                 pending.push((fd, od, false));
             }
         }
@@ -356,7 +359,8 @@ pub fn follow(f: &Forcing, orbit: &Orbit, param: Param, settings: &ContSettings)
     out
 }
 
-/// One branch both ways; returns it and the doubled orbits found at its PD points.
+/// One branch both ways; returns it and the orbits to switch to: the doubled ones found at its PD
+/// points and the other branch's at its branch points.
 fn follow_one(
     f: &Forcing,
     orbit: &Orbit,
@@ -374,11 +378,11 @@ fn follow_one(
         located: 0,
         periods_locating: 0,
     };
-    let mut doublings = Vec::new();
+    let mut switches = Vec::new();
     let start = point(f, orbit, Label::None);
     let mut sides: Vec<(Vec<BranchPoint>, End)> = Vec::new();
     for dir in [-1.0, 1.0] {
-        let (pts, end) = side(&mut curve, f, orbit, dir, settings, &mut doublings);
+        let (pts, end) = side(&mut curve, f, orbit, dir, settings, &mut switches);
         sides.push((pts, end));
     }
     let (mut down, end_down) = sides.remove(0);
@@ -393,7 +397,7 @@ fn follow_one(
         located: curve.located,
         periods_locating: curve.periods_locating,
     };
-    (branch, doublings)
+    (branch, switches)
 }
 
 /// The points on one side of the start (`dir` = the sign of the first step in `lambda`).
@@ -403,7 +407,7 @@ fn side(
     orbit: &Orbit,
     dir: f64,
     settings: &ContSettings,
-    doublings: &mut Vec<(Forcing, Orbit)>,
+    switches: &mut Vec<(Forcing, Orbit)>,
 ) -> (Vec<BranchPoint>, End) {
     let newton = Newton::default();
     let mut pts = Vec::new();
@@ -420,6 +424,7 @@ fn side(
     let mut prev_orbit = orbit.clone();
     let mut h = settings.h0;
     let mut doubled = false;
+    let mut switched = false;
     // The point before `u`, to see the branch fold back onto itself.
     let mut u_before: Option<V5> = None;
     while pts.len() < settings.max_points {
@@ -453,7 +458,7 @@ fn side(
         if state_eval.impacts == 0 {
             // Where the impacts end, located; failing that, on the last impacting point.
             match locate_between(curve, f, &here, &next, &t, h, Label::NI, settings) {
-                Some(p) => pts.push(p),
+                Some((p, _)) => pts.push(p),
                 None => {
                     if let Some(last) = pts.last_mut() {
                         let last: &mut BranchPoint = last;
@@ -481,15 +486,24 @@ fn side(
             && !doubled
             && let Some(d) = doubled_orbit(&fl, &orb, &newton)
         {
-            doublings.push((fl.clone(), d));
+            switches.push((fl.clone(), d));
             doubled = true;
         }
         if locatable {
             match locate_between(curve, f, &here, &next, &t, h, label, settings) {
-                Some(p) => {
+                Some((p, at)) => {
                     // The located point is the label's row; the point past it is plain.
                     pts.push(p);
                     label = Label::None;
+                    // At a branch point the other branch (the asymmetric pair of a symmetric
+                    // orbit) is followed too, once per branch.
+                    if pts.last().is_some_and(|p| p.label == Label::BP)
+                        && !switched
+                        && let Some(o) = switch_at_branch_point(curve, f, &at, &t)
+                    {
+                        switches.push(o);
+                        switched = true;
+                    }
                 }
                 // A multiplier that jumped across +1 or the unit circle (the monodromy matrix
                 // is discontinuous where a sticking phase begins or ends) is not a branch
@@ -564,7 +578,7 @@ fn locate_between(
     h: f64,
     label: Label,
     settings: &ContSettings,
-) -> Option<BranchPoint> {
+) -> Option<(BranchPoint, OnBranch)> {
     let periods0 = curve.periods;
     let impacts_left = here.eval.impacts;
     let phi = |p: &OnBranch| test_function(label, p, &|a| tangent(a, t), impacts_left);
@@ -590,7 +604,7 @@ fn locate_between(
         s,
         residual: 0.0,
         iterations: 0,
-        last: p.eval,
+        last: p.eval.clone(),
     };
     let orb = orbit_at(&fl, curve.p, &state, &Newton::default())?;
     // The root is the bifurcation only where its multiplier is there: a fold or a branch
@@ -601,10 +615,60 @@ fn locate_between(
         return None;
     }
     curve.located += 1;
-    Some(BranchPoint {
-        located: true,
-        ..point(&fl, &orb, label)
-    })
+    Some((
+        BranchPoint {
+            located: true,
+            ..point(&fl, &orb, label)
+        },
+        p,
+    ))
+}
+
+/// The other branch through a located branch point `at` (tangent `t` of the branch followed):
+/// at a branch point the extended Jacobian `[J - I | dF/dlambda]` loses rank, so its null space
+/// is two-dimensional; the direction in it orthogonal to `t` is the other branch's. A step of
+/// `0.02` in scaled arclength along it, each way, is corrected on the hyperplane normal to it;
+/// the first that converges to an impacting orbit is returned (at its own parameter).
+fn switch_at_branch_point(
+    curve: &mut Curve,
+    f: &Forcing,
+    at: &OnBranch,
+    t: &V5,
+) -> Option<(Forcing, Orbit)> {
+    let ata = at.a.transpose() * at.a;
+    let eig = ata.symmetric_eigen();
+    let mut order: Vec<usize> = (0..5).collect();
+    order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+    let v = order[..2]
+        .iter()
+        .map(|&i| {
+            let n: V5 = eig.eigenvectors.column(i).into();
+            n - t * t.dot(&n)
+        })
+        .max_by(|x, y| x.norm().total_cmp(&y.norm()))?;
+    let v = v / v.norm().max(f64::MIN_POSITIVE);
+    let newton = Newton::default();
+    for sign in [1.0, -1.0] {
+        let dir = v * sign;
+        let Some((u, _, e, _)) = curve.correct(&(at.u + dir * 0.02), &dir) else {
+            continue;
+        };
+        if e.impacts == 0 {
+            continue;
+        }
+        let (s, lambda) = curve.unscale(&u);
+        let fl = curve.param.at(f, lambda);
+        let state = super::shoot::NewtonState {
+            s,
+            residual: 0.0,
+            iterations: 0,
+            last: e,
+        };
+        if let Some(o) = orbit_at(&fl, curve.p, &state, &newton) {
+            return Some((fl, o));
+        }
+    }
+    None
 }
 
 /// How near its critical value (+1, -1, the unit circle) the multiplier of a located point
