@@ -38,7 +38,9 @@
 //!
 //! # Ends
 //! Every branch ends with a named reason ([`End`]): `range` (it left the swept interval),
-//! `no_impacts`, `step_too_small`, `max_points` ([`ContSettings::max_points`]), `simulator`, or
+//! `no_impacts`, `step_too_small`, `max_points` ([`ContSettings::max_points`]), `simulator`,
+//! `grazing_end` (the steps failed where, one step past the last point, the orbit's impact count
+//! changes: the map is not smooth there, and often not continuous, so the branch cannot pass), or
 //! `grazing`: the corrector came back along the branch it came from (nearer the point before
 //! than half a step), which happens at a corner of the branch where an impact grazes and the
 //! map is not smooth; the last point is labelled `GR` rather than taken for a fold.
@@ -116,6 +118,9 @@ pub enum End {
     Simulator,
     /// The corrector came back along the branch: a corner of the branch (grazing).
     Grazing,
+    /// The steps failed where, just past the last point, the orbit's impact sequence changes
+    /// (an impact appears or vanishes): the branch cannot be continued past that grazing.
+    GrazingEnd,
 }
 
 impl End {
@@ -127,6 +132,7 @@ impl End {
             End::MaxPoints => "max_points",
             End::Simulator => "simulator",
             End::Grazing => "grazing",
+            End::GrazingEnd => "grazing_end",
         }
     }
 }
@@ -432,7 +438,7 @@ fn side(
         let Some((u_new, a_new, state_eval, iters)) = curve.correct(&u_pred, &t) else {
             h *= 0.5;
             if h < settings.h_min {
-                return (pts, End::StepTooSmall);
+                return end_of_steps(curve, f, &here, &u_pred, pts);
             }
             continue;
         };
@@ -674,6 +680,31 @@ fn switch_at_branch_point(
 /// How near its critical value (+1, -1, the unit circle) the multiplier of a located point
 /// must be ([`locate::multiplier_test`]).
 pub const LOCATED_TOL: f64 = 1e-8;
+
+/// The end of a branch whose steps failed down to the smallest: where the map one step past
+/// the last point (at the last predictor `u_pred`) has another impact count than the last
+/// point's orbit, the branch ran into a grazing it cannot pass (`grazing_end`, the last point
+/// labelled `GR`); otherwise `step_too_small`.
+fn end_of_steps(
+    curve: &mut Curve,
+    f: &Forcing,
+    here: &OnBranch,
+    u_pred: &V5,
+    mut pts: Vec<BranchPoint>,
+) -> (Vec<BranchPoint>, End) {
+    let (s, lambda) = curve.unscale(u_pred);
+    let e = eval(&curve.param.at(f, lambda), &s, curve.p, false);
+    curve.periods += curve.p;
+    if e.outcome == Outcome::Ok && e.impacts != here.eval.impacts {
+        if let Some(last) = pts.last_mut()
+            && last.label == Label::None
+        {
+            last.label = Label::GR;
+        }
+        return (pts, End::GrazingEnd);
+    }
+    (pts, End::StepTooSmall)
+}
 
 /// Whether `next` goes back along the branch through `before` and `now`: it is nearer `before`
 /// than half the distance from `before` to `now`.
