@@ -559,9 +559,9 @@ fn classify(prev: &Orbit, orb: &Orbit, t: &V5, t_new: &V5, f: &Forcing) -> (Labe
         (Label::PD, true)
     } else if det(&orb.monodromy, 1.0).signum() != det(&prev.monodromy, 1.0).signum() {
         (Label::BP, true)
-    } else if complex_outside(&orb.monodromy) != complex_outside(&prev.monodromy)
-        && ns_value(&orb.monodromy).is_finite()
-        && ns_value(&prev.monodromy).is_finite()
+    } else if complex_outside(&orb.multipliers) != complex_outside(&prev.multipliers)
+        && ns_value(&orb.multipliers).is_finite()
+        && ns_value(&prev.multipliers).is_finite()
     {
         (Label::NS, true)
     } else if orb.min_impact_speed < 1e-3 * f.omega * f.half_gap() {

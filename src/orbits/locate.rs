@@ -65,7 +65,10 @@ pub fn test_function(
         Label::SN => tangent(&p.a).map_or(f64::NAN, |t| t[4]),
         Label::BP => j().map_or(f64::NAN, |m| (m - Matrix4::identity()).determinant()),
         Label::PD => j().map_or(f64::NAN, |m| (m + Matrix4::identity()).determinant()),
-        Label::NS => p.eval.jacobian.map_or(f64::NAN, |m| ns_value(&m)),
+        Label::NS => p
+            .eval
+            .jacobian
+            .map_or(f64::NAN, |m| ns_value(&multipliers(&m))),
         Label::GR | Label::NI => {
             if p.eval.impacts == impacts_left {
                 1.0
@@ -77,11 +80,10 @@ pub fn test_function(
     }
 }
 
-/// `|mu| - 1` for the complex pair of multipliers of `m` whose modulus is nearest 1; NaN
+/// `|mu| - 1` for the complex pair of the multipliers `mu` whose modulus is nearest 1; NaN
 /// without a complex pair.
-pub fn ns_value(m: &[[f64; 4]; 4]) -> f64 {
-    multipliers(m)
-        .iter()
+pub fn ns_value(mu: &[(f64, f64)]) -> f64 {
+    mu.iter()
         .filter(|(re, im)| im.abs() > 1e-9 * re.abs().max(1.0))
         .map(|(re, im)| re.hypot(*im) - 1.0)
         .min_by(|a, b| a.abs().total_cmp(&b.abs()))
@@ -112,11 +114,10 @@ pub fn multiplier_test(label: Label, mu: &[(f64, f64)]) -> f64 {
     }
 }
 
-/// Complex multipliers outside the unit circle (a change of this count between two points is
-/// a Neimark–Sacker crossing).
-pub fn complex_outside(m: &[[f64; 4]; 4]) -> usize {
-    multipliers(m)
-        .iter()
+/// Complex multipliers among `mu` outside the unit circle (a change of this count between two
+/// points is a Neimark–Sacker crossing).
+pub fn complex_outside(mu: &[(f64, f64)]) -> usize {
+    mu.iter()
         .filter(|(re, im)| im.abs() > 1e-9 * re.abs().max(1.0) && re.hypot(*im) > 1.0)
         .count()
 }

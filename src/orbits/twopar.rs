@@ -169,7 +169,7 @@ impl System2<'_> {
         match self.label {
             Label::SN | Label::BP => (m - Matrix4::identity()).determinant(),
             Label::PD => (m + Matrix4::identity()).determinant(),
-            Label::NS => ns_value(&j),
+            Label::NS => ns_value(&super::shoot::multipliers(&j)),
             _ => f64::NAN,
         }
     }

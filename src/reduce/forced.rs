@@ -224,26 +224,27 @@ impl Curve {
     /// without stored attractors.
     pub fn design_attractor(&self, i: usize) -> Option<&AttractorRow> {
         let design = self.points.get(i)?.design;
+        self.attractors_at(i).find(|a| a.amplitude == design)
+    }
+
+    /// The stored attractors (ideal case) at the curve's `i`-th point; none without stored
+    /// attractors.
+    pub fn attractors_at(&self, i: usize) -> impl Iterator<Item = &AttractorRow> {
         let point = self.design * self.points.len() as u64 + i as u64;
         self.attractors
-            .as_ref()?
             .iter()
-            .find(|a| a.run.point == point && a.amplitude == design)
+            .flatten()
+            .filter(move |a| a.run.point == point)
     }
 
     /// The bands of `r` (first and last grid frequency of each run of neighbours) where the
     /// census found two or more steady states: a jump between them is possible there. Empty
     /// without stored attractors.
     pub fn coexistence_bands(&self) -> Vec<(f64, f64)> {
-        let Some(rows) = &self.attractors else {
-            return Vec::new();
-        };
-        let n = self.points.len() as u64;
         let mut bands: Vec<(f64, f64)> = Vec::new();
         let mut open = false;
         for (i, p) in self.points.iter().enumerate() {
-            let point = self.design * n + i as u64;
-            let states = rows.iter().filter(|a| a.run.point == point).count();
+            let states = self.attractors_at(i).count();
             match (states >= 2, open, bands.last_mut()) {
                 (true, true, Some(b)) => b.1 = p.r,
                 (true, _, _) => bands.push((p.r, p.r)),

@@ -99,11 +99,10 @@ impl<'a> DesignMap<'a> {
         for (j, &p) in values.iter().enumerate() {
             let design = g.step(anchor, a, j as i64 - i0)?;
             let c = f.curve(design)?;
-            let rows = c.attractors.as_ref()?;
+            c.attractors.as_ref()?;
             let rs: Vec<f64> = c.points.iter().map(|q| q.r).collect();
             for (i, &r) in rs.iter().enumerate() {
-                let point = design * c.points.len() as u64 + i as u64;
-                let here: Vec<_> = rows.iter().filter(|x| x.run.point == point).collect();
+                let here: Vec<_> = c.attractors_at(i).collect();
                 cells.push(Cell {
                     p,
                     r,
