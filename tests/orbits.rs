@@ -492,6 +492,34 @@ fn issue_24_bifurcations_are_located_on_their_branches() {
     for kind in ["SN", "BP", "PD", "NS"] {
         assert!(seen.contains(kind), "no located {kind}: {seen:?}");
     }
+    // Item 2: every branch ends where it must (the range, a grazing it cannot pass, a closed
+    // curve, ...), none by steps shrinking into a corner; and branches go on through grazings
+    // with the new impact count (a `GR` row inside a branch, the counts differing either side).
+    let ends: Vec<(u32, f64, &str)> = resp
+        .branches
+        .iter()
+        .filter(|b| !b.end.is_empty())
+        .map(|b| (b.branch, b.r, b.end))
+        .collect();
+    assert!(
+        ends.iter().all(|e| e.2 != "step_too_small"),
+        "branch ends: {ends:?}"
+    );
+    let through: Vec<(f64, f64, f64)> = resp
+        .branches
+        .windows(3)
+        .filter(|w| {
+            w[0].branch == w[2].branch
+                && w[1].label == "GR"
+                && w[1].end.is_empty()
+                && w[0].impacts_per_period != w[2].impacts_per_period
+        })
+        .map(|w| (w[1].r, w[0].impacts_per_period, w[2].impacts_per_period))
+        .collect();
+    assert!(
+        through.len() >= 2,
+        "branches through a grazing: {through:?}"
+    );
     // Independent locations of one point agree to 1e-8 in r.
     let mut pairs = 0;
     for (i, a) in located.iter().enumerate() {
@@ -514,11 +542,119 @@ fn issue_24_bifurcations_are_located_on_their_branches() {
     assert!(pairs >= 2, "{pairs} pairs located twice");
     // The stable two-impact period-1 orbit's doubling (0.199 cm at r = 0.9) lies between the
     // grid points 0.90 and 0.91.
-    let pd = located
+    let pds: Vec<f64> = located
         .iter()
-        .find(|b| b.label == "PD" && b.period == 1 && b.impacts_per_period == 2.0)
-        .expect("the two-impact orbit's doubling");
-    assert!(pd.r > 0.9 && pd.r < 0.91, "PD at r = {}", pd.r);
+        .filter(|b| b.label == "PD" && b.period == 1 && b.impacts_per_period == 2.0)
+        .map(|b| b.r)
+        .collect();
+    assert!(
+        pds.iter().any(|&r| r > 0.9 && r < 0.91),
+        "the two-impact orbit's doublings: {pds:?}"
+    );
+}
+
+/// Issue 24: against Masri and Caughey's closed form. Along the symmetric two-impact branch
+/// (Table I, C = 0.1 N s/m, m = 5 g, d = 5 mm, e = 0.9, F0 = 0.1 N, r = 0.85 … 1.15), every
+/// point's multipliers are the closed form's (the squares of the eigenvalues of the half-period
+/// impact map's Jacobian, `analytic::symmetric_multipliers`) to 1e-7, and the orbit's stability
+/// boundary (where it loses stability to the asymmetric pair below resonance and regains it
+/// above) is located to 1e-7 in r against the closed form's roots of `det(J^2 - I)`.
+#[test]
+fn issue_24_the_symmetric_orbit_s_stability_boundary_is_the_closed_form_s() {
+    use impactsweep::orbits::analytic::{SymmetricOrbit, symmetric_multipliers};
+    use impactsweep::orbits::continuation::{ContSettings, Label, Param, follow};
+    let f = forcing(0.005, 0.005, 0.9, 0.1, 0.1, 0.85);
+    let newton = Newton::default();
+    // The closed-form orbit at r nearest in amplitude to `amp`.
+    let closed = |r: f64, amp: f64| -> SymmetricOrbit {
+        let g = f.at_ratio(r);
+        symmetric_period1(&g.sys, g.F0, g.omega)
+            .into_iter()
+            .filter(|o| o.admissible)
+            .min_by(|a, b| {
+                (a.amplitude - amp)
+                    .abs()
+                    .total_cmp(&(b.amplitude - amp).abs())
+            })
+            .expect("a symmetric orbit")
+    };
+    let mus = |r: f64, o: &SymmetricOrbit| {
+        let g = f.at_ratio(r);
+        symmetric_multipliers(&g.sys, g.F0, g.omega, o).expect("multipliers")
+    };
+    // det(J^2 - I) = prod (mu - 1), real.
+    let test = |r: f64, amp: f64| {
+        let o = closed(r, amp);
+        let (mut re, mut im) = (1.0, 0.0);
+        for (a, b) in mus(r, &o) {
+            let (x, y) = (a - 1.0, b);
+            (re, im) = (re * x - im * y, re * y + im * x);
+        }
+        re
+    };
+    let seed = closed(0.85, 1.26e-3);
+    let (_, st) = solve(&f, 1, &seed.section, &newton);
+    let orbit = orbit_at(&f, 1, &st.expect("newton"), &newton).expect("an impacting orbit");
+    let cont = ContSettings {
+        range: (0.85, 1.15),
+        h0: 0.01 / 0.85,
+        h_min: 1e-6,
+        h_max: 0.05,
+        max_points: 2000,
+        switch_pd: false,
+    };
+    let branch = &follow(&f, &orbit, Param::Ratio, &cont)[0];
+    let mut compared = 0;
+    // A located branch point may lie on the other branch through it, within the locating
+    // tolerance: the orbit's own points are compared.
+    for p in branch.points.iter().filter(|p| !p.located) {
+        let o = closed(p.r, p.amplitude);
+        assert!(
+            (o.amplitude - p.amplitude).abs() <= 1e-7 * p.amplitude,
+            "r = {}: amplitude {} against {}",
+            p.r,
+            p.amplitude,
+            o.amplitude
+        );
+        let m = mus(p.r, &o);
+        for (a, b) in m.iter().zip(p.multipliers.iter()) {
+            let diff = (a.0 - b.0).hypot(a.1.abs() - b.1.abs());
+            assert!(
+                diff <= 1e-7 * a.0.hypot(a.1).max(1.0),
+                "r = {}: multipliers {m:?} against {:?}",
+                p.r,
+                p.multipliers
+            );
+        }
+        compared += 1;
+    }
+    assert!(compared > 100, "{compared} points compared");
+    let bps: Vec<_> = branch
+        .points
+        .iter()
+        .filter(|p| p.label == Label::BP && p.located)
+        .collect();
+    assert_eq!(bps.len(), 2, "located branch points: {bps:?}");
+    for p in bps {
+        // The closed form's root by bisection, bracketed within 1e-4 of the located point.
+        let (mut lo, mut hi) = (p.r - 1e-4, p.r + 1e-4);
+        let (flo, fhi) = (test(lo, p.amplitude), test(hi, p.amplitude));
+        assert!(flo * fhi < 0.0, "no sign change about r = {}", p.r);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if test(mid, p.amplitude).signum() == flo.signum() {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let root = 0.5 * (lo + hi);
+        assert!(
+            (p.r - root).abs() <= 1e-7,
+            "BP located at r = {}, closed form {root}",
+            p.r
+        );
+    }
 }
 
 /// Issue 24, item 4: a bifurcation followed in two parameters passes through the bifurcation

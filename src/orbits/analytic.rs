@@ -228,6 +228,94 @@ pub fn symmetric_period1(sys: &System, f0: f64, omega: f64) -> Vec<SymmetricOrbi
         .collect()
 }
 
+/// The Jacobian of the symmetric orbit's half-period impact map, in closed form.
+///
+/// Coordinates `q = (t, x, x', y')` just after an impact on the right wall (`y - x = +d/2`, so
+/// `y` is not a coordinate). The map `H` flies to the next impact (on the left wall) and applies
+/// the impact law there; the mirror `S q = (t - tau, -x, -x', -y')` brings the left wall back to
+/// the right one, and the orbit is a fixed point of `S H`. Over one forcing period the orbit's
+/// return map is `(S H)^2` (the left-to-right half is `S H S`), so its Floquet multipliers are
+/// the squares of the eigenvalues of `J = S DH` (both maps are Poincaré maps of the same flow,
+/// on the impact surface and at the forcing phase 0, so they share their multipliers).
+///
+/// `DH` by the implicit function theorem (derived in `docs/model.md` §12, "The symmetric orbit's
+/// stability in closed form"): over the flight time `s`, `dxi1/d(x0, v0) = Phi(s)`,
+/// `dxi1/dt0 = -Phi(s) f0`, `dy1 = dx0 + s dw0 - w0 dt0 + w0 dt1`; the impact condition
+/// `y1 - x1 + d/2 = 0` gives `dt1 = -(dy1 - dx1)|_{t1} / (w0 - v1-)`; then
+/// `dxi1 += f1 dt1`, and the impact law (eq. 3–4) maps `(v1-, w0)` to the velocities after.
+/// `f = (x', (F0 cos(omega t) - K x - C x') / M)` is the main mass's vector field.
+/// Row-major, `None` when the orbit's approach speed is zero (a graze: not differentiable).
+pub fn half_map_jacobian(
+    sys: &System,
+    f0: f64,
+    omega: f64,
+    orbit: &SymmetricOrbit,
+) -> Option<[[f64; 4]; 4]> {
+    let (big_m, m, k, c, e) = (sys.M, sys.m, sys.K, sys.C, sys.e);
+    let tau = PI / omega;
+    let forced = Forced::new(big_m, k, c, f0, omega);
+    let phi = forced.osc.propagator(tau);
+    let field = |t: f64, x: f64, v: f64| [v, (f0 * (omega * t).cos() - k * x - c * v) / big_m];
+    // Just after the right-wall impact, and just before the left-wall one (mirror image).
+    let (t0, x0, v0, w0) = (
+        orbit.phase / omega,
+        orbit.x_impact,
+        orbit.v_after,
+        orbit.w_after,
+    );
+    let (x1, v1) = (-orbit.x_impact, -orbit.v_before);
+    let f_0 = field(t0, x0, v0);
+    let f_1 = field(t0 + tau, x1, v1);
+    let approach = w0 - v1;
+    if approach.abs() == 0.0 || !approach.is_finite() {
+        return None;
+    }
+    // d xi1 / dq at a fixed arrival time, q = (t0, x0, v0, w0).
+    let phi_f0 = [
+        phi.xx * f_0[0] + phi.xv * f_0[1],
+        phi.vx * f_0[0] + phi.vv * f_0[1],
+    ];
+    let dx = [-phi_f0[0], phi.xx, phi.xv, 0.0];
+    let dv = [-phi_f0[1], phi.vx, phi.vv, 0.0];
+    let dy = [-w0, 1.0, 0.0, tau];
+    // The arrival time from the impact condition.
+    let dt1: [f64; 4] = std::array::from_fn(|j| -(dy[j] - dx[j]) / approach);
+    let dx1: [f64; 4] = std::array::from_fn(|j| dx[j] + f_1[0] * dt1[j]);
+    let dv1: [f64; 4] = std::array::from_fn(|j| dv[j] + f_1[1] * dt1[j]);
+    let dw0 = [0.0, 0.0, 0.0, 1.0];
+    // The impact law: v+ = v- + a (w - v-), w+ = w - b (w - v-).
+    let a = m * (1.0 + e) / (big_m + m);
+    let b = big_m * (1.0 + e) / (big_m + m);
+    let dv_after: [f64; 4] = std::array::from_fn(|j| (1.0 - a) * dv1[j] + a * dw0[j]);
+    let dw_after: [f64; 4] = std::array::from_fn(|j| b * dv1[j] + (1.0 - b) * dw0[j]);
+    // The mirror: time shifts by a constant, the rest change sign.
+    let neg = |r: [f64; 4]| r.map(|v| -v);
+    Some([dt1, neg(dx1), neg(dv_after), neg(dw_after)])
+}
+
+/// The Floquet multipliers of a symmetric orbit over one forcing period, in closed form: the
+/// squares of the eigenvalues of [`half_map_jacobian`], as `(re, im)` by decreasing modulus.
+/// `None` where the Jacobian is.
+pub fn symmetric_multipliers(
+    sys: &System,
+    f0: f64,
+    omega: f64,
+    orbit: &SymmetricOrbit,
+) -> Option<[(f64, f64); 4]> {
+    let j = half_map_jacobian(sys, f0, omega, orbit)?;
+    let jm = nalgebra::Matrix4::from_fn(|r, c| j[r][c]);
+    let eig = jm.complex_eigenvalues();
+    let mut mu: Vec<(f64, f64)> = eig
+        .iter()
+        .map(|l| {
+            let sq = l * l;
+            (sq.re, sq.im)
+        })
+        .collect();
+    mu.sort_by(|p, q| q.0.hypot(q.1).total_cmp(&p.0.hypot(p.1)));
+    Some([mu[0], mu[1], mu[2], mu[3]])
+}
+
 /// The flight that follows the right-wall impact, `s` in `[0, tau]` after it.
 struct Flight {
     forced: Forced,

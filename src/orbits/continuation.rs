@@ -121,6 +121,8 @@ pub enum End {
     /// The steps failed where, just past the last point, the orbit's impact sequence changes
     /// (an impact appears or vanishes): the branch cannot be continued past that grazing.
     GrazingEnd,
+    /// The branch came back to its start: a closed curve (an isola), followed once.
+    Closed,
 }
 
 impl End {
@@ -133,6 +135,7 @@ impl End {
             End::Simulator => "simulator",
             End::Grazing => "grazing",
             End::GrazingEnd => "grazing_end",
+            End::Closed => "closed",
         }
     }
 }
@@ -388,6 +391,11 @@ fn follow_one(
     let start = point(f, orbit, Label::None);
     let mut sides: Vec<(Vec<BranchPoint>, End)> = Vec::new();
     for dir in [-1.0, 1.0] {
+        if sides.first().is_some_and(|(_, end)| *end == End::Closed) {
+            // The first side went round the whole curve (or into a loop it follows once).
+            sides.push((Vec::new(), End::Closed));
+            continue;
+        }
         let (pts, end) = side(&mut curve, f, orbit, dir, settings, &mut switches);
         sides.push((pts, end));
     }
@@ -430,18 +438,48 @@ fn side(
     let mut prev_orbit = orbit.clone();
     let mut h = settings.h0;
     let mut doubled = false;
-    let mut switched = false;
+    // Branch points switched at on this side.
+    let mut switched = 0u32;
     // The point before `u`, to see the branch fold back onto itself.
     let mut u_before: Option<V5> = None;
+    // The last step went past a corner ([`past_corner`]).
+    let mut crossed = false;
+    // The points so far and their tangents, to see the branch close on itself.
+    let mut trail: Vec<(V5, V5)> = Vec::new();
     while pts.len() < settings.max_points {
         let u_pred = u + t * h;
         let Some((u_new, a_new, state_eval, iters)) = curve.correct(&u_pred, &t) else {
             h *= 0.5;
             if h < settings.h_min {
+                // A corner (an impact on the section, a grazing): go on past it, once per
+                // corner (the flag is cleared by the next ordinary step).
+                if !crossed && let Some(jump) = past_corner(curve, f, &u, &t) {
+                    if jump.2.eval.impacts != here.eval.impacts
+                        && let Some(last) = pts.last_mut()
+                        && last.label == Label::None
+                    {
+                        last.label = Label::GR;
+                    }
+                    (u, t, here) = jump;
+                    u_before = None;
+                    h = settings.h0;
+                    crossed = true;
+                    continue;
+                }
                 return end_of_steps(curve, f, &here, &u_pred, pts);
             }
             continue;
         };
+        crossed = false;
+        if trail.len() > 4
+            && trail[..trail.len() - 4]
+                .iter()
+                .any(|(w, tw)| tw.dot(&t) > 0.9 && passes(w, &u, &u_new))
+        {
+            // Back on a point it went through, the same way: a closed curve (an isola, or a
+            // loop the branch ran into) is followed once.
+            return (pts, End::Closed);
+        }
         if u_before.is_some_and(|b| retraces(&b, &u, &u_new)) {
             // The corrector found the branch it came along: the branch has a corner here (a
             // grazing, where the map is not smooth), not a fold.
@@ -453,6 +491,7 @@ fn side(
         }
         let (s, lambda) = curve.unscale(&u_new);
         if lambda < settings.range.0 || lambda > settings.range.1 {
+            pts.extend(at_range_end(curve, f, &u, &u_new, settings));
             return (pts, End::Range);
         }
         let fl = curve.param.at(f, lambda);
@@ -502,13 +541,13 @@ fn side(
                     pts.push(p);
                     label = Label::None;
                     // At a branch point the other branch (the asymmetric pair of a symmetric
-                    // orbit) is followed too, once per branch.
+                    // orbit) is followed too, at up to `MAX_SWITCHES_PER_SIDE` of them.
                     if pts.last().is_some_and(|p| p.label == Label::BP)
-                        && !switched
+                        && switched < MAX_SWITCHES_PER_SIDE
                         && let Some(o) = switch_at_branch_point(curve, f, &at, &t)
                     {
                         switches.push(o);
-                        switched = true;
+                        switched += 1;
                     }
                 }
                 // A multiplier that jumped across +1 or the unit circle (the monodromy matrix
@@ -520,6 +559,7 @@ fn side(
         }
         pts.push(point(&fl, &orb, label));
         prev_orbit = orb;
+        trail.push((u, t));
         u_before = Some(u);
         u = u_new;
         t = t_new;
@@ -704,6 +744,121 @@ fn end_of_steps(
         return (pts, End::GrazingEnd);
     }
     (pts, End::StepTooSmall)
+}
+
+/// Branch points on one side of a branch's start where the other branch is followed too (the
+/// symmetric orbit loses its stability to the asymmetric pair below resonance and regains it
+/// above).
+const MAX_SWITCHES_PER_SIDE: u32 = 2;
+
+/// The branch's point at the end of the range that the step from `u` to `u_new` left: the
+/// corrector at the bound itself, from the chord's point there. `None` where it does not
+/// converge (the branch then ends at its last point inside).
+fn at_range_end(
+    curve: &mut Curve,
+    f: &Forcing,
+    u: &V5,
+    u_new: &V5,
+    settings: &ContSettings,
+) -> Option<BranchPoint> {
+    let (_, l0) = curve.unscale(u);
+    let (_, l1) = curve.unscale(u_new);
+    let bound = l1.clamp(settings.range.0, settings.range.1);
+    if l1 == l0 {
+        return None;
+    }
+    let mut from = u + (u_new - u) * ((bound - l0) / (l1 - l0));
+    from[4] = bound / curve.lambda0;
+    let (u_b, _, eval, _) = curve.correct(&from, &V5::new(0.0, 0.0, 0.0, 0.0, 1.0))?;
+    if eval.impacts == 0 {
+        return None;
+    }
+    let (s, lambda) = curve.unscale(&u_b);
+    let fl = curve.param.at(f, lambda);
+    let state = super::shoot::NewtonState {
+        s,
+        residual: 0.0,
+        iterations: 0,
+        last: eval,
+    };
+    let orb = orbit_at(&fl, curve.p, &state, &Newton::default())?;
+    Some(point(&fl, &orb, Label::None))
+}
+
+/// How near the section (in forcing periods) an impact of the orbit must be for the branch to
+/// be followed across it in the other representation ([`past_corner`]).
+const SECTION_IMPACT_PERIODS: f64 = 1e-3;
+
+/// The steps in the scaled parameter tried past a corner, smallest first.
+const CORNER_NUDGES: [f64; 6] = [1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4];
+
+/// How far (scaled) the point found past a corner may lie from where it was looked for: farther
+/// is another branch.
+const CORNER_REACH: f64 = 0.05;
+
+/// The branch at `u` (tangent `t`), where its steps failed, continued past the corner a little
+/// further on in the parameter (the steps [`CORNER_NUDGES`], each a corrector solve at a fixed
+/// parameter), from two starts in turn:
+///
+/// * **an impact on the section.** The section state is taken at `t = 0 mod T`. Where an impact
+///   of the orbit moves through that instant as the parameter changes, the fixed point jumps
+///   from the state just before the impact to the state just after it (or back): the orbit is
+///   continuous, its section coordinates are not, and the steps shrink into the jump. When the
+///   inner mass at `u` is within [`SECTION_IMPACT_PERIODS`] of a period from a wall (at its
+///   relative speed), the start is the same state in the other representation: the impact law
+///   (eq. 3–4) forward if the inner mass approaches the wall, inverted (`e > 0`) if it leaves it;
+/// * **a grazing.** The state at `u` itself: past a grazing the orbit has another impact
+///   sequence, and the simulator finds it (the map's Jacobian grows like the inverse square root
+///   of the distance to the grazing, so the predictor-corrector cannot step into it).
+///
+/// Returns the point found, its tangent (oriented as `t` is in the parameter) and its map
+/// evaluation; `None` when neither start leads on.
+fn past_corner(curve: &mut Curve, f: &Forcing, u: &V5, t: &V5) -> Option<(V5, V5, OnBranch)> {
+    let (s, lambda) = curve.unscale(u);
+    let fl = curve.param.at(f, lambda);
+    let (big_m, m, e) = (fl.sys.M, fl.sys.m, fl.sys.e);
+    let l = fl.half_gap();
+    let rel = s[3] - s[1];
+    let wall = s[2].signum();
+    let mut starts = Vec::with_capacity(2);
+    if l - s[2].abs() <= rel.abs() * SECTION_IMPACT_PERIODS * fl.period() {
+        if rel * wall > 0.0 {
+            // Approaching the wall: the state just after the impact.
+            let (v, w) = crate::sim::phase::impact(big_m, m, e, s[1], s[3]);
+            starts.push([s[0], v, wall * l, w]);
+        } else if e > 0.0 {
+            // Leaving it: the state just before, `rel- = -rel+ / e` with the momentum kept.
+            let rel_before = -rel / e;
+            let v = (big_m * s[1] + m * s[3] - m * rel_before) / (big_m + m);
+            starts.push([s[0], v, wall * l, v + rel_before]);
+        }
+    }
+    starts.push(s);
+    let along = V5::new(0.0, 0.0, 0.0, 0.0, t[4].signum());
+    for start in starts {
+        for nudge in CORNER_NUDGES {
+            let from = curve.to_u(&start, lambda) + along * nudge;
+            if let Some((u_new, a, eval, _)) = curve.correct(&from, &along)
+                && (u_new - from).norm() <= CORNER_REACH
+                && let Some(t_new) = tangent(&a, &along)
+            {
+                return Some((u_new, t_new, OnBranch { u: u_new, a, eval }));
+            }
+        }
+    }
+    None
+}
+
+/// Whether the step from `now` to `next` passes through `start`: `start` lies within 5 % of the
+/// step's length (plus the corrector's tolerance) of the chord between them.
+fn passes(start: &V5, now: &V5, next: &V5) -> bool {
+    let chord = next - now;
+    let len2 = chord.norm_squared();
+    if len2 == 0.0 {
+        return false;
+    }
+    let along = ((start - now).dot(&chord) / len2).clamp(0.0, 1.0);
+    (now + chord * along - start).norm() <= 0.05 * len2.sqrt() + 1e-8
 }
 
 /// Whether `next` goes back along the branch through `before` and `now`: it is nearer `before`

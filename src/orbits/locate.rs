@@ -124,9 +124,10 @@ pub fn complex_outside(mu: &[(f64, f64)]) -> usize {
 
 /// Solves `label`'s test function between `sigma = 0` (value `phi0`) and `sigma = h` (value
 /// `phi1`, of the other sign): `at(sigma)` corrects the trial point. Returns the located point
-/// (for a grazing, the end of the final bracket with more impacts), or `None` when a trial
-/// fails (the corrector does not converge, or the test function is undefined there) or the
-/// sign changed through a jump rather than a root ([`ROOT_TOL`]).
+/// (for a grazing, the end of the final bracket with more impacts; otherwise the trial with the
+/// smallest test function), or `None` when the test function is undefined at a trial, when the
+/// sign changed through a jump rather than a root ([`ROOT_TOL`]), or (for a grazing) when the
+/// corrector stops converging before the bracket is down to [`SIGMA_TOL`].
 pub fn solve(
     label: Label,
     h: f64,
@@ -143,6 +144,7 @@ pub fn solve(
     // Which end the last two trials replaced (Illinois: halve the other end's value when the
     // same end moves twice).
     let mut side = 0i8;
+    let mut best: Option<(f64, OnBranch)> = None;
     for _ in 0..MAX_TRIALS {
         if b - a <= SIGMA_TOL {
             break;
@@ -155,10 +157,22 @@ pub fn solve(
         } else {
             0.5 * (a + b)
         };
-        let p = at(s)?;
+        // Where the corrector fails at the trial (at a branch point its system is singular,
+        // and slow to converge next to it), a trial halfway to either end instead.
+        let (s, p) = match [s, 0.5 * (a + s), 0.5 * (s + b)]
+            .into_iter()
+            .find_map(|s| at(s).map(|p| (s, p)))
+        {
+            Some(found) => found,
+            // No trial converges any more: what the trials so far found decides.
+            None => break,
+        };
         let fs = phi(&p);
         if !fs.is_finite() {
             return None;
+        }
+        if best.as_ref().is_none_or(|(fb, _)| fs.abs() < *fb) {
+            best = Some((fs.abs(), p.clone()));
         }
         if fs == 0.0 {
             return Some(p);
@@ -177,21 +191,16 @@ pub fn solve(
             side = 1;
         }
     }
-    if b - a > SIGMA_TOL {
-        return None;
-    }
     if smooth {
-        // The end with the smaller test function; a root only where the function is small
+        // The trial with the smallest test function; a root only where the function is small
         // against its values at the two points (a sign change through a jump, where the
-        // monodromy matrix is discontinuous, is not a root).
-        let (p, fp) = match (pa, pb) {
-            (Some(x), Some(_)) if fa.abs() <= fb.abs() => (x, fa),
-            (Some(_), Some(y)) => (y, fb),
-            (Some(x), None) => (x, fa),
-            (None, Some(y)) => (y, fb),
-            (None, None) => return None,
-        };
-        (fp.abs() <= ROOT_TOL * phi0.abs().max(phi1.abs())).then_some(p)
+        // monodromy matrix is discontinuous, is not a root). Next to a branch point the
+        // corrector may land on either branch through it, so the bracket can stall before its
+        // tolerance while a trial has already solved the function: that trial stands.
+        let (fp, p) = best?;
+        (fp <= ROOT_TOL * phi0.abs().max(phi1.abs())).then_some(p)
+    } else if b - a > SIGMA_TOL {
+        None
     } else {
         // The grazing orbit: the side with more impacts.
         match (pa, pb) {

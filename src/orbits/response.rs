@@ -159,7 +159,7 @@ pub fn branches(
         h0: (step / lo).max(1e-3),
         h_min: 1e-6,
         h_max: 0.05,
-        max_points: 400,
+        max_points: 2000,
         switch_pd: true,
     };
     let mut followed: Vec<Branch> = Vec::new();
