@@ -419,16 +419,18 @@ fn issue_22_life_amplitude_matches_the_median_of_brute_force_lives() {
     assert!(e.lo <= median && median <= e.hi, "{e:?} vs {median}");
 }
 
-/// Issue 24, item 1: on the issue's study (Table I with C = 0.1 N s/m, m = 5 g, d = 5 mm,
-/// e = 0.9, F0 = 0.1 N, r = 0.85 … 1.15 by 0.01, 48 census starts), folds, branch points,
-/// period doublings and Neimark–Sacker points are located on their branches: each labelled row
-/// flagged `located` solves its test function (a real multiplier at +1, at -1, a complex pair
-/// on the unit circle) to 1e-8, is a fixed point of its map, and two independent locations of
+/// Issue 24, items 1 and 2: on the issue's study (Table I with C = 0.1 N s/m, m = 5 g,
+/// d = 5 mm, e = 0.9, F0 = 0.1 N, r = 0.85 … 1.15 by 0.01, 48 census starts), folds, branch
+/// points, period doublings, Neimark–Sacker points and grazings are located on their branches:
+/// each labelled row flagged `located` solves its test function (a real multiplier at +1, at
+/// -1, a complex pair on the unit circle, a flight's gap to the wall relative to d/2) to 1e-8,
+/// is a fixed point of its map, and two independent locations of
 /// one point (the mirror halves of a symmetric pair, or the two halves of a doubled orbit, each
 /// followed on its own) agree to 1e-8 in r. The stable two-impact orbit's doubling is located
 /// between the grid's frequencies (the label used to sit on the first point past it).
 #[test]
 fn issue_24_bifurcations_are_located_on_their_branches() {
+    use impactsweep::orbits::graze::flight_gap;
     use impactsweep::orbits::map::eval;
     let f = forcing(0.005, 0.005, 0.9, 0.1, 0.1, 0.85);
     let values: Vec<(u64, f64)> = (0..=30)
@@ -463,7 +465,11 @@ fn issue_24_bifurcations_are_located_on_their_branches() {
             "SN" | "BP" => real(1.0),
             "PD" => real(-1.0),
             "NS" => circle,
-            "GR" | "NI" => 0.0,
+            // The flight of the grazing orbit touches the wall: its gap relative to d/2.
+            "GR" => {
+                flight_gap(&f.at_ratio(b.r), &b.s, u64::from(b.period)).expect("a gap")
+                    / f.half_gap()
+            }
             other => panic!("located row with label {other:?}"),
         };
         assert!(
@@ -489,7 +495,7 @@ fn issue_24_bifurcations_are_located_on_their_branches() {
         );
         seen.insert(b.label);
     }
-    for kind in ["SN", "BP", "PD", "NS"] {
+    for kind in ["SN", "BP", "PD", "NS", "GR"] {
         assert!(seen.contains(kind), "no located {kind}: {seen:?}");
     }
     // Item 2: every branch ends where it must (the range, a grazing it cannot pass, a closed
@@ -666,7 +672,32 @@ fn issue_24_the_symmetric_orbit_s_stability_boundary_is_the_closed_form_s() {
 /// the curve's point to 1e-7 in r.
 #[test]
 fn issue_24_a_bifurcation_curve_passes_through_the_located_points() {
-    use impactsweep::orbits::continuation::{ContSettings, Label, Param, follow};
+    use impactsweep::orbits::continuation::Label;
+    curve_through_located(Label::PD, 0.9014, None);
+}
+
+/// Issue 24, item 4, for a grazing: the grazing where the stable two-impact orbit's branch ends
+/// (a flight of the inner mass touches a wall, r = 0.9508 at d = 5 mm) followed in `(r, d)`
+/// (its test function the signed grazing value, `orbits::graze::grazing_value`) passes through
+/// the grazings located along `r` at d = 4.5 and 5.5 mm to 1e-7 in r.
+#[test]
+fn issue_24_a_grazing_curve_passes_through_the_located_grazings() {
+    use impactsweep::orbits::continuation::Label;
+    // The stable orbit is found below its doubling (r < 0.90) and followed to its grazing.
+    curve_through_located(Label::GR, 0.9508, Some(0.88));
+}
+
+/// The located `label` on the branch through the stable two-impact period-1 orbit (Table I,
+/// C = 0.1 N s/m, m = 5 g, e = 0.9, F0 = 0.1 N), at d = 5 mm near `r_expected`, followed in
+/// `(r, d)` over d = 4.5 … 5.5 mm: at 4.5 and 5.5 mm the same branch, followed along `r` on its
+/// own from a census at `census_r` (by default just below the curve's r), has its located
+/// `label` within 1e-7 in r of the curve's point.
+fn curve_through_located(
+    label: impactsweep::orbits::continuation::Label,
+    r_expected: f64,
+    census_r: Option<f64>,
+) {
+    use impactsweep::orbits::continuation::{ContSettings, Param, follow};
     use impactsweep::orbits::twopar::{self, Axis};
     let cont = ContSettings {
         range: (0.8, 1.0),
@@ -676,7 +707,7 @@ fn issue_24_a_bifurcation_curve_passes_through_the_located_points() {
         max_points: 400,
         switch_pd: false,
     };
-    // The located doubling on the branch through the stable two-impact period-1 orbit that a
+    // The located label on the branch through the stable two-impact period-1 orbit that a
     // census at (d, r) reaches.
     let located = |d: f64, r: f64| -> (Forcing, Section, u32) {
         let f = forcing(0.005, d, 0.9, 0.1, 0.1, r);
@@ -706,18 +737,23 @@ fn issue_24_a_bifurcation_curve_passes_through_the_located_points() {
         let p = b
             .points
             .iter()
-            .find(|p| p.located && p.label == Label::PD)
-            .unwrap_or_else(|| panic!("no located PD at d = {d}"));
+            .find(|p| p.located && p.label == label)
+            .unwrap_or_else(|| panic!("no located {} at d = {d}", label.name()));
         (f.at_ratio(p.r), p.s, p.period)
     };
     let (f, s, period) = located(0.005, 0.9);
-    assert!((f.ratio() - 0.9014).abs() < 1e-3, "PD at r = {}", f.ratio());
+    assert!(
+        (f.ratio() - r_expected).abs() < 1e-3,
+        "{} at r = {}",
+        label.name(),
+        f.ratio()
+    );
     let grid = [0.0045, 0.005, 0.0055];
     let seed = twopar::Seed {
         f,
         s,
         period,
-        label: Label::PD,
+        label,
     };
     let curve = twopar::follow(&seed, Axis::D, (0.0045, 0.0055), (0.8, 1.2), &grid)
         .expect("the seed solves the extended system");
@@ -728,9 +764,10 @@ fn issue_24_a_bifurcation_curve_passes_through_the_located_points() {
             .iter()
             .find(|p| p.at_value && p.p == d)
             .unwrap_or_else(|| panic!("the curve has no point at d = {d}"));
-        let (g, _, _) = located(d, on.r - 0.005);
+        let (g, _, _) = located(d, census_r.unwrap_or(on.r - 0.005));
         eprintln!(
-            "PD at d = {d}: curve r = {}, located {} ({} curve points, {} periods)",
+            "{} at d = {d}: curve r = {}, located {} ({} curve points, {} periods)",
+            label.name(),
             on.r,
             g.ratio(),
             curve.points.len(),
@@ -738,7 +775,8 @@ fn issue_24_a_bifurcation_curve_passes_through_the_located_points() {
         );
         assert!(
             (on.r - g.ratio()).abs() <= 1e-7,
-            "PD at d = {d}: curve r = {}, located along r: {}",
+            "{} at d = {d}: curve r = {}, located along r: {}",
+            label.name(),
             on.r,
             g.ratio()
         );

@@ -346,22 +346,40 @@ impl Flight {
 }
 
 /// `(min, max)` of `f` over the open interval `(0, len)`: the largest and smallest of `n - 1`
-/// interior grid points, each local extremum of the grid refined by golden-section search
-/// between its neighbours. `slopes` are `f'` just after `0` and just before `len`: an extremum in
-/// an end cell, which the grid cannot show, is there when the slope at the end disagrees with
-/// the cell's chord.
+/// interior grid points and of its local extrema ([`local_extremes`]).
 fn interior_extremes(f: impl Fn(f64) -> f64, slopes: [f64; 2], len: f64, n: usize) -> (f64, f64) {
-    let s = |i: usize| len * i as f64 / n as f64;
-    let vals: Vec<f64> = (0..=n).map(|i| f(s(i))).collect();
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    let mut refine = |a: f64, b: f64, sign: f64| {
-        let v = golden(&f, a, b, sign);
+    for (v, sign) in local_extremes(&f, slopes, len, n) {
         if sign > 0.0 {
             hi = hi.max(v);
         } else {
             lo = lo.min(v);
         }
-    };
+    }
+    for i in 1..n {
+        let v = f(len * i as f64 / n as f64);
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    (lo, hi)
+}
+
+/// The local extrema of `f` inside `(0, len)` as `(value, sign)` (`sign = 1` a maximum, `-1` a
+/// minimum): each local extremum of a grid of `n` cells refined by golden-section search between
+/// its neighbours. `slopes` are `f'` just after `0` and just before `len`: an extremum in an end
+/// cell, which the grid cannot show, is there when the slope at the end disagrees with the
+/// cell's chord.
+pub(crate) fn local_extremes(
+    f: &impl Fn(f64) -> f64,
+    slopes: [f64; 2],
+    len: f64,
+    n: usize,
+) -> Vec<(f64, f64)> {
+    let n = n.max(2);
+    let s = |i: usize| len * i as f64 / n as f64;
+    let vals: Vec<f64> = (0..=n).map(|i| f(s(i))).collect();
+    let mut out = Vec::new();
+    let mut refine = |a: f64, b: f64, sign: f64| out.push((golden(f, a, b, sign), sign));
     for i in 1..n {
         let v = vals[i];
         if v >= vals[i - 1] && v >= vals[i + 1] {
@@ -384,11 +402,7 @@ fn interior_extremes(f: impl Fn(f64) -> f64, slopes: [f64; 2], len: f64, n: usiz
     } else if slopes[1] < 0.0 && last > 0.0 {
         refine(s(n - 1), len, 1.0);
     }
-    for &v in &vals[1..n] {
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    (lo, hi)
+    out
 }
 
 /// The extreme value of `f` on `[a, b]` by golden-section search: the maximum for `sign = 1`,

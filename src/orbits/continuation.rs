@@ -466,7 +466,7 @@ fn side(
                     crossed = true;
                     continue;
                 }
-                return end_of_steps(curve, f, &here, &u_pred, pts);
+                return end_of_steps(curve, f, &here, &u_pred, settings, pts);
             }
             continue;
         };
@@ -629,18 +629,37 @@ fn locate_between(
     let impacts_left = here.eval.impacts;
     let phi = |p: &OnBranch| test_function(label, p, &|a| tangent(a, t), impacts_left);
     let ends = (phi(here), phi(next));
-    let found = locate::solve(
-        label,
-        h,
-        ends,
-        |sigma| {
-            let (u, a, eval, _) = curve.correct(&(here.u + t * sigma), t)?;
-            Some(OnBranch { u, a, eval })
-        },
-        phi,
-    );
+    let at = |sigma: f64| {
+        let (u, a, eval, _) = curve.correct(&(here.u + t * sigma), t)?;
+        Some(OnBranch { u, a, eval })
+    };
+    let found = if label == Label::GR {
+        // The side with more impacts has the grazing contact as an impact.
+        let rough = if here.eval.impacts > next.eval.impacts {
+            ends.0
+        } else {
+            ends.1
+        };
+        locate::solve_grazing(h, ends, rough, at, phi)
+    } else {
+        locate::solve(label, h, ends, at, phi)
+    };
     curve.periods_locating += curve.periods - periods0;
     let p = found?;
+    let row = located_row(curve, f, &p, label, settings)?;
+    Some((row, p))
+}
+
+/// The row of a located point `p` of `label` ([`locate_between`], [`end_of_steps`]): its orbit
+/// by Newton, kept when it is inside the range and its bifurcation is there to
+/// [`LOCATED_TOL`]. Counts it in `curve.located`.
+fn located_row(
+    curve: &mut Curve,
+    f: &Forcing,
+    p: &OnBranch,
+    label: Label,
+    settings: &ContSettings,
+) -> Option<BranchPoint> {
     let (s, lambda) = curve.unscale(&p.u);
     if lambda < settings.range.0 || lambda > settings.range.1 {
         return None;
@@ -660,14 +679,20 @@ fn locate_between(
     if locate::multiplier_test(label, &orb.multipliers) > LOCATED_TOL {
         return None;
     }
+    // A grazing is located where the flight on the smooth side touches the wall: its gap within
+    // `LOCATED_TOL` of the half clearance (an impact count that changes with a finite approach
+    // speed is a jump of the map, not a grazing).
+    if label == Label::GR
+        && !super::graze::flight_gap(&fl, &orb.s, curve.p)
+            .is_some_and(|g| g <= LOCATED_TOL * fl.half_gap())
+    {
+        return None;
+    }
     curve.located += 1;
-    Some((
-        BranchPoint {
-            located: true,
-            ..point(&fl, &orb, label)
-        },
-        p,
-    ))
+    Some(BranchPoint {
+        located: true,
+        ..point(&fl, &orb, label)
+    })
 }
 
 /// The other branch through a located branch point `at` (tangent `t` of the branch followed):
@@ -723,27 +748,52 @@ pub const LOCATED_TOL: f64 = 1e-8;
 
 /// The end of a branch whose steps failed down to the smallest: where the map one step past
 /// the last point (at the last predictor `u_pred`) has another impact count than the last
-/// point's orbit, the branch ran into a grazing it cannot pass (`grazing_end`, the last point
-/// labelled `GR`); otherwise `step_too_small`.
+/// point's orbit, the branch ran into a grazing it cannot pass (`grazing_end`). The grazing is
+/// then located between the last point and the predictor from the smooth side
+/// ([`locate::solve_grazing`]: a trial that fails or has another impact count is past it) and
+/// is the branch's last row, `GR`; where that fails the last point is labelled `GR`. Otherwise
+/// `step_too_small`.
 fn end_of_steps(
     curve: &mut Curve,
     f: &Forcing,
     here: &OnBranch,
     u_pred: &V5,
+    settings: &ContSettings,
     mut pts: Vec<BranchPoint>,
 ) -> (Vec<BranchPoint>, End) {
     let (s, lambda) = curve.unscale(u_pred);
     let e = eval(&curve.param.at(f, lambda), &s, curve.p, false);
     curve.periods += curve.p;
-    if e.outcome == Outcome::Ok && e.impacts != here.eval.impacts {
-        if let Some(last) = pts.last_mut()
-            && last.label == Label::None
-        {
-            last.label = Label::GR;
-        }
-        return (pts, End::GrazingEnd);
+    if e.outcome != Outcome::Ok || e.impacts == here.eval.impacts {
+        return (pts, End::StepTooSmall);
     }
-    (pts, End::StepTooSmall)
+    let step = u_pred - here.u;
+    let h = step.norm();
+    let t = step / h;
+    let left = here.eval.impacts;
+    let periods0 = curve.periods;
+    let found = locate::solve_grazing(
+        h,
+        (1.0, -1.0),
+        -1.0,
+        |sigma| {
+            let (u, a, eval, _) = curve.correct(&(here.u + t * sigma), &t)?;
+            Some(OnBranch { u, a, eval })
+        },
+        |p| if p.eval.impacts == left { 1.0 } else { -1.0 },
+    );
+    curve.periods_locating += curve.periods - periods0;
+    match found.and_then(|p| located_row(curve, f, &p, Label::GR, settings)) {
+        Some(row) => pts.push(row),
+        None => {
+            if let Some(last) = pts.last_mut()
+                && last.label == Label::None
+            {
+                last.label = Label::GR;
+            }
+        }
+    }
+    (pts, End::GrazingEnd)
 }
 
 /// Branch points on one side of a branch's start where the other branch is followed too (the

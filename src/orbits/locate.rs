@@ -17,10 +17,11 @@
 //! * `PD`, a period doubling: `det(J + I) = 0`;
 //! * `NS`, a Neimark–Sacker point (a complex pair through the unit circle; a torus is born):
 //!   `|mu| - 1 = 0` for the complex pair of modulus nearest 1;
-//! * `GR` and `NI`, grazing (the impact count changes: an impact's approach speed reaches zero,
-//!   or a new contact appears at zero speed; `NI`, the impacts end): the map is not smooth there,
-//!   so the impact count itself is the (discontinuous) test function; the located row is the
-//!   orbit on the side with the grazing impact, its approach speed near zero.
+//! * `GR` and `NI`, grazing (the impact count changes: a new contact appears at zero speed, or
+//!   an impact's approach speed reaches zero; `NI`, the impacts end): the map is not smooth
+//!   there, so the impact count itself is the (discontinuous) test function. A grazing is solved
+//!   from the smooth side ([`solve_grazing`]): the located row is the orbit without the contact,
+//!   whose flight touches the wall ([`super::graze`]); `NI` keeps the side with the impacts.
 //!
 //! The smooth ones are solved by the Illinois variant of regula falsi, the grazings by
 //! bisection, until the bracket in `sigma` (scaled arclength: `r / r_0` moves by at most as
@@ -212,6 +213,50 @@ pub fn solve(
             (x, y) => x.or(y),
         }
     }
+}
+
+/// Solves a grazing (`GR`) between `sigma = 0` and `sigma = h` by bisection on the impact count
+/// (`phi` is `+1` or `-1`; `phi0`, `phi1` its values at the ends). `rough` is `phi`'s value on
+/// the side with more impacts, where the grazing contact is an impact: the map's derivatives grow
+/// like the inverse square root of the distance there, so a trial whose corrector fails counts
+/// as that side. Returns the last trial on the other, smooth side once the bracket is below
+/// [`SIGMA_TOL`]: the orbit whose flight passes the wall at a gap that shrinks with the bracket
+/// ([`super::graze`]). `None` when no trial landed on the smooth side or the bracket stalls.
+pub fn solve_grazing(
+    h: f64,
+    (phi0, phi1): (f64, f64),
+    rough: f64,
+    mut at: impl FnMut(f64) -> Option<OnBranch>,
+    phi: impl Fn(&OnBranch) -> f64,
+) -> Option<OnBranch> {
+    if phi0 * phi1 >= 0.0 || !(phi0 * phi1).is_finite() {
+        return None;
+    }
+    let (mut a, mut fa) = (0.0, phi0);
+    let mut b = h;
+    let mut smooth: Option<OnBranch> = None;
+    for _ in 0..MAX_TRIALS {
+        if b - a <= SIGMA_TOL {
+            break;
+        }
+        let s = 0.5 * (a + b);
+        let (fs, p) = match at(s) {
+            Some(p) => (phi(&p), Some(p)),
+            None => (rough, None),
+        };
+        if fs != rough {
+            smooth = p.or(smooth);
+        }
+        if fs.signum() == fa.signum() {
+            (a, fa) = (s, fs);
+        } else {
+            b = s;
+        }
+    }
+    if b - a > SIGMA_TOL {
+        return None;
+    }
+    smooth
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@ pub mod attractors;
 pub mod census;
 pub mod continuation;
 pub mod curve;
+pub mod graze;
 pub mod life;
 pub mod locate;
 pub mod lyapunov;

@@ -1,5 +1,5 @@
-//! Bifurcation curves in two parameters: a located fold, period doubling or Neimark–Sacker
-//! point of a branch along `r` ([`super::locate`]) followed in `(r, p)`, `p` a
+//! Bifurcation curves in two parameters: a located fold, period doubling, Neimark–Sacker point
+//! or grazing of a branch along `r` ([`super::locate`]) followed in `(r, p)`, `p` a
 //! design axis (`m`, `d`, `e`, `C` or `F0`), by continuation of the minimally extended system
 //! (docs/model.md, §12):
 //!
@@ -10,14 +10,18 @@
 //!
 //! in the six unknowns `y = (s, r, p)` (scaled: `x / L`, `x' / (wn L)`, `z / L`, `y' / (wn L)`,
 //! `r / r_0`, `p / p_0`, `L` the seed's half clearance), `phi` = `det(J - I)` for `SN`,
-//! `det(J + I)` for `PD`, `|mu| - 1` of the complex pair nearest the unit circle for `NS`. The
+//! `det(J + I)` for `PD`, `|mu| - 1` of the complex pair nearest the unit circle for `NS`, the
+//! signed grazing value relative to the half clearance for `GR` ([`super::graze::grazing_value`]:
+//! a flight's gap to the wall on one side, the new impact's depth on the other). A grazing's
+//! Newton steps stall at the kink of the map there (about `1e-9` scaled); its point is taken
+//! on the smooth side once its residuals are within [`GRAZING_TOL`]. The
 //! orbit's rows of the Jacobian are exact in `s` and `r` (the map's monodromy matrix and its
 //! derivative in `omega`), forward differences in `p` (exact in `F0`); the test function's row is
 //! forward differences throughout. Pseudo-arclength steps as in [`super::continuation`]; at each
 //! value of `at_values` (a study's grid values of `p`) the curve's point is solved for exactly
 //! (`p` fixed, Newton in `(s, r)`). A curve ends where it leaves the `p` or `r` range, where the
-//! orbit's impact count changes (a grazing: the map is not smooth there), at a failed step
-//! below the smallest, or after [`MAX_POINTS`].
+//! orbit's impact count changes (a grazing: the map is not smooth there; not for a grazing's own
+//! curve), at a failed step below the smallest, or after [`MAX_POINTS`].
 
 use nalgebra::{DMatrix, DVector, Matrix4};
 
@@ -25,6 +29,10 @@ use super::continuation::Label;
 use super::locate::ns_value;
 use super::map::{Forcing, MapEval, Section, eval};
 use crate::sim::Outcome;
+
+/// A grazing curve's point is taken when its scaled residuals (the orbit's and the grazing
+/// value's relative to `d/2`) are within this: the tolerance of the continuation's corrector.
+const GRAZING_TOL: f64 = 1e-9;
 
 /// Most points of one curve on each side of its seed.
 pub const MAX_POINTS: usize = 400;
@@ -160,8 +168,15 @@ impl System2<'_> {
         (e.outcome == Outcome::Ok && e.jacobian.is_some()).then_some(e)
     }
 
-    /// The test function at an evaluation.
-    fn phi(&self, e: &MapEval) -> f64 {
+    /// The test function at `y`, whose evaluation is `e`. A grazing's is the signed grazing
+    /// value relative to the half clearance ([`super::graze::grazing_value`]: one more run).
+    fn phi(&mut self, y: &V6, e: &MapEval) -> f64 {
+        if self.label == Label::GR {
+            let (s, r, p) = self.unscale(y);
+            let f = self.forcing(r, p);
+            self.periods += self.q;
+            return super::graze::grazing_value(&f, &s, self.q).map_or(f64::NAN, |g| g / self.l);
+        }
         let Some(j) = e.jacobian else {
             return f64::NAN;
         };
@@ -190,7 +205,7 @@ impl System2<'_> {
     fn system(&mut self, y: &V6) -> Option<(DVector<f64>, DMatrix<f64>, MapEval)> {
         let e = self.eval(y)?;
         let res = self.orbit_residual(y, &e);
-        let phi0 = self.phi(&e);
+        let phi0 = self.phi(y, &e);
         if !phi0.is_finite() {
             return None;
         }
@@ -225,7 +240,7 @@ impl System2<'_> {
             let mut y1 = y.clone();
             y1[c] += h;
             let e1 = self.eval(&y1)?;
-            let phi1 = self.phi(&e1);
+            let phi1 = self.phi(&y1, &e1);
             if !phi1.is_finite() {
                 return None;
             }
@@ -253,6 +268,12 @@ impl System2<'_> {
         let mut y = y_pred.clone();
         for _ in 0..10 {
             let (g, a, e) = self.system(&y)?;
+            // A grazing's Newton steps cross the grazing, where the map is not smooth: they
+            // stall at the size of that kink (about 1e-9 scaled). The point on the smooth side
+            // whose residuals are within the continuation corrector's tolerance stands.
+            if self.label == Label::GR && g.norm() <= GRAZING_TOL {
+                return Some((y, a, e));
+            }
             let mut m = DMatrix::zeros(6, 6);
             m.view_mut((0, 0), (5, 6)).copy_from(&a);
             let mut rhs = DVector::zeros(6);
@@ -291,7 +312,7 @@ impl System2<'_> {
 }
 
 /// A located bifurcation to follow: the system at the point, the orbit's section state and
-/// period, and the label (`SN`, `BP`, `PD` or `NS`).
+/// period, and the label (`SN`, `BP`, `PD`, `NS` or `GR`).
 #[derive(Clone, Debug)]
 pub struct Seed {
     pub f: Forcing,
@@ -302,8 +323,8 @@ pub struct Seed {
 
 /// Follows the bifurcation `seed` in `(r, axis)` over `p_range` and `r_range`; `at_values` are
 /// the values of `axis` where the curve's point is solved for exactly (a study's grid). `None`
-/// when the seed does not solve the extended system (a label other than `SN`, `PD` and `NS`;
-/// or a `BP`, where the orbit's own Jacobian is singular: following it needs the symmetric
+/// when the seed does not solve the extended system (a label other than `SN`, `PD`, `NS` and
+/// `GR`; or a `BP`, where the orbit's own Jacobian is singular: following it needs the symmetric
 /// subspace, not built).
 pub fn follow(
     seed: &Seed,
@@ -319,7 +340,10 @@ pub fn follow(
         label,
     } = seed;
     let (f, label, period) = (f, *label, *period);
-    if !matches!(label, Label::SN | Label::BP | Label::PD | Label::NS) {
+    if !matches!(
+        label,
+        Label::SN | Label::BP | Label::PD | Label::NS | Label::GR
+    ) {
         return None;
     }
     let mut sys = System2 {
@@ -361,7 +385,9 @@ pub fn follow(
                 }
                 continue;
             };
-            if e1.impacts != impacts {
+            // Off a grazing's curve the impact count changes where a smooth bifurcation's
+            // orbit meets a grazing; a grazing's own curve may sit on either side of it.
+            if e1.impacts != impacts && label != Label::GR {
                 break;
             }
             let (_, r1, p1) = sys.unscale(&y1);

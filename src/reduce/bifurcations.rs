@@ -1,7 +1,7 @@
 //! Bifurcation curves over the design space (docs/reduce.md, "Bifurcations over the design
-//! space"): every fold, period doubling and Neimark–Sacker point located on a design's branches
-//! ([`crate::orbits::locate`]) followed in `(r, p)` for each swept design axis `p` (`m`, `d`, `e`,
-//! `C`, `F0`) over the swept range of `p`, the other axes held at the design's values
+//! space"): every fold, period doubling, Neimark–Sacker point and grazing located on a design's
+//! branches ([`crate::orbits::locate`]) followed in `(r, p)` for each swept design axis `p` (`m`,
+//! `d`, `e`, `C`, `F0`) over the swept range of `p`, the other axes held at the design's values
 //! ([`crate::orbits::twopar`]), as the `bifurcations` table.
 //!
 //! One curve serves every design it passes through: a located point is not followed again when
@@ -56,6 +56,7 @@ pub fn curves(study: &Study, grid: &Grid, fs: &ForcedSummary, steady: &[Response
                 "SN" => Label::SN,
                 "PD" => Label::PD,
                 "NS" => Label::NS,
+                "GR" => Label::GR,
                 _ => continue,
             };
             for &(a, axis) in &axes {

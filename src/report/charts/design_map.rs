@@ -3,8 +3,8 @@
 //! values). Each cell (a design and frequency of the grid) is shaded where the census found two
 //! or more steady states (a jump between them is possible there) and where one of them is not
 //! periodic; a dot marks a doubled (period 2 or more) stable orbit. Over it: the bifurcation
-//! curves followed in `(r, p)` (folds, period doublings, Neimark–Sacker), the linear system's
-//! resonance `r = sqrt(1 - 2 zeta^2)`, and the recommended design at its peak.
+//! curves followed in `(r, p)` (folds, period doublings, Neimark–Sacker, grazings), the linear
+//! system's resonance `r = sqrt(1 - 2 zeta^2)`, and the recommended design at its peak.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -24,6 +24,8 @@ const DOUBLED: RGBColor = RGBColor(90, 90, 90);
 const SN: RGBColor = RGBColor(0, 0, 0);
 const PD: RGBColor = RGBColor(214, 39, 40);
 const NS: RGBColor = RGBColor(44, 160, 44);
+/// Grazing curves: a flight of the inner mass touches a wall (the impact sequence changes).
+const GR: RGBColor = RGBColor(148, 103, 189);
 const RESONANCE: RGBColor = RGBColor(120, 120, 120);
 
 /// One cell of the map: a design of the plane at one frequency.
@@ -186,6 +188,7 @@ impl Chart for DesignMap<'_> {
             (Key::Line(SN), "fold (SN)".to_string()),
             (Key::Line(PD), "period doubling (PD)".to_string()),
             (Key::Line(NS), "Neimark–Sacker (NS)".to_string()),
+            (Key::Line(GR), "grazing (GR)".to_string()),
             (Key::Dashed(RESONANCE), "linear resonance".to_string()),
         ];
         let plot = super::plumbing::legend_block(&rest, 80, &items)?;
@@ -256,6 +259,7 @@ impl Chart for DesignMap<'_> {
             let colour = match k.curve.label.name() {
                 "SN" => SN,
                 "PD" => PD,
+                "GR" => GR,
                 _ => NS,
             };
             let pts: Vec<(f64, f64)> = k.curve.points.iter().map(|q| (q.r, q.p)).collect();
