@@ -6,7 +6,8 @@
 //! wall time split between continuation steps and locating (time split in proportion to the
 //! periods simulated, which is where the time goes: every period is one evaluation of the map);
 //! then every located fold, doubling and Neimark–Sacker point followed in `(r, d)` over
-//! d = 4.5 … 5.5 mm (grid 4.5, 5, 5.5 mm): curve points, periods and wall time per point.
+//! d = 4.5 … 5.5 mm (grid 4.5, 5, 5.5 mm): curve points, periods and wall time per point; then
+//! every located grazing the same way.
 //!
 //! `cargo run --release --example locate_cost -- [reps]`
 
@@ -110,11 +111,19 @@ fn main() {
         locating as f64 / located.max(1) as f64 * per_period * 1e6,
         locating as f64 / periods as f64,
     );
-    // Two-parameter curves from every located SN, PD and NS.
+    // Two-parameter curves from every located SN, PD and NS, then from every located grazing.
+    for kinds in [&[Label::SN, Label::PD, Label::NS][..], &[Label::GR][..]] {
+        curve_cost(&f, &branches, kinds, reps);
+    }
+}
+
+/// Follows every located point of `kinds` on `branches` in (r, d) and prints the cost per curve
+/// point (median wall time over `reps`).
+fn curve_cost(f: &Forcing, branches: &[Branch], kinds: &[Label], reps: usize) {
     let seeds2: Vec<Seed> = branches
         .iter()
         .flat_map(|b| b.points.iter())
-        .filter(|p| p.located && matches!(p.label, Label::SN | Label::PD | Label::NS))
+        .filter(|p| p.located && kinds.contains(&p.label))
         .map(|p| Seed {
             f: f.at_ratio(p.r),
             s: p.s,
@@ -143,10 +152,12 @@ fn main() {
         times2.push(t.elapsed().as_secs_f64());
     }
     let seconds2 = median(times2);
+    let names: Vec<&str> = kinds.iter().map(|k| k.name()).collect();
     println!(
-        "{{\"curves\": {curves}, \"curve_points\": {curve_points}, \"curve_periods\": {curve_periods}, \
-         \"curve_seconds\": {seconds2:.4}, \"periods_per_curve_point\": {:.1}, \
-         \"us_per_curve_point\": {:.1}}}",
+        "{{\"kinds\": \"{}\", \"curves\": {curves}, \"curve_points\": {curve_points}, \
+         \"curve_periods\": {curve_periods}, \"curve_seconds\": {seconds2:.4}, \
+         \"periods_per_curve_point\": {:.1}, \"us_per_curve_point\": {:.1}}}",
+        names.join(","),
         curve_periods as f64 / curve_points.max(1) as f64,
         seconds2 / curve_points.max(1) as f64 * 1e6,
     );

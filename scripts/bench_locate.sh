@@ -21,7 +21,8 @@ up1=$(uptime)
   echo "repetitions, one run; the time is split between continuation steps and locating in"
   echo "proportion to the forcing periods each simulated. Locating periods include attempts that"
   echo "found no root (a sign change through a jump). Second line: every located fold, doubling"
-  echo "and Neimark-Sacker point followed in (r, d) over d = 4.5 ... 5.5 mm (grid 4.5, 5, 5.5 mm)."
+  echo "and Neimark-Sacker point followed in (r, d) over d = 4.5 ... 5.5 mm (grid 4.5, 5, 5.5 mm);"
+  echo "third line: every located grazing followed the same way."
   echo
   echo '```json'
   echo "$json"

@@ -349,7 +349,7 @@ impl Flight {
 /// interior grid points and of its local extrema ([`local_extremes`]).
 fn interior_extremes(f: impl Fn(f64) -> f64, slopes: [f64; 2], len: f64, n: usize) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for (v, sign) in local_extremes(&f, slopes, len, n) {
+    for (v, sign) in local_extremes(&f, slopes, len, n, GOLDEN_STEPS) {
         if sign > 0.0 {
             hi = hi.max(v);
         } else {
@@ -365,8 +365,9 @@ fn interior_extremes(f: impl Fn(f64) -> f64, slopes: [f64; 2], len: f64, n: usiz
 }
 
 /// The local extrema of `f` inside `(0, len)` as `(value, sign)` (`sign = 1` a maximum, `-1` a
-/// minimum): each local extremum of a grid of `n` cells refined by golden-section search between
-/// its neighbours. `slopes` are `f'` just after `0` and just before `len`: an extremum in an end
+/// minimum): each local extremum of a grid of `n` cells refined by `steps` steps of
+/// golden-section search between its neighbours (the bracket shrinks by `0.618^steps`; the
+/// value's error by its square). `slopes` are `f'` just after `0` and just before `len`: an extremum in an end
 /// cell, which the grid cannot show, is there when the slope at the end disagrees with the
 /// cell's chord.
 pub(crate) fn local_extremes(
@@ -374,12 +375,13 @@ pub(crate) fn local_extremes(
     slopes: [f64; 2],
     len: f64,
     n: usize,
+    steps: usize,
 ) -> Vec<(f64, f64)> {
     let n = n.max(2);
     let s = |i: usize| len * i as f64 / n as f64;
     let vals: Vec<f64> = (0..=n).map(|i| f(s(i))).collect();
     let mut out = Vec::new();
-    let mut refine = |a: f64, b: f64, sign: f64| out.push((golden(f, a, b, sign), sign));
+    let mut refine = |a: f64, b: f64, sign: f64| out.push((golden(f, a, b, sign, steps), sign));
     for i in 1..n {
         let v = vals[i];
         if v >= vals[i - 1] && v >= vals[i + 1] {
@@ -407,12 +409,12 @@ pub(crate) fn local_extremes(
 
 /// The extreme value of `f` on `[a, b]` by golden-section search: the maximum for `sign = 1`,
 /// the minimum for `sign = -1` (of a function unimodal there; otherwise a value `f` takes).
-fn golden(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, sign: f64) -> f64 {
+fn golden(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, sign: f64, steps: usize) -> f64 {
     let g = 0.5 * (5f64.sqrt() - 1.0);
     let mut c = b - g * (b - a);
     let mut e = a + g * (b - a);
     let (mut fc, mut fe) = (sign * f(c), sign * f(e));
-    for _ in 0..GOLDEN_STEPS {
+    for _ in 0..steps {
         if fc >= fe {
             b = e;
             e = c;
@@ -562,7 +564,7 @@ mod tests {
     #[test]
     fn golden_section_finds_an_interior_extremum() {
         let f = |s: f64| (s - 0.3).powi(2);
-        assert!(golden(&f, 0.0, 1.0, -1.0).abs() <= 1e-15);
+        assert!(golden(&f, 0.0, 1.0, -1.0, GOLDEN_STEPS).abs() <= 1e-15);
         let (lo, hi) = interior_extremes(|s| (7.0 * s).sin(), [7.0, 7.0 * 7f64.cos()], 1.0, 64);
         assert!((hi - 1.0).abs() <= 1e-15 && (lo + 1.0).abs() <= 1e-15);
     }

@@ -17,8 +17,8 @@
 //!
 //! Between events the main mass moves in closed form ([`crate::sim::forced`]) and the inner
 //! mass at constant velocity, so each flight is scanned like the closed-form orbit's
-//! ([`super::analytic`]): a grid of at least 16 points per radian of the fastest rate, each local
-//! extremum refined by golden-section search.
+//! ([`super::analytic`]): a grid of 8 points per radian of the fastest rate, each local extremum
+//! refined by golden-section search.
 
 use super::analytic::local_extremes;
 use super::map::{Forcing, Section};
@@ -26,8 +26,12 @@ use crate::sim::forced::motion::Forced;
 use crate::sim::forced::{Drive, Harmonic, simulate_harmonic};
 use crate::sim::{Outcome, Probe, Request, State, Wall};
 
-/// Grid points per radian of the fastest rate of the motion when scanning a flight.
-const POINTS_PER_RADIAN: f64 = 16.0;
+/// Grid points per radian of the fastest rate of the motion when scanning a flight: extrema of
+/// `z` are at least `pi / rate` apart, so 8 points per radian bracket each.
+const POINTS_PER_RADIAN: f64 = 8.0;
+/// Golden-section steps refining an extremum: the bracket (a grid cell) shrinks by
+/// `0.618^40 ~ 4e-9`, the value's error by its square (`1e-17` of the cell's variation).
+const GOLDEN_STEPS: usize = 40;
 
 /// The events that bound the free flights: an impact (free after it unless a sticking phase
 /// begins at the same instant) and a separation (free after it).
@@ -129,7 +133,7 @@ fn scan(f: &Forcing, s: &Section, p: u64) -> Option<(f64, f64)> {
         let z = |s: f64| a.y + a.w * s - forced.jet(t_a, h0, g0, t_a + s).x;
         let v_end = forced.jet(t_a, h0, g0, t_b).v;
         let n = ((POINTS_PER_RADIAN * len * rate).ceil() as usize).clamp(16, 1 << 16);
-        for (v, sign) in local_extremes(&z, [a.w - a.v, a.w - v_end], len, n) {
+        for (v, sign) in local_extremes(&z, [a.w - a.v, a.w - v_end], len, n, GOLDEN_STEPS) {
             // A maximum approaches the right wall, a minimum the left one.
             gap = gap.min(l - sign * v);
         }

@@ -234,13 +234,18 @@ impl System2<'_> {
         for (r, v) in dp_col.iter().enumerate() {
             a[(r, 5)] = *v;
         }
-        // The test function's row by forward differences.
+        // The test function's row by forward differences (a grazing's needs no map evaluation:
+        // its test function is a run of its own).
         let h = 1e-7;
         for c in 0..6 {
             let mut y1 = y.clone();
             y1[c] += h;
-            let e1 = self.eval(&y1)?;
-            let phi1 = self.phi(&y1, &e1);
+            let phi1 = if self.label == Label::GR {
+                self.phi(&y1, &e)
+            } else {
+                let e1 = self.eval(&y1)?;
+                self.phi(&y1, &e1)
+            };
             if !phi1.is_finite() {
                 return None;
             }

@@ -6,11 +6,15 @@
 //!
 //! One curve serves every design it passes through: a located point is not followed again when
 //! a curve already followed in the same plane (the other axes' values), of the same kind and
-//! period, has its point at this design's value of `p` within `1e-6` of it in `r`. Designs are
-//! taken in order, so the table is the same for any thread count.
+//! period, has its point at this design's value of `p` within `1e-6` of it in `r`, or when an
+//! earlier located point of the same design is that point. Designs are taken in order, and a
+//! design's curves are followed in parallel and kept in the order of its points, so the table is
+//! the same for any thread count.
 
 use super::forced::ForcedSummary;
 use super::grid::Grid;
+use rayon::prelude::*;
+
 use super::table::{Column, Table};
 use crate::orbits::continuation::Label;
 use crate::orbits::response::Response;
@@ -51,6 +55,16 @@ pub fn curves(study: &Study, grid: &Grid, fs: &ForcedSummary, steady: &[Response
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
                 (a.min(p.r), b.max(p.r))
             });
+        let base = crate::orbits::map::Forcing {
+            sys: c.system,
+            F0: c.f0,
+            omega: c.system.omega(),
+            settings: study.solver,
+        };
+        // This design's located points not on a curve followed already (from an earlier design,
+        // or an earlier point of this one: mirror halves and branches that meet at one point are
+        // located more than once), in order.
+        let mut todo: Vec<(usize, Axis, Seed)> = Vec::new();
         for b in resp.branches.iter().filter(|b| b.located) {
             let label = match b.label {
                 "SN" => Label::SN,
@@ -72,36 +86,42 @@ pub fn curves(study: &Study, grid: &Grid, fs: &ForcedSummary, steady: &[Response
                                 && (q.r - b.r).abs() <= 1e-6
                         })
                 });
-                if known {
+                let twin = todo.iter().any(|(ta, _, t)| {
+                    *ta == a
+                        && t.label == label
+                        && t.period == b.period
+                        && (t.f.ratio() - b.r).abs() <= 1e-6
+                });
+                if known || twin {
                     continue;
                 }
-                let base = crate::orbits::map::Forcing {
-                    sys: c.system,
-                    F0: c.f0,
-                    omega: c.system.omega(),
-                    settings: study.solver,
-                };
                 let seed = Seed {
                     f: base.at_ratio(b.r),
                     s: b.s,
                     period: b.period,
                     label,
                 };
-                let values = grid.axis_values(a);
+                todo.push((a, axis, seed));
+            }
+        }
+        // Followed in parallel, kept in order: the same table for any thread count.
+        let followed: Vec<Option<Curve>> = todo
+            .par_iter()
+            .map(|(a, axis, seed)| {
+                let values = grid.axis_values(*a);
                 let range = values
                     .iter()
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(x, y), v| {
                         (x.min(*v), y.max(*v))
                     });
-                if let Some(curve) = twopar::follow(&seed, axis, range, (r_lo, r_hi), values) {
-                    out.push(Curve {
-                        seed_design: resp.design,
-                        axis_index: a,
-                        curve,
-                    });
-                }
-            }
-        }
+                twopar::follow(seed, *axis, range, (r_lo, r_hi), values).map(|curve| Curve {
+                    seed_design: resp.design,
+                    axis_index: *a,
+                    curve,
+                })
+            })
+            .collect();
+        out.extend(followed.into_iter().flatten());
     }
     out
 }
