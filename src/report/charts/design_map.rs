@@ -2,9 +2,10 @@
 //! `p` against the frequency ratio `r`, in the recommended design's plane (the other axes at its
 //! values). Each cell (a design and frequency of the grid) is shaded where the census found two
 //! or more steady states (a jump between them is possible there) and where one of them is not
-//! periodic; a dot marks a doubled (period 2 or more) stable orbit. Over it: the bifurcation
-//! curves followed in `(r, p)` (folds, period doublings, Neimark–Sacker, grazings), the linear
-//! system's resonance `r = sqrt(1 - 2 zeta^2)`, and the recommended design at its peak.
+//! periodic (one colour each, a third where both hold); a dot marks a doubled (period 2 or more)
+//! stable orbit. Over it: the bifurcation curves followed in `(r, p)` (folds, period doublings,
+//! Neimark–Sacker, grazings), the linear system's resonance `r = sqrt(1 - 2 zeta^2)`, and the
+//! recommended design at its peak.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -20,6 +21,8 @@ pub const SIZE: (u32, u32) = (1000, 700);
 
 const COEXIST: RGBAColor = RGBAColor(31, 119, 180, 0.30);
 const CHAOS: RGBAColor = RGBAColor(255, 127, 14, 0.40);
+/// Cells with both: two or more steady states, one of them not periodic.
+const BOTH: RGBAColor = RGBAColor(140, 86, 75, 0.45);
 const DOUBLED: RGBColor = RGBColor(90, 90, 90);
 const SN: RGBColor = RGBColor(0, 0, 0);
 const PD: RGBColor = RGBColor(214, 39, 40);
@@ -185,6 +188,7 @@ impl Chart for DesignMap<'_> {
                 Key::Swatch(CHAOS),
                 "a steady state not periodic".to_string(),
             ),
+            (Key::Swatch(BOTH), "both".to_string()),
             (Key::Line(SN), "fold (SN)".to_string()),
             (Key::Line(PD), "period doubling (PD)".to_string()),
             (Key::Line(NS), "Neimark–Sacker (NS)".to_string()),
@@ -223,20 +227,17 @@ impl Chart for DesignMap<'_> {
                 colour.filled(),
             )
         };
+        // Each cell in one colour: coexistence, a motion not periodic, or both.
         chart
             .draw_series(
                 self.cells
                     .iter()
-                    .filter(|c| c.states >= 2)
-                    .map(|c| rect(c, COEXIST)),
-            )
-            .map_err(err)?;
-        chart
-            .draw_series(
-                self.cells
-                    .iter()
-                    .filter(|c| c.not_periodic)
-                    .map(|c| rect(c, CHAOS)),
+                    .filter_map(|c| match (c.states >= 2, c.not_periodic) {
+                        (true, false) => Some(rect(c, COEXIST)),
+                        (false, true) => Some(rect(c, CHAOS)),
+                        (true, true) => Some(rect(c, BOTH)),
+                        (false, false) => None,
+                    }),
             )
             .map_err(err)?;
         chart
