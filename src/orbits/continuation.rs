@@ -287,6 +287,21 @@ impl Curve<'_> {
         Some((g, a, e))
     }
 
+    /// The orbit at the branch point `u` whose map evaluation is `eval`: the system at its
+    /// parameter and the orbit's stability by Newton from there (`None` where it fails).
+    fn orbit(&self, f: &Forcing, u: &V5, eval: MapEval) -> Option<(Forcing, Orbit)> {
+        let (s, lambda) = self.unscale(u);
+        let fl = self.param.at(f, lambda);
+        let state = super::shoot::NewtonState {
+            s,
+            residual: 0.0,
+            iterations: 0,
+            last: eval,
+        };
+        let orb = orbit_at(&fl, self.p, &state, &Newton::default())?;
+        Some((fl, orb))
+    }
+
     /// Newton on `(F(u), t . (u - u_pred)) = 0` from `u_pred`: one map evaluation per
     /// iteration. Returns the point, its Jacobian, the map's evaluation there and the
     /// iterations taken.
@@ -660,18 +675,11 @@ fn located_row(
     label: Label,
     settings: &ContSettings,
 ) -> Option<BranchPoint> {
-    let (s, lambda) = curve.unscale(&p.u);
+    let (_, lambda) = curve.unscale(&p.u);
     if lambda < settings.range.0 || lambda > settings.range.1 {
         return None;
     }
-    let fl = curve.param.at(f, lambda);
-    let state = super::shoot::NewtonState {
-        s,
-        residual: 0.0,
-        iterations: 0,
-        last: p.eval.clone(),
-    };
-    let orb = orbit_at(&fl, curve.p, &state, &Newton::default())?;
+    let (fl, orb) = curve.orbit(f, &p.u, p.eval.clone())?;
     // The root is the bifurcation only where its multiplier is there: a fold or a branch
     // point of a smooth map has one at +1, a doubling at -1, a torus a pair on the unit
     // circle. Where the test function changed sign through a jump or a corner (the map not
@@ -718,7 +726,6 @@ fn switch_at_branch_point(
         })
         .max_by(|x, y| x.norm().total_cmp(&y.norm()))?;
     let v = v / v.norm().max(f64::MIN_POSITIVE);
-    let newton = Newton::default();
     for sign in [1.0, -1.0] {
         let dir = v * sign;
         let Some((u, _, e, _)) = curve.correct(&(at.u + dir * 0.02), &dir) else {
@@ -727,16 +734,8 @@ fn switch_at_branch_point(
         if e.impacts == 0 {
             continue;
         }
-        let (s, lambda) = curve.unscale(&u);
-        let fl = curve.param.at(f, lambda);
-        let state = super::shoot::NewtonState {
-            s,
-            residual: 0.0,
-            iterations: 0,
-            last: e,
-        };
-        if let Some(o) = orbit_at(&fl, curve.p, &state, &newton) {
-            return Some((fl, o));
+        if let Some(found) = curve.orbit(f, &u, e) {
+            return Some(found);
         }
     }
     None
@@ -823,15 +822,7 @@ fn at_range_end(
     if eval.impacts == 0 {
         return None;
     }
-    let (s, lambda) = curve.unscale(&u_b);
-    let fl = curve.param.at(f, lambda);
-    let state = super::shoot::NewtonState {
-        s,
-        residual: 0.0,
-        iterations: 0,
-        last: eval,
-    };
-    let orb = orbit_at(&fl, curve.p, &state, &Newton::default())?;
+    let (fl, orb) = curve.orbit(f, &u_b, eval)?;
     Some(point(&fl, &orb, Label::None))
 }
 

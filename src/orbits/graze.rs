@@ -23,7 +23,7 @@
 use super::analytic::local_extremes;
 use super::map::{Forcing, Section};
 use crate::sim::forced::motion::Forced;
-use crate::sim::forced::{Drive, Harmonic, simulate_harmonic};
+use crate::sim::forced::simulate_harmonic;
 use crate::sim::{Outcome, Probe, Request, State, Wall};
 
 /// Grid points per radian of the fastest rate of the motion when scanning a flight: extrema of
@@ -86,20 +86,12 @@ pub fn grazing_value(f: &Forcing, s: &Section, p: u64) -> Option<f64> {
 /// The smallest flight gap and the impact depth nearest zero (`-inf` without impacts).
 fn scan(f: &Forcing, s: &Section, p: u64) -> Option<(f64, f64)> {
     let sys = f.started(s);
-    let scene = Harmonic {
-        F0: f.F0,
-        drive: Drive::Omega(f.omega),
-        n_trans: Some(0),
-        n_meas: p,
-        energies: false,
-        ..Harmonic::default()
-    };
     let mut flights = Flights::default();
     let out = simulate_harmonic(
         &sys,
         &f.settings,
         &Request::default(),
-        &scene,
+        &f.scene(p),
         None,
         &mut flights,
     );

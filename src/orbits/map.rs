@@ -94,7 +94,7 @@ impl Forcing {
 
     /// The harmonic scene that runs `periods` forcing periods from `t = 0` and measures over all
     /// of them.
-    fn scene(&self, periods: u64) -> Harmonic {
+    pub(crate) fn scene(&self, periods: u64) -> Harmonic {
         Harmonic {
             F0: self.F0,
             drive: Drive::Omega(self.omega),
