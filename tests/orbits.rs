@@ -663,6 +663,83 @@ fn issue_24_the_symmetric_orbit_s_stability_boundary_is_the_closed_form_s() {
     }
 }
 
+/// Issue 24: against Masri and Caughey's closed form, where the symmetric two-impact orbit's
+/// impact velocity vanishes. There `X = -d/2` and every velocity at the impact is zero: the
+/// orbit is the linear response touching both walls, `F0 / |K - M omega^2 + i C omega| = d/2`, a
+/// quadratic in `omega^2` (on Table I with C = 0.1 N s/m, m = 5 g, d = 5 mm, e = 0.9, F0 = 0.1 N:
+/// r = 0.94928 and 1.04815). The lower root of the closed form's quadratic in `X` is followed
+/// from r = 0.90 up and from r = 1.10 down: each branch ends `grazing_end` on a located `GR` row
+/// (solved in impact coordinates, `orbits::sequence`) at the closed form's r to 1e-7, with
+/// amplitude d/2.
+#[test]
+fn issue_24_the_symmetric_orbit_s_impact_velocity_vanishes_where_the_closed_form_says() {
+    use impactsweep::orbits::continuation::{ContSettings, End, Label, Param, follow};
+    let f = forcing(0.005, 0.005, 0.9, 0.1, 0.1, 0.85);
+    let sys = &f.sys;
+    // (K - M W)^2 + C^2 W = (2 F0 / d)^2, W = omega^2.
+    let (a, b, c) = (
+        sys.M * sys.M,
+        sys.C * sys.C - 2.0 * sys.K * sys.M,
+        sys.K * sys.K - (2.0 * f.F0 / sys.d).powi(2),
+    );
+    let disc = (b * b - 4.0 * a * c).sqrt();
+    let roots = [(-b - disc) / (2.0 * a), (-b + disc) / (2.0 * a)].map(|w| w.sqrt() / sys.omega());
+    assert!(
+        (roots[0] - 0.94928).abs() < 1e-5 && (roots[1] - 1.04815).abs() < 1e-5,
+        "{roots:?}"
+    );
+    let newton = Newton::default();
+    let cont = ContSettings {
+        range: (0.85, 1.15),
+        h0: 0.01 / 0.85,
+        h_min: 1e-6,
+        h_max: 0.05,
+        max_points: 2000,
+        switch_pd: false,
+    };
+    for (r0, root) in [(0.90, roots[0]), (1.10, roots[1])] {
+        let g = f.at_ratio(r0);
+        // The root with the smaller impact speed (`W- = (2 X + d) / tau`).
+        let seed = symmetric_period1(&g.sys, g.F0, g.omega)
+            .into_iter()
+            .filter(|o| o.admissible)
+            .min_by(|a, b| a.w_before.total_cmp(&b.w_before))
+            .expect("a symmetric orbit");
+        let (_, st) = solve(&g, 1, &seed.section, &newton);
+        let orbit = orbit_at(&g, 1, &st.expect("newton"), &newton).expect("an impacting orbit");
+        let branch = &follow(&g, &orbit, Param::Ratio, &cont)[0];
+        let toward = if r0 < root {
+            branch.ends.1
+        } else {
+            branch.ends.0
+        };
+        assert_eq!(
+            toward,
+            End::GrazingEnd,
+            "from r = {r0}: ends {:?}",
+            branch.ends
+        );
+        let last = if r0 < root {
+            branch.points.last()
+        } else {
+            branch.points.first()
+        }
+        .expect("points");
+        assert!(last.label == Label::GR && last.located, "{last:?}");
+        assert!(
+            (last.r - root).abs() <= 1e-7,
+            "velocity vanishes at r = {}, closed form {root}",
+            last.r
+        );
+        assert!(
+            (last.amplitude - 0.5 * sys.d).abs() <= 1e-9,
+            "amplitude {}",
+            last.amplitude
+        );
+        assert!(last.min_impact_speed <= 1e-9, "{}", last.min_impact_speed);
+    }
+}
+
 /// Issue 24, item 4: a bifurcation followed in two parameters passes through the bifurcation
 /// located along `r` at each grid value of the design axis. On Table I (C = 0.1 N s/m,
 /// m = 5 g, e = 0.9, F0 = 0.1 N) the period doubling of the stable asymmetric two-impact orbit

@@ -20,7 +20,10 @@
 //! * `SN`, a fold: the tangent's `lambda` component changes sign (and the orbit's minimal period
 //!   does not: on `P^{2p}` a change of period is where the doubled branch crosses, a `PD`);
 //! * `GR`, grazing: the number of impacts per orbit changes (an impact velocity reached zero, or
-//!   a new contact), or an impact's approach speed falls below `1e-3 omega d/2`;
+//!   a new contact), or an impact's approach speed falls below `1e-3 omega d/2`. An approach
+//!   speed falling toward zero is followed there in impact coordinates ([`super::sequence`]),
+//!   where the section's map is not smooth enough for the corrector, and the orbit with the
+//!   zero-speed impact is the located `GR` row (multipliers `NaN`: they grow without bound);
 //! * `PD`, period doubling: a real multiplier crosses `-1` (the count of real multipliers
 //!   below `-1` changes); the doubled branch is then followed from the eigenvector (Newton on
 //!   `P^{2p}`), once per branch;
@@ -40,7 +43,9 @@
 //! Every branch ends with a named reason ([`End`]): `range` (it left the swept interval),
 //! `no_impacts`, `step_too_small`, `max_points` ([`ContSettings::max_points`]), `simulator`,
 //! `grazing_end` (the steps failed where, one step past the last point, the orbit's impact count
-//! changes: the map is not smooth there, and often not continuous, so the branch cannot pass), or
+//! changes: the map is not smooth there, and often not continuous, so the branch cannot pass; or
+//! every impact's approach speed vanished at once, where the orbit joins the non-impacting
+//! family), `closed` (back on a point it went through), or
 //! `grazing`: the corrector came back along the branch it came from (nearer the point before
 //! than half a step), which happens at a corner of the branch where an impact grazes and the
 //! map is not smooth; the last point is labelled `GR` rather than taken for a fold.
@@ -468,6 +473,18 @@ fn side(
             if h < settings.h_min {
                 // A corner (an impact on the section, a grazing): go on past it, once per
                 // corner (the flag is cleared by the next ordinary step).
+                // Every impact vanishing at once: the branch ends there ([`speed_vanishing`]).
+                let slow =
+                    here.eval.min_impact_speed < VANISHING_SPEED * here_speed_scale(curve, f, &u);
+                if slow
+                    && let Some(found) =
+                        speed_vanishing(curve, f, &u, &t, CORNER_REACH, settings.range)
+                    && found.all
+                {
+                    clear_approach(&mut pts, &found.row, f.half_gap());
+                    pts.push(found.row);
+                    return (pts, End::GrazingEnd);
+                }
                 if !crossed && let Some(jump) = past_corner(curve, f, &u, &t) {
                     if jump.2.eval.impacts != here.eval.impacts
                         && let Some(last) = pts.last_mut()
@@ -572,6 +589,9 @@ fn side(
                 None => {}
             }
         }
+        let falling = orb.min_impact_speed < prev_orbit.min_impact_speed;
+        let vanishing =
+            falling && orb.min_impact_speed < VANISHING_SPEED * fl.omega * fl.half_gap();
         pts.push(point(&fl, &orb, label));
         prev_orbit = orb;
         trail.push((u, t));
@@ -584,6 +604,19 @@ fn side(
         } else {
             h
         };
+        // An impact's approach speed falling to zero within the next step, located in impact
+        // coordinates (continuation on the section cannot reach it). Where every impact vanishes
+        // at once the orbit joins the non-impacting family and the branch ends; where one of
+        // several does, the grazing is passed or located from its smooth side as any other
+        // ([`past_corner`], [`end_of_steps`]).
+        if vanishing
+            && let Some(found) = speed_vanishing(curve, f, &u, &t, 2.0 * h, settings.range)
+            && found.all
+        {
+            clear_approach(&mut pts, &found.row, f.half_gap());
+            pts.push(found.row);
+            return (pts, End::GrazingEnd);
+        }
     }
     (pts, End::MaxPoints)
 }
@@ -764,6 +797,9 @@ fn end_of_steps(
     let e = eval(&curve.param.at(f, lambda), &s, curve.p, false);
     curve.periods += curve.p;
     if e.outcome != Outcome::Ok || e.impacts == here.eval.impacts {
+        if vanishing_end(curve, f, here, &(u_pred - here.u), settings, &mut pts) {
+            return (pts, End::GrazingEnd);
+        }
         return (pts, End::StepTooSmall);
     }
     let step = u_pred - here.u;
@@ -784,6 +820,7 @@ fn end_of_steps(
     curve.periods_locating += curve.periods - periods0;
     match found.and_then(|p| located_row(curve, f, &p, Label::GR, settings)) {
         Some(row) => pts.push(row),
+        None if vanishing_end(curve, f, here, &t, settings, &mut pts) => {}
         None => {
             if let Some(last) = pts.last_mut()
                 && last.label == Label::None
@@ -793,6 +830,29 @@ fn end_of_steps(
         }
     }
     (pts, End::GrazingEnd)
+}
+
+/// Where the steps failed with an impact's approach speed near zero (below
+/// [`VANISHING_SPEED`]` omega d/2` at `here`), the point ahead (along `dir`) where it vanishes
+/// ([`speed_vanishing`]) as the branch's last row. Whether there was one.
+fn vanishing_end(
+    curve: &mut Curve,
+    f: &Forcing,
+    here: &OnBranch,
+    dir: &V5,
+    settings: &ContSettings,
+    pts: &mut Vec<BranchPoint>,
+) -> bool {
+    let l = f.half_gap();
+    if here.eval.min_impact_speed >= VANISHING_SPEED * here_speed_scale(curve, f, &here.u) {
+        return false;
+    }
+    let Some(found) = speed_vanishing(curve, f, &here.u, dir, CORNER_REACH, settings.range) else {
+        return false;
+    };
+    clear_approach(pts, &found.row, l);
+    pts.push(found.row);
+    true
 }
 
 /// Branch points on one side of a branch's start where the other branch is followed too (the
@@ -888,6 +948,95 @@ fn past_corner(curve: &mut Curve, f: &Forcing, u: &V5, t: &V5) -> Option<(V5, V5
         }
     }
     None
+}
+
+/// An impact whose approach speed falls below this fraction of `omega d/2` is followed to its
+/// zero in impact coordinates ([`speed_vanishing`]).
+const VANISHING_SPEED: f64 = 0.05;
+
+/// `omega d/2` at the point `u` (m/s).
+fn here_speed_scale(curve: &Curve, f: &Forcing, u: &V5) -> f64 {
+    let (_, lambda) = curve.unscale(u);
+    let fl = curve.param.at(f, lambda);
+    fl.omega * fl.half_gap()
+}
+
+/// A located point where an impact's approach speed vanishes: its row and whether every impact
+/// of the orbit vanishes there.
+struct Vanishing {
+    row: BranchPoint,
+    all: bool,
+}
+
+/// The point ahead of `u` (the parameter moving as `t`'s parameter component does, at most
+/// `reach` in the scaled parameter, inside `range`) where the orbit's slowest impact reaches its
+/// wall with zero approach speed, solved in impact coordinates ([`super::sequence`]: on the
+/// section the map's derivatives grow like the inverse of that speed and the corrector cannot
+/// get there). Its row is labelled `GR`, located; its multipliers are `NaN`: the impact law's
+/// saltation divides by the approach speed, and the multipliers of the orbits before it grow
+/// without bound (so the row is not stable).
+fn speed_vanishing(
+    curve: &mut Curve,
+    f: &Forcing,
+    u: &V5,
+    t: &V5,
+    reach: f64,
+    range: (f64, f64),
+) -> Option<Vanishing> {
+    use super::sequence::{ImpactOrbit, speed_zero};
+    let (s, lambda) = curve.unscale(u);
+    let fl = curve.param.at(f, lambda);
+    let orbit = ImpactOrbit::from_section(&fl, &s, curve.p)?;
+    curve.periods += curve.p;
+    let speeds = orbit.speeds(&fl);
+    let j = (0..speeds.len()).min_by(|&a, &b| speeds[a].total_cmp(&speeds[b]))?;
+    let param = curve.param;
+    let (fz, oz, sz, sp) = speed_zero(&|x| param.at(f, x), lambda, &orbit, j)?;
+    let lz = param.get(&fz);
+    let ahead = (lz - lambda) * t[4].signum();
+    if !(ahead > 0.0 && ahead <= reach * curve.lambda0 && lz >= range.0 && lz <= range.1) {
+        return None;
+    }
+    let e = eval(&fz, &sz, curve.p, false);
+    curve.periods += curve.p;
+    if e.outcome != Outcome::Ok {
+        return None;
+    }
+    curve.located += 1;
+    let floor = 1e-9 * fz.sys.omega() * fz.half_gap();
+    let row = BranchPoint {
+        r: fz.ratio(),
+        omega: fz.omega,
+        F0: fz.F0,
+        s: sz,
+        period: curve.p as u32,
+        amplitude: e.amplitude,
+        impacts: oz.walls.len() as u64,
+        multiplier_max: f64::NAN,
+        multipliers: [(f64::NAN, f64::NAN); 4],
+        min_impact_speed: sp[j].abs(),
+        stable: false,
+        label: Label::GR,
+        located: true,
+    };
+    Some(Vanishing {
+        row,
+        all: sp.iter().all(|v| v.abs() <= floor),
+    })
+}
+
+/// Clears the unlocated `GR` labels on the points just before a located vanishing impact
+/// `row` ([`speed_vanishing`]): the approach of its slow impact (`half_gap` is `d/2`).
+fn clear_approach(pts: &mut [BranchPoint], row: &BranchPoint, half_gap: f64) {
+    let slow = VANISHING_SPEED * half_gap;
+    let approach = pts.iter_mut().rev().take_while(|p| {
+        !p.located && p.impacts == row.impacts && p.min_impact_speed < slow * p.omega
+    });
+    for p in approach {
+        if p.label == Label::GR {
+            p.label = Label::None;
+        }
+    }
 }
 
 /// Whether the step from `now` to `next` passes through `start`: `start` lies within 5 % of the

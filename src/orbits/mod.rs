@@ -16,6 +16,7 @@ pub mod lyapunov;
 pub mod map;
 pub mod race;
 pub mod response;
+pub mod sequence;
 pub mod shoot;
 pub mod twopar;
 

@@ -65,7 +65,14 @@ pub fn curves(study: &Study, grid: &Grid, fs: &ForcedSummary, steady: &[Response
         // or an earlier point of this one: mirror halves and branches that meet at one point are
         // located more than once), in order.
         let mut todo: Vec<(usize, Axis, Seed)> = Vec::new();
-        for b in resp.branches.iter().filter(|b| b.located) {
+        // A grazing where an impact's speed vanishes, located from the impacting side, has no
+        // multipliers (the map is not differentiable there) and cannot seed a curve; the same
+        // grazing located from its smooth side can.
+        let seeds = resp
+            .branches
+            .iter()
+            .filter(|b| b.located && b.multiplier_max.is_finite());
+        for b in seeds {
             let label = match b.label {
                 "SN" => Label::SN,
                 "PD" => Label::PD,

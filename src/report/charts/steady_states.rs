@@ -401,7 +401,8 @@ fn label_name(label: &str) -> &'static str {
     }
 }
 
-/// The Floquet multipliers as `a ± bi` (the pairs once), by decreasing modulus.
+/// The Floquet multipliers as `a ± bi` (the pairs once), by decreasing modulus; none (`NaN`)
+/// at a located vanishing impact.
 fn multipliers_text(mu: &[(f64, f64); 4]) -> String {
     let mut parts = Vec::new();
     for &(re, im) in mu {
@@ -413,6 +414,10 @@ fn multipliers_text(mu: &[(f64, f64); 4]) -> String {
         } else {
             format!("{re:.6}")
         });
+    }
+    if parts.is_empty() {
+        // A grazing located where an impact's speed vanishes: they grow without bound there.
+        return "unbounded (an impact with zero approach speed)".to_string();
     }
     parts.join(", ")
 }

@@ -1,0 +1,367 @@
+//! A periodic orbit in impact coordinates: the forcing phases of its impacts and the state just
+//! after its first impact are the unknowns, its impact sequence (which wall, in which order) is
+//! fixed. Used where an impact's approach speed goes to zero (docs/model.md §12, "Corners: an
+//! impact velocity vanishing").
+//!
+//! # Why
+//! On the Poincaré section the map's derivatives grow like `1/u` as an impact's approach speed
+//! `u` goes to zero (the impact instant moves like `dt = -(dy - dx) / u`), and Newton's basin
+//! shrinks like `u^2 / |x''|`: continuation on the section creeps toward the parameter where the
+//! speed vanishes and stops short of it. With the impact instants as unknowns the flights have
+//! prescribed ends, every flight is in closed form, and the equations are smooth in the unknowns
+//! and the parameter through `u = 0` (on the other side `u < 0`: a virtual orbit whose inner
+//! mass would fly through the wall). Masri and Caughey's closed form ([`super::analytic`]) is this
+//! system for the symmetric two-impact orbit with its symmetry built in.
+//!
+//! # The system
+//! An orbit of `p` forcing periods with `n` impacts at phases `phi_1 < ... < phi_n` (`omega t`,
+//! in `[0, 2 pi p)`) on the walls `s_k = +-1` (`z = y - x = s_k d/2`), and the state
+//! `(x_1, x'_1, y'_1)` just after the first (`y_1 = x_1 + s_1 d/2`). Flight `k` runs from `phi_k`
+//! to `phi_{k+1}` (`phi_{n+1} = phi_1 + 2 pi p`): the main mass in closed form
+//! ([`crate::sim::forced::motion::Forced`]), the inner mass at constant velocity; each flight
+//! ends on its wall and the impact law (eq. 3–4) gives the next start:
+//!
+//! ```text
+//! z(phi_{k+1}-) - s_{k+1} d/2 = 0                          k = 1 .. n
+//! (x, x', y') after the impact at phi_1 + 2 pi p  -  (x_1, x'_1, y'_1) = 0
+//! ```
+//!
+//! `n + 3` equations in `n + 3` unknowns. Impact `k`'s approach speed is
+//! `u_k = s_k (y' - x')` just before it. Where `u_j` vanishes is one more unknown, the
+//! continuation parameter `lambda`, and one more equation, `u_j = 0`. Both are solved by Newton
+//! with a central-difference Jacobian (the residual is closed-form: `n` flights), in the scaled
+//! units of continuation (`x / L`, `x' / (wn L)`, phases in rad, `lambda / lambda_0`, `L = d/2`).
+//!
+//! # Ranges
+//! Orbits whose every event is an impact (no sticking phase), `p >= 1`, `n >= 1`; any valid
+//! system and forcing. A solution is returned only when it is an orbit of the simulator's
+//! kind: phases in order, every other impact approaching its wall (`u_k > -1e-9 wn d/2`: others may vanish with it,
+//! by a symmetry), and every flight
+//! inside the clearance (`|z| <= d/2 (1 + 1e-9)` at the flight's local extrema).
+
+use nalgebra::{DMatrix, DVector};
+
+use super::analytic::local_extremes;
+use super::map::{Forcing, Section};
+use crate::sim::forced::motion::Forced;
+use crate::sim::forced::simulate_harmonic;
+use crate::sim::phase::impact;
+use crate::sim::{Outcome, Probe, Request, State, Wall};
+
+/// Newton iterations at most.
+const MAX_ITERATIONS: usize = 40;
+/// Converged when the scaled residual's norm is below this.
+const TOLERANCE: f64 = 1e-12;
+/// Central-difference step of the scaled unknowns.
+const FD_STEP: f64 = 1e-7;
+/// An impact's approach speed counts as zero down to `-1e-9 wn d/2` (rounding).
+const SPEED_FLOOR: f64 = 1e-9;
+/// Grid points per radian of the fastest rate when a flight is checked against the walls.
+const POINTS_PER_RADIAN: f64 = 8.0;
+/// Golden-section steps refining a flight's extremum.
+const GOLDEN_STEPS: usize = 40;
+
+/// An orbit's impacts over its `p` periods, from one simulation: phases and walls.
+#[derive(Default)]
+struct Impacts {
+    /// `(t, wall sign)`.
+    hits: Vec<(f64, f64)>,
+    sticks: usize,
+}
+
+impl Probe for Impacts {
+    fn impact(&mut self, t: f64, wall: Wall, _before: &State, _after: &State) {
+        self.hits.push((t, wall.sign()));
+    }
+    fn stick(&mut self, _t: f64, _wall: Wall, _at: &State) {
+        self.sticks += 1;
+    }
+}
+
+/// An orbit of `p` periods with its impacts as unknowns (module doc).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImpactOrbit {
+    /// Forcing periods of the orbit.
+    pub p: u64,
+    /// Each impact's wall, `+1` right (`z = +d/2`), `-1` left, in order.
+    pub walls: Vec<f64>,
+    /// Each impact's forcing phase `omega t` (rad), increasing, the first in `[0, 2 pi p)`.
+    pub phases: Vec<f64>,
+    /// `(x, x', y')` just after the first impact (m, m/s, m/s).
+    pub after: [f64; 3],
+}
+
+/// What one evaluation of the system gives besides its residual.
+struct Flown {
+    /// The scaled residual (`n + 3`).
+    residual: Vec<f64>,
+    /// Each impact's approach speed `u_k` (m/s), signed (module doc).
+    speeds: Vec<f64>,
+    /// The state at the section (`t = 0 mod p T`), `(x, x', z, y')`.
+    section: Section,
+}
+
+impl ImpactOrbit {
+    /// The orbit through section state `s` at `f` (a fixed point of `P^p`, as continuation has
+    /// it): its impacts recorded by one simulation over `p` periods. `None` when the run fails,
+    /// has no impact or a sticking phase.
+    pub fn from_section(f: &Forcing, s: &Section, p: u64) -> Option<ImpactOrbit> {
+        let sys = f.started(s);
+        let mut rec = Impacts::default();
+        let out = simulate_harmonic(
+            &sys,
+            &f.settings,
+            &Request::default(),
+            &f.scene(p),
+            None,
+            &mut rec,
+        );
+        if out.outcome != Outcome::Ok || rec.hits.is_empty() || rec.sticks > 0 {
+            return None;
+        }
+        let t1 = rec.hits[0].0;
+        // The state just after the first impact: the simulation again, up to it.
+        let start = State {
+            x: sys.x0,
+            v: sys.v0,
+            y: sys.y0,
+            w: sys.w0,
+        };
+        let forced = Forced::new(f.sys.M, f.sys.K, f.sys.C, f.F0, f.omega);
+        let (h0, g0) = forced.free_start(0.0, start.x, start.v);
+        let jet = forced.jet(0.0, h0, g0, t1);
+        let (v, w) = impact(f.sys.M, f.sys.m, f.sys.e, jet.v, start.w);
+        Some(ImpactOrbit {
+            p,
+            walls: rec.hits.iter().map(|h| h.1).collect(),
+            phases: rec.hits.iter().map(|h| h.0 * f.omega).collect(),
+            after: [jet.x, v, w],
+        })
+    }
+
+    /// Each impact's approach speed `u_k` (m/s) at `f`, in order: positive approaching the wall.
+    pub fn speeds(&self, f: &Forcing) -> Vec<f64> {
+        self.fly(f).speeds
+    }
+
+    /// The scaled unknowns: phases, `x_1 / L`, `x'_1 / (wn L)`, `y'_1 / (wn L)`.
+    fn to_unknowns(&self, l: f64, wn: f64) -> Vec<f64> {
+        let mut u = self.phases.clone();
+        u.extend([
+            self.after[0] / l,
+            self.after[1] / (wn * l),
+            self.after[2] / (wn * l),
+        ]);
+        u
+    }
+
+    fn with_unknowns(&self, u: &[f64], l: f64, wn: f64) -> ImpactOrbit {
+        let n = self.walls.len();
+        ImpactOrbit {
+            p: self.p,
+            walls: self.walls.clone(),
+            phases: u[..n].to_vec(),
+            after: [u[n] * l, u[n + 1] * wn * l, u[n + 2] * wn * l],
+        }
+    }
+
+    /// The flights of the orbit at `f` (module doc).
+    fn fly(&self, f: &Forcing) -> Flown {
+        let (big_m, m, e) = (f.sys.M, f.sys.m, f.sys.e);
+        let forced = Forced::new(big_m, f.sys.K, f.sys.C, f.F0, f.omega);
+        let l = f.half_gap();
+        let wn = f.sys.omega();
+        let n = self.walls.len();
+        let span = std::f64::consts::TAU * self.p as f64;
+        let [x1, v1, w1] = self.after;
+        let mut a = State {
+            x: x1,
+            v: v1,
+            y: x1 + self.walls[0] * l,
+            w: w1,
+        };
+        let mut residual = Vec::with_capacity(n + 3);
+        let mut speeds = Vec::with_capacity(n);
+        let mut section = [f64::NAN; 4];
+        for k in 0..n {
+            let phi_a = self.phases[k];
+            let phi_b = self.phases.get(k + 1).map_or(self.phases[0] + span, |&p| p);
+            let (t_a, t_b) = (phi_a / f.omega, phi_b / f.omega);
+            let (h0, g0) = forced.free_start(t_a, a.x, a.v);
+            let jet = forced.jet(t_a, h0, g0, t_b);
+            let y = a.y + a.w * (t_b - t_a);
+            let wall = self.walls[(k + 1) % n];
+            residual.push((y - jet.x - wall * l) / l);
+            speeds.push(wall * (a.w - jet.v));
+            if k + 1 == n {
+                // The section instant `p T` lies in the last flight.
+                let t_s = span / f.omega;
+                let at = forced.jet(t_a, h0, g0, t_s);
+                let y_s = a.y + a.w * (t_s - t_a);
+                section = [at.x, at.v, y_s - at.x, a.w];
+            }
+            let (v, w) = impact(big_m, m, e, jet.v, a.w);
+            a = State {
+                x: jet.x,
+                v,
+                y: jet.x + wall * l,
+                w,
+            };
+        }
+        residual.extend([(a.x - x1) / l, (a.v - v1) / (wn * l), (a.w - w1) / (wn * l)]);
+        // Speeds were recorded at the end of each flight: impact k + 1; rotate so that
+        // `speeds[k]` is impact k's.
+        speeds.rotate_right(1);
+        Flown {
+            residual,
+            speeds,
+            section,
+        }
+    }
+
+    /// Whether the orbit at `f` is one the simulator would run: phases increasing within one
+    /// orbit, every impact but `except` approaching its wall, every flight inside the clearance.
+    fn admissible(&self, f: &Forcing, flown: &Flown, except: usize) -> bool {
+        let span = std::f64::consts::TAU * self.p as f64;
+        let n = self.walls.len();
+        let ordered = self.phases.windows(2).all(|w| w[0] < w[1])
+            && self.phases[n - 1] < self.phases[0] + span;
+        // Others may vanish with it (by a symmetry): to rounding, scaled.
+        let floor = -SPEED_FLOOR * f.sys.omega() * f.half_gap();
+        let approaching = flown
+            .speeds
+            .iter()
+            .enumerate()
+            .all(|(k, &u)| k == except || u > floor);
+        ordered && approaching && self.inside(f)
+    }
+
+    /// Every flight's local extrema of `z` within the clearance (to `1e-9` of it).
+    fn inside(&self, f: &Forcing) -> bool {
+        let (big_m, m, e) = (f.sys.M, f.sys.m, f.sys.e);
+        let forced = Forced::new(big_m, f.sys.K, f.sys.C, f.F0, f.omega);
+        let l = f.half_gap();
+        let rate = f.omega.max(f.sys.omega()).max(f.sys.C / big_m);
+        let n = self.walls.len();
+        let span = std::f64::consts::TAU * self.p as f64;
+        let [x1, v1, w1] = self.after;
+        let (mut x, mut v, mut w) = (x1, v1, w1);
+        let mut y = x1 + self.walls[0] * l;
+        for k in 0..n {
+            let phi_b = self.phases.get(k + 1).map_or(self.phases[0] + span, |&p| p);
+            let (t_a, t_b) = (self.phases[k] / f.omega, phi_b / f.omega);
+            let len = t_b - t_a;
+            let (h0, g0) = forced.free_start(t_a, x, v);
+            let z = |s: f64| y + w * s - forced.jet(t_a, h0, g0, t_a + s).x;
+            let end = forced.jet(t_a, h0, g0, t_b);
+            let cells = ((POINTS_PER_RADIAN * len * rate).ceil() as usize).clamp(16, 1 << 16);
+            if local_extremes(&z, [w - v, w - end.v], len, cells, GOLDEN_STEPS)
+                .iter()
+                .any(|&(val, _)| val.abs() > l * (1.0 + 1e-9))
+            {
+                return false;
+            }
+            let wall = self.walls[(k + 1) % n];
+            (v, w) = impact(big_m, m, e, end.v, w);
+            (x, y) = (end.x, end.x + wall * l);
+        }
+        true
+    }
+}
+
+/// Where impact `j`'s approach speed vanishes, continuing in the parameter `lambda` from the
+/// orbit `orbit` at `lambda_start`: `at(lambda)` is the forcing at a value of the parameter
+/// (`lambda_start` its value at `orbit`'s). Returns the forcing and the orbit there, its section
+/// state and every impact's approach speed (`u_j` zero to rounding); `None` when Newton does not
+/// converge or the solution is not admissible (module doc).
+pub fn speed_zero(
+    at: &impl Fn(f64) -> Forcing,
+    lambda_start: f64,
+    orbit: &ImpactOrbit,
+    j: usize,
+) -> Option<(Forcing, ImpactOrbit, Section, Vec<f64>)> {
+    let f0 = at(lambda_start);
+    let (l, wn) = (f0.half_gap(), f0.sys.omega());
+    let n = orbit.walls.len();
+    if j >= n {
+        return None;
+    }
+    let dim = n + 4;
+    let mut u = orbit.to_unknowns(l, wn);
+    u.push(1.0);
+    let residual = |u: &[f64]| -> Option<(Vec<f64>, Flown)> {
+        let f = at(u[dim - 1] * lambda_start);
+        let o = orbit.with_unknowns(&u[..dim - 1], l, wn);
+        let flown = o.fly(&f);
+        let mut r = flown.residual.clone();
+        r.push(flown.speeds[j] / (wn * l));
+        r.iter().all(|v| v.is_finite()).then_some((r, flown))
+    };
+    for _ in 0..MAX_ITERATIONS {
+        let (r, flown) = residual(&u)?;
+        let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm <= TOLERANCE {
+            let f = at(u[dim - 1] * lambda_start);
+            let o = orbit.with_unknowns(&u[..dim - 1], l, wn);
+            if !o.admissible(&f, &flown, j) {
+                return None;
+            }
+            return Some((f, o, flown.section, flown.speeds));
+        }
+        let mut jac = DMatrix::zeros(dim, dim);
+        for c in 0..dim {
+            let (mut up, mut dn) = (u.clone(), u.clone());
+            up[c] += FD_STEP;
+            dn[c] -= FD_STEP;
+            let (rp, _) = residual(&up)?;
+            let (rm, _) = residual(&dn)?;
+            for (row, (a, b)) in rp.iter().zip(&rm).enumerate() {
+                jac[(row, c)] = (a - b) / (2.0 * FD_STEP);
+            }
+        }
+        let du = jac.lu().solve(&-DVector::from_vec(r))?;
+        if !du.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        for (x, d) in u.iter_mut().zip(du.iter()) {
+            *x += d;
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::orbits::analytic::symmetric_period1;
+    use crate::orbits::map::tests::table_i;
+
+    /// The symmetric two-impact orbit in closed form, recorded by the simulator in impact
+    /// coordinates, solves the system to rounding, and its approach speeds are the closed
+    /// form's `W- - V-` on both walls.
+    #[test]
+    fn a_simulated_orbit_solves_the_system() {
+        let f = table_i(0.005, 0.005, 0.9, 0.1, 0.1, 0.93);
+        let o = symmetric_period1(&f.sys, f.F0, f.omega)
+            .into_iter()
+            .find(|o| o.admissible)
+            .expect("an orbit");
+        let io = ImpactOrbit::from_section(&f, &o.section, 1).expect("impacts");
+        assert_eq!(io.walls.len(), 2);
+        let flown = io.fly(&f);
+        let norm = flown.residual.iter().map(|v| v * v).sum::<f64>().sqrt();
+        assert!(norm < 1e-9, "residual {norm:e}");
+        for u in &flown.speeds {
+            let want = o.w_before - o.v_before;
+            assert!((u - want).abs() < 1e-9 * want, "{u} against {want}");
+        }
+        for (a, b) in flown.section.iter().zip(o.section) {
+            assert!(
+                (a - b).abs() < 1e-9 * (1.0 + b.abs()),
+                "{:?} against {:?}",
+                flown.section,
+                o.section
+            );
+        }
+    }
+}
