@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand};
 
 use crate::app;
+use crate::app::reduce::CurveLines;
 
 const AFTER_HELP: &str = "\
 The pipeline: a study file (TOML) expands into a grid of design points; `run` simulates every
@@ -167,6 +168,17 @@ pub struct ReduceCmd {
     /// probes) and write it to DIR/analysis/; a later `reduce` without --shard uses every shard's.
     #[arg(long, value_name = "I/N", value_parser = parse_shard)]
     pub shard: Option<(u64, u64)>,
+    /// A harmonic study: the lines of the design grid its bifurcation curves are followed
+    /// along: `recommended` (each design axis through the recommended design: the design map's
+    /// lines), `all` (every line: the cost grows with the number of designs) or `none`.
+    #[arg(long, value_name = "LINES", default_value = "recommended", value_parser = parse_curve_lines)]
+    pub bifurcation_curves: CurveLines,
+}
+
+/// Parses `recommended`, `all` or `none`.
+fn parse_curve_lines(s: &str) -> Result<CurveLines, String> {
+    CurveLines::parse(s)
+        .ok_or_else(|| format!("'{s}': expected one of {}", CurveLines::NAMES.join(", ")))
 }
 
 #[derive(Subcommand, Debug)]
@@ -322,6 +334,7 @@ pub fn main() -> anyhow::Result<()> {
             di_mean: c.di_mean,
             bootstrap: c.bootstrap.map(|b| b as usize),
             shard: c.shard,
+            bifurcation_curves: c.bifurcation_curves,
         }),
         Command::Plot(PlotCmd::Waveform(c)) => app::reduce::waveform(&app::reduce::WaveformArgs {
             sets: c.sets,

@@ -412,3 +412,89 @@ fn issue_23_reduce_runs_no_census_and_every_peak_is_an_attractor() {
         );
     }
 }
+
+/// Issue 23 with issue 24's curves: a bifurcation curve along one design axis serves only the
+/// designs of its line (the other axes' values), so by default (`--bifurcation-curves
+/// recommended`) `reduce` follows the lines through the recommended design, the ones its design
+/// map draws, and `all` every line. On a 2 x 2 grid over `m` and `d`: the default's curves lie
+/// on one line per axis, through one design, and are exactly `all`'s rows on those lines;
+/// `all` has curves on the other lines too; `none` writes no table.
+#[test]
+fn issue_23_bifurcation_curves_follow_the_recommended_lines_by_default() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("lines.toml");
+    std::fs::write(
+        &study,
+        r#"[study]
+name = "lines"
+seed = 5
+[system]
+C = 0.1
+v0 = 0.0
+[scene]
+kind = "harmonic"
+F0 = 0.1
+n_trans_max = 800
+life_max_periods = 2000
+[sweep]
+m = [0.005, 0.01]
+d = [0.005, 0.01]
+r = { start = 0.85, stop = 1.15, num = 13 }
+[reliability]
+strength_mean = 100e6
+strength_sd = 8e6
+"#,
+    )
+    .unwrap();
+    let dir = common::run_study_file(&study, &tmp.path().join("out"), "lines");
+    let reduce = |lines: &str| -> Option<Vec<Vec<String>>> {
+        bin()
+            .arg("reduce")
+            .arg(&dir)
+            .args(["--bifurcation-curves", lines])
+            .assert()
+            .success();
+        let text = std::fs::read_to_string(dir.join("bifurcations.csv")).ok()?;
+        Some(text.lines().skip(1).map(common::csv_cells).collect())
+    };
+    let all = reduce("all").expect("every line: a bifurcations table");
+    let (_, summary) = common::csv_by_point(&dir.join("summary.csv"));
+    // The design's value of the axis the curve does not move along (columns: curve, point,
+    // kind, p_name, ...).
+    let other = |row: &Vec<String>| -> (String, String) {
+        let design = &summary[&row[1].parse::<u64>().unwrap()];
+        match row[3].as_str() {
+            "m" => ("m".into(), design["d"].clone()),
+            "d" => ("d".into(), design["mass_inner"].clone()),
+            p => panic!("curve along {p}"),
+        }
+    };
+    let default = reduce("recommended").expect("the recommended lines: a bifurcations table");
+    // No curves: no table (nor the last reduce's, left behind).
+    assert!(reduce("none").is_none(), "no curves: no table");
+    assert!(!dir.join("bifurcations.parquet").exists());
+    let lines: std::collections::BTreeSet<(String, String)> = default.iter().map(other).collect();
+    for p in ["m", "d"] {
+        assert!(
+            lines.iter().filter(|l| l.0 == p).count() <= 1,
+            "one line along {p}: {lines:?}"
+        );
+    }
+    // The same rows (without the curve's number) as `all` has on those lines, in order.
+    let strip = |rows: &[Vec<String>]| -> Vec<Vec<String>> {
+        rows.iter().map(|r| r[1..].to_vec()).collect()
+    };
+    let on_lines: Vec<Vec<String>> = all
+        .iter()
+        .filter(|r| lines.contains(&other(r)))
+        .cloned()
+        .collect();
+    assert!(!default.is_empty());
+    assert_eq!(strip(&default), strip(&on_lines));
+    assert!(
+        all.len() > default.len(),
+        "all lines: {} rows, the recommended ones {}",
+        all.len(),
+        default.len()
+    );
+}

@@ -34,6 +34,8 @@ pub struct ReduceArgs {
     /// `(I, N)`: only shard `I` of `N` of a harmonic study's per-design analysis
     /// ([`crate::reduce::analysis`]), written to `RUN_DIR/analysis/`; no report.
     pub shard: Option<(u64, u64)>,
+    /// A harmonic study: the lines of the design grid its bifurcation curves are followed along.
+    pub bifurcation_curves: reduce::bifurcations::CurveLines,
 }
 
 /// `impactsweep plot waveform`.
@@ -128,7 +130,8 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
                 );
             }
             let plan = analysis_plan(&study, dir, args.shard)?;
-            let (summary, fs, probes) = r.finish(&plan);
+            let (summary, mut fs, probes) = r.finish(&plan);
+            fs.curve_lines = args.bifurcation_curves;
             if let Some(shard) = args.shard {
                 return write_analysis_shard(&study, dir, shard, &fs, &probes);
             }
@@ -308,8 +311,24 @@ pub fn write_outputs_with(
             files.extend(store::summary::write_table(dir, TableKind::Branches, &t)?);
         }
         // The located bifurcations followed over the design axes.
-        let curves = reduce::bifurcations::curves(study, &summary.grid, fs, &steady);
-        if !curves.is_empty() {
+        let curves = reduce::bifurcations::curves(
+            study,
+            &summary.grid,
+            fs,
+            &steady,
+            fs.curve_lines,
+            summary.anchor(),
+        );
+        if curves.is_empty() {
+            // No table rather than an earlier reduce's, which would not match this one.
+            for name in ["bifurcations.parquet", "bifurcations.csv"] {
+                let stale = dir.join(name);
+                if stale.exists() {
+                    std::fs::remove_file(&stale)
+                        .with_context(|| format!("removing {}", stale.display()))?;
+                }
+            }
+        } else {
             let t = reduce::bifurcations::table(&curves);
             files.extend(store::summary::write_table(
                 dir,

@@ -7,9 +7,12 @@
 //! One curve serves every design it passes through: a located point is not followed again when
 //! a curve already followed in the same plane (the other axes' values), of the same kind and
 //! period, has its point at this design's value of `p` within `1e-6` of it in `r`, or when an
-//! earlier located point of the same design is that point. Designs are taken in order, and a
-//! design's curves are followed in parallel and kept in the order of its points, so the table is
-//! the same for any thread count.
+//! earlier located point of the same design is that point. So the lines of the grid along each
+//! axis (the designs that differ only on it) are independent: they are followed in parallel, and
+//! in each line the designs in order, a design's new curves in parallel; the curves are kept in
+//! the order of the designs and their points, so the table is the same for any thread count.
+
+use std::collections::BTreeMap;
 
 use super::forced::ForcedSummary;
 use super::grid::Grid;
@@ -20,6 +23,37 @@ use crate::orbits::continuation::Label;
 use crate::orbits::response::Response;
 use crate::orbits::twopar::{self, Axis, BifurcationCurve, Seed};
 use crate::study::Study;
+
+/// Which lines of the design grid the bifurcation curves are followed along (`reduce
+/// --bifurcation-curves`). A curve along axis `p` serves the designs of one line, those with the
+/// other axes' values; the lines through one design are what the design map of that design's
+/// plane draws.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CurveLines {
+    /// Along each design axis through the recommended design (the design map's lines): a few
+    /// lines whatever the size of the grid.
+    #[default]
+    Recommended,
+    /// Along every line of the grid: the cost grows like the number of designs times the number
+    /// of axes (a 1,000-design study over three axes has 300 lines).
+    All,
+    /// No curves.
+    None,
+}
+
+impl CurveLines {
+    /// The names accepted on the command line, in the order of the variants.
+    pub const NAMES: [&'static str; 3] = ["recommended", "all", "none"];
+
+    pub fn parse(s: &str) -> Option<CurveLines> {
+        match s {
+            "recommended" => Some(CurveLines::Recommended),
+            "all" => Some(CurveLines::All),
+            "none" => Some(CurveLines::None),
+            _ => None,
+        }
+    }
+}
 
 /// A followed curve and where it lies: its plane (the design whose located point seeded it, and
 /// the axis it moves along).
@@ -32,10 +66,26 @@ pub struct Curve {
 }
 
 /// The bifurcation curves of a harmonic study along the frequency (empty without a frequency
-/// axis or without a swept design axis among `m`, `d`, `e`, `C`, `F0`).
-pub fn curves(study: &Study, grid: &Grid, fs: &ForcedSummary, steady: &[Response]) -> Vec<Curve> {
+/// axis or without a swept design axis among `m`, `d`, `e`, `C`, `F0`), along the lines of the
+/// grid that `lines` asks for (`anchor`: the recommended design; without one, `Recommended`
+/// follows none).
+pub fn curves(
+    study: &Study,
+    grid: &Grid,
+    fs: &ForcedSummary,
+    steady: &[Response],
+    lines: CurveLines,
+    anchor: Option<u64>,
+) -> Vec<Curve> {
     let Some((_, freqs)) = &fs.frequency else {
         return Vec::new();
+    };
+    let wanted = |design: u64, a: usize| match lines {
+        CurveLines::All => true,
+        CurveLines::None => false,
+        CurveLines::Recommended => anchor.is_some_and(|an| {
+            (0..grid.n_axes()).all(|k| k == a || grid.index(design, k) == grid.index(an, k))
+        }),
     };
     let axes: Vec<(usize, Axis)> = (0..grid.n_axes())
         .filter(|&a| grid.n(a) >= 2)
@@ -44,7 +94,11 @@ pub fn curves(study: &Study, grid: &Grid, fs: &ForcedSummary, steady: &[Response
     if axes.is_empty() || freqs.len() < 2 {
         return Vec::new();
     }
-    let mut out: Vec<Curve> = Vec::new();
+    // Every located point's seed along every axis, in the order of the table (design, point,
+    // axis), grouped by line: a curve along axis `a` only serves designs of its own line (the
+    // same values on every other axis), so the lines are independent of one another.
+    let mut lines: BTreeMap<(usize, Vec<usize>), Vec<Candidate>> = BTreeMap::new();
+    let mut order = 0usize;
     for resp in steady {
         let Some(c) = fs.curve(resp.design) else {
             continue;
@@ -61,10 +115,6 @@ pub fn curves(study: &Study, grid: &Grid, fs: &ForcedSummary, steady: &[Response
             omega: c.system.omega(),
             settings: study.solver,
         };
-        // This design's located points not on a curve followed already (from an earlier design,
-        // or an earlier point of this one: mirror halves and branches that meet at one point are
-        // located more than once), in order.
-        let mut todo: Vec<(usize, Axis, Seed)> = Vec::new();
         // A grazing where an impact's speed vanishes, located from the impacting side, has no
         // multipliers (the map is not differentiable there) and cannot seed a curve; the same
         // grazing located from its smooth side can.
@@ -80,62 +130,106 @@ pub fn curves(study: &Study, grid: &Grid, fs: &ForcedSummary, steady: &[Response
                 "GR" => Label::GR,
                 _ => continue,
             };
-            for &(a, axis) in &axes {
-                let p = grid.value(resp.design, a);
-                let known = out.iter().any(|k| {
-                    k.axis_index == a
-                        && k.curve.label == label
-                        && same_plane(grid, k.seed_design, resp.design, a)
-                        && k.curve.points.iter().any(|q| {
-                            q.at_value
-                                && q.p == p
-                                && q.period == b.period
-                                && (q.r - b.r).abs() <= 1e-6
-                        })
+            for &(a, axis) in axes.iter().filter(|(a, _)| wanted(resp.design, *a)) {
+                let line = (0..grid.n_axes())
+                    .map(|k| {
+                        if k == a {
+                            usize::MAX
+                        } else {
+                            grid.index(resp.design, k)
+                        }
+                    })
+                    .collect();
+                lines.entry((a, line)).or_default().push(Candidate {
+                    order,
+                    design: resp.design,
+                    axis,
+                    r_range: (r_lo, r_hi),
+                    seed: Seed {
+                        f: base.at_ratio(b.r),
+                        s: b.s,
+                        period: b.period,
+                        label,
+                    },
                 });
-                let twin = todo.iter().any(|(ta, _, t)| {
-                    *ta == a
-                        && t.label == label
-                        && t.period == b.period
-                        && (t.f.ratio() - b.r).abs() <= 1e-6
-                });
-                if known || twin {
-                    continue;
-                }
-                let seed = Seed {
-                    f: base.at_ratio(b.r),
-                    s: b.s,
-                    period: b.period,
-                    label,
-                };
-                todo.push((a, axis, seed));
+                order += 1;
             }
         }
-        // Followed in parallel, kept in order: the same table for any thread count.
-        let followed: Vec<Option<Curve>> = todo
+    }
+    // The lines in parallel, each design's new curves in parallel; kept in the table's order:
+    // the same table for any thread count.
+    let mut out: Vec<(usize, Curve)> = lines
+        .into_par_iter()
+        .flat_map_iter(|((a, _), cands)| follow_line(grid, a, cands))
+        .collect();
+    out.sort_by_key(|(order, _)| *order);
+    out.into_iter().map(|(_, c)| c).collect()
+}
+
+/// A located point to follow along one axis: its place in the table's order, its design, the
+/// axis, the design's range of `r` and the seed.
+struct Candidate {
+    order: usize,
+    design: u64,
+    axis: Axis,
+    r_range: (f64, f64),
+    seed: Seed,
+}
+
+/// The curves of one line along axis `a` (its candidates in design order). A located point is
+/// not followed again when a curve from an earlier design of the line, of the same kind and
+/// period, has its point at this design's value of `p` within `1e-6` of it in `r`, or when an
+/// earlier point of the same design is that point (mirror halves and branches that meet at one
+/// point are located more than once).
+fn follow_line(grid: &Grid, a: usize, cands: Vec<Candidate>) -> Vec<(usize, Curve)> {
+    let values = grid.axis_values(a);
+    let range = values
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(x, y), v| {
+            (x.min(*v), y.max(*v))
+        });
+    let mut out: Vec<(usize, Curve)> = Vec::new();
+    let mut rest = cands.as_slice();
+    while let Some(first) = rest.first() {
+        let design = first.design;
+        let n = rest.iter().take_while(|c| c.design == design).count();
+        let (this, later) = rest.split_at(n);
+        rest = later;
+        let p = grid.value(design, a);
+        let mut todo: Vec<&Candidate> = Vec::new();
+        for c in this {
+            let (label, period, r) = (c.seed.label, c.seed.period, c.seed.f.ratio());
+            let known = out.iter().any(|(_, k)| {
+                k.curve.label == label
+                    && k.curve.points.iter().any(|q| {
+                        q.at_value && q.p == p && q.period == period && (q.r - r).abs() <= 1e-6
+                    })
+            });
+            let twin = todo.iter().any(|t| {
+                t.seed.label == label
+                    && t.seed.period == period
+                    && (t.seed.f.ratio() - r).abs() <= 1e-6
+            });
+            if !(known || twin) {
+                todo.push(c);
+            }
+        }
+        let followed: Vec<Option<(usize, Curve)>> = todo
             .par_iter()
-            .map(|(a, axis, seed)| {
-                let values = grid.axis_values(*a);
-                let range = values
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(x, y), v| {
-                        (x.min(*v), y.max(*v))
-                    });
-                twopar::follow(seed, *axis, range, (r_lo, r_hi), values).map(|curve| Curve {
-                    seed_design: resp.design,
-                    axis_index: *a,
-                    curve,
+            .map(|c| {
+                twopar::follow(&c.seed, c.axis, range, c.r_range, values).map(|curve| {
+                    let curve = Curve {
+                        seed_design: c.design,
+                        axis_index: a,
+                        curve,
+                    };
+                    (c.order, curve)
                 })
             })
             .collect();
         out.extend(followed.into_iter().flatten());
     }
     out
-}
-
-/// Whether designs `x` and `y` have the same values on every axis but `a`.
-fn same_plane(grid: &Grid, x: u64, y: u64, a: usize) -> bool {
-    (0..grid.n_axes()).all(|k| k == a || grid.index(x, k) == grid.index(y, k))
 }
 
 /// The `bifurcations` table (docs/schema.md): one row per point of each curve.

@@ -374,6 +374,8 @@ pub struct ForcedSummary {
     /// its largest amplitude that is the design amplitude (`[scene]`).
     pub design_life: f64,
     pub life_quantile: f64,
+    /// The lines of the grid the bifurcation curves are followed along.
+    pub curve_lines: super::bifurcations::CurveLines,
 }
 
 impl ForcedSummary {
@@ -645,6 +647,7 @@ impl<'a> ForcedReducer<'a> {
                     Scene::Harmonic(h) => h.life_quantile,
                     Scene::Free => f64::NAN,
                 },
+                curve_lines: Default::default(),
             },
             probes,
         )
