@@ -96,7 +96,7 @@ out=results/bench_forced_slurm.md
   echo "| the analysis array done | $analysis_end | |"
   echo "| the final reduce done | $reduce_end | |"
   echo
-  echo "- On the cluster, the final \`reduce\` against the sweep's array: $(awk -v a="$sweep_end" -v b="$analysis_end" -v c="$reduce_end" 'BEGIN{printf "%.3f (analysis array %.1f s, reduce %.1f s, sweep %.1f s)", (c-a)/a, b-a, c-b, a}')."
+  echo "- On the cluster, the analysis array and the final \`reduce\` against the sweep's array: $(awk -v a="$sweep_end" -v b="$analysis_end" -v c="$reduce_end" 'BEGIN{printf "%.3f (analysis array %.1f s, reduce %.1f s, sweep %.1f s)", (c-a)/a, b-a, c-b, a}')."
   if [ "${ONE_MACHINE:-1}" != 0 ]; then
     echo "- One machine, \`reduce\` against \`run\`: $(awk -v a="$run_s" -v b="$red_s" 'BEGIN{printf "%.3f", b/a}')."
     echo "- Reduced CSV tables the same bytes on both paths: $same of $((same + ${#differ[@]}))${differ:+ (differ: ${differ[*]})}."
