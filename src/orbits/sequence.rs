@@ -99,6 +99,9 @@ struct Flown {
     speeds: Vec<f64>,
     /// The state at the section (`t = 0 mod p T`), `(x, x', z, y')`.
     section: Section,
+    /// Every flight's local extrema of `z` within the clearance (to `1e-9` of it); checked only
+    /// when asked for ([`ImpactOrbit::fly`]), `true` otherwise.
+    inside: bool,
 }
 
 impl ImpactOrbit {
@@ -141,7 +144,7 @@ impl ImpactOrbit {
 
     /// Each impact's approach speed `u_k` (m/s) at `f`, in order: positive approaching the wall.
     pub fn speeds(&self, f: &Forcing) -> Vec<f64> {
-        self.fly(f).speeds
+        self.fly(f, false).speeds
     }
 
     /// The scaled unknowns: phases, `x_1 / L`, `x'_1 / (wn L)`, `y'_1 / (wn L)`.
@@ -165,8 +168,10 @@ impl ImpactOrbit {
         }
     }
 
-    /// The flights of the orbit at `f` (module doc).
-    fn fly(&self, f: &Forcing) -> Flown {
+    /// The flights of the orbit at `f` (module doc); with `check_walls`, each flight's local
+    /// extrema of `z` are checked against the clearance (a grid of 8 points per radian of the
+    /// fastest rate, each extremum refined by golden-section search).
+    fn fly(&self, f: &Forcing, check_walls: bool) -> Flown {
         let (big_m, m, e) = (f.sys.M, f.sys.m, f.sys.e);
         let forced = Forced::new(big_m, f.sys.K, f.sys.C, f.F0, f.omega);
         let l = f.half_gap();
@@ -183,6 +188,8 @@ impl ImpactOrbit {
         let mut residual = Vec::with_capacity(n + 3);
         let mut speeds = Vec::with_capacity(n);
         let mut section = [f64::NAN; 4];
+        let mut inside = true;
+        let rate = f.omega.max(wn).max(f.sys.C / big_m);
         for k in 0..n {
             let phi_a = self.phases[k];
             let phi_b = self.phases.get(k + 1).map_or(self.phases[0] + span, |&p| p);
@@ -190,6 +197,14 @@ impl ImpactOrbit {
             let (h0, g0) = forced.free_start(t_a, a.x, a.v);
             let jet = forced.jet(t_a, h0, g0, t_b);
             let y = a.y + a.w * (t_b - t_a);
+            if check_walls && inside {
+                let len = t_b - t_a;
+                let z = |s: f64| a.y + a.w * s - forced.jet(t_a, h0, g0, t_a + s).x;
+                let cells = ((POINTS_PER_RADIAN * len * rate).ceil() as usize).clamp(16, 1 << 16);
+                inside = local_extremes(&z, [a.w - a.v, a.w - jet.v], len, cells, GOLDEN_STEPS)
+                    .iter()
+                    .all(|&(val, _)| val.abs() <= l * (1.0 + 1e-9));
+            }
             let wall = self.walls[(k + 1) % n];
             residual.push((y - jet.x - wall * l) / l);
             speeds.push(wall * (a.w - jet.v));
@@ -216,6 +231,7 @@ impl ImpactOrbit {
             residual,
             speeds,
             section,
+            inside,
         }
     }
 
@@ -233,39 +249,7 @@ impl ImpactOrbit {
             .iter()
             .enumerate()
             .all(|(k, &u)| k == except || u > floor);
-        ordered && approaching && self.inside(f)
-    }
-
-    /// Every flight's local extrema of `z` within the clearance (to `1e-9` of it).
-    fn inside(&self, f: &Forcing) -> bool {
-        let (big_m, m, e) = (f.sys.M, f.sys.m, f.sys.e);
-        let forced = Forced::new(big_m, f.sys.K, f.sys.C, f.F0, f.omega);
-        let l = f.half_gap();
-        let rate = f.omega.max(f.sys.omega()).max(f.sys.C / big_m);
-        let n = self.walls.len();
-        let span = std::f64::consts::TAU * self.p as f64;
-        let [x1, v1, w1] = self.after;
-        let (mut x, mut v, mut w) = (x1, v1, w1);
-        let mut y = x1 + self.walls[0] * l;
-        for k in 0..n {
-            let phi_b = self.phases.get(k + 1).map_or(self.phases[0] + span, |&p| p);
-            let (t_a, t_b) = (self.phases[k] / f.omega, phi_b / f.omega);
-            let len = t_b - t_a;
-            let (h0, g0) = forced.free_start(t_a, x, v);
-            let z = |s: f64| y + w * s - forced.jet(t_a, h0, g0, t_a + s).x;
-            let end = forced.jet(t_a, h0, g0, t_b);
-            let cells = ((POINTS_PER_RADIAN * len * rate).ceil() as usize).clamp(16, 1 << 16);
-            if local_extremes(&z, [w - v, w - end.v], len, cells, GOLDEN_STEPS)
-                .iter()
-                .any(|&(val, _)| val.abs() > l * (1.0 + 1e-9))
-            {
-                return false;
-            }
-            let wall = self.walls[(k + 1) % n];
-            (v, w) = impact(big_m, m, e, end.v, w);
-            (x, y) = (end.x, end.x + wall * l);
-        }
-        true
+        ordered && approaching && flown.inside
     }
 }
 
@@ -289,20 +273,21 @@ pub fn speed_zero(
     let dim = n + 4;
     let mut u = orbit.to_unknowns(l, wn);
     u.push(1.0);
-    let residual = |u: &[f64]| -> Option<(Vec<f64>, Flown)> {
+    let residual = |u: &[f64]| -> Option<Vec<f64>> {
         let f = at(u[dim - 1] * lambda_start);
         let o = orbit.with_unknowns(&u[..dim - 1], l, wn);
-        let flown = o.fly(&f);
-        let mut r = flown.residual.clone();
+        let flown = o.fly(&f, false);
+        let mut r = flown.residual;
         r.push(flown.speeds[j] / (wn * l));
-        r.iter().all(|v| v.is_finite()).then_some((r, flown))
+        r.iter().all(|v| v.is_finite()).then_some(r)
     };
     for _ in 0..MAX_ITERATIONS {
-        let (r, flown) = residual(&u)?;
+        let r = residual(&u)?;
         let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
         if norm <= TOLERANCE {
             let f = at(u[dim - 1] * lambda_start);
             let o = orbit.with_unknowns(&u[..dim - 1], l, wn);
+            let flown = o.fly(&f, true);
             if !o.admissible(&f, &flown, j) {
                 return None;
             }
@@ -313,8 +298,8 @@ pub fn speed_zero(
             let (mut up, mut dn) = (u.clone(), u.clone());
             up[c] += FD_STEP;
             dn[c] -= FD_STEP;
-            let (rp, _) = residual(&up)?;
-            let (rm, _) = residual(&dn)?;
+            let rp = residual(&up)?;
+            let rm = residual(&dn)?;
             for (row, (a, b)) in rp.iter().zip(&rm).enumerate() {
                 jac[(row, c)] = (a - b) / (2.0 * FD_STEP);
             }
@@ -348,7 +333,7 @@ mod tests {
             .expect("an orbit");
         let io = ImpactOrbit::from_section(&f, &o.section, 1).expect("impacts");
         assert_eq!(io.walls.len(), 2);
-        let flown = io.fly(&f);
+        let flown = io.fly(&f, false);
         let norm = flown.residual.iter().map(|v| v * v).sum::<f64>().sqrt();
         assert!(norm < 1e-9, "residual {norm:e}");
         for u in &flown.speeds {
