@@ -21,7 +21,8 @@
 //! value of `at_values` (a study's grid values of `p`) the curve's point is solved for exactly
 //! (`p` fixed, Newton in `(s, r)`). A curve ends where it leaves the `p` or `r` range, where the
 //! orbit's impact count changes (a grazing: the map is not smooth there; not for a grazing's own
-//! curve), at a failed step below the smallest, or after [`MAX_POINTS`].
+//! curve), at a failed step below the smallest, where it creeps ([`STALL_POINTS`]), or after
+//! [`MAX_POINTS`].
 
 use nalgebra::{DMatrix, DVector, Matrix4};
 
@@ -36,6 +37,14 @@ const GRAZING_TOL: f64 = 1e-9;
 
 /// Most points of one curve on each side of its seed.
 pub const MAX_POINTS: usize = 400;
+
+/// A side whose last [`STALL_POINTS`] points advanced less than [`STALL_ARC`] in the scaled
+/// coordinates (relative `r` and `p`, the section over `d/2`) is creeping: its corrector keeps
+/// failing and halving the step, which then grows back by 1.3 and fails again. It ends there
+/// instead of spending [`MAX_POINTS`] on a stretch that one ordinary step would cover (on a
+/// 100-design forced study a fold's curve crept 800 points over 0.1 % of `m`).
+pub const STALL_POINTS: usize = 100;
+pub const STALL_ARC: f64 = 0.01;
 
 /// The design axis a bifurcation is followed in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -379,6 +388,7 @@ pub fn follow(
         let mut y = y0.clone();
         let mut h = 0.02;
         let mut done = at_values.to_vec();
+        let mut trail: std::collections::VecDeque<DVector<f64>> = Default::default();
         // The seed's own value is the seed.
         done.retain(|&v| (v - sys.p0).abs() > 1e-12 * v.abs().max(1.0));
         while pts.len() < MAX_POINTS {
@@ -417,6 +427,13 @@ pub fn follow(
                 break;
             }
             pts.push(sys.point(&y1, &e1, false));
+            trail.push_back(y1.clone());
+            if trail.len() > STALL_POINTS
+                && let Some(old) = trail.pop_front()
+                && (&y1 - old).norm() < STALL_ARC
+            {
+                break;
+            }
             let Some(t1) = System2::tangent(&a1, &t) else {
                 break;
             };
