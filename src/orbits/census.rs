@@ -564,6 +564,23 @@ pub fn settle(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) ->
     }
 }
 
+/// A start from `s0` up to its first check only ([`FIRST_CHECK`] periods, then the probe):
+/// where it lands (a periodic orbit, the non-impacting family, a failed run), or `None` while
+/// it still wanders. What a probe between designs runs for a chaotic attractor continued from
+/// a neighbouring design: as a seed joins a chaotic attractor that ran its whole budget, it
+/// does not run a budget of its own.
+pub fn first_check(
+    f: &Forcing,
+    s0: &Section,
+    c: &CensusSettings,
+    newton: &Newton,
+) -> Option<Settled> {
+    match begin(f, s0, c, newton, Origin::Start(0), 1, c.max_periods) {
+        Early::Landed(st) => Some(st),
+        Early::Wandering(_) => None,
+    }
+}
+
 /// A start from `s0` up to its first check ([`FIRST_CHECK`] periods, then the probe), with a
 /// budget of `budget` periods in all.
 fn begin(

@@ -92,6 +92,14 @@ pub trait IdealCase: Sync {
     /// `[response, DI]` of the ideal case at the design with these axis values (one per axis,
     /// in axis order); `None` when that run does not end `ok` or the design is not valid.
     fn at(&self, values: &[f64]) -> Option<[f64; 2]>;
+
+    /// The 90 % intervals `[lo, hi]` of `[response, DI]` at the grid design with these axis
+    /// values when they are statistical estimates rather than exact values (a forced design
+    /// whose peak is carried by a motion that is not periodic: its amplitude over the design
+    /// life is estimated from a finite run); `None` when they are exact (the default).
+    fn interval(&self, _values: &[f64]) -> Option<[[f64; 2]; 2]> {
+        None
+    }
 }
 
 /// A located jump.
@@ -121,6 +129,12 @@ pub struct Found {
     pub candidates: usize,
     pub dropped: usize,
     pub failed: usize,
+    /// Candidates whose every point is a statistical estimate ([`IdealCase::interval`]):
+    /// `estimated_steps` of them were steps beyond both ends' intervals (reported at the
+    /// candidate's own width, not bisected), the others changed within the intervals
+    /// (dropped: not resolved by the estimates).
+    pub estimated: usize,
+    pub estimated_steps: usize,
     /// Extra simulations of the ideal case.
     pub sims: u64,
     /// The typical slope `S` of the response along each axis (response units per axis unit).
@@ -183,7 +197,7 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
         }
     }
     found.candidates = cands.len();
-    let located: Vec<(Outcome, u32)> = cands
+    let located: Vec<(Outcome, u32, bool)> = cands
         .par_iter()
         .map(|c| {
             let xs = &grid.axes[c.axis].1;
@@ -192,6 +206,9 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
                 .map(|i| q[(c.line + i as u64 * stride) as usize][c.quantity.index()])
                 .collect();
             let mut values = grid.values(c.line);
+            if let Some(out) = between_estimates(c, xs, &ys, &mut values, ideal) {
+                return (out, 0, true);
+            }
             let k = c.quantity.index();
             let f = |x: f64| {
                 values[c.axis] = x;
@@ -199,7 +216,7 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
             };
             let h = (xs[c.j] - xs[c.i]) / (c.j - c.i) as f64;
             let typical = found.typical_slope[c.axis];
-            locate(
+            let (outcome, sims) = locate(
                 xs,
                 &ys,
                 (c.i, c.j),
@@ -207,11 +224,16 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
                 settings.step_tol[k],
                 kink_threshold(c.quantity, settings, typical),
                 settings.locate * h,
-            )
+            );
+            (outcome, sims, false)
         })
         .collect();
-    for (c, (outcome, sims)) in cands.iter().zip(located) {
+    for (c, (outcome, sims, estimated)) in cands.iter().zip(located) {
         found.sims += u64::from(sims);
+        if estimated {
+            found.estimated += 1;
+            found.estimated_steps += usize::from(matches!(outcome, Outcome::Jump { .. }));
+        }
         match outcome {
             Outcome::Jump {
                 kind,
@@ -243,6 +265,45 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
         }
     }
     found
+}
+
+/// A candidate whose every grid point is a statistical estimate ([`IdealCase::interval`]): no
+/// bisection, since a midpoint's estimate carries the same statistical error as the grid's and
+/// a bisection on it follows that noise. When the intervals at the span's two ends do not
+/// overlap, the change is resolved: a step of `q(j) - q(i)` somewhere in the span, reported at
+/// the span's middle with half its width as `location_tol`. When they overlap it is not
+/// resolved by the estimates ([`Outcome::Smooth`]: dropped). `None` when a point of the span is
+/// exact: the candidate is bisected as usual.
+fn between_estimates(
+    c: &Candidate,
+    xs: &[f64],
+    ys: &[f64],
+    values: &mut [f64],
+    ideal: &dyn IdealCase,
+) -> Option<Outcome> {
+    let k = c.quantity.index();
+    let mut ends = [[f64::NAN; 2]; 2];
+    for (i, &x) in xs.iter().enumerate().take(c.j + 1).skip(c.i) {
+        values[c.axis] = x;
+        let iv = ideal.interval(values)?[k];
+        if i == c.i {
+            ends[0] = iv;
+        } else if i == c.j {
+            ends[1] = iv;
+        }
+    }
+    let [a, b] = ends;
+    let overlap = a[0] <= b[1] && b[0] <= a[1];
+    Some(if overlap {
+        Outcome::Smooth
+    } else {
+        Outcome::Jump {
+            kind: JumpKind::Step,
+            location: 0.5 * (xs[c.i] + xs[c.j]),
+            tol: 0.5 * (xs[c.j] - xs[c.i]),
+            size: ys[c.j] - ys[c.i],
+        }
+    })
 }
 
 /// The median `|slope|`, floored so that a flat response (slope 0 almost everywhere) does not
@@ -601,6 +662,73 @@ mod tests {
         let step = if x > 0.4567 { 0.2 } else { 0.0 };
         let kink = if x > 0.7321 { -1.2 * (x - 0.7321) } else { 0.0 };
         smooth + step + kink
+    }
+
+    /// Estimates everywhere: each grid value of the second quantity (steps only, no kinks)
+    /// known within `±half` (the response unused: NaN); `at` counts the simulations asked for.
+    struct Estimated<F: Fn(f64) -> f64 + Sync> {
+        f: F,
+        half: f64,
+        asked: std::sync::atomic::AtomicU64,
+    }
+
+    impl<F: Fn(f64) -> f64 + Sync> IdealCase for Estimated<F> {
+        fn at(&self, v: &[f64]) -> Option<[f64; 2]> {
+            self.asked
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            Some([f64::NAN, (self.f)(v[0])])
+        }
+
+        fn interval(&self, v: &[f64]) -> Option<[[f64; 2]; 2]> {
+            let y = (self.f)(v[0]);
+            Some([[f64::NAN; 2], [y - self.half, y + self.half]])
+        }
+    }
+
+    #[test]
+    fn between_estimates_a_step_beyond_the_intervals_is_kept_at_grid_width_and_one_within_is_dropped()
+     {
+        let xs = grid_1d(0.1, 0.0, 1.0);
+        let grid = Grid::new(vec![("x".into(), xs.clone())]);
+        let settings = JumpSettings {
+            step_tol: [0.03, 0.03],
+            kink_slope: 1.5,
+            locate: 0.01,
+        };
+        // A step of 0.2 at 0.4567 (beyond intervals of +-0.05) and one of 0.04 at 0.8567 (a
+        // candidate by the step tolerance, but within intervals of +-0.05).
+        let f = |x: f64| {
+            0.1 * x + if x > 0.4567 { 0.2 } else { 0.0 } + if x > 0.8567 { 0.04 } else { 0.0 }
+        };
+        let q: Vec<[f64; 2]> = xs.iter().map(|&x| [f64::NAN, f(x)]).collect();
+        let ideal = Estimated {
+            f,
+            half: 0.05,
+            asked: Default::default(),
+        };
+        let found = find(&grid, &q, &settings, &ideal);
+        assert_eq!(found.candidates, 2, "{found:?}");
+        assert_eq!((found.estimated, found.estimated_steps), (2, 1));
+        assert_eq!(found.dropped, 1);
+        assert_eq!(found.jumps.len(), 1);
+        let j = &found.jumps[0];
+        assert_eq!(j.kind, JumpKind::Step);
+        assert_eq!(j.quantity, Quantity::Di);
+        assert!((j.location - 0.45).abs() < 1e-12 && (j.location_tol - 0.05).abs() < 1e-12);
+        assert!((j.size - (f(0.5) - f(0.4))).abs() < 1e-12);
+        // Nothing bisected: no simulation asked for.
+        assert_eq!(found.sims, 0);
+        assert_eq!(ideal.asked.load(std::sync::atomic::Ordering::Relaxed), 0);
+        // The same function known exactly is bisected and located to 1/100 of the step.
+        struct Exact<F: Fn(f64) -> f64 + Sync>(F);
+        impl<F: Fn(f64) -> f64 + Sync> IdealCase for Exact<F> {
+            fn at(&self, v: &[f64]) -> Option<[f64; 2]> {
+                Some([f64::NAN, (self.0)(v[0])])
+            }
+        }
+        let exact = find(&grid, &q, &settings, &Exact(f));
+        assert_eq!(exact.jumps.len(), 2, "{exact:?}");
+        assert!(exact.jumps.iter().all(|j| j.location_tol <= 0.0005 + 1e-12));
     }
 
     #[test]

@@ -3,15 +3,20 @@
 //!
 //! A probe's design quantity is the curve's peak at that design: the largest design amplitude
 //! over the band, and the peak reduction against the linear system's peak over the band. With
-//! the attractors the sweep stored, no census runs: at each frequency, every attractor of the
+//! the attractors the sweep stored, no census runs: at each frequency, the attractors of the
 //! grid designs that bracket the probe (the corners of the grid cell it lies in; two for a
-//! probe along one axis) is *continued* to the probe's design:
+//! probe along one axis) that can carry the peak (their design amplitude within [`NEAR_PEAK`]
+//! of their design's peak) are *continued* to the probe's design:
 //!
 //! * an impacting periodic orbit by Newton on `P^p` from its stored section (kept when it
 //!   converges to a stable orbit; otherwise the state it leads to is settled as a start is);
 //! * the non-impacting family in closed form, where it exists at the probe (where it does not,
 //!   its state is settled as below);
-//! * a motion that is not periodic by a run from its stored state at the probe's design
+//! * a chaotic or quasi-periodic motion (it ran its whole budget at its grid design) by a run
+//!   to its first check ([`first_check`]): where it lands on an orbit, that orbit's amplitude;
+//!   while it still wanders, the same motion continued, with its grid design's amplitude over
+//!   the design life (the quantity the grid's peaks are made of; a window maximum is lower);
+//! * a motion the census could not tell (`not settled`) by a run from its stored state
 //!   ([`settle`]: the census's rule for one start, window and all).
 //!
 //! Only frequencies where a corner's design quantity reaches [`NEAR_PEAK`] of that corner's
@@ -25,7 +30,7 @@ use super::IdealCase;
 use super::analysis::{Plan, Shard, line_key};
 use super::forced::{Curve, CurvePoint, design_study};
 use crate::orbits::attractors::{AttractorRow, SteadyKind};
-use crate::orbits::census::{CensusSettings, Landing, settle};
+use crate::orbits::census::{CensusSettings, Landing, Settled, first_check, settle};
 use crate::orbits::map::Forcing;
 use crate::orbits::response::orbit_from_section;
 use crate::orbits::shoot::{Newton, non_impacting};
@@ -178,8 +183,9 @@ impl<'a> ForcedIdeal<'a> {
             };
             for c0 in corners {
                 let point = c0.design * band.len() as u64 + i as u64;
+                let (p, _) = c0.peak();
                 for a in c0.attractors.iter().flatten() {
-                    if a.run.point == point {
+                    if a.run.point == point && (a.amplitude >= NEAR_PEAK * p || !p.is_finite()) {
                         let amp = continue_to(&f, a, &c, &newton)?;
                         peak = peak.max(amp);
                     }
@@ -252,19 +258,59 @@ fn continue_to(f: &Forcing, a: &AttractorRow, c: &CensusSettings, newton: &Newto
             Some(o) => Some(o.amplitude),
             None => settled(f, a, c, newton),
         },
-        _ => settled(f, a, c, newton),
+        // A chaotic or quasi-periodic attractor ran its whole budget at its grid design; at the
+        // probe it runs to its first check only: where it lands is exact, and while it wanders
+        // it is that motion continued, with its grid design's amplitude over the design life
+        // (the grid's own estimate, not a shorter and lower window maximum).
+        SteadyKind::Chaotic | SteadyKind::QuasiPeriodic => {
+            match first_check(f, &a.section, c, newton) {
+                Some(st) => landed(st),
+                None => Some(a.amplitude),
+            }
+        }
+        SteadyKind::NotSettled => settled(f, a, c, newton),
     }
 }
 
-fn settled(f: &Forcing, a: &AttractorRow, c: &CensusSettings, newton: &Newton) -> Option<f64> {
-    let st = settle(f, &a.section, c, newton);
+fn landed(st: Settled) -> Option<f64> {
     match st.landing {
         Landing::Orbit(o) => Some(o.amplitude),
         Landing::NonPeriodic { amplitude, .. } => amplitude.is_finite().then_some(amplitude),
     }
 }
 
+fn settled(f: &Forcing, a: &AttractorRow, c: &CensusSettings, newton: &Newton) -> Option<f64> {
+    landed(settle(f, &a.section, c, newton))
+}
+
 impl IdealCase for ForcedIdeal<'_> {
+    /// A grid design whose peak is carried by a motion that is not periodic: the peak is its
+    /// amplitude over the design life, an estimate with a 90 % interval (`life_lo`, `life_hi`;
+    /// a motion without a life estimate has only its window maximum, a lower bound). The peak
+    /// reduction's interval follows, `1 - [hi, lo] / linear peak`.
+    fn interval(&self, values: &[f64]) -> Option<[[f64; 2]; 2]> {
+        let &[d] = self.corners(values).as_slice() else {
+            return None;
+        };
+        let c = self.curves.binary_search_by_key(&d, |c| c.design).ok()?;
+        let curve = &self.curves[c];
+        let a = curve.peak_attractor()?;
+        if matches!(a.kind, SteadyKind::Periodic | SteadyKind::Neutral) {
+            return None;
+        }
+        let (lo, hi) = if a.life_lo.is_finite() && a.life_hi.is_finite() {
+            (a.life_lo.min(a.amplitude), a.life_hi.max(a.amplitude))
+        } else {
+            (a.amplitude, f64::INFINITY)
+        };
+        let linear = curve
+            .points
+            .iter()
+            .map(|p| p.linear)
+            .fold(f64::NAN, f64::max);
+        Some([[lo, hi], [1.0 - hi / linear, 1.0 - lo / linear]])
+    }
+
     fn at(&self, values: &[f64]) -> Option<[f64; 2]> {
         let key: Vec<u64> = values.iter().map(|v| v.to_bits()).collect();
         if let Some(v) = self.seen.lock().ok().and_then(|m| m.get(&key).copied()) {

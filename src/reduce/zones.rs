@@ -162,6 +162,10 @@ pub struct JumpStats {
     pub candidates: usize,
     pub dropped: usize,
     pub failed: usize,
+    /// Candidates between statistical estimates, and the steps among them
+    /// ([`jumps::Found::estimated`]).
+    pub estimated: usize,
+    pub estimated_steps: usize,
     /// Extra simulations of the ideal case.
     pub sims: u64,
 }
@@ -366,6 +370,8 @@ pub fn find(
             candidates: found.candidates,
             dropped: found.dropped,
             failed: found.failed,
+            estimated: found.estimated,
+            estimated_steps: found.estimated_steps,
             sims: found.sims,
         },
         di_strong,

@@ -43,10 +43,19 @@ pub fn section(s: &Summary) -> String {
     );
     let _ = writeln!(
         o,
-        "{}, {}: {} located, {} dropped{}.\n",
+        "{}, {}: {}{}, {} dropped{}.\n",
         count(st.candidates as u64, "candidate", "candidates"),
         count(st.sims, "extra simulation", "extra simulations"),
         count(s.jumps.len() as u64, "jump", "jumps"),
+        if st.estimated_steps > 0 {
+            format!(
+                " ({} located by bisection, {} between estimates)",
+                s.jumps.len().saturating_sub(st.estimated_steps),
+                st.estimated_steps
+            )
+        } else {
+            " located".to_string()
+        },
         count(st.dropped as u64, "smooth stretch", "smooth stretches"),
         if st.failed > 0 {
             format!(
@@ -57,6 +66,15 @@ pub fn section(s: &Summary) -> String {
             String::new()
         }
     );
+    if st.estimated > 0 {
+        let _ = writeln!(
+            o,
+            "{} of the candidates lay between designs whose peaks are estimates: a motion that is not periodic carries the peak at every point of the span, and its amplitude over the design life is known within a 90 % interval. A midpoint's estimate has the same statistical error, so these are not bisected: {} changed beyond both ends' intervals and are reported as steps at the span's own width (`location_tol` is half the span); {} changed within the intervals and are counted among the dropped.\n",
+            st.estimated,
+            st.estimated_steps,
+            st.estimated - st.estimated_steps,
+        );
+    }
     if s.jumps.is_empty() {
         let _ = writeln!(o, "No jump along any axis.\n");
         return o;
