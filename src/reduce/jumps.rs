@@ -87,10 +87,17 @@ pub struct JumpSettings {
     pub locate: f64,
 }
 
+/// What [`IdealCase::at`] returns for a quantity that is not known exactly at that design but
+/// only as a statistical estimate (a forced probe whose peak may be carried by a chaotic motion
+/// whose amplitude over the design life was not measured there): a bisection stops at it
+/// ([`locate`]).
+pub const UNRESOLVED: f64 = f64::INFINITY;
+
 /// The ideal case simulated anywhere in the design space (not only on the grid).
 pub trait IdealCase: Sync {
     /// `[response, DI]` of the ideal case at the design with these axis values (one per axis,
-    /// in axis order); `None` when that run does not end `ok` or the design is not valid.
+    /// in axis order); `None` when that run does not end `ok` or the design is not valid;
+    /// [`UNRESOLVED`] for a quantity known there only as an estimate.
     fn at(&self, values: &[f64]) -> Option<[f64; 2]>;
 
     /// The 90 % intervals `[lo, hi]` of `[response, DI]` at the grid design with these axis
@@ -135,10 +142,22 @@ pub struct Found {
     /// (dropped: not resolved by the estimates).
     pub estimated: usize,
     pub estimated_steps: usize,
+    /// Steps whose bisection stopped at a midpoint known only as an estimate ([`UNRESOLVED`]),
+    /// reported at the bracket it reached.
+    pub stopped_steps: usize,
     /// Extra simulations of the ideal case.
     pub sims: u64,
     /// The typical slope `S` of the response along each axis (response units per axis unit).
     pub typical_slope: Vec<f64>,
+}
+
+/// How a candidate was decided: between estimates (not bisected), by a bisection stopped at an
+/// estimate, or by a whole bisection.
+#[derive(Clone, Copy, PartialEq)]
+enum Via {
+    Estimates,
+    Stopped,
+    Bisection,
 }
 
 /// One candidate span: axis, quantity, the line's first point, grid indices `i < j`.
@@ -197,7 +216,7 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
         }
     }
     found.candidates = cands.len();
-    let located: Vec<(Outcome, u32, bool)> = cands
+    let located: Vec<(Outcome, u32, Via)> = cands
         .par_iter()
         .map(|c| {
             let xs = &grid.axes[c.axis].1;
@@ -207,7 +226,7 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
                 .collect();
             let mut values = grid.values(c.line);
             if let Some(out) = between_estimates(c, xs, &ys, &mut values, ideal) {
-                return (out, 0, true);
+                return (out, 0, Via::Estimates);
             }
             let k = c.quantity.index();
             let f = |x: f64| {
@@ -216,7 +235,7 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
             };
             let h = (xs[c.j] - xs[c.i]) / (c.j - c.i) as f64;
             let typical = found.typical_slope[c.axis];
-            let (outcome, sims) = locate(
+            let (outcome, sims, stopped) = locate(
                 xs,
                 &ys,
                 (c.i, c.j),
@@ -225,14 +244,27 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
                 kink_threshold(c.quantity, settings, typical),
                 settings.locate * h,
             );
-            (outcome, sims, false)
+            (
+                outcome,
+                sims,
+                if stopped {
+                    Via::Stopped
+                } else {
+                    Via::Bisection
+                },
+            )
         })
         .collect();
-    for (c, (outcome, sims, estimated)) in cands.iter().zip(located) {
+    for (c, (outcome, sims, via)) in cands.iter().zip(located) {
         found.sims += u64::from(sims);
-        if estimated {
-            found.estimated += 1;
-            found.estimated_steps += usize::from(matches!(outcome, Outcome::Jump { .. }));
+        let jump = matches!(outcome, Outcome::Jump { .. });
+        match via {
+            Via::Estimates => {
+                found.estimated += 1;
+                found.estimated_steps += usize::from(jump);
+            }
+            Via::Stopped => found.stopped_steps += usize::from(jump),
+            Via::Bisection => {}
         }
         match outcome {
             Outcome::Jump {
@@ -458,7 +490,8 @@ impl Side {
 /// side that gets `m` adds it as its nearest point. A square-root corner (one side's slope
 /// unbounded at the jump, as at a grazing impact) is then located as well as a clean kink or a
 /// step: the smooth side's tight prediction decides, the corner side's large curvature makes
-/// its own test loose.
+/// its own test loose. Returns the outcome, the simulations asked for, and whether the
+/// bisection stopped at a midpoint known only as an estimate ([`UNRESOLVED`]).
 pub fn locate(
     xs: &[f64],
     ys: &[f64],
@@ -467,7 +500,7 @@ pub fn locate(
     step_tol: f64,
     kink: Option<f64>,
     tol: f64,
-) -> (Outcome, u32) {
+) -> (Outcome, u32, bool) {
     let finite = |k: &usize| ys[*k].is_finite();
     let mut left = Side {
         pts: (i.saturating_sub(2)..=i)
@@ -495,8 +528,8 @@ pub fn locate(
             break; // the bracket is down to adjacent doubles
         }
         sims += 1;
-        let Some(fm) = f(m).filter(|v| v.is_finite()) else {
-            return (Outcome::Failed, sims);
+        let Some(fm) = f(m).filter(|v| v.is_finite() || *v == UNRESOLVED) else {
+            return (Outcome::Failed, sims, false);
         };
         let (sl, sr) = (left.slope(), right.slope());
         let (sl, sr) = (
@@ -515,6 +548,13 @@ pub fn locate(
                 0.0
             },
         );
+        if fm == UNRESOLVED {
+            return (
+                unresolved_stop(&left, &right, (sl, sr), step_tol),
+                sims,
+                true,
+            );
+        }
         let (pl, el) = left.predict(m, sl);
         let (pr, er) = right.predict(m, sr);
         let (dl, dr) = ((fm - pl).abs(), (fm - pr).abs());
@@ -530,9 +570,16 @@ pub fn locate(
             (false, false) => {
                 let eps = (b - a) / 64.0;
                 sims += 1;
-                let Some(fe) = f(m - eps).filter(|v| v.is_finite()) else {
-                    return (Outcome::Failed, sims);
+                let Some(fe) = f(m - eps).filter(|v| v.is_finite() || *v == UNRESOLVED) else {
+                    return (Outcome::Failed, sims, false);
                 };
+                if fe == UNRESOLVED {
+                    return (
+                        unresolved_stop(&left, &right, (sl, sr), step_tol),
+                        sims,
+                        true,
+                    );
+                }
                 let s = (fm - fe) / eps;
                 (s - sl).abs() <= (s - sr).abs()
             }
@@ -554,7 +601,27 @@ pub fn locate(
         .take_while(|br| br.b - br.a <= 10.0 * tol)
         .find_map(|br| br.class(step_tol, kink))
         .unwrap_or(Outcome::Smooth);
-    (outcome, sims)
+    (outcome, sims, false)
+}
+
+/// The bisection stopped at a midpoint known only as an estimate ([`UNRESOLVED`]): it cannot
+/// say which side that point is on, so the bracket reached is the location. A step when the
+/// change across it is not explained by either side's trend (by `step_tol` or more, as a step
+/// candidate is found), else dropped; a kink is not told at an estimate's resolution.
+fn unresolved_stop(left: &Side, right: &Side, (sl, sr): (f64, f64), step_tol: f64) -> Outcome {
+    let ((a, fa), (b, fb)) = (left.last(), right.last());
+    let (pl, _) = left.predict(b, sl);
+    let (pr, _) = right.predict(a, sr);
+    if (fb - pl).abs().min((fa - pr).abs()) >= step_tol {
+        Outcome::Jump {
+            kind: JumpKind::Step,
+            location: 0.5 * (a + b),
+            tol: 0.5 * (b - a),
+            size: fb - fa,
+        }
+    } else {
+        Outcome::Smooth
+    }
 }
 
 /// One bracket of the bisection: its ends and values, and the secants either side.
@@ -729,6 +796,43 @@ mod tests {
         let exact = find(&grid, &q, &settings, &Exact(f));
         assert_eq!(exact.jumps.len(), 2, "{exact:?}");
         assert!(exact.jumps.iter().all(|j| j.location_tol <= 0.0005 + 1e-12));
+    }
+
+    #[test]
+    fn a_bisection_stops_at_an_unresolved_midpoint_with_the_bracket_it_reached() {
+        // DI slot (steps only). A step of 0.2 at 0.4567; the midpoints in (0.42, 0.48) are
+        // estimates.
+        struct Partly;
+        impl IdealCase for Partly {
+            fn at(&self, v: &[f64]) -> Option<[f64; 2]> {
+                let x = v[0];
+                let y = if x > 0.42 && x < 0.48 {
+                    UNRESOLVED
+                } else {
+                    0.1 * x + if x > 0.4567 { 0.2 } else { 0.0 }
+                };
+                Some([f64::NAN, y])
+            }
+        }
+        let xs = grid_1d(0.1, 0.0, 1.0);
+        let q: Vec<[f64; 2]> = xs
+            .iter()
+            .map(|&x| [f64::NAN, Partly.at(&[x]).unwrap()[1]])
+            .collect();
+        let grid = Grid::new(vec![("x".into(), xs)]);
+        let settings = JumpSettings {
+            step_tol: [0.05, 0.05],
+            kink_slope: 1.5,
+            locate: 0.01,
+        };
+        let found = find(&grid, &q, &settings, &Partly);
+        assert_eq!(found.jumps.len(), 1, "{found:?}");
+        let j = &found.jumps[0];
+        assert_eq!(j.kind, JumpKind::Step);
+        // The first midpoint, 0.45, is an estimate: the bracket [0.4, 0.5] is the location.
+        assert!((j.location - 0.45).abs() < 1e-12 && (j.location_tol - 0.05).abs() < 1e-12);
+        assert_eq!(found.sims, 1);
+        assert_eq!(found.failed, 0);
     }
 
     #[test]

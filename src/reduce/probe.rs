@@ -14,8 +14,11 @@
 //!   its state is settled as below);
 //! * a chaotic or quasi-periodic motion (it ran its whole budget at its grid design) by a run
 //!   to its first check ([`first_check`]): where it lands on an orbit, that orbit's amplitude;
-//!   while it still wanders, the same motion continued, with its grid design's amplitude over
-//!   the design life (the quantity the grid's peaks are made of; a window maximum is lower);
+//!   while it still wanders, the same motion continued, whose amplitude over the design life
+//!   (the quantity the grid's peaks are made of; a window maximum is lower) is not measured
+//!   here: where the bracketing designs' life amplitudes at that frequency reach above the
+//!   probe's exact peak ([`ForcedIdeal::wandering_level`]), the probe's peak is an estimate and
+//!   the probe returns [`UNRESOLVED`] (the bisection stops there);
 //! * a motion the census could not tell (`not settled`) by a run from its stored state
 //!   ([`settle`]: the census's rule for one start, window and all).
 //!
@@ -29,6 +32,7 @@
 use super::IdealCase;
 use super::analysis::{Plan, Shard, line_key};
 use super::forced::{Curve, CurvePoint, design_study};
+use super::jumps::UNRESOLVED;
 use crate::orbits::attractors::{AttractorRow, SteadyKind};
 use crate::orbits::census::{CensusSettings, Landing, Settled, first_check, settle};
 use crate::orbits::map::Forcing;
@@ -154,7 +158,7 @@ impl<'a> ForcedIdeal<'a> {
         let (sys, h) = self.design(values)?;
         let band = self.band(&sys, h)?;
         let newton = Newton::default();
-        let (mut peak, mut linear) = (f64::NAN, f64::NAN);
+        let (mut peak, mut linear, mut unresolved) = (f64::NAN, f64::NAN, f64::NAN);
         for (i, scene) in band.iter().enumerate() {
             let f = Forcing {
                 sys,
@@ -181,18 +185,41 @@ impl<'a> ForcedIdeal<'a> {
                 point: self.probe_point,
                 spent0: 0,
             };
+            let mut wanders = false;
             for c0 in corners {
                 let point = c0.design * band.len() as u64 + i as u64;
                 let (p, _) = c0.peak();
                 for a in c0.attractors.iter().flatten() {
                     if a.run.point == point && (a.amplitude >= NEAR_PEAK * p || !p.is_finite()) {
-                        let amp = continue_to(&f, a, &c, &newton)?;
-                        peak = peak.max(amp);
+                        match continue_to(&f, a, &c, &newton)? {
+                            Continued::Exact(amp) => peak = peak.max(amp),
+                            Continued::Wanders => wanders = true,
+                        }
                     }
                 }
             }
+            if wanders {
+                unresolved = unresolved.max(Self::wandering_level(corners, i));
+            }
+        }
+        // A chaotic motion that may carry the peak: the peak is an estimate here.
+        if unresolved.is_finite() && (peak.is_nan() || peak < unresolved) {
+            return Some([UNRESOLVED; 2]);
         }
         Some([peak, 1.0 - peak / linear])
+    }
+
+    /// The largest life amplitude of a motion that is not periodic at frequency `i` over the
+    /// bracketing grid designs: what a chaotic motion that still wanders at the probe may
+    /// reach there (its own amplitude over the design life is not measured at the probe: that
+    /// costs the race's 8,000 periods or more per motion).
+    fn wandering_level(corners: &[&Curve], i: usize) -> f64 {
+        corners
+            .iter()
+            .flat_map(|c| c.attractors_at(i))
+            .filter(|a| !matches!(a.kind, SteadyKind::Periodic | SteadyKind::Neutral))
+            .map(|a| a.amplitude)
+            .fold(f64::NAN, f64::max)
     }
 
     /// The probe's whole curve run afresh (no stored attractors, or `from_rest`).
@@ -236,39 +263,72 @@ impl<'a> ForcedIdeal<'a> {
             })
             .collect();
         match corners {
+            // A grid design itself (a bisection's midpoint can fall on one): its own curve's
+            // peak, from its census and life estimates, as the grid's quantities are.
+            Some(cs)
+                if h.design_peak == DesignPeak::Worst && cs.len() == 1 && self.on_grid(values) =>
+            {
+                let (peak, _) = cs[0].peak();
+                let linear = cs[0]
+                    .points
+                    .iter()
+                    .map(|p| p.linear)
+                    .fold(f64::NAN, f64::max);
+                Some([peak, 1.0 - peak / linear])
+            }
             Some(cs) if h.design_peak == DesignPeak::Worst && !cs.is_empty() => {
                 self.continued(values, &cs)
             }
             _ => self.simulated(values),
         }
     }
+
+    /// Whether every axis value is one of the grid's.
+    fn on_grid(&self, values: &[f64]) -> bool {
+        self.grid
+            .iter()
+            .zip(values)
+            .all(|(axis, v)| axis.contains(v))
+    }
 }
 
-/// The design amplitude that stored attractor `a` continues to at `f` (module doc); `None` when
-/// the continuation's run does not end `ok`.
-fn continue_to(f: &Forcing, a: &AttractorRow, c: &CensusSettings, newton: &Newton) -> Option<f64> {
+/// What a stored attractor continued to a probe is: an exact amplitude (an orbit, or a motion
+/// measured by the census's rule), or a chaotic motion that still wanders.
+enum Continued {
+    Exact(f64),
+    Wanders,
+}
+
+/// What stored attractor `a` continues to at `f` (module doc); `None` when the continuation's
+/// run does not end `ok`.
+fn continue_to(
+    f: &Forcing,
+    a: &AttractorRow,
+    c: &CensusSettings,
+    newton: &Newton,
+) -> Option<Continued> {
+    let exact = |v: Option<f64>| v.map(Continued::Exact);
     match a.kind {
         // Where the walls' motion reaches every placement, the family is gone: its state is
         // settled as a start is.
         SteadyKind::Neutral => match non_impacting(f, a.section[0] + a.section[2]) {
-            Some(o) => Some(o.amplitude),
-            None => settled(f, a, c, newton),
+            Some(o) => Some(Continued::Exact(o.amplitude)),
+            None => exact(settled(f, a, c, newton)),
         },
         SteadyKind::Periodic => match orbit_from_section(f, &a.section, a.period) {
-            Some(o) => Some(o.amplitude),
-            None => settled(f, a, c, newton),
+            Some(o) => Some(Continued::Exact(o.amplitude)),
+            None => exact(settled(f, a, c, newton)),
         },
         // A chaotic or quasi-periodic attractor ran its whole budget at its grid design; at the
         // probe it runs to its first check only: where it lands is exact, and while it wanders
-        // it is that motion continued, with its grid design's amplitude over the design life
-        // (the grid's own estimate, not a shorter and lower window maximum).
+        // it is that motion continued, not measured here ([`ForcedIdeal::wandering_level`]).
         SteadyKind::Chaotic | SteadyKind::QuasiPeriodic => {
             match first_check(f, &a.section, c, newton) {
-                Some(st) => landed(st),
-                None => Some(a.amplitude),
+                Some(st) => exact(landed(st)),
+                None => Some(Continued::Wanders),
             }
         }
-        SteadyKind::NotSettled => settled(f, a, c, newton),
+        SteadyKind::NotSettled => exact(settled(f, a, c, newton)),
     }
 }
 

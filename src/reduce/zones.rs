@@ -166,6 +166,8 @@ pub struct JumpStats {
     /// ([`jumps::Found::estimated`]).
     pub estimated: usize,
     pub estimated_steps: usize,
+    /// Steps whose bisection stopped at an estimate ([`jumps::Found::stopped_steps`]).
+    pub stopped_steps: usize,
     /// Extra simulations of the ideal case.
     pub sims: u64,
 }
@@ -372,6 +374,7 @@ pub fn find(
             failed: found.failed,
             estimated: found.estimated,
             estimated_steps: found.estimated_steps,
+            stopped_steps: found.stopped_steps,
             sims: found.sims,
         },
         di_strong,

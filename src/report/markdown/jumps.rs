@@ -47,10 +47,13 @@ pub fn section(s: &Summary) -> String {
         count(st.candidates as u64, "candidate", "candidates"),
         count(st.sims, "extra simulation", "extra simulations"),
         count(s.jumps.len() as u64, "jump", "jumps"),
-        if st.estimated_steps > 0 {
+        if st.estimated_steps + st.stopped_steps > 0 {
             format!(
-                " ({} located by bisection, {} between estimates)",
-                s.jumps.len().saturating_sub(st.estimated_steps),
+                " ({} located to the tolerance, {} at a bisection's bracket that stopped at an estimate, {} between estimates)",
+                s.jumps
+                    .len()
+                    .saturating_sub(st.estimated_steps + st.stopped_steps),
+                st.stopped_steps,
                 st.estimated_steps
             )
         } else {
@@ -73,6 +76,17 @@ pub fn section(s: &Summary) -> String {
             st.estimated,
             st.estimated_steps,
             st.estimated - st.estimated_steps,
+        );
+    }
+    if st.stopped_steps > 0 {
+        let _ = writeln!(
+            o,
+            "{} stopped at a midpoint whose peak is an estimate (a chaotic motion continued there still wanders, and the bracketing designs' amplitudes over the design life at that frequency reach above the midpoint's exact peak): they are reported at the bracket reached, with half its width as `location_tol`.\n",
+            if st.stopped_steps == 1 {
+                "1 step's bisection".to_string()
+            } else {
+                format!("{} steps' bisections", st.stopped_steps)
+            },
         );
     }
     if s.jumps.is_empty() {
