@@ -269,11 +269,7 @@ impl<'a> ForcedIdeal<'a> {
                 if h.design_peak == DesignPeak::Worst && cs.len() == 1 && self.on_grid(values) =>
             {
                 let (peak, _) = cs[0].peak();
-                let linear = cs[0]
-                    .points
-                    .iter()
-                    .map(|p| p.linear)
-                    .fold(f64::NAN, f64::max);
+                let (linear, _) = cs[0].linear_peak();
                 Some([peak, 1.0 - peak / linear])
             }
             Some(cs) if h.design_peak == DesignPeak::Worst && !cs.is_empty() => {
@@ -363,11 +359,7 @@ impl IdealCase for ForcedIdeal<'_> {
         } else {
             (a.amplitude, f64::INFINITY)
         };
-        let linear = curve
-            .points
-            .iter()
-            .map(|p| p.linear)
-            .fold(f64::NAN, f64::max);
+        let (linear, _) = curve.linear_peak();
         Some([[lo, hi], [1.0 - hi / linear, 1.0 - lo / linear]])
     }
 
