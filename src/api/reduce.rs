@@ -201,6 +201,50 @@ fn analysis_plan(
     Ok(Plan { shard: None, prior })
 }
 
+/// The steady states of a harmonic study's designs, a batch of designs at a time (memory for
+/// one batch, not the study's): `attractors.csv` and the `branches` table written as they come;
+/// returns the states the report still needs (the recommended design's `anchor` whole, the
+/// others' located points for the bifurcation curves) and the files written (none when the
+/// study has no steady states to follow).
+fn write_steady_states(
+    study: &Study,
+    fs: &forced::ForcedSummary,
+    anchor: Option<u64>,
+    dir: &Path,
+) -> anyhow::Result<(Vec<crate::orbits::response::Response>, Vec<PathBuf>)> {
+    use store::summary::TableWriter;
+    let mut writers: Option<(TableWriter, TableWriter)> = None;
+    let mut kept = Vec::new();
+    reduce::orbits::steady_states_in_batches(study, fs, |batch| -> anyhow::Result<()> {
+        if batch.is_empty() {
+            return Ok(());
+        }
+        let (attractors, branches) = match writers.as_mut() {
+            Some(w) => w,
+            None => writers.insert((
+                TableWriter::create_csv(&dir.join("attractors.csv"))?,
+                TableWriter::create(dir, TableKind::Branches)?,
+            )),
+        };
+        attractors.append(reduce::orbits::attractors_table(&batch))?;
+        branches.append(reduce::orbits::branches_table(&batch))?;
+        kept.extend(batch.into_iter().map(|r| {
+            if anchor.is_some_and(|a| reduce::orbits::draws_anchor(fs, a, &r)) {
+                r
+            } else {
+                reduce::orbits::located_only(r)
+            }
+        }));
+        Ok(())
+    })?;
+    let mut files = Vec::new();
+    if let Some((attractors, branches)) = writers {
+        files.extend(attractors.finish()?);
+        files.extend(branches.finish()?);
+    }
+    Ok((kept, files))
+}
+
 /// Writes what shard `shard` of the analysis computed (its designs' branches, its jump probes)
 /// into `RUN_DIR/analysis/`.
 fn write_analysis_shard(
@@ -301,15 +345,8 @@ pub fn write_outputs_with(
     }
     let mut chart_files = Vec::new();
     if let Some(fs) = forced {
-        let steady = reduce::orbits::steady_states(study, fs);
-        if !steady.is_empty() {
-            let t = reduce::orbits::attractors_table(&steady);
-            let csv = dir.join("attractors.csv");
-            store::summary::write_csv_in_batches(&csv, t.n_rows(), |r| t.rows(r))?;
-            files.push(csv);
-            let t = reduce::orbits::branches_table(&steady);
-            files.extend(store::summary::write_table(dir, TableKind::Branches, &t)?);
-        }
+        let (steady, written) = write_steady_states(study, fs, summary.anchor(), dir)?;
+        files.extend(written);
         // The located bifurcations followed over the design axes.
         let curves = reduce::bifurcations::curves(
             study,

@@ -29,62 +29,126 @@ use crate::study::Study;
 /// differ only in `F0` make one curve, analysed as the design of its smallest `F0`). Empty
 /// when neither is swept (a "curve" of one point has nothing to follow) or with `starts = 0`.
 pub fn steady_states(study: &Study, fs: &ForcedSummary) -> Vec<Response> {
+    let mut all = Vec::new();
+    let _ = steady_states_in_batches::<()>(study, fs, |batch| {
+        all.extend(batch);
+        Ok(())
+    });
+    all
+}
+
+/// Designs whose steady states [`steady_states_in_batches`] holds at a time, per thread of the
+/// pool (a design's branches take 0.4 MB on average on the 41-frequency curves of the
+/// 1,000-design study of BENCHMARKS.md, 3.5 MB at most); a batch waits for its slowest design.
+pub const BATCH_PER_THREAD: usize = 16;
+
+/// [`steady_states`] a batch of designs at a time, in design order: `each` takes every batch
+/// (the designs of a batch are analysed in parallel), so the caller holds one batch rather
+/// than the study's. A study along `F0` is one batch. Stops at `each`'s first error.
+pub fn steady_states_in_batches<E>(
+    study: &Study,
+    fs: &ForcedSummary,
+    mut each: impl FnMut(Vec<Response>) -> Result<(), E>,
+) -> Result<(), E> {
     let Scene::Harmonic(h) = study.scene else {
-        return Vec::new();
+        return Ok(());
     };
     if h.starts == 0 {
-        return Vec::new();
+        return Ok(());
     }
     if fs.frequency.is_none() {
-        return along_force(study, &h, fs);
+        let all = along_force(study, &h, fs);
+        return if all.is_empty() { Ok(()) } else { each(all) };
     }
+    let batch = (BATCH_PER_THREAD * rayon::current_num_threads()).max(1);
+    for curves in fs.curves.chunks(batch) {
+        each(
+            curves
+                .par_iter()
+                .map(|c| along_frequency(study, &h, fs, c))
+                .collect(),
+        )?;
+    }
+    Ok(())
+}
+
+/// The steady states of one design's curve along the frequency (what an earlier analysis shard
+/// computed, when it did; nothing for a design another shard computes).
+fn along_frequency(
+    study: &Study,
+    h: &crate::sim::Harmonic,
+    fs: &ForcedSummary,
+    c: &Curve,
+) -> Response {
     let plan = &fs.analysis;
-    fs.curves
-        .par_iter()
-        .map(|c| {
-            if let Some(b) = plan.prior.branches_of(c.design) {
-                return Response {
-                    design: c.design,
-                    attractors: c.attractors.clone().unwrap_or_default(),
-                    branches: b,
-                    ..Response::default()
-                };
-            }
-            if !plan.computes_design(c.design) {
-                return Response {
-                    design: c.design,
-                    ..Response::default()
-                };
-            }
-            let sys = c.system;
-            let base = Forcing {
-                sys,
-                F0: c.f0,
-                omega: sys.omega(),
-                settings: study.solver,
-            };
-            let values: Vec<(u64, f64)> = c
-                .points
-                .iter()
-                .enumerate()
-                .map(|(i, p)| {
-                    (
-                        c.design * study.curve_points() + i as u64,
-                        p.omega / sys.omega(),
-                    )
-                })
-                .collect();
-            curve_states(
-                study,
-                &h,
-                &base,
-                c.design,
-                &values,
-                Param::Ratio,
-                c.attractors.as_deref(),
+    if let Some(b) = plan.prior.branches_of(c.design) {
+        return Response {
+            design: c.design,
+            attractors: c.attractors.clone().unwrap_or_default(),
+            branches: b,
+            ..Response::default()
+        };
+    }
+    if !plan.computes_design(c.design) {
+        return Response {
+            design: c.design,
+            ..Response::default()
+        };
+    }
+    let sys = c.system;
+    let base = Forcing {
+        sys,
+        F0: c.f0,
+        omega: sys.omega(),
+        settings: study.solver,
+    };
+    let values: Vec<(u64, f64)> = c
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            (
+                c.design * study.curve_points() + i as u64,
+                p.omega / sys.omega(),
             )
         })
-        .collect()
+        .collect();
+    curve_states(
+        study,
+        h,
+        &base,
+        c.design,
+        &values,
+        Param::Ratio,
+        c.attractors.as_deref(),
+    )
+}
+
+/// Whether `r` holds the steady states the report draws for design `anchor`: its own curve's
+/// along the frequency; along `F0`, its group's ([`force_group`]).
+pub fn draws_anchor(fs: &ForcedSummary, anchor: u64, r: &Response) -> bool {
+    if fs.frequency.is_some() {
+        return r.design == anchor;
+    }
+    let key = fs.curve(anchor).map(force_group);
+    key.is_some() && fs.curve(r.design).map(force_group) == key
+}
+
+/// What the bifurcation curves need of a design's steady states once its rows are written
+/// ([`super::bifurcations::curves`]): its located points with multipliers, no attractors.
+pub fn located_only(r: Response) -> Response {
+    let mut branches: Vec<_> = r
+        .branches
+        .into_iter()
+        .filter(|b| b.located && b.multiplier_max.is_finite())
+        .collect();
+    // The filter reuses the whole table's allocation: give it back.
+    branches.shrink_to_fit();
+    Response {
+        attractors: Vec::new(),
+        branches,
+        ..r
+    }
 }
 
 /// The steady states of one curve (`values`: its points as `(design point, value of param)`):

@@ -105,6 +105,37 @@ impl Table {
         Ok(())
     }
 
+    /// Appends `other`'s rows (a table of the same columns, in the same order; an empty table
+    /// takes `other` as it is).
+    pub fn append(&mut self, other: Table) {
+        if self.columns.is_empty() {
+            *self = other;
+            return;
+        }
+        for ((_, a), (_, b)) in self.columns.iter_mut().zip(other.columns) {
+            a.extend(b);
+        }
+    }
+
+    /// Splits the table at row `at`: keeps rows `..at`, returns rows `at..` (no copy of the
+    /// rows kept).
+    pub fn split_off(&mut self, at: usize) -> Table {
+        let columns = self
+            .columns
+            .iter_mut()
+            .map(|(name, c)| {
+                let rest = match c {
+                    Column::F64(v) => Column::F64(v.split_off(at)),
+                    Column::U64(v) => Column::U64(v.split_off(at)),
+                    Column::Bool(v) => Column::Bool(v.split_off(at)),
+                    Column::Str(v) => Column::Str(v.split_off(at)),
+                };
+                (name.clone(), rest)
+            })
+            .collect();
+        Table { columns }
+    }
+
     /// The columns named in `names`, in that order (names not in the table are left out).
     pub fn select(mut self, names: &[String]) -> Table {
         let mut columns = Vec::with_capacity(names.len());

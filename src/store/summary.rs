@@ -10,7 +10,7 @@
 //! row group, like every other file the tool writes.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::BufWriter;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -74,39 +74,106 @@ pub fn write_table_in_batches(
     n_rows: usize,
     make: impl Fn(Range<usize>) -> Table,
 ) -> Result<Vec<PathBuf>> {
-    let parquet = dir.join(format!("{}.parquet", kind.name()));
-    let csv = dir.join(format!("{}.csv", kind.name()));
-    let (ptmp, ctmp) = (super::tmp_path(&parquet), super::tmp_path(&csv));
-    let create = |p: &Path| {
-        File::create(p)
-            .map(BufWriter::new)
-            .with_context(|| format!("creating {}", p.display()))
-    };
-    let mut csv_out = create(&ctmp)?;
-    let mut writer: Option<ArrowWriter<BufWriter<File>>> = None;
+    let mut w = TableWriter::create(dir, kind)?;
     let mut start = 0;
     loop {
         // At least one batch, so that an empty table still gets its header and schema.
         let end = (start + BATCH_ROWS).min(n_rows);
-        let table = make(start..end);
-        if start == 0 {
+        w.append(make(start..end))?;
+        start = end;
+        if start >= n_rows {
+            break;
+        }
+    }
+    w.finish()
+}
+
+/// A table written as it is made: [`TableWriter::append`] takes its rows a part at a time (a
+/// table of the same columns each time), CSV lines at once and Parquet row groups of
+/// [`BATCH_ROWS`] rows, so a table whose rows come from many designs holds at most one row
+/// group's rows; [`TableWriter::finish`] renames the temporary files into place. The bytes are
+/// those of [`write_table`] of the whole table. Without [`TableWriter::finish`] (an error on the
+/// way) only the temporary files exist.
+pub struct TableWriter {
+    /// The table's kind, `NAME.parquet` and its temporary name (`None`: a CSV file alone).
+    parquet: Option<(TableKind, PathBuf, PathBuf)>,
+    /// `NAME.csv` and its temporary name.
+    csv: (PathBuf, PathBuf),
+    csv_out: BufWriter<File>,
+    writer: Option<ArrowWriter<BufWriter<File>>>,
+    /// Rows appended and not yet written to Parquet (fewer than [`BATCH_ROWS`]).
+    pending: Table,
+    header: bool,
+}
+
+fn create(p: &Path) -> Result<BufWriter<File>> {
+    File::create(p)
+        .map(BufWriter::new)
+        .with_context(|| format!("creating {}", p.display()))
+}
+
+impl TableWriter {
+    /// Starts `NAME.parquet` and `NAME.csv` in `dir` (`NAME` the table's name).
+    pub fn create(dir: &Path, kind: TableKind) -> Result<TableWriter> {
+        let parquet = dir.join(format!("{}.parquet", kind.name()));
+        let ptmp = super::tmp_path(&parquet);
+        let mut w = TableWriter::create_csv(&dir.join(format!("{}.csv", kind.name())))?;
+        w.parquet = Some((kind, parquet, ptmp));
+        Ok(w)
+    }
+
+    /// Starts the CSV file `path` alone (a chart's data, the attractors' CSV).
+    pub fn create_csv(path: &Path) -> Result<TableWriter> {
+        let tmp = super::tmp_path(path);
+        Ok(TableWriter {
+            parquet: None,
+            csv_out: create(&tmp)?,
+            csv: (path.to_path_buf(), tmp),
+            writer: None,
+            pending: Table::default(),
+            header: false,
+        })
+    }
+
+    /// Appends `table`'s rows (the first table gives the header, even with no rows).
+    pub fn append(&mut self, table: Table) -> Result<()> {
+        let ctmp = &self.csv.1;
+        if !self.header {
             table
-                .write_csv_header(&mut csv_out)
+                .write_csv_header(&mut self.csv_out)
                 .with_context(|| format!("writing {}", ctmp.display()))?;
+            self.header = true;
         }
         table
-            .write_csv_rows(&mut csv_out)
+            .write_csv_rows(&mut self.csv_out)
             .with_context(|| format!("writing {}", ctmp.display()))?;
-        let batch = record_batch(kind, table)?;
-        let w = match writer.as_mut() {
+        if self.parquet.is_none() {
+            return Ok(());
+        }
+        self.pending.append(table);
+        while self.pending.n_rows() >= BATCH_ROWS {
+            let rest = self.pending.split_off(BATCH_ROWS);
+            let group = std::mem::replace(&mut self.pending, rest);
+            self.write_group(group)?;
+        }
+        Ok(())
+    }
+
+    /// Writes one row group of Parquet (the writer starts with the first).
+    fn write_group(&mut self, table: Table) -> Result<()> {
+        let Some((kind, _, ptmp)) = &self.parquet else {
+            return Ok(());
+        };
+        let batch = record_batch(*kind, table)?;
+        let w = match self.writer.as_mut() {
             Some(w) => w,
-            None => writer.insert(
+            None => self.writer.insert(
                 ArrowWriter::try_new(
-                    create(&ptmp)?,
+                    create(ptmp)?,
                     batch.schema(),
                     Some(super::properties(
-                        kind,
-                        n_rows.min(BATCH_ROWS),
+                        *kind,
+                        BATCH_ROWS,
                         &super::WriteOptions::default(),
                     )),
                 )
@@ -114,20 +181,31 @@ pub fn write_table_in_batches(
             ),
         };
         w.write(&batch)
-            .with_context(|| format!("writing {}", ptmp.display()))?;
-        start = end;
-        if start >= n_rows {
-            break;
+            .with_context(|| format!("writing {}", ptmp.display()))
+    }
+
+    /// Writes what is pending, closes both files and renames them into place; returns their
+    /// paths (Parquet first).
+    pub fn finish(mut self) -> Result<Vec<PathBuf>> {
+        let mut files = Vec::new();
+        if self.parquet.is_some() {
+            let rest = std::mem::take(&mut self.pending);
+            if rest.n_rows() > 0 || self.writer.is_none() {
+                self.write_group(rest)?;
+            }
         }
+        if let (Some(w), Some((_, parquet, ptmp))) = (self.writer.take(), &self.parquet) {
+            let file = w
+                .into_inner()
+                .with_context(|| format!("finishing {}", ptmp.display()))?;
+            finish(file, ptmp, parquet)?;
+            files.push(parquet.clone());
+        }
+        let (csv, ctmp) = &self.csv;
+        finish(self.csv_out, ctmp, csv)?;
+        files.push(csv.clone());
+        Ok(files)
     }
-    if let Some(w) = writer {
-        let file = w
-            .into_inner()
-            .with_context(|| format!("finishing {}", ptmp.display()))?;
-        finish(file, &ptmp, &parquet)?;
-    }
-    finish(csv_out, &ctmp, &csv)?;
-    Ok(vec![parquet, csv])
 }
 
 /// Flushes and syncs `out` (written to `tmp`), then renames `tmp` to `path`.
@@ -161,29 +239,17 @@ pub fn write_csv_in_batches(
     n_rows: usize,
     make: impl Fn(Range<usize>) -> Table,
 ) -> Result<()> {
-    let tmp = super::tmp_path(path);
-    let mut out = File::create(&tmp)
-        .map(BufWriter::new)
-        .with_context(|| format!("creating {}", tmp.display()))?;
+    let mut w = TableWriter::create_csv(path)?;
     let mut start = 0;
     loop {
         let end = (start + BATCH_ROWS).min(n_rows);
-        let table = make(start..end);
-        if start == 0 {
-            table.write_csv_header(&mut out)
-        } else {
-            Ok(())
-        }
-        .and_then(|()| table.write_csv_rows(&mut out))
-        .with_context(|| format!("writing {}", tmp.display()))?;
+        w.append(make(start..end))?;
         start = end;
         if start >= n_rows {
             break;
         }
     }
-    out.flush()
-        .with_context(|| format!("writing {}", tmp.display()))?;
-    finish(out, &tmp, path)
+    w.finish().map(|_| ())
 }
 
 /// Reads a Parquet file of the reducer's kind of table back into a [`Table`] (Float64, UInt64,
@@ -231,4 +297,57 @@ pub fn read_table(path: &Path) -> Result<Table> {
         }
     }
     Ok(table)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(rows: Range<usize>) -> Table {
+        let mut t = Table::default();
+        t.push(
+            "point",
+            Column::U64(rows.clone().map(|i| Some(i as u64)).collect()),
+        );
+        t.push(
+            "r",
+            Column::F64(rows.clone().map(|i| i as f64 / 7.0).collect()),
+        );
+        t.push(
+            "label",
+            Column::Str(rows.map(|i| format!("l{}", i % 5)).collect()),
+        );
+        t
+    }
+
+    #[test]
+    fn a_table_appended_in_pieces_gives_the_bytes_of_the_whole() {
+        let n = 2 * BATCH_ROWS + 1234;
+        let (whole, pieces) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        write_table(whole.path(), TableKind::Branches, &table(0..n)).unwrap();
+        let mut w = TableWriter::create(pieces.path(), TableKind::Branches).unwrap();
+        // Pieces that straddle the row groups' boundaries, an empty one among them.
+        for r in [0..1, 1..70_000, 70_000..70_000, 70_000..n] {
+            w.append(table(r)).unwrap();
+        }
+        let files = w.finish().unwrap();
+        assert_eq!(files.len(), 2);
+        for name in ["branches.parquet", "branches.csv"] {
+            let a = std::fs::read(whole.path().join(name)).unwrap();
+            let b = std::fs::read(pieces.path().join(name)).unwrap();
+            assert!(a == b, "{name} differs");
+        }
+        assert_eq!(read_table(&files[0]).unwrap(), table(0..n));
+    }
+
+    #[test]
+    fn an_empty_table_still_has_its_header_and_schema() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut w = TableWriter::create(dir.path(), TableKind::Branches).unwrap();
+        w.append(table(0..0)).unwrap();
+        let files = w.finish().unwrap();
+        let csv = std::fs::read_to_string(dir.path().join("branches.csv")).unwrap();
+        assert_eq!(csv, "point,r,label\n");
+        assert_eq!(read_table(&files[0]).unwrap().columns.len(), 3);
+    }
 }

@@ -672,14 +672,9 @@ pub fn charts(
     }
     // The steady-state charts: against the frequency, or against F0 for a study at one
     // frequency that sweeps the force (the response of the anchor's group of forces).
-    let found = if f.frequency.is_some() {
-        steady.iter().find(|r| r.design == anchor)
-    } else {
-        let key = f.curve(anchor).map(crate::reduce::orbits::force_group);
-        steady.iter().find(|r| {
-            key.is_some() && f.curve(r.design).map(crate::reduce::orbits::force_group) == key
-        })
-    };
+    let found = steady
+        .iter()
+        .find(|r| crate::reduce::orbits::draws_anchor(f, anchor, r));
     if let Some(r) = found {
         files.extend(super::steady_states::charts(s, f, r, anchor, samples, dir)?);
     }
