@@ -23,14 +23,21 @@
 //!    each side judging whether `q(m)` follows its own trend ([`locate`] has the rule). It stops
 //!    when the bracket is at most `locate · h` wide (`locate` defaults to 1/100 of the grid
 //!    step): `location` is its middle, `location_tol` half its width.
-//! 3. **Class.** On the final bracket `[a, b]`: a **step** when the change stays,
-//!    `|q(b) - q(a)| >= step_tol` (size: `q(b) - q(a)`, the quantity's units); otherwise a
+//! 3. **Class.** On the final bracket `[a, b]`: a **step** when the change stays and is not
+//!    the trend's, `min |q(b) - q(a) - s (b - a)| >= step_tol` over the secants `s` either
+//!    side (size: `q(b) - q(a)`, the quantity's units). At a wider bracket (at most ten
+//!    tolerances) a change of `step_tol` is a step only when it persists as the bracket is cut
+//!    into eight and the part with the largest change cut again, down to the tolerance: a
+//!    steep or hard-curving smooth stretch does not. Otherwise a
 //!    **kink** (response only) when only the slope changes, `|s_R - s_L| >= kink_slope · S`
 //!    with the secants either side at the bracket's scale (size: `s_R - s_L`, the quantity's
 //!    units per axis unit). A kink of the square-root kind (a grazing impact) has an ever
 //!    steeper side and is a kink; a corner rounded over more than the tolerance is reported at
-//!    the finest bracket, at most ten tolerances wide, that still classes. Otherwise the
-//!    candidate was a steep but smooth stretch and is dropped.
+//!    the finest bracket, at most ten tolerances wide, that still classes. Otherwise the whole
+//!    span is cut the same way, following its largest change: the bisection follows the
+//!    sides' trends, and a quantity with several steps close together (DI, where the second
+//!    peak changes identity again and again) can lead it off its steps. A candidate with no
+//!    step there either was a steep but smooth stretch and is dropped.
 //!
 //! DI gets steps only: DI = (X1 - X2)/(t2 - t1) depends on the impacts of the second
 //! half-cycle and its slope changes at every grazing impact there (hundreds of times along e in
@@ -125,6 +132,29 @@ pub struct Jump {
     /// A step: `q(b) - q(a)` (the quantity's units). A kink: the change of slope (the
     /// quantity's units per axis unit).
     pub size: f64,
+}
+
+impl Jump {
+    /// The grid values of its axis around its interval `location ± location_tol`: the largest
+    /// at or below it and the smallest at or above it (the two either side for a jump located
+    /// within one grid step; further apart for a step reported at a wider bracket).
+    pub fn grid_span(&self, grid: &Grid) -> (f64, f64) {
+        let xs = &grid.axes[self.axis].1;
+        let (first, last) = (xs[0], xs[xs.len() - 1]);
+        // The bracket's ends are grid values rounded through `location ± location_tol`.
+        let slack = 1e-9 * (last - first).abs();
+        let (lo, hi) = (
+            self.location - self.location_tol + slack,
+            self.location + self.location_tol - slack,
+        );
+        (
+            xs.iter()
+                .copied()
+                .filter(|&x| x <= lo)
+                .fold(first, f64::max),
+            xs.iter().copied().filter(|&x| x >= hi).fold(last, f64::min),
+        )
+    }
 }
 
 /// What [`find`] returns.
@@ -591,17 +621,86 @@ pub fn locate(
         }
         brackets.push(Bracket::of(&left, &right));
     }
-    // The finest bracket across which the value or the slope still changes enough, no wider
-    // than ten tolerances: a corner rounded over more than the tolerance (but less than a tenth
-    // of the grid step) is a kink at the scale of its rounding, and says so with its wider
-    // location_tol; a candidate that needs a wider bracket was a steep but smooth stretch.
-    let outcome = brackets
+    // A step across the finest bracket is a step. One across a wider bracket (at most ten
+    // tolerances) only when it persists inside it ([`persists`]): a steep smooth stretch, or
+    // one that curves hard, also changes by `step_tol` across some wider bracket. A kink is
+    // the finest bracket across which the slope still changes enough, no wider than ten
+    // tolerances: a corner rounded over more than the tolerance (but less than a tenth of the
+    // grid step) is a kink at the scale of its rounding, and says so with its wider
+    // location_tol. Last, the whole span is searched for a step by its largest changes: a
+    // quantity with several steps close together (DI where the second peak changes identity
+    // again and again) can lead the bisection, which follows the sides' trends, off its steps.
+    // A candidate with none of these was a steep but smooth stretch.
+    let finest = brackets.last().and_then(|br| br.step(step_tol));
+    let coarse = brackets
         .iter()
         .rev()
         .take_while(|br| br.b - br.a <= 10.0 * tol)
-        .find_map(|br| br.class(step_tol, kink))
+        .find(|br| (br.fb - br.fa).abs() >= step_tol);
+    let step = match (finest, coarse) {
+        (Some(step), _) => Some(step),
+        (None, Some(br)) => persists(br, &mut f, step_tol, tol, &mut sims),
+        (None, None) => None,
+    };
+    let outcome = step
+        .or_else(|| {
+            brackets
+                .iter()
+                .rev()
+                .take_while(|br| br.b - br.a <= 10.0 * tol)
+                .find_map(|br| br.kink(kink))
+        })
+        .or_else(|| persists(&brackets[0], &mut f, step_tol, tol, &mut sims))
         .unwrap_or(Outcome::Smooth);
     (outcome, sims, false)
+}
+
+/// Interior points a bracket is sampled at by [`persists`].
+const PERSIST_SAMPLES: u32 = 7;
+
+/// Whether `br` holds a step: the bracket is cut into
+/// `PERSIST_SAMPLES + 1` equal parts (that many simulations) and the part with the largest
+/// change is cut again, until a part at most `tol` wide still changes by `step_tol` (a step
+/// there) or the largest change of a cut falls below it (a smooth stretch: `None`). Following
+/// the largest change, not a side's trend, finds a step among several.
+fn persists(
+    br: &Bracket,
+    f: &mut impl FnMut(f64) -> Option<f64>,
+    step_tol: f64,
+    tol: f64,
+    sims: &mut u32,
+) -> Option<Outcome> {
+    let n = PERSIST_SAMPLES + 1;
+    let (mut a, mut fa, mut b, mut fb) = (br.a, br.fa, br.b, br.fb);
+    while b - a > tol {
+        let mut pts = vec![(a, fa)];
+        for k in 1..n {
+            let x = a + (b - a) * f64::from(k) / f64::from(n);
+            *sims += 1;
+            match f(x) {
+                Some(v) if v.is_finite() => pts.push((x, v)),
+                // An estimate or a failed run inside: the step is not confirmed.
+                _ => return None,
+            }
+        }
+        pts.push((b, fb));
+        let k = (0..pts.len() - 1)
+            .max_by(|&i, &j| {
+                let d = |k: usize| (pts[k + 1].1 - pts[k].1).abs();
+                d(i).total_cmp(&d(j))
+            })
+            .unwrap_or(0);
+        if (pts[k + 1].1 - pts[k].1).abs() < step_tol {
+            return None;
+        }
+        ((a, fa), (b, fb)) = (pts[k], pts[k + 1]);
+    }
+    Some(Outcome::Jump {
+        kind: JumpKind::Step,
+        location: 0.5 * (a + b),
+        tol: 0.5 * (b - a),
+        size: fb - fa,
+    })
 }
 
 /// The bisection stopped at a midpoint known only as an estimate ([`UNRESOLVED`]): it cannot
@@ -647,27 +746,34 @@ impl Bracket {
         }
     }
 
-    /// A step when the value changes across the bracket by `step_tol` or more, else a kink
-    /// when the slope does by the threshold or more.
-    fn class(&self, step_tol: f64, kink: Option<f64>) -> Option<Outcome> {
-        let (location, tol) = (0.5 * (self.a + self.b), 0.5 * (self.b - self.a));
-        if (self.fb - self.fa).abs() >= step_tol {
-            Some(Outcome::Jump {
-                kind: JumpKind::Step,
-                location,
-                tol,
-                size: self.fb - self.fa,
-            })
-        } else if kink.is_some_and(|thr| (self.sr - self.sl).abs() >= thr) {
-            Some(Outcome::Jump {
+    /// A step when the change across the bracket is not explained by the trend on either side
+    /// by `step_tol` or more (`min |Δ - s w|` over the secants `s` either side, `w` the
+    /// bracket's width; `|Δ|` when neither side has a secant), as a step candidate is found.
+    fn step(&self, step_tol: f64) -> Option<Outcome> {
+        let change = self.fb - self.fa;
+        let unexplained = [self.sl, self.sr]
+            .iter()
+            .filter(|s| s.is_finite())
+            .map(|s| (change - s * (self.b - self.a)).abs())
+            .reduce(f64::min)
+            .unwrap_or(change.abs());
+        (unexplained >= step_tol).then_some(Outcome::Jump {
+            kind: JumpKind::Step,
+            location: 0.5 * (self.a + self.b),
+            tol: 0.5 * (self.b - self.a),
+            size: change,
+        })
+    }
+
+    /// A kink when the slope changes across the bracket by the threshold or more.
+    fn kink(&self, kink: Option<f64>) -> Option<Outcome> {
+        kink.is_some_and(|thr| (self.sr - self.sl).abs() >= thr)
+            .then_some(Outcome::Jump {
                 kind: JumpKind::Kink,
-                location,
-                tol,
+                location: 0.5 * (self.a + self.b),
+                tol: 0.5 * (self.b - self.a),
                 size: self.sr - self.sl,
             })
-        } else {
-            None
-        }
     }
 }
 
@@ -879,6 +985,62 @@ mod tests {
         // A straight line: not even a candidate.
         let found = run(|x| 2.0 * x + 1.0, 0.01);
         assert_eq!((found.candidates, found.sims), (0, 0));
+    }
+
+    #[test]
+    fn a_hard_curving_smooth_stretch_is_not_a_step_at_any_bracket_and_a_real_step_in_it_is() {
+        // DI along m on the README's three-value grid (0.01, 0.02, 0.03 kg) curves hard: its
+        // change across a bracket ten tolerances wide passes step_tol, across the finest not.
+        let smooth = |x: f64| 0.025 + 0.8 * (x - 0.01) + 40.0 * (x - 0.01).powi(2);
+        let (step_tol, tol) = (4e-4, 1e-4);
+        let xs = [0.01, 0.02, 0.03];
+        let ys: Vec<f64> = xs.iter().map(|&x| smooth(x)).collect();
+        let (outcome, _, _) = locate(&xs, &ys, (0, 1), |x| Some(smooth(x)), step_tol, None, tol);
+        assert_eq!(outcome, Outcome::Smooth);
+        // A real step on the same curve (inside the grid, where both sides have a trend) is
+        // still a step, at the finest bracket.
+        let stepped = |x: f64| smooth(x) + if x > 0.0137 { 1e-2 } else { 0.0 };
+        let xs = [0.0, 0.01, 0.02, 0.03, 0.04];
+        let ys: Vec<f64> = xs.iter().map(|&x| stepped(x)).collect();
+        let (outcome, _, _) = locate(&xs, &ys, (1, 2), |x| Some(stepped(x)), step_tol, None, tol);
+        let Outcome::Jump {
+            kind,
+            location,
+            tol: lt,
+            size,
+        } = outcome
+        else {
+            panic!("no step: {outcome:?}");
+        };
+        assert_eq!(kind, JumpKind::Step);
+        assert!(
+            (location - 0.0137).abs() <= lt && lt <= tol,
+            "{location} ± {lt}"
+        );
+        assert!((size - 1e-2).abs() < 1e-4, "{size}");
+        // Two steps close together, up then down by more: whichever the search settles on, it
+        // is one of them, to the tolerance.
+        let two = |x: f64| {
+            smooth(x) + if x > 0.0137 { 1e-2 } else { 0.0 } - if x > 0.0142 { 1.5e-2 } else { 0.0 }
+        };
+        let ys: Vec<f64> = xs.iter().map(|&x| two(x)).collect();
+        let (outcome, _, _) = locate(&xs, &ys, (1, 2), |x| Some(two(x)), step_tol, None, tol);
+        let Outcome::Jump {
+            kind,
+            location,
+            tol: lt,
+            ..
+        } = outcome
+        else {
+            panic!("no step: {outcome:?}");
+        };
+        assert_eq!(kind, JumpKind::Step);
+        assert!(
+            [0.0137, 0.0142]
+                .iter()
+                .any(|x| (location - x).abs() <= lt && lt <= tol),
+            "{location} ± {lt}"
+        );
     }
 
     #[test]

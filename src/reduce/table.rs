@@ -338,7 +338,7 @@ pub fn quantity_of(s: &Summary, q: Quantity) -> (&'static str, &'static str) {
 /// One row per located jump: axis (its column name), kind (`step` or `kink`), quantity
 /// (`xmax` in m or `di` in m/s), `location` and `location_tol` along the axis, every axis
 /// column (the jump's own holds its location, the others the line it was found on), `from` and
-/// `to` (the grid values either side), `size` (a step's change of the quantity, a kink's
+/// `to` (the grid values around its interval, [`crate::reduce::Jump::grid_span`]), `size` (a step's change of the quantity, a kink's
 /// change of slope) and `size_unit`.
 pub fn jumps_table(s: &Summary) -> Table {
     let j = &s.jumps;
@@ -386,11 +386,11 @@ pub fn jumps_table(s: &Summary) -> Table {
     }
     t.push(
         "from",
-        Column::F64(j.iter().map(|x| g.value(x.below, x.axis)).collect()),
+        Column::F64(j.iter().map(|x| x.grid_span(g).0).collect()),
     );
     t.push(
         "to",
-        Column::F64(j.iter().map(|x| g.value(x.above, x.axis)).collect()),
+        Column::F64(j.iter().map(|x| x.grid_span(g).1).collect()),
     );
     t.push("size", Column::F64(j.iter().map(|x| x.size).collect()));
     t.push(

@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{MAX_ROWS, cm, confidence, design_text, f, thousands};
+use super::{MAX_ROWS, cm, confidence, count, design_text, f, thousands};
 use crate::reduce::Summary;
 use crate::reduce::table::outcome_text;
 use crate::report::charts::plumbing::{axis_unit, fmt_num};
@@ -14,13 +14,27 @@ use crate::study::Study;
 pub fn overview(study: &Study, s: &Summary) -> String {
     let mut o = String::new();
     let n_runs: u64 = s.outcome_totals.iter().sum();
+    // A harmonic study's point is a design: its runs are its frequencies times its cases.
+    let cases = study.cases.len() as u64;
+    let per_point = match (&study.scene, study.curve_points()) {
+        (crate::sim::Scene::Harmonic(_), n) if n > 1 => format!(
+            "{} × {} per design",
+            count(n, "frequency", "frequencies"),
+            count(cases, "case", "cases")
+        ),
+        _ => format!("{} per point", count(cases, "case", "cases")),
+    };
+    let (one, many) = match study.scene {
+        crate::sim::Scene::Harmonic(_) => ("design", "designs"),
+        crate::sim::Scene::Free => ("design point", "design points"),
+    };
+    let planned = s.n_points_planned;
     let _ = writeln!(
         o,
-        "{} of {} design points reduced ({} runs, {} cases per point).{}\n",
+        "{} of {} reduced ({}: {per_point}).{}\n",
         thousands(s.points.len() as u64),
-        thousands(s.n_points_planned),
-        thousands(n_runs),
-        study.cases.len(),
+        count(planned, one, many),
+        count(n_runs, "run", "runs"),
         if (s.points.len() as u64) < s.n_points_planned {
             " **The run is incomplete: the missing points are left out of everything below.**"
         } else {

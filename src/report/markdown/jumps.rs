@@ -28,7 +28,7 @@ pub fn section(s: &Summary) -> String {
         .collect();
     let _ = writeln!(
         o,
-        "Along every line of the grid, a step is a change of the ideal case's {rname} by at least {} {runit} or of its {} by at least {} ({} × the median spread of each over a point's cases) that the trend on either side does not explain; a kink is a change of the slope of {rname} by at least {} × its typical slope ({}). Each candidate is located by bisection with extra simulations of the ideal case to {} of the grid step, then classed: a step if the change stays as the bracket shrinks, a kink if only the slope changes, dropped otherwise (a steep but smooth stretch).\n",
+        "Along every line of the grid, a step is a change of the ideal case's {rname} by at least {} {runit} or of its {} by at least {} ({} × the median spread of each over a point's cases) that the trend on either side does not explain; a kink is a change of the slope of {rname} by at least {} × its typical slope ({}). Each candidate is located by bisection with extra simulations of the ideal case to {} of the grid step, then classed: a step if the change stays as the bracket shrinks (where the bisection loses it among several steps close together, the span is cut into eight parts and the part with the largest change cut again, down to the same tolerance), a kink if only the slope changes, dropped otherwise (a steep but smooth stretch).\n",
         fmt_num(st.step_tol[0]),
         damping.symbol,
         damping.with_unit(&fmt_num(st.step_tol[1])),
@@ -212,8 +212,8 @@ fn through_anchor(s: &Summary) -> String {
             j.kind.name(),
             fmt_num(j.location),
             fmt_num(j.location_tol),
-            fmt_num(g.value(j.below, j.axis)),
-            fmt_num(g.value(j.above, j.axis)),
+            fmt_num(j.grid_span(g).0),
+            fmt_num(j.grid_span(g).1),
         );
     }
     if js.len() > MAX_ROWS {

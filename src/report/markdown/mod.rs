@@ -107,6 +107,10 @@ pub(crate) fn cm(v: f64) -> String {
 
 /// A design point's axis values: `e = 0.5, m = 0.02 kg, d = 0.01 m`.
 pub fn design_text(s: &Summary, p: u64) -> String {
+    if s.grid.n_axes() == 0 {
+        // Nothing swept but the frequency (or nothing at all): one design, the study's system.
+        return "the study's system (its only design)".to_string();
+    }
     (0..s.grid.n_axes())
         .map(|a| axis_value(s.grid.key(a), s.grid.value(p, a)))
         .collect::<Vec<_>>()

@@ -194,7 +194,8 @@ fn edges(s: &Summary) -> String {
             format!("extend `{key}` {dir} {value}")
         } else {
             format!(
-                "`{key}` cannot go {dir} {value} (the model's range: {})",
+                "one more grid step of `{key}` {dir} {value} leaves the model's range ({}); what \
+                 lies between is reached with a finer step",
                 crate::model::System::allowed(key)
             )
         };
