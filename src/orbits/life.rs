@@ -173,8 +173,6 @@ pub struct LifeSummary {
     pub window_max: f64,
 }
 
-impl LifeRun {}
-
 /// Periods below the threshold that separate clusters of exceedances (module doc).
 pub fn cluster_run(lambda: f64) -> usize {
     let n = 3.0 / lambda;

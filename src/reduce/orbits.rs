@@ -37,14 +37,20 @@ pub fn steady_states(study: &Study, fs: &ForcedSummary) -> Vec<Response> {
     all
 }
 
-/// Designs whose steady states [`steady_states_in_batches`] holds at a time, per thread of the
-/// pool (a design's branches take 0.4 MB on average on the 41-frequency curves of the
-/// 1,000-design study of BENCHMARKS.md, 3.5 MB at most); a batch waits for its slowest design.
+/// Designs whose steady states [`steady_states_in_batches`] hands over at a time, per thread
+/// of the pool (a design's branches take 0.4 MB on average on the 41-frequency curves of the
+/// 1,000-design study of BENCHMARKS.md, 3.5 MB at most).
 pub const BATCH_PER_THREAD: usize = 16;
 
-/// [`steady_states`] a batch of designs at a time, in design order: `each` takes every batch
-/// (the designs of a batch are analysed in parallel), so the caller holds one batch rather
-/// than the study's. A study along `F0` is one batch. Stops at `each`'s first error.
+/// [`steady_states`] a batch of designs at a time, in design order: `each` takes every batch,
+/// so the caller holds one batch rather than the study's. A study along `F0` is one batch.
+/// Stops at `each`'s first error.
+///
+/// The designs are analysed by as many threads as the current rayon pool has, each taking the
+/// next design when it is done with one (their cost varies a hundredfold: batches analysed in
+/// parallel one after the other waited for their slowest design, 30 % of `reduce` on the
+/// 1,000-design study); the designs that finish ahead of an earlier one wait for it, so the
+/// batches come in design order and the tables are the same for any thread count.
 pub fn steady_states_in_batches<E>(
     study: &Study,
     fs: &ForcedSummary,
@@ -60,16 +66,48 @@ pub fn steady_states_in_batches<E>(
         let all = along_force(study, &h, fs);
         return if all.is_empty() { Ok(()) } else { each(all) };
     }
-    let batch = (BATCH_PER_THREAD * rayon::current_num_threads()).max(1);
-    for curves in fs.curves.chunks(batch) {
-        each(
-            curves
-                .par_iter()
-                .map(|c| along_frequency(study, &h, fs, c))
-                .collect(),
-        )?;
-    }
-    Ok(())
+    let threads = rayon::current_num_threads().max(1);
+    let batch = BATCH_PER_THREAD * threads;
+    let n = fs.curves.len();
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Response)>(batch);
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            let tx = tx.clone();
+            let next = &next;
+            scope.spawn(move || {
+                loop {
+                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    // A receiver gone (an error in `each`) ends the work too.
+                    if i >= n
+                        || tx
+                            .send((i, along_frequency(study, &h, fs, &fs.curves[i])))
+                            .is_err()
+                    {
+                        break;
+                    }
+                }
+            });
+        }
+        drop(tx);
+        let mut early = std::collections::BTreeMap::new();
+        let (mut want, mut ready) = (0, Vec::with_capacity(batch));
+        for (i, r) in rx {
+            early.insert(i, r);
+            while let Some(r) = early.remove(&want) {
+                ready.push(r);
+                want += 1;
+            }
+            if ready.len() >= batch {
+                each(std::mem::take(&mut ready))?;
+            }
+        }
+        if ready.is_empty() {
+            Ok(())
+        } else {
+            each(ready)
+        }
+    })
 }
 
 /// The steady states of one design's curve along the frequency (what an earlier analysis shard

@@ -53,8 +53,10 @@ pub struct DesignMap<'a> {
     curves: Vec<&'a BifCurve>,
     /// `(r, p)` of the linear resonance at each design of the plane.
     resonance: Vec<(f64, f64)>,
-    /// The recommended design's peak `(r, p)`.
+    /// The anchor design's peak `(r, p)`, and what the anchor is (the recommended design, or
+    /// the best ranked when none is recommended).
     recommended: Option<(f64, f64)>,
+    anchor_label: &'static str,
 }
 
 /// Half-way points between sorted values, with the ends mirrored.
@@ -142,6 +144,11 @@ impl<'a> DesignMap<'a> {
             curves: curves.iter().filter(|k| plane(k)).collect(),
             resonance,
             recommended,
+            anchor_label: if s.recommended == Some(anchor) {
+                "recommended (peak)"
+            } else {
+                "best ranked (peak)"
+            },
         })
     }
 
@@ -273,7 +280,7 @@ impl Chart for DesignMap<'_> {
                 .draw_series(std::iter::once(
                     EmptyElement::at((r, p))
                         + Cross::new((0, 0), 8, BLACK.stroke_width(3))
-                        + Text::new("recommended (peak)", (10, -18), SMALL.into_font()),
+                        + Text::new(self.anchor_label, (10, -18), SMALL.into_font()),
                 ))
                 .map_err(err)?;
         }

@@ -530,7 +530,7 @@ impl Chart for ImpactsAndPeriod<'_> {
         title
             .titled(
                 &format!(
-                    "Impacts per forcing period and period of the steady state{}",
+                    "Impacts per forcing period and period of the steady state reached from rest{}",
                     row.at
                 ),
                 TITLE,

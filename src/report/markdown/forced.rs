@@ -13,18 +13,19 @@ use crate::report::charts::plumbing::fmt_num;
 pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
     let mut o = String::from("## Frequency response\n\n");
     let band = match &fs.frequency {
-        Some((k, v)) => format!(
+        Some((k, v)) if v.len() > 1 => format!(
             "{} frequencies, {k} from {} to {}",
             v.len(),
             fmt_num(v[0]),
             fmt_num(v[v.len() - 1])
         ),
+        Some((k, v)) => format!("one frequency, {k} = {}", fmt_num(v[0])),
         None => "a single frequency".to_string(),
     };
     let _ = writeln!(
         o,
-        "Every design's curve has {band}; {} runs were simulated ({}). A design's response is its **peak amplitude over the band**: for each case the largest steady amplitude of its runs, a sample of which gives the stress, R and the ranking. Its damping quantity is the **peak reduction** PR = 1 − peak amplitude / the linear system's peak over the band (the primary system without the inner mass): 0.9 means the damper removes 90 % of the resonance peak, below 0 it makes the peak worse.\n",
-        thousands(fs.runs),
+        "Every design's curve has {band}; {} simulated ({}). A design's response is its **peak amplitude over the band**: for each case the largest steady amplitude of its runs, a sample of which gives the stress, R and the ranking. Its damping quantity is the **peak reduction** PR = 1 − peak amplitude / the linear system's peak over the band (the primary system without the inner mass): 0.9 means the damper removes 90 % of the resonance peak, below 0 it makes the peak worse.\n",
+        super::count(fs.runs, "run was", "runs were"),
         outcome_text(&fs.outcomes, false)
     );
     let shown: Vec<&PointStats> = {
