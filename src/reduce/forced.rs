@@ -237,14 +237,40 @@ impl Curve {
             .filter(move |a| a.run.point == point)
     }
 
+    /// The steady states at the curve's `i`-th point that differ in what the design sees: the
+    /// stored attractors, a periodic orbit and its mirror image counted once. The cavity is
+    /// symmetric, so `x -> -x` half a forcing period later maps a motion onto another; an
+    /// asymmetric orbit and its image are two attractors with the same period, amplitude and
+    /// multipliers (equal here to 1e-9 relative), and a jump between them changes nothing
+    /// the design quantity measures.
+    pub fn distinct_states_at(&self, i: usize) -> usize {
+        let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
+        let mut kept: Vec<&AttractorRow> = Vec::new();
+        for a in self.attractors_at(i) {
+            let twin = a.kind.periodic()
+                && kept.iter().any(|k| {
+                    k.kind.periodic()
+                        && k.period == a.period
+                        && same(k.amplitude, a.amplitude)
+                        && (same(k.multiplier_max, a.multiplier_max)
+                            || (k.multiplier_max.is_nan() && a.multiplier_max.is_nan()))
+                });
+            if !twin {
+                kept.push(a);
+            }
+        }
+        kept.len()
+    }
+
     /// The bands of `r` (first and last grid frequency of each run of neighbours) where the
-    /// census found two or more steady states: a jump between them is possible there. Empty
-    /// without stored attractors.
+    /// census found two or more steady states that differ in what the design sees
+    /// ([`Curve::distinct_states_at`]): a jump between them is possible there. Empty without
+    /// stored attractors.
     pub fn coexistence_bands(&self) -> Vec<(f64, f64)> {
         let mut bands: Vec<(f64, f64)> = Vec::new();
         let mut open = false;
         for (i, p) in self.points.iter().enumerate() {
-            let states = self.attractors_at(i).count();
+            let states = self.distinct_states_at(i);
             match (states >= 2, open, bands.last_mut()) {
                 (true, true, Some(b)) => b.1 = p.r,
                 (true, _, _) => bands.push((p.r, p.r)),

@@ -115,7 +115,7 @@ impl<'a> DesignMap<'a> {
                     r,
                     r_span: spans(&rs, i),
                     p_span: spans(&values, j),
-                    states: here.len(),
+                    states: c.distinct_states_at(i),
                     not_periodic: here.iter().any(|x| !x.kind.periodic()),
                     doubled: here
                         .iter()

@@ -176,12 +176,36 @@ pub fn normality(study: &Study, s: &Summary) -> String {
             "No design point has three or more distinct ok values: nothing to test.\n"
         );
     } else {
+        let share = rejected as f64 / tested.len() as f64;
+        // Under a lognormal response each point rejects with probability 0.05 (the test's
+        // level): more rejections than 1 % of such studies would give is the model failing,
+        // not chance.
+        let chance = {
+            use statrs::distribution::{Binomial, DiscreteCDF};
+            Binomial::new(0.05, tested.len() as u64)
+                .map_or(1.0, |b| b.sf((rejected as u64).saturating_sub(1)))
+        };
+        let verdict = if rejected > 0 && chance < 0.01 {
+            format!(
+                "**That is {} % of the points, where a lognormal response would give about 5 % by chance (so many or more, were the points independent, with probability {}): the lognormal model does not describe {name} well over this study, and R, which rests on it, is the model's figure rather than a measured one.** Look at `{name}` over the cases of a flagged point (the points table) before relying on its R.",
+                fmt_num((100.0 * share).round()),
+                if chance < 1e-4 {
+                    "below 1e-4".to_string()
+                } else {
+                    format!("{chance:.1e}")
+                }
+            )
+        } else {
+            format!(
+                "With {} cases per point the test has little power; where it rejects, read R as a model-based figure, not a measured one.",
+                study.cases.len()
+            )
+        };
         let _ = writeln!(
             o,
-            "Anderson–Darling (mean and variance estimated, Stephens' small-sample correction) rejects normality of ln {name} at the 5 % level for {} of {} design points. With {} cases per point the test has little power; where it rejects, read R as a model-based figure, not a measured one.\n",
+            "Anderson–Darling (mean and variance estimated, Stephens' small-sample correction) rejects normality of ln {name} at the 5 % level for {} of {} design points. {verdict}\n",
             thousands(rejected as u64),
             thousands(tested.len() as u64),
-            study.cases.len()
         );
     }
     o

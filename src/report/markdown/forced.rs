@@ -182,7 +182,7 @@ fn coexistence(s: &Summary, fs: &ForcedSummary, shown: &[&PointStats]) -> String
         return String::new();
     }
     format!(
-        "\n**Coexisting steady states.** Where the census found two or more steady states at a frequency, the response can jump between them (the forced counterpart of the paper's zone II; the shaded cells of `design_map`, with the folds, doublings and Neimark–Sacker curves of `bifurcations.csv` over the design axes). The bands of r, per design:\n\n{}\n\nThey enter the ranking through the design peak: with `design_peak = \"worst\"` a design's peak is the worst of its coexisting states, so the upper state of a jump is already counted; a design whose band reaches its peak's frequency can jump to that peak from a lower state.\n",
+        "\n**Coexisting steady states.** Where the census found two or more steady states at a frequency (a periodic orbit and its mirror image, the same amplitude and multipliers, count once), the response can jump between them (the forced counterpart of the paper's zone II; the shaded cells of `design_map`, with the folds, doublings and Neimark–Sacker curves of `bifurcations.csv` over the design axes). The bands of r, per design:\n\n{}\n\nThey enter the ranking through the design peak: with `design_peak = \"worst\"` a design's peak is the worst of its coexisting states, so the upper state of a jump is already counted; a design whose band reaches its peak's frequency can jump to that peak from a lower state.\n",
         lines.join("\n")
     )
 }

@@ -84,8 +84,40 @@ pub fn section(s: &Summary, fs: &ForcedSummary, shown: &[&PointStats]) -> String
             );
         }
     }
+    o.push_str(&extrapolated(s, &rows));
     o.push_str(&overlaps(s, fs, shown));
     o
+}
+
+/// A life amplitude this many times the window maximum, from a run capped before its interval
+/// met the tolerance, is flagged as resting on the tail model.
+const FAR: f64 = 2.0;
+
+/// The peaks among `rows` that are long extrapolations: capped (the interval did not reach
+/// `life_tol` within `life_max_periods`) and at least [`FAR`] times the largest amplitude of
+/// the census's window; with their tail shapes (near 0: an exponential, unbounded tail).
+fn extrapolated(s: &Summary, rows: &[(&PointStats, &AttractorRow)]) -> String {
+    let far: Vec<String> = rows
+        .iter()
+        .filter(|(_, a)| a.life_capped && a.amplitude >= FAR * a.window_amplitude)
+        .map(|(p, a)| {
+            format!(
+                "{} ({}× the window maximum, ξ = {})",
+                design_text(s, p.point),
+                f(a.amplitude / a.window_amplitude, 1),
+                f(a.tail_shape, 2)
+            )
+        })
+        .collect();
+    if far.is_empty() {
+        return String::new();
+    }
+    format!(
+        "
+**Peaks that rest on the tail model.** These peaks are estimates over a design life far longer than the run measured, from a run capped before its interval met `life_tol`, and at least {}× the largest amplitude the census's window saw: {}. Where ξ is near 0 the fitted tail is exponential (unbounded), and the estimate grows with the logarithm of the design life; their ranking rests on that model more than on what was seen. Raise `life_max_periods` to narrow them.\n",
+        f(FAR, 0),
+        far.join("; ")
+    )
 }
 
 fn quantile_text(fs: &ForcedSummary) -> String {
