@@ -115,6 +115,19 @@ impl<'a> Plan<'a> {
         }
     }
 
+    /// A run of a harmonic study as one frequency of its curve
+    /// ([`crate::orbits::curve::run_curve`]): its scene, design point and noise stream.
+    pub fn curve_frequency(&self, run: &RunSpec) -> crate::orbits::curve::CurveFrequency {
+        crate::orbits::curve::CurveFrequency {
+            scene: match run.scene {
+                Scene::Harmonic(h) => h,
+                Scene::Free => crate::sim::Harmonic::default(),
+            },
+            point: run.point,
+            noise: self.noise_stream(run),
+        }
+    }
+
     /// Design points of chunk `k`.
     pub fn chunk_points(&self, k: u64) -> std::ops::Range<u64> {
         let per = self.study.run.chunk_points.max(1);

@@ -97,17 +97,7 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
             plan.run(design * n_f + i, 0)
         })
         .collect();
-    let freqs = runs
-        .iter()
-        .map(|run| crate::orbits::curve::CurveFrequency {
-            scene: match run.scene {
-                Scene::Harmonic(h) => h,
-                Scene::Free => sim::Harmonic::default(),
-            },
-            point: run.point,
-            noise: plan.noise_stream(run),
-        })
-        .collect();
+    let freqs = runs.iter().map(|run| plan.curve_frequency(run)).collect();
     let start = Instant::now();
     let out = crate::orbits::curve::run_curve(
         &runs[0].system,

@@ -658,9 +658,8 @@ pub fn locate(
 /// Interior points a bracket is sampled at by [`persists`].
 const PERSIST_SAMPLES: u32 = 7;
 
-/// Whether `br` holds a step: the bracket is cut into
-/// `PERSIST_SAMPLES + 1` equal parts (that many simulations) and the part with the largest
-/// change is cut again, until a part at most `tol` wide still changes by `step_tol` (a step
+/// Whether `br` holds a step: the bracket is cut into `PERSIST_SAMPLES + 1` equal parts
+/// (`PERSIST_SAMPLES` simulations) and the part with the largest change is cut again, until a part at most `tol` wide still changes by `step_tol` (a step
 /// there) or the largest change of a cut falls below it (a smooth stretch: `None`). Following
 /// the largest change, not a side's trend, finds a step among several.
 fn persists(

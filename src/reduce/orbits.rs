@@ -31,7 +31,7 @@ use crate::study::Study;
 /// when neither is swept (a "curve" of one point has nothing to follow) or with `starts = 0`.
 pub fn steady_states(study: &Study, fs: &ForcedSummary) -> Vec<Response> {
     let mut all = Vec::new();
-    let _ = steady_states_in_batches::<()>(study, fs, |batch| {
+    let Ok(()) = steady_states_in_batches::<std::convert::Infallible>(study, fs, |batch| {
         all.extend(batch);
         Ok(())
     });

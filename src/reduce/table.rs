@@ -384,14 +384,9 @@ pub fn jumps_table(s: &Summary) -> Table {
             ),
         );
     }
-    t.push(
-        "from",
-        Column::F64(j.iter().map(|x| x.grid_span(g).0).collect()),
-    );
-    t.push(
-        "to",
-        Column::F64(j.iter().map(|x| x.grid_span(g).1).collect()),
-    );
+    let (from, to): (Vec<f64>, Vec<f64>) = j.iter().map(|x| x.grid_span(g)).unzip();
+    t.push("from", Column::F64(from));
+    t.push("to", Column::F64(to));
     t.push("size", Column::F64(j.iter().map(|x| x.size).collect()));
     t.push(
         "size_unit",

@@ -245,17 +245,7 @@ pub fn simulate_curve(
         let runs: Vec<RunSpec> = (design * n_f..(design + 1) * n_f)
             .map(|p| plan.run(p, case))
             .collect();
-        let freqs: Vec<CurveFrequency> = runs
-            .iter()
-            .map(|run| CurveFrequency {
-                scene: match run.scene {
-                    Scene::Harmonic(h) => h,
-                    Scene::Free => Harmonic::default(),
-                },
-                point: run.point,
-                noise: plan.noise_stream(run),
-            })
-            .collect();
+        let freqs: Vec<CurveFrequency> = runs.iter().map(|run| plan.curve_frequency(run)).collect();
         let targets: Vec<(Harmonic, u64)> = freqs.iter().map(|f| (f.scene, f.point)).collect();
         let sys = runs[0].system;
         let mut records = from_rest(

@@ -206,14 +206,15 @@ fn through_anchor(s: &Summary) -> String {
                 per_axis_unit(unit, axis_unit(key))
             ),
         };
+        let (from, to) = j.grid_span(g);
         let _ = writeln!(
             o,
             "| {key} | {} | {name} | {} ± {} | {} – {} | {size} |",
             j.kind.name(),
             fmt_num(j.location),
             fmt_num(j.location_tol),
-            fmt_num(j.grid_span(g).0),
-            fmt_num(j.grid_span(g).1),
+            fmt_num(from),
+            fmt_num(to),
         );
     }
     if js.len() > MAX_ROWS {
