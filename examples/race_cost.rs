@@ -9,13 +9,12 @@
 //!
 //! `cargo run --release --example race_cost`
 
-use impactsweep::model::System;
+#[path = "showcase/curve.rs"]
+mod showcase;
+
 use impactsweep::orbits::census::{Census, Kind};
-use impactsweep::orbits::curve::{
-    CurveFrequency, census_passes, curve_points, from_rest, race_points,
-};
 use impactsweep::orbits::race::{race, refine_all};
-use impactsweep::sim::{Drive, Harmonic, Request, SolverSettings};
+use showcase::{ShowcaseCurve, showcase_curve};
 use std::time::Instant;
 
 /// Periods the life measurements spent, and the motions that are not periodic.
@@ -41,46 +40,17 @@ fn peak(cs: &[Option<Census>]) -> f64 {
 }
 
 fn main() {
-    let settings = SolverSettings::default();
-    let rs: Vec<f64> = (0..81).map(|i| 0.8 + 0.005 * f64::from(i)).collect();
     let mut rows = Vec::new();
     let (mut census_total, mut race_total, mut all_total, mut motions_total) = (0, 0, 0, 0);
     let (mut race_s, mut all_s) = (0.0, 0.0);
     let mut design = 0u64;
     for m in [0.005, 0.01, 0.02] {
         for d in [0.005, 0.01, 0.02] {
-            let sys = System {
-                M: 0.1,
-                K: 400.0,
-                C: 0.1,
-                e: 0.9,
-                m,
-                d,
-                x0: 0.0,
-                v0: 0.0,
-                y0: 0.0,
-                w0: 0.0,
-            };
-            let freqs: Vec<CurveFrequency> = rs
-                .iter()
-                .enumerate()
-                .map(|(i, &r)| CurveFrequency {
-                    scene: Harmonic {
-                        F0: 0.1,
-                        drive: Drive::Ratio(r),
-                        starts: 8,
-                        ..Harmonic::default()
-                    },
-                    point: design * 81 + i as u64,
-                    noise: None,
-                })
-                .collect();
-            let targets: Vec<(Harmonic, u64)> = freqs.iter().map(|f| (f.scene, f.point)).collect();
-            let records = from_rest(&sys, &settings, &Request::default(), None, freqs);
-            let points = curve_points(&sys, &settings, 1966, &targets, &records);
-            let censuses = census_passes(&points);
+            let ShowcaseCurve {
+                censuses,
+                race_points: rp,
+            } = showcase_curve(m, d, design);
             let census_periods: u64 = censuses.iter().flatten().map(|c| c.periods).sum();
-            let rp = race_points(&points, &targets);
             let mut raced = censuses.clone();
             let t = Instant::now();
             race(&rp, &mut raced);

@@ -8,14 +8,13 @@
 //!
 //! `cargo run --release --example race_drop > results/race_drop.md`
 
-use impactsweep::model::System;
-use impactsweep::orbits::census::{Census, Kind};
-use impactsweep::orbits::curve::{
-    CurveFrequency, census_passes, curve_points, from_rest, race_points,
-};
+#[path = "showcase/curve.rs"]
+mod showcase;
+
+use impactsweep::orbits::census::Kind;
 use impactsweep::orbits::life::LifeRun;
 use impactsweep::orbits::race::{DROPS, settings};
-use impactsweep::sim::{Drive, Harmonic, Request, SolverSettings};
+use showcase::{ShowcaseCurve, showcase_curve};
 
 /// Final life amplitude over the upper end after `n` periods, for every motion with both.
 fn ratios(rows: &[(Vec<(u64, f64)>, f64)], n: u64) -> Vec<f64> {
@@ -28,10 +27,7 @@ fn ratios(rows: &[(Vec<(u64, f64)>, f64)], n: u64) -> Vec<f64> {
 }
 
 fn main() {
-    let st = SolverSettings::default();
-    let rs: Vec<f64> = (0..81).map(|i| 0.8 + 0.005 * f64::from(i)).collect();
     let mut rows = Vec::new();
-    let mut design = 0u64;
     let cases = [
         (0.0, 0.0),
         (-1e-3, -1e-3),
@@ -39,44 +35,15 @@ fn main() {
         (1e-3, -1e-3),
         (1e-3, 1e-3),
     ];
-    for (m0, d0, dm, dd) in [0.005, 0.01, 0.02]
+    let designs = [0.005, 0.01, 0.02]
         .into_iter()
-        .flat_map(|m| [0.005, 0.01, 0.02].map(|d| (m, d)))
-        .flat_map(|(m, d)| cases.map(|(dm, dd)| (m, d, dm, dd)))
-    {
-        {
-            let (m, d) = (m0 + dm, d0 + dd);
-            let sys = System {
-                M: 0.1,
-                K: 400.0,
-                C: 0.1,
-                e: 0.9,
-                m,
-                d,
-                x0: 0.0,
-                v0: 0.0,
-                y0: 0.0,
-                w0: 0.0,
-            };
-            let freqs: Vec<CurveFrequency> = rs
-                .iter()
-                .enumerate()
-                .map(|(i, &r)| CurveFrequency {
-                    scene: Harmonic {
-                        F0: 0.1,
-                        drive: Drive::Ratio(r),
-                        starts: 8,
-                        ..Harmonic::default()
-                    },
-                    point: design / 5 * 81 + i as u64,
-                    noise: None,
-                })
-                .collect();
-            let targets: Vec<(Harmonic, u64)> = freqs.iter().map(|f| (f.scene, f.point)).collect();
-            let records = from_rest(&sys, &st, &Request::default(), None, freqs);
-            let points = curve_points(&sys, &st, 1966, &targets, &records);
-            let cs: Vec<Option<Census>> = census_passes(&points);
-            let rp = race_points(&points, &targets);
+        .flat_map(|m| [0.005, 0.01, 0.02].map(|d| (m, d)));
+    for (design, (m, d)) in (0u64..).zip(designs) {
+        for (dm, dd) in cases {
+            let ShowcaseCurve {
+                censuses: cs,
+                race_points: rp,
+            } = showcase_curve(m + dm, d + dd, design);
             for (c, p) in cs.iter().zip(&rp) {
                 let (Some(c), Some((f, h))) = (c, p) else {
                     continue;
@@ -100,7 +67,6 @@ fn main() {
                     rows.push((his, run.estimate.map_or(f64::NAN, |e| e.amplitude)));
                 }
             }
-            design += 1;
         }
     }
     println!("## What the race's drop factors rest on\n");
