@@ -79,15 +79,26 @@ fn design_map_regenerates_the_committed_showcase() {
     regenerates("design_map.sh", "design-map");
 }
 
-/// Reads a CSV file into its header and rows of fields (the files here have no quoted commas).
+/// Reads a CSV file into its header and rows of fields (a quoted field may hold commas).
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let head: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-    let rows = lines
-        .map(|l| l.split(',').map(String::from).collect())
-        .collect();
-    (head, rows)
+    let mut lines = text.lines().map(fields);
+    let head = lines.next().unwrap();
+    (head, lines.collect())
+}
+
+/// One CSV line's fields, quotes removed (the files here double no quotes inside a field).
+fn fields(line: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    let mut quoted = false;
+    for ch in line.chars() {
+        match ch {
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(String::new()),
+            _ => out.last_mut().unwrap().push(ch),
+        }
+    }
+    out
 }
 
 fn col(head: &[String], name: &str) -> usize {
@@ -99,7 +110,10 @@ fn col(head: &[String], name: &str) -> usize {
 /// moved into the sweep), every stable periodic attractor of the ideal curves (point, period,
 /// amplitude) and every design's peak. Each attractor is still in the committed
 /// `attractors.csv` (which the test above regenerates) at its point with its period and its
-/// amplitude to 1e-8 relative, and no design's peak is lower than it was.
+/// amplitude to 1e-8 relative, and no design's peak is lower than it was. A peak carried by a
+/// motion that is not periodic is an estimate over the design life with its 90 % interval
+/// (e53b9e3 had the largest `|x|` of a 200-period window of another run of it in its place):
+/// such a peak may be lower only where its interval's upper end still reaches the old value.
 #[test]
 fn the_showcase_keeps_every_stable_periodic_attractor_and_no_peak_falls() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -135,9 +149,19 @@ fn the_showcase_keeps_every_stable_periodic_attractor_and_no_peak_falls() {
     let (sh, summary) = csv(&root.join("results/frequency-response/summary.csv"));
     let (pp, pv) = (col(&ph, "point"), col(&ph, "peak_amplitude_ideal"));
     let (sp, sv) = (col(&sh, "point"), col(&sh, "peak_amplitude_ideal"));
+    let (speriodic, shi) = (col(&sh, "peak_periodic"), col(&sh, "peak_life_hi"));
     for p in &peaks {
         let now = summary.iter().find(|s| s[sp] == p[pp]).unwrap();
         let (was, is): (f64, f64) = (p[pv].parse().unwrap(), now[sv].parse().unwrap());
-        assert!(is >= was, "design {}: peak {is} below {was}", p[pp]);
+        let reach = if now[speriodic] == "true" {
+            is
+        } else {
+            is.max(now[shi].parse().unwrap())
+        };
+        assert!(
+            reach >= was,
+            "design {}: peak {is} (upper end {reach}) below {was}",
+            p[pp]
+        );
     }
 }

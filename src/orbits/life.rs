@@ -16,10 +16,19 @@
 //! motion's Lyapunov time `1 / lambda_1` (the time over which it forgets where it was; about 3
 //! periods on the showcase's chaotic motions, `lambda_1` near 1 per forcing period), clamped to
 //! `[2, 50]` (50 when the exponent is not positive: a slowly mixing motion).
+//!
+//! Only the per-period maxima from the pooled 0.80 quantile up enter the estimate (every
+//! candidate threshold is at or above it, and the periods below a threshold only count). So
+//! after the first window, which locates every extremum, the motion runs with a floor
+//! ([`FLOOR_QUANTILE`] of the maxima so far): extrema of `x` below it are not located
+//! ([`eval_above`]), which saves about half of a chaotic motion's steps. A period whose maximum
+//! is below the floor keeps a value below it. Before each estimate the run checks that the
+//! values it uses are exact (at most the lowest 80 % below the floor); when they are not, the
+//! whole measurement is run again without a floor, from the same states.
 
-use super::map::{Forcing, Section, eval};
+use super::map::{Forcing, Section, eval, eval_above};
 use crate::sim::Outcome;
-use crate::stats::extremes::{Life, LifeEstimate, life_pot};
+use crate::stats::extremes::{LOWEST_CANDIDATE, Life, LifeEstimate, life_pot};
 
 /// What the life estimate of one motion asks for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,7 +58,16 @@ pub struct LifeRun {
     pub estimate: Option<LifeEstimate>,
     /// The window reached [`LifeSettings::cap`] before the interval met the tolerance.
     pub capped: bool,
+    /// Extrema below this `|x|` are not located in the periods run next (m; 0: all are).
+    pub floor: f64,
+    /// The chains' first states (a measurement whose floor did not hold runs again from them).
+    pub starts: Vec<Section>,
 }
+
+/// The quantile of the per-period maxima measured so far below which later periods do not
+/// locate their extrema (module doc): well below the 0.80 quantile the estimate starts from,
+/// so that a sample that grows does not often push that quantile under the floor.
+pub const FLOOR_QUANTILE: f64 = 0.5;
 
 impl LifeRun {
     /// A measurement of one chain starting at `state`.
@@ -60,10 +78,12 @@ impl LifeRun {
     /// A measurement of one chain per state (at least one).
     pub fn chains(states: Vec<Section>) -> LifeRun {
         LifeRun {
-            chains: states.into_iter().map(|s| (Vec::new(), s)).collect(),
+            chains: states.iter().map(|s| (Vec::new(), *s)).collect(),
             failed: false,
             estimate: None,
             capped: false,
+            floor: 0.0,
+            starts: states,
         }
     }
 
@@ -73,8 +93,9 @@ impl LifeRun {
     }
 
     /// Runs `n` more periods in all, shared out evenly over the chains (the first chains take
-    /// the remainder).
+    /// the remainder), locating the extrema from [`LifeRun::floor`] up.
     pub fn extend(&mut self, f: &Forcing, n: u64) {
+        let floor = self.floor;
         let k = self.chains.len().max(1) as u64;
         for (i, (z, state)) in self.chains.iter_mut().enumerate() {
             if self.failed {
@@ -83,7 +104,7 @@ impl LifeRun {
             let m = n / k + u64::from((i as u64) < n % k);
             z.reserve(m as usize);
             for _ in 0..m {
-                let e = eval(f, state, 1, false);
+                let e = eval_above(f, state, 1, floor);
                 if e.outcome != Outcome::Ok {
                     self.failed = true;
                     return;
@@ -92,6 +113,27 @@ impl LifeRun {
                 *state = e.end;
             }
         }
+    }
+
+    /// Every chain's per-period maxima, one after the other.
+    fn pooled(&self) -> Vec<f64> {
+        self.chains
+            .iter()
+            .flat_map(|c| c.0.iter().copied())
+            .collect()
+    }
+
+    /// Whether the per-period maxima the estimate uses are exact: the order statistic of the
+    /// lowest candidate threshold ([`LOWEST_CANDIDATE`]) is at or above the floor (a period below the
+    /// floor keeps a value below it).
+    pub fn floor_holds(&self) -> bool {
+        if self.floor <= 0.0 {
+            return true;
+        }
+        let z = self.pooled();
+        let below = z.iter().filter(|&&v| v < self.floor).count();
+        let lo = ((z.len().saturating_sub(1)) as f64 * LOWEST_CANDIDATE).floor() as usize;
+        below <= lo
     }
 
     /// The largest amplitude over the periods measured.
@@ -138,10 +180,19 @@ impl LifeRun {
         if want > have {
             self.extend(f, want - have);
         }
+        if !self.failed && !self.floor_holds() {
+            // Run again without a floor (module doc).
+            self.chains = self.starts.iter().map(|s| (Vec::new(), *s)).collect();
+            self.floor = 0.0;
+            self.extend(f, want);
+        }
         if self.failed {
             return false;
         }
         self.estimate(s, lambda);
+        self.floor = self
+            .floor
+            .max(crate::numeric::quantile(&self.pooled(), FLOOR_QUANTILE));
         self.capped = !self.settled(s) && self.periods() >= s.cap;
         !self.settled(s) && !self.capped
     }

@@ -186,8 +186,23 @@ impl Probe for Recorder {
 /// Evaluates `P^p(s)` (`p >= 1` forcing periods from `t = 0`), with its Jacobian when
 /// `jacobian` is set. Pure.
 pub fn eval(f: &Forcing, s: &Section, p: u64, jacobian: bool) -> MapEval {
+    evaluate(f, s, &f.scene(p), jacobian)
+}
+
+/// [`eval`] without the Jacobian, locating only the extrema of `x` that reach `|x| >= floor`
+/// (m; [`Harmonic::x_floor`]): the amplitude is exact when it is at least `floor`, and some
+/// value below `floor` otherwise. The end state is the same motion's, stepped differently
+/// (it agrees with [`eval`]'s to rounding). Pure.
+pub fn eval_above(f: &Forcing, s: &Section, p: u64, floor: f64) -> MapEval {
+    let scene = Harmonic {
+        x_floor: floor,
+        ..f.scene(p)
+    };
+    evaluate(f, s, &scene, false)
+}
+
+fn evaluate(f: &Forcing, s: &Section, scene: &Harmonic, jacobian: bool) -> MapEval {
     let sys = f.started(s);
-    let scene = f.scene(p);
     let mut rec = Recorder {
         events: Vec::new(),
         min_speed: f64::INFINITY,
@@ -196,7 +211,7 @@ pub fn eval(f: &Forcing, s: &Section, p: u64, jacobian: bool) -> MapEval {
         &sys,
         &f.settings,
         &Request::default(),
-        &scene,
+        scene,
         None,
         &mut rec,
     );

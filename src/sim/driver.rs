@@ -273,6 +273,7 @@ impl<'a, P: Probe, S: PhaseSolver<Motion = Oscillator>> SceneEvents<'a, S> for R
             walls,
             x_side: Some(self.x_side),
             v_side: (self.x_side > 0.0 && !self.noisy()).then_some(self.map.v_side),
+            x_floor: 0.0,
             sep_side,
             t_limit: self.t_limit(),
         }

@@ -123,6 +123,9 @@ pub(crate) struct Watch {
     pub x_side: Option<f64>,
     /// Sign of `v`, when extrema are being looked for.
     pub v_side: Option<f64>,
+    /// Extrema of `x` are located only where `|x|` can reach this (m); 0: every one. A solver
+    /// that steps over an extremum below it reports `VZero` at the end of that step.
+    pub x_floor: f64,
     /// The wall's sign while stuck: contact holds while that sign times the contact force
     /// (`C v + K x` in free decay, `C v + K x - F0 cos(omega t)` when forced) is `>= 0`.
     pub sep_side: Option<f64>,

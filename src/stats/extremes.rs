@@ -374,6 +374,10 @@ fn root(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> f64 {
         .unwrap_or(0.5 * (a + b))
 }
 
+/// The lowest candidate threshold's quantile ([`choose_threshold`]): the values below the
+/// pooled quantile there enter an estimate only as periods below its threshold.
+pub const LOWEST_CANDIDATE: f64 = 0.80;
+
 /// The threshold (module doc): `(u, cluster maxima, fit)`. Candidates are the pooled
 /// quantiles of the chains' values at 0.80, 0.81, ..., 0.998; the one chosen leaves the number
 /// of cluster maxima nearest (in ratio) to `max(MIN_CLUSTERS, sqrt(n) / 2)`, `n` the periods.
@@ -385,7 +389,7 @@ pub fn choose_threshold(
     let pooled: Vec<f64> = chains.iter().flat_map(|c| c.iter().copied()).collect();
     let target = (0.5 * (pooled.len() as f64).sqrt()).max(MIN_CLUSTERS as f64);
     let probs = (0..=15)
-        .map(|i| 0.80 + 0.01 * i as f64)
+        .map(|i| LOWEST_CANDIDATE + 0.01 * i as f64)
         .chain((1..=24).map(|i| 0.95 + 0.002 * i as f64));
     let mut best: Option<(f64, f64, Vec<f64>)> = None;
     for p in probs {

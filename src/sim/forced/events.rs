@@ -159,10 +159,22 @@ impl PhaseSolver for ForcedPhase {
             }
             // The velocity last: an extremum polished now must lie within the others' safe
             // step `h`.
+            let mut v_unwatched = None;
             if let Some(s) = w.v_side {
                 let (g, g1, g2, g3) = (s * v, s * a, s * j, s * j2);
                 let hi = safe_step(g, g1, g2, g3, b[3], b[5]);
-                if hi <= tol_t && toward(g1, g2) {
+                // A step shorter than the others' is worth taking only when v allows less.
+                let shortest = if hi < h { hi } else { 0.5 * h };
+                let skip = if w.x_floor > 0.0 {
+                    skip_step(w.x_floor, [x, v, a, j], b[4], h, shortest)
+                } else {
+                    None
+                };
+                if let Some(tau) = skip {
+                    // |x| stays below the floor over the step: no extremum to locate in it.
+                    h = tau;
+                    v_unwatched = Some(s);
+                } else if hi <= tol_t && toward(g1, g2) {
                     if fired.is_none_or(|(_, hf)| hi < hf) {
                         fired = Some((Event::VZero, hi));
                     }
@@ -186,18 +198,81 @@ impl PhaseSolver for ForcedPhase {
                 }
                 return Ok(ev);
             }
+            // `v` changed sign in a step that did not watch it: the extremum stayed below the
+            // floor, and the side flips here.
+            let flipped = |p: &Self| v_unwatched.is_some_and(|s| s * p.jet.v < 0.0);
             if w.t_limit - self.t <= h {
                 let t = w.t_limit;
                 self.seek(t);
-                return Ok(Event::Limit);
+                return Ok(if flipped(self) {
+                    Event::VZero
+                } else {
+                    Event::Limit
+                });
             }
             let t = self.t + h.max(self.tol_t);
             self.seek(t.min(w.t_limit));
             if !self.jet.x.is_finite() || !self.jet.v.is_finite() {
                 return Ok(Event::NonFinite);
             }
+            if flipped(self) {
+                return Ok(Event::VZero);
+            }
         }
     }
+}
+
+/// The longest of `h`, `h/2`, `h/4`, `h/8` that is longer than `shortest` and over which `|x|`
+/// surely stays below `floor` ([`below_floor`]).
+#[inline]
+fn skip_step(floor: f64, jet: [f64; 4], b4: f64, h: f64, shortest: f64) -> Option<f64> {
+    let mut tau = h;
+    for _ in 0..4 {
+        if tau <= shortest {
+            return None;
+        }
+        if below_floor(floor, jet, b4, tau) {
+            return Some(tau);
+        }
+        tau *= 0.5;
+    }
+    None
+}
+
+/// Whether `|x|` surely stays below `floor > 0` over the next `h` (false when the floor is 0):
+/// the largest `|c(tau)|` of the cubic Taylor model `c = x + v tau + a tau^2/2 + j tau^3/6` over
+/// `[0, h]` (its ends and its stationary points) plus the model's error `b4 h^4 / 24`
+/// (`b4 >= |x''''|` for the rest of the phase) is below it.
+#[inline]
+fn below_floor(floor: f64, [x, v, a, j]: [f64; 4], b4: f64, h: f64) -> bool {
+    if floor <= 0.0 || !h.is_finite() {
+        return false;
+    }
+    let c = |t: f64| x + t * (v + t * (0.5 * a + t * j / 6.0));
+    let mut top = x.abs().max(c(h).abs());
+    // c' = v + a t + j t^2 / 2 = 0.
+    let (qa, qb, qc) = (0.5 * j, a, v);
+    let mut stationary = |t: f64| {
+        if t > 0.0 && t < h {
+            top = top.max(c(t).abs());
+        }
+    };
+    if qa == 0.0 {
+        if qb != 0.0 {
+            stationary(-qc / qb);
+        }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc >= 0.0 {
+            let q = -0.5 * (qb + qb.signum() * disc.sqrt());
+            if q != 0.0 {
+                stationary(q / qa);
+                stationary(qc / q);
+            }
+        }
+    }
+    let h2 = h * h;
+    (top + b4 * h2 * h2 / 24.0) * (1.0 + 1e-12) < floor
 }
 
 /// The time to the next zero of `g = s v` (heading into it: `g > 0`, `g1 < 0`) from its cubic
@@ -270,6 +345,7 @@ mod tests {
                     walls: None,
                     x_side: None,
                     v_side: Some(side),
+                    x_floor: 0.0,
                     sep_side: None,
                     t_limit: 100.0,
                 };

@@ -135,6 +135,13 @@ pub struct Harmonic {
     /// solvers of [`crate::orbits`] evaluate the stroboscopic map without them.
     #[serde(skip)]
     pub energies: bool,
+    /// Extrema of `x` whose `|x|` stays below this are not located (m, default 0: every one
+    /// is; no study key). The window's amplitude is then exact when it is at least `x_floor`,
+    /// and some value below `x_floor` otherwise. A design-life measurement
+    /// ([`crate::orbits::life`]) sets it below the part of the per-period maxima its estimate
+    /// uses: watching `v` costs about half of a chaotic motion's steps.
+    #[serde(skip)]
+    pub x_floor: f64,
 }
 
 /// Which steady state carries a design's peak.
@@ -183,6 +190,7 @@ impl Default for Harmonic {
             life_tol: 0.05,
             life_max_periods: 20_000,
             energies: true,
+            x_floor: 0.0,
         }
     }
 }

@@ -327,6 +327,7 @@ impl<'a, P: Probe> SceneEvents<'a, ForcedPhase> for Run<'a, P> {
             walls,
             x_side: None,
             v_side: self.exact_extrema().then_some(self.map.v_side),
+            x_floor: self.scene.x_floor,
             sep_side,
             t_limit,
         }
