@@ -28,6 +28,22 @@ pub fn quantile(xs: &[f64], q: f64) -> f64 {
     quantile_mut(&mut v, q)
 }
 
+/// [`quantile_mut`] of a sample already sorted ascending (by `f64::total_cmp`, no NaN): the same
+/// value, without the selection, for many quantiles of one sample. NaN when empty.
+pub fn quantile_sorted(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let h = (sorted.len() - 1) as f64 * q.clamp(0.0, 1.0);
+    let lo = h.floor() as usize;
+    let a = sorted[lo];
+    let frac = h - lo as f64;
+    match sorted.get(lo + 1) {
+        Some(&b) if frac != 0.0 => a + frac * (b - a),
+        _ => a,
+    }
+}
+
 /// Median of a sample, NaN values left out (NaN when nothing is left): [`quantile`] at 0.5.
 pub fn median(xs: &[f64]) -> f64 {
     quantile(xs, 0.5)
@@ -137,6 +153,20 @@ mod tests {
             let mut v = xs.clone();
             assert_eq!(quantile_mut(&mut v, q), want, "q = {q}");
         }
+        // The sorted sample's quantile is the selection's, bit for bit (a sample with ties).
+        let ties: Vec<f64> = xs.iter().map(|x| (x * 0.1).floor()).collect();
+        let mut sorted = ties.clone();
+        sorted.sort_by(f64::total_cmp);
+        for i in 0..=1000 {
+            let q = f64::from(i) / 1000.0;
+            let mut v = ties.clone();
+            assert_eq!(
+                quantile_sorted(&sorted, q).to_bits(),
+                quantile_mut(&mut v, q).to_bits(),
+                "q = {q}"
+            );
+        }
+        assert!(quantile_sorted(&[], 0.5).is_nan());
     }
 
     #[test]

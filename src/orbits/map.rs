@@ -160,8 +160,10 @@ enum Ev {
     Separate { t: f64 },
 }
 
+/// The slowest impact, and the events when the Jacobian is asked for (`keep`).
 #[derive(Default)]
 struct Recorder {
+    keep: bool,
     events: Vec<Ev>,
     min_speed: f64,
 }
@@ -169,17 +171,23 @@ struct Recorder {
 impl Probe for Recorder {
     fn impact(&mut self, t: f64, _wall: Wall, before: &State, after: &State) {
         self.min_speed = self.min_speed.min((before.w - before.v).abs());
-        self.events.push(Ev::Impact {
-            t,
-            before: *before,
-            after: *after,
-        });
+        if self.keep {
+            self.events.push(Ev::Impact {
+                t,
+                before: *before,
+                after: *after,
+            });
+        }
     }
     fn stick(&mut self, t: f64, wall: Wall, at: &State) {
-        self.events.push(Ev::Stick { t, wall, at: *at });
+        if self.keep {
+            self.events.push(Ev::Stick { t, wall, at: *at });
+        }
     }
     fn separate(&mut self, t: f64, _wall: Wall, _at: &State) {
-        self.events.push(Ev::Separate { t });
+        if self.keep {
+            self.events.push(Ev::Separate { t });
+        }
     }
 }
 
@@ -204,6 +212,7 @@ pub fn eval_above(f: &Forcing, s: &Section, p: u64, floor: f64) -> MapEval {
 fn evaluate(f: &Forcing, s: &Section, scene: &Harmonic, jacobian: bool) -> MapEval {
     let sys = f.started(s);
     let mut rec = Recorder {
+        keep: jacobian,
         events: Vec::new(),
         min_speed: f64::INFINITY,
     };

@@ -386,14 +386,20 @@ pub fn choose_threshold(
     run: usize,
     xi_max: f64,
 ) -> Option<(f64, Vec<f64>, GpdFit)> {
-    let pooled: Vec<f64> = chains.iter().flat_map(|c| c.iter().copied()).collect();
-    let target = (0.5 * (pooled.len() as f64).sqrt()).max(MIN_CLUSTERS as f64);
+    let mut sorted: Vec<f64> = chains
+        .iter()
+        .flat_map(|c| c.iter().copied())
+        .filter(|x| !x.is_nan())
+        .collect();
+    sorted.sort_unstable_by(f64::total_cmp);
+    let periods = chains.iter().map(|c| c.len()).sum::<usize>();
+    let target = (0.5 * (periods as f64).sqrt()).max(MIN_CLUSTERS as f64);
     let probs = (0..=15)
         .map(|i| LOWEST_CANDIDATE + 0.01 * i as f64)
         .chain((1..=24).map(|i| 0.95 + 0.002 * i as f64));
     let mut best: Option<(f64, f64, Vec<f64>)> = None;
     for p in probs {
-        let u = crate::numeric::quantile(&pooled, p);
+        let u = crate::numeric::quantile_sorted(&sorted, p);
         let maxima: Vec<f64> = chains.iter().flat_map(|c| decluster(c, u, run)).collect();
         if maxima.len() < MIN_CLUSTERS {
             break;
