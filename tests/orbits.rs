@@ -515,14 +515,14 @@ fn a_life_measurement_whose_floor_does_not_hold_runs_again_exactly() {
         cap: 1200,
     };
     let mut floored = LifeRun::chains(states.clone());
-    let mut exact = LifeRun::chains(states);
+    let mut exact = LifeRun::chains(states).without_floor();
     for run in [&mut floored, &mut exact] {
         run.grow(&f, &s, 1.0);
     }
     assert!(floored.floor > 0.0, "the first window sets a floor");
+    assert_eq!(exact.floor, 0.0, "a measurement without a floor sets none");
     // Above every maximum: the next window keeps none of them.
     floored.floor = 1.0;
-    exact.floor = 0.0;
     for run in [&mut floored, &mut exact] {
         run.grow(&f, &s, 1.0);
     }

@@ -62,6 +62,8 @@ pub struct LifeRun {
     pub floor: f64,
     /// The chains' first states (a measurement whose floor did not hold runs again from them).
     pub starts: Vec<Section>,
+    /// Every window locates every extremum ([`LifeRun::without_floor`]).
+    pub exact: bool,
 }
 
 /// The quantile of the per-period maxima measured so far below which later periods do not
@@ -84,7 +86,15 @@ impl LifeRun {
             capped: false,
             floor: 0.0,
             starts: states,
+            exact: false,
         }
+    }
+
+    /// The same measurement locating every extremum in every window (no floor, module doc): the
+    /// per-period maxima are all exact, at the cost of the steps the floor saves.
+    pub fn without_floor(mut self) -> LifeRun {
+        self.exact = true;
+        self
     }
 
     /// Periods measured over all chains.
@@ -190,9 +200,11 @@ impl LifeRun {
             return false;
         }
         self.estimate(s, lambda);
-        self.floor = self
-            .floor
-            .max(crate::numeric::quantile(&self.pooled(), FLOOR_QUANTILE));
+        if !self.exact {
+            self.floor = self
+                .floor
+                .max(crate::numeric::quantile(&self.pooled(), FLOOR_QUANTILE));
+        }
         self.capped = !self.settled(s) && self.periods() >= s.cap;
         !self.settled(s) && !self.capped
     }
