@@ -369,6 +369,27 @@ fn issue_16_continuation_along_the_force() {
     );
 }
 
+/// The rattling point of the design-life tests (the showcase's best design, m = 20 g and
+/// d = 20 mm, at r = 1.01), and census settings whose seeded starts land on its attractor.
+fn rattling_point() -> (Forcing, CensusSettings) {
+    let f = forcing(0.02, 0.02, 0.9, 0.1, 0.1, 1.01);
+    let c = CensusSettings {
+        starts: 64,
+        max_periods: 2000,
+        handover: 1e-3,
+        window: 200,
+        seed: 22,
+        point: 1,
+        spent0: 0,
+    };
+    (f, c)
+}
+
+/// Census start `k` run `burn` periods: a state on the attractor it reaches.
+fn on_attractor(f: &Forcing, c: &CensusSettings, k: u32, burn: u64) -> Section {
+    impactsweep::orbits::map::eval(f, &start(f, c, k, f.half_gap()), burn, false).end
+}
+
 /// Issue 22: on a rattling point (the showcase's best design, m = 20 g and d = 20 mm, at
 /// r = 1.01), the life amplitude for a design life of 20,000 forcing periods, measured from at
 /// most a quarter of that (5,000 periods in all, over 8 runs on the attractor, the later
@@ -383,20 +404,8 @@ fn issue_16_continuation_along_the_force() {
 fn issue_22_life_amplitude_matches_the_median_of_brute_force_lives() {
     use impactsweep::orbits::life::{LifeRun, LifeSettings};
     use rayon::prelude::*;
-    let f = forcing(0.02, 0.02, 0.9, 0.1, 0.1, 1.01);
-    let c = CensusSettings {
-        starts: 64,
-        max_periods: 2000,
-        handover: 1e-3,
-        window: 200,
-        seed: 22,
-        point: 1,
-        spent0: 0,
-    };
-    let settle_on = |k: u32| {
-        let s = start(&f, &c, k, f.half_gap());
-        impactsweep::orbits::map::eval(&f, &s, 500, false).end
-    };
+    let (f, c) = rattling_point();
+    let settle_on = |k: u32| on_attractor(&f, &c, k, 500);
     let mut maxima: Vec<f64> = (1..41u32)
         .into_par_iter()
         .map(|k| impactsweep::orbits::map::eval(&f, &settle_on(k), 20_000, false).amplitude)
@@ -446,17 +455,8 @@ fn issue_22_life_amplitude_matches_the_median_of_brute_force_lives() {
 #[test]
 fn a_floor_under_the_extrema_keeps_every_maximum_above_it() {
     use impactsweep::orbits::map::{eval, eval_above};
-    let f = forcing(0.02, 0.02, 0.9, 0.1, 0.1, 1.01);
-    let c = CensusSettings {
-        starts: 2,
-        max_periods: 2000,
-        handover: 1e-3,
-        window: 200,
-        seed: 22,
-        point: 1,
-        spent0: 0,
-    };
-    let mut s = eval(&f, &start(&f, &c, 1, f.half_gap()), 500, false).end;
+    let f = rattling_point().0;
+    let mut s = on_attractor(&f, &rattling_point().1, 1, 500);
     let scale = f.half_gap();
     let (mut above, mut below) = (0, 0);
     for k in 0..2000 {
@@ -492,21 +492,9 @@ fn a_floor_under_the_extrema_keeps_every_maximum_above_it() {
 #[test]
 fn a_life_measurement_whose_floor_does_not_hold_runs_again_exactly() {
     use impactsweep::orbits::life::{LifeRun, LifeSettings};
-    let f = forcing(0.02, 0.02, 0.9, 0.1, 0.1, 1.01);
-    let c = CensusSettings {
-        starts: 4,
-        max_periods: 2000,
-        handover: 1e-3,
-        window: 200,
-        seed: 22,
-        point: 1,
-        spent0: 0,
-    };
-    let states: Vec<Section> = (1..4u32)
-        .map(|k| {
-            impactsweep::orbits::map::eval(&f, &start(&f, &c, k, f.half_gap()), 300, false).end
-        })
-        .collect();
+    let f = rattling_point().0;
+    let c = rattling_point().1;
+    let states: Vec<Section> = (1..4u32).map(|k| on_attractor(&f, &c, k, 300)).collect();
     let s = LifeSettings {
         n_life: 20_000.0,
         quantile: 0.5,
