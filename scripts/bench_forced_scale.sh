@@ -4,7 +4,8 @@
 #      census starts) run and reduced by the tool before issue 23 (commit OLD, default e53b9e3,
 #      built here in a temporary worktree unless OLD_BIN names its binary) and by this one;
 #   2. the same study with one start (`starts = 1`, `design_peak = "from_rest"`) by this one:
-#      the census's cost relative to one start, end to end;
+#      the census's cost relative to one start, end to end; and with window peaks
+#      (`nonperiodic_peak = "window"`): the work that existed before the design life, without it;
 #   3. examples/race_cost: the periods the census simulates, the motions that are not periodic
 #      and the periods their life amplitudes cost by the race against refining every one;
 #   4. a forced design space of 1,000 designs (m x d x e at 10 values each, 41 frequencies,
@@ -41,12 +42,17 @@ time_cmd() {
 sed -e 's/^starts = 8/starts = 1/' -e 's/^design_peak = "worst"/design_peak = "from_rest"/' \
   configs/frequency-response.toml > "$work/one-start.toml"
 grep -q '^starts = 1' "$work/one-start.toml"
+sed -e 's/^design_peak = "worst"/design_peak = "worst"\nnonperiodic_peak = "window"/' \
+  configs/frequency-response.toml > "$work/window.toml"
+grep -q '^nonperiodic_peak = "window"' "$work/window.toml"
 time_cmd old_run "$OLD_BIN" run configs/frequency-response.toml --out "$work/old"
 time_cmd old_reduce "$OLD_BIN" reduce "$work/old/frequency-response"
 time_cmd new_run "$NEW" run configs/frequency-response.toml --out "$work/new"
 time_cmd new_reduce "$NEW" reduce "$work/new/frequency-response"
 time_cmd one_run "$NEW" run "$work/one-start.toml" --out "$work/one"
 time_cmd one_reduce "$NEW" reduce "$work/one/frequency-response"
+time_cmd win_run "$NEW" run "$work/window.toml" --out "$work/win"
+time_cmd win_reduce "$NEW" reduce "$work/win/frequency-response"
 "$ROOT/target/release/examples/race_cost" > "$work/race.json"
 cat > "$work/space.toml" <<'TOML'
 [study]
@@ -79,7 +85,7 @@ up1=$(uptime)
 PY="${IMPACTSWEEP_PYTHON:-$ROOT/.venv/bin/python}"
 [ -x "$PY" ] || PY=python3
 "$PY" - "$work" "$old" "$up0" "$up1" > results/bench_forced_scale.md <<'PYEOF'
-import json, subprocess, sys
+import csv, json, subprocess, sys
 work, old, up0, up1 = sys.argv[1:5]
 t = {}
 for line in open(f"{work}/times"):
@@ -95,12 +101,18 @@ print("## The forced design space at scale and the design life (issues 22, 23)\n
 print(f"`scripts/bench_forced_scale.sh` on {cpu}, {nproc} cores, commit `{commit}` against `{old}`, release builds, one run of each.")
 print(f"`uptime` at start: `{up0.strip()}`; at end: `{up1.strip()}`.\n")
 print("| what | run (s) | reduce (s) | end to end (s) | peak memory (MiB) |\n|---|---|---|---|---|")
-for k, name in [("old", f"showcase, before (`{old}`)"), ("new", "showcase, now"), ("one", "showcase, now, one start (`starts = 1`, `from_rest`)"), ("space", "1,000 designs x 41 frequencies, 1 case, 8 starts")]:
+for k, name in [("old", f"showcase, before (`{old}`)"), ("new", "showcase, now"), ("one", "showcase, now, one start (`starts = 1`, `from_rest`)"), ("win", "showcase, now, window peaks (`nonperiodic_peak = \"window\"`: no design life)"), ("space", "1,000 designs x 41 frequencies, 1 case, 8 starts")]:
     r, d = t[f"{k}_run"], t[f"{k}_reduce"]
     print(f"| {name} | {r[0]:.1f} | {d[0]:.1f} | {r[0] + d[0]:.1f} | {max(r[1], d[1]):.0f} |")
 print()
 print(f"- Showcase end to end: {e2e('old'):.1f} s before, {e2e('new'):.1f} s now ({e2e('old') / e2e('new'):.2f}x faster), design-life estimates included.")
 print(f"- The census against one start, end to end: {e2e('new') / e2e('one'):.2f}x.")
+def peaks(k):
+    with open(f"{work}/{k}/frequency-response/summary.csv", newline="") as fh:
+        return {r["point"]: float(r["peak_amplitude_ideal"]) for r in csv.DictReader(fh)}
+life, win = peaks("new"), peaks("win")
+ratios = [win[p] / life[p] for p in life]
+print(f"- Without the design life (window peaks), the work that existed before it (census, the sweeps up and down, continuation, jumps): {e2e('win'):.1f} s end to end, {e2e('old') / e2e('win'):.2f}x faster than before; the design life is {1 - e2e('win') / e2e('new'):.0%} of the showcase now. The ideal window peaks are {min(ratios):.3f} to {max(ratios):.3f} times the life peaks.")
 print(f"- `reduce` against `run` (showcase): {t['new_reduce'][0] / t['new_run'][0]:.3f}; (1,000 designs): {t['space_reduce'][0] / t['space_run'][0]:.3f}.")
 print(f"- 1,000 designs: {e2e('space') / 60:.1f} min end to end on this machine, peak memory {max(t['space_run'][1], t['space_reduce'][1]):.0f} MiB (an overnight 10 h holds {36000 / e2e('space'):.0f} such studies).")
 print()

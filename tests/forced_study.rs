@@ -538,3 +538,65 @@ fn issue_23_attractor_tables_are_identical_across_threads_chunks_shards_and_kill
         std::fs::read(seven.join("manifest.json")).unwrap()
     );
 }
+
+/// Issue 23: `nonperiodic_peak = "window"` skips the design life and nothing else. The same
+/// study with and without it stores the same attractors (every periodic row to its last bit, and
+/// every census column of the others); a motion that is not periodic then keeps its window's
+/// maximum as its amplitude and has no life estimate, where the default measured one.
+#[test]
+fn issue_23_window_peaks_store_the_same_attractors_without_the_design_life() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rows = |name: &str, extra: &str| {
+        let text = census_study_text(name).replace("starts = 4\n", &format!("starts = 4\n{extra}"));
+        let path = tmp.path().join(format!("{name}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let s = Study::load(&path).unwrap();
+        sweep::run_study(&s, tmp.path(), &SweepOptions::default()).unwrap();
+        let dir = tmp.path().join(name);
+        let mut out = Vec::new();
+        for p in store::part_files(&dir).unwrap() {
+            let side =
+                store::attractors::attractors_part_path(&dir, store::part_chunk(&p).unwrap());
+            out.extend(store::attractors::read_part(&side).unwrap());
+        }
+        out
+    };
+    let life = rows("life", "");
+    let window = rows("window", "nonperiodic_peak = \"window\"\n");
+    assert_eq!(life.len(), window.len());
+    let mut measured = 0;
+    for (l, w) in life.iter().zip(&window) {
+        assert_eq!(
+            (l.run.point, l.run.case, l.attractor),
+            (w.run.point, w.run.case, w.attractor)
+        );
+        if l.kind.periodic() {
+            assert_eq!(format!("{l:?}"), format!("{w:?}"));
+            continue;
+        }
+        let census = |a: &impactsweep::orbits::attractors::AttractorRow| {
+            format!(
+                "{:?}",
+                (
+                    a.kind,
+                    a.window_amplitude,
+                    a.basin_share,
+                    a.starts,
+                    a.lyapunov,
+                    a.section
+                )
+            )
+        };
+        assert_eq!(census(l), census(w));
+        assert_eq!(w.amplitude.to_bits(), w.window_amplitude.to_bits());
+        assert!(w.life_amplitude.is_nan() && w.life_lo.is_nan() && w.life_hi.is_nan());
+        assert_eq!(w.measured_periods, 0);
+        if l.life_lo.is_finite() {
+            measured += 1;
+        }
+    }
+    assert!(
+        measured > 0,
+        "the study has no motion whose design life was measured"
+    );
+}

@@ -17,12 +17,15 @@
 //!    the leader's lower bound. The race ends when none is left. The leader itself is refined
 //!    to the tolerance.
 //!
-//! Deterministic: the motions are measured from their stored states, in curve order.
+//! Deterministic: the motions are measured from their stored states, in curve order. A scene
+//! with `nonperiodic_peak = "window"` ([`NonPeriodicPeak::Window`]) takes no part: its motions
+//! keep their census window's maximum.
 
 use super::census::{Census, Kind};
 use super::life::{LifeRun, LifeSettings};
 use super::map::Forcing;
 use crate::sim::Harmonic;
+use crate::sim::forced::NonPeriodicPeak;
 
 /// Periods of a motion's first life estimate.
 pub const FIRST: u64 = 2000;
@@ -94,6 +97,10 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
         let (Some((f, h)), Some(c)) = (p, c) else {
             continue;
         };
+        // `nonperiodic_peak = "window"`: the window's maximum stays the design amplitude.
+        if h.nonperiodic_peak == NonPeriodicPeak::Window {
+            continue;
+        }
         for (j, a) in c.attractors.iter().enumerate() {
             if let Kind::NonPeriodic(w) = &a.kind
                 && a.window_amplitude.is_finite()

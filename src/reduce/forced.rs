@@ -25,7 +25,7 @@
 use super::table::{Column, Table};
 use super::{Damping, Options, PointStats, Reducer, Response, Run, Summary};
 use crate::orbits::attractors::AttractorRow;
-use crate::sim::forced::DesignPeak;
+use crate::sim::forced::{DesignPeak, NonPeriodicPeak};
 use crate::sim::{ForcedRecord, Outcome, Scene};
 use crate::store::RunRow;
 use crate::study::{Study, frequency_axis};
@@ -400,11 +400,23 @@ pub struct ForcedSummary {
     /// its largest amplitude that is the design amplitude (`[scene]`).
     pub design_life: f64,
     pub life_quantile: f64,
+    /// How a motion that is not periodic gets its design amplitude (`[scene]
+    /// nonperiodic_peak`).
+    pub nonperiodic_peak: NonPeriodicPeak,
     /// The lines of the grid the bifurcation curves are followed along.
     pub curve_lines: super::bifurcations::CurveLines,
 }
 
 impl ForcedSummary {
+    /// The design life the motions that are not periodic were measured over (s); NaN when
+    /// none was (`nonperiodic_peak = "window"`).
+    pub fn measured_life(&self) -> f64 {
+        match self.nonperiodic_peak {
+            NonPeriodicPeak::Life => self.design_life,
+            NonPeriodicPeak::Window => f64::NAN,
+        }
+    }
+
     /// The curve of a design, if it is in the dataset.
     pub fn curve(&self, design: u64) -> Option<&Curve> {
         self.curves
@@ -494,7 +506,7 @@ pub fn summary_columns(t: &mut Table, fs: &ForcedSummary, points: &[&PointStats]
     t.push("peak_lyapunov", col(&attractor(|a| a.lyapunov)));
     t.push(
         "design_life",
-        Column::F64(vec![fs.design_life; points.len()]),
+        Column::F64(vec![fs.measured_life(); points.len()]),
     );
 }
 
@@ -672,6 +684,10 @@ impl<'a> ForcedReducer<'a> {
                 life_quantile: match self.study.scene {
                     Scene::Harmonic(h) => h.life_quantile,
                     Scene::Free => f64::NAN,
+                },
+                nonperiodic_peak: match self.study.scene {
+                    Scene::Harmonic(h) => h.nonperiodic_peak,
+                    Scene::Free => NonPeriodicPeak::Life,
                 },
                 curve_lines: Default::default(),
             },

@@ -18,8 +18,8 @@ use super::perturb::Case;
 use super::{Cx, num, range_value};
 use crate::error::InputError;
 use crate::model::{RangeError, System};
-use crate::sim::forced::DesignPeak;
 use crate::sim::forced::motion::RESONANCE_FLOOR;
+use crate::sim::forced::{DesignPeak, NonPeriodicPeak};
 use crate::sim::{Drive, Harmonic, Scene, SolverKind, SolverSettings};
 
 #[derive(Default, Deserialize)]
@@ -37,6 +37,7 @@ pub(super) struct RawScene {
     period_tol: Option<f64>,
     starts: Option<u32>,
     design_peak: Option<String>,
+    nonperiodic_peak: Option<String>,
     design_life: Option<f64>,
     life_quantile: Option<f64>,
     life_tol: Option<f64>,
@@ -68,6 +69,9 @@ impl RawScene {
             .collect();
         if self.design_peak.is_some() {
             keys.push("design_peak");
+        }
+        if self.nonperiodic_peak.is_some() {
+            keys.push("nonperiodic_peak");
         }
         keys
     }
@@ -201,6 +205,20 @@ pub(super) fn scene(
                     "unknown design peak; allowed: {} (the worst steady state the census finds, \
                      or the one reached from the initial state)",
                     DesignPeak::NAMES.join(", ")
+                ),
+            )
+        })?;
+    }
+    if let Some(p) = &raw.nonperiodic_peak {
+        h.nonperiodic_peak = NonPeriodicPeak::parse(p).ok_or_else(|| {
+            cx.err(
+                "[scene].nonperiodic_peak",
+                format!("{p:?}"),
+                format!(
+                    "unknown peak of a steady state that is not periodic; allowed: {} (its \
+                     largest amplitude over the design life, estimated, or the largest over the \
+                     census's 200-period window, a lower bound)",
+                    NonPeriodicPeak::NAMES.join(", ")
                 ),
             )
         })?;

@@ -9,6 +9,18 @@ use crate::reduce::forced::ForcedSummary;
 use crate::reduce::table::outcome_text;
 use crate::reduce::{PointStats, Summary};
 use crate::report::charts::plumbing::fmt_num;
+use crate::sim::forced::{DesignPeak, NonPeriodicPeak};
+
+/// Why a dataset's peaks carried by motions that are not periodic have no design-life estimate.
+fn unmeasured_reason(fs: &ForcedSummary) -> &'static str {
+    if fs.design_peak == DesignPeak::FromRest {
+        "`design_peak = \"from_rest\"`: no census"
+    } else if fs.nonperiodic_peak == NonPeriodicPeak::Window {
+        "`nonperiodic_peak = \"window\"`"
+    } else {
+        "a dataset written before life estimates"
+    }
+}
 
 pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
     let mut o = String::from("## Frequency response\n\n");
@@ -115,9 +127,10 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
     if wandering_peaks > 0 {
         let _ = writeln!(
             o,
-            "\n† {} of these peaks {} at a frequency whose motion did not settle on a periodic orbit and whose amplitude over the design life was not measured (a dataset written before life estimates, or `design_peak = \"from_rest\"`): such a peak is the largest excursion of a wandering motion over a window, a lower bound of what that motion reaches, and indicative only.",
+            "\n† {} of these peaks {} at a frequency whose motion did not settle on a periodic orbit and whose amplitude over the design life was not measured ({}): such a peak is the largest excursion of a wandering motion over a window, a lower bound of what that motion reaches, and indicative only.",
             wandering_peaks,
-            if wandering_peaks == 1 { "lies" } else { "lie" }
+            if wandering_peaks == 1 { "lies" } else { "lie" },
+            unmeasured_reason(fs)
         );
     }
     o.push_str(&super::life::section(

@@ -10,6 +10,7 @@ use crate::orbits::attractors::AttractorRow;
 use crate::reduce::PointStats;
 use crate::reduce::Summary;
 use crate::reduce::forced::ForcedSummary;
+use crate::sim::forced::NonPeriodicPeak;
 
 /// `s` seconds as the report says a design life: hours (and years beyond 10,000 h).
 pub fn life_text(s: f64) -> String {
@@ -42,6 +43,13 @@ pub fn section(s: &Summary, fs: &ForcedSummary, shown: &[&PointStats]) -> String
     // Without stored attractors (no census, or a dataset written before them) there is no
     // life estimate to speak of.
     if !fs.curves.iter().any(|c| c.attractors.is_some()) {
+        return o;
+    }
+    if fs.nonperiodic_peak == NonPeriodicPeak::Window {
+        let _ = writeln!(
+            o,
+            "\n**No design life.** This study asks for window peaks (`[scene] nonperiodic_peak = \"window\"`): a steady state that is not periodic keeps the largest amplitude of the census's 200-period window as its design amplitude, a lower bound of what it reaches over a longer operation, and the peaks it carries are marked †. Its periodic steady states are the same as with design-life estimates. Remove the key (or set `\"life\"`) to estimate every such peak over a design life with its 90 % interval."
+        );
         return o;
     }
     let rows: Vec<(&PointStats, &AttractorRow)> = shown

@@ -118,6 +118,9 @@ pub struct Harmonic {
     pub starts: u32,
     /// Which steady amplitude is the design quantity. Default [`DesignPeak::Worst`].
     pub design_peak: DesignPeak,
+    /// How a steady state that is not periodic gets its design amplitude. Default
+    /// [`NonPeriodicPeak::Life`].
+    pub nonperiodic_peak: NonPeriodicPeak,
     /// The design life (s of operation) over which a steady state that is not periodic reaches
     /// its design amplitude (docs/scenes.md). Default `3.6e6` (1000 hours), range
     /// `[1, 1e12]`.
@@ -173,6 +176,38 @@ impl DesignPeak {
     }
 }
 
+/// How a steady state that is not periodic gets its design amplitude (`[scene]
+/// nonperiodic_peak`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NonPeriodicPeak {
+    /// Its largest amplitude over the design life, estimated from `2 000` to `life_max_periods`
+    /// periods where it can still carry a curve's peak ([`crate::orbits::race`]).
+    Life,
+    /// The largest `|x|` over the census's 200-period window: a lower bound of what the motion
+    /// reaches, without a design-life measurement (the periodic steady states are the same).
+    Window,
+}
+
+impl NonPeriodicPeak {
+    pub const NAMES: [&'static str; 2] = ["life", "window"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            NonPeriodicPeak::Life => "life",
+            NonPeriodicPeak::Window => "window",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<NonPeriodicPeak> {
+        match s {
+            "life" => Some(NonPeriodicPeak::Life),
+            "window" => Some(NonPeriodicPeak::Window),
+            _ => None,
+        }
+    }
+}
+
 impl Default for Harmonic {
     fn default() -> Self {
         Harmonic {
@@ -185,6 +220,7 @@ impl Default for Harmonic {
             period_tol: 1e-6,
             starts: 8,
             design_peak: DesignPeak::Worst,
+            nonperiodic_peak: NonPeriodicPeak::Life,
             design_life: 3.6e6,
             life_quantile: 0.5,
             life_tol: 0.05,
