@@ -433,12 +433,17 @@ fn scale(sections: &[Section], omega: f64) -> f64 {
 /// The default transient's test on the latest sections (module doc of [`super`]).
 fn transient_converged(h: &[Section], omega: f64, wn: f64, tol: f64) -> bool {
     let n = h.len();
+    let Some(last) = n.checked_sub(1) else {
+        return false;
+    };
+    // The scale of the last `p + 1` sections, grown by one section per `p` (a running maximum:
+    // the same value as `scale(&h[last - p..], omega)`).
+    let mut l = scale(&h[last..], omega);
     for p in 1..=MAX_PERIOD {
         if n < p + 1 {
             break;
         }
-        let last = n - 1;
-        let l = scale(&h[last - p..], omega);
+        l = l.max(scale(&h[last - p..=last - p], omega));
         let d0 = distance(&h[last], &h[last - p], wn);
         if d0 <= 16.0 * f64::EPSILON * l {
             return true;
