@@ -47,7 +47,7 @@
 //! zero from the side the scene names (the `*_side` fields of [`Watch`]).
 //!
 //! # The loop
-//! [`run`] is the one event loop: it asks the [`SceneEvents`] what to watch, lets the solver find the
+//! `run` is the one event loop: it asks the [`SceneEvents`] what to watch, lets the solver find the
 //! first event, brings the [`EventMap`] (phase, state, counts, the sign of `v`) to it, and at a
 //! wall applies the impact law and the chatter rule ([`EventMap::collide`]), at a separation
 //! frees the pair ([`EventMap::separate`]), at `v = 0` flips the sign of `v`; the scene books
@@ -356,7 +356,7 @@ impl<'a, M: Motion> EventMap<'a, M> {
     }
 }
 
-/// A scene on the event map: what it watches and what it makes of the events. [`run`] calls it;
+/// A scene on the event map: what it watches and what it makes of the events. `run` calls it;
 /// the optional hooks ([`SceneEvents::arrived`], [`SceneEvents::at_wall`],
 /// [`SceneEvents::v_zero`], [`SceneEvents::x_zero`]) do nothing by default.
 pub(crate) trait SceneEvents<'a, S: PhaseSolver> {
