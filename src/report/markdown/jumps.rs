@@ -9,7 +9,11 @@ use crate::reduce::table::{per_axis_unit, quantity_of};
 use crate::reduce::{Jump, JumpKind, Quantity, Summary};
 use crate::report::charts::plumbing::{axis_unit, fmt_num};
 
-pub fn section(s: &Summary) -> String {
+/// The report's section on the jumps located along the design axes.
+///
+/// `window`: the study's motions that are not periodic carry their window maxima
+/// (`nonperiodic_peak = "window"`), not amplitudes over a design life.
+pub fn section(s: &Summary, window: bool) -> String {
     let mut o = String::from("## Jumps\n\n");
     let st = &s.jump_stats;
     let g = &s.grid;
@@ -81,11 +85,16 @@ pub fn section(s: &Summary) -> String {
     if st.stopped_steps > 0 {
         let _ = writeln!(
             o,
-            "{} stopped at a midpoint whose peak is an estimate (a chaotic motion continued there still wanders, and the bracketing designs' amplitudes over the design life at that frequency reach above the midpoint's exact peak): they are reported at the bracket reached, with half its width as `location_tol`.\n",
+            "{} stopped at a midpoint whose peak is an estimate (a chaotic motion continued there still wanders, and the bracketing designs' {} at that frequency reach above the midpoint's exact peak): they are reported at the bracket reached, with half its width as `location_tol`.\n",
             if st.stopped_steps == 1 {
                 "1 step's bisection".to_string()
             } else {
                 format!("{} steps' bisections", st.stopped_steps)
+            },
+            if window {
+                "window maxima"
+            } else {
+                "amplitudes over the design life"
             },
         );
     }

@@ -54,7 +54,10 @@ pub fn report_with(
     o += &recommendation::section(s);
     o += scene;
     o += &zones::section(s);
-    o += &jumps::section(s);
+    // With window peaks a motion that is not periodic has its window maximum, no life estimate.
+    let window = matches!(study.scene, crate::sim::Scene::Harmonic(h)
+        if h.nonperiodic_peak == crate::sim::forced::NonPeriodicPeak::Window);
+    o += &jumps::section(s, window);
     o += &sensitivity::section(s);
     o += &ranking::top(s);
     o += &ranking::pareto(s);
