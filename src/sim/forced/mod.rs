@@ -181,7 +181,7 @@ impl DesignPeak {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum NonPeriodicPeak {
-    /// Its largest amplitude over the design life, estimated from `2 000` to `life_max_periods`
+    /// Its largest amplitude over the design life, estimated from 2,000 to `life_max_periods`
     /// periods where it can still carry a curve's peak ([`crate::orbits::race`]).
     Life,
     /// The largest `|x|` over the census's 200-period window: a lower bound of what the motion
@@ -191,13 +191,6 @@ pub enum NonPeriodicPeak {
 
 impl NonPeriodicPeak {
     pub const NAMES: [&'static str; 2] = ["life", "window"];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            NonPeriodicPeak::Life => "life",
-            NonPeriodicPeak::Window => "window",
-        }
-    }
 
     pub fn parse(s: &str) -> Option<NonPeriodicPeak> {
         match s {
