@@ -71,13 +71,15 @@ fn main() {
     let mut rows = Vec::new();
     let (mut census_total, mut race_total, mut all_total, mut motions_total) = (0, 0, 0, 0);
     let (mut race_s, mut all_s, mut exact_s, mut exact_total) = (0.0, 0.0, 0.0, 0);
-    let mut design = 0u64;
-    for m in [0.005, 0.01, 0.02] {
-        for d in [0.005, 0.01, 0.02] {
+    let study = showcase::study();
+    for design in 0..9u64 {
+        {
             let ShowcaseCurve {
                 censuses,
                 race_points: rp,
-            } = showcase_curve(m, d, design);
+            } = showcase_curve(&study, design, 0);
+            let sys = impactsweep::plan::Plan::new(&study).point_system(design * 81);
+            let (m, d) = (sys.m, sys.d);
             let census_periods: u64 = censuses.iter().flatten().map(|c| c.periods).sum();
             let mut raced = censuses.clone();
             let t = Instant::now();
@@ -105,7 +107,6 @@ fn main() {
             all_s += t_all;
             exact_total += p_exact;
             exact_s += t_exact;
-            design += 1;
         }
     }
     println!(

@@ -28,22 +28,14 @@ fn ratios(rows: &[(Vec<(u64, f64)>, f64)], n: u64) -> Vec<f64> {
 
 fn main() {
     let mut rows = Vec::new();
-    let cases = [
-        (0.0, 0.0),
-        (-1e-3, -1e-3),
-        (-1e-3, 1e-3),
-        (1e-3, -1e-3),
-        (1e-3, 1e-3),
-    ];
-    let designs = [0.005, 0.01, 0.02]
-        .into_iter()
-        .flat_map(|m| [0.005, 0.01, 0.02].map(|d| (m, d)));
-    for (design, (m, d)) in (0u64..).zip(designs) {
-        for (dm, dd) in cases {
+    let study = showcase::study();
+    for design in 0..9u64 {
+        for case in 0..study.cases.len() as u32 {
             let ShowcaseCurve {
                 censuses: cs,
                 race_points: rp,
-            } = showcase_curve(m + dm, d + dd, design);
+                ..
+            } = showcase_curve(&study, design, case);
             for (c, p) in cs.iter().zip(&rp) {
                 let (Some(c), Some((f, h))) = (c, p) else {
                     continue;
