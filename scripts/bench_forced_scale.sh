@@ -6,6 +6,9 @@
 #   2. the same study with one start (`starts = 1`, `design_peak = "from_rest"`) by this one:
 #      the census's cost relative to one start, end to end; and with window peaks
 #      (`nonperiodic_peak = "window"`): the work that existed before the design life, without it;
+#   2b. the same study with a shorter cap on each life estimate (`life_max_periods` = 10,000
+#      and 5,000 against the default 20,000): what the design life's cost buys, end to end and
+#      in the ideal design peaks and ranks;
 #   3. examples/race_cost: the periods the census simulates, the motions that are not periodic
 #      and the periods their life amplitudes cost by the race against refining every one;
 #   4. a forced design space of 1,000 designs (m x d x e at 10 values each, 41 frequencies,
@@ -45,6 +48,11 @@ grep -q '^starts = 1' "$work/one-start.toml"
 sed -e 's/^design_peak = "worst"/design_peak = "worst"\nnonperiodic_peak = "window"/' \
   configs/frequency-response.toml > "$work/window.toml"
 grep -q '^nonperiodic_peak = "window"' "$work/window.toml"
+for cap in 10000 5000; do
+  sed -e "s/^design_peak = \"worst\"/design_peak = \"worst\"\nlife_max_periods = $cap/" \
+    configs/frequency-response.toml > "$work/cap$cap.toml"
+  grep -q "^life_max_periods = $cap" "$work/cap$cap.toml"
+done
 time_cmd old_run "$OLD_BIN" run configs/frequency-response.toml --out "$work/old"
 time_cmd old_reduce "$OLD_BIN" reduce "$work/old/frequency-response"
 time_cmd new_run "$NEW" run configs/frequency-response.toml --out "$work/new"
@@ -53,6 +61,10 @@ time_cmd one_run "$NEW" run "$work/one-start.toml" --out "$work/one"
 time_cmd one_reduce "$NEW" reduce "$work/one/frequency-response"
 time_cmd win_run "$NEW" run "$work/window.toml" --out "$work/win"
 time_cmd win_reduce "$NEW" reduce "$work/win/frequency-response"
+for cap in 10000 5000; do
+  time_cmd "cap${cap}_run" "$NEW" run "$work/cap$cap.toml" --out "$work/cap$cap"
+  time_cmd "cap${cap}_reduce" "$NEW" reduce "$work/cap$cap/frequency-response"
+done
 "$ROOT/target/release/examples/race_cost" > "$work/race.json"
 cat > "$work/space.toml" <<'TOML'
 [study]
@@ -101,18 +113,32 @@ print("## The forced design space at scale and the design life (issues 22, 23)\n
 print(f"`scripts/bench_forced_scale.sh` on {cpu}, {nproc} cores, commit `{commit}` against `{old}`, release builds, one run of each.")
 print(f"`uptime` at start: `{up0.strip()}`; at end: `{up1.strip()}`.\n")
 print("| what | run (s) | reduce (s) | end to end (s) | peak memory (MiB) |\n|---|---|---|---|---|")
-for k, name in [("old", f"showcase, before (`{old}`)"), ("new", "showcase, now"), ("one", "showcase, now, one start (`starts = 1`, `from_rest`)"), ("win", "showcase, now, window peaks (`nonperiodic_peak = \"window\"`: no design life)"), ("space", "1,000 designs x 41 frequencies, 1 case, 8 starts")]:
+for k, name in [("old", f"showcase, before (`{old}`)"), ("new", "showcase, now"), ("one", "showcase, now, one start (`starts = 1`, `from_rest`)"), ("win", "showcase, now, window peaks (`nonperiodic_peak = \"window\"`: no design life)"), ("cap10000", "showcase, now, `life_max_periods = 10000`"), ("cap5000", "showcase, now, `life_max_periods = 5000`"), ("space", "1,000 designs x 41 frequencies, 1 case, 8 starts")]:
     r, d = t[f"{k}_run"], t[f"{k}_reduce"]
     print(f"| {name} | {r[0]:.1f} | {d[0]:.1f} | {r[0] + d[0]:.1f} | {max(r[1], d[1]):.0f} |")
 print()
 print(f"- Showcase end to end: {e2e('old'):.1f} s before, {e2e('new'):.1f} s now ({e2e('old') / e2e('new'):.2f}x faster), design-life estimates included.")
 print(f"- The census against one start, end to end: {e2e('new') / e2e('one'):.2f}x.")
-def peaks(k):
+def rows(k):
     with open(f"{work}/{k}/frequency-response/summary.csv", newline="") as fh:
-        return {r["point"]: float(r["peak_amplitude_ideal"]) for r in csv.DictReader(fh)}
+        return {r["point"]: r for r in csv.DictReader(fh)}
+def peaks(k):
+    return {p: float(r["peak_amplitude_ideal"]) for p, r in rows(k).items()}
 life, win = peaks("new"), peaks("win")
 ratios = [win[p] / life[p] for p in life]
 print(f"- Without the design life (window peaks), the work that existed before it (census, the sweeps up and down, continuation, jumps): {e2e('win'):.1f} s end to end, {e2e('old') / e2e('win'):.2f}x faster than before; the design life is {1 - e2e('win') / e2e('new'):.0%} of the showcase now. The ideal window peaks are {min(ratios):.3f} to {max(ratios):.3f} times the life peaks.")
+caps = {c: rows(f"cap{c}") for c in (10000, 5000)}
+for c, rs in caps.items():
+    rat = [float(rs[p]["peak_amplitude_ideal"]) / life[p] for p in life]
+    moved = sum(rs[p]["rank"] != rows("new")[p]["rank"] for p in life)
+    print(f"- A shorter cap on each life estimate, `life_max_periods = {c}` (default 20,000): {e2e(f'cap{c}'):.1f} s end to end; the ideal design peaks are {min(rat):.3f} to {max(rat):.3f} times the default's, and {moved} of 9 designs change rank.")
+print()
+print("| m (kg) | d (m) | peak, default (cm) | its 90 % interval (cm) | peak, cap 10,000 | peak, cap 5,000 | rank: default, 10,000, 5,000 |\n|---|---|---|---|---|---|---|")
+for p, r in rows("new").items():
+    lo, hi = float(r["peak_life_lo"]), float(r["peak_life_hi"])
+    interval = "periodic" if r["peak_periodic"] == "true" else f"[{100 * lo:.3f}, {100 * hi:.3f}]"
+    print(f"| {r['mass_inner']} | {r['d']} | {100 * life[p]:.3f} | {interval} | {100 * float(caps[10000][p]['peak_amplitude_ideal']):.3f} | {100 * float(caps[5000][p]['peak_amplitude_ideal']):.3f} | {r['rank']}, {caps[10000][p]['rank']}, {caps[5000][p]['rank']} |")
+print()
 print(f"- `reduce` against `run` (showcase): {t['new_reduce'][0] / t['new_run'][0]:.3f}; (1,000 designs): {t['space_reduce'][0] / t['space_run'][0]:.3f}.")
 print(f"- 1,000 designs: {e2e('space') / 60:.1f} min end to end on this machine, peak memory {max(t['space_run'][1], t['space_reduce'][1]):.0f} MiB (an overnight 10 h holds {36000 / e2e('space'):.0f} such studies).")
 print()
