@@ -72,42 +72,40 @@ fn main() {
     let (mut census_total, mut race_total, mut all_total, mut motions_total) = (0, 0, 0, 0);
     let (mut race_s, mut all_s, mut exact_s, mut exact_total) = (0.0, 0.0, 0.0, 0);
     let study = showcase::study();
-    for design in 0..9u64 {
-        {
-            let ShowcaseCurve {
-                censuses,
-                race_points: rp,
-            } = showcase_curve(&study, design, 0);
-            let sys = impactsweep::plan::Plan::new(&study).point_system(design * 81);
-            let (m, d) = (sys.m, sys.d);
-            let census_periods: u64 = censuses.iter().flatten().map(|c| c.periods).sum();
-            let mut raced = censuses.clone();
-            let t = Instant::now();
-            race(&rp, &mut raced);
-            let t_race = t.elapsed().as_secs_f64();
-            let mut all = censuses.clone();
-            let t = Instant::now();
-            refine_all(&rp, &mut all);
-            let t_all = t.elapsed().as_secs_f64();
-            let t = Instant::now();
-            let p_exact = refine_exact(&rp, &censuses);
-            let t_exact = t.elapsed().as_secs_f64();
-            let (p_race, motions) = life_periods(&raced);
-            let (p_all, _) = life_periods(&all);
-            rows.push(format!(
+    for design in 0..showcase::designs(&study) {
+        let ShowcaseCurve {
+            censuses,
+            race_points: rp,
+        } = showcase_curve(&study, design, 0);
+        let sys = impactsweep::plan::Plan::new(&study).point_system(design * study.curve_points());
+        let (m, d) = (sys.m, sys.d);
+        let census_periods: u64 = censuses.iter().flatten().map(|c| c.periods).sum();
+        let mut raced = censuses.clone();
+        let t = Instant::now();
+        race(&rp, &mut raced);
+        let t_race = t.elapsed().as_secs_f64();
+        let mut all = censuses.clone();
+        let t = Instant::now();
+        refine_all(&rp, &mut all);
+        let t_all = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let p_exact = refine_exact(&rp, &censuses);
+        let t_exact = t.elapsed().as_secs_f64();
+        let (p_race, motions) = life_periods(&raced);
+        let (p_all, _) = life_periods(&all);
+        rows.push(format!(
                 "{{\"m\": {m}, \"d\": {d}, \"census_periods\": {census_periods}, \"motions\": {motions}, \"race_periods\": {p_race}, \"all_periods\": {p_all}, \"race_s\": {t_race:.3}, \"all_s\": {t_all:.3}, \"exact_periods\": {p_exact}, \"exact_s\": {t_exact:.3}, \"peak_race\": {:.6e}, \"peak_all\": {:.6e}}}",
                 peak(&raced),
                 peak(&all)
             ));
-            census_total += census_periods;
-            race_total += p_race;
-            all_total += p_all;
-            motions_total += motions;
-            race_s += t_race;
-            all_s += t_all;
-            exact_total += p_exact;
-            exact_s += t_exact;
-        }
+        census_total += census_periods;
+        race_total += p_race;
+        all_total += p_all;
+        motions_total += motions;
+        race_s += t_race;
+        all_s += t_all;
+        exact_total += p_exact;
+        exact_s += t_exact;
     }
     println!(
         "{{\"designs\": [{}], \"census_periods\": {census_total}, \"motions\": {motions_total}, \"race_periods\": {race_total}, \"all_periods\": {all_total}, \"race_s\": {race_s:.3}, \"all_s\": {all_s:.3}, \"exact_periods\": {exact_total}, \"exact_s\": {exact_s:.3}}}",

@@ -29,7 +29,7 @@ fn ratios(rows: &[(Vec<(u64, f64)>, f64)], n: u64) -> Vec<f64> {
 fn main() {
     let mut rows = Vec::new();
     let study = showcase::study();
-    for design in 0..9u64 {
+    for design in 0..showcase::designs(&study) {
         for case in 0..study.cases.len() as u32 {
             let ShowcaseCurve {
                 censuses: cs,

@@ -27,8 +27,13 @@ pub fn study() -> Study {
     Study::load(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
-/// The curve of design `design` (0 to 8; its points are `design * 81 + i`) in case `case` (0:
-/// the ideal case).
+/// The designs of `study`: its design points over its frequencies (nine for the showcase).
+pub fn designs(study: &Study) -> u64 {
+    study.n_points() / study.curve_points()
+}
+
+/// The curve of design `design` (below [`designs`]; its points are `design * n_f + i` over the
+/// study's `n_f` frequencies) in case `case` (0: the ideal case).
 pub fn showcase_curve(study: &Study, design: u64, case: u32) -> ShowcaseCurve {
     let plan = Plan::new(study);
     let n_f = study.curve_points();
