@@ -90,6 +90,11 @@ impl Oscillator {
     /// The two mode functions `(e^{-alpha tau} c(tau), e^{-alpha tau} s(tau))`.
     #[inline]
     fn modes(&self, tau: f64) -> (f64, f64) {
+        if tau == 0.0 {
+            // What every branch below gives at `tau = +-0` (a phase's start), without the
+            // exponential and the sine and cosine.
+            return (1.0, 0.0f64.copysign(tau));
+        }
         if self.q > 0.0 {
             let th = self.root * tau;
             let (sn, cs) = th.sin_cos();

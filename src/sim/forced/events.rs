@@ -80,9 +80,8 @@ impl PhaseSolver for ForcedPhase {
     fn begin(&mut self, f: &Forced, t: f64, x: f64, v: f64) {
         self.f = *f;
         self.t0 = t;
-        (self.h0, self.g0) = f.free_start(t, x, v);
+        (self.h0, self.g0, self.jet) = f.start(t, x, v);
         self.t = t;
-        self.jet = f.jet(t, self.h0, self.g0, t);
         // The phase starts exactly where it was asked to, not at the rounded sum.
         self.jet.x = x;
         self.jet.v = v;
@@ -249,7 +248,18 @@ fn below_floor(floor: f64, [x, v, a, j]: [f64; 4], b4: f64, h: f64) -> bool {
         return false;
     }
     let c = |t: f64| x + t * (v + t * (0.5 * a + t * j / 6.0));
+    let h2 = h * h;
+    let err = b4 * h2 * h2 / 24.0;
+    let below = |top: f64| (top + err) * (1.0 + 1e-12) < floor;
     let mut top = x.abs().max(c(h).abs());
+    // Two shortcuts before the stationary points: the ends alone reach the floor, or the
+    // model's terms in absolute value stay below it.
+    if !below(top) {
+        return false;
+    }
+    if below(x.abs() + h * (v.abs() + h * (0.5 * a.abs() + h * j.abs() / 6.0))) {
+        return true;
+    }
     // c' = v + a t + j t^2 / 2 = 0.
     let (qa, qb, qc) = (0.5 * j, a, v);
     let mut stationary = |t: f64| {
@@ -271,8 +281,7 @@ fn below_floor(floor: f64, [x, v, a, j]: [f64; 4], b4: f64, h: f64) -> bool {
             }
         }
     }
-    let h2 = h * h;
-    (top + b4 * h2 * h2 / 24.0) * (1.0 + 1e-12) < floor
+    below(top)
 }
 
 /// The time to the next zero of `g = s v` (heading into it: `g > 0`, `g1 < 0`) from its cubic

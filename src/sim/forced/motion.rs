@@ -16,7 +16,7 @@
 //! particular part has `|x_p^(j)| <= A omega^j`, `A = sqrt(P^2 + Q^2)`. Their sum bounds the
 //! forced motion's derivatives for the rest of the phase.
 
-use crate::sim::linear::Oscillator;
+use crate::sim::linear::{Kinematics, Oscillator};
 use crate::sim::phase::Motion;
 
 /// The forced oscillator of one phase (the free main mass, or the stuck pair).
@@ -92,12 +92,29 @@ impl Forced {
         (x0 - xp, v0 - vp)
     }
 
+    /// The start of a phase at `t0` in `(x0, v0)`: its free part `(h0, g0)` and its motion
+    /// there, the same numbers as [`Forced::free_start`] then [`Forced::jet`] at `t = t0`, with
+    /// one sine and cosine instead of three and no exponential.
+    #[inline]
+    pub fn start(&self, t0: f64, x0: f64, v0: f64) -> (f64, f64, Jet) {
+        let particular = self.particular_at(t0);
+        let (h0, g0) = (x0 - particular[0], v0 - particular[1]);
+        let hk = self.osc.eval(h0, g0, 0.0);
+        (h0, g0, self.compose(hk, particular))
+    }
+
     /// The motion at `t` of the phase that started at `t0` with free part `(h0, g0)`.
     #[inline]
     pub fn jet(&self, t0: f64, h0: f64, g0: f64, t: f64) -> Jet {
+        let hk = self.osc.eval(h0, g0, t - t0);
+        self.compose(hk, self.particular_at(t))
+    }
+
+    /// The forced motion from its free part `hk` and its particular part (`x_p` and its first
+    /// three derivatives).
+    #[inline]
+    fn compose(&self, hk: Kinematics, [xp, vp, ap, jp]: [f64; 4]) -> Jet {
         let o = &self.osc;
-        let hk = o.eval(h0, g0, t - t0);
-        let [xp, vp, ap, jp] = self.particular_at(t);
         let x = hk.x + xp;
         let v = hk.v + vp;
         let a = hk.a + ap;

@@ -30,8 +30,7 @@ pub fn simulate_harmonic<P: Probe>(
     probe: &mut P,
 ) -> ForcedRecord {
     let omega = scene.omega(sys);
-    let free = Forced::new(sys.M, sys.K, sys.C, scene.F0, omega);
-    let pair = Forced::new(sys.M + sys.m, sys.K, sys.C, scene.F0, omega);
+    let (free, pair) = oscillators(sys, scene.F0, omega);
     let tol_t = settings.tol * sys.period();
     let settings = &scaled_caps(settings, scene);
     let mut solver = ForcedPhase::new(&free, tol_t, settings.max_steps);
@@ -46,7 +45,7 @@ pub fn simulate_harmonic<P: Probe>(
         k_base: 0,
         k_next: 0,
         window: None,
-        history: Vec::with_capacity(HISTORY),
+        history: History::default(),
         n_trans: 0,
         converged: false,
         next_trace: 0,
@@ -54,6 +53,28 @@ pub fn simulate_harmonic<P: Probe>(
     };
     let outcome = phase::run(&mut run, &mut solver);
     run.finish(outcome, solver.steps())
+}
+
+/// The forced oscillators of the free main mass and of the stuck pair. A life measurement or a
+/// Lyapunov probe runs one period per call on the same system, so the last pair a thread
+/// built is kept and handed out again for the same inputs (the same bits either way: about a
+/// tenth of a one-period run is building them).
+fn oscillators(sys: &System, f0: f64, omega: f64) -> (Forced, Forced) {
+    type Key = [u64; 6];
+    thread_local! {
+        static LAST: std::cell::Cell<Option<(Key, Forced, Forced)>> =
+            const { std::cell::Cell::new(None) };
+    }
+    let key = [sys.M, sys.m, sys.K, sys.C, f0, omega].map(f64::to_bits);
+    LAST.with(|last| match last.get() {
+        Some((k, free, pair)) if k == key => (free, pair),
+        _ => {
+            let free = Forced::new(sys.M, sys.K, sys.C, f0, omega);
+            let pair = Forced::new(sys.M + sys.m, sys.K, sys.C, f0, omega);
+            last.set(Some((key, free, pair)));
+            (free, pair)
+        }
+    })
 }
 
 /// Impacts and steps a forced run may take per forcing period before its caps stop it: the
@@ -109,7 +130,7 @@ struct Run<'a, P: Probe> {
     /// other section).
     k_next: u64,
     window: Option<Window>,
-    history: Vec<Section>,
+    history: History,
     n_trans: u64,
     converged: bool,
     next_trace: u64,
@@ -190,19 +211,12 @@ impl<P: Probe> Run<'_, P> {
         }
         // Transient periods run so far (what a run that stops early reports).
         self.n_trans = k;
-        if self.history.len() == HISTORY {
-            self.history.remove(0);
-        }
-        self.history.push(s);
+        self.history.push(s, self.map.sys.omega());
         let done = match self.scene.n_trans {
             Some(n) => k >= n,
             None => {
-                self.converged = transient_converged(
-                    &self.history,
-                    self.omega,
-                    self.map.sys.omega(),
-                    self.scene.trans_tol,
-                );
+                self.converged =
+                    transient_converged(&self.history, self.omega, self.scene.trans_tol);
                 self.converged || k >= self.scene.n_trans_max
             }
         };
@@ -430,8 +444,37 @@ fn scale(sections: &[Section], omega: f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The latest [`HISTORY`] sections of a transient, each with its [`distance`]s to the
+/// [`MAX_PERIOD`] sections before it, taken once when it arrives (the transient's test reads
+/// each up to three times). Empty until the first section: a run of one period (a map
+/// evaluation) allocates nothing for it.
+#[derive(Default)]
+struct History {
+    sections: Vec<Section>,
+    /// `back[i][p - 1]` = `distance(sections[i], sections[i - p])`.
+    back: Vec<[f64; MAX_PERIOD]>,
+}
+
+impl History {
+    fn push(&mut self, s: Section, wn: f64) {
+        if self.sections.len() == HISTORY {
+            self.sections.remove(0);
+            self.back.remove(0);
+        }
+        let n = self.sections.len();
+        let mut back = [f64::NAN; MAX_PERIOD];
+        for p in 1..=MAX_PERIOD.min(n) {
+            back[p - 1] = distance(&s, &self.sections[n - p], wn);
+        }
+        self.sections.push(s);
+        self.back.push(back);
+    }
+}
+
 /// The default transient's test on the latest sections (module doc of [`super`]).
-fn transient_converged(h: &[Section], omega: f64, wn: f64, tol: f64) -> bool {
+fn transient_converged(history: &History, omega: f64, tol: f64) -> bool {
+    let h = &history.sections;
+    let back = |i: usize, p: usize| history.back[i][p - 1];
     let n = h.len();
     let Some(last) = n.checked_sub(1) else {
         return false;
@@ -444,15 +487,14 @@ fn transient_converged(h: &[Section], omega: f64, wn: f64, tol: f64) -> bool {
             break;
         }
         l = l.max(scale(&h[last - p..=last - p], omega));
-        let d0 = distance(&h[last], &h[last - p], wn);
+        let d0 = back(last, p);
         if d0 <= 16.0 * f64::EPSILON * l {
             return true;
         }
         if n < 3 * p + 1 {
             continue;
         }
-        let d1 = distance(&h[last - p], &h[last - 2 * p], wn);
-        let d2 = distance(&h[last - 2 * p], &h[last - 3 * p], wn);
+        let (d1, d2) = (back(last - p, p), back(last - 2 * p, p));
         let rho = (d0 / d1).max(d1 / d2);
         if rho < 1.0 && d0 / (1.0 - rho) <= tol * l {
             return true;
@@ -537,13 +579,14 @@ mod tests {
     #[test]
     fn a_geometric_transient_converges_once_its_tail_is_small() {
         // x_k = 1 + 0.5^k (a contraction toward 1): the tail after k is 0.5^k.
-        let h: Vec<Section> = (0..10)
-            .map(|k| [1.0 + 0.5f64.powi(k), 0.0, 0.0, 0.0])
-            .collect();
-        assert!(!transient_converged(&h, 1.0, 1.0, 1e-4));
-        let h: Vec<Section> = (0..25)
-            .map(|k| [1.0 + 0.5f64.powi(k), 0.0, 0.0, 0.0])
-            .collect();
-        assert!(transient_converged(&h, 1.0, 1.0, 1e-6));
+        let history = |n: i32| {
+            let mut h = History::default();
+            for k in 0..n {
+                h.push([1.0 + 0.5f64.powi(k), 0.0, 0.0, 0.0], 1.0);
+            }
+            h
+        };
+        assert!(!transient_converged(&history(10), 1.0, 1e-4));
+        assert!(transient_converged(&history(25), 1.0, 1e-6));
     }
 }
