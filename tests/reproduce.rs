@@ -165,3 +165,32 @@ fn the_showcase_keeps_every_stable_periodic_attractor_and_no_peak_falls() {
         );
     }
 }
+
+/// A census attractor that is not periodic but has exactly the amplitude of a stable periodic
+/// orbit at its point and case is a start that was still approaching that orbit when its
+/// budget ended (a multiplier near 1), counted as another motion. The census hands such a start
+/// to Newton (`orbits::census`, `land`); before it did, the committed showcases had ten (the
+/// frequency response) and two (the design map) of them.
+#[test]
+fn no_motion_that_is_not_periodic_sits_on_a_periodic_orbit_of_its_point() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for showcase in ["frequency-response", "design-map"] {
+        let (h, rows) = csv(&root.join("results").join(showcase).join("attractors.csv"));
+        let (id, case, kind) = (col(&h, "point_id"), col(&h, "case"), col(&h, "kind"));
+        let (amp, window) = (col(&h, "amplitude"), col(&h, "window_amplitude"));
+        let value = |r: &Vec<String>, k: usize| r[k].parse::<f64>().unwrap();
+        let on_orbits: Vec<&Vec<String>> = rows
+            .iter()
+            .filter(|n| ["chaotic", "not settled", "quasi-periodic"].contains(&n[kind].as_str()))
+            .filter(|n| {
+                rows.iter().any(|p| {
+                    p[id] == n[id]
+                        && p[case] == n[case]
+                        && p[kind] == "periodic"
+                        && (value(n, window) - value(p, amp)).abs() <= 1e-5 * value(p, amp)
+                })
+            })
+            .collect();
+        assert!(on_orbits.is_empty(), "{showcase}: {on_orbits:?}");
+    }
+}
