@@ -6,14 +6,16 @@
 # new, ...) so that a change of load falls on both. Prints each run's wall and user time, the
 # medians and their ratio, and whether the two tools wrote the same datasets byte for byte
 # (the points and attractors parts of the last round): a change meant to keep every bit
-# shows that it did. Writes results/bench_ab.md and prints it.
+# shows that it did. Writes results/bench_ab.md (or OUT) and prints it.
 #
 #   scripts/bench_ab.sh BASE [ROUNDS]      (ROUNDS default 3)
+#   OUT=results/bench_ab_x.md BASE_BIN=/path/to/impactsweep scripts/bench_ab.sh BASE
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 base="${1:?usage: scripts/bench_ab.sh BASE [ROUNDS]}"
 rounds="${2:-3}"
+out="${OUT:-results/bench_ab.md}"
 work=$(mktemp -d)
 cleanup() {
   git worktree remove --force "$work/base" >/dev/null 2>&1 || true
@@ -57,7 +59,7 @@ head_commit=$(git rev-parse --short HEAD)
 base_commit=$(git rev-parse --short "$base")
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
 python3 - "$work/times" "$work/same" "$rounds" "$cpu" "$(nproc)" "$head_commit" "$base_commit" \
-  "$up0" "$up1" >results/bench_ab.md <<'EOF'
+  "$up0" "$up1" >"$out" <<'EOF'
 import statistics, sys
 times, same, rounds, cpu, cores, head, base, up0, up1 = sys.argv[1:]
 rows = [l.split() for l in open(times) if l.strip()]
@@ -81,7 +83,7 @@ print()
 for study, name in [("window", "window peaks (no design life)"), ("life", "with the design life (the default)")]:
     (bw, bu), (nw, nu) = med[(study, "base")], med[(study, "new")]
     same_all = all(verdict[f"{study} {p}"] == "same" for p in ["points", "attractors"])
-    bits = "the same datasets byte for byte" if same_all else "**datasets differ**"
+    bits = "the same datasets byte for byte" if same_all else "the datasets differ"
     print(f"- {name}: new / base = {nw / bw:.3f} wall, {nu / bu:.3f} user; {bits}.")
 EOF
-cat results/bench_ab.md
+cat "$out"
