@@ -64,7 +64,7 @@ import statistics, sys
 times, same, rounds, cpu, cores, head, base, up0, up1 = sys.argv[1:]
 rows = [l.split() for l in open(times) if l.strip()]
 verdict = dict((f"{a} {b}", c) for a, b, c in (l.split() for l in open(same) if l.strip()))
-print("## A hot-path change against its base (`scripts/bench_ab.sh`)\n")
+print("## A change against its base (`scripts/bench_ab.sh`)\n")
 print(f"{cpu}, {cores} cores; `{head}` against `{base}`; release builds; `impactsweep run` of the")
 print(f"frequency-response showcase, {rounds} rounds, the two tools alternating.")
 print(f"`uptime` at start: `{up0.strip()}`; at end: `{up1.strip()}`.\n")
