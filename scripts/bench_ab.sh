@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# A hot-path change measured against the commit before it: the frequency-response showcase's
+# A change measured against the commit before it (a hot path that must keep every bit, or a
+# census change that need not): the frequency-response showcase's
 # `run` (the default study with the design life, and the same study with window peaks,
 # `nonperiodic_peak = "window"`) by the tool at BASE (built here in a temporary worktree unless
 # BASE_BIN names its binary) and by this one, ROUNDS times each, alternating (base, new, base,

@@ -523,24 +523,19 @@ impl Census {
         if !exhausted(att) {
             return None;
         }
-        let mut theirs: Option<Cloud> = None;
+        // `att`'s own cloud, run once at the first candidate.
+        let mut ours: Option<Cloud> = None;
         for i in 0..self.attractors.len() {
             if !exhausted(&self.attractors[i]) {
                 continue;
             }
-            let ours = match &theirs {
-                Some(c) => c.clone(),
-                None => {
-                    let c = long_cloud(f, &att.section, SECOND_LOOK)?;
-                    self.periods += SECOND_LOOK;
-                    theirs = Some(c.clone());
-                    c
-                }
-            };
+            if ours.is_none() {
+                ours = Some(long_cloud(f, &att.section, SECOND_LOOK)?);
+                self.periods += SECOND_LOOK;
+            }
             self.periods += SECOND_LOOK;
-            if long_cloud(f, &self.attractors[i].section, SECOND_LOOK)
-                .is_some_and(|known| known.same(&ours))
-            {
+            let known = long_cloud(f, &self.attractors[i].section, SECOND_LOOK);
+            if known.zip(ours.as_ref()).is_some_and(|(k, o)| k.same(o)) {
                 return Some(i);
             }
         }
