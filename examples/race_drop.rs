@@ -22,7 +22,7 @@ mod showcase;
 use impactsweep::orbits::census::{Census, Kind};
 use impactsweep::orbits::life::LifeRun;
 use impactsweep::orbits::map::Forcing;
-use impactsweep::orbits::race::{DROPS, race, settings};
+use impactsweep::orbits::race::{drop_factor, race, settings};
 use impactsweep::reduce::forced::HELP_TOL;
 use rayon::prelude::*;
 use showcase::{ShowcaseCurve, showcase_curve};
@@ -206,11 +206,7 @@ fn print_ratios(study: &impactsweep::study::Study, curves: usize, rows: &[Motion
             continue;
         }
         let q = |v: &[f64], p: f64| v[((v.len() - 1) as f64 * p).round() as usize];
-        let k = DROPS
-            .iter()
-            .rev()
-            .find(|(m, _)| n >= *m)
-            .map_or(f64::INFINITY, |&(_, f)| f);
+        let k = drop_factor(n).unwrap_or(f64::INFINITY);
         println!(
             "| {n} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {k} | {} | {:.3} | {:.3} | {} |",
             r.len(),

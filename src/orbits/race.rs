@@ -72,11 +72,18 @@ pub const DROPS: [(u64, f64); 4] = [(2000, 1.85), (4000, 1.65), (8000, 1.5), (16
 /// lower bound `leader` and does not hold `linear`, the linear amplitude at its frequency
 /// (whether the damper helps there does not rest on it).
 fn may_drop(periods: u64, e: &LifeEstimate, leader: f64, linear: f64) -> bool {
+    drop_factor(periods)
+        .is_some_and(|k| e.hi * k < leader && !(e.lo / k <= linear && linear <= e.hi * k))
+}
+
+/// The drop factor `k` of a motion measured for `periods` (the last row of [`DROPS`] that
+/// applies; `None` before the first).
+pub fn drop_factor(periods: u64) -> Option<f64> {
     DROPS
         .iter()
         .rev()
         .find(|(n, _)| periods >= *n)
-        .is_some_and(|&(_, k)| e.hi * k < leader && !(e.lo / k <= linear && linear <= e.hi * k))
+        .map(|&(_, k)| k)
 }
 
 /// The life settings of a scene at forcing `f`: its design life in forcing periods.
