@@ -174,6 +174,17 @@ pub fn fill_steady(records: &mut [ForcedRecord], censuses: &[Option<Census>]) {
 /// the forcing of point `i`, its census settings and its start 0 (`None`: no census there).
 /// The passes go in increasing `omega`, then `F0` (a curve along the force), then input order.
 pub fn census_passes(points: &[Option<(Forcing, CensusSettings, Section)>]) -> Vec<Option<Census>> {
+    census_passes_with(points, |_, _| {})
+}
+
+/// [`census_passes`] with `also(i, census)` called at point `i` of the up pass after its own
+/// starts, before the attractors of the point below are continued to it: what is known at that
+/// point from elsewhere may join its census there (`examples/shared_census.rs` seeds a
+/// perturbed case with the ideal case's attractors).
+pub fn census_passes_with(
+    points: &[Option<(Forcing, CensusSettings, Section)>],
+    also: impl Fn(usize, &mut Census),
+) -> Vec<Option<Census>> {
     let forcings = points;
     let newton = Newton::default();
     let mut order: Vec<usize> = (0..forcings.len())
@@ -198,6 +209,7 @@ pub fn census_passes(points: &[Option<(Forcing, CensusSettings, Section)>]) -> V
         };
         let mut census = Census::default();
         census.run_starts(f, s0, c, &newton);
+        also(i, &mut census);
         if let Some(j) = prev
             && let Some(below) = &out[j]
         {
