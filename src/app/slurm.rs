@@ -29,21 +29,7 @@ pub struct SlurmArgs {
 
 pub fn slurm(args: &SlurmArgs) -> anyhow::Result<()> {
     let study = Study::load(&args.study)?;
-    let job = ArrayJob {
-        exe: std::env::current_exe().context("finding the path of this executable")?,
-        study: std::fs::canonicalize(&args.study)
-            .with_context(|| format!("resolving {}", args.study.display()))?,
-        study_name: study.name.clone(),
-        out: std::path::absolute(&args.out)
-            .with_context(|| format!("resolving --out {}", args.out.display()))?,
-        tasks: args.tasks,
-        partition: args.partition.clone(),
-        time: args.time.clone(),
-        cpus_per_task: args.cpus_per_task,
-        // A harmonic study with a census: its per-design analysis is an array of its own.
-        analysis_tasks: matches!(study.scene, crate::sim::Scene::Harmonic(h) if h.starts > 0)
-            .then_some(args.tasks),
-    };
+    let job = array_job(args, &study)?;
     let array = job.array_script()?;
     let analysis = job.analysis_script()?;
     let reduce = job.reduce_script()?;
@@ -61,92 +47,155 @@ pub fn slurm(args: &SlurmArgs) -> anyhow::Result<()> {
             )
         })?)
     };
-
-    let chunks = Plan::new(&study).n_chunks();
-    if args.tasks > chunks {
-        eprintln!(
-            "warning: {} tasks but the study has only {chunks} chunk{}: tasks {chunks}..{} will \
-             have nothing to do (lower --tasks or [run].chunk_points)",
-            args.tasks,
-            if chunks == 1 { "" } else { "s" },
-            args.tasks - 1
-        );
-    }
+    warn_idle_tasks(args.tasks, Plan::new(&study).n_chunks());
 
     let logs = job.logs_dir();
     std::fs::create_dir_all(&logs).with_context(|| format!("creating {}", logs.display()))?;
-    let array_path = job.slurm_dir().join(ARRAY_SCRIPT);
-    let analysis_path = job.slurm_dir().join(ANALYSIS_SCRIPT);
-    let reduce_path = job.slurm_dir().join(REDUCE_SCRIPT);
-    let mut scripts = vec![(&array_path, &array)];
-    if let Some(a) = &analysis {
-        scripts.push((&analysis_path, a));
-    }
-    scripts.push((&reduce_path, &reduce));
-    for (path, text) in &scripts {
+    let scripts = Scripts {
+        array: (job.slurm_dir().join(ARRAY_SCRIPT), array),
+        analysis: analysis.map(|a| (job.slurm_dir().join(ANALYSIS_SCRIPT), a)),
+        reduce: (job.slurm_dir().join(REDUCE_SCRIPT), reduce),
+    };
+    for (path, text) in scripts.all() {
         std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
     }
+    match sbatch {
+        None => scripts.print_dry_run(),
+        Some(sbatch) => {
+            let ids = scripts.submit(&sbatch)?;
+            print_submitted(&job, &scripts, &ids, args.tasks);
+        }
+    }
+    Ok(())
+}
 
-    let Some(sbatch) = sbatch else {
-        for (path, text) in &scripts {
+/// The array job of `study` as `args` ask for it (paths made absolute).
+fn array_job(args: &SlurmArgs, study: &Study) -> anyhow::Result<ArrayJob> {
+    Ok(ArrayJob {
+        exe: std::env::current_exe().context("finding the path of this executable")?,
+        study: std::fs::canonicalize(&args.study)
+            .with_context(|| format!("resolving {}", args.study.display()))?,
+        study_name: study.name.clone(),
+        out: std::path::absolute(&args.out)
+            .with_context(|| format!("resolving --out {}", args.out.display()))?,
+        tasks: args.tasks,
+        partition: args.partition.clone(),
+        time: args.time.clone(),
+        cpus_per_task: args.cpus_per_task,
+        // A harmonic study with a census: its per-design analysis is an array of its own.
+        analysis_tasks: matches!(study.scene, crate::sim::Scene::Harmonic(h) if h.starts > 0)
+            .then_some(args.tasks),
+    })
+}
+
+/// Warns when some of `tasks` array tasks would find no chunk of the study's `chunks`.
+fn warn_idle_tasks(tasks: u64, chunks: u64) {
+    if tasks > chunks {
+        eprintln!(
+            "warning: {tasks} tasks but the study has only {chunks} chunk{}: tasks {chunks}..{} \
+             will have nothing to do (lower --tasks or [run].chunk_points)",
+            if chunks == 1 { "" } else { "s" },
+            tasks - 1
+        );
+    }
+}
+
+/// The job scripts, each with the path it is written to: the sweep's array, the analysis
+/// array (a harmonic study with a census), the reduce.
+struct Scripts {
+    array: (PathBuf, String),
+    analysis: Option<(PathBuf, String)>,
+    reduce: (PathBuf, String),
+}
+
+/// The job ids `sbatch` gave.
+struct JobIds {
+    array: String,
+    analysis: Option<String>,
+    reduce: String,
+}
+
+impl Scripts {
+    /// Every script, in submission order.
+    fn all(&self) -> Vec<&(PathBuf, String)> {
+        std::iter::once(&self.array)
+            .chain(&self.analysis)
+            .chain(std::iter::once(&self.reduce))
+            .collect()
+    }
+
+    /// `--dry-run`: the scripts, and the commands that would submit them.
+    fn print_dry_run(&self) {
+        for (path, text) in self.all() {
             println!("# ==> {} <==", path.display());
             print!("{text}");
             println!();
         }
         println!("# Dry run: nothing submitted. To submit by hand:");
-        println!("#   id=$(sbatch --parsable {})", shell_word(&array_path));
-        if analysis.is_some() {
+        println!("#   id=$(sbatch --parsable {})", shell_word(&self.array.0));
+        if let Some((path, _)) = &self.analysis {
             println!(
                 "#   id=$(sbatch --parsable --dependency=afterok:${{id%%;*}} {})",
-                shell_word(&analysis_path)
+                shell_word(path)
             );
         }
         println!(
             "#   sbatch --parsable --dependency=afterok:${{id%%;*}} {}",
-            shell_word(&reduce_path)
+            shell_word(&self.reduce.0)
         );
-        return Ok(());
-    };
+    }
 
-    let array_id = submit(&sbatch, &[], &array_path)?;
-    let analysis_id = match &analysis {
-        Some(_) => Some(
-            submit(
-                &sbatch,
-                &[format!("--dependency=afterok:{array_id}")],
-                &analysis_path,
-            )
-            .with_context(|| {
-                format!(
-                    "the array was submitted as job {array_id}, but its analysis array was not \
-                     (cancel the array with `scancel {array_id}` or submit {} by hand)",
-                    analysis_path.display()
-                )
-            })?,
-        ),
-        None => None,
-    };
-    let before = analysis_id.as_deref().unwrap_or(&array_id);
-    let reduce_id = submit(
-        &sbatch,
-        &[format!("--dependency=afterok:{before}")],
-        &reduce_path,
-    )
-    .with_context(|| {
-        format!(
-            "job {before} was submitted, but its reduce job was not \
-             (cancel the jobs with `scancel {array_id} {before}` or submit {} by hand)",
-            reduce_path.display()
+    /// Submits the array, then each job after the one before it (`afterok`).
+    fn submit(&self, sbatch: &Path) -> anyhow::Result<JobIds> {
+        let array = submit(sbatch, &[], &self.array.0)?;
+        let analysis = match &self.analysis {
+            Some((path, _)) => Some(
+                submit(sbatch, &[format!("--dependency=afterok:{array}")], path).with_context(
+                    || {
+                        format!(
+                            "the array was submitted as job {array}, but its analysis array was \
+                             not (cancel the array with `scancel {array}` or submit {} by hand)",
+                            path.display()
+                        )
+                    },
+                )?,
+            ),
+            None => None,
+        };
+        let before = analysis.as_deref().unwrap_or(&array);
+        let reduce = submit(
+            sbatch,
+            &[format!("--dependency=afterok:{before}")],
+            &self.reduce.0,
         )
-    })?;
+        .with_context(|| {
+            format!(
+                "job {before} was submitted, but its reduce job was not \
+                 (cancel the jobs with `scancel {array} {before}` or submit {} by hand)",
+                self.reduce.0.display()
+            )
+        })?;
+        Ok(JobIds {
+            array,
+            analysis,
+            reduce,
+        })
+    }
+}
 
-    let n = args.tasks;
+/// What was submitted, and how to follow it and re-run a failed task.
+fn print_submitted(job: &ArrayJob, scripts: &Scripts, ids: &JobIds, n: u64) {
+    let JobIds {
+        array: array_id,
+        analysis: analysis_id,
+        reduce: reduce_id,
+    } = ids;
     println!("Submitted study '{}' to Slurm:", job.study_name);
     println!(
         "  array job  {array_id}  ({n} task{}, task i runs shard i/{n})",
         plural(n)
     );
-    if let Some(a) = &analysis_id {
+    if let Some(a) = analysis_id {
         println!(
             "  analysis   {a}  ({n} task{}, task i analyses shard i/{n}; after the array)",
             plural(n)
@@ -154,29 +203,28 @@ pub fn slurm(args: &SlurmArgs) -> anyhow::Result<()> {
     }
     println!("  reduce job {reduce_id}  (starts when every task before it has succeeded)");
     println!("Follow:");
-    match &analysis_id {
+    match analysis_id {
         Some(a) => println!("  squeue -j {array_id},{a},{reduce_id}"),
         None => println!("  squeue -j {array_id},{reduce_id}"),
     }
     println!(
         "  logs:     {}  (task i: run-{array_id}_i.out)",
-        job.task_log(&array_id, "*").display()
+        job.task_log(array_id, "*").display()
     );
-    if let Some(a) = &analysis_id {
+    if let Some(a) = analysis_id {
         println!(
             "            {}  (analysis task i)",
             job.analysis_log(a, "i").display()
         );
     }
-    println!("            {}", job.reduce_log(&reduce_id).display());
+    println!("            {}", job.reduce_log(reduce_id).display());
     println!("  progress: impactsweep status {}", job.run_dir().display());
     println!("Re-run a failed task i (it resumes its shard):");
-    println!("  sbatch --array=i {}", array_path.display());
+    println!("  sbatch --array=i {}", scripts.array.0.display());
     println!(
         "  then reduce: sbatch --dependency=afterok:<new id> {}",
-        reduce_path.display()
+        scripts.reduce.0.display()
     );
-    Ok(())
 }
 
 fn plural(n: u64) -> &'static str {

@@ -203,24 +203,39 @@ struct Candidate {
 /// grid point `p` (NaN when unknown or the point is missing).
 pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn IdealCase) -> Found {
     let mut found = Found::default();
+    let cands = candidates(grid, q, settings, &mut found.typical_slope);
+    found.candidates = cands.len();
+    let located: Vec<(Outcome, u32, Via)> = cands
+        .par_iter()
+        .map(|c| locate_candidate(c, grid, q, settings, found.typical_slope[c.axis], ideal))
+        .collect();
+    for (c, (outcome, sims, via)) in cands.iter().zip(located) {
+        found.record(grid, c, outcome, sims, via);
+    }
+    found
+}
+
+/// Every candidate span of every line of every axis, in axis, line and quantity order; the
+/// typical slope of the response along each axis is pushed onto `typicals` (NaN for an
+/// axis of one value).
+fn candidates(
+    grid: &Grid,
+    q: &[[f64; 2]],
+    settings: &JumpSettings,
+    typicals: &mut Vec<f64>,
+) -> Vec<Candidate> {
     let mut cands = Vec::new();
     for a in 0..grid.n_axes() {
         let xs = &grid.axes[a].1;
         let n = xs.len();
         if n < 2 {
-            found.typical_slope.push(f64::NAN);
+            typicals.push(f64::NAN);
             continue;
         }
-        let stride = grid.stride(a);
-        let line = |start: u64, k: usize| -> Vec<f64> {
-            (0..n)
-                .map(|i| q[(start + i as u64 * stride) as usize][k])
-                .collect()
-        };
         // The typical slope of the response along this axis.
         let mut slopes = Vec::new();
         for start in grid.line_starts(a) {
-            let ys = line(start, 0);
+            let ys = line_values(grid, q, a, start, 0);
             slopes.extend(
                 (0..n - 1)
                     .map(|i| ((ys[i + 1] - ys[i]) / (xs[i + 1] - xs[i])).abs())
@@ -228,10 +243,10 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
             );
         }
         let typical = typical_slope(&slopes, grid, q, a);
-        found.typical_slope.push(typical);
+        typicals.push(typical);
         for start in grid.line_starts(a) {
             for quantity in Quantity::ALL {
-                let ys = line(start, quantity.index());
+                let ys = line_values(grid, q, a, start, quantity.index());
                 let kink = kink_threshold(quantity, settings, typical);
                 for (i, j) in candidate_spans(xs, &ys, settings.step_tol[quantity.index()], kink) {
                     cands.push(Candidate {
@@ -245,55 +260,67 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
             }
         }
     }
-    found.candidates = cands.len();
-    let located: Vec<(Outcome, u32, Via)> = cands
-        .par_iter()
-        .map(|c| {
-            let xs = &grid.axes[c.axis].1;
-            let stride = grid.stride(c.axis);
-            let ys: Vec<f64> = (0..xs.len())
-                .map(|i| q[(c.line + i as u64 * stride) as usize][c.quantity.index()])
-                .collect();
-            let mut values = grid.values(c.line);
-            if let Some(out) = between_estimates(c, xs, &ys, &mut values, ideal) {
-                return (out, 0, Via::Estimates);
-            }
-            let k = c.quantity.index();
-            let f = |x: f64| {
-                values[c.axis] = x;
-                ideal.at(&values).map(|v| v[k])
-            };
-            let h = (xs[c.j] - xs[c.i]) / (c.j - c.i) as f64;
-            let typical = found.typical_slope[c.axis];
-            let (outcome, sims, stopped) = locate(
-                xs,
-                &ys,
-                (c.i, c.j),
-                f,
-                settings.step_tol[k],
-                kink_threshold(c.quantity, settings, typical),
-                settings.locate * h,
-            );
-            (
-                outcome,
-                sims,
-                if stopped {
-                    Via::Stopped
-                } else {
-                    Via::Bisection
-                },
-            )
-        })
-        .collect();
-    for (c, (outcome, sims, via)) in cands.iter().zip(located) {
-        found.sims += u64::from(sims);
+    cands
+}
+
+/// Quantity `k` along the line of axis `a` that starts at grid point `start`.
+fn line_values(grid: &Grid, q: &[[f64; 2]], a: usize, start: u64, k: usize) -> Vec<f64> {
+    let stride = grid.stride(a);
+    (0..grid.axes[a].1.len())
+        .map(|i| q[(start + i as u64 * stride) as usize][k])
+        .collect()
+}
+
+/// Locates one candidate: between the estimates when every point of its span is one, else by
+/// bisection on the ideal case ([`locate`]); its outcome, the simulations it made, and how.
+fn locate_candidate(
+    c: &Candidate,
+    grid: &Grid,
+    q: &[[f64; 2]],
+    settings: &JumpSettings,
+    typical: f64,
+    ideal: &dyn IdealCase,
+) -> (Outcome, u32, Via) {
+    let xs = &grid.axes[c.axis].1;
+    let ys = line_values(grid, q, c.axis, c.line, c.quantity.index());
+    let mut values = grid.values(c.line);
+    if let Some(out) = between_estimates(c, xs, &ys, &mut values, ideal) {
+        return (out, 0, Via::Estimates);
+    }
+    let k = c.quantity.index();
+    let f = |x: f64| {
+        values[c.axis] = x;
+        ideal.at(&values).map(|v| v[k])
+    };
+    let h = (xs[c.j] - xs[c.i]) / (c.j - c.i) as f64;
+    let (outcome, sims, stopped) = locate(
+        xs,
+        &ys,
+        (c.i, c.j),
+        f,
+        settings.step_tol[k],
+        kink_threshold(c.quantity, settings, typical),
+        settings.locate * h,
+    );
+    let via = if stopped {
+        Via::Stopped
+    } else {
+        Via::Bisection
+    };
+    (outcome, sims, via)
+}
+
+impl Found {
+    /// Counts a located candidate, and keeps it when it is a jump.
+    fn record(&mut self, grid: &Grid, c: &Candidate, outcome: Outcome, sims: u32, via: Via) {
+        self.sims += u64::from(sims);
         let jump = matches!(outcome, Outcome::Jump { .. });
         match via {
             Via::Estimates => {
-                found.estimated += 1;
-                found.estimated_steps += usize::from(jump);
+                self.estimated += 1;
+                self.estimated_steps += usize::from(jump);
             }
-            Via::Stopped => found.stopped_steps += usize::from(jump),
+            Via::Stopped => self.stopped_steps += usize::from(jump),
             Via::Bisection => {}
         }
         match outcome {
@@ -311,7 +338,7 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
                     .map_or(c.j, |k| c.i + k)
                     .max(c.i + 1);
                 let stride = grid.stride(c.axis);
-                found.jumps.push(Jump {
+                self.jumps.push(Jump {
                     axis: c.axis,
                     quantity: c.quantity,
                     kind,
@@ -322,11 +349,10 @@ pub fn find(grid: &Grid, q: &[[f64; 2]], settings: &JumpSettings, ideal: &dyn Id
                     size,
                 });
             }
-            Outcome::Smooth => found.dropped += 1,
-            Outcome::Failed => found.failed += 1,
+            Outcome::Smooth => self.dropped += 1,
+            Outcome::Failed => self.failed += 1,
         }
     }
-    found
 }
 
 /// A candidate whose every grid point is a statistical estimate ([`IdealCase::interval`]): no
@@ -557,80 +583,94 @@ pub fn locate(
         if !(m > a && m < b) {
             break; // the bracket is down to adjacent doubles
         }
-        sims += 1;
-        let Some(fm) = f(m).filter(|v| v.is_finite() || *v == UNRESOLVED) else {
-            return (Outcome::Failed, sims, false);
-        };
-        let (sl, sr) = (left.slope(), right.slope());
-        let (sl, sr) = (
-            if sl.is_finite() {
-                sl
-            } else if sr.is_finite() {
-                sr
-            } else {
-                0.0
-            },
-            if sr.is_finite() {
-                sr
-            } else if sl.is_finite() {
-                sl
-            } else {
-                0.0
-            },
-        );
-        if fm == UNRESOLVED {
-            return (
-                unresolved_stop(&left, &right, (sl, sr), step_tol),
-                sims,
-                true,
-            );
-        }
-        let (pl, el) = left.predict(m, sl);
-        let (pr, er) = right.predict(m, sr);
-        let (dl, dr) = ((fm - pl).abs(), (fm - pr).abs());
-        let (el, er) = (el + floor, er + floor);
-        let to_left = match (dl <= 4.0 * el, dr <= 4.0 * er) {
-            (true, false) => true,
-            (false, true) => false,
-            // Both trends allow it: the one that asked more of it (the smaller error) decides.
-            (true, true) if el != er => el < er,
-            (true, true) => dl <= dr,
-            // Neither does: a side bends near the jump more than its known points show. The
-            // slope at m (from one more simulation just before it) tells which side it is on.
-            (false, false) => {
-                let eps = (b - a) / 64.0;
-                sims += 1;
-                let Some(fe) = f(m - eps).filter(|v| v.is_finite() || *v == UNRESOLVED) else {
-                    return (Outcome::Failed, sims, false);
-                };
-                if fe == UNRESOLVED {
-                    return (
-                        unresolved_stop(&left, &right, (sl, sr), step_tol),
-                        sims,
-                        true,
-                    );
-                }
-                let s = (fm - fe) / eps;
-                (s - sl).abs() <= (s - sr).abs()
-            }
-        };
-        if to_left {
-            left.push((m, fm));
-        } else {
-            right.push((m, fm));
+        match halve(&left, &right, m, &mut f, floor, step_tol, &mut sims) {
+            Ok((fm, true)) => left.push((m, fm)),
+            Ok((fm, false)) => right.push((m, fm)),
+            Err((outcome, stopped)) => return (outcome, sims, stopped),
         }
         brackets.push(Bracket::of(&left, &right));
     }
-    // A step across the finest bracket is a step. One across a wider bracket (at most ten
-    // tolerances) only when it persists inside it ([`persists`]): a steep smooth stretch, or
-    // one that curves hard, also changes by `step_tol` across some wider bracket. A kink is
-    // the finest bracket across which the slope still changes enough, no wider than ten
-    // tolerances: a corner rounded over more than the tolerance (but less than a tenth of the
-    // grid step) is a kink at the scale of its rounding, and says so with its wider
-    // location_tol. Last, the whole span is searched for a step by its largest changes: a
-    // quantity with several steps close together (DI where the second peak changes identity
-    // again and again) can lead the bisection, which follows the sides' trends, off its steps.
-    // A candidate with none of these was a steep but smooth stretch.
+    let outcome = classify(&brackets, &mut f, step_tol, kink, tol, &mut sims);
+    (outcome, sims, false)
+}
+
+/// One halving of the bracket between `left` and `right` at its midpoint `m`: the value there
+/// and whether it belongs to the left side (the side whose trend predicts it; when neither
+/// does, the slope at `m` from one more simulation decides). `Err` with the outcome, and
+/// whether the quantity stopped being resolved, when a simulation fails or is unresolved.
+fn halve(
+    left: &Side,
+    right: &Side,
+    m: f64,
+    f: &mut impl FnMut(f64) -> Option<f64>,
+    floor: f64,
+    step_tol: f64,
+    sims: &mut u32,
+) -> Result<(f64, bool), (Outcome, bool)> {
+    *sims += 1;
+    let Some(fm) = f(m).filter(|v| v.is_finite() || *v == UNRESOLVED) else {
+        return Err((Outcome::Failed, false));
+    };
+    let (sl, sr) = (left.slope(), right.slope());
+    let either = |s: f64, other: f64| {
+        if s.is_finite() {
+            s
+        } else if other.is_finite() {
+            other
+        } else {
+            0.0
+        }
+    };
+    let (sl, sr) = (either(sl, sr), either(sr, sl));
+    if fm == UNRESOLVED {
+        return Err((unresolved_stop(left, right, (sl, sr), step_tol), true));
+    }
+    let (pl, el) = left.predict(m, sl);
+    let (pr, er) = right.predict(m, sr);
+    let (dl, dr) = ((fm - pl).abs(), (fm - pr).abs());
+    let (el, er) = (el + floor, er + floor);
+    let to_left = match (dl <= 4.0 * el, dr <= 4.0 * er) {
+        (true, false) => true,
+        (false, true) => false,
+        // Both trends allow it: the one that asked more of it (the smaller error) decides.
+        (true, true) if el != er => el < er,
+        (true, true) => dl <= dr,
+        // Neither does: a side bends near the jump more than its known points show. The
+        // slope at m (from one more simulation just before it) tells which side it is on.
+        (false, false) => {
+            let eps = (right.last().0 - left.last().0) / 64.0;
+            *sims += 1;
+            let Some(fe) = f(m - eps).filter(|v| v.is_finite() || *v == UNRESOLVED) else {
+                return Err((Outcome::Failed, false));
+            };
+            if fe == UNRESOLVED {
+                return Err((unresolved_stop(left, right, (sl, sr), step_tol), true));
+            }
+            let s = (fm - fe) / eps;
+            (s - sl).abs() <= (s - sr).abs()
+        }
+    };
+    Ok((fm, to_left))
+}
+
+/// What the brackets of a bisection hold, finest last. A step across the finest bracket is a
+/// step. One across a wider bracket (at most ten tolerances) only when it persists inside it
+/// ([`persists`]): a steep smooth stretch, or one that curves hard, also changes by `step_tol`
+/// across some wider bracket. A kink is the finest bracket across which the slope still changes
+/// enough, no wider than ten tolerances: a corner rounded over more than the tolerance (but
+/// less than a tenth of the grid step) is a kink at the scale of its rounding, and says so with
+/// its wider location_tol. Last, the whole span is searched for a step by its largest changes:
+/// a quantity with several steps close together (DI where the second peak changes identity
+/// again and again) can lead the bisection, which follows the sides' trends, off its steps. A
+/// candidate with none of these was a steep but smooth stretch.
+fn classify(
+    brackets: &[Bracket],
+    f: &mut impl FnMut(f64) -> Option<f64>,
+    step_tol: f64,
+    kink: Option<f64>,
+    tol: f64,
+    sims: &mut u32,
+) -> Outcome {
     let finest = brackets.last().and_then(|br| br.step(step_tol));
     let coarse = brackets
         .iter()
@@ -639,20 +679,18 @@ pub fn locate(
         .find(|br| (br.fb - br.fa).abs() >= step_tol);
     let step = match (finest, coarse) {
         (Some(step), _) => Some(step),
-        (None, Some(br)) => persists(br, &mut f, step_tol, tol, &mut sims),
+        (None, Some(br)) => persists(br, f, step_tol, tol, sims),
         (None, None) => None,
     };
-    let outcome = step
-        .or_else(|| {
-            brackets
-                .iter()
-                .rev()
-                .take_while(|br| br.b - br.a <= 10.0 * tol)
-                .find_map(|br| br.kink(kink))
-        })
-        .or_else(|| persists(&brackets[0], &mut f, step_tol, tol, &mut sims))
-        .unwrap_or(Outcome::Smooth);
-    (outcome, sims, false)
+    step.or_else(|| {
+        brackets
+            .iter()
+            .rev()
+            .take_while(|br| br.b - br.a <= 10.0 * tol)
+            .find_map(|br| br.kink(kink))
+    })
+    .or_else(|| persists(&brackets[0], f, step_tol, tol, sims))
+    .unwrap_or(Outcome::Smooth)
 }
 
 /// Interior points a bracket is sampled at by [`persists`].

@@ -275,11 +275,41 @@ pub fn find(
     ranking: &Ranking,
     ideal: &dyn IdealCase,
 ) -> Found {
-    let at = |p: u64| -> Option<usize> {
-        let i = pos[p as usize];
-        (i != u32::MAX).then_some(i as usize)
-    };
     let step_tol = step_tolerances(points, cfg.params.step_spread);
+    let found = find_jumps(grid, points, pos, cfg, step_tol, ideal);
+    let dis: Vec<f64> = points.iter().map(|p| p.di).collect();
+    let di_strong = cfg.di_strong.unwrap_or_else(|| median(&dis));
+    classify_points(grid, points, pos, &found.jumps, cfg, di_strong);
+    let min_zone_points = ((cfg.params.min_zone * points.len() as f64).ceil() as usize).max(1);
+    let zones = cut_zones(grid, points, cfg, min_zone_points, ranking);
+    Found {
+        zones,
+        jumps: found.jumps,
+        stats: JumpStats {
+            step_tol,
+            typical_slope: found.typical_slope,
+            candidates: found.candidates,
+            dropped: found.dropped,
+            failed: found.failed,
+            estimated: found.estimated,
+            estimated_steps: found.estimated_steps,
+            stopped_steps: found.stopped_steps,
+            sims: found.sims,
+        },
+        di_strong,
+        min_zone_points,
+    }
+}
+
+/// The jumps of the ideal case's response and DI over the grid ([`jumps::find`]).
+fn find_jumps(
+    grid: &Grid,
+    points: &[PointStats],
+    pos: &[u32],
+    cfg: &ZoneConfig,
+    step_tol: [f64; 2],
+    ideal: &dyn IdealCase,
+) -> jumps::Found {
     let q: Vec<[f64; 2]> = pos
         .iter()
         .map(|&i| {
@@ -296,29 +326,48 @@ pub fn find(
         kink_slope: cfg.params.kink_slope,
         locate: cfg.params.locate,
     };
-    let found = jumps::find(grid, &q, &settings, ideal);
-    drop(q);
-    let dis: Vec<f64> = points.iter().map(|p| p.di).collect();
-    let di_strong = cfg.di_strong.unwrap_or_else(|| median(&dis));
+    jumps::find(grid, &q, &settings, ideal)
+}
+
+/// Each point's class ([`classify`]): a point next to a jump is near one.
+fn classify_points(
+    grid: &Grid,
+    points: &mut [PointStats],
+    pos: &[u32],
+    jumps: &[jumps::Jump],
+    cfg: &ZoneConfig,
+    di_strong: f64,
+) {
     let mut near = vec![false; points.len()];
-    for j in &found.jumps {
+    for j in jumps {
         for p in jumps::around(grid, j) {
-            if let Some(i) = at(p) {
-                near[i] = true;
+            let i = pos[p as usize];
+            if i != u32::MAX {
+                near[i as usize] = true;
             }
         }
     }
-    let mut class = vec![MISSING; grid.len() as usize];
     let with_r = super::rank::computes_r(points);
     for (i, p) in points.iter_mut().enumerate() {
-        let c = classify(p, near[i], cfg.r_min, di_strong, with_r);
-        p.class = c;
-        class[p.point as usize] = c as u8;
+        p.class = classify(p, near[i], cfg.r_min, di_strong, with_r);
     }
-    let present = points.len();
-    let min_zone_points = ((cfg.params.min_zone * present as f64).ceil() as usize).max(1);
+}
+
+/// The zones: the regions of like class of at least `min_zone_points` points (or the declared
+/// ones), each point's `zone` filled, each zone described and its perfectibility given.
+fn cut_zones(
+    grid: &Grid,
+    points: &mut [PointStats],
+    cfg: &ZoneConfig,
+    min_zone_points: usize,
+    ranking: &Ranking,
+) -> Vec<Zone> {
     let (region_of, members): (Vec<u32>, Vec<(String, Option<Class>)>) = if cfg.declared.is_empty()
     {
+        let mut class = vec![MISSING; grid.len() as usize];
+        for p in points.iter() {
+            class[p.point as usize] = p.class as u8;
+        }
         let (of, regs) = regions::regions(grid, &class, min_zone_points, |c| {
             Class::from_u8(c).sticky()
         });
@@ -331,7 +380,6 @@ pub fn find(
     } else {
         declared_zones(grid, points, cfg.declared)
     };
-    drop(class);
     let mut lists: Vec<Vec<usize>> = vec![Vec::new(); members.len()];
     for (i, p) in points.iter_mut().enumerate() {
         let z = region_of[p.point as usize];
@@ -363,23 +411,7 @@ pub fn find(
             100.0 * z.mean_di / di_max
         };
     }
-    Found {
-        zones,
-        jumps: found.jumps,
-        stats: JumpStats {
-            step_tol,
-            typical_slope: found.typical_slope,
-            candidates: found.candidates,
-            dropped: found.dropped,
-            failed: found.failed,
-            estimated: found.estimated,
-            estimated_steps: found.estimated_steps,
-            stopped_steps: found.stopped_steps,
-            sims: found.sims,
-        },
-        di_strong,
-        min_zone_points,
-    }
+    zones
 }
 
 /// Declared zones: the zone of every grid point (`NO_REGION` outside them) and their names.

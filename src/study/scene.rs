@@ -129,6 +129,21 @@ pub(super) fn scene(
         }
         return Ok(Scene::Free);
     }
+    check_swept_keys(cx, raw, sweep)?;
+    let mut h = fixed_settings(raw, sweep);
+    parse_peaks(cx, raw, &mut h)?;
+    h.check_ranges()
+        .map_err(|e| cx.err(&format!("[scene].{}", e.key), range_value(&e), e.allowed))?;
+    Ok(Scene::Harmonic(h))
+}
+
+/// The keys of the harmonic scene that `[sweep]` also sets: none fixed and swept, and the
+/// frequency given as `omega` or `r`, not both.
+fn check_swept_keys(
+    cx: &Cx,
+    raw: &RawScene,
+    sweep: &BTreeMap<String, RawAxis>,
+) -> Result<(), InputError> {
     for key in Harmonic::AXES {
         if let (Some(v), true) = (raw.get(key), sweep.contains_key(key)) {
             return Err(cx.err(
@@ -152,6 +167,11 @@ pub(super) fn scene(
             format!("give the forcing frequency as omega or as r, not both (omega is in {w})"),
         ));
     }
+    Ok(())
+}
+
+/// The harmonic scene's defaults with the keys `raw` gives (ranges checked by the caller).
+fn fixed_settings(raw: &RawScene, sweep: &BTreeMap<String, RawAxis>) -> Harmonic {
     let mut h = Harmonic::default();
     if let Some(v) = raw.F0 {
         h.F0 = v;
@@ -196,6 +216,11 @@ pub(super) fn scene(
     if let Some(n) = raw.life_max_periods {
         h.life_max_periods = n;
     }
+    h
+}
+
+/// `design_peak` and `nonperiodic_peak` of `raw` into `h`, each one of its names.
+fn parse_peaks(cx: &Cx, raw: &RawScene, h: &mut Harmonic) -> Result<(), InputError> {
     if let Some(p) = &raw.design_peak {
         h.design_peak = DesignPeak::parse(p).ok_or_else(|| {
             cx.err(
@@ -223,9 +248,7 @@ pub(super) fn scene(
             )
         })?;
     }
-    h.check_ranges()
-        .map_err(|e| cx.err(&format!("[scene].{}", e.key), range_value(&e), e.allowed))?;
-    Ok(Scene::Harmonic(h))
+    Ok(())
 }
 
 /// Where a frequency key is set (`[scene].r` or `[sweep].r`), if anywhere.
