@@ -112,7 +112,7 @@ pub struct SymmetricOrbit {
 /// (module doc), in increasing `x_impact`, each with its admissibility. Empty when no root is
 /// real or in the cases the module doc lists. The initial state of `sys` is not used.
 pub fn symmetric_period1(sys: &System, f0: f64, omega: f64) -> Vec<SymmetricOrbit> {
-    let (big_m, m, k, c, d, e) = (sys.M, sys.m, sys.K, sys.C, sys.d, sys.e);
+    let (big_m, m, k, c) = (sys.M, sys.m, sys.K, sys.C);
     if !(m > 0.0 && f0.is_finite() && f0 > 0.0 && omega.is_finite() && omega > 0.0) {
         return Vec::new();
     }
@@ -120,36 +120,11 @@ pub fn symmetric_period1(sys: &System, f0: f64, omega: f64) -> Vec<SymmetricOrbi
     if stiffness.is_nan() || stiffness < RESONANCE_FLOOR * k {
         return Vec::new();
     }
-    let tau = PI / omega;
     let forced = Forced::new(big_m, k, c, f0, omega);
-    let (p, q, amp) = (forced.p, forced.q, forced.amp);
-    let phi = forced.osc.propagator(tau);
-    let mu = m / big_m;
-    // V- = beta_b W-, V+ = beta_a W-, W- = (2 X + d) / tau.
-    let beta_b = -(1.0 - e + 2.0 * mu) / (1.0 + e);
-    let beta_a = -(1.0 - e - 2.0 * mu * e) / (1.0 + e);
-    // N = Phi + I; N (x_p, x_p') = N (X, V+) + (0, V- - V+), the right side affine in X.
-    let (n11, n12, n21, n22) = (phi.xx + 1.0, phi.xv, phi.vx, phi.vv + 1.0);
-    let det = n11 * n22 - n12 * n21;
-    // NaN (a non-finite input) fails the test too.
-    if det.abs().is_nan() || det.abs() < SINGULAR {
+    let Some(af) = Affine::new(sys, &forced, omega) else {
         return Vec::new();
-    }
-    let rhs1 = [
-        n11 + n12 * 2.0 * beta_a / tau,
-        n21 + (n22 * beta_a + (beta_b - beta_a)) * 2.0 / tau,
-    ];
-    let rhs0 = [
-        n12 * beta_a * d / tau,
-        (n22 * beta_a + (beta_b - beta_a)) * d / tau,
-    ];
-    // (x_p, x_p' / omega) = u0 + X u1.
-    let solve = |r: [f64; 2]| {
-        let xp = (n22 * r[0] - n12 * r[1]) / det;
-        let vp = (n11 * r[1] - n21 * r[0]) / det;
-        [xp, vp / omega]
     };
-    let (u0, u1) = (solve(rhs0), solve(rhs1));
+    let (u0, u1, amp) = (af.u0, af.u1, forced.amp);
     let norm2 = u1[0] * u1[0] + u1[1] * u1[1];
     if !(norm2 > 0.0 && norm2.is_finite()) {
         return Vec::new();
@@ -169,63 +144,126 @@ pub fn symmetric_period1(sys: &System, f0: f64, omega: f64) -> Vec<SymmetricOrbi
     };
     roots
         .into_iter()
-        .map(|x_impact| {
-            let w_before = (2.0 * x_impact + d) / tau;
-            let (v_before, v_after, w_after) = (beta_b * w_before, beta_a * w_before, -w_before);
-            let xp = u0[0] + x_impact * u1[0];
-            let sp = u0[1] + x_impact * u1[1];
-            let a2 = amp * amp;
-            let (cos, sin) = ((p * xp + q * sp) / a2, (q * xp - p * sp) / a2);
-            let phase = sin.atan2(cos).rem_euclid(TAU);
-            // rem_euclid can round up to exactly TAU.
-            let phase = if phase >= TAU { 0.0 } else { phase };
-            let t1 = phase / omega;
-            let (h0, g0) = forced.free_start(t1, x_impact, v_after);
-            let flight = Flight {
-                forced,
-                t1,
-                h0,
-                g0,
-                y0: x_impact + 0.5 * d,
-                w: w_after,
-            };
-            let rate = omega.max(sys.omega()).max(c / big_m);
-            let n = ((POINTS_PER_RADIAN * tau * rate).ceil() as usize).clamp(64, 1 << 20);
-            let (x_lo, x_hi) = interior_extremes(|s| flight.x(s), [v_after, -v_before], tau, n);
-            let amplitude = x_impact.abs().max(x_hi).max(-x_lo);
-            let why = if w_before <= 0.0 {
-                Some(Inadmissible::Recedes)
-            } else if e <= 0.0 {
-                Some(Inadmissible::Grazes)
-            } else {
-                let slopes = [w_after - v_after, w_after + v_before];
-                let (z_lo, z_hi) = interior_extremes(|s| flight.z(s), slopes, tau, n);
-                (z_hi > 0.5 * d || z_lo < -0.5 * d).then_some(Inadmissible::CrossesWall)
-            };
-            // t = 0 mod T lies in the flight after the right-wall impact when t1 > tau,
-            // otherwise in the flight after the left-wall one, the mirror image. An impact at
-            // t = 0 mod T itself (phase 0 or pi) gives the state just after it.
-            let section = if t1 == 0.0 {
-                flight.state(0.0)
-            } else if t1 > tau {
-                flight.state(TAU / omega - t1)
-            } else {
-                flight.state(tau - t1).map(|v| -v)
-            };
-            SymmetricOrbit {
-                phase,
-                x_impact,
-                v_before,
-                v_after,
-                w_before,
-                w_after,
-                amplitude,
-                admissible: why.is_none(),
-                why,
-                section,
-            }
-        })
+        .map(|x_impact| af.orbit(sys, &forced, omega, x_impact))
         .collect()
+}
+
+/// The particular solution at the impact, affine in the impact displacement `X` (module doc):
+/// `(x_p, x_p' / omega) = u0 + X u1`, with the half period `tau = pi / omega` and the velocity
+/// ratios `V- = beta_b W-`, `V+ = beta_a W-` (`W- = (2 X + d) / tau`).
+struct Affine {
+    tau: f64,
+    beta_a: f64,
+    beta_b: f64,
+    u0: [f64; 2],
+    u1: [f64; 2],
+}
+
+impl Affine {
+    /// `None` where `Phi + I` is singular (or an input is not finite).
+    fn new(sys: &System, forced: &Forced, omega: f64) -> Option<Affine> {
+        let (big_m, m, d, e) = (sys.M, sys.m, sys.d, sys.e);
+        let tau = PI / omega;
+        let phi = forced.osc.propagator(tau);
+        let mu = m / big_m;
+        let beta_b = -(1.0 - e + 2.0 * mu) / (1.0 + e);
+        let beta_a = -(1.0 - e - 2.0 * mu * e) / (1.0 + e);
+        // N = Phi + I; N (x_p, x_p') = N (X, V+) + (0, V- - V+), the right side affine in X.
+        let (n11, n12, n21, n22) = (phi.xx + 1.0, phi.xv, phi.vx, phi.vv + 1.0);
+        let det = n11 * n22 - n12 * n21;
+        // NaN (a non-finite input) fails the test too.
+        if det.abs().is_nan() || det.abs() < SINGULAR {
+            return None;
+        }
+        let rhs1 = [
+            n11 + n12 * 2.0 * beta_a / tau,
+            n21 + (n22 * beta_a + (beta_b - beta_a)) * 2.0 / tau,
+        ];
+        let rhs0 = [
+            n12 * beta_a * d / tau,
+            (n22 * beta_a + (beta_b - beta_a)) * d / tau,
+        ];
+        let solve = |r: [f64; 2]| {
+            let xp = (n22 * r[0] - n12 * r[1]) / det;
+            let vp = (n11 * r[1] - n21 * r[0]) / det;
+            [xp, vp / omega]
+        };
+        Some(Affine {
+            tau,
+            beta_a,
+            beta_b,
+            u0: solve(rhs0),
+            u1: solve(rhs1),
+        })
+    }
+
+    /// The orbit whose right-wall impact is at `x_impact`: its impact phase and velocities, its
+    /// amplitude, its admissibility and its Poincaré section.
+    fn orbit(&self, sys: &System, forced: &Forced, omega: f64, x_impact: f64) -> SymmetricOrbit {
+        let Affine {
+            tau,
+            beta_a,
+            beta_b,
+            u0,
+            u1,
+        } = *self;
+        let (big_m, c, d, e) = (sys.M, sys.C, sys.d, sys.e);
+        let (p, q, amp) = (forced.p, forced.q, forced.amp);
+        let w_before = (2.0 * x_impact + d) / tau;
+        let (v_before, v_after, w_after) = (beta_b * w_before, beta_a * w_before, -w_before);
+        let xp = u0[0] + x_impact * u1[0];
+        let sp = u0[1] + x_impact * u1[1];
+        let a2 = amp * amp;
+        let (cos, sin) = ((p * xp + q * sp) / a2, (q * xp - p * sp) / a2);
+        let phase = sin.atan2(cos).rem_euclid(TAU);
+        // rem_euclid can round up to exactly TAU.
+        let phase = if phase >= TAU { 0.0 } else { phase };
+        let t1 = phase / omega;
+        let (h0, g0) = forced.free_start(t1, x_impact, v_after);
+        let flight = Flight {
+            forced: *forced,
+            t1,
+            h0,
+            g0,
+            y0: x_impact + 0.5 * d,
+            w: w_after,
+        };
+        let rate = omega.max(sys.omega()).max(c / big_m);
+        let n = ((POINTS_PER_RADIAN * tau * rate).ceil() as usize).clamp(64, 1 << 20);
+        let (x_lo, x_hi) = interior_extremes(|s| flight.x(s), [v_after, -v_before], tau, n);
+        let amplitude = x_impact.abs().max(x_hi).max(-x_lo);
+        let why = if w_before <= 0.0 {
+            Some(Inadmissible::Recedes)
+        } else if e <= 0.0 {
+            Some(Inadmissible::Grazes)
+        } else {
+            let slopes = [w_after - v_after, w_after + v_before];
+            let (z_lo, z_hi) = interior_extremes(|s| flight.z(s), slopes, tau, n);
+            (z_hi > 0.5 * d || z_lo < -0.5 * d).then_some(Inadmissible::CrossesWall)
+        };
+        // t = 0 mod T lies in the flight after the right-wall impact when t1 > tau, otherwise
+        // in the flight after the left-wall one, the mirror image. An impact at t = 0 mod T
+        // itself (phase 0 or pi) gives the state just after it.
+        let section = if t1 == 0.0 {
+            flight.state(0.0)
+        } else if t1 > tau {
+            flight.state(TAU / omega - t1)
+        } else {
+            flight.state(tau - t1).map(|v| -v)
+        };
+        SymmetricOrbit {
+            phase,
+            x_impact,
+            v_before,
+            v_after,
+            w_before,
+            w_after,
+            amplitude,
+            admissible: why.is_none(),
+            why,
+            section,
+        }
+    }
 }
 
 /// The Jacobian of the symmetric orbit's half-period impact map, in closed form.

@@ -376,18 +376,55 @@ pub fn follow(
     // The seed, polished with p held.
     let (y0, a0, e0) = sys.correct(&y0, None)?;
     let impacts = e0.impacts;
-    let mut sides = Vec::new();
-    for dir in [-1.0, 1.0] {
+    let mut sides: Vec<Vec<CurvePoint>> = [-1.0, 1.0]
+        .into_iter()
+        .map(|dir| {
+            let side = Side {
+                p_range,
+                r_range,
+                at_values,
+                impacts,
+            };
+            side.follow(&mut sys, &y0, &a0, dir)
+        })
+        .collect();
+    let mut points: Vec<CurvePoint> = sides.remove(0);
+    points.reverse();
+    points.push(sys.point(&y0, &e0, at_values.contains(&sys.p0)));
+    points.extend(sides.remove(0));
+    Some(BifurcationCurve {
+        label,
+        axis,
+        points,
+        periods: sys.periods,
+    })
+}
+
+/// What one side of a two-parameter curve is followed within ([`follow`]).
+struct Side<'a> {
+    p_range: (f64, f64),
+    r_range: (f64, f64),
+    /// Values of the second parameter where a point is solved for exactly.
+    at_values: &'a [f64],
+    /// The seed's impacts per period (a smooth bifurcation's curve ends where they change).
+    impacts: u64,
+}
+
+impl Side<'_> {
+    /// The points from the seed `y0` (extended Jacobian `a0`) in direction `dir` of the second
+    /// parameter, in order away from it: until the corrector fails below the smallest step, the
+    /// impacts change (not for a grazing), the curve leaves the ranges or stalls, or
+    /// [`MAX_POINTS`].
+    fn follow(&self, sys: &mut System2, y0: &V6, a0: &DMatrix<f64>, dir: f64) -> Vec<CurvePoint> {
         let mut prev = DVector::zeros(6);
         prev[5] = dir;
         let mut pts = Vec::new();
-        let Some(mut t) = System2::tangent(&a0, &prev) else {
-            sides.push(pts);
-            continue;
+        let Some(mut t) = System2::tangent(a0, &prev) else {
+            return pts;
         };
         let mut y = y0.clone();
         let mut h = 0.02;
-        let mut done = at_values.to_vec();
+        let mut done = self.at_values.to_vec();
         let mut trail: std::collections::VecDeque<DVector<f64>> = Default::default();
         // The seed's own value is the seed.
         done.retain(|&v| (v - sys.p0).abs() > 1e-12 * v.abs().max(1.0));
@@ -402,27 +439,12 @@ pub fn follow(
             };
             // Off a grazing's curve the impact count changes where a smooth bifurcation's
             // orbit meets a grazing; a grazing's own curve may sit on either side of it.
-            if e1.impacts != impacts && label != Label::GR {
+            if e1.impacts != self.impacts && sys.label != Label::GR {
                 break;
             }
             let (_, r1, p1) = sys.unscale(&y1);
-            let (_, _, p_prev) = sys.unscale(&y);
-            // Grid values of p crossed by this step: solved for exactly.
-            for v in done.clone() {
-                if (v - p_prev) * (v - p1) <= 0.0 && v != p_prev {
-                    let w = (v - p_prev) / (p1 - p_prev);
-                    let mut yv = &y + (&y1 - &y) * w;
-                    yv[5] = v / sys.p0;
-                    if let Some((yv, _, ev)) = sys.correct(&yv, None) {
-                        // `p` is the grid value itself (not `v / p0 * p0`).
-                        pts.push(CurvePoint {
-                            p: v,
-                            ..sys.point(&yv, &ev, true)
-                        });
-                    }
-                    done.retain(|&x| x != v);
-                }
-            }
+            at_grid_values(sys, &y, &y1, p1, &mut done, &mut pts);
+            let (p_range, r_range) = (self.p_range, self.r_range);
             if p1 < p_range.0 || p1 > p_range.1 || r1 < r_range.0 || r1 > r_range.1 {
                 break;
             }
@@ -441,16 +463,34 @@ pub fn follow(
             t = t1;
             h = (h * 1.3).min(0.05);
         }
-        sides.push(pts);
+        pts
     }
-    let mut points: Vec<CurvePoint> = sides.remove(0);
-    points.reverse();
-    points.push(sys.point(&y0, &e0, at_values.contains(&sys.p0)));
-    points.extend(sides.remove(0));
-    Some(BifurcationCurve {
-        label,
-        axis,
-        points,
-        periods: sys.periods,
-    })
+}
+
+/// The grid values of `p` in `done` crossed by the step from `y` to `y1` (at `p1`), each solved
+/// for exactly (its point pushed onto `pts`) and taken out of `done`.
+fn at_grid_values(
+    sys: &mut System2,
+    y: &V6,
+    y1: &V6,
+    p1: f64,
+    done: &mut Vec<f64>,
+    pts: &mut Vec<CurvePoint>,
+) {
+    let (_, _, p_prev) = sys.unscale(y);
+    for v in done.clone() {
+        if (v - p_prev) * (v - p1) <= 0.0 && v != p_prev {
+            let w = (v - p_prev) / (p1 - p_prev);
+            let mut yv = y + (y1 - y) * w;
+            yv[5] = v / sys.p0;
+            if let Some((yv, _, ev)) = sys.correct(&yv, None) {
+                // `p` is the grid value itself (not `v / p0 * p0`).
+                pts.push(CurvePoint {
+                    p: v,
+                    ..sys.point(&yv, &ev, true)
+                });
+            }
+            done.retain(|&x| x != v);
+        }
+    }
 }
