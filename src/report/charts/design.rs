@@ -63,6 +63,86 @@ fn reliability_range(r: impl IntoIterator<Item = f64>, r_min: f64) -> ((f64, f64
     (with_headroom(lo, hi, 2e-3), shown)
 }
 
+/// The reliability panel's legend (before the jumps' keys): the bootstrap band, R, and `r_min`
+/// with where it lies against the plotted range (which starts at `y0`).
+fn reliability_keys(pr: &Profile, y0: f64, r_min_shown: bool) -> Vec<(Key, String)> {
+    let (blue, grey) = (BLUE, GREY);
+    let s = pr.s;
+    let mut items = vec![
+        (
+            Key::Swatch(blue.mix(0.3)),
+            format!("{:.0} % bootstrap interval of R", 100.0 * s.confidence),
+        ),
+        (
+            if pr.points.len() <= MANY {
+                Key::LineDot(blue)
+            } else {
+                Key::Line(blue)
+            },
+            "reliability R".to_string(),
+        ),
+    ];
+    if s.r_min.is_finite() {
+        let where_ = if r_min_shown {
+            "reliable: interval at or above"
+        } else if s.r_min < y0 {
+            "below the plotted range"
+        } else {
+            "above the plotted range"
+        };
+        items.push((
+            Key::Dashed(grey),
+            format!("r_min = {} ({where_})", fmt_num(s.r_min)),
+        ));
+    }
+    items
+}
+
+/// R along the profile: its bootstrap band, `r_min` when shown, the jumps, and R itself (with
+/// its points when there are few).
+fn draw_reliability<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    pr: &Profile,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+    r_min_shown: bool,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let (blue, grey) = (BLUE, GREY);
+    let s = pr.s;
+    let hi = pr.series(|p| p.reliability_hi);
+    let lo = pr.series(|p| p.reliability_lo);
+    let band: Vec<(f64, f64)> = hi.into_iter().chain(lo.into_iter().rev()).collect();
+    if !band.is_empty() {
+        chart
+            .draw_series(std::iter::once(Polygon::new(band, blue.mix(0.3).filled())))
+            .map_err(err)?;
+    }
+    if r_min_shown {
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(x0, s.r_min), (x1, s.r_min)],
+                8,
+                5,
+                grey.stroke_width(2),
+            ))
+            .map_err(err)?;
+    }
+    jump_lines(chart, pr, (y0, y1))?;
+    let r = pr.series(|p| p.reliability);
+    chart
+        .draw_series(LineSeries::new(r.clone(), blue.stroke_width(2)))
+        .map_err(err)?;
+    if r.len() <= MANY {
+        chart
+            .draw_series(r.iter().map(|&p| Circle::new(p, 3, blue.filled())))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
 /// Shades the zones over `y0..y1` and names those wide enough for their name near the top.
 fn shade_zones<'a, DB: DrawingBackend + 'a>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
@@ -141,7 +221,6 @@ impl DesignChart<'_> {
     {
         let pr = self.0;
         let s = pr.s;
-        let (blue, grey) = (BLUE, GREY);
         let ((y0, y1), r_min_shown) = reliability_range(
             pr.points
                 .iter()
@@ -149,33 +228,7 @@ impl DesignChart<'_> {
             s.r_min,
         );
         let has_r = pr.points.iter().any(|p| p.reliability.is_finite());
-        let mut items = vec![
-            (
-                Key::Swatch(blue.mix(0.3)),
-                format!("{:.0} % bootstrap interval of R", 100.0 * s.confidence),
-            ),
-            (
-                if pr.points.len() <= MANY {
-                    Key::LineDot(blue)
-                } else {
-                    Key::Line(blue)
-                },
-                "reliability R".to_string(),
-            ),
-        ];
-        if s.r_min.is_finite() {
-            let where_ = if r_min_shown {
-                "reliable: interval at or above"
-            } else if s.r_min < y0 {
-                "below the plotted range"
-            } else {
-                "above the plotted range"
-            };
-            items.push((
-                Key::Dashed(grey),
-                format!("r_min = {} ({where_})", fmt_num(s.r_min)),
-            ));
-        }
+        let mut items = reliability_keys(pr, y0, r_min_shown);
         items.extend(jump_keys(pr));
         let (keys, plot) = area.split_vertically(legend_height(area, &items)?);
         if has_r {
@@ -221,35 +274,7 @@ impl DesignChart<'_> {
                 .map_err(err)?;
             return Ok(());
         }
-        let hi = pr.series(|p| p.reliability_hi);
-        let lo = pr.series(|p| p.reliability_lo);
-        let band: Vec<(f64, f64)> = hi.into_iter().chain(lo.into_iter().rev()).collect();
-        if !band.is_empty() {
-            chart
-                .draw_series(std::iter::once(Polygon::new(band, blue.mix(0.3).filled())))
-                .map_err(err)?;
-        }
-        if r_min_shown {
-            chart
-                .draw_series(DashedLineSeries::new(
-                    [(x0, s.r_min), (x1, s.r_min)],
-                    8,
-                    5,
-                    grey.stroke_width(2),
-                ))
-                .map_err(err)?;
-        }
-        jump_lines(&mut chart, pr, (y0, y1))?;
-        let r = pr.series(|p| p.reliability);
-        chart
-            .draw_series(LineSeries::new(r.clone(), blue.stroke_width(2)))
-            .map_err(err)?;
-        if r.len() <= MANY {
-            chart
-                .draw_series(r.iter().map(|&p| Circle::new(p, 3, blue.filled())))
-                .map_err(err)?;
-        }
-        Ok(())
+        draw_reliability(&mut chart, pr, (x0, x1), (y0, y1), r_min_shown)
     }
 
     fn damping_panel<DB: DrawingBackend>(

@@ -11,6 +11,7 @@
 
 use crate::orbits::attractors::SteadyKind;
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::plumbing::{
@@ -222,151 +223,197 @@ impl Chart for Branches<'_> {
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
             .map_err(err)?;
-        // Motions that are not periodic: a bar from 0 to the largest amplitude over the window.
-        let dx = (x1 - x0) / (st.n_values().max(2) as f64) / 3.0;
-        chart
-            .draw_series(
-                st.r.attractors
-                    .iter()
-                    .filter(|a| !a.kind.periodic() && a.amplitude.is_finite())
-                    .map(|a| {
-                        let x = st.x_attractor(a);
-                        Rectangle::new([(x - dx, 0.0), (x + dx, a.amplitude * CM)], CHAOS.filled())
-                    }),
-            )
-            .map_err(err)?;
-        // The linear system in closed form on a fine grid (not a polygon through the swept
-        // frequencies).
-        let lin: Vec<(f64, f64)> = st
-            .linear_line(x0, x1)
-            .into_iter()
-            .map(|(r, a)| (r, a * CM))
-            .collect();
-        chart
-            .draw_series(DashedLineSeries::new(lin, 6, 4, BLACK.stroke_width(1)))
-            .map_err(err)?;
-        for (stability, pts) in st.segments() {
-            match stability {
-                "stable" => {
-                    chart
-                        .draw_series(LineSeries::new(pts, STABLE.stroke_width(2)))
-                        .map_err(err)?;
-                }
-                "unstable" => {
-                    chart
-                        .draw_series(DashedLineSeries::new(pts, 5, 4, UNSTABLE.stroke_width(2)))
-                        .map_err(err)?;
-                }
-                _ => {
-                    // The non-impacting family is the linear steady state: drawn in closed form
-                    // over the stretch where continuation found it.
-                    let (r0, r1) = minmax(pts.iter().map(|p| p.0));
-                    let fine: Vec<(f64, f64)> = st
-                        .linear_line(r0, r1)
-                        .into_iter()
-                        .map(|(r, a)| (r, a * CM))
-                        .collect();
-                    chart
-                        .draw_series(DashedLineSeries::new(fine, 2, 3, FAMILY.stroke_width(2)))
-                        .map_err(err)?;
-                }
-            }
-        }
-        // Labels: a dot exactly at each (located) point, its name beside it, names that would
-        // overlap stacked upwards.
-        let labelled: Vec<_> =
-            st.r.branches
-                .iter()
-                .filter(|b| !b.label.is_empty())
-                .collect();
-        let at: Vec<(i32, i32)> = labelled
-            .iter()
-            .map(|b| chart.backend_coord(&(st.x_branch(b), b.amplitude * CM)))
-            .collect();
-        // The same label at the same spot (the two mirror halves of a pair, located each on
-        // its own branch) is named once.
-        let named: Vec<bool> = (0..labelled.len())
-            .map(|i| {
-                !(0..i).any(|j| {
-                    labelled[j].label == labelled[i].label
-                        && (at[j].0 - at[i].0).abs() <= 4
-                        && (at[j].1 - at[i].1).abs() <= 4
-                })
-            })
-            .collect();
-        let shown: Vec<(i32, i32)> = at
-            .iter()
-            .zip(&named)
-            .filter(|p| *p.1)
-            .map(|p| *p.0)
-            .collect();
-        let mut lifts = spread(&shown).into_iter();
-        let lifts: Vec<Option<i32>> = named
-            .iter()
-            .map(|&n| if n { lifts.next() } else { None })
-            .collect();
-        chart
-            .draw_series(labelled.iter().zip(&lifts).map(|(b, lift)| {
-                let pos = (st.x_branch(b), b.amplitude * CM);
-                let name = if lift.is_some() { b.label } else { "" };
-                EmptyElement::at(pos)
-                    + Circle::new((0, 0), 4, BLACK.filled())
-                    + Text::new(
-                        name.to_string(),
-                        (5, -16 - lift.unwrap_or(0)),
-                        SMALL.into_font(),
-                    )
-            }))
-            .map_err(err)?;
-        // The labelled points last, so that their targets lie on top of their neighbours'.
-        let order =
-            st.r.branches
-                .iter()
-                .filter(|b| b.label.is_empty())
-                .chain(labelled.iter().copied());
-        for b in order {
-            let at = chart.backend_coord(&(st.x_branch(b), b.amplitude * CM));
-            let mut text = format!(
-                "branch {}, period {}, {}\n{} = {}, amplitude {} cm",
-                b.branch,
-                b.period,
-                b.stability,
-                st.x_name().0,
-                fmt_num(st.x_branch(b)),
-                fmt_num(b.amplitude * CM)
-            );
-            if !b.label.is_empty() {
-                text = format!(
-                    "{} ({}){}\n{text}\nmultipliers {}",
-                    b.label,
-                    label_name(b.label),
-                    if b.located { ", located" } else { "" },
-                    multipliers_text(&b.multipliers)
-                );
-            }
-            self.1
-                .point(at, if b.label.is_empty() { 3 } else { 5 }, text);
-        }
-        // The design peak (along F0, at every force; the design's own named).
-        for (x, peak, named) in st.peaks() {
-            if !peak.is_finite() {
-                continue;
-            }
-            let name = if named {
-                format!("design peak {} cm", fmt_num(peak * CM))
-            } else {
-                String::new()
-            };
-            chart
-                .draw_series(std::iter::once(
-                    EmptyElement::at((x, peak * CM))
-                        + Cross::new((0, 0), 7, PEAK.stroke_width(3))
-                        + Text::new(name, (9, 4), SMALL.into_font()),
-                ))
-                .map_err(err)?;
-        }
+        draw_curves(&mut chart, st, (x0, x1))?;
+        draw_labels(&mut chart, st)?;
+        hover_targets(&chart, st, &self.1);
+        draw_peaks(&mut chart, st)?;
         Ok(())
     }
+}
+
+/// The chart's plotting area: r (or F0) against the amplitude in cm.
+type Plot<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// The motions that are not periodic (a bar from 0 to their amplitude), the linear system and
+/// the branches over `x0..x1`.
+fn draw_curves<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Plot<'a, DB>,
+    st: &Steady,
+    (x0, x1): (f64, f64),
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    // Motions that are not periodic: a bar from 0 to the largest amplitude over the window.
+    let dx = (x1 - x0) / (st.n_values().max(2) as f64) / 3.0;
+    chart
+        .draw_series(
+            st.r.attractors
+                .iter()
+                .filter(|a| !a.kind.periodic() && a.amplitude.is_finite())
+                .map(|a| {
+                    let x = st.x_attractor(a);
+                    Rectangle::new([(x - dx, 0.0), (x + dx, a.amplitude * CM)], CHAOS.filled())
+                }),
+        )
+        .map_err(err)?;
+    // The linear system in closed form on a fine grid (not a polygon through the swept
+    // frequencies).
+    let lin: Vec<(f64, f64)> = st
+        .linear_line(x0, x1)
+        .into_iter()
+        .map(|(r, a)| (r, a * CM))
+        .collect();
+    chart
+        .draw_series(DashedLineSeries::new(lin, 6, 4, BLACK.stroke_width(1)))
+        .map_err(err)?;
+    for (stability, pts) in st.segments() {
+        match stability {
+            "stable" => {
+                chart
+                    .draw_series(LineSeries::new(pts, STABLE.stroke_width(2)))
+                    .map_err(err)?;
+            }
+            "unstable" => {
+                chart
+                    .draw_series(DashedLineSeries::new(pts, 5, 4, UNSTABLE.stroke_width(2)))
+                    .map_err(err)?;
+            }
+            _ => {
+                // The non-impacting family is the linear steady state: drawn in closed form
+                // over the stretch where continuation found it.
+                let (r0, r1) = minmax(pts.iter().map(|p| p.0));
+                let fine: Vec<(f64, f64)> = st
+                    .linear_line(r0, r1)
+                    .into_iter()
+                    .map(|(r, a)| (r, a * CM))
+                    .collect();
+                chart
+                    .draw_series(DashedLineSeries::new(fine, 2, 3, FAMILY.stroke_width(2)))
+                    .map_err(err)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A dot exactly at each labelled (located) point, its name beside it, names that would
+/// overlap stacked upwards.
+fn draw_labels<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Plot<'a, DB>,
+    st: &Steady,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    // Labels: a dot exactly at each (located) point, its name beside it, names that would
+    // overlap stacked upwards.
+    let labelled: Vec<_> =
+        st.r.branches
+            .iter()
+            .filter(|b| !b.label.is_empty())
+            .collect();
+    let at: Vec<(i32, i32)> = labelled
+        .iter()
+        .map(|b| chart.backend_coord(&(st.x_branch(b), b.amplitude * CM)))
+        .collect();
+    // The same label at the same spot (the two mirror halves of a pair, located each on
+    // its own branch) is named once.
+    let named: Vec<bool> = (0..labelled.len())
+        .map(|i| {
+            !(0..i).any(|j| {
+                labelled[j].label == labelled[i].label
+                    && (at[j].0 - at[i].0).abs() <= 4
+                    && (at[j].1 - at[i].1).abs() <= 4
+            })
+        })
+        .collect();
+    let shown: Vec<(i32, i32)> = at
+        .iter()
+        .zip(&named)
+        .filter(|p| *p.1)
+        .map(|p| *p.0)
+        .collect();
+    let mut lifts = spread(&shown).into_iter();
+    let lifts: Vec<Option<i32>> = named
+        .iter()
+        .map(|&n| if n { lifts.next() } else { None })
+        .collect();
+    chart
+        .draw_series(labelled.iter().zip(&lifts).map(|(b, lift)| {
+            let pos = (st.x_branch(b), b.amplitude * CM);
+            let name = if lift.is_some() { b.label } else { "" };
+            EmptyElement::at(pos)
+                + Circle::new((0, 0), 4, BLACK.filled())
+                + Text::new(
+                    name.to_string(),
+                    (5, -16 - lift.unwrap_or(0)),
+                    SMALL.into_font(),
+                )
+        }))
+        .map_err(err)?;
+    Ok(())
+}
+
+/// Every branch point a hover target, the labelled ones last.
+fn hover_targets<'a, DB: DrawingBackend + 'a>(chart: &Plot<'a, DB>, st: &Steady, hovers: &Hovers) {
+    // The labelled points last, so that their targets lie on top of their neighbours'.
+    let order =
+        st.r.branches
+            .iter()
+            .filter(|b| b.label.is_empty())
+            .chain(st.r.branches.iter().filter(|b| !b.label.is_empty()));
+    for b in order {
+        let at = chart.backend_coord(&(st.x_branch(b), b.amplitude * CM));
+        let mut text = format!(
+            "branch {}, period {}, {}\n{} = {}, amplitude {} cm",
+            b.branch,
+            b.period,
+            b.stability,
+            st.x_name().0,
+            fmt_num(st.x_branch(b)),
+            fmt_num(b.amplitude * CM)
+        );
+        if !b.label.is_empty() {
+            text = format!(
+                "{} ({}){}\n{text}\nmultipliers {}",
+                b.label,
+                label_name(b.label),
+                if b.located { ", located" } else { "" },
+                multipliers_text(&b.multipliers)
+            );
+        }
+        hovers.point(at, if b.label.is_empty() { 3 } else { 5 }, text);
+    }
+}
+
+/// The design peak (along F0, at every force; the design's own named).
+fn draw_peaks<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Plot<'a, DB>,
+    st: &Steady,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    // The design peak (along F0, at every force; the design's own named).
+    for (x, peak, named) in st.peaks() {
+        if !peak.is_finite() {
+            continue;
+        }
+        let name = if named {
+            format!("design peak {} cm", fmt_num(peak * CM))
+        } else {
+            String::new()
+        };
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at((x, peak * CM))
+                    + Cross::new((0, 0), 7, PEAK.stroke_width(3))
+                    + Text::new(name, (9, 4), SMALL.into_font()),
+            ))
+            .map_err(err)?;
+    }
+    Ok(())
 }
 
 /// Upward shifts (px) of the labels at pixel positions `at` so that no two names overlap: a

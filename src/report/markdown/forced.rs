@@ -5,7 +5,7 @@
 use std::fmt::Write;
 
 use super::{MAX_ROWS, cm, design_text, f, ranked, thousands};
-use crate::reduce::forced::ForcedSummary;
+use crate::reduce::forced::{Curve, ForcedSummary};
 use crate::reduce::table::outcome_text;
 use crate::reduce::{PointStats, Summary};
 use crate::report::charts::plumbing::fmt_num;
@@ -23,6 +23,53 @@ fn unmeasured_reason(fs: &ForcedSummary) -> &'static str {
 }
 
 pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
+    let mut o = intro(fs);
+    let shown: Vec<&PointStats> = {
+        let r = ranked(s);
+        if r.is_empty() {
+            s.points.iter().collect()
+        } else {
+            r
+        }
+    };
+    let _ = writeln!(
+        o,
+        "| rank | design | peak amplitude, ideal (cm) [90 % interval] | at r | carried by | from rest (cm) | linear peak (cm) at r | PR, ideal | the damper helps for r in | periodic | not converged |\n|---|---|---|---|---|---|---|---|---|---|---|"
+    );
+    let mut wandering_peaks = 0usize;
+    for p in shown.iter().take(MAX_ROWS) {
+        let Some(c) = fs.curve(p.point) else {
+            continue;
+        };
+        let (row, wandering) = design_row(s, c, p);
+        o.push_str(&row);
+        wandering_peaks += usize::from(wandering);
+    }
+    if wandering_peaks > 0 {
+        let _ = writeln!(
+            o,
+            "\n† {} of these peaks {} at a frequency whose motion did not settle on a periodic orbit and whose amplitude over the design life was not measured ({}): such a peak is the largest excursion of a wandering motion over a window, a lower bound of what that motion reaches, and indicative only.",
+            wandering_peaks,
+            if wandering_peaks == 1 { "lies" } else { "lie" },
+            unmeasured_reason(fs)
+        );
+    }
+    let top = &shown[..shown.len().min(MAX_ROWS)];
+    o.push_str(&super::life::section(s, fs, top));
+    o.push_str(&coexistence(s, fs, top));
+    if shown.len() > MAX_ROWS {
+        let _ = writeln!(
+            o,
+            "\n… and {} more designs (columns `peak_r`, `linear_peak`, `help_r_from`, `help_r_to`, `help_share`, `periodic_share`, `peak_periodic` of the summary).",
+            shown.len() - MAX_ROWS
+        );
+    }
+    o.push_str(&reading(fs));
+    o
+}
+
+/// The section's heading and what a design's response and damping quantity are.
+fn intro(fs: &ForcedSummary) -> String {
     let mut o = String::from("## Frequency response\n\n");
     let band = match &fs.frequency {
         Some((k, v)) if v.len() > 1 => format!(
@@ -40,18 +87,80 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
         super::count(fs.runs, "run was", "runs were"),
         outcome_text(&fs.outcomes, false)
     );
-    let shown: Vec<&PointStats> = {
-        let r = ranked(s);
-        if r.is_empty() {
-            s.points.iter().collect()
-        } else {
-            r
-        }
+    o
+}
+
+/// Design `p`'s row of the table, and whether its peak is a wandering motion's window maximum
+/// with no design-life estimate (marked †).
+fn design_row(s: &Summary, c: &Curve, p: &PointStats) -> (String, bool) {
+    let (peak, peak_r) = c.peak();
+    let life = c
+        .peak_attractor()
+        .filter(|a| !a.kind.periodic() && a.life_lo.is_finite());
+    let wandering = life.is_none() && peak.is_finite() && !c.peak_periodic();
+    let mark = match life {
+        Some(a) => format!(" [{} – {}]", cm(a.life_lo), cm(a.life_hi)),
+        None if wandering => " †".to_string(),
+        None => String::new(),
     };
-    let _ = writeln!(
-        o,
-        "| rank | design | peak amplitude, ideal (cm) [90 % interval] | at r | carried by | from rest (cm) | linear peak (cm) at r | PR, ideal | the damper helps for r in | periodic | not converged |\n|---|---|---|---|---|---|---|---|---|---|---|"
+    let (lin, lin_r) = c.linear_peak();
+    let helps = match c.help_band() {
+        Some(b) => format!(
+            "{}{} – {}{}",
+            if b.from_edge { "≤ " } else { "" },
+            f(b.from, 3),
+            f(b.to, 3),
+            if b.to_edge { " (band edge)" } else { "" }
+        ),
+        None => "not at the linear peak".to_string(),
+    };
+    let row = format!(
+        "| {} | {} | {}{mark} | {} | {} | {} | {} at {} | {} | {} | {} % | {} |\n",
+        p.rank.map(|r| r.to_string()).unwrap_or_default(),
+        design_text(s, p.point),
+        cm(peak),
+        f(peak_r, 3),
+        carried_by(c),
+        cm(c.peak_from_rest().0),
+        cm(lin),
+        f(lin_r, 3),
+        f(1.0 - peak / lin, 3),
+        helps,
+        f(100.0 * c.periodic_share(), 0),
+        c.points.iter().filter(|q| !q.converged).count()
     );
+    (row, wandering)
+}
+
+/// The steady state that carries a curve's peak: its kind or period and impacts, and its basin
+/// share when the census measured one.
+fn carried_by(c: &Curve) -> String {
+    c.peak_point().map_or(String::new(), |q| {
+        let what = if q.design_period == 0 {
+            c.peak_attractor()
+                .map_or("not periodic", |a| a.kind.name())
+                .to_string()
+        } else if q.design_impacts == 0.0 {
+            "no impacts".to_string()
+        } else {
+            format!(
+                "period {}, {} impacts per period",
+                q.design_period,
+                f(q.design_impacts, 2)
+            )
+        };
+        if q.design_share.is_finite() {
+            format!("{what}, basin {} %", f(100.0 * q.design_share, 0))
+        } else {
+            what
+        }
+    })
+}
+
+/// How the design peak is found and how to read the curves, with the counts over the ideal
+/// curves of frequencies that are not periodic and runs that did not converge.
+fn reading(fs: &ForcedSummary) -> String {
+    let mut o = String::new();
     let mut not_converged = 0usize;
     let mut not_periodic = 0usize;
     let mut frequencies = 0usize;
@@ -59,92 +168,6 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
         frequencies += c.points.len();
         not_converged += c.points.iter().filter(|p| !p.converged).count();
         not_periodic += c.points.iter().filter(|p| p.period == 0).count();
-    }
-    let mut wandering_peaks = 0usize;
-    for p in shown.iter().take(MAX_ROWS) {
-        let Some(c) = fs.curve(p.point) else {
-            continue;
-        };
-        let (peak, peak_r) = c.peak();
-        let life = c
-            .peak_attractor()
-            .filter(|a| !a.kind.periodic() && a.life_lo.is_finite());
-        let mark = match life {
-            Some(a) => format!(" [{} – {}]", cm(a.life_lo), cm(a.life_hi)),
-            None if peak.is_finite() && !c.peak_periodic() => {
-                wandering_peaks += 1;
-                " †".to_string()
-            }
-            None => String::new(),
-        };
-        let (lin, lin_r) = c.linear_peak();
-        let helps = match c.help_band() {
-            Some(b) => format!(
-                "{}{} – {}{}",
-                if b.from_edge { "≤ " } else { "" },
-                f(b.from, 3),
-                f(b.to, 3),
-                if b.to_edge { " (band edge)" } else { "" }
-            ),
-            None => "not at the linear peak".to_string(),
-        };
-        let carried = c.peak_point().map_or(String::new(), |q| {
-            let what = if q.design_period == 0 {
-                c.peak_attractor()
-                    .map_or("not periodic", |a| a.kind.name())
-                    .to_string()
-            } else if q.design_impacts == 0.0 {
-                "no impacts".to_string()
-            } else {
-                format!(
-                    "period {}, {} impacts per period",
-                    q.design_period,
-                    f(q.design_impacts, 2)
-                )
-            };
-            if q.design_share.is_finite() {
-                format!("{what}, basin {} %", f(100.0 * q.design_share, 0))
-            } else {
-                what
-            }
-        });
-        let _ = writeln!(
-            o,
-            "| {} | {} | {}{mark} | {} | {carried} | {} | {} at {} | {} | {} | {} % | {} |",
-            p.rank.map(|r| r.to_string()).unwrap_or_default(),
-            design_text(s, p.point),
-            cm(peak),
-            f(peak_r, 3),
-            cm(c.peak_from_rest().0),
-            cm(lin),
-            f(lin_r, 3),
-            f(1.0 - peak / lin, 3),
-            helps,
-            f(100.0 * c.periodic_share(), 0),
-            c.points.iter().filter(|q| !q.converged).count()
-        );
-    }
-    if wandering_peaks > 0 {
-        let _ = writeln!(
-            o,
-            "\n† {} of these peaks {} at a frequency whose motion did not settle on a periodic orbit and whose amplitude over the design life was not measured ({}): such a peak is the largest excursion of a wandering motion over a window, a lower bound of what that motion reaches, and indicative only.",
-            wandering_peaks,
-            if wandering_peaks == 1 { "lies" } else { "lie" },
-            unmeasured_reason(fs)
-        );
-    }
-    o.push_str(&super::life::section(
-        s,
-        fs,
-        &shown[..shown.len().min(MAX_ROWS)],
-    ));
-    o.push_str(&coexistence(s, fs, &shown[..shown.len().min(MAX_ROWS)]));
-    if shown.len() > MAX_ROWS {
-        let _ = writeln!(
-            o,
-            "\n… and {} more designs (columns `peak_r`, `linear_peak`, `help_r_from`, `help_r_to`, `help_share`, `periodic_share`, `peak_periodic` of the summary).",
-            shown.len() - MAX_ROWS
-        );
     }
     let _ = writeln!(
         o,
