@@ -25,7 +25,7 @@
 //!
 //! # Starts that wander: chaos, and transient chaos
 //! A start that has not converged after [`FIRST_CHECK`] periods is probed for [`PROBE`] periods
-//! with the tangent map (its largest Lyapunov exponent, [`ChaosProbe`]). Near resonance many
+//! with the tangent map (its largest Lyapunov exponent, `cloud::ChaosProbe`). Near resonance many
 //! starts first wander chaotically and only then settle on a periodic orbit (transient chaos:
 //! measured on the showcase, lifetimes of 200 to 1400 periods with an exponent near 1 per
 //! period all along), so a positive exponent does not end a start by itself. Instead the
@@ -57,14 +57,20 @@
 //! keeps the larger window maximum, and the other's state joins its life measurement.
 //! Basin share = starts that reached the attractor / starts.
 
-use super::lyapunov::Benettin;
-use super::map::{Forcing, Section, eval};
-use super::shoot::{
-    Newton, Orbit, Stability, Termination, non_impacting, orbit_at, same_orbit, solve,
+mod cloud;
+mod start;
+
+pub use cloud::{CHAOS_FLOOR, Cloud, SECOND_LOOK};
+use cloud::{chaos_probe, long_cloud};
+pub use start::{
+    CLOSE_RETURN, CLOSE_RETURN_TRIES, FIRST_CHECK, JOIN_AFTER, Landing, PROBE, Settled,
+    close_returns, first_check, settle, start,
 };
+use start::{Early, Wanderer, begin, conclude, land, section_of, transient};
+
+use super::map::{Forcing, Section};
+use super::shoot::{Newton, Orbit, Stability, Termination, orbit_at, same_orbit, solve};
 use crate::sim::Outcome;
-use crate::sim::noise::mix64;
-use crate::sim::{Drive, ForcedRecord, Harmonic, NoProbe, Request, simulate_harmonic};
 
 /// The census's settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -118,7 +124,7 @@ pub struct Wandering {
 /// starts that joined it).
 pub const CHAINS: usize = 8;
 
-/// The exponent a [`ChaosProbe`] measured.
+/// The exponent a tangent-map probe measured (`cloud::ChaosProbe`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProbeResult {
     /// Largest Lyapunov exponent per forcing period and its standard error.
@@ -208,56 +214,12 @@ impl Census {
     }
 }
 
-/// Longest period looked for.
-const MAX_PERIOD: usize = 8;
-
-/// Start `k`'s uniform number `j` in `[0, 1)`.
-fn uniform(c: &CensusSettings, k: u32, j: u32) -> f64 {
-    let z = mix64(c.seed ^ mix64(c.point ^ mix64(0xCE_5005 + 8 * u64::from(k) + u64::from(j))));
-    (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-}
-
-/// Start `k >= 1` (module doc).
-pub fn start(f: &Forcing, c: &CensusSettings, k: u32, x_ref: f64) -> Section {
-    let w = f.omega;
-    let a = 2.0 * x_ref * uniform(c, k, 1).sqrt();
-    let th = std::f64::consts::TAU * uniform(c, k, 2);
-    let (x, v) = (a * th.cos(), -w * a * th.sin());
-    let z = f.half_gap() * (2.0 * uniform(c, k, 3) - 1.0);
-    let rel = 2.0 * w * x_ref * (2.0 * uniform(c, k, 4) - 1.0);
-    [x, v, z, v + rel]
-}
-
-/// Where one start ended.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Landing {
-    Orbit(Orbit),
-    NonPeriodic {
-        amplitude: f64,
-        impacts_per_period: f64,
-        wandering: Box<Wandering>,
-    },
-}
-
 /// Runs the census at one frequency point from `s0` (the study's initial section): starts
 /// `0..c.starts`.
 pub fn census(f: &Forcing, s0: &Section, c: &CensusSettings) -> Census {
     let mut out = Census::default();
     out.run_starts(f, s0, c, &Newton::default());
     out
-}
-
-/// A start between its first check and its end (module doc, "Starts that wander").
-#[derive(Clone, Debug)]
-struct Wanderer {
-    origin: Origin,
-    /// Census starts it stands for (1, or 0 for a seed).
-    starts: u32,
-    /// Where it is, what it has run, its probe and cloud so far.
-    state: Section,
-    periods: u64,
-    probe: ProbeResult,
-    cloud: Cloud,
 }
 
 impl Census {
@@ -543,24 +505,6 @@ impl Census {
     }
 }
 
-/// Periods of each cloud of a second look (module doc, "Merging").
-pub const SECOND_LOOK: u64 = 400;
-
-/// The cloud of the motion from `s` over `n` periods; `None` when a period's map failed.
-fn long_cloud(f: &Forcing, s: &Section, n: u64) -> Option<Cloud> {
-    let mut cloud = Cloud::new(f);
-    let mut state = *s;
-    for _ in 0..n {
-        let e = eval(f, &state, 1, false);
-        if e.outcome != Outcome::Ok {
-            return None;
-        }
-        state = e.end;
-        cloud.add(&state);
-    }
-    Some(cloud)
-}
-
 /// The attractor a settled start landed on, reached by `starts` census starts (0 or 1).
 fn attractor(st: Settled, origin: Origin, starts: u32) -> Attractor {
     match st.landing {
@@ -607,420 +551,10 @@ fn same(f: &Forcing, a: &Attractor, b: &Attractor) -> bool {
     }
 }
 
-/// Where a start settled: its attractor, the forcing periods simulated, and the section state
-/// it ended in (a periodic orbit's own section, or where the measuring window ended), from
-/// which the next frequency of a sweep starts.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Settled {
-    pub landing: Landing,
-    pub periods: u64,
-    pub end: Section,
-}
-
-/// A start after its first check: landed, or wandering.
-enum Early {
-    Landed(Settled),
-    Wandering(Wanderer),
-}
-
-/// Runs one start from `s0` to its attractor (module doc, "Each start"), wandering included:
-/// what a sweep from frequency to frequency, or a probe between designs, runs for one start.
-pub fn settle(f: &Forcing, s0: &Section, c: &CensusSettings, newton: &Newton) -> Settled {
-    match begin(f, s0, c, newton, Origin::Start(0), 1, c.max_periods) {
-        Early::Landed(st) => st,
-        Early::Wandering(w) => conclude(f, w, c.max_periods, c, newton),
-    }
-}
-
-/// A start from `s0` up to its first check only ([`FIRST_CHECK`] periods, then the probe):
-/// where it lands (a periodic orbit, the non-impacting family, a failed run), or `None` while
-/// it still wanders. What a probe between designs runs for a chaotic attractor continued from
-/// a neighbouring design: as a seed joins a chaotic attractor that ran its whole budget, it
-/// does not run a budget of its own.
-pub fn first_check(
-    f: &Forcing,
-    s0: &Section,
-    c: &CensusSettings,
-    newton: &Newton,
-) -> Option<Settled> {
-    match begin(f, s0, c, newton, Origin::Start(0), 1, c.max_periods) {
-        Early::Landed(st) => Some(st),
-        Early::Wandering(_) => None,
-    }
-}
-
-/// A start from `s0` up to its first check ([`FIRST_CHECK`] periods, then the probe), with a
-/// budget of `budget` periods in all.
-fn begin(
-    f: &Forcing,
-    s0: &Section,
-    c: &CensusSettings,
-    newton: &Newton,
-    origin: Origin,
-    starts: u32,
-    budget: u64,
-) -> Early {
-    let budget = budget.max(1);
-    let first = budget.min(FIRST_CHECK);
-    let (rec, periods) = transient(f, s0, c, first);
-    if rec.outcome != Outcome::Ok {
-        return Early::Landed(failed(periods, *s0));
-    }
-    let s = section_of(&rec);
-    if rec.converged || budget <= first {
-        return Early::Landed(land(f, &rec, &s, c, newton, periods, None));
-    }
-    let probe = chaos_probe(f, &s, PROBE);
-    let periods = periods + probe.periods;
-    if !probe.ok {
-        return Early::Landed(failed(periods, s));
-    }
-    Early::Wandering(Wanderer {
-        origin,
-        starts,
-        state: probe.end,
-        periods,
-        probe: ProbeResult {
-            lambda: probe.lambda,
-            se: probe.se,
-            periods: probe.periods,
-        },
-        cloud: probe.cloud,
-    })
-}
-
-/// A wandering start run on until `budget` periods in all: the transient rule, then Newton or
-/// the measuring window.
-fn conclude(f: &Forcing, w: Wanderer, budget: u64, c: &CensusSettings, newton: &Newton) -> Settled {
-    let left = budget.max(1).saturating_sub(w.periods).max(1);
-    let (rec, p) = transient(f, &w.state, c, left);
-    let periods = w.periods + p;
-    if rec.outcome != Outcome::Ok {
-        return failed(periods, w.state);
-    }
-    let s = section_of(&rec);
-    land(f, &rec, &s, c, newton, periods, Some((w.probe, w.cloud)))
-}
-
-/// Where a transient run `rec` (ending at section `s`, `periods` simulated) leads: the
-/// non-impacting family, a stable periodic orbit by Newton, or the measuring window. `probe`:
-/// what a wandering start's probe found.
-///
-/// Newton is tried whenever the run's last `2 * MAX_PERIOD` sections repeat with some period
-/// to the hand-over tolerance, also when the run ended at its budget before its transient test
-/// was met: a start that wandered first and then approaches a weakly stable orbit (a
-/// multiplier near 1, so the test needs hundreds of periods more) is on that orbit, not a motion
-/// that is not periodic. (Until this was so, the showcase had about 40 such starts counted as
-/// chaotic or not settled attractors with exactly their orbit's amplitude, each with a design
-/// life measured for it.)
-fn land(
-    f: &Forcing,
-    rec: &ForcedRecord,
-    s: &Section,
-    c: &CensusSettings,
-    newton: &Newton,
-    mut periods: u64,
-    probe: Option<(ProbeResult, Cloud)>,
-) -> Settled {
-    let x_scale = f.half_gap().max(rec.amplitude);
-    if rec.impacts_per_period == 0.0
-        && s[3].abs() <= 1e-12 * f.omega * x_scale
-        && let Some(o) = non_impacting(f, s[0] + s[2])
-    {
-        // The sweep goes on from where the motion is (the family's section places the inner
-        // mass by convention).
-        return Settled {
-            landing: Landing::Orbit(o),
-            periods,
-            end: *s,
-        };
-    }
-    if rec.period >= 1 {
-        let p = u64::from(rec.period);
-        let (term, state) = solve(f, p, s, newton);
-        if let Some(st) = &state {
-            periods += u64::from(st.iterations + 1) * p;
-        }
-        if let (Termination::Converged { .. }, Some(st)) = (term, state)
-            && let Some(o) = orbit_at(f, p, &st, newton)
-            && o.stability == Stability::Stable
-        {
-            let end = o.s;
-            return Settled {
-                landing: Landing::Orbit(o),
-                periods,
-                end,
-            };
-        }
-    }
-    measure(f, s, c, periods, probe, !rec.converged)
-}
-
-/// A start that is not periodic, measured over [`CensusSettings::window`] periods from `s`
-/// (`periods` simulated before); `exhausted`: it ran its whole budget without converging.
-fn measure(
-    f: &Forcing,
-    s: &Section,
-    c: &CensusSettings,
-    periods: u64,
-    probe: Option<(ProbeResult, Cloud)>,
-    exhausted: bool,
-) -> Settled {
-    let n = c.window.max(1);
-    let mut cloud = Cloud::new(f);
-    let mut sections = Vec::with_capacity(n as usize + 1);
-    sections.push(*s);
-    let (mut amplitude, mut impacts) = (0.0_f64, 0u64);
-    for _ in 0..n {
-        let w = eval(f, sections.last().unwrap_or(s), 1, false);
-        if w.outcome != Outcome::Ok {
-            return failed(periods + n, *s);
-        }
-        amplitude = amplitude.max(w.amplitude);
-        impacts += w.impacts;
-        cloud.add(&w.end);
-        sections.push(w.end);
-    }
-    let (embedded, newton_periods) = if exhausted {
-        close_returns(f, &sections)
-    } else {
-        (Vec::new(), 0)
-    };
-    let end = *sections.last().unwrap_or(s);
-    Settled {
-        landing: Landing::NonPeriodic {
-            amplitude,
-            impacts_per_period: impacts as f64 / n as f64,
-            wandering: Box::new(Wandering {
-                cloud,
-                probe: probe.map(|p| p.0),
-                exhausted,
-                embedded,
-                life: None,
-                chains: Vec::new(),
-            }),
-        },
-        periods: periods + n + newton_periods,
-        end,
-    }
-}
-
-/// Distance, relative to `d/2`, within which a section that returns after `p` periods is
-/// handed to Newton ([`close_returns`]).
-pub const CLOSE_RETURN: f64 = 0.1;
-/// Most Newton searches [`close_returns`] makes from one window (measured on the showcase: the
-/// stable orbits of its chaotic windows were found within 50 tries).
-pub const CLOSE_RETURN_TRIES: usize = 64;
-
-/// The stable impacting periodic orbits found by Newton on `P^p` (`p` = 1 to 4) from every
-/// close return of a wandering motion's sections (`|s_{k+p} - s_k| < CLOSE_RETURN d/2`; the
-/// close-returns method of Lathrop and Kostelich), distinct, and the periods Newton simulated.
-/// A chaotic set is threaded with periodic orbits, almost all unstable; a stable one among
-/// them, or beside it, is an attractor that starts reach only by a rare escape (transient
-/// chaos), which Newton from the cloud finds in a few tries.
-pub fn close_returns(f: &Forcing, sections: &[Section]) -> (Vec<Orbit>, u64) {
-    let newton = Newton::default();
-    let tol = CLOSE_RETURN * f.half_gap();
-    let mut found: Vec<Orbit> = Vec::new();
-    let mut periods = 0;
-    let mut tries = 0;
-    for p in 1..=4usize {
-        for k in 0..sections.len().saturating_sub(p) {
-            if tries >= CLOSE_RETURN_TRIES
-                || super::shoot::distance(f, &sections[k + p], &sections[k]) >= tol
-            {
-                continue;
-            }
-            tries += 1;
-            let pp = p as u64;
-            let (term, state) = solve(f, pp, &sections[k], &newton);
-            if let Some(st) = &state {
-                periods += u64::from(st.iterations + 1) * pp;
-            }
-            if let (Termination::Converged { .. }, Some(st)) = (term, state)
-                && let Some(o) = orbit_at(f, pp, &st, &newton)
-                && o.stability == Stability::Stable
-                && !found
-                    .iter()
-                    .any(|q| q.period == o.period && same_orbit(f, &q.s, &o.s, u64::from(o.period)))
-            {
-                found.push(o);
-            }
-        }
-    }
-    (found, periods)
-}
-
-fn failed(periods: u64, end: Section) -> Settled {
-    Settled {
-        landing: Landing::NonPeriodic {
-            amplitude: f64::NAN,
-            impacts_per_period: f64::NAN,
-            wandering: Box::new(Wandering {
-                cloud: Cloud::default(),
-                probe: None,
-                exhausted: false,
-                embedded: Vec::new(),
-                life: None,
-                chains: Vec::new(),
-            }),
-        },
-        periods,
-        end,
-    }
-}
-
-/// Periods of the transient rule before a start that has not converged is probed for chaos.
-pub const FIRST_CHECK: u64 = 100;
-/// Periods of that probe (the tangent map's exponent over them).
-pub const PROBE: u64 = 64;
-/// Periods in all after which a member of a cloud whose first wanderer ran its whole budget
-/// joins that attractor (module doc).
-pub const JOIN_AFTER: u64 = FIRST_CHECK + PROBE;
-
-/// The sweep's transient rule from `s` for at most `max` periods, stopped at the hand-over
-/// tolerance, then `2 * MAX_PERIOD` periods that give the period approached. Returns the run and
-/// the periods it simulated.
-fn transient(f: &Forcing, s: &Section, c: &CensusSettings, max: u64) -> (ForcedRecord, u64) {
-    let scene = Harmonic {
-        F0: f.F0,
-        drive: Drive::Omega(f.omega),
-        n_trans: None,
-        n_trans_max: max.max(1),
-        n_meas: 2 * MAX_PERIOD as u64,
-        trans_tol: c.handover * 1e-3,
-        period_tol: c.handover,
-        energies: false,
-        ..Harmonic::default()
-    };
-    let sys = f.started(s);
-    let rec = simulate_harmonic(
-        &sys,
-        &f.settings,
-        &Request::default(),
-        &scene,
-        None,
-        &mut NoProbe,
-    );
-    let periods = rec.n_trans + rec.n_meas;
-    (rec, periods)
-}
-
-/// Where a motion wanders in the section: the mean and spread of each section coordinate in
-/// the map's scaled units (`x / L`, `x' / (wn L)`, `z / L`, `y' / (wn L)`, `L = d/2`), over the
-/// sections sampled.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Cloud {
-    n: u64,
-    sum: [f64; 4],
-    sum2: [f64; 4],
-    scale: [f64; 4],
-}
-
-impl Cloud {
-    fn new(f: &Forcing) -> Cloud {
-        let l = f.half_gap();
-        let wl = f.sys.omega() * l;
-        Cloud {
-            scale: [1.0 / l, 1.0 / wl, 1.0 / l, 1.0 / wl],
-            ..Cloud::default()
-        }
-    }
-
-    fn add(&mut self, s: &Section) {
-        self.n += 1;
-        for (k, x) in s.iter().enumerate() {
-            let v = x * self.scale[k];
-            self.sum[k] += v;
-            self.sum2[k] += v * v;
-        }
-    }
-
-    /// Mean and standard deviation of coordinate `k`.
-    fn stats(&self, k: usize) -> (f64, f64) {
-        let n = self.n.max(1) as f64;
-        let mean = self.sum[k] / n;
-        (mean, (self.sum2[k] / n - mean * mean).max(0.0).sqrt())
-    }
-
-    /// Whether two clouds are one: in every coordinate their means differ by less than half
-    /// the larger spread and their spreads by less than a factor 2 (a chaotic motion sampled
-    /// over tens of periods; two distinct attractors differ in where they are or how far they
-    /// reach). Empty clouds are never one.
-    pub fn same(&self, other: &Cloud) -> bool {
-        if self.n == 0 || other.n == 0 {
-            return false;
-        }
-        (0..4).all(|k| {
-            let (ma, sa) = self.stats(k);
-            let (mb, sb) = other.stats(k);
-            let spread = sa.max(sb);
-            (ma - mb).abs() <= 0.5 * spread + 1e-9 && sa.max(sb) <= 2.0 * sa.min(sb) + 1e-9
-        })
-    }
-}
-
-/// What the tangent-map probe of a wandering start found.
-struct ChaosProbe {
-    /// Every period's map evaluated `ok`.
-    ok: bool,
-    periods: u64,
-    end: Section,
-    /// The largest Lyapunov exponent per forcing period over the probe and its standard error
-    /// (batch means over 8 batches).
-    lambda: f64,
-    se: f64,
-    cloud: Cloud,
-}
-
-/// The smallest exponent (per forcing period) that counts as chaotic: a motion whose nearby
-/// states separate by less than 1 % per period is not told from a slow transient here.
-pub const CHAOS_FLOOR: f64 = 0.01;
-
-/// `n` periods from `s` with the tangent map ([`Benettin`], 8 periods of burn-in), the sections
-/// gathered into a cloud.
-fn chaos_probe(f: &Forcing, s: &Section, n: u64) -> ChaosProbe {
-    let mut b = Benettin::new(PROBE_BURN);
-    let mut s = *s;
-    let mut cloud = Cloud::new(f);
-    for k in 0..n {
-        let e = eval(f, &s, 1, true);
-        if e.outcome != Outcome::Ok {
-            return ChaosProbe {
-                ok: false,
-                periods: k + 1,
-                end: s,
-                lambda: f64::NAN,
-                se: f64::NAN,
-                cloud,
-            };
-        }
-        s = e.end;
-        cloud.add(&s);
-        b.step(e.jacobian.as_ref());
-    }
-    let (lambda, se) = b.estimate();
-    ChaosProbe {
-        ok: true,
-        periods: n,
-        end: s,
-        lambda,
-        se,
-        cloud,
-    }
-}
-
-/// Periods of a probe's tangent vector not counted (it turns towards the most unstable
-/// direction first).
-const PROBE_BURN: u64 = 8;
-
-fn section_of(rec: &ForcedRecord) -> Section {
-    [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::orbits::map::eval;
     use crate::orbits::map::tests::table_i as forcing;
 
     fn settings(starts: u32) -> CensusSettings {
