@@ -1,0 +1,274 @@
+//! What one chunk's runs are (the pipeline's *simulate* step, between the plan and the store):
+//! each run of a free-decay study on its own, and for a harmonic study with a census each
+//! frequency-response curve (a design and the cases that share its system) as one task, its
+//! runs from the initial state and its census in frequency order ([`crate::orbits::curve`]),
+//! with the attractors it found. Pure: the same plan and chunk give the same rows and bits on
+//! any thread count.
+
+use indicatif::ProgressBar;
+use rayon::prelude::*;
+
+use crate::orbits::attractors::{AttractorRow, RunId};
+use crate::orbits::curve::{CurveFrequency, curve_census, fill_steady, from_rest};
+use crate::orbits::forced_run;
+use crate::plan::{Plan, RunSpec};
+use crate::sim::{ForcedRecord, Harmonic, NoProbe, Record, Scene, simulate};
+use crate::store::{RunRow, StoredRecord};
+
+/// A scene's record as the engine simulates and stores it: [`Record`] for free decay,
+/// [`ForcedRecord`] for the harmonic scene. The engine picks it from the study's scene.
+pub trait SceneRun: StoredRecord + Send + Sync {
+    /// Simulates one run of the plan.
+    fn simulate(plan: &Plan, run: &RunSpec) -> Self;
+
+    /// Simulates chunk `k` (in parallel, on the current rayon pool): its rows in `point_id`
+    /// order, and the attractors of its runs when the scene takes a census. By default each run
+    /// on its own ([`SceneRun::simulate`]).
+    fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> ChunkRows<Self> {
+        ChunkRows {
+            rows: simulate_chunk(plan, k, progress),
+            attractors: None,
+        }
+    }
+}
+
+/// A simulated chunk: its runs, and their attractors (a harmonic study with a census).
+pub struct ChunkRows<R> {
+    pub rows: Vec<RunRow<R>>,
+    pub attractors: Option<Vec<AttractorRow>>,
+}
+
+impl SceneRun for Record {
+    fn simulate(plan: &Plan, run: &RunSpec) -> Self {
+        simulate_run(plan, run)
+    }
+}
+
+impl SceneRun for ForcedRecord {
+    fn simulate(plan: &Plan, run: &RunSpec) -> Self {
+        simulate_forced_run(plan, run)
+    }
+
+    /// With a census, each frequency-response curve (a design and a case) is one task
+    /// ([`simulate_curve`]); without one, each run on its own.
+    fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> ChunkRows<Self> {
+        let census = matches!(plan.study.scene, Scene::Harmonic(h) if h.starts > 0);
+        if !census {
+            return ChunkRows {
+                rows: simulate_chunk(plan, k, progress),
+                attractors: None,
+            };
+        }
+        let n_f = plan.study.curve_points();
+        let points = plan.chunk_points(k);
+        let designs: Vec<u64> = (points.start / n_f..points.end.div_ceil(n_f)).collect();
+        let tasks: Vec<(u64, Vec<u32>)> = designs
+            .into_iter()
+            .flat_map(|design| {
+                same_system_cases(plan, design)
+                    .into_iter()
+                    .map(move |cases| (design, cases))
+            })
+            .collect();
+        let done: Vec<(Vec<RunRow<ForcedRecord>>, Vec<AttractorRow>)> = tasks
+            .into_par_iter()
+            .map(|(design, cases)| {
+                let out = simulate_curve(plan, design, &cases);
+                if let Some(pb) = progress {
+                    pb.inc(out.0.len() as u64);
+                }
+                out
+            })
+            .collect();
+        let mut rows = Vec::with_capacity(done.iter().map(|d| d.0.len()).sum());
+        let mut attractors = Vec::new();
+        for (r, a) in done {
+            rows.extend(r);
+            attractors.extend(a);
+        }
+        rows.sort_by_key(|r| r.point_id);
+        // Stable: each run's attractors stay in their census order.
+        attractors.sort_by_key(|a| a.run.point_id);
+        ChunkRows {
+            rows,
+            attractors: Some(attractors),
+        }
+    }
+}
+
+/// The cases of design `design` grouped by their system (a case that differs from another only
+/// in its noise has the same system, and so the same census), in case order.
+fn same_system_cases(plan: &Plan, design: u64) -> Vec<Vec<u32>> {
+    let n_f = plan.study.curve_points();
+    let mut groups: Vec<(Vec<u64>, Vec<u32>)> = Vec::new();
+    for c in 0..plan.n_cases() as u32 {
+        let sys = plan.run(design * n_f, c).system;
+        let key: Vec<u64> = crate::model::SYSTEM_KEYS
+            .iter()
+            .map(|k| sys.get(k).unwrap_or(f64::NAN).to_bits())
+            .collect();
+        match groups.iter_mut().find(|g| g.0 == key) {
+            Some(g) => g.1.push(c),
+            None => groups.push((key, vec![c])),
+        }
+    }
+    groups.into_iter().map(|g| g.1).collect()
+}
+
+/// The frequency-response curves of a harmonic study's design `design` for `cases` (cases with
+/// one system), as one task: each case's runs at every frequency from the initial state (with
+/// its noise), and one census along the curve ([`curve_census`]: in frequency order, each
+/// frequency seeded with its neighbours' attractors), which every case of the group shares.
+/// Returns the rows and their attractors (every case's).
+pub fn simulate_curve(
+    plan: &Plan,
+    design: u64,
+    cases: &[u32],
+) -> (Vec<RunRow<ForcedRecord>>, Vec<AttractorRow>) {
+    let study = plan.study;
+    let n_f = study.curve_points();
+    let mut censuses = None;
+    let mut rows = Vec::with_capacity(cases.len() * n_f as usize);
+    let mut attractors = Vec::new();
+    for &case in cases {
+        let runs: Vec<RunSpec> = (design * n_f..(design + 1) * n_f)
+            .map(|p| plan.run(p, case))
+            .collect();
+        let freqs: Vec<CurveFrequency> = runs.iter().map(|run| plan.curve_frequency(run)).collect();
+        let targets: Vec<(Harmonic, u64)> = freqs.iter().map(|f| (f.scene, f.point)).collect();
+        let sys = runs[0].system;
+        let mut records = from_rest(
+            &sys,
+            &study.solver,
+            &study.request,
+            study.noise.as_ref(),
+            freqs,
+        );
+        let cs = censuses.get_or_insert_with(|| {
+            curve_census(&sys, &study.solver, study.seed, &targets, &records)
+        });
+        fill_steady(&mut records, cs);
+        for ((run, record), census) in runs.iter().zip(records).zip(cs.iter()) {
+            if let Some(c) = census {
+                let id = RunId {
+                    point_id: run.point_id,
+                    point: run.point,
+                    case: run.case,
+                    ideal: run.spec.ideal,
+                    r: record.r,
+                    omega: record.omega,
+                    F0: record.F0,
+                };
+                attractors.extend(AttractorRow::of_census(
+                    id,
+                    c,
+                    std::f64::consts::TAU / record.omega,
+                ));
+            }
+            rows.push(row_of(plan, run, record));
+        }
+    }
+    (rows, attractors)
+}
+
+/// Simulates one run: the study's solver and request, the run's noise stream when its case has
+/// noise (no random number is drawn otherwise).
+pub fn simulate_run(plan: &Plan, run: &RunSpec) -> Record {
+    let study = plan.study;
+    match (study.noise.as_ref(), plan.noise_stream(run)) {
+        (Some(ns), Some(mut stream)) => simulate(
+            &run.system,
+            &study.solver,
+            &study.request,
+            Some((ns, &mut stream)),
+            &mut NoProbe,
+        ),
+        _ => simulate(
+            &run.system,
+            &study.solver,
+            &study.request,
+            None,
+            &mut NoProbe,
+        ),
+    }
+}
+
+/// Simulates one run of a harmonic study ([`forced_run`]: from the study's initial state, then
+/// the attractor census seeded by the study seed and the design point): the run's scene (the study's, with the design point's
+/// `F0`, `omega` or `r`; the default harmonic scene if the study is a free-decay one), the study's
+/// solver, the run's noise stream when its case has noise. The study has validated the scene
+/// for every run ([`Harmonic::validate`]).
+pub fn simulate_forced_run(plan: &Plan, run: &RunSpec) -> ForcedRecord {
+    let study = plan.study;
+    let scene = match run.scene {
+        Scene::Harmonic(h) => h,
+        Scene::Free => Harmonic::default(),
+    };
+    let (seed, point) = (study.seed, run.point);
+    match (study.noise.as_ref(), plan.noise_stream(run)) {
+        (Some(ns), Some(mut stream)) => forced_run(
+            &run.system,
+            &study.solver,
+            &study.request,
+            &scene,
+            Some((ns, &mut stream)),
+            &mut NoProbe,
+            seed,
+            point,
+        ),
+        _ => forced_run(
+            &run.system,
+            &study.solver,
+            &study.request,
+            &scene,
+            None,
+            &mut NoProbe,
+            seed,
+            point,
+        ),
+    }
+}
+
+/// The stored row of a run.
+pub fn run_row<R: SceneRun>(plan: &Plan, run: &RunSpec) -> RunRow<R> {
+    row_of(plan, run, R::simulate(plan, run))
+}
+
+/// The stored row of `run` with its simulated `record`.
+fn row_of<R>(plan: &Plan, run: &RunSpec, record: R) -> RunRow<R> {
+    RunRow {
+        point_id: run.point_id,
+        point: run.point,
+        case: run.case,
+        ideal: run.spec.ideal,
+        dm: run.spec.dm,
+        dd: run.spec.dd,
+        noise_seed: run.spec.noise_seed,
+        system: run.system,
+        solver: plan.study.solver.kind.name().to_string(),
+        tol: plan.study.solver.tol,
+        record,
+    }
+}
+
+/// Simulates chunk `k` (in parallel over its runs, on the current rayon pool), in `point_id`
+/// order.
+pub fn simulate_chunk<R: SceneRun>(
+    plan: &Plan,
+    k: u64,
+    progress: Option<&ProgressBar>,
+) -> Vec<RunRow<R>> {
+    let points = plan.chunk_points(k);
+    let n_cases = plan.n_cases();
+    (points.start * n_cases..points.end * n_cases)
+        .into_par_iter()
+        .map(|id| {
+            let run = plan.run(id / n_cases, (id % n_cases) as u32);
+            let row = run_row(plan, &run);
+            if let Some(pb) = progress {
+                pb.inc(1);
+            }
+            row
+        })
+        .collect()
+}
