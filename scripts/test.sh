@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: installs what the tests need (pinned Python packages
 # for the interop and browser tests, Debian's chromium + chromium-driver for the browser test),
-# checks formatting and lints, then runs every test: the Rust suite, then the Python package
-# (python/) built and installed into .venv the way a user does (`pip install ./python`) and its
-# pytest suite, compared against the binary just tested.
+# checks formatting, lints and the docs' links, then runs every test: the Rust suite, then the
+# Python package (python/) built and installed into .venv the way a user does
+# (`pip install ./python`) and its pytest suite, compared against the binary just tested.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup-python.sh
@@ -22,6 +22,9 @@ fi
 export IMPACTSWEEP_PYTHON="$PWD/.venv/bin/python"
 cargo fmt --check
 cargo clippy --all-targets -- -D warnings
+# The library's docs, private items included (the module docs link to what they explain), with
+# warnings denied: a link broken by a move or a rename fails here.
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib --document-private-items
 cargo test --all-targets
 cargo fmt --check --manifest-path python/Cargo.toml
 cargo clippy --manifest-path python/Cargo.toml --all-targets -- -D warnings

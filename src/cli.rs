@@ -1,5 +1,9 @@
 //! The command line. The only module that knows clap: it turns arguments into plain argument
 //! structs and calls the library's commands in [`crate::app`].
+//!
+//! The doc comments below are clap's help text, written for a terminal (`[run].audit`,
+//! `<study>`), not rustdoc markup.
+#![allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
 
 use std::path::PathBuf;
 

@@ -4,7 +4,7 @@
 //!
 //! A chunk's attractors part is written before its points part, and the points part's metadata
 //! says it has one (`impactsweep.attractors = "1"`): the points part stays the chunk's commit
-//! marker. The journal records both files' checksums in one line ([`AttractorsEntry`] in the
+//! marker. The journal records both files' checksums in one line ([`crate::store::manifest::AttractorsEntry`] in the
 //! chunk's entry), and a chunk is good only when both verify; a chunk whose attractors part is
 //! missing or damaged is run again whole. Rows are in `point_id` order, then attractor order.
 

@@ -196,7 +196,7 @@ pub(super) struct Vanishing {
 
 /// The point ahead of `u` (the parameter moving as `t`'s parameter component does, at most
 /// `reach` in the scaled parameter, inside `range`) where the orbit's slowest impact reaches its
-/// wall with zero approach speed, solved in impact coordinates ([`super::sequence`]: on the
+/// wall with zero approach speed, solved in impact coordinates ([`crate::orbits::sequence`]: on the
 /// section the map's derivatives grow like the inverse of that speed and the corrector cannot
 /// get there). Its row is labelled `GR`, located; its multipliers are `NaN`: the impact law's
 /// saltation divides by the approach speed, and the multipliers of the orbits before it grow

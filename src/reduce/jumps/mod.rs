@@ -20,7 +20,7 @@
 //!    `O(h)` between neighbours and its slope by `O(h)` across one, so a finer grid gives fewer
 //!    candidates, never more: refining does not invent jumps.
 //! 2. **Location.** Bisection of the span with the ideal case simulated at the midpoint `m`,
-//!    each side judging whether `q(m)` follows its own trend ([`locate`] has the rule). It stops
+//!    each side judging whether `q(m)` follows its own trend ([`locate()`] has the rule). It stops
 //!    when the bracket is at most `locate · h` wide (`locate` defaults to 1/100 of the grid
 //!    step): `location` is its middle, `location_tol` half its width.
 //! 3. **Class.** On the final bracket `[a, b]`: a **step** when the change stays and is not
@@ -101,7 +101,7 @@ pub struct JumpSettings {
 /// What [`IdealCase::at`] returns for a quantity that is not known exactly at that design but
 /// only as a statistical estimate (a forced probe whose peak may be carried by a chaotic motion
 /// whose amplitude over the design life was not measured there): a bisection stops at it
-/// ([`locate`]).
+/// ([`locate()`]).
 pub const UNRESOLVED: f64 = f64::INFINITY;
 
 /// The ideal case simulated anywhere in the design space (not only on the grid).
@@ -276,7 +276,7 @@ fn line_values(grid: &Grid, q: &[[f64; 2]], a: usize, start: u64, k: usize) -> V
 }
 
 /// Locates one candidate: between the estimates when every point of its span is one, else by
-/// bisection on the ideal case ([`locate`]); its outcome, the simulations it made, and how.
+/// bisection on the ideal case ([`locate()`]); its outcome, the simulations it made, and how.
 fn locate_candidate(
     c: &Candidate,
     grid: &Grid,
