@@ -397,6 +397,76 @@ fn a_grazing_orbit_is_found_and_ends_with_a_named_outcome() {
     assert!(rec.steps <= 100_000, "{} steps", rec.steps);
 }
 
+/// Near-grazing contacts on both sides of the tangency. The main mass starts on its steady
+/// state (the free part is zero, so it moves as `x = A cos(omega t - phi)` exactly) and the inner
+/// mass rests where the left wall reaches it at the first maximum, moved by `eps`: `eps < 0`
+/// puts it inside the wall's reach (a contact must come, before the maximum), `eps > 0` just
+/// beyond it (no contact ever: the right wall cannot reach it either, `2 A < d`). Offsets from
+/// `1e-13 A` to `1e-6 A` on each side (below about `1e-15 A` the gap is the rounding of `x`
+/// itself), at three forces and three frequency ratios: a finder that steps over a shallow
+/// crossing, or reports a contact that cannot happen, fails here.
+#[test]
+fn near_grazing_contacts_are_found_on_one_side_and_absent_on_the_other() {
+    let d = 0.01;
+    let mut cases = 0;
+    for f0 in [1.0, 0.3, 0.1] {
+        for r in [0.5, 0.8, 1.2] {
+            let w = r * T1.omega();
+            let (re, im) = (T1.K - T1.M * w * w, T1.C * w);
+            let dd = re * re + im * im;
+            let (p, q) = (f0 * re / dd, f0 * im / dd);
+            let a = p.hypot(q);
+            if 2.0 * a >= d {
+                continue;
+            }
+            let t_max = q.atan2(p) / w;
+            for k in 6..=13 {
+                for side in [-1.0, 1.0] {
+                    let eps = side * a * 10f64.powi(-k);
+                    let sys = System {
+                        x0: p,
+                        v0: q * w,
+                        y0: a - d / 2.0 + eps,
+                        w0: 0.0,
+                        d,
+                        ..T1
+                    };
+                    let h = Harmonic {
+                        n_trans: Some(20),
+                        n_meas: 20,
+                        ..at_ratio(f0, r)
+                    };
+                    let mut watch = Watch {
+                        half_d: d / 2.0,
+                        ..Watch::default()
+                    };
+                    let rec = run_with(&sys, &h, &mut watch);
+                    let case = format!("F0 = {f0}, r = {r}, eps = {eps:e}");
+                    assert_eq!(rec.outcome, Outcome::Ok, "{case}");
+                    assert!(rec.steps <= 100_000, "{case}: {} steps", rec.steps);
+                    let first = watch.impacts.first();
+                    if side < 0.0 {
+                        let (t, wall, _) =
+                            first.unwrap_or_else(|| panic!("{case}: contact missed"));
+                        assert_eq!(*wall, Wall::Left, "{case}");
+                        assert!(
+                            *t <= t_max + 1e-9,
+                            "{case}: contact at {t}, maximum {t_max}"
+                        );
+                    } else {
+                        assert!(
+                            first.is_none(),
+                            "{case}: a contact that cannot be: {first:?}"
+                        );
+                    }
+                    cases += 1;
+                }
+            }
+        }
+    }
+    assert!(cases >= 80, "{cases} cases");
+}
+
 #[test]
 fn resonance_without_damping_is_refused_with_the_range() {
     let sys = System { C: 0.0, ..T1 };
