@@ -347,23 +347,25 @@ fn low_frequency_ratios_chatter_stick_and_finish() {
     }
 }
 
-/// An orbit that only touches a wall: the main mass on the linear steady orbit
-/// `x = P cos(omega t) + Q sin(omega t)` of amplitude `A`, the inner mass at rest at
-/// `y0 = A - d/2`, so `z = y0 - x >= -d/2` with equality, at zero relative velocity, exactly at
-/// the first maximum of `x`.
-#[test]
-fn a_grazing_orbit_is_found_and_ends_with_a_named_outcome() {
-    let (f0, r) = (1.0, 0.5);
+/// Table I's linear steady orbit at `F0`, `r`: `x = P cos(omega t) + Q sin(omega t)`, as
+/// `[P, Q, omega, A, t]` with its amplitude `A` and the time `t` of its first maximum.
+fn linear_steady(f0: f64, r: f64) -> [f64; 5] {
     let w = r * T1.omega();
     let (re, im) = (T1.K - T1.M * w * w, T1.C * w);
     let dd = re * re + im * im;
     let (p, q) = (f0 * re / dd, f0 * im / dd);
-    let a = p.hypot(q);
-    let d = 0.01;
+    [p, q, w, p.hypot(q), q.atan2(p) / w]
+}
+
+/// The main mass on [`linear_steady`]'s orbit (the free part zero, so it moves on it exactly),
+/// in a cavity of clearance `d` with the inner mass at rest `eps` beyond where the left wall
+/// reaches it at the first maximum of `x`: the run over 20 + 20 periods and the impacts it made.
+fn at_the_left_walls_reach(f0: f64, r: f64, d: f64, eps: f64) -> (ForcedRecord, Watch) {
+    let [p, q, w, a, _] = linear_steady(f0, r);
     let sys = System {
         x0: p,
         v0: q * w,
-        y0: a - d / 2.0,
+        y0: a - d / 2.0 + eps,
         w0: 0.0,
         d,
         ..T1
@@ -378,6 +380,18 @@ fn a_grazing_orbit_is_found_and_ends_with_a_named_outcome() {
         ..at_ratio(f0, r)
     };
     let rec = run_with(&sys, &h, &mut watch);
+    (rec, watch)
+}
+
+/// An orbit that only touches a wall: the main mass on the linear steady orbit
+/// `x = P cos(omega t) + Q sin(omega t)` of amplitude `A`, the inner mass at rest at
+/// `y0 = A - d/2`, so `z = y0 - x >= -d/2` with equality, at zero relative velocity, exactly at
+/// the first maximum of `x`.
+#[test]
+fn a_grazing_orbit_is_found_and_ends_with_a_named_outcome() {
+    let (f0, r) = (1.0, 0.5);
+    let [_, _, w, a, t_max] = linear_steady(f0, r);
+    let (rec, watch) = at_the_left_walls_reach(f0, r, 0.01, 0.0);
     assert!(Outcome::ALL.contains(&rec.outcome));
     assert_eq!(rec.outcome, Outcome::Ok);
     let (t, wall, before) = watch
@@ -385,7 +399,6 @@ fn a_grazing_orbit_is_found_and_ends_with_a_named_outcome() {
         .first()
         .expect("the grazing contact was missed");
     assert_eq!(*wall, Wall::Left);
-    let t_max = q.atan2(p) / w;
     assert!(
         (t - t_max).abs() <= 1e-6 / w,
         "contact at {t}, maximum at {t_max}"
@@ -411,36 +424,14 @@ fn near_grazing_contacts_are_found_on_one_side_and_absent_on_the_other() {
     let mut cases = 0;
     for f0 in [1.0, 0.3, 0.1] {
         for r in [0.5, 0.8, 1.2] {
-            let w = r * T1.omega();
-            let (re, im) = (T1.K - T1.M * w * w, T1.C * w);
-            let dd = re * re + im * im;
-            let (p, q) = (f0 * re / dd, f0 * im / dd);
-            let a = p.hypot(q);
+            let [_, _, _, a, t_max] = linear_steady(f0, r);
             if 2.0 * a >= d {
                 continue;
             }
-            let t_max = q.atan2(p) / w;
             for k in 6..=13 {
                 for side in [-1.0, 1.0] {
                     let eps = side * a * 10f64.powi(-k);
-                    let sys = System {
-                        x0: p,
-                        v0: q * w,
-                        y0: a - d / 2.0 + eps,
-                        w0: 0.0,
-                        d,
-                        ..T1
-                    };
-                    let h = Harmonic {
-                        n_trans: Some(20),
-                        n_meas: 20,
-                        ..at_ratio(f0, r)
-                    };
-                    let mut watch = Watch {
-                        half_d: d / 2.0,
-                        ..Watch::default()
-                    };
-                    let rec = run_with(&sys, &h, &mut watch);
+                    let (rec, watch) = at_the_left_walls_reach(f0, r, d, eps);
                     let case = format!("F0 = {f0}, r = {r}, eps = {eps:e}");
                     assert_eq!(rec.outcome, Outcome::Ok, "{case}");
                     assert!(rec.steps <= 100_000, "{case}: {} steps", rec.steps);
