@@ -529,3 +529,54 @@ fn issue_23_the_steady_state_tables_are_the_same_on_any_thread_count() {
         "the tables differ between 1 and 3 threads"
     );
 }
+
+/// The smallest harmonic study a newcomer writes (a name, a force and a swept `r`, no strength,
+/// no design axis): the report names its one design in every table (the zones' too), shows no
+/// `R = –` sentence or `– – –` interval, and says so when the design's peak lies at an end of
+/// the swept band (the response beyond it unknown), and only then. The inner mass is 0, so the
+/// linear system's peak at `r = 1` is the design's: inside a band around 1, at the end of a band
+/// below it.
+#[test]
+fn a_harmonic_study_without_strength_or_design_axes_reads_cleanly() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (name, band, at_end) in [
+        ("around", "start = 0.9, stop = 1.1, num = 5", false),
+        ("below", "start = 0.9, stop = 0.98, num = 3", true),
+    ] {
+        let study = tmp.path().join(format!("{name}.toml"));
+        std::fs::write(
+            &study,
+            format!(
+                "[study]\nname = \"{name}\"\n[system]\nm = 0.0\nv0 = 0.0\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n[sweep]\nr = {{ {band} }}\n"
+            ),
+        )
+        .unwrap();
+        let dir = common::run_study_file(&study, &tmp.path().join("out"), name);
+        bin().arg("reduce").arg(&dir).assert().success();
+        let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+        // The peak's r against the band's ends, from the summary.
+        let (_, rows) = common::csv_by_point(&dir.join("summary.csv"));
+        let peak_r = num(&rows.values().next().unwrap()["peak_r"]);
+        let ends = if at_end { [0.9, 0.98] } else { [0.9, 1.1] };
+        assert_eq!(
+            ends.iter().any(|e| (peak_r - e).abs() < 1e-9),
+            at_end,
+            "{name}: peak at r = {peak_r}"
+        );
+        assert_eq!(
+            md.contains("**Peaks at the band's end.** The peak of 1 of these designs lies at an end of the swept band (r = 0.980)"),
+            at_end,
+            "{name}: {md}"
+        );
+        assert!(!md.contains("– – –"), "{name}: {md}");
+        assert!(!md.contains("R = –"), "{name}: {md}");
+        let zone = md
+            .lines()
+            .find(|l| l.starts_with("| I | "))
+            .unwrap_or_else(|| panic!("{name}: no zone row: {md}"));
+        assert!(
+            zone.contains("| the study's system (100.0) | the study's system |"),
+            "{name}: {zone}"
+        );
+    }
+}

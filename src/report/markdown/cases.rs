@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{MAX_ROWS, cm, confidence, count, design_text, f, thousands};
+use super::{MAX_ROWS, cm, count, design_text, f, reliability_clause, thousands};
 use crate::reduce::Summary;
 use crate::reduce::table::outcome_text;
 use crate::report::charts::plumbing::{axis_unit, fmt_num};
@@ -108,19 +108,18 @@ pub fn nominal(s: &Summary) -> String {
         );
     }
     if let Some(p) = point {
+        let mut reliability = reliability_clause(s, p, 4);
+        if !reliability.is_empty() {
+            reliability = format!(" {reliability},");
+        }
         let _ = writeln!(
             o,
-            "\n{name} over the {} ok cases: mean **{} cm**, SD **{} cm** (eq. 9, N − 1). Stress: mean {} MPa, SD {} MPa. R = {} ({} interval {} – {}), μn = {}, Anderson–Darling on ln {name}: A*² = {}, p = {}.\n",
+            "\n{name} over the {} ok cases: mean **{} cm**, SD **{} cm** (eq. 9, N − 1). Stress: mean {} MPa, SD {} MPa.{reliability} Anderson–Darling on ln {name}: A*² = {}, p = {}.\n",
             p.n_ok,
             cm(p.response.mean),
             cm(p.response.sd),
             f(p.stress.mean / 1e6, 2),
             f(p.stress.sd / 1e6, 2),
-            f(p.reliability, 5),
-            confidence(s),
-            f(p.reliability_lo, 5),
-            f(p.reliability_hi, 5),
-            f(p.safety_factor, 4),
             f(p.ad_stat, 3),
             f(p.ad_p, 3)
         );

@@ -37,6 +37,7 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
         "| rank | design | peak amplitude, ideal (cm) [90 % interval] | at r | carried by | from rest (cm) | linear peak (cm) at r | PR, ideal | the damper helps for r in | periodic | not converged |\n|---|---|---|---|---|---|---|---|---|---|---|"
     );
     let mut wandering_peaks = 0usize;
+    let (mut edge_designs, mut edge_r) = (0usize, Vec::new());
     for p in shown.iter().take(MAX_ROWS) {
         let Some(c) = fs.curve(p.point) else {
             continue;
@@ -44,6 +45,10 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
         let (row, wandering) = design_row(s, c, p);
         o.push_str(&row);
         wandering_peaks += usize::from(wandering);
+        if let Some(r) = peak_at_band_end(fs, c) {
+            edge_designs += 1;
+            edge_r.push(r);
+        }
     }
     if wandering_peaks > 0 {
         let _ = writeln!(
@@ -52,6 +57,22 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
             wandering_peaks,
             if wandering_peaks == 1 { "lies" } else { "lie" },
             unmeasured_reason(fs)
+        );
+    }
+    if edge_designs > 0 {
+        edge_r.sort_by(f64::total_cmp);
+        edge_r.dedup();
+        let at: Vec<String> = edge_r.iter().map(|r| f(*r, 3)).collect();
+        let _ = writeln!(
+            o,
+            "\n**Peaks at the band's end.** The peak of {} {} at an end of the swept band (r = {}): the response beyond it was not simulated and may be higher, so such a peak and its PR are the band's, not the design's. Widen the frequency axis of `[sweep]` past it to see.",
+            if edge_designs == 1 {
+                "1 of these designs".to_string()
+            } else {
+                format!("{edge_designs} of these designs")
+            },
+            if edge_designs == 1 { "lies" } else { "lie" },
+            at.join(" and ")
         );
     }
     let top = &shown[..shown.len().min(MAX_ROWS)];
@@ -66,6 +87,18 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
     }
     o.push_str(&reading(fs));
     o
+}
+
+/// Where curve `c`'s ideal peak is (its `r`) when that is the first or last frequency of a
+/// swept frequency band (`r` or `omega`; a curve along the force has no frequency axis, and its
+/// peak is at its largest force by nature), else `None`.
+fn peak_at_band_end(fs: &ForcedSummary, c: &Curve) -> Option<f64> {
+    if fs.frequency.as_ref().is_none_or(|(_, v)| v.len() < 2) {
+        return None;
+    }
+    let (peak, r) = c.peak();
+    let ends = [c.points.first()?.r, c.points.last()?.r];
+    (peak.is_finite() && ends.contains(&r)).then_some(r)
 }
 
 /// The section's heading and what a design's response and damping quantity are.

@@ -103,6 +103,31 @@ pub(crate) fn f(v: f64, digits: usize) -> String {
     }
 }
 
+/// An interval `lo – hi` with `digits` decimals; one dash when neither end is known (R without a
+/// strength, a single case).
+pub(crate) fn interval(lo: f64, hi: f64, digits: usize) -> String {
+    if lo.is_nan() && hi.is_nan() {
+        "–".into()
+    } else {
+        format!("{} – {}", f(lo, digits), f(hi, digits))
+    }
+}
+
+/// `R = … (95 % interval …), μn = …` of design `p` (μn with `mu_digits` decimals); empty when
+/// the study gives no strength (the report's head says what R needs).
+pub(crate) fn reliability_clause(s: &Summary, p: &PointStats, mu_digits: usize) -> String {
+    if !s.computes_r() {
+        return String::new();
+    }
+    format!(
+        "R = {} ({} interval {}), μn = {}",
+        f(p.reliability, 5),
+        confidence(s),
+        interval(p.reliability_lo, p.reliability_hi, 5),
+        f(p.safety_factor, mu_digits)
+    )
+}
+
 /// Metres in centimetres, three decimals.
 pub(crate) fn cm(v: f64) -> String {
     f(v * 100.0, 3)

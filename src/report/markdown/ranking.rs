@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use super::{MAX_ROWS, cm, confidence, design_text, f, ranked, thousands};
+use super::{MAX_ROWS, cm, confidence, design_text, f, interval, ranked, thousands};
 use crate::reduce::{PointStats, Summary};
 
 fn head(s: &Summary) -> String {
@@ -16,12 +16,11 @@ fn head(s: &Summary) -> String {
 
 fn row(s: &Summary, p: &PointStats) -> String {
     format!(
-        "| {} | {} | {} | {} – {} | {} | {} | {} | {} | {} | {} |",
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
         p.rank.map(|r| r.to_string()).unwrap_or_default(),
         design_text(s, p.point),
         f(p.reliability, 5),
-        f(p.reliability_lo, 5),
-        f(p.reliability_hi, 5),
+        interval(p.reliability_lo, p.reliability_hi, 5),
         f(p.safety_factor, 3),
         f(p.di, 5),
         cm(p.response.mean),

@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{cm, confidence, design_text, f, ranked, thousands};
+use super::{cm, confidence, design_text, f, ranked, reliability_clause, thousands};
 use crate::reduce::grid::End;
 use crate::reduce::recommend::{NotRobust, reasons};
 use crate::reduce::{PointStats, Summary};
@@ -108,18 +108,10 @@ fn figures(s: &Summary, p: &PointStats, n_ranked: usize) -> String {
         .zone_of(p)
         .map(|z| format!(" Zone {} ({}).", z.name, z.label()))
         .unwrap_or_default();
-    let reliability = if s.computes_r() {
-        format!(
-            "R = {} ({} interval {} – {}), μn = {}, ",
-            f(p.reliability, 5),
-            confidence(s),
-            f(p.reliability_lo, 5),
-            f(p.reliability_hi, 5),
-            f(p.safety_factor, 3)
-        )
-    } else {
-        String::new()
-    };
+    let mut reliability = reliability_clause(s, p, 3);
+    if !reliability.is_empty() {
+        reliability.push_str(", ");
+    }
     format!(
         "{reliability}{} = {}, {} mean {} cm (SD {} cm), perfectibility {} % (rank {} of {}).{zone}\n\n",
         s.options.damping.symbol,

@@ -136,6 +136,10 @@ fn by_class(s: &Summary) -> String {
 
 /// A design's axis values without units, compact: `0.5, 0.02, 0.01`.
 fn values(s: &Summary, p: u64) -> String {
+    if s.grid.n_axes() == 0 {
+        // Nothing swept but the frequency: the zone's one design.
+        return "the study's system".into();
+    }
     (0..s.grid.n_axes())
         .map(|a| fmt_num(s.grid.value(p, a)))
         .collect::<Vec<_>>()
