@@ -247,3 +247,23 @@ fn plan_warns_when_part_files_will_be_tiny() {
     std::fs::write(&default, grid).unwrap();
     assert!(!plan(&default, tmp.path()).contains("warning"));
 }
+
+/// A harmonic study's curve is one task of the sweep: a study with one curve cannot use a
+/// second thread, and the estimate says so instead of halving one curve's time.
+#[test]
+fn a_harmonic_estimate_takes_at_least_one_curve() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("one_curve.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"one_curve\"\n[system]\nm = 0.0\nv0 = 0.0\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n[sweep]\nr = { start = 0.9, stop = 1.1, num = 5 }\n",
+    )
+    .unwrap();
+    let text = plan(&study, tmp.path());
+    let estimate = field(&text, "time estimate");
+    assert!(
+        estimate.ends_with("a curve is one task, so its 1 curve keeps at most 1 thread busy)")
+            || estimate.contains(" on 1 thread ("),
+        "{estimate}"
+    );
+}

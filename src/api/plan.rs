@@ -3,7 +3,8 @@
 //!
 //! The time estimate comes from a short timed sample: up to [`SAMPLE_RUNS`] runs drawn evenly
 //! over the plan (same systems, cases and noise as the real sweep), simulated on one thread;
-//! the mean time per run is scaled by the total and divided by the threads a `run` would use.
+//! the mean time per run is scaled by the total and divided by the threads a `run` would use,
+//! but a harmonic study takes at least one curve's time: a curve is one task of the sweep.
 //! It measures the binary it runs in, so a debug build predicts a debug build.
 
 use std::fmt::Write as _;
@@ -193,7 +194,29 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         && sm.runs > 0
     {
         let per_run = sm.seconds / sm.runs as f64;
-        let total = per_run * plan.n_runs() as f64 / threads.max(1) as f64;
+        let mut total = per_run * plan.n_runs() as f64 / threads.max(1) as f64;
+        // A harmonic study's curve (one design and case over its frequencies) is one task: the
+        // run takes at least one curve's time, however many threads there are.
+        let curve = study.curve_points();
+        let mut bound = String::new();
+        if matches!(study.scene, Scene::Harmonic(_)) && curve > 1 {
+            let one = per_run * curve as f64;
+            if one > total {
+                total = one;
+                let curves = plan.n_runs() / curve;
+                bound = format!(
+                    "; a curve is one task, so {} keep{} at most {} thread{} busy",
+                    if curves == 1 {
+                        "its 1 curve".to_string()
+                    } else {
+                        format!("its {curves} curves")
+                    },
+                    if curves == 1 { "s" } else { "" },
+                    curves,
+                    if curves == 1 { "" } else { "s" }
+                );
+            }
+        }
         let what = match study.scene {
             Scene::Harmonic(h) if h.starts > 0 => format!(
                 "{} frequencies of one design's curve, census and design life included",
@@ -203,7 +226,7 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         };
         let _ = writeln!(
             w,
-            "time estimate:  {} on {threads} thread{} ({:.1} us/run over a sample of {what})",
+            "time estimate:  {} on {threads} thread{} ({:.1} us/run over a sample of {what}{bound})",
             fmt_duration(total),
             if threads == 1 { "" } else { "s" },
             per_run * 1e6,
