@@ -580,3 +580,43 @@ fn a_harmonic_study_without_strength_or_design_axes_reads_cleanly() {
         );
     }
 }
+
+/// A harmonic study at one frequency over a design axis: whether the damper helps is a yes or
+/// a no at that frequency, not a band from r to the same r at the band's edge; and a
+/// dimensionless quantity's jump size has no unit `1` after it.
+#[test]
+fn a_study_at_one_frequency_says_whether_the_damper_helps_there() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("single.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"single\"\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\nr = 1.0\n[sweep]\nm = [0.005, 0.01, 0.02]\n",
+    )
+    .unwrap();
+    let dir = common::run_study_file(&study, &tmp.path().join("out"), "single");
+    bin().arg("reduce").arg(&dir).assert().success();
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    let rows: Vec<&str> = md
+        .split("## Frequency response")
+        .nth(1)
+        .unwrap()
+        .split("\n## ")
+        .next()
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with("| ") && l.contains(" | m = ") && !l.contains("chaotic |"))
+        .collect();
+    assert_eq!(rows.len(), 3, "{md}");
+    for row in rows {
+        let cells: Vec<&str> = row.split(" | ").collect();
+        // The help column: the fourth cell from the end.
+        let help = cells[cells.len() - 3];
+        assert!(help == "yes" || help == "no", "{row}");
+    }
+    assert!(!md.contains("(band edge)"), "{md}");
+    assert!(
+        !md.lines()
+            .any(|l| l.contains("peak_reduction") && l.ends_with(" 1 |")),
+        "{md}"
+    );
+}

@@ -138,6 +138,8 @@ fn design_row(s: &Summary, c: &Curve, p: &PointStats) -> (String, bool) {
     };
     let (lin, lin_r) = c.linear_peak();
     let helps = match c.help_band() {
+        // One frequency: whether it helps there, not a band.
+        _ if c.points.len() == 1 => if c.points[0].helps() { "yes" } else { "no" }.to_string(),
         Some(b) => format!(
             "{}{} – {}{}",
             if b.from_edge { "≤ " } else { "" },

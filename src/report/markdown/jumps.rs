@@ -137,13 +137,13 @@ fn grouped(s: &Summary) -> String {
                 let sizes: Vec<f64> = js.iter().map(|j| j.size.abs()).collect();
                 let largest = sizes.iter().copied().fold(0.0, f64::max);
                 let (name, unit) = quantity_of(s, q);
-                let unit = match kind {
+                let unit = spaced(&match kind {
                     JumpKind::Step => unit.to_string(),
                     JumpKind::Kink => per_axis_unit(unit, axis_unit(g.key(a))),
-                };
+                });
                 let _ = writeln!(
                     o,
-                    "| {} | {name} | {} | {} | {} of {} | {} – {} – {} | {} ({}) {unit} |",
+                    "| {} | {name} | {} | {} | {} of {} | {} – {} – {} | {} ({}){unit} |",
                     g.key(a),
                     kind.name(),
                     thousands(js.len() as u64),
@@ -208,7 +208,7 @@ fn through_anchor(s: &Summary) -> String {
         let (name, unit) = quantity_of(s, j.quantity);
         let key = g.key(j.axis);
         let size = match j.kind {
-            JumpKind::Step => format!("{} {unit}", fmt_num(j.size)),
+            JumpKind::Step => format!("{}{}", fmt_num(j.size), spaced(unit)),
             JumpKind::Kink => format!(
                 "{} {}",
                 fmt_num(j.size),
@@ -235,4 +235,13 @@ fn through_anchor(s: &Summary) -> String {
     }
     let _ = writeln!(o);
     o
+}
+
+/// A unit after a number: ` m`, and nothing for a dimensionless quantity (unit `1`).
+fn spaced(unit: &str) -> String {
+    if unit == "1" || unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    }
 }
