@@ -614,6 +614,11 @@ fn a_study_at_one_frequency_says_whether_the_damper_helps_there() {
         assert!(help == "yes" || help == "no", "{row}");
     }
     assert!(!md.contains("(band edge)"), "{md}");
+    // No frequency axis, so no chart against it; the designs are in the design chart.
+    for stem in ["frequency_response", "impacts_per_period"] {
+        assert!(!dir.join(format!("{stem}.png")).exists(), "{stem}.png");
+    }
+    assert!(dir.join("design_chart.png").exists());
     assert!(
         !md.lines()
             .any(|l| l.contains("peak_reduction") && l.ends_with(" 1 |")),

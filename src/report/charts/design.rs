@@ -233,6 +233,12 @@ impl DesignChart<'_> {
         let (keys, plot) = area.split_vertically(legend_height(area, &items)?);
         if has_r {
             legend_row(&keys, LEGEND_X, &items)?;
+        } else {
+            // Without R the jumps' lines still cross both panels: their keys stay.
+            let jumps = jump_keys(pr);
+            if !jumps.is_empty() {
+                legend_row(&keys, LEGEND_X, &jumps)?;
+            }
         }
         let mut chart = ChartBuilder::on(&plot)
             .margin(DESIGN_MARGIN)
@@ -272,6 +278,7 @@ impl DesignChart<'_> {
                         .pos(Pos::new(HPos::Center, VPos::Center)),
                 )))
                 .map_err(err)?;
+            jump_lines(&mut chart, pr, (y0, y1))?;
             return Ok(());
         }
         draw_reliability(&mut chart, pr, (x0, x1), (y0, y1), r_min_shown)

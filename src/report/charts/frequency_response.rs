@@ -650,6 +650,13 @@ pub fn charts(
             .map(|&a| (Some(a), format!("_{}", axis_column(g.key(a)))))
             .collect(),
     };
+    // At one frequency there is no frequency axis to draw against (a study along the force has
+    // its own charts below; one over design axes has the design chart).
+    let lines = if f.frequency.is_some() {
+        lines
+    } else {
+        Vec::new()
+    };
     for (axis, suffix) in lines {
         let row = Row::new(s, f, axis, anchor);
         if row.curves.is_empty() {
