@@ -66,6 +66,16 @@ fn run_and_reduce(tmp: &Path, name: &str, chunk_points: u64) -> PathBuf {
     dir
 }
 
+/// Writes `text` as study `name` in `tmp`, runs and reduces it: its run directory and report.
+fn run_text(tmp: &Path, name: &str, text: &str) -> (PathBuf, String) {
+    let study = tmp.join(format!("{name}.toml"));
+    std::fs::write(&study, text).unwrap();
+    let dir = common::run_study_file(&study, &tmp.join("out"), name);
+    bin().arg("reduce").arg(&dir).assert().success();
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    (dir, md)
+}
+
 fn rows(dir: &Path) -> Vec<RunRow<ForcedRecord>> {
     store::part_files(dir)
         .unwrap()
@@ -543,17 +553,13 @@ fn a_harmonic_study_without_strength_or_design_axes_reads_cleanly() {
         ("around", "start = 0.9, stop = 1.1, num = 5", false),
         ("below", "start = 0.9, stop = 0.98, num = 3", true),
     ] {
-        let study = tmp.path().join(format!("{name}.toml"));
-        std::fs::write(
-            &study,
-            format!(
+        let (dir, md) = run_text(
+            tmp.path(),
+            name,
+            &format!(
                 "[study]\nname = \"{name}\"\n[system]\nm = 0.0\nv0 = 0.0\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n[sweep]\nr = {{ {band} }}\n"
             ),
-        )
-        .unwrap();
-        let dir = common::run_study_file(&study, &tmp.path().join("out"), name);
-        bin().arg("reduce").arg(&dir).assert().success();
-        let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+        );
         // The peak's r against the band's ends, from the summary.
         let (_, rows) = common::csv_by_point(&dir.join("summary.csv"));
         let peak_r = num(&rows.values().next().unwrap()["peak_r"]);
@@ -587,15 +593,11 @@ fn a_harmonic_study_without_strength_or_design_axes_reads_cleanly() {
 #[test]
 fn a_study_at_one_frequency_says_whether_the_damper_helps_there() {
     let tmp = tempfile::tempdir().unwrap();
-    let study = tmp.path().join("single.toml");
-    std::fs::write(
-        &study,
+    let (dir, md) = run_text(
+        tmp.path(),
+        "single",
         "[study]\nname = \"single\"\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\nr = 1.0\n[sweep]\nm = [0.005, 0.01, 0.02]\n",
-    )
-    .unwrap();
-    let dir = common::run_study_file(&study, &tmp.path().join("out"), "single");
-    bin().arg("reduce").arg(&dir).assert().success();
-    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    );
     let rows: Vec<&str> = md
         .split("## Frequency response")
         .nth(1)
@@ -624,4 +626,36 @@ fn a_study_at_one_frequency_says_whether_the_damper_helps_there() {
             .any(|l| l.contains("peak_reduction") && l.ends_with(" 1 |")),
         "{md}"
     );
+}
+
+/// A band whose frequencies step over the linear resonance (7 values of `omega` from 55 to
+/// 70 rad/s: r steps of 0.0395 against a resonance 2 zeta = 0.0158 wide) samples the linear
+/// peak at 0.888 cm against 1.581 cm between them: the report says the band is too coarse for
+/// the resonance, and PR compares sampled peaks. A band with r = 1 on its grid does not get
+/// the note.
+#[test]
+fn a_band_too_coarse_for_the_resonance_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (name, axis, coarse) in [
+        (
+            "coarse",
+            "omega = { start = 55.0, stop = 70.0, num = 7 }",
+            true,
+        ),
+        ("fine", "r = { start = 0.9, stop = 1.1, num = 5 }", false),
+    ] {
+        let (_, md) = run_text(
+            tmp.path(),
+            name,
+            &format!(
+                "[study]\nname = \"{name}\"\n[system]\nm = 0.0\nv0 = 0.0\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n[sweep]\n{axis}\n"
+            ),
+        );
+        assert_eq!(
+            md.contains("**A band too coarse for the resonance** (1 of these designs). The linear system peaks at r = 0.9999 with 1.581 cm, between the swept frequencies, which sample it at 0.888 cm at most (r = 0.988)"),
+            coarse,
+            "{name}: {md}"
+        );
+        assert_eq!(md.contains("too coarse"), coarse, "{name}");
+    }
 }

@@ -309,6 +309,22 @@ impl Curve {
         best
     }
 
+    /// The linear system's largest amplitude over the whole band `[r_first, r_last]`, between
+    /// the swept frequencies too, and its `r`: the amplitude is largest at
+    /// `r = sqrt(1 - 2 zeta^2)` (0 when `2 zeta^2 >= 1`) and falls away from it, so over the band
+    /// at that `r` clamped to the band. [`Curve::linear_peak`] is the largest at the swept
+    /// frequencies: below this one when the band's step is coarse against the resonance's width
+    /// (`2 zeta` in `r`).
+    pub fn linear_peak_between(&self) -> (f64, f64) {
+        let (Some(first), Some(last)) = (self.points.first(), self.points.last()) else {
+            return (f64::NAN, f64::NAN);
+        };
+        let (lo, hi) = (first.r.min(last.r), first.r.max(last.r));
+        let z = self.system.zeta();
+        let r = (1.0 - 2.0 * z * z).max(0.0).sqrt().clamp(lo, hi);
+        (self.linear_at(r), r)
+    }
+
     fn max_of(&self, f: impl Fn(&CurvePoint) -> f64) -> (f64, f64) {
         if self.points.iter().any(|p| !p.ok()) {
             return (f64::NAN, f64::NAN);

@@ -59,23 +59,9 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
             unmeasured_reason(fs)
         );
     }
-    if edge_designs > 0 {
-        edge_r.sort_by(f64::total_cmp);
-        edge_r.dedup();
-        let at: Vec<String> = edge_r.iter().map(|r| f(*r, 3)).collect();
-        let _ = writeln!(
-            o,
-            "\n**Peaks at the band's end.** The peak of {} {} at an end of the swept band (r = {}): the response beyond it was not simulated and may be higher, so such a peak and its PR are the band's, not the design's. Widen the frequency axis of `[sweep]` past it to see.",
-            if edge_designs == 1 {
-                "1 of these designs".to_string()
-            } else {
-                format!("{edge_designs} of these designs")
-            },
-            if edge_designs == 1 { "lies" } else { "lie" },
-            at.join(" and ")
-        );
-    }
+    o.push_str(&band_end(edge_designs, edge_r));
     let top = &shown[..shown.len().min(MAX_ROWS)];
+    o.push_str(&coarse_band(fs, top));
     o.push_str(&super::life::section(s, fs, top));
     o.push_str(&coexistence(s, fs, top));
     if shown.len() > MAX_ROWS {
@@ -87,6 +73,63 @@ pub fn section(s: &Summary, fs: &ForcedSummary) -> String {
     }
     o.push_str(&reading(fs));
     o
+}
+
+/// The note on designs whose peak lies at an end of the band (`designs` of them, at `r`).
+fn band_end(designs: usize, mut r: Vec<f64>) -> String {
+    if designs == 0 {
+        return String::new();
+    }
+    r.sort_by(f64::total_cmp);
+    r.dedup();
+    let at: Vec<String> = r.iter().map(|r| f(*r, 3)).collect();
+    format!(
+        "\n**Peaks at the band's end.** The peak of {} {} at an end of the swept band (r = {}): the response beyond it was not simulated and may be higher, so such a peak and its PR are the band's, not the design's. Widen the frequency axis of `[sweep]` past it to see.\n",
+        if designs == 1 {
+            "1 of these designs".to_string()
+        } else {
+            format!("{designs} of these designs")
+        },
+        if designs == 1 { "lies" } else { "lie" },
+        at.join(" and ")
+    )
+}
+
+/// How far below its peak the swept frequencies may sample the linear system before the report
+/// says the band is too coarse for the resonance (5 %).
+pub const COARSE_LINEAR: f64 = 0.95;
+
+/// The note on a band whose frequencies miss the linear resonance: the linear system's peak
+/// between them ([`Curve::linear_peak_between`]) more than 5 % above the largest they sample,
+/// for any of the designs shown (the first such design's figures are given).
+fn coarse_band(fs: &ForcedSummary, shown: &[&PointStats]) -> String {
+    let coarse: Vec<&Curve> = shown
+        .iter()
+        .filter_map(|p| fs.curve(p.point))
+        .filter(|c| {
+            let (sampled, between) = (c.linear_peak().0, c.linear_peak_between().0);
+            sampled < COARSE_LINEAR * between
+        })
+        .collect();
+    let Some(c) = coarse.first() else {
+        return String::new();
+    };
+    let ((sampled, r_s), (between, r_b)) = (c.linear_peak(), c.linear_peak_between());
+    let step = c
+        .points
+        .windows(2)
+        .map(|w| (w[1].r - w[0].r).abs())
+        .fold(0.0, f64::max);
+    format!(
+        "\n**A band too coarse for the resonance** ({} of these designs). The linear system peaks at r = {} with {} cm, between the swept frequencies, which sample it at {} cm at most (r = {}): the band's step, up to {} in r, is wider than the resonance (its half-power width, 2ζ = {}). PR compares the design's sampled peak with that sampled linear peak, and a design's own peak can fall between the frequencies too. A finer step around r = 1 resolves both.\n",
+        coarse.len(),
+        f(r_b, 4),
+        cm(between),
+        cm(sampled),
+        f(r_s, 3),
+        f(step, 4),
+        f(2.0 * c.system.zeta(), 4)
+    )
 }
 
 /// Where curve `c`'s ideal peak is (its `r`) when that is the first or last frequency of a
