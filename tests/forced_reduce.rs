@@ -616,6 +616,11 @@ fn a_study_at_one_frequency_says_whether_the_damper_helps_there() {
         assert!(help == "yes" || help == "no", "{row}");
     }
     assert!(!md.contains("(band edge)"), "{md}");
+    assert!(
+        md.contains("A design's response is its **steady amplitude at that frequency**")
+            && !md.contains("peak amplitude over the band"),
+        "{md}"
+    );
     // No frequency axis, so no chart against it; the designs are in the design chart.
     for stem in ["frequency_response", "impacts_per_period"] {
         assert!(!dir.join(format!("{stem}.png")).exists(), "{stem}.png");

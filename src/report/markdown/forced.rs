@@ -157,9 +157,15 @@ fn intro(fs: &ForcedSummary) -> String {
         Some((k, v)) => format!("one frequency, {k} = {}", fmt_num(v[0])),
         None => "a single frequency".to_string(),
     };
+    // At one frequency (no axis along the frequency or the force) there is no band.
+    let response = if fs.frequency.is_none() && fs.curves.iter().all(|c| c.points.len() == 1) {
+        "A design's response is its **steady amplitude at that frequency**: for each case the largest steady amplitude of its run, a sample of which gives the stress, R and the ranking. Its damping quantity is the **peak reduction** PR = 1 − amplitude / the linear system's amplitude there (the primary system without the inner mass): 0.9 means the damper removes 90 % of the linear amplitude, below 0 it makes it worse."
+    } else {
+        "A design's response is its **peak amplitude over the band**: for each case the largest steady amplitude of its runs, a sample of which gives the stress, R and the ranking. Its damping quantity is the **peak reduction** PR = 1 − peak amplitude / the linear system's peak over the band (the primary system without the inner mass): 0.9 means the damper removes 90 % of the resonance peak, below 0 it makes the peak worse."
+    };
     let _ = writeln!(
         o,
-        "Every design's curve has {band}; {} simulated ({}). A design's response is its **peak amplitude over the band**: for each case the largest steady amplitude of its runs, a sample of which gives the stress, R and the ranking. Its damping quantity is the **peak reduction** PR = 1 − peak amplitude / the linear system's peak over the band (the primary system without the inner mass): 0.9 means the damper removes 90 % of the resonance peak, below 0 it makes the peak worse.\n",
+        "Every design's curve has {band}; {} simulated ({}). {response}\n",
         super::count(fs.runs, "run was", "runs were"),
         outcome_text(&fs.outcomes, false)
     );
