@@ -121,7 +121,7 @@ fn coarse_band(fs: &ForcedSummary, shown: &[&PointStats]) -> String {
         .map(|w| (w[1].r - w[0].r).abs())
         .fold(0.0, f64::max);
     format!(
-        "\n**A band too coarse for the resonance** ({} of these designs). The linear system peaks at r = {} with {} cm, between the swept frequencies, which sample it at {} cm at most (r = {}): the band's step, up to {} in r, is wider than the resonance (its half-power width, 2ζ = {}). PR compares the design's sampled peak with that sampled linear peak, and a design's own peak can fall between the frequencies too. A finer step around r = 1 resolves both.\n",
+        "\n**A band too coarse for the resonance** ({} of these designs). The linear system peaks at r = {} with {} cm, between the swept frequencies, which sample it at {} cm at most (r = {}): the band's step, up to {} in r, is wider than the resonance (its half-power width, 2ζ = {}). PR compares the design's sampled peak with that sampled linear peak, and a design's own peak can fall between the frequencies too. A finer step around that r resolves both.\n",
         coarse.len(),
         f(r_b, 4),
         cm(between),
