@@ -12,6 +12,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::plan::Plan;
+use crate::report::markdown::count;
 use crate::sim::{self, Drive, NoProbe, Scene};
 use crate::study::{Study, num as fmt_value};
 
@@ -205,15 +206,9 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
                 total = one;
                 let curves = plan.n_runs() / curve;
                 bound = format!(
-                    "; a curve is one task, so {} keep{} at most {} thread{} busy",
-                    if curves == 1 {
-                        "its 1 curve".to_string()
-                    } else {
-                        format!("its {curves} curves")
-                    },
-                    if curves == 1 { "s" } else { "" },
-                    curves,
-                    if curves == 1 { "" } else { "s" }
+                    "; a curve is one task, so its {} at most {}",
+                    count(curves, "curve keeps", "curves keep"),
+                    count(curves, "thread busy", "threads busy")
                 );
             }
         }

@@ -84,13 +84,12 @@ fn band_end(designs: usize, mut r: Vec<f64>) -> String {
     r.dedup();
     let at: Vec<String> = r.iter().map(|r| f(*r, 3)).collect();
     format!(
-        "\n**Peaks at the band's end.** The peak of {} {} at an end of the swept band (r = {}): the response beyond it was not simulated and may be higher, so such a peak and its PR are the band's, not the design's. Widen the frequency axis of `[sweep]` past it to see.\n",
-        if designs == 1 {
-            "1 of these designs".to_string()
-        } else {
-            format!("{designs} of these designs")
-        },
-        if designs == 1 { "lies" } else { "lie" },
+        "\n**Peaks at the band's end.** The peak of {} at an end of the swept band (r = {}): the response beyond it was not simulated and may be higher, so such a peak and its PR are the band's, not the design's. Widen the frequency axis of `[sweep]` past it to see.\n",
+        super::count(
+            designs as u64,
+            "of these designs lies",
+            "of these designs lie"
+        ),
         at.join(" and ")
     )
 }
