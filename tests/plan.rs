@@ -62,7 +62,7 @@ fn paper_plan_counts_and_location() {
     assert!(field(&text, "time estimate").contains("over a sample of 200 runs"));
     assert_eq!(
         field(&text, "disk estimate"),
-        "55.1 kB (rough: about 90 bytes of Parquet per run)"
+        "65.7 kB (rough: about 90 bytes of Parquet per run and 10.6 kB per part file)"
     );
     // plan writes nothing.
     assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 0);
@@ -265,5 +265,67 @@ fn a_harmonic_estimate_takes_at_least_one_curve() {
         estimate.ends_with("a curve is one task, so its 1 curve keeps at most 1 thread busy)")
             || estimate.contains(" on 1 thread ("),
         "{estimate}"
+    );
+}
+
+/// The bytes of every file under `dir`.
+fn bytes_under(dir: &Path) -> u64 {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().metadata().unwrap().len())
+        .sum()
+}
+
+/// `fmt_bytes`'s text back to bytes ("61.5 kB").
+fn parse_bytes(text: &str) -> f64 {
+    let (v, unit) = text.split_once(' ').unwrap();
+    let scale = match unit {
+        "B" => 1.0,
+        "kB" => 1e3,
+        "MB" => 1e6,
+        "GB" => 1e9,
+        _ => panic!("unit {unit}"),
+    };
+    v.parse::<f64>().unwrap() * scale
+}
+
+/// A harmonic study with a census writes an `attractors` table beside its points (on the
+/// showcase about three times their size): the disk estimate counts it, from the steady states
+/// its timed sample found, and comes within a factor of 2 of what `run` writes.
+#[test]
+fn a_harmonic_disk_estimate_counts_the_attractors_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("states.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"states\"\n[system]\nv0 = 0.0\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n\
+         starts = 4\nnonperiodic_peak = \"window\"\n[sweep]\nd = [0.005, 0.02]\n\
+         r = { start = 0.9, stop = 1.1, num = 9 }\n",
+    )
+    .unwrap();
+    let text = plan(&study, tmp.path());
+    let disk = field(&text, "disk estimate");
+    assert!(
+        disk.contains("the attractors table about 90 bytes per steady state"),
+        "{disk}"
+    );
+    let estimate = parse_bytes(disk.split(" (").next().unwrap());
+    Command::cargo_bin("impactsweep")
+        .unwrap()
+        .args(["run".as_ref(), study.as_os_str(), "--out".as_ref()])
+        .arg(tmp.path().join("out"))
+        .assert()
+        .success();
+    let dir = tmp.path().join("out").join("states");
+    let (points, attractors) = (
+        bytes_under(&dir.join("points")),
+        bytes_under(&dir.join("attractors")),
+    );
+    assert!(attractors > 0);
+    let written = (points + attractors) as f64;
+    assert!(
+        (0.5..=2.0).contains(&(estimate / written)),
+        "estimate {estimate} B against {written} B written ({points} points, {attractors} \
+         attractors): {disk}"
     );
 }

@@ -34,11 +34,22 @@ pub const BYTES_PER_RUN: u64 = 90;
 /// whose runs off the impact band are identical and compress); rounded up to 70.
 pub const BYTES_PER_FORCED_RUN: u64 = 70;
 
+/// Rough Parquet size of one row of a harmonic study's `attractors` table (bytes): one steady
+/// state that a run's census found, 33 columns of which the section state, amplitudes, exponent
+/// and life statistics are floats that barely compress. Measured: 89.1 bytes per row for
+/// `configs/frequency-response.toml` with `life_max_periods = 2000` (8,009 rows, 713,758
+/// bytes, one part file; 2.2 rows per run): its attractors take about twice its points.
+/// Rounded up to 90.
+pub const BYTES_PER_STEADY_STATE: u64 = 90;
+
 /// A timed sample: runs simulated and seconds taken.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
     pub runs: u64,
     pub seconds: f64,
+    /// The steady states the sample's censuses found (the rows it would add to the
+    /// `attractors` table; 0 without a census).
+    pub steady_states: u64,
 }
 
 /// Frequencies of the middle design's ideal curve that the timed sample of a harmonic study
@@ -85,6 +96,7 @@ pub fn time_sample(study: &Study) -> Sample {
     Sample {
         runs: n,
         seconds: start.elapsed().as_secs_f64(),
+        steady_states: 0,
     }
 }
 
@@ -109,10 +121,17 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
         study.seed,
         freqs,
     );
-    std::hint::black_box(out);
+    let seconds = start.elapsed().as_secs_f64();
+    let steady_states = out
+        .censuses
+        .iter()
+        .flatten()
+        .map(|c| c.attractors.len() as u64)
+        .sum();
     Sample {
         runs: n,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds,
+        steady_states,
     }
 }
 
@@ -227,16 +246,52 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
             per_run * 1e6,
         );
     }
+    describe_disk(w, study, &plan, sample);
+    s
+}
+
+/// The disk estimate: the points at a rough size per run ([`BYTES_PER_RUN`],
+/// [`BYTES_PER_FORCED_RUN`]) and per part file ([`PART_OVERHEAD_BYTES`], one per chunk); a
+/// harmonic study with a census adds its `attractors` table (a part file per chunk too), at
+/// [`BYTES_PER_STEADY_STATE`] per steady state and as many per run as the timed sample's
+/// censuses found.
+fn describe_disk(w: &mut String, study: &Study, plan: &Plan, sample: Option<Sample>) {
+    let runs = plan.n_runs();
+    let parts = plan.n_chunks().saturating_mul(PART_OVERHEAD_BYTES);
+    let census = matches!(study.scene, Scene::Harmonic(h) if h.starts > 0);
     let per_run = match study.scene {
         Scene::Free => BYTES_PER_RUN,
         Scene::Harmonic(_) => BYTES_PER_FORCED_RUN,
     };
-    let _ = writeln!(
-        w,
-        "disk estimate:  {} (rough: about {per_run} bytes of Parquet per run)",
-        fmt_bytes(plan.n_runs().saturating_mul(per_run))
+    let points = runs.saturating_mul(per_run).saturating_add(parts);
+    let what = format!(
+        "rough: about {per_run} bytes of Parquet per run and {} per part file",
+        fmt_bytes(PART_OVERHEAD_BYTES)
     );
-    s
+    let states = sample
+        .filter(|sm| census && sm.runs > 0)
+        .map(|sm| sm.steady_states as f64 / sm.runs as f64);
+    let _ = match (census, states) {
+        (true, Some(k)) => {
+            let rows = (runs as f64 * k) as u64;
+            let table = rows
+                .saturating_mul(BYTES_PER_STEADY_STATE)
+                .saturating_add(parts);
+            writeln!(
+                w,
+                "disk estimate:  {} ({what}; the attractors table about \
+                 {BYTES_PER_STEADY_STATE} bytes per steady state, {k:.1} per run in the timed \
+                 sample)",
+                fmt_bytes(points.saturating_add(table))
+            )
+        }
+        (true, None) => writeln!(
+            w,
+            "disk estimate:  {} ({what}; the attractors table not counted)",
+            fmt_bytes(points)
+        ),
+        (false, _) => writeln!(w, "disk estimate:  {} ({what})", fmt_bytes(points)),
+    };
 }
 
 /// The free-decay lines: the solver's accuracy on the study's own design points and each run's
