@@ -16,6 +16,7 @@
 //! | disk full | - | - | `run` fails (1) naming the file; free space, `run --resume` |
 //! | read-only output directory | - | - | `run` fails (1) naming it; make it writable, `run` |
 //! | `kill -9` at seeded instants | 0 | - | `run --resume` |
+//! | a harmonic study's attractors part flipped, truncated, deleted, or unrecorded and unreadable | 1, names it | 1, names it | `run --resume` |
 
 use std::path::{Path, PathBuf};
 use std::process::{Command as StdCommand, Stdio};
@@ -693,4 +694,134 @@ fn without_flock_the_lock_file_alone_rules_and_the_run_says_so() {
     s.status()
         .success()
         .stdout(predicate::str::contains("complete"));
+}
+
+/// Issue 23's study for the attractors parts: seven inner masses, four frequencies, two cases, a
+/// short census (as in `tests/forced_study.rs`), four design points per chunk: 7 chunks, each
+/// with its points part and its attractors part.
+const CENSUS_STUDY: &str = r#"[study]
+name = "att"
+seed = 23
+
+[system]
+v0 = 0.0
+
+[scene]
+kind = "harmonic"
+F0 = 0.3
+n_trans_max = 400
+life_max_periods = 2000
+starts = 4
+
+[sweep]
+m = { start = 0.0, stop = 0.03, num = 7 }
+r = { start = 0.9, stop = 1.05, num = 4 }
+
+[perturb]
+dd = [0.001]
+
+[run]
+chunk_points = 4
+"#;
+
+/// The faults of the points parts, on a harmonic study's attractors parts (issue 23: the same
+/// checksums, manifest and resume rules): a flipped byte, a truncated part and a deleted one are
+/// named by `status` and `reduce` (which refuses), recorded chunks whose attractors part is bad
+/// and unrecorded ones (a crash between the rename and the journal) are run again or kept as
+/// their parts deserve, and `run --resume` ends in the dataset an uninterrupted run writes, bit
+/// for bit, attractors parts included.
+#[test]
+fn damaged_attractors_parts_are_named_refused_and_repaired_by_resume() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("att.toml");
+    std::fs::write(&study, CENSUS_STUDY).unwrap();
+    let clean = clean_dataset(tmp.path(), &study, "att");
+    assert!(
+        clean
+            .iter()
+            .filter(|f| f.0.starts_with("attractors/"))
+            .count()
+            == 7
+    );
+    let out = tmp.path().join("out");
+    run(&study, &out, &["--quiet"]).success();
+    let dir = out.join("att");
+    let side = |k: u64| store::attractors::attractors_part_path(&dir, k);
+    let status = || bin().arg("status").arg(&dir).assert();
+    let reduce = || bin().arg("reduce").arg(&dir).assert();
+
+    // A flipped byte, a truncated part, a deleted part.
+    let mut bytes = std::fs::read(side(3)).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 0x10;
+    std::fs::write(side(3), bytes).unwrap();
+    let bytes = std::fs::read(side(1)).unwrap();
+    std::fs::write(side(1), &bytes[..bytes.len() / 2]).unwrap();
+    std::fs::remove_file(side(5)).unwrap();
+    let named = |k: u64, why: &str| {
+        predicate::str::contains(format!("its attractors part {}: ", side(k).display()))
+            .and(predicate::str::contains(why.to_string()))
+    };
+    let all_named = || {
+        named(3, "the file is damaged")
+            .and(named(1, "the file is damaged"))
+            .and(named(5, "recorded as finished, but the file is missing"))
+    };
+    status()
+        .code(1)
+        .stdout(predicate::str::contains("missing chunks: 1, 3, 5"))
+        .stdout(all_named());
+    reduce().code(1).stderr(
+        predicate::str::contains("refusing to reduce a damaged dataset")
+            .and(all_named())
+            .and(predicate::str::contains("--resume")),
+    );
+    assert!(!dir.join("summary.parquet").exists(), "nothing reduced");
+    run(&study, &out, &["--resume"])
+        .success()
+        .stderr(predicate::str::contains(
+            "3 chunks written (3 damaged or missing, repaired), 4 kept",
+        ));
+    assert!(
+        dataset(&dir) == clean,
+        "the dataset differs from an uninterrupted run's"
+    );
+
+    // A crash before the journal: chunks 4 and 6 on disk but unrecorded. Chunk 6's attractors
+    // part is cut short (not a readable table), so it runs again; chunk 4's pair is verified and
+    // kept. (An unrecorded part has no checksum to hold it to: one that still reads as this
+    // chunk's table is kept, module doc of `sweep::verify`.)
+    let m_path = dir.join("manifest.json");
+    let mut m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&m_path).unwrap()).unwrap();
+    let kept: Vec<serde_json::Value> = m["chunks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| ![4, 6].contains(&c["chunk"].as_u64().unwrap()))
+        .cloned()
+        .collect();
+    assert_eq!(kept.len(), 5);
+    m["chunks"] = serde_json::Value::Array(kept);
+    std::fs::write(&m_path, serde_json::to_string_pretty(&m).unwrap()).unwrap();
+    let bytes = std::fs::read(side(6)).unwrap();
+    std::fs::write(side(6), &bytes[..bytes.len() - 10]).unwrap();
+    status().code(1).stdout(
+        predicate::str::contains("not yet recorded")
+            .and(predicate::str::contains("chunks 4\n"))
+            .and(predicate::str::contains("missing chunks: 6"))
+            .and(named(6, "is not readable")),
+    );
+    run(&study, &out, &["--resume"]).success().stderr(
+        predicate::str::contains(format!("its attractors part {}: ", side(6).display()))
+            .and(predicate::str::contains("1 chunks written")),
+    );
+    assert!(
+        dataset(&dir) == clean,
+        "the dataset differs from an uninterrupted run's"
+    );
+    status()
+        .success()
+        .stdout(predicate::str::contains("complete"));
+    reduce().success();
 }
