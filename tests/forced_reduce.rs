@@ -421,6 +421,31 @@ fn issue_23_reduce_runs_no_census_and_every_peak_is_an_attractor() {
             "design {design}: peak {peak} at r = {r} is no attractor"
         );
     }
+    // A point carried by a life estimate says in its hover how many periods stand behind its
+    // interval: a measured_periods of a motion that is not periodic in the table.
+    let measured: std::collections::BTreeSet<String> = attractors
+        .iter()
+        .filter(|a| !["periodic", "neutral"].contains(&a[at("kind")].as_str()))
+        .map(|a| a[at("measured_periods")].clone())
+        .collect();
+    let mut hovers = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if !(name.starts_with("frequency_response") && name.ends_with(".svg")) {
+            continue;
+        }
+        let svg = std::fs::read_to_string(&path).unwrap();
+        for part in svg.split("over the design life, 90 % interval [").skip(1) {
+            let from = part.split("] cm from ").nth(1).unwrap_or_else(|| {
+                panic!("{name}: a life interval's hover without its periods: {part:.80}")
+            });
+            let n: String = from.split(" period").next().unwrap().replace(',', "");
+            assert!(measured.contains(&n), "{name}: {n} periods is no motion's");
+            hovers += 1;
+        }
+    }
+    assert!(hovers > 0, "no hover of a life estimate");
 }
 
 /// Issue 23 with issue 24's curves: a bifurcation curve along one design axis serves only the

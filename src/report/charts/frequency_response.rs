@@ -418,10 +418,12 @@ fn point_text(row: &Row, i: usize, c: &Curve, j: usize) -> String {
     let p = &c.points[j];
     let kind = match c.design_attractor(j) {
         Some(a) if !a.kind.periodic() && a.life_lo.is_finite() => format!(
-            "{}, over the design life [{} – {}] cm (90 %)",
+            "{}; over the design life, 90 % interval [{} – {}] cm from {}{}",
             a.kind.name(),
             fmt_num(a.life_lo.min(a.amplitude) * CM),
-            fmt_num(a.life_hi * CM)
+            fmt_num(a.life_hi * CM),
+            crate::report::markdown::count(a.measured_periods, "period", "periods"),
+            if a.life_capped { ", capped" } else { "" }
         ),
         Some(a) => a.kind.name().to_string(),
         None if p.design_period >= 1 => "periodic".to_string(),
