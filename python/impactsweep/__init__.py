@@ -247,17 +247,35 @@ def status(run_dir: StudyLike) -> Dict[str, Any]:
     return _ext.status(os.fspath(run_dir))
 
 
-def load(run_dir: StudyLike, *, polars: bool = False) -> Any:
-    """The points of a run directory: a ``pyarrow.dataset.Dataset`` over its part files, or
-    with ``polars=True`` a polars ``LazyFrame``."""
-    points = os.path.join(os.fspath(run_dir), "points")
+#: The tables ``load`` reads from a run directory, and the folder of each.
+TABLES = ("points", "attractors")
+
+
+def load(run_dir: StudyLike, *, table: str = "points", polars: bool = False) -> Any:
+    """A table of a run directory over its part files: a ``pyarrow.dataset.Dataset``, or with
+    ``polars=True`` a polars ``LazyFrame``. ``table`` is ``"points"`` (one row per run) or
+    ``"attractors"`` (a harmonic study with a census: one row per run and steady state, every
+    case's; docs/schema.md). Raises ``ValueError`` naming the table and the directory when the
+    run directory has no such table."""
+    if table not in TABLES:
+        raise ValueError(f"table = {table!r}: a run directory's tables are 'points' and 'attractors'")
+    folder = os.path.join(os.fspath(run_dir), table)
+    files = sorted(
+        os.path.join(folder, f)
+        for f in (os.listdir(folder) if os.path.isdir(folder) else [])
+        if f.startswith("part-") and f.endswith(".parquet")
+    )
+    if not files:
+        why = (
+            "only a harmonic study with a census ([scene] kind = \"harmonic\", starts >= 1) writes one"
+            if table == "attractors"
+            else "is it a run directory (RUN_DIR = OUT/<study name>) whose run has written a chunk?"
+        )
+        raise ValueError(f"{os.fspath(run_dir)}: no {table} table ({folder}/part-*.parquet): {why}")
     if polars:
         import polars as pl
 
-        return pl.scan_parquet(os.path.join(points, "part-*.parquet"))
+        return pl.scan_parquet(files)
     import pyarrow.dataset as ds
 
-    files = sorted(
-        os.path.join(points, f) for f in os.listdir(points) if f.startswith("part-") and f.endswith(".parquet")
-    )
     return ds.dataset(files, format="parquet")

@@ -205,3 +205,32 @@ def test_trace_gives_the_waveform_and_the_impacts():
     assert tr["record"]["impacts"] == len(tr["impacts"]) > 0
     assert math.isclose(tr["record"]["xmax"], isw.simulate(e=0.8)["xmax"], rel_tol=1e-9)
     assert math.isclose(np.max(tr["x"]), tr["record"]["xmax"], rel_tol=0.05)
+
+
+def test_load_reads_the_attractors_table_every_case_and_names_a_missing_one(cli, tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text(HARMONIC_STUDY + "[perturb]\ndd = [0.001]\n[run]\nchunk_points = 13\n")
+    p = cli("run", study, "--out", tmp_path / "out", "--quiet")
+    assert p.returncode == 0, p.stderr
+    run_dir = tmp_path / "out" / "fbatch"
+    files = sorted((run_dir / "attractors").glob("part-*.parquet"))
+    assert len(files) == 4
+    direct = pa.concat_tables([pq.read_table(f) for f in files])
+    table = isw.load(run_dir, table="attractors").to_table()
+    assert_same_table(table, direct)  # every value to its last bit (NaN included)
+    # Every run of every case has its steady states.
+    runs = set(zip(table.column("point_id").to_pylist(), table.column("case").to_pylist()))
+    points = isw.load(run_dir).to_table()
+    assert runs == set(zip(points.column("point_id").to_pylist(), points.column("case").to_pylist()))
+    assert len(runs) == 52 * 2
+    pl = pytest.importorskip("polars")
+    lazy = isw.load(run_dir, table="attractors", polars=True)
+    assert lazy.select(pl.len()).collect().item() == table.num_rows
+    # A free-decay run has no attractors table; an unknown table is named with the allowed ones.
+    free = tmp_path / "free.toml"
+    free.write_text(FREE_STUDY)
+    assert cli("run", free, "--out", tmp_path / "out", "--quiet").returncode == 0
+    with pytest.raises(ValueError, match=r"no attractors table .*only a harmonic study with a census"):
+        isw.load(tmp_path / "out" / "batch", table="attractors")
+    with pytest.raises(ValueError, match=r"table = 'runs': a run directory's tables are 'points' and 'attractors'"):
+        isw.load(run_dir, table="runs")
