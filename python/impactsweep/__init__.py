@@ -247,31 +247,44 @@ def status(run_dir: StudyLike) -> Dict[str, Any]:
     return _ext.status(os.fspath(run_dir))
 
 
-#: The tables ``load`` reads from a run directory, and the folder of each.
-TABLES = ("points", "attractors")
+#: The tables ``load`` reads from a run directory: the sweep's, one part file per chunk in a
+#: folder of that name, and ``reduce``'s, one ``NAME.parquet`` each (docs/schema.md).
+SWEEP_TABLES = ("points", "attractors")
+REDUCE_TABLES = ("summary", "zones", "jumps", "sensitivity", "branches", "bifurcations")
 
 
-def load(run_dir: StudyLike, *, table: str = "points", polars: bool = False) -> Any:
-    """A table of a run directory over its part files: a ``pyarrow.dataset.Dataset``, or with
-    ``polars=True`` a polars ``LazyFrame``. ``table`` is ``"points"`` (one row per run) or
+def load(run_dir: StudyLike, table: str = "points", *, polars: bool = False) -> Any:
+    """A table of a run directory: a ``pyarrow.dataset.Dataset``, or with ``polars=True`` a
+    polars ``LazyFrame``. ``table`` is a table of the sweep, ``"points"`` (one row per run) or
     ``"attractors"`` (a harmonic study with a census: one row per run and steady state, every
-    case's; docs/schema.md). Raises ``ValueError`` naming the table and the directory when the
-    run directory has no such table."""
-    if table not in TABLES:
-        raise ValueError(f"table = {table!r}: a run directory's tables are 'points' and 'attractors'")
-    folder = os.path.join(os.fspath(run_dir), table)
-    files = sorted(
-        os.path.join(folder, f)
-        for f in (os.listdir(folder) if os.path.isdir(folder) else [])
-        if f.startswith("part-") and f.endswith(".parquet")
-    )
-    if not files:
-        why = (
-            "only a harmonic study with a census ([scene] kind = \"harmonic\", starts >= 1) writes one"
-            if table == "attractors"
-            else "is it a run directory (RUN_DIR = OUT/<study name>) whose run has written a chunk?"
+    case's), or one that ``reduce`` writes: ``"summary"``, ``"zones"``, ``"jumps"``,
+    ``"sensitivity"``, ``"branches"``, ``"bifurcations"`` (docs/schema.md). Raises
+    ``ValueError`` naming the table and the directory when it has no such table."""
+    if table not in SWEEP_TABLES + REDUCE_TABLES:
+        names = ", ".join(repr(t) for t in SWEEP_TABLES + REDUCE_TABLES)
+        raise ValueError(f"table = {table!r}: a run directory's tables are {names}")
+    run = os.fspath(run_dir)
+    if table in SWEEP_TABLES:
+        folder = os.path.join(run, table)
+        where = f"{folder}/part-*.parquet"
+        files = sorted(
+            os.path.join(folder, f)
+            for f in (os.listdir(folder) if os.path.isdir(folder) else [])
+            if f.startswith("part-") and f.endswith(".parquet")
         )
-        raise ValueError(f"{os.fspath(run_dir)}: no {table} table ({folder}/part-*.parquet): {why}")
+    else:
+        where = os.path.join(run, f"{table}.parquet")
+        files = [where] if os.path.isfile(where) else []
+    if not files:
+        if table == "attractors":
+            why = 'only a harmonic study with a census ([scene] kind = "harmonic", starts >= 1) writes one'
+        elif table == "points":
+            why = "is it a run directory (OUT/<study name>) whose run has written a chunk?"
+        elif table in ("branches", "bifurcations"):
+            why = "`reduce` writes it for a harmonic study (bifurcations: with a design axis); run reduce(run_dir)"
+        else:
+            why = "`reduce` writes it; run reduce(run_dir)"
+        raise ValueError(f"{run}: no {table} table ({where}): {why}")
     if polars:
         import polars as pl
 

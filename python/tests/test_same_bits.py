@@ -232,5 +232,12 @@ def test_load_reads_the_attractors_table_every_case_and_names_a_missing_one(cli,
     assert cli("run", free, "--out", tmp_path / "out", "--quiet").returncode == 0
     with pytest.raises(ValueError, match=r"no attractors table .*only a harmonic study with a census"):
         isw.load(tmp_path / "out" / "batch", table="attractors")
-    with pytest.raises(ValueError, match=r"table = 'runs': a run directory's tables are 'points' and 'attractors'"):
-        isw.load(run_dir, table="runs")
+    with pytest.raises(ValueError, match=r"table = 'runs': a run directory's tables are 'points', 'attractors', 'summary'"):
+        isw.load(run_dir, "runs")
+    # reduce's tables, once it has run: the same rows as its Parquet files.
+    with pytest.raises(ValueError, match=r"no summary table .*run reduce\(run_dir\)"):
+        isw.load(run_dir, "summary")
+    isw.reduce(run_dir)
+    for name in ("summary", "zones", "branches", "sensitivity"):
+        assert_same_table(isw.load(run_dir, name).to_table(), pq.read_table(run_dir / f"{name}.parquet"))
+    assert isw.load(run_dir, "summary", polars=True).select(pl.len()).collect().item() == 4
