@@ -213,41 +213,47 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
     if let Some(sm) = sample
         && sm.runs > 0
     {
-        let per_run = sm.seconds / sm.runs as f64;
-        let mut total = per_run * plan.n_runs() as f64 / threads.max(1) as f64;
-        // A harmonic study's curve (one design and case over its frequencies) is one task: the
-        // run takes at least one curve's time, however many threads there are.
-        let curve = study.curve_points();
-        let mut bound = String::new();
-        if matches!(study.scene, Scene::Harmonic(_)) && curve > 1 {
-            let one = per_run * curve as f64;
-            if one > total {
-                total = one;
-                let curves = plan.n_runs() / curve;
-                bound = format!(
-                    "; a curve is one task, so its {} at most {}",
-                    count(curves, "curve keeps", "curves keep"),
-                    count(curves, "thread busy", "threads busy")
-                );
-            }
-        }
-        let what = match study.scene {
-            Scene::Harmonic(h) if h.starts > 0 => format!(
-                "{} frequencies of one design's curve, census and design life included",
-                sm.runs
-            ),
-            _ => format!("{} runs", sm.runs),
-        };
-        let _ = writeln!(
-            w,
-            "time estimate:  {} on {threads} thread{} ({:.1} us/run over a sample of {what}{bound})",
-            fmt_duration(total),
-            if threads == 1 { "" } else { "s" },
-            per_run * 1e6,
-        );
+        describe_time(w, study, &plan, threads, sm);
     }
     describe_disk(w, study, &plan, sample);
     s
+}
+
+/// The time estimate from the timed sample `sm`: its time per run scaled by the runs over the
+/// threads, and at least one curve's time for a harmonic study (a curve is one task).
+fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm: Sample) {
+    let per_run = sm.seconds / sm.runs as f64;
+    let mut total = per_run * plan.n_runs() as f64 / threads.max(1) as f64;
+    // A harmonic study's curve (one design and case over its frequencies) is one task: the
+    // run takes at least one curve's time, however many threads there are.
+    let curve = study.curve_points();
+    let mut bound = String::new();
+    if matches!(study.scene, Scene::Harmonic(_)) && curve > 1 {
+        let one = per_run * curve as f64;
+        if one > total {
+            total = one;
+            let curves = plan.n_runs() / curve;
+            bound = format!(
+                "; a curve is one task, so its {} at most {}",
+                count(curves, "curve keeps", "curves keep"),
+                count(curves, "thread busy", "threads busy")
+            );
+        }
+    }
+    let what = match study.scene {
+        Scene::Harmonic(h) if h.starts > 0 => format!(
+            "{} frequencies of one design's curve, census and design life included",
+            sm.runs
+        ),
+        _ => format!("{} runs", sm.runs),
+    };
+    let _ = writeln!(
+        w,
+        "time estimate:  {} on {threads} thread{} ({:.1} us/run over a sample of {what}{bound})",
+        fmt_duration(total),
+        if threads == 1 { "" } else { "s" },
+        per_run * 1e6,
+    );
 }
 
 /// The disk estimate: the points at a rough size per run ([`BYTES_PER_RUN`],
