@@ -329,3 +329,22 @@ fn a_harmonic_disk_estimate_counts_the_attractors_table() {
          attractors): {disk}"
     );
 }
+
+/// A harmonic study at one frequency: its timed sample is that frequency, said in the singular.
+#[test]
+fn a_one_frequency_sample_is_said_in_the_singular() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("one_r.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"one_r\"\n[system]\nv0 = 0.0\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n\
+         starts = 2\nnonperiodic_peak = \"window\"\n[sweep]\nm = [0.005, 0.01]\nr = [1.0]\n",
+    )
+    .unwrap();
+    let estimate = plan(&study, tmp.path());
+    let estimate = field(&estimate, "time estimate");
+    assert!(
+        estimate.contains("over a sample of 1 frequency of one design's curve"),
+        "{estimate}"
+    );
+}

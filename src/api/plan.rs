@@ -242,10 +242,10 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
     }
     let what = match study.scene {
         Scene::Harmonic(h) if h.starts > 0 => format!(
-            "{} frequencies of one design's curve, census and design life included",
-            sm.runs
+            "{} of one design's curve, census and design life included",
+            count(sm.runs, "frequency", "frequencies")
         ),
-        _ => format!("{} runs", sm.runs),
+        _ => count(sm.runs, "run", "runs"),
     };
     let _ = writeln!(
         w,
