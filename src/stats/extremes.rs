@@ -92,8 +92,9 @@ impl Gpd {
     }
 }
 
-/// `(m^xi - 1) / xi`, and `ln m` at `xi = 0`.
-fn growth(m: f64, xi: f64) -> f64 {
+/// `(m^xi - 1) / xi`, and `ln m` at `xi = 0`: how far above the threshold, in scales, the
+/// quantile `z_q = u + sigma growth(m, xi)` of the largest over a life lies (module doc).
+pub fn growth(m: f64, xi: f64) -> f64 {
     if xi.abs() < 1e-9 {
         m.ln()
     } else {
