@@ -696,34 +696,6 @@ fn without_flock_the_lock_file_alone_rules_and_the_run_says_so() {
         .stdout(predicate::str::contains("complete"));
 }
 
-/// Issue 23's study for the attractors parts: seven inner masses, four frequencies, two cases, a
-/// short census (as in `tests/forced_study.rs`), four design points per chunk: 7 chunks, each
-/// with its points part and its attractors part.
-const CENSUS_STUDY: &str = r#"[study]
-name = "att"
-seed = 23
-
-[system]
-v0 = 0.0
-
-[scene]
-kind = "harmonic"
-F0 = 0.3
-n_trans_max = 400
-life_max_periods = 2000
-starts = 4
-
-[sweep]
-m = { start = 0.0, stop = 0.03, num = 7 }
-r = { start = 0.9, stop = 1.05, num = 4 }
-
-[perturb]
-dd = [0.001]
-
-[run]
-chunk_points = 4
-"#;
-
 /// The faults of the points parts, on a harmonic study's attractors parts (issue 23: the same
 /// checksums, manifest and resume rules): a flipped byte, a truncated part and a deleted one are
 /// named by `status` and `reduce` (which refuses), recorded chunks whose attractors part is bad
@@ -734,7 +706,10 @@ chunk_points = 4
 fn damaged_attractors_parts_are_named_refused_and_repaired_by_resume() {
     let tmp = tempfile::tempdir().unwrap();
     let study = tmp.path().join("att.toml");
-    std::fs::write(&study, CENSUS_STUDY).unwrap();
+    // Issue 23's census study (`common::census_study_text`), four design points per chunk:
+    // 7 chunks, each with its points part and its attractors part.
+    let text = common::census_study_text("att") + "\n[run]\nchunk_points = 4\n";
+    std::fs::write(&study, text).unwrap();
     let clean = clean_dataset(tmp.path(), &study, "att");
     assert!(
         clean

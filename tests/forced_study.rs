@@ -401,34 +401,6 @@ fn issue_12_unrecorded_harmonic_parts_are_verified_and_kept() {
     assert!(sweep::status(&dir).unwrap().complete());
 }
 
-/// Issue 23's study: seven inner masses, four frequencies around resonance, two cases, a short
-/// census (4 starts, 400-period budget): cheap, with coexisting and rattling steady states.
-fn census_study_text(name: &str) -> String {
-    format!(
-        r#"[study]
-name = "{name}"
-seed = 23
-
-[system]
-v0 = 0.0
-
-[scene]
-kind = "harmonic"
-F0 = 0.3
-n_trans_max = 400
-life_max_periods = 2000
-starts = 4
-
-[sweep]
-m = {{ start = 0.0, stop = 0.03, num = 7 }}
-r = {{ start = 0.9, stop = 1.05, num = 4 }}
-
-[perturb]
-dd = [0.001]
-"#
-    )
-}
-
 /// Every attractors part's rows, in chunk order, as text (every value to its last bit).
 fn attractor_rows(dir: &Path) -> Vec<String> {
     let mut out = Vec::new();
@@ -449,7 +421,7 @@ fn attractor_rows(dir: &Path) -> Vec<String> {
 fn issue_23_attractor_tables_are_identical_across_threads_chunks_shards_and_kill_9() {
     let tmp = tempfile::tempdir().unwrap();
     let path = tmp.path().join("att.toml");
-    std::fs::write(&path, census_study_text("att")).unwrap();
+    std::fs::write(&path, common::census_study_text("att")).unwrap();
     let s = Study::load(&path).unwrap();
     let run = |out: &str, o: SweepOptions| {
         sweep::run_study(&s, &tmp.path().join(out), &o).unwrap();
@@ -547,7 +519,8 @@ fn issue_23_attractor_tables_are_identical_across_threads_chunks_shards_and_kill
 fn issue_23_window_peaks_store_the_same_attractors_without_the_design_life() {
     let tmp = tempfile::tempdir().unwrap();
     let rows = |name: &str, extra: &str| {
-        let text = census_study_text(name).replace("starts = 4\n", &format!("starts = 4\n{extra}"));
+        let text = common::census_study_text(name)
+            .replace("starts = 4\n", &format!("starts = 4\n{extra}"));
         let path = tmp.path().join(format!("{name}.toml"));
         std::fs::write(&path, text).unwrap();
         let s = Study::load(&path).unwrap();

@@ -369,3 +369,31 @@ pub fn table_i(
         settings: SolverSettings::default(),
     }
 }
+
+/// Issue 23's study: seven inner masses, four frequencies around resonance, two cases, a short
+/// census (4 starts, 400-period budget): cheap, with coexisting and rattling steady states.
+pub fn census_study_text(name: &str) -> String {
+    format!(
+        r#"[study]
+name = "{name}"
+seed = 23
+
+[system]
+v0 = 0.0
+
+[scene]
+kind = "harmonic"
+F0 = 0.3
+n_trans_max = 400
+life_max_periods = 2000
+starts = 4
+
+[sweep]
+m = {{ start = 0.0, stop = 0.03, num = 7 }}
+r = {{ start = 0.9, stop = 1.05, num = 4 }}
+
+[perturb]
+dd = [0.001]
+"#
+    )
+}

@@ -23,6 +23,7 @@ use super::plumbing::{
 use crate::reduce::forced::{Curve, ForcedSummary};
 use crate::reduce::table::{Column, Table, axis_column};
 use crate::reduce::{Grid, Summary};
+use crate::report::markdown::count;
 
 /// Curves drawn at most in one chart.
 pub const MAX_CURVES: usize = 8;
@@ -422,7 +423,7 @@ fn point_text(row: &Row, i: usize, c: &Curve, j: usize) -> String {
             a.kind.name(),
             fmt_num(a.life_lo.min(a.amplitude) * CM),
             fmt_num(a.life_hi * CM),
-            crate::report::markdown::count(a.measured_periods, "period", "periods"),
+            count(a.measured_periods, "period", "periods"),
             if a.life_capped { ", capped" } else { "" }
         ),
         Some(a) => a.kind.name().to_string(),
