@@ -1,0 +1,595 @@
+//! The random and record scenes on the event map of [`crate::sim::phase`] (impact law, chatter
+//! and sticking, separation): the load interval by interval, each on a fresh clock, and the
+//! run's observables.
+//!
+//! # A whole interval of free flight in one step
+//! Most intervals of a run hold no event: no wall is reached and no extremum of `|x|` can beat
+//! the largest so far. Such an interval is crossed in one step, outside the event loop: the end
+//! state from the free part's propagator over `dt` (a 2 x 2 multiply,
+//! [`crate::sim::linear::Propagator`]) plus the particular solution, after a check that cannot
+//! pass when an event is in the interval. The check bounds each watched function `g` (the
+//! displacement, the gap to each wall, whose inner mass is a cubic) by its cubic Hermite
+//! interpolant from both ends: the interpolant lies in the convex hull of its Bézier points
+//! `g0, g0 + dt g0'/3, g1 - dt g1'/3, g1`, and `|g - H| <= max |g''''| dt^4 / 384` with
+//! `|g''''| = |x''''| <= B4` (the free part's energy bound, [`Oscillator::derivative_bounds`];
+//! the particular part and the inner mass's cubic have no fourth derivative). When the hull with
+//! that margin keeps `|x|` below the largest `|x|` so far (and so below the threshold, until the
+//! first passage) and `y - x` off both walls, the interval has no event to report; otherwise the
+//! event loop of [`crate::sim::phase`] takes it with the event finder of
+//! [`crate::sim::driven`]. The result is the same motion either way, to rounding. A trace
+//! (`trace_dt`) sends every interval through the event loop.
+//!
+//! # Integrals
+//! `int x^2` and `int a^2` over a whole interval of free flight are quadratic forms of the
+//! interval's `u = (x0, v0, f0, f1)` (start state and the load at both ends, N on the main
+//! mass): every motion is linear in `u`, so `int x^2 = u^T Q u` with `Q = int phi phi^T` over the
+//! basis motions `phi`, integrated once per run setup by Gauss–Legendre
+//! ([`crate::numeric::gauss_legendre_n`]). Any other piece (between events, stuck) is
+//! integrated by 8-point Gauss–Legendre on the phase's closed form, in pieces at most 1/16 of
+//! the fastest period: both to rounding.
+
+use super::load::{Normals, Plan, Samples};
+use super::motion::Ramp;
+use super::{Input, RandomRecord, RandomScene};
+use crate::model::System;
+use crate::numeric::gauss_legendre_n;
+use crate::sim::driven::{Driven, DrivenPhase};
+use crate::sim::linear::{Oscillator, Propagator};
+use crate::sim::phase::{
+    self, Event, EventMap, Hit, Phase, PhaseSolver, SceneEvents, Wall, Walls, Watch,
+};
+use crate::sim::{Outcome, Probe, Request, SolverSettings, State};
+
+/// Solver steps and impacts a run may take per load interval before its caps stop it (the
+/// settings' caps hold for runs up to a few thousand intervals; longer runs get caps in
+/// proportion, so only a run that chatters or steps without end is stopped).
+pub const STEPS_PER_INTERVAL: u64 = 1_000;
+pub const IMPACTS_PER_INTERVAL: u64 = 100;
+
+/// One design's random or record scene, prepared once for all its realizations: the
+/// oscillators, the propagator over `dt`, the quadratic forms of a whole interval and the load's
+/// filter. [`RandomRun::run`] simulates one realization; pure.
+#[derive(Clone, Debug)]
+pub struct RandomRun {
+    sys: System,
+    settings: SolverSettings,
+    scene: RandomScene,
+    plan: Plan,
+    free: Oscillator,
+    pair: Oscillator,
+    prop: Propagator,
+    /// Upper triangles (row by row) of `Q` for `int x^2` and `int a^2` over a whole interval.
+    qx: [f64; 10],
+    qa: [f64; 10],
+    segments: u64,
+    tol_t: f64,
+    /// Longest Gauss–Legendre piece (s).
+    h_max: f64,
+    /// The Hermite interpolant's error per unit `B0 = sqrt(2 E / K)` of the free part's energy:
+    /// `c4 dt^4 / 384`, with `B4 = c4 B0` ([`Oscillator::derivative_bounds`]: every bound there
+    /// is a constant times the first).
+    err4: f64,
+    /// The force on the free main mass per unit load (`-M` for ground acceleration, 1 for a
+    /// force), `1 / K` and `M / K`.
+    free_scale: f64,
+    inv_k: f64,
+    m_over_k: f64,
+}
+
+/// Runs one realization (`normals`; a record draws none) of `scene` on `sys`:
+/// [`RandomRun::new`] then [`RandomRun::run`]. The caller has validated `sys`, `settings` and
+/// `scene` ([`RandomScene::validate`]).
+pub fn simulate_random<N: Normals, P: Probe>(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    scene: &RandomScene,
+    normals: N,
+    probe: &mut P,
+) -> RandomRecord {
+    RandomRun::new(sys, settings, scene).run(req, normals, probe)
+}
+
+impl RandomRun {
+    /// Prepares `scene` on `sys` (about as long as a few dozen intervals of a run).
+    pub fn new(sys: &System, settings: &SolverSettings, scene: &RandomScene) -> RandomRun {
+        let segments = scene.segments();
+        let settings = SolverSettings {
+            max_impacts: settings
+                .max_impacts
+                .max(IMPACTS_PER_INTERVAL.saturating_mul(segments)),
+            max_steps: settings
+                .max_steps
+                .max(STEPS_PER_INTERVAL.saturating_mul(segments)),
+            ..*settings
+        };
+        let free = Oscillator::new(sys.M, sys.K, sys.C);
+        let pair = Oscillator::new(sys.M + sys.m, sys.K, sys.C);
+        let dt = scene.dt;
+        let fastest = sys.omega().max(sys.C / sys.M);
+        let h_max = (std::f64::consts::TAU / fastest / 16.0).min(dt);
+        let contact = scene.input == Input::Force;
+        let (qx, qa) = quadratic_forms(&free, dt, h_max, contact);
+        // The bounds at the energy K/2, where B0 = 1: the constants c_j of B_j = c_j B0.
+        let c = free.derivative_bounds(0.5 * sys.K);
+        RandomRun {
+            sys: *sys,
+            settings,
+            scene: scene.clone(),
+            plan: Plan::new(scene),
+            free,
+            pair,
+            prop: free.propagator(dt),
+            qx,
+            qa,
+            segments,
+            tol_t: settings.tol * sys.period(),
+            h_max,
+            err4: c[4] * dt.powi(4) / 384.0,
+            free_scale: if contact { 1.0 } else { -sys.M },
+            inv_k: 1.0 / sys.K,
+            m_over_k: sys.M / sys.K,
+        }
+    }
+
+    /// Standard normals one realization draws (0 for a record): a realization given as a slice
+    /// ([`super::GivenNormals`]) needs this many.
+    pub fn n_normals(&self) -> usize {
+        self.plan.normals(self.segments) as usize
+    }
+
+    /// Load intervals of `dt` a run covers (the last one possibly shorter).
+    pub fn segments(&self) -> u64 {
+        self.segments
+    }
+
+    /// One realization. `req.trace_dt` sends a sampled trace to the probe (`peaks` and `t_end`
+    /// are free decay's and are not used).
+    pub fn run<N: Normals, P: Probe>(
+        &self,
+        req: &Request,
+        normals: N,
+        probe: &mut P,
+    ) -> RandomRecord {
+        let free = Ramp::new(self.free, 0.0, 0.0, self.scene.dt, (0.0, 0.0), false);
+        let mut solver = DrivenPhase::new(&free, self.tol_t, self.settings.max_steps);
+        let mut scene = Realization::new(self, req, normals, probe, free);
+        let load = scene.cross();
+        scene.begin_interval(&mut solver, load);
+        let outcome = phase::run(&mut scene, &mut solver);
+        let steps = solver.steps() + scene.crossed;
+        scene.finish(outcome, steps)
+    }
+}
+
+/// The quadratic forms of `int x^2` and `int a^2` (absolute acceleration) over a whole interval
+/// of `dt` of the free main mass `free`, in `u = (x0, v0, f0, f1)` (module doc). `contact`: the
+/// load is a force on the main mass (it enters the acceleration).
+fn quadratic_forms(
+    free: &Oscillator,
+    dt: f64,
+    h_max: f64,
+    contact: bool,
+) -> ([f64; 10], [f64; 10]) {
+    let basis: [Ramp; 4] = [
+        Ramp::new(*free, 0.0, 0.0, dt, (0.0, 0.0), contact),
+        Ramp::new(*free, 0.0, 0.0, dt, (0.0, 0.0), contact),
+        Ramp::new(*free, 1.0, -1.0 / dt, dt, (0.0, 0.0), contact),
+        Ramp::new(*free, 0.0, 1.0 / dt, dt, (0.0, 0.0), contact),
+    ];
+    let starts: [(f64, f64); 4] = [(1.0, 0.0), (0.0, 1.0), (0.0, 0.0), (0.0, 0.0)];
+    let free_parts: Vec<(f64, f64)> = basis
+        .iter()
+        .zip(starts)
+        .map(|(r, (x, v))| {
+            let (h, g, _) = r.start(0.0, x, v);
+            (h, g)
+        })
+        .collect();
+    let sums = gauss_legendre_n(0.0, dt, h_max, |t| {
+        let mut x = [0.0; 4];
+        let mut a = [0.0; 4];
+        for i in 0..4 {
+            let (h, g) = free_parts[i];
+            let jet = basis[i].jet(0.0, h, g, t);
+            x[i] = jet.x;
+            a[i] = basis[i].absolute_accel(t, jet.x, jet.v);
+        }
+        let mut out = [0.0; 20];
+        let mut n = 0;
+        for i in 0..4 {
+            for j in i..4 {
+                out[n] = x[i] * x[j];
+                out[n + 10] = a[i] * a[j];
+                n += 1;
+            }
+        }
+        out
+    });
+    let mut qx = [0.0; 10];
+    let mut qa = [0.0; 10];
+    qx.copy_from_slice(&sums[..10]);
+    qa.copy_from_slice(&sums[10..]);
+    (qx, qa)
+}
+
+/// `u^T Q u` from the upper triangle of `Q`.
+#[inline]
+fn quadratic(q: &[f64; 10], u: [f64; 4]) -> f64 {
+    let [a, b, c, d] = u;
+    q[0] * a * a
+        + q[4] * b * b
+        + q[7] * c * c
+        + q[9] * d * d
+        + 2.0
+            * (q[1] * a * b
+                + q[2] * a * c
+                + q[3] * a * d
+                + q[5] * b * c
+                + q[6] * b * d
+                + q[8] * c * d)
+}
+
+/// The range `(min, max)` of the convex hull of the Bézier points of the cubic Hermite
+/// interpolant from `(g0, d0)` to `(g1, d1)` over an interval of `3 third` (module doc).
+#[inline]
+fn hull(g0: f64, d0: f64, g1: f64, d1: f64, third: f64) -> (f64, f64) {
+    let (p, q) = (g0 + third * d0, g1 - third * d1);
+    (g0.min(p).min(q).min(g1), g0.max(p).max(q).max(g1))
+}
+
+/// One realization on the event map.
+struct Realization<'a, N: Normals, P: Probe> {
+    /// Its clock `map.t` is the time since the current interval's start `k dt`.
+    map: EventMap<'a, Ramp>,
+    run: &'a RandomRun,
+    req: &'a Request,
+    samples: Samples<'a, N>,
+    probe: &'a mut P,
+    /// The current interval, its length and its start state.
+    k: u64,
+    len: f64,
+    start: (f64, f64),
+    /// The interval so far is one phase of free flight from its start (its integrals are the
+    /// quadratic forms).
+    clean: bool,
+    /// Start of the piece not yet integrated, and of the solver's phase (local times).
+    piece: f64,
+    phase_start: f64,
+    last: Event,
+    amplitude: f64,
+    t_peak: f64,
+    /// Intervals crossed in one step (each counts as a solver step).
+    crossed: u64,
+    int_x2: f64,
+    int_a2: f64,
+    first_passage: Option<f64>,
+    energy_impact: f64,
+    next_trace: u64,
+}
+
+impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
+    fn new(run: &'a RandomRun, req: &'a Request, normals: N, probe: &'a mut P, free: Ramp) -> Self {
+        let map = EventMap::new(&run.sys, &run.settings, free, free);
+        let x0 = map.s.x;
+        let first_passage = run
+            .scene
+            .threshold
+            .and_then(|b| (x0.abs() > b).then_some(0.0));
+        Realization {
+            map,
+            run,
+            req,
+            samples: Samples::new(&run.plan, run.scene.dt, normals),
+            probe,
+            k: 0,
+            len: run.scene.dt,
+            start: (x0, 0.0),
+            clean: false,
+            piece: 0.0,
+            phase_start: 0.0,
+            last: Event::Limit,
+            amplitude: x0.abs(),
+            t_peak: 0.0,
+            crossed: 0,
+            int_x2: 0.0,
+            int_a2: 0.0,
+            first_passage,
+            energy_impact: 0.0,
+            next_trace: 0,
+        }
+    }
+
+    /// The absolute time of local time `t`.
+    fn abs(&self, t: f64) -> f64 {
+        self.k as f64 * self.run.scene.dt + t
+    }
+
+    /// Crosses whole intervals of free flight in one step each from interval `k` on while no
+    /// event can be in them (module doc); returns the load of the first one that might hold an
+    /// event (or the last interval, or any interval under a trace), where the event loop goes
+    /// on.
+    fn cross(&mut self) -> (f64, f64) {
+        loop {
+            let load = self.samples.next();
+            let eligible = self.k + 1 < self.run.segments
+                && self.map.phase == Phase::Free
+                && self.req.trace_dt.is_none();
+            if !(eligible && self.whole(load)) {
+                return load;
+            }
+            self.k += 1;
+            self.crossed += 1;
+        }
+    }
+
+    /// Moves the map over the whole interval `k` under the load `(q0, qs)` when no event can be
+    /// in it (module doc), adding its integrals; `false`, and nothing moved, when one might.
+    fn whole(&mut self, (q0, qs): (f64, f64)) -> bool {
+        let run = self.run;
+        let sys = &run.sys;
+        let dt = run.scene.dt;
+        let (f0, s) = (run.free_scale * q0, run.free_scale * qs);
+        let p1 = s * run.inv_k;
+        let p0 = (f0 - sys.C * p1) * run.inv_k;
+        let st = self.map.s;
+        let (h0, g0) = (st.x - p0, st.v - p1);
+        let (xh, vh) = run.prop.apply(h0, g0);
+        let (x1, v1) = (xh + (p0 + p1 * dt), vh + p1);
+        // B0 = sqrt(2 E / K) of the free part, whose energy never increases.
+        let err = run.err4 * (h0 * h0 + run.m_over_k * g0 * g0).sqrt();
+        let third = dt / 3.0;
+        let (lo, hi) = hull(st.x, st.v, x1, v1, third);
+        // (A NaN bound is not below.)
+        let below = hi.max(-lo) + err < self.amplitude;
+        if !below {
+            return false;
+        }
+        let (y1, w1) = if sys.m > 0.0 {
+            let (ya, yj) = match run.scene.input {
+                Input::Base => (-q0, -qs),
+                Input::Force => (0.0, 0.0),
+            };
+            let walls = Walls {
+                t0: 0.0,
+                y0: st.y,
+                w: st.w,
+                half_d: 0.5 * sys.d,
+                ya,
+                yj,
+                ya_max: 0.0,
+            };
+            let (y1, w1, _, _) = walls.at(dt);
+            let (lo, hi) = hull(st.y - st.x, st.w - st.v, y1 - x1, w1 - v1, third);
+            let scale = walls.half_d + st.x.abs() + x1.abs() + st.y.abs() + y1.abs();
+            let margin = err + 1e-12 * scale;
+            let inside = hi + margin < walls.half_d && lo - margin > -walls.half_d;
+            if !inside {
+                return false;
+            }
+            (y1, w1)
+        } else {
+            // A massless inner mass is carried along where it started in the cavity.
+            (x1 + (sys.y0 - sys.x0), v1)
+        };
+        let u = [st.x, st.v, f0, f0 + s * dt];
+        self.int_x2 += quadratic(&run.qx, u);
+        self.int_a2 += quadratic(&run.qa, u);
+        self.map.s = State {
+            x: x1,
+            v: v1,
+            y: y1,
+            w: w1,
+        };
+        true
+    }
+
+    /// Starts interval `k` in the event loop: its load `(q0, qs)`, the motions of the free main
+    /// mass and of the stuck pair, a fresh clock.
+    fn begin_interval(&mut self, solver: &mut DrivenPhase<Ramp>, (q0, qs): (f64, f64)) {
+        let run = self.run;
+        let (sys, dt) = (&run.sys, run.scene.dt);
+        self.len = if self.k + 1 < run.segments {
+            dt
+        } else {
+            let rest = run.scene.duration - self.k as f64 * dt;
+            if (rest - dt).abs() <= 1e-9 * dt {
+                dt
+            } else {
+                rest.clamp(0.0, dt)
+            }
+        };
+        // The force on the free main mass and on the pair, and the free inner mass's acceleration.
+        let (free_scale, pair_scale, inner, contact) = match run.scene.input {
+            Input::Base => (-sys.M, -(sys.M + sys.m), (-q0, -qs), false),
+            Input::Force => (1.0, 1.0, (0.0, 0.0), true),
+        };
+        let motion =
+            |osc, scale: f64| Ramp::new(osc, scale * q0, scale * qs, self.len, inner, contact);
+        self.map.free = motion(run.free, free_scale);
+        self.map.pair = motion(run.pair, pair_scale);
+        self.map.t = 0.0;
+        self.piece = 0.0;
+        self.phase_start = 0.0;
+        self.start = (self.map.s.x, self.map.s.v);
+        self.clean = self.map.phase == Phase::Free && self.len == dt;
+        self.map.v_side = self.map.v_sign();
+        self.map.begin(solver);
+    }
+
+    fn candidate(&mut self, x: f64) {
+        if x.abs() > self.amplitude {
+            self.amplitude = x.abs();
+            self.t_peak = self.abs(self.map.t);
+        }
+    }
+
+    /// Adds the piece from `self.piece` to `t` to the integrals (module doc).
+    fn integrate(&mut self, solver: &DrivenPhase<Ramp>, t: f64) {
+        let dt = self.run.scene.dt;
+        if self.clean && self.piece == 0.0 && t == dt {
+            let f = &self.map.free;
+            let u = [self.start.0, self.start.1, f.f0, f.f0 + f.s * dt];
+            self.int_x2 += quadratic(&self.run.qx, u);
+            self.int_a2 += quadratic(&self.run.qa, u);
+        } else if t > self.piece {
+            let inner = solver;
+            let motion = *inner.phase().0;
+            let [x2, a2] = gauss_legendre_n(self.piece, t, self.run.h_max, |tt| {
+                let jet = inner.at(tt);
+                let a = motion.absolute_accel(tt, jet.x, jet.v);
+                [jet.x * jet.x, a * a]
+            });
+            self.int_x2 += x2;
+            self.int_a2 += a2;
+        }
+        self.piece = t;
+    }
+
+    /// The first passage of `|x|` over the threshold, when it happened since the solver's
+    /// phase began: `|x|` was at most the threshold there and no extremum above it came before
+    /// now (it would have been an event), so `|x| - b` changes sign once; bisection to the
+    /// event tolerance.
+    fn passage(&mut self, solver: &DrivenPhase<Ramp>) {
+        let (Some(b), None) = (self.run.scene.threshold, self.first_passage) else {
+            return;
+        };
+        if self.map.s.x.abs() <= b {
+            return;
+        }
+        let (mut lo, mut hi) = (self.phase_start, self.map.t);
+        while hi - lo > self.run.tol_t {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if solver.at(mid).x.abs() > b {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        self.first_passage = Some(self.abs(hi));
+    }
+
+    fn finish(self, outcome: Outcome, steps: u64) -> RandomRecord {
+        let ok = outcome == Outcome::Ok;
+        let nan = f64::NAN;
+        let duration = self.run.scene.duration;
+        let keep = |v: f64| if ok { v } else { nan };
+        RandomRecord {
+            outcome,
+            amplitude: keep(self.amplitude),
+            t_peak: keep(self.t_peak),
+            rms_x: keep((self.int_x2 / duration).sqrt()),
+            rms_acc: keep((self.int_a2 / duration).sqrt()),
+            first_passage_time: self.first_passage,
+            impacts: self.map.impacts,
+            sticks: self.map.sticks,
+            energy_impact: keep(self.energy_impact),
+            samples: self.k + 1,
+            t_stop: self.abs(self.map.t),
+            steps,
+        }
+    }
+}
+
+impl<'a, N: Normals, P: Probe> SceneEvents<'a, DrivenPhase<Ramp>> for Realization<'a, N, P> {
+    fn map(&self) -> &EventMap<'a, Ramp> {
+        &self.map
+    }
+
+    fn map_mut(&mut self) -> &mut EventMap<'a, Ramp> {
+        &mut self.map
+    }
+
+    fn watch(&self) -> Watch {
+        let mut t_limit = self.len;
+        if let Some(dt) = self.req.trace_dt {
+            t_limit = t_limit.min(self.next_trace as f64 * dt - self.abs(0.0));
+        }
+        let (walls, sep_side) = match self.map.phase {
+            // `m = 0` is the structure alone: a massless inner mass cannot act on it.
+            Phase::Free if self.map.sys.m == 0.0 => (None, None),
+            _ => self.map.contact(),
+        };
+        Watch {
+            walls,
+            x_side: None,
+            v_side: Some(self.map.v_side),
+            x_floor: self.amplitude,
+            sep_side,
+            t_limit: t_limit.max(self.map.t),
+        }
+    }
+
+    fn arrived(&mut self, _solver: &DrivenPhase<Ramp>, ev: Event) {
+        self.last = ev;
+    }
+
+    /// Integrates a piece that ends here (a phase's end, the interval's end), looks for the
+    /// first passage. (The probe's `energy` is reported after impacts only.)
+    fn synced(&mut self, solver: &DrivenPhase<Ramp>) {
+        let t = self.map.t;
+        let ends = match self.last {
+            Event::Wall(_) | Event::Separation => true,
+            Event::Limit => t >= self.len,
+            _ => false,
+        };
+        if ends {
+            self.integrate(solver, t);
+        }
+        self.passage(solver);
+    }
+
+    fn at_wall(&mut self) {
+        self.candidate(self.map.s.x);
+    }
+
+    fn impacted(&mut self, hit: &Hit) {
+        let sys = self.map.sys;
+        let e_before = sys.energy(hit.before.x, hit.before.v, hit.before.w);
+        let s = &self.map.s;
+        let e_after = sys.energy(s.x, s.v, s.w);
+        self.energy_impact += e_before - e_after;
+        let now = self.abs(self.map.t);
+        self.probe.impact(now, hit.wall, &hit.before, &hit.after);
+        if hit.stuck {
+            self.probe.stick(now, hit.wall, &self.map.s);
+        }
+        self.probe.energy(now, e_after);
+        self.clean = false;
+        self.phase_start = self.map.t;
+    }
+
+    fn separated(&mut self, wall: Wall) {
+        let now = self.abs(self.map.t);
+        self.probe.separate(now, wall, &self.map.s);
+        self.clean = false;
+        self.phase_start = self.map.t;
+    }
+
+    fn v_zero(&mut self) {
+        self.candidate(self.map.s.x);
+    }
+
+    fn limit(&mut self, solver: &mut DrivenPhase<Ramp>) -> Option<Outcome> {
+        if let Some(dt) = self.req.trace_dt
+            && self.next_trace as f64 * dt - self.abs(0.0) <= self.map.t
+        {
+            let now = self.abs(self.map.t);
+            self.probe.sample(now, &self.map.s);
+            self.next_trace += 1;
+        }
+        if self.map.t >= self.len {
+            if self.k + 1 >= self.run.segments {
+                self.candidate(self.map.s.x);
+                return Some(Outcome::Ok);
+            }
+            self.k += 1;
+            let load = self.cross();
+            self.begin_interval(solver, load);
+        }
+        None
+    }
+}

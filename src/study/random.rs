@@ -1,0 +1,373 @@
+//! `[scene] kind = "random"` and `kind = "record"` (docs/scenes.md, docs/model.md §13): the
+//! structure under a random load generated per realization, or under a recorded accelerogram
+//! or force history. The keys live in `[scene]` beside the harmonic scene's
+//! ([`super::scene::RawScene`]); this module validates them into a [`RandomScene`] and the
+//! number of realizations, reads the record ([`super::record`]) and checks one swept value of a
+//! scene key ([`check_key`]).
+//!
+//! | key | scene | unit | default | range |
+//! |---|---|---|---|---|
+//! | `input` | both | | `"base"` (a record: its column) | `"base"` (ground acceleration) or `"force"` |
+//! | `spectrum` | random | | required | `"white"`, `"kanai-tajimi"`, `"clough-penzien"` |
+//! | `S0` | random | (m/s^2)^2 or N^2 per rad/s | required | `(0, 1e12]`, sweepable |
+//! | `omega_g`, `zeta_g` | random (Kanai–Tajimi, Clough–Penzien) | rad/s, 1 | required | `[1e-3, 1e5]`, `[1e-3, 10]`, sweepable |
+//! | `omega_f`, `zeta_f` | random (Clough–Penzien) | rad/s, 1 | required | the same |
+//! | `dt` | random | s | 0.005 | `[1e-6, 1]` |
+//! | `duration` | both | s | required (a record: its own) | `(0, 1e6]`, at most `1e8` samples |
+//! | `envelope = { t1, t2, c }` | random | s, s, 1/s | none | `0 <= t1 <= t2`, `c >= 0` |
+//! | `realizations` | random | | 1000 | `[1, 10^7]` (a record: 1) |
+//! | `threshold` | both | m | none | `> 0` |
+//! | `record` | record | path | required | CSV relative to the study file |
+//! | `scale` | record | 1 | 1 | `> 0`, sweepable |
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use super::axis::RawAxis;
+use super::record;
+use super::scene::{RANDOM_ONLY, RECORD_ONLY, RawScene};
+use super::{Cx, num, range_value};
+use crate::error::InputError;
+use crate::model::RangeError;
+use crate::sim::random::{
+    Envelope, Excitation, Input, RandomLoad, RandomScene, Recorded, Spectrum,
+};
+
+/// Default realizations per design point.
+pub const DEFAULT_REALIZATIONS: u64 = 1000;
+
+/// Default sample interval of a random load (s): 200 samples per second, the rate of many
+/// strong-motion records.
+pub const DEFAULT_DT: f64 = 0.005;
+
+/// Checks one value of a swept scene key on its own (`S0`, `omega_g`, `zeta_g`, `omega_f`,
+/// `zeta_f`, `scale`).
+pub(super) fn check_key(key: &str, v: f64) -> Result<(), RangeError> {
+    let mut s = RandomScene {
+        input: Input::Base,
+        excitation: Excitation::Random(RandomLoad {
+            spectrum: Spectrum::CloughPenzien {
+                omega_g: 1.0,
+                zeta_g: 1.0,
+                omega_f: 1.0,
+                zeta_f: 1.0,
+            },
+            S0: 1.0,
+            envelope: None,
+        }),
+        dt: DEFAULT_DT,
+        duration: 1.0,
+        threshold: None,
+    };
+    if key == "scale" {
+        s.excitation = Excitation::Record(Recorded {
+            values: vec![0.0, 0.0].into(),
+            scale: 1.0,
+        });
+    }
+    s.set(key, v);
+    s.validate()
+}
+
+/// The scene keys a study of `scene` may sweep.
+pub(super) fn axes_of(scene: &RandomScene) -> Vec<&'static str> {
+    match &scene.excitation {
+        Excitation::Record(_) => vec!["scale"],
+        Excitation::Random(r) => match r.spectrum {
+            Spectrum::White => vec!["S0"],
+            Spectrum::KanaiTajimi { .. } => vec!["S0", "omega_g", "zeta_g"],
+            Spectrum::CloughPenzien { .. } => {
+                vec!["S0", "omega_g", "zeta_g", "omega_f", "zeta_f"]
+            }
+        },
+    }
+}
+
+/// The validated random or record scene of `kind` and its realizations per design point. Keys
+/// swept in `[sweep]` hold 1 here (the plan sets them per point; their range is checked on the
+/// axis). `dir` is the study file's folder (a record's path is relative to it).
+pub(super) fn scene(
+    cx: &Cx,
+    kind: &str,
+    raw: &RawScene,
+    sweep: &BTreeMap<String, RawAxis>,
+    dir: &Path,
+) -> Result<(RandomScene, u64), InputError> {
+    let (other, other_kind) = if kind == "random" {
+        (&RECORD_ONLY[..], "record")
+    } else {
+        (&RANDOM_ONLY[..], "random")
+    };
+    for key in other {
+        if raw.has(key) {
+            return Err(cx.err(
+                &format!("[scene].{key}"),
+                cx.source("scene", key),
+                format!("{key} belongs to the {other_kind} scene; this study's kind is {kind:?}"),
+            ));
+        }
+    }
+    for key in crate::sim::random::RandomScene::AXES {
+        if raw.has(key) && sweep.contains_key(key) {
+            return Err(cx.err(
+                &format!("[scene].{key}"),
+                cx.source("scene", key),
+                format!("{key} is also swept in [sweep]; a key is either fixed or swept, not both"),
+            ));
+        }
+    }
+    let value = |key: &str| -> Result<f64, InputError> {
+        match raw.number(key) {
+            Some(v) => Ok(v),
+            None if sweep.contains_key(key) => Ok(1.0),
+            None => Err(missing(
+                cx,
+                key,
+                &format!("the {kind} scene needs {key} (fixed here or swept in [sweep])"),
+            )),
+        }
+    };
+    let input = match &raw.input {
+        Some(s) => Some(Input::parse(s).ok_or_else(|| {
+            cx.err(
+                "[scene].input",
+                format!("{s:?}"),
+                "unknown input; allowed: base (ground acceleration, displacements relative to the \
+                 ground), force (a force on the main mass)",
+            )
+        })?),
+        None => None,
+    };
+    let (scene, realizations) = if kind == "random" {
+        random(cx, raw, input.unwrap_or(Input::Base), &value)?
+    } else {
+        recorded(cx, raw, input, &value, dir)?
+    };
+    scene
+        .validate()
+        .map_err(|e| cx.err(&format!("[scene].{}", e.key), range_value(&e), e.allowed))?;
+    Ok((scene, realizations))
+}
+
+/// A key of `[scene]` the scene needs and the study lacks.
+fn missing(cx: &Cx, key: &str, why: &str) -> InputError {
+    InputError::new(format!("{}: [scene].{key}: missing; {why}", cx.file))
+}
+
+/// The random scene's keys.
+fn random(
+    cx: &Cx,
+    raw: &RawScene,
+    input: Input,
+    value: &dyn Fn(&str) -> Result<f64, InputError>,
+) -> Result<(RandomScene, u64), InputError> {
+    let Some(name) = &raw.spectrum else {
+        return Err(missing(
+            cx,
+            "spectrum",
+            &format!(
+                "the random scene needs a spectrum; allowed: {}",
+                Spectrum::NAMES.join(", ")
+            ),
+        ));
+    };
+    let spectrum = match name.as_str() {
+        "white" => Spectrum::White,
+        "kanai-tajimi" => Spectrum::KanaiTajimi {
+            omega_g: value("omega_g")?,
+            zeta_g: value("zeta_g")?,
+        },
+        "clough-penzien" => Spectrum::CloughPenzien {
+            omega_g: value("omega_g")?,
+            zeta_g: value("zeta_g")?,
+            omega_f: value("omega_f")?,
+            zeta_f: value("zeta_f")?,
+        },
+        _ => {
+            return Err(cx.err(
+                "[scene].spectrum",
+                format!("{name:?}"),
+                format!("unknown spectrum; allowed: {}", Spectrum::NAMES.join(", ")),
+            ));
+        }
+    };
+    // A filter key the spectrum does not have.
+    let used: &[&str] = match spectrum {
+        Spectrum::White => &[],
+        Spectrum::KanaiTajimi { .. } => &["omega_g", "zeta_g"],
+        Spectrum::CloughPenzien { .. } => &["omega_g", "zeta_g", "omega_f", "zeta_f"],
+    };
+    for key in ["omega_g", "zeta_g", "omega_f", "zeta_f"] {
+        if raw.has(key) && !used.contains(&key) {
+            return Err(cx.err(
+                &format!("[scene].{key}"),
+                cx.source("scene", key),
+                format!(
+                    "spectrum = {name:?} has no {key}; omega_g and zeta_g belong to kanai-tajimi \
+                     and clough-penzien, omega_f and zeta_f to clough-penzien"
+                ),
+            ));
+        }
+    }
+    let realizations = raw.realizations.unwrap_or(DEFAULT_REALIZATIONS);
+    if !(1..=10_000_000).contains(&realizations) {
+        return Err(cx.err(
+            "[scene].realizations",
+            realizations,
+            "must be a whole number in [1, 10000000]",
+        ));
+    }
+    let scene = RandomScene {
+        input,
+        excitation: Excitation::Random(RandomLoad {
+            spectrum,
+            S0: value("S0")?,
+            envelope: raw.envelope.as_ref().map(|e| Envelope {
+                t1: e.t1,
+                t2: e.t2,
+                c: e.c,
+            }),
+        }),
+        dt: raw.dt.unwrap_or(DEFAULT_DT),
+        duration: value("duration")?,
+        threshold: raw.threshold,
+    };
+    Ok((scene, realizations))
+}
+
+/// The record scene's keys and its file.
+fn recorded(
+    cx: &Cx,
+    raw: &RawScene,
+    input: Option<Input>,
+    value: &dyn Fn(&str) -> Result<f64, InputError>,
+    dir: &Path,
+) -> Result<(RandomScene, u64), InputError> {
+    let Some(shown) = &raw.record else {
+        return Err(missing(
+            cx,
+            "record",
+            "the record scene needs record = \"path\" (CSV, columns t and a or t and F, relative \
+             to the study file)",
+        ));
+    };
+    if let Some(n) = raw.realizations
+        && n != 1
+    {
+        return Err(cx.err(
+            "[scene].realizations",
+            n,
+            "a record is one load: realizations must be 1 (sweep scale for intensities)",
+        ));
+    }
+    let file = record::read(cx, shown, &dir.join(shown))?;
+    if let Some(i) = input
+        && i != file.input
+    {
+        let column = if file.input == Input::Base { "a" } else { "F" };
+        return Err(cx.err(
+            "[scene].input",
+            format!("{:?}", i.name()),
+            format!(
+                "the record {shown:?} holds column {column}, a {}; give input = {:?} or leave \
+                 input out",
+                if file.input == Input::Base {
+                    "ground acceleration"
+                } else {
+                    "force"
+                },
+                file.input.name()
+            ),
+        ));
+    }
+    let length = (file.values.len() - 1) as f64 * file.dt;
+    let duration = raw.number("duration").unwrap_or(length);
+    let scale = if raw.has("scale") {
+        value("scale")?
+    } else {
+        1.0
+    };
+    let scene = RandomScene {
+        input: file.input,
+        excitation: Excitation::Record(Recorded {
+            values: file.values,
+            scale,
+        }),
+        dt: file.dt,
+        duration,
+        threshold: raw.threshold,
+    };
+    if !(file.dt >= 1e-6 && file.dt <= 1.0) {
+        return Err(cx.err(
+            "[scene].record",
+            format!("{shown:?}"),
+            format!(
+                "the record's sample interval is {} s; allowed: [1e-6, 1] s",
+                num(file.dt)
+            ),
+        ));
+    }
+    Ok((scene, 1))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use crate::sim::random::{Excitation, Input, Spectrum};
+    use crate::study::RandomStudy;
+
+    fn parse(body: &str) -> Result<RandomStudy, String> {
+        RandomStudy::parse(
+            Path::new("r.toml"),
+            &format!("[study]\nname = \"r\"\n{body}"),
+        )
+        .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn a_kanai_tajimi_study_is_validated_with_its_defaults() {
+        let s = parse(
+            "[scene]\nkind = \"random\"\nspectrum = \"kanai-tajimi\"\nS0 = 0.01\nomega_g = 15.6\n\
+             zeta_g = 0.6\nduration = 20\nthreshold = 0.02\nenvelope = { t1 = 2, t2 = 10, c = 0.3 }\n\
+             [sweep]\nm = [0.01, 0.02]\n",
+        )
+        .unwrap();
+        assert_eq!(s.realizations, 1000);
+        assert_eq!(s.scene.dt, 0.005);
+        assert_eq!(s.scene.input, Input::Base);
+        assert_eq!(s.n_points(), 2);
+        // The structure starts at rest.
+        assert_eq!(
+            (s.system.x0, s.system.v0, s.system.y0, s.system.w0),
+            (0.0, 0.0, 0.0, 0.0)
+        );
+        let Excitation::Random(r) = &s.scene.excitation else {
+            panic!()
+        };
+        assert_eq!(
+            r.spectrum,
+            Spectrum::KanaiTajimi {
+                omega_g: 15.6,
+                zeta_g: 0.6
+            }
+        );
+        assert!(r.envelope.is_some());
+    }
+
+    #[test]
+    fn a_swept_intensity_lands_on_each_point() {
+        let s = parse(
+            "[scene]\nkind = \"random\"\nspectrum = \"white\"\nduration = 5\n[sweep]\n\
+             S0 = [0.001, 0.01, 0.1]\nd = [0.01, 0.02]\n",
+        )
+        .unwrap();
+        assert_eq!(s.n_points(), 6);
+        let (sys, scene) = s.point(3);
+        assert_eq!(sys.d, 0.02);
+        let Excitation::Random(r) = &scene.excitation else {
+            panic!()
+        };
+        assert_eq!(r.S0, 0.01);
+    }
+}

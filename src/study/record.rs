@@ -1,0 +1,208 @@
+//! A record file (`[scene] record = "path"` of a record study): a recorded accelerogram or force
+//! history, read once at load and shared by every run.
+//!
+//! The format is CSV: a header naming two columns, `t` (s) and `a` (ground acceleration, m/s^2)
+//! or `t` and `F` (a force on the main mass, N), then one row per sample. Blank lines and lines
+//! starting with `#` are skipped. The samples must be evenly spaced and in increasing `t`:
+//! `dt = (t_last - t_first) / (rows - 1)`, and every `t_i` within `1e-6 dt` of
+//! `t_first + i dt` (a record written with enough digits passes; one resampled by hand
+//! without does not). The run's `t = 0` is the first row. Every value must be a finite number.
+//! Each error names the study, the key, the record file, the row (counted from the first data
+//! row, with its line in the file) and what is allowed.
+//!
+//! A Parquet record is refused with a message: reading one needs a reader of plain columns from
+//! the store layer, which does not exist yet.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use super::{Cx, num};
+use crate::error::InputError;
+use crate::sim::random::Input;
+
+/// How far a sample's time may sit from its place on the grid, relative to `dt`.
+pub const EVEN_TOL: f64 = 1e-6;
+
+/// A record as read: its sample interval, its samples and what they are.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct RecordFile {
+    pub dt: f64,
+    pub values: Arc<[f64]>,
+    pub input: Input,
+}
+
+/// Reads and checks the record at `path` (as the study wrote it in `shown`, resolved against the
+/// study's folder).
+pub(super) fn read(cx: &Cx, shown: &str, path: &Path) -> Result<RecordFile, InputError> {
+    let at = "[scene].record";
+    let value = format!("{shown:?}");
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if ext.eq_ignore_ascii_case("parquet") {
+        return Err(cx.err(
+            at,
+            value,
+            "a Parquet record is not read yet; give the record as CSV with a header t,a \
+             (ground acceleration, m/s^2) or t,F (force, N)",
+        ));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        cx.err(
+            at,
+            &value,
+            format!("cannot read the record file {}: {e}", path.display()),
+        )
+    })?;
+    parse(&text).map_err(|why| cx.err(at, &value, format!("{}: {why}", path.display())))
+}
+
+/// Parses and checks a record's CSV text (module doc); the error says where and what is
+/// allowed.
+pub(super) fn parse(text: &str) -> Result<RecordFile, String> {
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let Some((_, header)) = lines.next() else {
+        return Err("the file is empty; it needs a header t,a or t,F and at least two rows".into());
+    };
+    let names: Vec<&str> = header
+        .split(',')
+        .map(|c| c.trim().trim_matches('"'))
+        .collect();
+    let input = match names.as_slice() {
+        ["t", "a"] => Input::Base,
+        ["t", "F"] => Input::Force,
+        _ => {
+            return Err(format!(
+                "the header names the columns {}; allowed: t,a (ground acceleration, m/s^2) or \
+                 t,F (force on the main mass, N)",
+                names.join(", ")
+            ));
+        }
+    };
+    let column = names[1];
+    let mut ts: Vec<f64> = Vec::new();
+    let mut values: Vec<f64> = Vec::new();
+    let mut rows: Vec<usize> = Vec::new();
+    for (line, body) in lines {
+        let row = ts.len() + 1;
+        let at = format!("row {row} (line {line})");
+        let cells: Vec<&str> = body.split(',').map(str::trim).collect();
+        if cells.len() != 2 {
+            return Err(format!(
+                "{at}: {} values; each row holds t and {column}",
+                cells.len()
+            ));
+        }
+        let mut pair = [0.0; 2];
+        for (slot, (cell, name)) in pair.iter_mut().zip(cells.iter().zip(["t", column])) {
+            let v: f64 = cell
+                .parse()
+                .map_err(|_| format!("{at}: {name} = {cell:?} is not a number"))?;
+            if !v.is_finite() {
+                return Err(format!(
+                    "{at}: {name} = {cell}: every value must be a finite number"
+                ));
+            }
+            *slot = v;
+        }
+        if let Some(&prev) = ts.last()
+            && pair[0] <= prev
+        {
+            return Err(format!(
+                "{at}: t = {} is not after the previous row's t = {}: the times must increase",
+                num(pair[0]),
+                num(prev)
+            ));
+        }
+        ts.push(pair[0]);
+        values.push(pair[1]);
+        rows.push(line);
+    }
+    if ts.len() < 2 {
+        return Err(format!(
+            "{} row{}; a record needs at least two samples",
+            ts.len(),
+            if ts.len() == 1 { "" } else { "s" }
+        ));
+    }
+    let n = ts.len();
+    let dt = (ts[n - 1] - ts[0]) / (n - 1) as f64;
+    for (i, (&t, &line)) in ts.iter().zip(&rows).enumerate() {
+        let grid = ts[0] + i as f64 * dt;
+        if (t - grid).abs() > EVEN_TOL * dt {
+            return Err(format!(
+                "row {} (line {line}): t = {}: the samples must be evenly spaced; with \
+                 dt = {} s ((t_last - t_first) / (rows - 1)) this row belongs at t = {}, within \
+                 {} dt",
+                i + 1,
+                num(t),
+                num(dt),
+                num(grid),
+                num(EVEN_TOL)
+            ));
+        }
+    }
+    Ok(RecordFile {
+        dt,
+        values: values.into(),
+        input,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_good_record_is_read_with_its_step() {
+        let r = parse("# an accelerogram\nt,a\n0.0,0.0\n0.01,0.5\n\n0.02,-0.25\n0.03,0\n").unwrap();
+        assert_eq!(r.input, Input::Base);
+        assert!((r.dt - 0.01).abs() < 1e-15);
+        assert_eq!(&*r.values, &[0.0, 0.5, -0.25, 0.0]);
+        let f = parse("t, F\n1.5, 2\n1.75, 3\n").unwrap();
+        assert_eq!((f.input, f.dt), (Input::Force, 0.25));
+    }
+
+    #[test]
+    fn bad_records_name_the_row_and_what_is_allowed() {
+        let cases = [
+            (
+                "",
+                "the file is empty; it needs a header t,a or t,F and at least two rows",
+            ),
+            (
+                "time,acc\n0,1\n",
+                "the header names the columns time, acc; allowed: t,a (ground acceleration, \
+                 m/s^2) or t,F (force on the main mass, N)",
+            ),
+            ("t,a\n0,1\n", "1 row; a record needs at least two samples"),
+            (
+                "t,a\n0,1\n0.1,NaN\n",
+                "row 2 (line 3): a = NaN: every value must be a finite number",
+            ),
+            (
+                "t,a\n0,1\n0.1,x\n",
+                "row 2 (line 3): a = \"x\" is not a number",
+            ),
+            (
+                "t,a\n0,1\n0.1\n",
+                "row 2 (line 3): 1 values; each row holds t and a",
+            ),
+            (
+                "t,a\n0,1\n0.2,1\n0.1,1\n",
+                "row 3 (line 4): t = 0.1 is not after the previous row's t = 0.2: the times must \
+                 increase",
+            ),
+            (
+                "t,a\n0,1\n0.5,1\n1.25,1\n1.5,1\n",
+                "row 3 (line 4): t = 1.25: the samples must be evenly spaced; with dt = 0.5 s \
+                 ((t_last - t_first) / (rows - 1)) this row belongs at t = 1, within 1e-6 dt",
+            ),
+        ];
+        for (text, want) in cases {
+            assert_eq!(parse(text).unwrap_err(), want, "{text:?}");
+        }
+    }
+}

@@ -1,0 +1,170 @@
+//! Every bad random or record study in `tests/bad_studies/random/` is refused by
+//! `RandomStudy::load` with exactly its message (issue 44: the random and record scenes' keys,
+//! and a record file that is missing, unsorted in `t`, unevenly sampled, holding NaN or the wrong
+//! columns), and nothing panics. Messages name the study file, the key, the value and what is
+//! allowed; a record's also name the record file and the row.
+//!
+//! The sweep does not run these scenes yet, so the binary refuses them all alike (`tests/
+//! study_errors.rs` pins that message); these go through the library's loader. `{dir}` stands
+//! for `tests/bad_studies/random`.
+
+use std::path::Path;
+
+use impactsweep::study::RandomStudy;
+
+/// (file, the exact message with `{dir}` for the folder).
+const BAD: &[(&str, &str)] = &[
+    (
+        "random_S0_negative.toml",
+        "{dir}/random_S0_negative.toml: [scene].S0 = -1: the two-sided spectral density must be in (0, 1e12] ((m/s^2)^2 or N^2 per rad/s)",
+    ),
+    (
+        "random_axis_of_the_other_spectrum.toml",
+        "{dir}/random_axis_of_the_other_spectrum.toml: [sweep].omega_f = [1, 2]: unknown axis 'omega_f'; allowed: M, m, K, C, d, e, x0, v0, y0, w0, S0, omega_g, zeta_g (S0, omega_g, zeta_g, omega_f and zeta_f are axes of the random scene as its spectrum has them, scale of the record scene)",
+    ),
+    (
+        "random_axis_out_of_range.toml",
+        "{dir}/random_axis_out_of_range.toml: [sweep].S0 = 0: the two-sided spectral density must be in (0, 1e12] ((m/s^2)^2 or N^2 per rad/s)",
+    ),
+    (
+        "random_envelope_key.toml",
+        "{dir}/random_envelope_key.toml: [scene].envelope.decay = 0.5: unknown key 'decay'; allowed keys: t1, t2, c",
+    ),
+    (
+        "random_envelope_order.toml",
+        "{dir}/random_envelope_order.toml: [scene].envelope.t2 = 2: the envelope's plateau end (s) must be at least its rise t1 = 5 and at most 1e6",
+    ),
+    (
+        "random_filter_key_on_white.toml",
+        "{dir}/random_filter_key_on_white.toml: [scene].omega_g = 15.6: spectrum = \"white\" has no omega_g; omega_g and zeta_g belong to kanai-tajimi and clough-penzien, omega_f and zeta_f to clough-penzien",
+    ),
+    (
+        "random_harmonic_key.toml",
+        "{dir}/random_harmonic_key.toml: [scene].F0 = 1: F0 belongs to the harmonic scene; this study's kind is \"random\"",
+    ),
+    (
+        "random_input.toml",
+        "{dir}/random_input.toml: [scene].input = \"ground\": unknown input; allowed: base (ground acceleration, displacements relative to the ground), force (a force on the main mass)",
+    ),
+    (
+        "random_missing_duration.toml",
+        "{dir}/random_missing_duration.toml: [scene].duration: missing; the random scene needs duration (fixed here or swept in [sweep])",
+    ),
+    (
+        "random_missing_filter_key.toml",
+        "{dir}/random_missing_filter_key.toml: [scene].omega_f: missing; the random scene needs omega_f (fixed here or swept in [sweep])",
+    ),
+    (
+        "random_no_spectrum.toml",
+        "{dir}/random_no_spectrum.toml: [scene].spectrum: missing; the random scene needs a spectrum; allowed: white, kanai-tajimi, clough-penzien",
+    ),
+    (
+        "random_peaks.toml",
+        "{dir}/random_peaks.toml: [study].peaks = 3: peaks belong to the free-decay scene; a random or record run lasts [scene].duration",
+    ),
+    (
+        "random_perturb.toml",
+        "{dir}/random_perturb.toml: [perturb]: a random study's cases are its realizations ([scene].realizations); perturbed cases are not supported in it",
+    ),
+    (
+        "random_realizations_zero.toml",
+        "{dir}/random_realizations_zero.toml: [scene].realizations = 0: must be a whole number in [1, 10000000]",
+    ),
+    (
+        "random_scale.toml",
+        "{dir}/random_scale.toml: [scene].scale = 2: scale belongs to the record scene; this study's kind is \"random\"",
+    ),
+    (
+        "random_solver.toml",
+        "{dir}/random_solver.toml: [solver].kind = \"rk4\": the random and record scenes are solved by exact only",
+    ),
+    (
+        "random_swept_and_fixed.toml",
+        "{dir}/random_swept_and_fixed.toml: [scene].S0 = 0.01: S0 is also swept in [sweep]; a key is either fixed or swept, not both",
+    ),
+    (
+        "random_too_many_samples.toml",
+        "{dir}/random_too_many_samples.toml: [scene].duration = 1000: duration / dt = 1e9 load samples; at most 1e8 per run",
+    ),
+    (
+        "random_unknown_key.toml",
+        "{dir}/random_unknown_key.toml: [scene].sigma = 2: unknown key 'sigma'; allowed keys: kind, F0, omega, r, n_trans, n_trans_max, n_meas, trans_tol, period_tol, starts, design_peak, nonperiodic_peak, design_life, life_quantile, life_tol, life_max_periods, input, spectrum, S0, omega_g, zeta_g, omega_f, zeta_f, dt, duration, envelope, realizations, threshold, record, scale",
+    ),
+    (
+        "random_unknown_spectrum.toml",
+        "{dir}/random_unknown_spectrum.toml: [scene].spectrum = \"pink\": unknown spectrum; allowed: white, kanai-tajimi, clough-penzien",
+    ),
+    (
+        "random_zeta_g_zero.toml",
+        "{dir}/random_zeta_g_zero.toml: [scene].zeta_g = 0: a filter damping ratio must be in [0.001, 10]",
+    ),
+    (
+        "record_columns.toml",
+        "{dir}/record_columns.toml: [scene].record = \"columns.csv\": {dir}/columns.csv: the header names the columns time, acc; allowed: t,a (ground acceleration, m/s^2) or t,F (force on the main mass, N)",
+    ),
+    (
+        "record_input_mismatch.toml",
+        "{dir}/record_input_mismatch.toml: [scene].input = \"force\": the record \"good.csv\" holds column a, a ground acceleration; give input = \"base\" or leave input out",
+    ),
+    (
+        "record_missing.toml",
+        "{dir}/record_missing.toml: [scene].record = \"nowhere.csv\": cannot read the record file {dir}/nowhere.csv: No such file or directory (os error 2)",
+    ),
+    (
+        "record_nan.toml",
+        "{dir}/record_nan.toml: [scene].record = \"nan.csv\": {dir}/nan.csv: row 3 (line 5): a = NaN: every value must be a finite number",
+    ),
+    (
+        "record_parquet.toml",
+        "{dir}/record_parquet.toml: [scene].record = \"quake.parquet\": a Parquet record is not read yet; give the record as CSV with a header t,a (ground acceleration, m/s^2) or t,F (force, N)",
+    ),
+    (
+        "record_realizations.toml",
+        "{dir}/record_realizations.toml: [scene].realizations = 10: a record is one load: realizations must be 1 (sweep scale for intensities)",
+    ),
+    (
+        "record_spectrum_key.toml",
+        "{dir}/record_spectrum_key.toml: [scene].S0 = 0.1: S0 belongs to the random scene; this study's kind is \"record\"",
+    ),
+    (
+        "record_uneven.toml",
+        "{dir}/record_uneven.toml: [scene].record = \"uneven.csv\": {dir}/uneven.csv: row 4 (line 5): t = 0.035: the samples must be evenly spaced; with dt = 0.01 s ((t_last - t_first) / (rows - 1)) this row belongs at t = 0.03, within 1e-6 dt",
+    ),
+    (
+        "record_unsorted.toml",
+        "{dir}/record_unsorted.toml: [scene].record = \"unsorted.csv\": {dir}/unsorted.csv: row 4 (line 5): t = 0.02 is not after the previous row's t = 0.03: the times must increase",
+    ),
+];
+
+const DIR: &str = "tests/bad_studies/random";
+
+#[test]
+fn every_bad_random_study_gets_its_exact_message() {
+    let mut failures = Vec::new();
+    let mut files: Vec<String> = std::fs::read_dir(DIR)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    files.sort();
+    for file in &files {
+        let path = Path::new(DIR).join(file);
+        let got = match RandomStudy::load(&path) {
+            Ok(_) => "loaded".to_string(),
+            Err(e) => e.to_string().replace(DIR, "{dir}"),
+        };
+        let want = BAD.iter().find(|(f, _)| f == file).map(|(_, m)| *m);
+        if want != Some(got.as_str()) {
+            failures.push(format!(
+                "    (\n        \"{file}\",\n        {got:?},\n    ),"
+            ));
+        }
+    }
+    let listed: Vec<&str> = BAD.iter().map(|(f, _)| *f).collect();
+    assert!(
+        failures.is_empty(),
+        "{}\nlisted: {listed:?}",
+        failures.join("\n")
+    );
+    assert_eq!(files.len(), BAD.len());
+}
