@@ -16,10 +16,12 @@
 //! A study states its scene (`sim::Scene`): the paper's free decay (`sim::Record`, the `points`
 //! table, the reducer's design points) or harmonic forcing to a steady state
 //! (`sim::ForcedRecord`, the `forced_points` table, reduced per design over its frequency band
-//! by [`reduce::forced`]).
+//! by [`reduce::forced`]); the reducer's scene-independent core is [`reduce::core`] and the
+//! free-decay scene's part [`reduce::free`].
 //!
 //! The physics and every equation are in `docs/model.md`; module docs repeat what
-//! each stage needs.
+//! each stage needs. `docs/architecture.md` has the layout: each scene's place at each layer and
+//! the rules between the layers (`tests/layering.rs` checks them).
 //!
 //! The module docs link to the private items they explain (`cargo doc --document-private-items`
 //! resolves them; the test suite builds the docs that way with warnings denied).

@@ -394,13 +394,13 @@ fn issue_23_reduce_runs_no_census_and_every_peak_is_an_attractor() {
     let study = tmp.path().join("nocensus.toml");
     std::fs::write(&study, study_text("nocensus", 22)).unwrap();
     let dir = common::run_study_file(&study, &tmp.path().join("out"), "nocensus");
-    let before = impactsweep::reduce::orbits::census_starts();
+    let before = impactsweep::reduce::forced::steady::census_starts();
     impactsweep::api::reduce::reduce_dir(&impactsweep::api::reduce::ReduceArgs {
         dir: dir.clone(),
         ..Default::default()
     })
     .unwrap();
-    assert_eq!(impactsweep::reduce::orbits::census_starts(), before);
+    assert_eq!(impactsweep::reduce::forced::steady::census_starts(), before);
     let (_, summary) = common::csv_by_point(&dir.join("summary.csv"));
     let text = std::fs::read_to_string(dir.join("attractors.csv")).unwrap();
     let mut lines = text.lines();

@@ -6,21 +6,17 @@ use std::path::Path;
 mod common;
 
 use impactsweep::api::reduce::{WaveformArgs, waveform_files, write_outputs};
+use impactsweep::reduce::core::regions::NO_REGION;
+use impactsweep::reduce::free::{self, reduce};
 use impactsweep::reduce::testing::{FnIdeal, paper_study, row, simulate_chunks, study};
-use impactsweep::reduce::{
-    Class, JumpKind, Options, Quantity, Reducer, Run, Summary, reduce, regions::NO_REGION,
-};
+use impactsweep::reduce::{Class, JumpKind, Options, Quantity, Reducer, Run, Summary};
 use impactsweep::sim::Outcome;
 use impactsweep::study::Study;
 
 /// Reduces simulated chunks (jumps located with the study's own simulator).
 fn run(study: &Study, chunks: Vec<Vec<Run>>) -> Summary {
-    reduce::<_, std::convert::Infallible>(
-        study,
-        Options::from_study(study),
-        chunks.into_iter().map(Ok),
-    )
-    .unwrap()
+    reduce::<_, std::convert::Infallible>(study, free::options(study), chunks.into_iter().map(Ok))
+        .unwrap()
 }
 
 /// Reduces synthetic chunks whose ideal case is `ideal(axis values) -> [xmax, DI]` (`None`:
@@ -30,7 +26,7 @@ fn run_synthetic(
     chunks: Vec<Vec<Run>>,
     ideal: impl Fn(&[f64]) -> Option<[f64; 2]> + Sync,
 ) -> Summary {
-    let mut r = Reducer::new(study, Options::from_study(study));
+    let mut r = Reducer::new(study, free::options(study));
     for c in chunks {
         r.push(c);
     }
@@ -468,7 +464,7 @@ fn million_runs_throughput() {
         s.reliability.bootstrap = b;
     }
     let start = std::time::Instant::now();
-    let mut r = impactsweep::reduce::Reducer::new(&s, Options::from_study(&s));
+    let mut r = impactsweep::reduce::Reducer::new(&s, free::options(&s));
     let per_chunk = 5_461u64;
     let mut p0 = 0;
     while p0 < n_points {
@@ -483,7 +479,7 @@ fn million_runs_throughput() {
         r.push(rows);
         p0 = p1;
     }
-    let sum = r.finish();
+    let sum = free::finish(r);
     let dir = tempfile::tempdir().unwrap();
     let reduced = start.elapsed();
     write_outputs(&s, &sum, dir.path(), None).unwrap();
@@ -533,7 +529,7 @@ fn cli_reduce_names_the_missing_study_file() {
 
 #[test]
 fn paper_safety_form_and_mean_di_are_options() {
-    use impactsweep::reduce::stats;
+    use impactsweep::reduce::core::stats;
     use impactsweep::study::{DiSource, SafetyForm};
     let s = paper();
     let chunks = simulate_chunks(&s);
@@ -541,7 +537,7 @@ fn paper_safety_form_and_mean_di_are_options() {
     let opts = Options {
         safety_form: SafetyForm::Paper,
         di_source: DiSource::Mean,
-        ..Options::from_study(&s)
+        ..free::options(&s)
     };
     let paper = reduce::<_, std::convert::Infallible>(&s, opts, chunks.clone().into_iter().map(Ok))
         .unwrap();

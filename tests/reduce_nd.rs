@@ -8,8 +8,9 @@ use std::path::Path;
 mod common;
 
 use impactsweep::api::reduce::write_outputs;
+use impactsweep::reduce::free;
 use impactsweep::reduce::testing::{FnIdeal, paper_study, reduce_simulated, row, study};
-use impactsweep::reduce::{Options, Reducer, Summary};
+use impactsweep::reduce::{Reducer, Summary};
 use impactsweep::sim::Outcome;
 use impactsweep::study::{Axis, Study};
 
@@ -195,7 +196,7 @@ fn issue_10_the_report_reads_at_44541_points_and_warns_about_the_edge() {
         let di = 0.02 + 0.4 * (v[1] - 0.01) + 1.0 * (v[2] - 0.005) - 0.01 * v[0];
         Some([x, di])
     };
-    let mut r = Reducer::new(&s, Options::from_study(&s));
+    let mut r = Reducer::new(&s, free::options(&s));
     let grid = impactsweep::reduce::Grid::new(
         s.axes
             .iter()

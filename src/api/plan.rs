@@ -12,7 +12,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::plan::Plan;
-use crate::report::markdown::count;
+use crate::report::text::count;
 use crate::sim::{self, Drive, NoProbe, Scene};
 use crate::study::{Study, num as fmt_value};
 

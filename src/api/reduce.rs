@@ -4,7 +4,7 @@
 //! [`reduce_dir`] streams the part files of a run directory through
 //! [`crate::reduce::Reducer`] one at a time (each holds whole design points, so memory stays
 //! a chunk plus a fixed size per design point), converting the store's rows to the reducer's
-//! own ([`run_of`]), then writes into the run directory: `summary`, `zones`, `jumps` and
+//! own ([`free::run_of`]), then writes into the run directory: `summary`, `zones`, `jumps` and
 //! `sensitivity` as Parquet and CSV (columns in `docs/schema.md`), `report.md` and the charts
 //! (SVG and PNG, each with its data as CSV), and `report.html`, the report as one
 //! self-contained page with the charts inlined (docs/reduce.md). A dataset of another schema version is refused with
@@ -15,7 +15,9 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 use crate::api::setup::{Setup, trace};
-use crate::reduce::{self, Options, Summary, forced, table};
+use crate::reduce::core::tables;
+use crate::reduce::forced::{self, analysis, bifurcations};
+use crate::reduce::{self, Options, Summary, free};
 use crate::report::{charts, html, markdown};
 use crate::sim::{ForcedRecord, Scene};
 use crate::store::{self, TableKind};
@@ -32,10 +34,10 @@ pub struct ReduceArgs {
     /// Overrides `[reliability].bootstrap`.
     pub bootstrap: Option<usize>,
     /// `(I, N)`: only shard `I` of `N` of a harmonic study's per-design analysis
-    /// ([`crate::reduce::analysis`]), written to `RUN_DIR/analysis/`; no report.
+    /// ([`crate::reduce::forced::analysis`]), written to `RUN_DIR/analysis/`; no report.
     pub shard: Option<(u64, u64)>,
     /// A harmonic study: the lines of the design grid its bifurcation curves are followed along.
-    pub bifurcation_curves: reduce::bifurcations::CurveLines,
+    pub bifurcation_curves: analysis::CurveLines,
 }
 
 /// `impactsweep plot waveform`.
@@ -49,7 +51,7 @@ pub struct WaveformArgs {
 
 /// The study's choices with the command-line overrides.
 pub fn options(study: &Study, args: &ReduceArgs) -> Options {
-    options_over(Options::from_study(study), args)
+    options_over(free::options(study), args)
 }
 
 /// `base` (the study's choices, or a scene's) with the command-line overrides.
@@ -103,15 +105,15 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
             let opts = options(&study, args);
             let chunks = parts.iter().map(|p| {
                 store::read_part(p)
-                    .map(|rows| rows.iter().map(run_of).collect())
+                    .map(|rows| rows.iter().map(free::run_of).collect())
                     .with_context(|| format!("reading {}", p.display()))
             });
-            let summary = reduce::reduce(&study, opts, chunks)?;
+            let summary = free::reduce(&study, opts, chunks)?;
             let files = write_outputs(&study, &summary, dir, audit.as_ref())?;
             (summary, files)
         }
         Scene::Harmonic(_) => {
-            // A design is a design point without its frequency (reduce/forced.rs).
+            // A design is a design point without its frequency (reduce/forced/design.rs).
             let design = forced::design_study(&study);
             let opts = options_over(forced::options(&design), args);
             let mut r = forced::ForcedReducer::new(&study, &design, opts);
@@ -162,8 +164,9 @@ fn analysis_plan(
     study: &Study,
     dir: &Path,
     shard: Option<(u64, u64)>,
-) -> anyhow::Result<reduce::analysis::Plan> {
-    use reduce::analysis::{Plan, Prior, Shard, branches_from_part, probes_from_table};
+) -> anyhow::Result<analysis::Plan> {
+    use analysis::{Plan, Prior, Shard};
+    use forced::shard::{branches_from_part, probes_from_table};
     if let Some((index, count)) = shard {
         return Ok(Plan {
             shard: Some(Shard { index, count }),
@@ -215,7 +218,7 @@ fn write_steady_states(
     use store::summary::TableWriter;
     let mut writers: Option<(TableWriter, TableWriter)> = None;
     let mut kept = Vec::new();
-    reduce::orbits::steady_states_in_batches(study, fs, |batch| -> anyhow::Result<()> {
+    forced::steady::steady_states_in_batches(study, fs, |batch| -> anyhow::Result<()> {
         if batch.is_empty() {
             return Ok(());
         }
@@ -226,13 +229,13 @@ fn write_steady_states(
                 TableWriter::create(dir, TableKind::Branches)?,
             )),
         };
-        attractors.append(reduce::orbits::attractors_table(&batch))?;
-        branches.append(reduce::orbits::branches_table(&batch))?;
+        attractors.append(forced::steady::attractors_table(&batch))?;
+        branches.append(forced::steady::branches_table(&batch))?;
         kept.extend(batch.into_iter().map(|r| {
-            if anchor.is_some_and(|a| reduce::orbits::draws_anchor(fs, a, &r)) {
+            if anchor.is_some_and(|a| forced::steady::draws_anchor(fs, a, &r)) {
                 r
             } else {
-                reduce::orbits::located_only(r)
+                forced::steady::located_only(r)
             }
         }));
         Ok(())
@@ -259,14 +262,14 @@ fn write_analysis_shard(
         .iter()
         .map(|a| a.key.clone())
         .collect();
-    let steady = reduce::orbits::steady_states(study, fs);
+    let steady = forced::steady::steady_states(study, fs);
     let branches: usize = steady.iter().map(|r| r.branches.len()).sum();
     let files = store::analysis::write_shard(
         dir,
         shard,
         &study.source,
-        reduce::analysis::probes_table(&keys, probes),
-        reduce::analysis::branches_part(&steady),
+        forced::shard::probes_table(&keys, probes),
+        forced::shard::branches_part(&steady),
     )?;
     let line = format!(
         "analysis shard {}/{}: {} jump probes, {} branch points",
@@ -276,22 +279,6 @@ fn write_analysis_shard(
         branches
     );
     Ok((line, files))
-}
-
-/// A stored run as the reducer needs it: the store's row converted to the reducer's own, the
-/// free-decay scene's response (`xmax`) picked out.
-pub fn run_of(r: &store::RunRow) -> reduce::Run {
-    reduce::Run {
-        point: r.point,
-        case: r.case,
-        ideal: r.ideal,
-        dm: r.dm,
-        dd: r.dd,
-        noise_seed: r.noise_seed,
-        outcome: r.record.outcome,
-        response: r.record.xmax,
-        di: r.record.di,
-    }
 }
 
 /// The run's accuracy audit from `RUN_DIR/manifest.json`, when the run made one.
@@ -328,7 +315,7 @@ pub fn write_outputs_with(
         points.len(),
         |r| {
             let rows = &points[r];
-            let mut t = table::summary_rows(summary, rows);
+            let mut t = tables::summary_rows(summary, rows);
             if let Some(fs) = forced {
                 forced::summary_columns(&mut t, fs, rows);
             }
@@ -337,9 +324,9 @@ pub fn write_outputs_with(
     )?);
     drop(points);
     for (kind, t) in [
-        (TableKind::Zones, table::zones_table(summary)),
-        (TableKind::Jumps, table::jumps_table(summary)),
-        (TableKind::Sensitivity, table::sensitivity_table(summary)),
+        (TableKind::Zones, tables::zones_table(summary)),
+        (TableKind::Jumps, tables::jumps_table(summary)),
+        (TableKind::Sensitivity, tables::sensitivity_table(summary)),
     ] {
         files.extend(store::summary::write_table(dir, kind, &t)?);
     }
@@ -348,7 +335,7 @@ pub fn write_outputs_with(
         let (steady, written) = write_steady_states(study, fs, summary.anchor(), dir)?;
         files.extend(written);
         // The located bifurcations followed over the design axes.
-        let curves = reduce::bifurcations::curves(
+        let curves = bifurcations::curves(
             study,
             &summary.grid,
             fs,
@@ -366,7 +353,7 @@ pub fn write_outputs_with(
                 }
             }
         } else {
-            let t = reduce::bifurcations::table(&curves);
+            let t = bifurcations::table(&curves);
             files.extend(store::summary::write_table(
                 dir,
                 TableKind::Bifurcations,
@@ -378,13 +365,13 @@ pub fn write_outputs_with(
             .anchor()
             .filter(|_| fs.frequency.is_some() && !steady.is_empty())
             .and_then(|a| fs.curve(a))
-            .map(|c| reduce::orbits::section_samples(study, c))
+            .map(|c| forced::steady::section_samples(study, c))
             .unwrap_or_default();
-        chart_files.extend(charts::frequency_response::charts(
+        chart_files.extend(charts::forced::frequency_response::charts(
             summary, fs, &steady, &samples, dir,
         )?);
         if let Some(anchor) = summary.anchor() {
-            chart_files.extend(charts::design_map::charts(
+            chart_files.extend(charts::forced::design_map::charts(
                 summary, fs, &curves, anchor, dir,
             )?);
         }
@@ -397,7 +384,7 @@ pub fn write_outputs_with(
     files.extend(chart_files);
     let p = dir.join("report.md");
     let scene = forced
-        .map(|fs| markdown::forced::section(summary, fs))
+        .map(|fs| markdown::forced::scene_text(study, summary, fs))
         .unwrap_or_default();
     let md = markdown::report_with(study, summary, &names, audit, &scene);
     std::fs::write(&p, &md).with_context(|| format!("writing {}", p.display()))?;

@@ -29,7 +29,7 @@
 
 use nalgebra::{Matrix4, SMatrix, SVector};
 
-use super::continuation::Label;
+use super::label::Label;
 use super::map::MapEval;
 use super::shoot::multipliers;
 

@@ -10,6 +10,7 @@ pub mod census;
 pub mod continuation;
 pub mod curve;
 pub mod graze;
+pub mod label;
 pub mod life;
 pub mod locate;
 pub mod lyapunov;

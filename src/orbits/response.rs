@@ -16,8 +16,9 @@
 
 use super::attractors::{AttractorRow, RunId};
 use super::census::{Census, CensusSettings, Kind};
-use super::continuation::{Branch, ContSettings, Label, Param, follow};
+use super::continuation::{Branch, ContSettings, Param, follow};
 use super::curve::census_passes;
+use super::label::Label;
 use super::map::{Forcing, Section};
 use super::shoot::{
     Newton, Orbit, Stability, Termination, non_impacting, orbit_at, same_orbit, solve,

@@ -26,7 +26,7 @@
 
 use nalgebra::{DMatrix, DVector, Matrix4};
 
-use super::continuation::Label;
+use super::label::Label;
 use super::locate::ns_value;
 use super::map::{Forcing, MapEval, Section, eval};
 use crate::sim::Outcome;

@@ -20,7 +20,9 @@
 //!
 //! That is the free-decay scene. The forced scene (model.md §8, a harmonic force on the main
 //! mass, run to its steady state) lives in [`forced`]; [`Scene`] and [`simulate_scene`] pick
-//! one, and [`simulate`] is free decay exactly as it always was.
+//! one, and [`simulate`] is free decay exactly as it always was. The random and record scenes
+//! (model.md §13, a random load per realization or a recorded one) live in [`random`]; the
+//! sweep does not run them yet, so [`Scene`] does not name them.
 //!
 //! Solvers share all of that and differ only in how they move the main mass between events and
 //! locate those events: [`SolverKind::Exact`] uses the closed form and a root bracket that cannot
@@ -30,12 +32,14 @@
 
 pub(crate) mod dense;
 pub mod dopri5;
+pub(crate) mod driven;
 pub mod driver;
 pub mod exact;
 pub mod forced;
 pub mod linear;
 pub mod noise;
 pub mod phase;
+pub mod random;
 pub mod rk4;
 
 use serde::Serialize;

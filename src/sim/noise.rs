@@ -11,23 +11,17 @@ use rand_pcg::Pcg64;
 
 use super::NoiseSettings;
 
+/// SplitMix64 finaliser ([`crate::numeric::mix64`]).
+pub use crate::numeric::mix64;
+/// The uniform number in `(0, 1)` a sample's 64 bits stand for ([`crate::numeric::open_uniform`]).
+pub use crate::numeric::open_uniform as uniform;
+
 impl NoiseSettings {
     /// Standard deviation of one sample, `sqrt(P / Ts)` (m).
     #[inline]
     pub fn sd(&self) -> f64 {
         (self.power / self.sample_time).sqrt()
     }
-}
-
-/// The uniform number in `(0, 1)` a sample's 64 bits stand for: the top 53 bits plus a half.
-/// It never decreases with `bits`. Rounding would make the very top value (a chance of 2^-53)
-/// exactly 1, whose normal deviate is infinite; it is held at the largest `f64` below 1, which
-/// changes no other value.
-#[inline]
-pub fn uniform(bits: u64) -> f64 {
-    // (Through i64: the same value, a cheaper conversion than from u64 on x86-64.)
-    let u = (((bits >> 11) as i64) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64);
-    u.min(1.0 - f64::EPSILON / 2.0)
 }
 
 /// The standard normal deviate at probability `u`, by the inverse normal CDF.
@@ -199,14 +193,6 @@ pub struct NoiseStream {
     rng: Pcg64,
     pos: u64,
     draws: u64,
-}
-
-/// SplitMix64 finaliser: a bijective 64-bit mixer (Steele, Lea & Flood 2014).
-pub fn mix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 impl NoiseStream {

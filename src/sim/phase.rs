@@ -1,8 +1,8 @@
-//! The one event map both scenes use (free decay, [`super::driver`]; the forced scene,
-//! [`super::forced`]), and the types the solvers share, so that nothing in `sim/` imports in a
-//! circle: the solvers ([`super::exact`], [`super::dense`] with [`super::rk4`] and
-//! [`super::dopri5`], [`super::forced::events`]) import this module and [`super::linear`] only;
-//! the scenes import the solvers.
+//! The one event map every scene uses (free decay, [`super::driver`]; the forced scene,
+//! [`super::forced`]; the random and record scenes, [`super::random`]), and the types the solvers
+//! share, so that nothing in `sim/` imports in a circle: the solvers ([`super::exact`],
+//! [`super::dense`] with [`super::rk4`] and [`super::dopri5`], [`super::driven`]) import this
+//! module and [`super::linear`] only; the scenes import the solvers.
 //!
 //! A solver moves the main mass through one smooth phase and reports the first watched
 //! [`Event`] ([`PhaseSolver`]); what happens at the event (the impact law at a wall, the chatter
@@ -10,7 +10,9 @@
 //!
 //! # Phases
 //! * **Free**: the main mass is the oscillator `(M, K, C)` (driven by `F0 cos(omega t)` in the
-//!   forced scene); the inner mass moves at constant velocity; events are the walls, `x = 0`,
+//!   forced scene, by a load linear between samples in the random scene); the inner mass moves
+//!   at constant velocity (under ground acceleration `a_g`, displacements relative to the
+//!   ground, with `y'' = -a_g`: [`Motion::inner_accel`]); events are the walls, `x = 0`,
 //!   `v = 0` (in positive half-cycles, or in the forced scene's measurement window) and time
 //!   limits.
 //! * **Stuck** on a wall: the pair is the oscillator `(M + m, K, C)` (driven alike) with
@@ -20,8 +22,9 @@
 //!
 //! # Chatter rule
 //! After an impact on a wall, let `u >= 0` be the speed at which the inner mass leaves it and
-//! `a` the acceleration with which the wall moves toward the inner mass (`a = -x''` on the right
-//! wall, `+x''` on the left, the free main mass's acceleration). If `a > 0` the inner mass comes
+//! `a` the acceleration with which the wall moves toward the inner mass (`a = -(x'' - y'')` on
+//! the right wall, `+(x'' - y'')` on the left, from the free main mass's acceleration and the
+//! inner mass's own, which is zero unless the ground accelerates). If `a > 0` the inner mass comes
 //! back after `2u/a`, the next rebound is `e` times slower, and the impacts accumulate at a
 //! finite time `2u / (a (1 - e))` later (a Zeno point). When that remaining time is below
 //! `chatter_tol * period`, the rest of the sequence is replaced by its limit: a plastic impact
@@ -104,13 +107,34 @@ pub fn impact(M: f64, m: f64, e: f64, v: f64, w: f64) -> (f64, f64) {
     (v + m * k * rel, w - M * k * rel)
 }
 
-/// The inner mass's free motion `y(t) = y0 + w (t - t0)` and the half clearance.
+/// The inner mass's free motion from `t0` and the half clearance: a line
+/// `y(t) = y0 + w (t - t0)`, or, when it accelerates (under ground acceleration, relative to the
+/// ground), the cubic `y0 + w tau + ya tau^2 / 2 + yj tau^3 / 6`, `tau = t - t0`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Walls {
     pub t0: f64,
     pub y0: f64,
     pub w: f64,
     pub half_d: f64,
+    /// `y''` at `t0` and `y'''` (m/s^2, m/s^3); both 0 for a line.
+    pub ya: f64,
+    pub yj: f64,
+    /// A bound of `|y''|` until the phase ends (m/s^2).
+    pub ya_max: f64,
+}
+
+impl Walls {
+    /// `(y, y', y'', y''')` at `t`; on a line exactly `(y0 + w (t - t0), w, 0, 0)`.
+    #[inline]
+    pub fn at(&self, t: f64) -> (f64, f64, f64, f64) {
+        let tau = t - self.t0;
+        if self.ya == 0.0 && self.yj == 0.0 {
+            return (self.y0 + self.w * tau, self.w, 0.0, 0.0);
+        }
+        let y = self.y0 + tau * (self.w + tau * (0.5 * self.ya + tau * self.yj / 6.0));
+        let w = self.w + tau * (self.ya + 0.5 * tau * self.yj);
+        (y, w, self.ya + tau * self.yj, self.yj)
+    }
 }
 
 /// What a solver watches during one call of [`PhaseSolver::next_event`]. Each `*_side` is the
@@ -169,10 +193,19 @@ pub(crate) trait PhaseSolver {
 }
 
 /// The motion of one phase's main mass, as the event map needs it: the free oscillator of free
-/// decay ([`Oscillator`]) or the forced one ([`super::forced::motion::Forced`]).
+/// decay ([`Oscillator`]), the forced one ([`super::forced::motion::Forced`]) or the random
+/// scene's ([`super::random`]).
 pub(crate) trait Motion: Copy {
     /// The acceleration `x''` at time `t` in state `(x, v)` (m/s^2).
     fn accel_at(&self, t: f64, x: f64, v: f64) -> f64;
+
+    /// The free inner mass's acceleration `y''` at `t`, its derivative `y'''` and a bound of
+    /// `|y''|` until the phase ends (m/s^2, m/s^3, m/s^2): zero unless the ground accelerates
+    /// (then `y'' = -a_g`, displacements relative to the ground).
+    #[inline]
+    fn inner_accel(&self, _t: f64) -> (f64, f64, f64) {
+        (0.0, 0.0, 0.0)
+    }
 }
 
 impl Motion for Oscillator {
@@ -274,15 +307,21 @@ impl<'a, M: Motion> EventMap<'a, M> {
     /// now), the wall's sign for the separation while stuck.
     pub fn contact(&self) -> (Option<Walls>, Option<f64>) {
         match self.phase {
-            Phase::Free => (
-                Some(Walls {
-                    t0: self.t,
-                    y0: self.s.y,
-                    w: self.s.w,
-                    half_d: 0.5 * self.sys.d,
-                }),
-                None,
-            ),
+            Phase::Free => {
+                let (ya, yj, ya_max) = self.free.inner_accel(self.t);
+                (
+                    Some(Walls {
+                        t0: self.t,
+                        y0: self.s.y,
+                        w: self.s.w,
+                        half_d: 0.5 * self.sys.d,
+                        ya,
+                        yj,
+                        ya_max,
+                    }),
+                    None,
+                )
+            }
             Phase::Stuck(wall) => (None, Some(wall.sign())),
         }
     }
@@ -296,7 +335,7 @@ impl<'a, M: Motion> EventMap<'a, M> {
         self.s.x = x;
         self.s.v = v;
         match (self.phase, walls) {
-            (Phase::Free, Some(wl)) => self.s.y = wl.y0 + wl.w * (t - wl.t0),
+            (Phase::Free, Some(wl)) => (self.s.y, self.s.w, _, _) = wl.at(t),
             (Phase::Free, None) => {
                 self.s.y = x + (self.sys.y0 - self.sys.x0);
                 self.s.w = v;
@@ -323,9 +362,12 @@ impl<'a, M: Motion> EventMap<'a, M> {
         self.s.w = wa;
         self.impacts += 1;
         let after = self.s;
-        // Speed away from the wall and the wall's acceleration toward the inner mass.
+        // Speed away from the wall and the wall's acceleration toward the inner mass (relative
+        // to the inner mass's own).
         let u = (sign * (self.s.v - self.s.w)).max(0.0);
-        let a = -sign * self.free.accel_at(self.t, self.s.x, self.s.v);
+        let relative =
+            self.free.accel_at(self.t, self.s.x, self.s.v) - self.free.inner_accel(self.t).0;
+        let a = -sign * relative;
         let stuck = chatter_ends(u, a, sys.e, self.settings, self.period);
         if stuck {
             // The plastic closing: relative velocity to zero, momentum conserved.
@@ -458,7 +500,7 @@ fn sync<'a, S: PhaseSolver, C: SceneEvents<'a, S>>(
 }
 
 /// Safe step of one watched function from energy bounds (the forced scene's event finder,
-/// [`super::forced::events`], steps by it): distance `g >= 0` to zero with derivatives `g1, g2,
+/// [`super::driven`], steps by it): distance `g >= 0` to zero with derivatives `g1, g2,
 /// g3`, and bounds `b2 >= |g''|`, `b4 >= |g''''|` over the future. The function cannot reach
 /// zero before `g + g1 tau - b2 tau^2 / 2` does, nor, when `g1 >= 0` and `g2 > 0`, before
 /// `g''` can (by the same bound one derivative up).

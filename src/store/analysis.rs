@@ -1,14 +1,14 @@
 //! `RUN_DIR/analysis/`: what each shard of a harmonic study's analysis computed
-//! ([`crate::reduce::analysis`]): `probes-I-of-N.parquet` and `branches-I-of-N.parquet`, each
-//! carrying the study text it was computed for. Intermediate files: the final `reduce` reads a
-//! complete set of them and writes the study's tables.
+//! ([`crate::reduce::forced::analysis`]): `probes-I-of-N.parquet` and
+//! `branches-I-of-N.parquet`, each carrying the study text it was computed for. Intermediate
+//! files: the final `reduce` reads a complete set of them and writes the study's tables.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
 use super::schema::{META_STUDY, TableKind};
-use crate::reduce::table::Table;
+use super::table::Table;
 
 /// The analysis directory of a run directory.
 pub fn analysis_dir(run_dir: &Path) -> PathBuf {

@@ -39,6 +39,11 @@ pub struct Manifest {
     pub outcomes: BTreeMap<String, u64>,
     /// Finished chunks, by chunk id.
     pub chunks: Vec<ChunkEntry>,
+    /// Chunks whose part files were being renamed into place when the journal was last folded,
+    /// with the checksums they were written with (empty, and absent from the file, once every
+    /// chunk written is recorded as finished).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub writing: Vec<WritingEntry>,
     /// Shards (`I/N`) that have written into this directory.
     pub shards: Vec<String>,
     pub audit: Option<Audit>,
@@ -56,6 +61,31 @@ pub struct ChunkEntry {
     /// part: absent for free decay and for datasets written before the sweep stored attractors.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub attractors: Option<AttractorsEntry>,
+}
+
+/// A chunk's part files about to be renamed into place: their checksums, recorded before the
+/// renames (the journal's `writing` line, [`crate::store::write_part`]). A part renamed but never
+/// recorded as finished (its writer stopped between the rename and the `chunk` line) is held to
+/// them, so a part damaged since is run again rather than kept ([`crate::sweep::verify`]).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct WritingEntry {
+    pub chunk: u64,
+    /// The points part's checksum, and the attractors part's when the chunk has one.
+    pub checksum: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attractors: Option<String>,
+}
+
+impl WritingEntry {
+    /// The record of chunk `k` about to be renamed into place, as [`crate::store::write_part`]
+    /// wrote it.
+    pub fn of(k: u64, info: &super::PartInfo) -> WritingEntry {
+        WritingEntry {
+            chunk: k,
+            checksum: info.checksum.clone(),
+            attractors: info.attractors.as_ref().map(|a| a.checksum.clone()),
+        }
+    }
 }
 
 /// A chunk's attractors part ([`crate::store::attractors`]): its rows and checksum.
@@ -198,6 +228,7 @@ impl Manifest {
             runs_done: 0,
             outcomes: BTreeMap::new(),
             chunks: Vec::new(),
+            writing: Vec::new(),
             shards: Vec::new(),
             audit: None,
         }
@@ -283,6 +314,8 @@ impl Manifest {
     pub fn recount(&mut self) {
         self.chunks.sort_by_key(|c| c.chunk);
         self.chunks.dedup_by_key(|c| c.chunk);
+        self.writing.sort_by_key(|w| w.chunk);
+        self.writing.dedup_by_key(|w| w.chunk);
         self.chunks_done = self.chunks.len() as u64;
         self.runs_done = self.chunks.iter().map(|c| c.rows).sum();
         self.outcomes.clear();
@@ -301,11 +334,28 @@ impl Manifest {
             .map(|i| &self.chunks[i])
     }
 
-    /// Adds or replaces the entry of a chunk.
+    /// Adds or replaces the entry of a chunk (it is no longer being written).
     pub fn upsert(&mut self, entry: ChunkEntry) {
+        self.writing.retain(|w| w.chunk != entry.chunk);
         match self.chunks.binary_search_by_key(&entry.chunk, |c| c.chunk) {
             Ok(i) => self.chunks[i] = entry,
             Err(i) => self.chunks.insert(i, entry),
         }
+    }
+
+    /// Adds or replaces the checksums chunk `entry.chunk` is being written with.
+    pub fn upsert_writing(&mut self, entry: WritingEntry) {
+        match self.writing.binary_search_by_key(&entry.chunk, |w| w.chunk) {
+            Ok(i) => self.writing[i] = entry,
+            Err(i) => self.writing.insert(i, entry),
+        }
+    }
+
+    /// The checksums chunk `k` was being written with, when it is not recorded as finished.
+    pub fn writing(&self, k: u64) -> Option<&WritingEntry> {
+        self.writing
+            .binary_search_by_key(&k, |w| w.chunk)
+            .ok()
+            .map(|i| &self.writing[i])
     }
 }

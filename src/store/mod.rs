@@ -5,7 +5,8 @@
 //! * [`points`]: the sweep's runs, one part file per chunk (`points/part-NNNNNN.parquet`);
 //! * [`attractors`]: a harmonic sweep's steady states, one part file per chunk beside the
 //!   points (`attractors/part-NNNNNN.parquet`);
-//! * [`summary`]: the reducer's summary, zones and jumps tables (Parquet and CSV);
+//! * [`summary`]: the reducer's summary, zones and jumps tables (Parquet and CSV), from the plain
+//!   [`table::Table`] the reducer and the report fill;
 //! * [`tradeoff`]: the solver trade-off table;
 //! * [`manifest`]: `manifest.json`, the run directory's summary (JSON, not Parquet).
 //!
@@ -25,6 +26,7 @@ pub mod manifest;
 pub mod points;
 pub mod schema;
 pub mod summary;
+pub mod table;
 pub mod tradeoff;
 
 use std::collections::{BTreeMap, HashMap};
@@ -165,22 +167,33 @@ pub enum Durability {
 /// the complete file or a `.tmp` leftover, never a truncated file under the final name (with
 /// [`Durability::Later`], a machine crash before the next sync may; the checksum catches it).
 pub fn write_bytes(path: &Path, bytes: &[u8], durability: Durability) -> Result<FileInfo> {
-    let tmp = tmp_path(path);
-    {
-        let mut f = File::create(&tmp).with_context(|| format!("creating {}", tmp.display()))?;
-        f.write_all(bytes)
-            .and_then(|()| match durability {
-                Durability::Now => f.sync_all(),
-                Durability::Later => Ok(()),
-            })
-            .with_context(|| format!("writing {}", tmp.display()))?;
-    }
-    std::fs::rename(&tmp, path)
-        .with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))?;
+    let tmp = write_tmp(path, bytes, durability)?;
+    rename_into_place(&tmp, path)?;
     Ok(FileInfo {
         checksum: Checksum::DEFAULT.of(bytes),
         bytes: bytes.len() as u64,
     })
+}
+
+/// The first half of [`write_bytes`]: `bytes` written to `path` + `.tmp` (synced with
+/// [`Durability::Now`]); returns the temporary path, for [`rename_into_place`]. Between the two a
+/// caller can record what it is about to rename (the sweep records a part's checksum).
+pub fn write_tmp(path: &Path, bytes: &[u8], durability: Durability) -> Result<PathBuf> {
+    let tmp = tmp_path(path);
+    let mut f = File::create(&tmp).with_context(|| format!("creating {}", tmp.display()))?;
+    f.write_all(bytes)
+        .and_then(|()| match durability {
+            Durability::Now => f.sync_all(),
+            Durability::Later => Ok(()),
+        })
+        .with_context(|| format!("writing {}", tmp.display()))?;
+    Ok(tmp)
+}
+
+/// The second half of [`write_bytes`]: `tmp` renamed to `path`.
+pub fn rename_into_place(tmp: &Path, path: &Path) -> Result<()> {
+    std::fs::rename(tmp, path)
+        .with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))
 }
 
 /// Flushes every file written on the file system that holds `path` to stable storage

@@ -185,11 +185,17 @@ pub fn encode_part<R: StoredRecord>(
     )
 }
 
-/// Writes chunk `k`'s rows into the run directory `dir` atomically ([`super::write_bytes`], not
-/// synced: the sweep engine syncs its file system about once a second) and returns their
-/// `checksum`. With `attractors` (a harmonic study with a census), the chunk's attractors part
-/// is written first and the points part says it has one ([`super::attractors`]), so the points
-/// part, renamed last, stays the chunk's commit marker.
+/// Writes chunk `k`'s rows into the run directory `dir` atomically (each file to its temporary
+/// name, then renamed; not synced: the sweep engine syncs its file system about once a second)
+/// and returns their `checksum`. With `attractors` (a harmonic study with a census), the chunk
+/// also has an attractors part and the points part says so ([`super::attractors`]).
+///
+/// Both files are written under their temporary names first; then `record` is given their
+/// checksums, before either is renamed (the sweep engine journals them, so that a part renamed
+/// but never recorded as finished is held to the checksum it was written with,
+/// [`crate::sweep::verify`]); then the attractors part is renamed and the points part last, so
+/// it stays the chunk's commit marker. An error from `record` renames nothing.
+#[allow(clippy::too_many_arguments)]
 pub fn write_part<R: StoredRecord>(
     dir: &Path,
     k: u64,
@@ -198,6 +204,7 @@ pub fn write_part<R: StoredRecord>(
     study_toml: &str,
     settings: &SolverSettings,
     checksum: super::Checksum,
+    record: impl FnOnce(&PartInfo) -> Result<()>,
 ) -> Result<PartInfo> {
     let side = match attractors {
         Some(a) => {
@@ -207,24 +214,32 @@ pub fn write_part<R: StoredRecord>(
                     .with_context(|| format!("creating {}", parent.display()))?;
             }
             let bytes = super::attractors::encode_part(a, study_toml)?;
-            super::write_bytes(&path, &bytes, super::Durability::Later)?;
-            Some(super::manifest::AttractorsEntry {
+            let entry = super::manifest::AttractorsEntry {
                 rows: a.len() as u64,
                 checksum: checksum.hex(&bytes),
-            })
+            };
+            let tmp = super::write_tmp(&path, &bytes, super::Durability::Later)?;
+            Some((entry, tmp, path))
         }
         None => None,
     };
     let marker = [(super::attractors::META_ATTRACTORS, "1")];
     let extra: &[(&str, &str)] = if side.is_some() { &marker } else { &[] };
     let bytes = encode_part(rows, study_toml, settings, extra)?;
-    let info = super::write_bytes(&part_path(dir, k), &bytes, super::Durability::Later)?;
-    Ok(PartInfo {
+    let path = part_path(dir, k);
+    let tmp = super::write_tmp(&path, &bytes, super::Durability::Later)?;
+    let info = PartInfo {
         rows: rows.len() as u64,
         checksum: checksum.hex(&bytes),
-        bytes: info.bytes,
-        attractors: side,
-    })
+        bytes: bytes.len() as u64,
+        attractors: side.as_ref().map(|s| s.0.clone()),
+    };
+    record(&info)?;
+    if let Some((_, side_tmp, side_path)) = &side {
+        super::rename_into_place(side_tmp, side_path)?;
+    }
+    super::rename_into_place(&tmp, &path)?;
+    Ok(info)
 }
 
 /// A Float64 column of `rows`.
@@ -782,6 +797,15 @@ mod tests {
             "name = 'x'",
             &SolverSettings::default(),
             super::super::Checksum::DEFAULT,
+            |info| {
+                // Issue 45: the checksum is known while the part still has its temporary name.
+                assert!(!path.exists() && tmp_path(&path).exists());
+                assert_eq!(
+                    info.checksum,
+                    format!("{:016x}", checksum_file(&tmp_path(&path)).unwrap())
+                );
+                Ok(())
+            },
         )
         .unwrap();
         assert_eq!(info.rows, 5);

@@ -244,7 +244,7 @@ fn forced_points_unit(column: &str) -> Option<&'static str> {
 }
 
 /// The attractors table (the sweep's parts, store/attractors.rs) and the branches table of a
-/// harmonic study (reduce/orbits.rs).
+/// harmonic study (reduce/forced/steady.rs).
 fn orbits_unit(column: &str) -> Option<&'static str> {
     Some(match column {
         "point_id" | "point" | "case" | "ideal" | "branch" | "attractor" | "kind" | "stable"
@@ -279,7 +279,7 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "safety_factor" | "ad_stat" | "ad_p" => "1",
         "di" | "di_ideal" | "di_sd" => "m/s",
         "perfectibility" => "%",
-        // A harmonic study (reduce/forced.rs): the peak amplitude over the band is the
+        // A harmonic study (reduce/forced/design.rs): the peak amplitude over the band is the
         // response, the peak reduction the damping quantity; the band of the ideal case.
         "peak_amplitude_mean"
         | "peak_amplitude_sd"

@@ -17,16 +17,18 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result, bail};
 use arrow::array::{ArrayRef, BooleanArray, Float64Array, StringArray, UInt64Array};
+use arrow::compute::concat_batches;
+use arrow::record_batch::RecordBatch;
 use parquet::arrow::ArrowWriter;
 
 use super::schema::{TableKind, case_clashes};
-use crate::reduce::table::{Column, Table};
+use super::table::{Column, Table};
 
 /// Rows built and written at a time.
 pub const BATCH_ROWS: usize = 65_536;
 
 /// The record batch of `table`, consuming its columns.
-fn record_batch(kind: TableKind, table: Table) -> Result<arrow::record_batch::RecordBatch> {
+fn record_batch(kind: TableKind, table: Table) -> Result<RecordBatch> {
     check_names(kind, &table)?;
     let columns = table
         .columns
@@ -91,9 +93,10 @@ pub fn write_table_in_batches(
 /// A table written as it is made: [`TableWriter::append`] takes its rows a part at a time (a
 /// table of the same columns each time), CSV lines at once and Parquet row groups of
 /// [`BATCH_ROWS`] rows, so a table whose rows come from many designs holds at most one row
-/// group's rows; [`TableWriter::finish`] renames the temporary files into place. The bytes are
-/// those of [`write_table`] of the whole table. Without [`TableWriter::finish`] (an error on the
-/// way) only the temporary files exist.
+/// group's rows besides the part being appended (and never a copy of that part whole);
+/// [`TableWriter::finish`] renames the temporary files into place. The bytes are those of
+/// [`write_table`] of the whole table. Without [`TableWriter::finish`] (an error on the way)
+/// only the temporary files exist.
 pub struct TableWriter {
     /// The table's kind, `NAME.parquet` and its temporary name (`None`: a CSV file alone).
     parquet: Option<(TableKind, PathBuf, PathBuf)>,
@@ -101,8 +104,13 @@ pub struct TableWriter {
     csv: (PathBuf, PathBuf),
     csv_out: BufWriter<File>,
     writer: Option<ArrowWriter<BufWriter<File>>>,
-    /// Rows appended and not yet written to Parquet (fewer than [`BATCH_ROWS`]).
-    pending: Table,
+    /// Rows appended and not yet written to Parquet, fewer than [`BATCH_ROWS`] in all, as the
+    /// record batches they came in (arrow's columns: no `String` per cell); a row group is
+    /// concatenated from them when it is complete.
+    pending: Vec<RecordBatch>,
+    pending_rows: usize,
+    /// The first part's schema: a table without rows still has its columns.
+    schema: Option<arrow::datatypes::SchemaRef>,
     header: bool,
 }
 
@@ -130,7 +138,9 @@ impl TableWriter {
             csv_out: create(&tmp)?,
             csv: (path.to_path_buf(), tmp),
             writer: None,
-            pending: Table::default(),
+            pending: Vec::new(),
+            pending_rows: 0,
+            schema: None,
             header: false,
         })
     }
@@ -147,24 +157,53 @@ impl TableWriter {
         table
             .write_csv_rows(&mut self.csv_out)
             .with_context(|| format!("writing {}", ctmp.display()))?;
-        if self.parquet.is_none() {
+        let Some((kind, _, _)) = self.parquet else {
             return Ok(());
+        };
+        let n = table.n_rows();
+        // The part as arrow columns at once (its Float64 columns move, the others are copied
+        // once), and `table` freed.
+        let part = record_batch(kind, table)?;
+        let schema = self.schema.get_or_insert_with(|| part.schema()).clone();
+        // The row groups the part completes are concatenated from the pending rows and the
+        // part's, and written; only the part's rows past the last of them wait. Before issue 45
+        // the part was appended to a table of the pending rows, which grew to hold it (to twice
+        // a row group) before a row group was cut off it and the rest copied once more.
+        let mut start = 0;
+        while n - start >= BATCH_ROWS - self.pending_rows {
+            let end = start + BATCH_ROWS - self.pending_rows;
+            let mut parts = std::mem::take(&mut self.pending);
+            parts.push(part.slice(start, end - start));
+            let group = if parts.len() == 1 {
+                parts.remove(0)
+            } else {
+                concat_batches(&schema, &parts).context("concatenating a row group")?
+            };
+            drop(parts);
+            self.write_batch(group)?;
+            self.pending_rows = 0;
+            start = end;
         }
-        self.pending.append(table);
-        while self.pending.n_rows() >= BATCH_ROWS {
-            let rest = self.pending.split_off(BATCH_ROWS);
-            let group = std::mem::replace(&mut self.pending, rest);
-            self.write_group(group)?;
+        if start < n {
+            let rest = part.slice(start, n - start);
+            // Past a row group written from it, the rest alone is kept (a copy, so that the part
+            // is freed); a part that completed none waits as it came.
+            let rest = if start == 0 {
+                rest
+            } else {
+                concat_batches(&schema, [&rest]).context("keeping a part's last rows")?
+            };
+            self.pending.push(rest);
+            self.pending_rows += n - start;
         }
         Ok(())
     }
 
     /// Writes one row group of Parquet (the writer starts with the first).
-    fn write_group(&mut self, table: Table) -> Result<()> {
+    fn write_batch(&mut self, batch: RecordBatch) -> Result<()> {
         let Some((kind, _, ptmp)) = &self.parquet else {
             return Ok(());
         };
-        let batch = record_batch(*kind, table)?;
         let w = match self.writer.as_mut() {
             Some(w) => w,
             None => self.writer.insert(
@@ -188,10 +227,17 @@ impl TableWriter {
     /// paths (Parquet first).
     pub fn finish(mut self) -> Result<Vec<PathBuf>> {
         let mut files = Vec::new();
-        if self.parquet.is_some() {
-            let rest = std::mem::take(&mut self.pending);
-            if rest.n_rows() > 0 || self.writer.is_none() {
-                self.write_group(rest)?;
+        if let Some((kind, _, _)) = self.parquet {
+            let parts = std::mem::take(&mut self.pending);
+            match &self.schema {
+                Some(schema) if self.pending_rows > 0 || self.writer.is_none() => {
+                    let group =
+                        concat_batches(schema, &parts).context("concatenating a row group")?;
+                    self.write_batch(group)?;
+                }
+                // Nothing appended: a file without columns.
+                None => self.write_batch(record_batch(kind, Table::default())?)?,
+                Some(_) => {}
             }
         }
         if let (Some(w), Some((_, parquet, ptmp))) = (self.writer.take(), &self.parquet) {
@@ -254,7 +300,7 @@ pub fn write_csv_in_batches(
 
 /// Reads a Parquet file of the reducer's kind of table back into a [`Table`] (Float64, UInt64,
 /// Boolean and Utf8 columns, in file order): what an analysis shard wrote
-/// ([`crate::reduce::analysis`]).
+/// ([`crate::reduce::forced::analysis`]).
 pub fn read_table(path: &Path) -> Result<Table> {
     use arrow::array::Array;
     let builder = super::open(path)?;
@@ -320,24 +366,34 @@ mod tests {
         t
     }
 
-    #[test]
-    fn a_table_appended_in_pieces_gives_the_bytes_of_the_whole() {
-        let n = 2 * BATCH_ROWS + 1234;
+    /// `table(0..n)` appended in the pieces `cuts` gives the bytes of the whole written at once.
+    fn appended_in_pieces(n: usize, cuts: &[Range<usize>]) {
         let (whole, pieces) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
         write_table(whole.path(), TableKind::Branches, &table(0..n)).unwrap();
         let mut w = TableWriter::create(pieces.path(), TableKind::Branches).unwrap();
-        // Pieces that straddle the row groups' boundaries, an empty one among them.
-        for r in [0..1, 1..70_000, 70_000..70_000, 70_000..n] {
-            w.append(table(r)).unwrap();
+        for r in cuts {
+            w.append(table(r.clone())).unwrap();
         }
         let files = w.finish().unwrap();
         assert_eq!(files.len(), 2);
         for name in ["branches.parquet", "branches.csv"] {
             let a = std::fs::read(whole.path().join(name)).unwrap();
             let b = std::fs::read(pieces.path().join(name)).unwrap();
-            assert!(a == b, "{name} differs");
+            assert!(a == b, "{name} differs for pieces {cuts:?}");
         }
         assert_eq!(read_table(&files[0]).unwrap(), table(0..n));
+    }
+
+    #[test]
+    fn a_table_appended_in_pieces_gives_the_bytes_of_the_whole() {
+        let n = 2 * BATCH_ROWS + 1234;
+        // Pieces that straddle the row groups' boundaries, an empty one among them.
+        appended_in_pieces(n, &[0..1, 1..70_000, 70_000..70_000, 70_000..n]);
+        // Issue 45: a whole row group at once, then a piece that completes one row group and
+        // holds two more and a part of a fourth, then rows that complete it.
+        let b = BATCH_ROWS;
+        let n = 5 * b + 17;
+        appended_in_pieces(n, &[0..b, b..b + 5, b + 5..4 * b + 9, 4 * b + 9..n]);
     }
 
     #[test]

@@ -10,6 +10,11 @@
 //! which holds the table's raw struct, its validated type and its messages: `[study]` here,
 //! `scene.rs`, `system.rs`, `sweep.rs`, `noise.rs`, `perturb.rs` (with the cross-checks over every design
 //! point's extremes), `solver.rs`, `reliability.rs`, `zones.rs`, `ranking.rs`, `run.rs`.
+//!
+//! A study of the random or record scene (`[scene] kind = "random"` or `"record"`) is validated
+//! into a [`RandomStudy`] by [`RandomStudy::load`] (`random.rs`, the record file in
+//! `record.rs`); the sweep, the store and the reducer do not run those scenes yet, so
+//! [`Study::load`] refuses them with a message that says so.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -21,12 +26,15 @@ use toml_error::{serde_error, snippet, syntax_error};
 
 use crate::error::InputError;
 use crate::model::{RangeError, System, fmt_value};
-use crate::sim::{NoiseSettings, Request, Scene, SolverSettings};
+use crate::sim::random::RandomScene;
+use crate::sim::{NoiseSettings, Request, Scene, SolverKind, SolverSettings};
 
 mod axis;
 mod noise;
 mod perturb;
+mod random;
 mod ranking;
+mod record;
 mod reliability;
 mod run;
 mod scene;
@@ -38,7 +46,9 @@ mod zones;
 
 pub use axis::Axis;
 pub use perturb::Case;
+pub use random::{DEFAULT_DT, DEFAULT_REALIZATIONS};
 pub use ranking::{DiSource, Ranking};
+pub use record::EVEN_TOL;
 pub use reliability::{Reliability, SafetyForm};
 pub use run::{DEFAULT_CHUNK_RUNS, RunSettings, whole_curves};
 pub use scene::frequency_axis;
@@ -289,9 +299,12 @@ pub(super) fn range_value(e: &RangeError) -> String {
     e.value.parse::<f64>().map_or_else(|_| e.value.clone(), num)
 }
 
-/// Parses and validates study text (no size guard): TOML syntax, then the raw form, then each
-/// table in turn; the first error found is returned.
-fn from_text(path: &Path, text: &str) -> Result<Study, InputError> {
+/// Parses study text (TOML syntax, then the raw form) and hands it to `validate`.
+fn with_raw<T>(
+    path: &Path,
+    text: &str,
+    validate: impl FnOnce(&Cx, &RawStudy) -> Result<T, InputError>,
+) -> Result<T, InputError> {
     let file = path.display().to_string();
     let doc = DeTable::parse(text).map_err(|e| syntax_error(&file, text, &e))?;
     let raw: RawStudy =
@@ -301,34 +314,44 @@ fn from_text(path: &Path, text: &str) -> Result<Study, InputError> {
         text,
         doc: doc.get_ref(),
     };
+    validate(&cx, &raw)
+}
 
+/// Parses and validates study text (no size guard): TOML syntax, then the raw form, then each
+/// table in turn; the first error found is returned.
+fn from_text(path: &Path, text: &str) -> Result<Study, InputError> {
+    with_raw(path, text, |cx, raw| validate(cx, raw, path, text))
+}
+
+/// Each table of a free or harmonic study in turn.
+fn validate(cx: &Cx, raw: &RawStudy, path: &Path, text: &str) -> Result<Study, InputError> {
     let h = &raw.study;
-    let scene = scene::scene(&cx, raw.scene.as_ref(), &raw.sweep)?;
+    let scene = scene::scene(cx, raw.scene.as_ref(), &raw.sweep)?;
     if let Scene::Harmonic(_) = scene {
-        free_only(&cx, h)?;
+        free_only(cx, h)?;
     }
-    let request = header(&cx, h)?;
-    let system = system::system(&cx, &raw.system)?;
-    let mut axes = sweep::axes(&cx, &raw.sweep, &raw.system, &scene)?;
+    let request = header(cx, h)?;
+    let system = system::system(cx, &raw.system)?;
+    let mut axes = sweep::axes(cx, &raw.sweep, &raw.system, &scene)?;
     if let Some(i) = scene::frequency_axis(&axes) {
         let f = axes.remove(i);
         axes.push(f);
     }
-    let noise = noise::noise(&cx, raw.noise.as_ref())?;
-    let cases = perturb::cases(&cx, raw.perturb.as_ref(), &axes, &system, noise.as_ref())?;
-    let solver = solver::solver(&cx, &raw.solver)?;
+    let noise = noise::noise(cx, raw.noise.as_ref())?;
+    let cases = perturb::cases(cx, raw.perturb.as_ref(), &axes, &system, noise.as_ref())?;
+    let solver = solver::solver(cx, &raw.solver)?;
     if let Scene::Harmonic(_) = scene {
-        scene::check_solver(&cx, &solver)?;
+        scene::check_solver(cx, &solver)?;
     }
-    let reliability = reliability::reliability(&cx, &raw.reliability)?;
-    let zones = zones::zones(&cx, &raw.zones, &axes)?;
-    let ranking = ranking::ranking(&cx, &raw.ranking)?;
+    let reliability = reliability::reliability(cx, &raw.reliability)?;
+    let zones = zones::zones(cx, &raw.zones, &axes)?;
+    let ranking = ranking::ranking(cx, &raw.ranking)?;
     let curve = match scene {
         Scene::Harmonic(_) => scene::frequency_axis(&axes).map(|i| &axes[i]),
         Scene::Free => None,
     };
-    let run = run::run(&cx, &raw.run, cases.len() as u64, &scene, curve)?;
-    scene::check_runs(&cx, &scene, &system, &axes, &cases)?;
+    let run = run::run(cx, &raw.run, cases.len() as u64, &scene, curve)?;
+    scene::check_runs(cx, &scene, &system, &axes, &cases)?;
     Ok(Study {
         path: path.to_path_buf(),
         source: text.to_string(),
@@ -345,6 +368,228 @@ fn from_text(path: &Path, text: &str) -> Result<Study, InputError> {
         zones,
         ranking,
         run,
+    })
+}
+
+/// A validated study of the random or record scene (`[scene] kind = "random"` or `"record"`,
+/// docs/scenes.md): the load, the realizations per design point and the tables a random study
+/// shares with the others. The sweep, the store and the reducer do not run it yet; what they
+/// will need is in docs/scenes.md. The structure starts at rest unless `[system]` says
+/// otherwise (`x0`, `v0`, `y0`, `w0` default to 0 here, not to Table I's `v0 = 2 m/s`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RandomStudy {
+    /// The file it was read from, and its text.
+    pub path: PathBuf,
+    pub source: String,
+    /// `[study].name` and `[study].seed` (the root of every realization's stream).
+    pub name: String,
+    pub seed: u64,
+    /// `[scene]`: the load (keys swept in `[sweep]` hold a placeholder; [`RandomStudy::point`]
+    /// sets them).
+    pub scene: RandomScene,
+    /// `[scene].realizations`: runs per design point (1 for a record).
+    pub realizations: u64,
+    pub system: System,
+    /// `[sweep]`: system keys and the scene's `S0`, `omega_g`, `zeta_g`, `omega_f`, `zeta_f` or
+    /// `scale`, in file order, the last varying fastest.
+    pub axes: Vec<Axis>,
+    pub solver: SolverSettings,
+    pub reliability: Reliability,
+    pub zones: Zones,
+    pub ranking: Ranking,
+    pub run: RunSettings,
+}
+
+impl RandomStudy {
+    /// Reads and validates a random or record study with the default size guard; a record file
+    /// is read too.
+    pub fn load(path: &Path) -> Result<RandomStudy, InputError> {
+        RandomStudy::load_with(path, LoadOptions::default())
+    }
+
+    /// [`RandomStudy::load`] with options (`allow_large`).
+    pub fn load_with(path: &Path, opts: LoadOptions) -> Result<RandomStudy, InputError> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            InputError::new(format!(
+                "{}: cannot read the study file: {e}",
+                path.display()
+            ))
+        })?;
+        RandomStudy::parse_with(path, &text, opts)
+    }
+
+    /// Parses and validates study text; `path` names it in messages and locates a record.
+    pub fn parse(path: &Path, text: &str) -> Result<RandomStudy, InputError> {
+        RandomStudy::parse_with(path, text, LoadOptions::default())
+    }
+
+    /// [`RandomStudy::parse`] with options (`allow_large`).
+    pub fn parse_with(
+        path: &Path,
+        text: &str,
+        opts: LoadOptions,
+    ) -> Result<RandomStudy, InputError> {
+        let study = with_raw(path, text, |cx, raw| random_study(cx, raw, path, text))?;
+        let runs = study.n_runs();
+        if opts.allow_large || runs <= MAX_RUNS {
+            return Ok(study);
+        }
+        Err(InputError::new(format!(
+            "{}: [sweep] = {runs} runs ({} design points x {} realizations): more than the size \
+             guard of {MAX_RUNS} runs; pass --allow-large to run it anyway",
+            path.display(),
+            study.n_points(),
+            study.realizations
+        )))
+    }
+
+    /// Design points: the product of the axis lengths (1 without axes). Saturates.
+    pub fn n_points(&self) -> u64 {
+        self.axes
+            .iter()
+            .fold(1u64, |n, a| n.saturating_mul(a.values.len() as u64))
+    }
+
+    /// Runs: points x realizations. Saturates.
+    pub fn n_runs(&self) -> u64 {
+        self.n_points().saturating_mul(self.realizations)
+    }
+
+    /// The system and the scene of design point `p` (mixed radix over the axes, the last
+    /// fastest): each axis value lands on its system key or on the scene's.
+    pub fn point(&self, p: u64) -> (System, RandomScene) {
+        let mut sys = self.system;
+        let mut scene = self.scene.clone();
+        let mut rest = p;
+        let mut values = vec![0.0; self.axes.len()];
+        for (i, axis) in self.axes.iter().enumerate().rev() {
+            let n = axis.values.len() as u64;
+            values[i] = axis.values[(rest % n) as usize];
+            rest /= n;
+        }
+        for (axis, v) in self.axes.iter().zip(values) {
+            if !sys.set(&axis.key, v) {
+                scene.set(&axis.key, v);
+            }
+        }
+        (sys, scene)
+    }
+}
+
+/// Study keys of other scenes refused in a random or record study, with what to do instead.
+const NOT_RANDOM: [(&str, &str); 3] = [
+    (
+        "outputs",
+        "a random or record run records all its outputs (docs/scenes.md); leave [study].outputs \
+         out",
+    ),
+    (
+        "peaks",
+        "peaks belong to the free-decay scene; a random or record run lasts [scene].duration",
+    ),
+    (
+        "t_end",
+        "t_end belongs to the free-decay scene; a random or record run lasts [scene].duration",
+    ),
+];
+
+/// Each table of a random or record study in turn.
+fn random_study(
+    cx: &Cx,
+    raw: &RawStudy,
+    path: &Path,
+    text: &str,
+) -> Result<RandomStudy, InputError> {
+    let h = &raw.study;
+    let default = scene::RawScene::default();
+    let raw_scene = raw.scene.as_ref().unwrap_or(&default);
+    let kind = raw_scene.kind(cx)?;
+    if !scene::RANDOM_KINDS.contains(&kind) {
+        return Err(cx.err(
+            "[scene].kind",
+            format!("{kind:?}"),
+            "a random study needs [scene] kind = \"random\" or \"record\" (the free and \
+             harmonic scenes load as a Study)",
+        ));
+    }
+    let given = [h.outputs.is_some(), h.peaks.is_some(), h.t_end.is_some()];
+    for ((key, why), given) in NOT_RANDOM.into_iter().zip(given) {
+        if given {
+            return Err(cx.err(&format!("[study].{key}"), cx.source("study", key), why));
+        }
+    }
+    header(cx, h)?;
+    if let Some(key) = raw_scene.given().first() {
+        return Err(cx.err(
+            &format!("[scene].{key}"),
+            cx.source("scene", key),
+            format!("{key} belongs to the harmonic scene; this study's kind is {kind:?}"),
+        ));
+    }
+    for (table, present, why) in [
+        (
+            "perturb",
+            raw.perturb.is_some(),
+            "a random study's cases are its realizations ([scene].realizations); perturbed \
+             cases are not supported in it",
+        ),
+        (
+            "noise",
+            raw.noise.is_some(),
+            "measurement noise belongs to the free and harmonic scenes; a random study's load is \
+             its noise",
+        ),
+    ] {
+        if present {
+            return Err(InputError::new(format!("{}: [{table}]: {why}", cx.file)));
+        }
+    }
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let (scene, realizations) = random::scene(cx, kind, raw_scene, &raw.sweep, dir)?;
+    let mut system = system::system(cx, &raw.system)?;
+    for key in ["x0", "v0", "y0", "w0"] {
+        if raw.system.get(key).is_none() {
+            system.set(key, 0.0);
+        }
+    }
+    let keys = random::axes_of(&scene);
+    let scene_axes = sweep::SceneAxes {
+        keys: &keys,
+        check: random::check_key,
+        listed: true,
+    };
+    let axes = sweep::axes_with(cx, &raw.sweep, &raw.system, &scene_axes)?;
+    let solver = solver::solver(cx, &raw.solver)?;
+    if solver.kind != SolverKind::Exact {
+        return Err(cx.err(
+            "[solver].kind",
+            format!("{:?}", solver.kind.name()),
+            "the random and record scenes are solved by exact only",
+        ));
+    }
+    if let Some(a) = raw.run.audit_given()
+        && a > 0
+    {
+        return Err(cx.err(
+            "[run].audit",
+            a,
+            "the accuracy audit re-runs free-decay runs; a random study has none",
+        ));
+    }
+    Ok(RandomStudy {
+        path: path.to_path_buf(),
+        source: text.to_string(),
+        name: h.name.clone(),
+        seed: h.seed.unwrap_or(0),
+        scene,
+        realizations,
+        system,
+        axes: axes.clone(),
+        solver,
+        reliability: reliability::reliability(cx, &raw.reliability)?,
+        zones: zones::zones(cx, &raw.zones, &axes)?,
+        ranking: ranking::ranking(cx, &raw.ranking)?,
+        run: run::run(cx, &raw.run, realizations, &Scene::Free, None)?,
     })
 }
 

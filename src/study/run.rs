@@ -35,6 +35,13 @@ pub(super) struct RawRun {
     audit: Option<u64>,
 }
 
+impl RawRun {
+    /// `[run].audit` as given.
+    pub(super) fn audit_given(&self) -> Option<u64> {
+        self.audit
+    }
+}
+
 /// The validated `[run]`; the default chunk holds about [`DEFAULT_CHUNK_RUNS`] runs of
 /// `n_cases` cases per point. In a harmonic study with a swept frequency axis (`curve`) a chunk
 /// holds whole frequency-response curves, so that `reduce` can stream: the default is rounded

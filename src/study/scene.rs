@@ -4,6 +4,12 @@
 //! fixed here or swept in `[sweep]`, so a harmonic study is a family of frequency-response
 //! curves; the transient and measurement settings are phase 1's [`Harmonic`] settings.
 //!
+//! `kind = "random"` and `kind = "record"` (a random load per realization, a recorded one) have
+//! their keys in the same table; [`super::random`] validates them into a
+//! [`crate::sim::random::RandomScene`] for [`super::RandomStudy`]. [`Study`](super::Study) does
+//! not run them yet (the sweep, the points table and the reduction of those scenes are to come):
+//! loading such a study as a `Study` is refused with a message that says so.
+//!
 //! Resonance without damping is refused for every run of the plan (each design point, each
 //! case's perturbed `m`) at load, not discovered in the night: [`check_runs`] bounds the dynamic
 //! stiffness from below over the whole grid and, only when the bound does not settle it,
@@ -42,11 +48,46 @@ pub(super) struct RawScene {
     life_quantile: Option<f64>,
     life_tol: Option<f64>,
     life_max_periods: Option<u64>,
+    // The random and record scenes ([`super::random`]).
+    pub(super) input: Option<String>,
+    pub(super) spectrum: Option<String>,
+    S0: Option<f64>,
+    omega_g: Option<f64>,
+    zeta_g: Option<f64>,
+    omega_f: Option<f64>,
+    zeta_f: Option<f64>,
+    pub(super) dt: Option<f64>,
+    duration: Option<f64>,
+    pub(super) envelope: Option<RawEnvelope>,
+    pub(super) realizations: Option<u64>,
+    pub(super) threshold: Option<f64>,
+    pub(super) record: Option<String>,
+    scale: Option<f64>,
+}
+
+/// The scene kinds of [`super::random`].
+pub(super) const RANDOM_KINDS: [&str; 2] = ["random", "record"];
+
+/// The keys of `[scene]` that belong to the random scene only, to the record scene only, and to
+/// both.
+pub(super) const RANDOM_ONLY: [&str; 8] = [
+    "spectrum", "S0", "omega_g", "zeta_g", "omega_f", "zeta_f", "dt", "envelope",
+];
+pub(super) const RECORD_ONLY: [&str; 2] = ["record", "scale"];
+pub(super) const RANDOM_SHARED: [&str; 4] = ["input", "duration", "realizations", "threshold"];
+
+/// `[scene] envelope = { t1, t2, c }` (s, s, 1/s).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawEnvelope {
+    pub(super) t1: f64,
+    pub(super) t2: f64,
+    pub(super) c: f64,
 }
 
 impl RawScene {
     /// The keys given besides `kind`, in the order of [`Harmonic::KEYS`].
-    fn given(&self) -> Vec<&'static str> {
+    pub(super) fn given(&self) -> Vec<&'static str> {
         let present = [
             self.F0.is_some(),
             self.omega.is_some(),
@@ -84,6 +125,60 @@ impl RawScene {
             _ => None,
         }
     }
+
+    /// A number-valued key of the random and record scenes.
+    pub(super) fn number(&self, key: &str) -> Option<f64> {
+        match key {
+            "S0" => self.S0,
+            "omega_g" => self.omega_g,
+            "zeta_g" => self.zeta_g,
+            "omega_f" => self.omega_f,
+            "zeta_f" => self.zeta_f,
+            "dt" => self.dt,
+            "duration" => self.duration,
+            "threshold" => self.threshold,
+            "scale" => self.scale,
+            _ => None,
+        }
+    }
+
+    /// The keys of the random and record scenes given, in the order of [`RANDOM_ONLY`],
+    /// [`RECORD_ONLY`], [`RANDOM_SHARED`].
+    pub(super) fn random_given(&self) -> Vec<&'static str> {
+        RANDOM_ONLY
+            .into_iter()
+            .chain(RECORD_ONLY)
+            .chain(RANDOM_SHARED)
+            .filter(|k| self.has(k))
+            .collect()
+    }
+
+    /// Whether a key of the random and record scenes is given.
+    pub(super) fn has(&self, key: &str) -> bool {
+        match key {
+            "input" => self.input.is_some(),
+            "spectrum" => self.spectrum.is_some(),
+            "envelope" => self.envelope.is_some(),
+            "realizations" => self.realizations.is_some(),
+            "record" => self.record.is_some(),
+            _ => self.number(key).is_some(),
+        }
+    }
+
+    /// The kind as written (`free` when absent), checked against every scene's name.
+    pub(super) fn kind(&self, cx: &Cx) -> Result<&str, InputError> {
+        let kind = self.kind.as_deref().unwrap_or("free");
+        let known = Scene::NAMES.iter().chain(RANDOM_KINDS.iter());
+        if !known.clone().any(|k| *k == kind) {
+            let names: Vec<&str> = known.copied().collect();
+            return Err(cx.err(
+                "[scene].kind",
+                format!("{kind:?}"),
+                format!("unknown scene; allowed: {}", names.join(", ")),
+            ));
+        }
+        Ok(kind)
+    }
 }
 
 /// Whether `key` is a sweepable key of the harmonic scene (`F0`, `omega`, `r`).
@@ -108,12 +203,24 @@ pub(super) fn scene(
 ) -> Result<Scene, InputError> {
     let default = RawScene::default();
     let raw = raw.unwrap_or(&default);
-    let kind = raw.kind.as_deref().unwrap_or("free");
-    if !Scene::NAMES.contains(&kind) {
+    let kind = raw.kind(cx)?;
+    if RANDOM_KINDS.contains(&kind) {
         return Err(cx.err(
             "[scene].kind",
             format!("{kind:?}"),
-            format!("unknown scene; allowed: {}", Scene::NAMES.join(", ")),
+            "the random and record scenes are not run by sweep, reduce and report yet (issue \
+             44: their simulator and their study checks are in, impactsweep::study::RandomStudy \
+             loads such a study); the kinds a sweep runs: free, harmonic",
+        ));
+    }
+    if let Some(key) = raw.random_given().first() {
+        return Err(cx.err(
+            &format!("[scene].{key}"),
+            cx.source("scene", key),
+            format!(
+                "{key} belongs to the random and record scenes; set [scene] kind = \"random\" \
+                 or \"record\""
+            ),
         ));
     }
     if kind == "free" {
@@ -463,7 +570,7 @@ mod tests {
         let cases = [
             (
                 "[scene]\nkind = \"forced\"\n",
-                "h.toml: [scene].kind = \"forced\": unknown scene; allowed: free, harmonic",
+                "h.toml: [scene].kind = \"forced\": unknown scene; allowed: free, harmonic, random, record",
             ),
             (
                 "[scene]\nF0 = 2\n",

@@ -9,9 +9,18 @@ use super::scene::is_scene_axis;
 use super::system::RawSystem;
 use super::{Cx, MAX_AXIS_VALUES, num};
 use crate::error::InputError;
-use crate::model::SYSTEM_KEYS;
+use crate::model::{RangeError, SYSTEM_KEYS};
 use crate::numeric::{linspace, round15};
 use crate::sim::Scene;
+use crate::sim::random::RandomScene;
+
+/// The scene keys a study may sweep besides the system's, how one value of them is checked,
+/// and whether the message for an unknown axis lists them.
+pub(super) struct SceneAxes<'k> {
+    pub keys: &'k [&'static str],
+    pub check: fn(&str, f64) -> Result<(), RangeError>,
+    pub listed: bool,
+}
 
 /// The validated `[sweep]`: the axes in file order. A key is either fixed in `[system]` or
 /// swept, not both. A harmonic study may also sweep `F0`, `omega` or `r` (their cross-checks
@@ -22,26 +31,50 @@ pub(super) fn axes(
     system: &RawSystem,
     scene: &Scene,
 ) -> Result<Vec<Axis>, InputError> {
+    let keys: &[&'static str] = match scene {
+        Scene::Harmonic(_) => &crate::sim::Harmonic::AXES,
+        Scene::Free => &[],
+    };
+    let scene_axes = SceneAxes {
+        keys,
+        check: super::scene::check_key,
+        listed: false,
+    };
+    axes_with(cx, raw, system, &scene_axes)
+}
+
+/// [`axes`] for a scene whose sweepable keys are `scene.keys`.
+pub(super) fn axes_with(
+    cx: &Cx,
+    raw: &BTreeMap<String, RawAxis>,
+    system: &RawSystem,
+    scene: &SceneAxes,
+) -> Result<Vec<Axis>, InputError> {
     let mut keys: Vec<&String> = raw.keys().collect();
     keys.sort_by_key(|k| cx.key_pos("sweep", k));
     let mut axes = Vec::new();
-    let harmonic = matches!(scene, Scene::Harmonic(_));
     for key in keys {
         let at = format!("[sweep].{key}");
-        let scene_axis = is_scene_axis(key);
-        let allowed = SYSTEM_KEYS.contains(&key.as_str()) || (harmonic && scene_axis);
-        if !allowed {
-            let hint = if scene_axis {
+        let system_key = SYSTEM_KEYS.contains(&key.as_str());
+        if !system_key && !scene.keys.contains(&key.as_str()) {
+            let hint = if is_scene_axis(key) {
                 " (F0, omega and r are axes of the harmonic scene: [scene] kind = \"harmonic\")"
+            } else if RandomScene::AXES.contains(&key.as_str()) {
+                " (S0, omega_g, zeta_g, omega_f and zeta_f are axes of the random scene as its \
+                 spectrum has them, scale of the record scene)"
             } else {
                 ""
             };
+            let mut allowed: Vec<&str> = SYSTEM_KEYS.to_vec();
+            if scene.listed {
+                allowed.extend(scene.keys);
+            }
             return Err(cx.err(
                 &at,
                 cx.source("sweep", key),
                 format!(
                     "unknown axis '{key}'; allowed: {}{hint}",
-                    SYSTEM_KEYS.join(", ")
+                    allowed.join(", ")
                 ),
             ));
         }
@@ -52,7 +85,12 @@ pub(super) fn axes(
                 format!("{key} is also swept in [sweep]; a key is either fixed or swept, not both"),
             ));
         }
-        let values = axis_values(cx, key, &raw[key])?;
+        let check = if system_key {
+            super::system::check_key
+        } else {
+            scene.check
+        };
+        let values = axis_values(cx, key, &raw[key], check)?;
         axes.push(Axis {
             key: key.clone(),
             values,
@@ -61,8 +99,13 @@ pub(super) fn axes(
     Ok(axes)
 }
 
-/// The values of one axis.
-fn axis_values(cx: &Cx, key: &str, raw: &RawAxis) -> Result<Vec<f64>, InputError> {
+/// The values of one axis, each extreme checked by `check_key`.
+fn axis_values(
+    cx: &Cx,
+    key: &str,
+    raw: &RawAxis,
+    check_key: fn(&str, f64) -> Result<(), RangeError>,
+) -> Result<Vec<f64>, InputError> {
     let at = format!("[sweep].{key}");
     let values = match raw {
         RawAxis::List(list) => {
@@ -123,11 +166,6 @@ fn axis_values(cx: &Cx, key: &str, raw: &RawAxis) -> Result<Vec<f64>, InputError
         }
     };
     // Only the extremes: every rule on a single key is a range.
-    let check_key = if is_scene_axis(key) {
-        super::scene::check_key
-    } else {
-        super::system::check_key
-    };
     for v in [values[0], values[values.len() - 1]] {
         check_key(key, v).map_err(|e| cx.err(&at, num(v), e.allowed))?;
     }

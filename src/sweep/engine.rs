@@ -18,6 +18,7 @@ use crate::accuracy::Audit;
 use crate::error::InputError;
 use crate::plan::Plan;
 use crate::sim::{ForcedRecord, Record, Scene};
+use crate::store::manifest::WritingEntry;
 use crate::store::{self, Checksum, ChunkEntry, Manifest, RunRow, StoredRecord};
 use crate::study::{Study, whole_curves};
 
@@ -345,9 +346,10 @@ fn check_scene_options(study: &Study, opts: &SweepOptions) -> Result<()> {
 }
 
 /// Simulates and writes the `pending` chunks (on the current rayon pool), chunk `k` written
-/// while `k + 1` is simulated; stops early when a stop is requested. Each part is recorded in
-/// the journal once complete; the file system is synced every [`SYNC_EVERY`]. Returns the outcome
-/// counts of the runs written and the number of chunks written.
+/// while `k + 1` is simulated; stops early when a stop is requested. Each part's checksums are
+/// journaled before its files are renamed into place (a `writing` line), and the part is recorded
+/// once complete (a `chunk` line); the file system is synced every [`SYNC_EVERY`]. Returns the
+/// outcome counts of the runs written and the number of chunks written.
 fn write_chunks<R: SceneRun>(
     plan: &Plan,
     dir: &Path,
@@ -372,6 +374,7 @@ fn write_chunks<R: SceneRun>(
             &study.source,
             &study.solver,
             algorithm,
+            |info| journal.append(&Entry::Writing(WritingEntry::of(k, info))),
         )?;
         let counts = outcome_counts(&rows);
         journal.append(&Entry::Chunk(ChunkEntry {

@@ -1,11 +1,13 @@
 //! The bookkeeping of finished chunks: one append-only journal per shard, folded into
 //! `manifest.json` when the shard's run ends.
 //!
-//! A shard appends one JSON line per finished chunk to its own journal (`journal.jsonl`, or
-//! `journal-shard-I-of-N.jsonl`; only the holder of the shard's lock writes it), after the chunk's
-//! part file is complete under its final name. A line is `{"kind":"chunk","chunk":K,"rows":R,
-//! "checksum":"…","outcomes":{…}}`, `{"kind":"shard","shard":"I/N"}` or
-//! `{"kind":"audit","audit":{…}}`. So recording a chunk costs one `write` whatever the number of
+//! A shard appends two JSON lines per chunk to its own journal (`journal.jsonl`, or
+//! `journal-shard-I-of-N.jsonl`; only the holder of the shard's lock writes it): a `writing`
+//! line with the part files' checksums while they still have their temporary names,
+//! `{"kind":"writing","chunk":K,"checksum":"…","attractors":"…"}`, and a `chunk` line once the
+//! part is complete under its final name, `{"kind":"chunk","chunk":K,"rows":R,"checksum":"…",
+//! "outcomes":{…}}`; besides them `{"kind":"shard","shard":"I/N"}` and
+//! `{"kind":"audit","audit":{…}}`. So recording a chunk costs two `write`s whatever the number of
 //! chunks: no file is rewritten per chunk. The file system is synced about once a second
 //! ([`crate::store::sync_file_system`]) and at the end.
 //!
@@ -17,9 +19,11 @@
 //!
 //! A crash at any instant leaves a state `--resume` completes exactly: a line cut short (the
 //! last one, without its newline) is ignored and cut off when the shard reopens its journal; a
-//! part renamed but not yet in the journal is verified by reading it and recorded; a fold cut
-//! short leaves the old manifest and the journal, or the new manifest and the journal (its lines
-//! apply twice, to the same effect: a chunk's part file is the same bytes whoever writes it).
+//! part renamed but not yet recorded as finished is verified against the checksum its `writing`
+//! line holds (and by reading it) and recorded, or run again when it no longer has it; a fold
+//! cut short leaves the old manifest and the journal, or the new manifest and the journal (its
+//! lines apply twice, to the same effect: a chunk's part file is the same bytes whoever writes
+//! it).
 
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};
@@ -31,7 +35,7 @@ use serde::{Deserialize, Serialize};
 use super::lock::{Flock, flock};
 use crate::accuracy::Audit;
 use crate::store::manifest::{
-    ChunkEntry, Manifest, ManifestFile, read_manifest_file, write_manifest,
+    ChunkEntry, Manifest, ManifestFile, WritingEntry, read_manifest_file, write_manifest,
 };
 
 /// One journal line.
@@ -40,6 +44,9 @@ use crate::store::manifest::{
 pub enum Entry {
     /// A finished chunk: its part file is complete under its final name.
     Chunk(ChunkEntry),
+    /// A chunk's part files written under their temporary names, about to be renamed: the
+    /// checksums they must have.
+    Writing(WritingEntry),
     /// Shard `I/N` writes into this directory.
     Shard { shard: String },
     /// The accuracy audit.
@@ -149,6 +156,7 @@ pub struct Ledger {
 pub fn apply(m: &mut Manifest, entry: Entry) {
     match entry {
         Entry::Chunk(c) => m.upsert(c),
+        Entry::Writing(w) => m.upsert_writing(w),
         Entry::Shard { shard } => {
             if !m.shards.contains(&shard) {
                 m.shards.push(shard);

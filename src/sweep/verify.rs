@@ -3,13 +3,18 @@
 //!
 //! * A part the manifest or a journal records is good when its bytes have the recorded checksum
 //!   (one read and one hash, about 30 GB/s for xxh3).
-//! * A part nothing records (its writer stopped between the rename and the journal line, or the
-//!   manifest was rebuilt) is good when it is a readable Parquet file of this study with exactly
-//!   the chunk's rows (count and point ids); it is then recorded.
+//! * A part not recorded as finished (its writer stopped between the rename and the journal's
+//!   `chunk` line) has the checksum it was written with, journaled before its rename (the
+//!   `writing` line, [`crate::store::manifest::WritingEntry`]): it is good when its bytes still
+//!   have it (issue 45: a part damaged since is run again, not kept), and when it is a readable
+//!   Parquet file of this study with exactly the chunk's rows (count and point ids); it is then
+//!   recorded. A part nothing records at all (the manifest was rebuilt, or a machine crash lost
+//!   the `writing` line with the last writes) has only the second test.
 //! * A chunk of a harmonic study with a census also has an attractors part
 //!   ([`crate::store::attractors`]): recorded, it must have its recorded checksum; unrecorded
-//!   (its points part says it has one), it must be a readable attractors table of this study
-//!   whose rows belong to the chunk's runs. Either way a chunk is good only when both are.
+//!   (its points part says it has one), the checksum of its `writing` line and be a readable
+//!   attractors table of this study whose rows belong to the chunk's runs. Either way a chunk is
+//!   good only when both are.
 
 use std::path::Path;
 
@@ -84,6 +89,20 @@ fn check_unrecorded_part(
     let ids = sizes.chunk_ids(k);
     let want_rows = ids.end - ids.start;
     let bytes = std::fs::read(path).map_err(|e| format!("cannot be read: {e}"))?;
+    if let Some(w) = sizes.writing(k) {
+        written_with(sizes, &bytes, &w.checksum)?;
+        if let Some(a) = &w.attractors {
+            let side = attractors_of(path, k);
+            let side_bytes = std::fs::read(&side).map_err(|e| {
+                format!(
+                    "its attractors part {}: cannot be read: {e}",
+                    side.display()
+                )
+            })?;
+            written_with(sizes, &side_bytes, a)
+                .map_err(|why| format!("its attractors part {}: {why}", side.display()))?;
+        }
+    }
     // Either scene's table (the study text below says which study wrote it).
     let (point_ids, outcomes) =
         store::read_ids_outcomes(path).map_err(|e| format!("is not readable: {e:#}"))?;
@@ -124,6 +143,20 @@ fn check_unrecorded_part(
         outcomes,
         attractors,
     })
+}
+
+/// Why `bytes` (a part not recorded as finished) are not those it was written with, `checksum`
+/// (its `writing` line); `Ok` when they are.
+fn written_with(sizes: &Manifest, bytes: &[u8], checksum: &str) -> Result<(), String> {
+    let got = sizes.algorithm().hex(bytes);
+    if got == checksum {
+        Ok(())
+    } else {
+        Err(format!(
+            "its checksum is {got}, but it was written with {checksum} (recorded before its \
+             rename): the file is damaged"
+        ))
+    }
 }
 
 /// The record of an unrecorded attractors part of the runs `ids` when it is good, else why not.

@@ -2,6 +2,8 @@
 //! study-file parser), study files for the binary's tests, and a schema-version-1 dataset.
 #![allow(dead_code)]
 
+pub mod life;
+
 use std::path::{Path, PathBuf};
 
 use impactsweep::model::System;

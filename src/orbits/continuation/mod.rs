@@ -62,6 +62,7 @@ pub use located::LOCATED_TOL;
 use located::*;
 use walk::*;
 
+pub use super::label::Label;
 use super::locate::{self, OnBranch, complex_outside, ns_value, test_function};
 use super::map::{Forcing, MapEval, Section, eval};
 use super::shoot::{Newton, Orbit, Stability, Termination, multipliers, orbit_at, solve};
@@ -90,34 +91,6 @@ impl Param {
         match self {
             Param::Ratio => f.at_ratio(value),
             Param::Force => f.at_force(value),
-        }
-    }
-}
-
-/// A label of a continuation point.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Label {
-    None,
-    SN,
-    /// A branch point: a real multiplier through `+1` where the branch does not fold.
-    BP,
-    PD,
-    /// Neimark–Sacker: a complex pair of multipliers through the unit circle.
-    NS,
-    GR,
-    NI,
-}
-
-impl Label {
-    pub fn name(self) -> &'static str {
-        match self {
-            Label::None => "",
-            Label::SN => "SN",
-            Label::BP => "BP",
-            Label::PD => "PD",
-            Label::NS => "NS",
-            Label::GR => "GR",
-            Label::NI => "NI",
         }
     }
 }

@@ -4,187 +4,34 @@
 //! Sans, embedded in the binary and registered once as `sans-serif`.
 //!
 //! One axis (the paper's figures):
-//! * `di` — DI against the axis (Figure 4), the located jumps marked ([`di`]);
-//! * `design_chart` — R with its interval, μn and DI by zone (Figure 6, [`design`]);
-//! * `xmax_spread` — the response over the cases of each design point ([`spread`]).
+//! * `di` — DI against the axis (Figure 4), the located jumps marked ([`self::core::di`]);
+//! * `design_chart` — R with its interval, μn and DI by zone (Figure 6, [`self::core::design`]);
+//! * `xmax_spread` — the response over the cases of each design point ([`self::core::spread`]).
 //!
 //! Two or more axes, through the recommended design (the best design when none is robust):
 //! * `design_chart_<axis>` and `xmax_spread_<axis>` along every axis, the others fixed;
 //! * `perfectibility_map_<a>_<b>` and `zone_map_<a>_<b>` over every pair of axes, the others
-//!   fixed ([`map`]);
+//!   fixed ([`self::core::map`]);
 //! * with three axes, `zone_maps_<c>`: zone maps of the last two axes at several values of the
-//!   first, as small multiples ([`multiples`]).
+//!   first, as small multiples ([`self::core::multiples`]).
 //!
-//! In a harmonic study the design points are designs (a design point without its frequency),
-//! the response is the peak amplitude over the band (`peak_amplitude_spread`) and DI's place
-//! is taken by the peak reduction (`peak_reduction`); [`frequency_response`] adds the
-//! frequency-response curves and the impacts per period and period against the frequency.
+//! Those are the [`self::core`]'s summary charts ([`summary_charts`]), drawn for every scene. In a
+//! harmonic study the design points are designs (a design point without its frequency), the
+//! response is the peak amplitude over the band (`peak_amplitude_spread`) and DI's place is
+//! taken by the peak reduction (`peak_reduction`); the scene's own charts are in [`forced`]
+//! (the frequency-response curves, the impacts per period and period against the frequency,
+//! the steady states, the bifurcation diagram and the design maps).
 //!
-//! And [`waveform`] (the paper's Figures 2 and 5), [`tradeoff`] (the solver chart of
-//! `tradeoff`). [`plumbing`] holds what they share.
+//! And [`free`], the free-decay scene's waveforms (the paper's Figures 2 and 5), [`tradeoff`]
+//! (the solver chart of `tradeoff`). [`plumbing`] holds what they share.
 
-pub mod bifurcation;
-pub mod design;
-pub mod design_map;
-pub mod di;
-pub mod frequency_response;
-pub mod map;
-pub mod multiples;
+pub mod core;
+pub mod forced;
+pub mod free;
 pub mod plumbing;
-pub mod spread;
-pub mod steady_states;
 pub mod tradeoff;
-pub mod waveform;
 
-use std::path::{Path, PathBuf};
-
-use crate::reduce::Summary;
-use crate::reduce::table::axis_column;
-
-pub use plumbing::{Data, Profile, axis_unit, fmt_num, register_fonts};
-pub use waveform::{Trace, waveforms};
-
-/// Draws every summary chart into `dir`; returns the files written (SVG, PNG and CSV of each).
-pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
-    let g = &s.grid;
-    let Some(anchor) = s.anchor() else {
-        return Ok(files);
-    };
-    if g.n_axes() == 0 {
-        return Ok(files);
-    }
-    let cols = Columns::of(s);
-    if g.n_axes() == 1 {
-        let pr = Profile::new(s, 0, anchor);
-        let d = s.options.damping.name;
-        files.extend(plumbing::render(
-            dir,
-            d,
-            di::SIZE,
-            &di::DiChart(&pr),
-            &Data::Rows(s, &pr.points, &[d]),
-        )?);
-        files.extend(profile_charts(s, dir, &pr, &cols, "")?);
-        return Ok(files);
-    }
-    let swept: Vec<usize> = (0..g.n_axes()).filter(|&a| g.n(a) >= 2).collect();
-    for &a in &swept {
-        let pr = Profile::new(s, a, anchor);
-        let suffix = format!("_{}", axis_column(g.key(a)));
-        files.extend(profile_charts(s, dir, &pr, &cols, &suffix)?);
-    }
-    for (i, &a) in swept.iter().enumerate() {
-        for &b in &swept[i + 1..] {
-            files.extend(maps(s, dir, (a, b), anchor)?);
-        }
-    }
-    if swept.len() == 3 {
-        let chart = multiples::ZoneMultiples::new(s, swept[0], (swept[1], swept[2]), anchor);
-        let points = chart.points();
-        let data = Data::Rows(s, &points, &["class", "zone"]);
-        files.extend(plumbing::render(
-            dir,
-            &format!("zone_maps_{}", axis_column(g.key(swept[0]))),
-            multiples::SIZE,
-            &chart,
-            &data,
-        )?);
-    }
-    Ok(files)
-}
-
-/// The columns each profile chart draws (its data: these, after point and the axes).
-struct Columns {
-    /// The spread chart's file stem, `<response>_spread`.
-    spread: String,
-    spread_cols: Vec<String>,
-    design_cols: [&'static str; 7],
-}
-
-impl Columns {
-    fn of(s: &Summary) -> Columns {
-        let r = s.options.response.name;
-        Columns {
-            spread: format!("{r}_spread"),
-            spread_cols: ["min", "q1", "median", "q3", "max", "ideal"]
-                .iter()
-                .map(|q| format!("{r}_{q}"))
-                .collect(),
-            design_cols: [
-                "reliability",
-                "reliability_lo",
-                "reliability_hi",
-                "safety_factor",
-                s.options.damping.name,
-                "class",
-                "zone",
-            ],
-        }
-    }
-}
-
-/// The design chart and the spread chart along the profile `pr`, their file stems ending in
-/// `suffix` (`_<axis>` when the study has several axes).
-fn profile_charts(
-    s: &Summary,
-    dir: &Path,
-    pr: &Profile,
-    cols: &Columns,
-    suffix: &str,
-) -> anyhow::Result<Vec<PathBuf>> {
-    let spread_cols: Vec<&str> = cols.spread_cols.iter().map(String::as_str).collect();
-    let mut files = plumbing::render(
-        dir,
-        &format!("design_chart{suffix}"),
-        design::SIZE,
-        &design::DesignChart(pr),
-        &Data::Rows(s, &pr.points, &cols.design_cols),
-    )?;
-    files.extend(plumbing::render(
-        dir,
-        &format!("{}{suffix}", cols.spread),
-        spread::SIZE,
-        &spread::SpreadChart(pr),
-        &Data::Rows(s, &pr.points, &spread_cols),
-    )?);
-    Ok(files)
-}
-
-/// The perfectibility map and the zone map over the axes `(a, b)`, through `anchor`.
-fn maps(
-    s: &Summary,
-    dir: &Path,
-    (a, b): (usize, usize),
-    anchor: u64,
-) -> anyhow::Result<Vec<PathBuf>> {
-    let g = &s.grid;
-    let pair = format!("{}_{}", axis_column(g.key(a)), axis_column(g.key(b)));
-    let mut files = Vec::new();
-    for (stem, kind, columns) in [
-        (
-            "perfectibility_map",
-            map::MapKind::Perfectibility,
-            &["perfectibility", "rank", "robust"][..],
-        ),
-        ("zone_map", map::MapKind::Zones, &["class", "zone"][..]),
-    ] {
-        let chart = map::MapChart {
-            s,
-            a,
-            b,
-            through: anchor,
-            kind,
-        };
-        let points = chart.points();
-        let data = Data::Rows(s, &points, columns);
-        files.extend(plumbing::render(
-            dir,
-            &format!("{stem}_{pair}"),
-            map::SIZE,
-            &chart,
-            &data,
-        )?);
-    }
-    Ok(files)
-}
+pub use self::core::summary_charts;
+pub use crate::report::text::{axis_unit, fmt_num};
+pub use free::{Trace, waveforms};
+pub use plumbing::{Data, Profile, register_fonts};

@@ -11,8 +11,9 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
-use crate::reduce::table::Table;
 use crate::reduce::{Class, Jump, PointStats, Summary};
+use crate::report::text::axis_value;
+use crate::store::table::Table;
 
 static FONT: &[u8] = include_bytes!("../../../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
@@ -137,8 +138,9 @@ pub enum Data<'a> {
 impl Data<'_> {
     /// Writes the data as CSV, a batch of rows at a time.
     fn write(&self, path: &Path) -> anyhow::Result<()> {
-        use crate::reduce::table::{axis_column, summary_rows};
+        use crate::reduce::core::tables::summary_rows;
         use crate::store::summary::write_csv_in_batches;
+        use crate::store::table::axis_column;
         match self {
             Data::Rows(s, points, columns) => {
                 let mut keep: Vec<String> = vec!["point".into()];
@@ -281,45 +283,6 @@ pub fn with_headroom(lo: f64, hi: f64, min_span: f64) -> (f64, f64) {
     let mid = (lo + hi) / 2.0;
     let (lo, hi) = (lo.min(mid - span / 2.0), hi.max(mid + span / 2.0));
     (lo - 0.08 * span, hi + 0.24 * span)
-}
-
-/// Unit of a system key (or of a harmonic study's `F0` and `omega`), for axis labels.
-pub fn axis_unit(key: &str) -> &'static str {
-    match key {
-        "F0" => "N",
-        "omega" => "rad/s",
-        k => crate::model::System::unit(k),
-    }
-}
-
-/// An axis label: `coefficient of restitution e (–)`, `m (kg)`.
-pub fn axis_desc(key: &str) -> String {
-    match key {
-        "e" => "coefficient of restitution e (–)".into(),
-        k => format!("{k} ({})", axis_unit(k)),
-    }
-}
-
-/// `m = 0.02 kg`.
-pub fn axis_value(key: &str, v: f64) -> String {
-    match axis_unit(key) {
-        "–" => format!("{key} = {}", fmt_num(v)),
-        u => format!("{key} = {} {u}", fmt_num(v)),
-    }
-}
-
-/// Short number formatting for labels.
-pub fn fmt_num(v: f64) -> String {
-    if v == 0.0 {
-        return "0".into();
-    }
-    let a = v.abs();
-    if (1e-3..1e5).contains(&a) {
-        let s = format!("{v:.6}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        format!("{v:.4e}")
-    }
 }
 
 /// An x–y chart on `area`: its caption, the ranges, a light grid and the axis descriptions.

@@ -8,10 +8,10 @@ use std::fmt::Write;
 use plotters::style::RGBColor;
 
 use super::markdown::esc;
-use crate::reduce::table::axis_column;
 use crate::reduce::{PointStats, Summary};
-use crate::report::charts::plumbing::fmt_num;
-use crate::report::markdown::{design_text, f, thousands};
+use crate::report::markdown::{design_text, f};
+use crate::report::text::{fmt_num, thousands};
+use crate::store::table::axis_column;
 
 /// A colour as CSS `#rrggbb`.
 pub fn hex(c: RGBColor) -> String {

@@ -12,7 +12,7 @@ use anyhow::Context;
 
 use super::markdown::esc;
 use super::{CSS, META_BEST, META_RECOMMENDED, META_THUMBNAIL};
-use crate::report::markdown::thousands;
+use crate::report::text::thousands;
 
 /// Where a study's sweep stands.
 #[derive(Clone, Debug, PartialEq, Eq)]

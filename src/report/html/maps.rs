@@ -10,10 +10,11 @@ use std::fmt::Write;
 use super::hover::{data, hex, title_element};
 use super::markdown::esc;
 use crate::reduce::PointStats;
-use crate::reduce::table::axis_column;
-use crate::report::charts::map::{MapChart, MapKind};
-use crate::report::charts::plumbing::{axis_desc, fmt_num, heat, minmax, zone_color};
+use crate::report::charts::core::map::{MapChart, MapKind};
+use crate::report::charts::plumbing::{heat, minmax, zone_color};
 use crate::report::markdown::f;
+use crate::report::text::{axis_desc, fmt_num};
+use crate::store::table::axis_column;
 
 const W: f64 = 760.0;
 const LEFT: f64 = 90.0;

@@ -26,9 +26,9 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 use crate::reduce::Summary;
-use crate::reduce::table::axis_column;
-use crate::report::charts::map::{MapChart, MapKind};
+use crate::report::charts::core::map::{MapChart, MapKind};
 use crate::report::charts::plumbing::Profile;
+use crate::store::table::axis_column;
 use markdown::esc;
 
 /// The page's style sheet.

@@ -9,12 +9,11 @@ use std::fmt::Write;
 
 use super::hover::{data, hex, title_element};
 use super::markdown::esc;
-use crate::reduce::jumps::{Jump, Quantity};
-use crate::reduce::table::axis_column;
+use crate::reduce::{Jump, Quantity};
 use crate::reduce::{PointStats, Summary};
-use crate::report::charts::plumbing::{
-    Profile, axis_desc, axis_value, cell_edges, fmt_num, minmax, pad, zone_color,
-};
+use crate::report::charts::plumbing::{Profile, cell_edges, minmax, pad, zone_color};
+use crate::report::text::{axis_desc, axis_value, fmt_num};
+use crate::store::table::axis_column;
 
 const W: f64 = 760.0;
 const LEFT: f64 = 90.0;

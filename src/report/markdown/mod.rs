@@ -7,26 +7,46 @@
 //! enough), then the zones, the jumps, the sensitivity, the ranking, the nominal design's
 //! cases, the outcomes, normality, how it was computed, the accuracy audit and the charts.
 
-mod audit;
-mod cases;
+mod core;
 pub mod forced;
-mod jumps;
-mod life;
-mod ranking;
-mod recommendation;
-mod sensitivity;
-mod settings;
-mod zones;
 
 use std::fmt::Write;
 
 use crate::reduce::{PointStats, Summary};
 use crate::study::Study;
 
-use super::charts::plumbing::{axis_value, fmt_num};
+use crate::report::text::{axis_value, fmt_num};
 
 /// Rows a report table shows at most.
 pub const MAX_ROWS: usize = 30;
+
+/// What a scene adds to the report, and how the core's sections word it for that scene. The
+/// default is the free-decay scene's: no section of its own, design points, cases per point,
+/// no motion that is not periodic. The harmonic scene's is [`forced::scene_text`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneText {
+    /// The scene's own section, after the recommendation.
+    pub section: String,
+    /// What one design point is called, and several (`design point`, `design points`).
+    pub point: (&'static str, &'static str),
+    /// The runs of one design point (`81 frequencies × 5 cases per design`); `None`: its cases
+    /// (`4 cases per point`).
+    pub per_point: Option<String>,
+    /// The study's motions that are not periodic carry their window maxima
+    /// (`nonperiodic_peak = "window"`), not amplitudes over a design life.
+    pub window_peaks: bool,
+}
+
+impl Default for SceneText {
+    fn default() -> Self {
+        SceneText {
+            section: String::new(),
+            point: ("design point", "design points"),
+            per_point: None,
+            window_peaks: false,
+        }
+    }
+}
 
 /// The report text. `charts` are file names relative to the run directory; `audit` is the
 /// run's accuracy audit (`manifest.json`) when there is one.
@@ -36,28 +56,26 @@ pub fn report(
     charts: &[String],
     audit: Option<&crate::accuracy::Audit>,
 ) -> String {
-    report_with(study, s, charts, audit, "")
+    report_with(study, s, charts, audit, &SceneText::default())
 }
 
-/// [`report`] with a section of the study's scene after the recommendation (the harmonic
-/// scene's frequency response, [`forced::section`]).
+/// [`report`] with what the study's scene adds ([`SceneText`]: the harmonic scene's frequency
+/// response after the recommendation, [`forced::scene_text`]).
 pub fn report_with(
     study: &Study,
     s: &Summary,
     charts: &[String],
     audit: Option<&crate::accuracy::Audit>,
-    scene: &str,
+    scene: &SceneText,
 ) -> String {
+    use self::core::{audit, cases, jumps, ranking, recommendation, sensitivity, settings, zones};
     let mut o = format!("# impactsweep report: {}\n\n", study.name);
-    o += &cases::overview(study, s);
+    o += &cases::overview(study, s, scene);
     o += &settings::no_strength(s);
     o += &recommendation::section(s);
-    o += scene;
+    o += &scene.section;
     o += &zones::section(s);
-    // With window peaks a motion that is not periodic has its window maximum, no life estimate.
-    let window = matches!(study.scene, crate::sim::Scene::Harmonic(h)
-        if h.nonperiodic_peak == crate::sim::forced::NonPeriodicPeak::Window);
-    o += &jumps::section(s, window);
+    o += &jumps::section(s, scene.window_peaks);
     o += &sensitivity::section(s);
     o += &ranking::top(s);
     o += &ranking::pareto(s);
@@ -155,26 +173,4 @@ pub(crate) fn ranked(s: &Summary) -> Vec<&PointStats> {
     let mut r: Vec<&PointStats> = s.points.iter().filter(|p| p.rank.is_some()).collect();
     r.sort_by_key(|p| p.rank);
     r
-}
-
-/// `1 jump`, `3 jumps`, `1,247 jumps`: a count and its noun (`plural` when not 1).
-pub(crate) fn count(n: u64, noun: &str, plural: &str) -> String {
-    if n == 1 {
-        format!("1 {noun}")
-    } else {
-        format!("{} {plural}", thousands(n))
-    }
-}
-
-/// `1,247,148`.
-pub(crate) fn thousands(n: u64) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
 }

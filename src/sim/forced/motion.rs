@@ -16,6 +16,7 @@
 //! particular part has `|x_p^(j)| <= A omega^j`, `A = sqrt(P^2 + Q^2)`. Their sum bounds the
 //! forced motion's derivatives for the rest of the phase.
 
+use crate::sim::driven::{Driven, Jet};
 use crate::sim::linear::{Kinematics, Oscillator};
 use crate::sim::phase::Motion;
 
@@ -30,19 +31,6 @@ pub(crate) struct Forced {
     pub q: f64,
     /// `sqrt(P^2 + Q^2)` (m): the steady amplitude of this oscillator alone.
     pub amp: f64,
-}
-
-/// Position, velocity and the next three derivatives at one time (SI).
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Jet {
-    pub x: f64,
-    pub v: f64,
-    pub a: f64,
-    pub j: f64,
-    pub j2: f64,
-    /// The free part alone (its energy gives the bounds).
-    pub xh: f64,
-    pub vh: f64,
 }
 
 /// `|K - mass omega^2 + i C omega|` below this fraction of `K` is refused as resonance without
@@ -174,6 +162,48 @@ impl Motion for Forced {
     #[inline]
     fn accel_at(&self, t: f64, x: f64, v: f64) -> f64 {
         self.accel(t, x, v)
+    }
+}
+
+/// The harmonic force in the event finder of [`crate::sim::driven`]: the contact function of a
+/// stuck pair is `C v + K x - F0 cos(omega t)`, whose load has `|L''| <= F0 omega^2` and
+/// `|L''''| <= F0 omega^4`.
+impl Driven for Forced {
+    #[inline]
+    fn start(&self, t0: f64, x0: f64, v0: f64) -> (f64, f64, Jet) {
+        Forced::start(self, t0, x0, v0)
+    }
+
+    #[inline]
+    fn jet(&self, t0: f64, h0: f64, g0: f64, t: f64) -> Jet {
+        Forced::jet(self, t0, h0, g0, t)
+    }
+
+    #[inline]
+    fn bounds(&self, jet: &Jet) -> [f64; 6] {
+        Forced::bounds(self, jet)
+    }
+
+    #[inline]
+    fn oscillator(&self) -> &Oscillator {
+        &self.osc
+    }
+
+    #[inline]
+    fn contact_load(&self, t: f64) -> [f64; 4] {
+        self.force_at(t)
+    }
+
+    #[inline]
+    fn contact_load_bounds(&self) -> (f64, f64) {
+        let w2 = self.omega * self.omega;
+        (self.f0 * w2, self.f0 * w2 * w2)
+    }
+
+    /// `-x''`: `mass x'' = F - C v - K x` has the contact function's opposite sign.
+    #[inline]
+    fn contact_sign(&self, _t: f64, jet: &Jet) -> f64 {
+        -jet.a
     }
 }
 

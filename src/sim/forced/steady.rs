@@ -1,10 +1,11 @@
 //! The forced scene on the event map of [`crate::sim::phase`] (impact law, chatter and sticking,
 //! separation): transient, measurement window, Poincaré sections, outcome.
 
-use super::events::ForcedPhase;
 use super::motion::Forced;
 use super::{ForcedRecord, Harmonic};
 use crate::model::System;
+use crate::numeric::gauss_legendre;
+use crate::sim::driven::DrivenPhase;
 use crate::sim::noise::NoiseStream;
 use crate::sim::phase::{self, EventMap, Hit, Phase, PhaseSolver, SceneEvents, Wall, Watch};
 use crate::sim::{NoiseSettings, Outcome, Probe, Request, SolverSettings};
@@ -33,7 +34,7 @@ pub fn simulate_harmonic<P: Probe>(
     let (free, pair) = oscillators(sys, scene.F0, omega);
     let tol_t = settings.tol * sys.period();
     let settings = &scaled_caps(settings, scene);
-    let mut solver = ForcedPhase::new(&free, tol_t, settings.max_steps);
+    let mut solver = DrivenPhase::new(&free, tol_t, settings.max_steps);
     let mut run = Run {
         map: EventMap::new(sys, settings, free, pair),
         req,
@@ -310,7 +311,7 @@ impl<P: Probe> Run<'_, P> {
 
 /// The harmonic scene on the event map: extrema in the window, samples, sections, the window's
 /// energies.
-impl<'a, P: Probe> SceneEvents<'a, ForcedPhase> for Run<'a, P> {
+impl<'a, P: Probe> SceneEvents<'a, DrivenPhase<Forced>> for Run<'a, P> {
     fn map(&self) -> &EventMap<'a, Forced> {
         &self.map
     }
@@ -348,7 +349,7 @@ impl<'a, P: Probe> SceneEvents<'a, ForcedPhase> for Run<'a, P> {
     }
 
     /// Integrates the window's energies over the smooth piece just travelled.
-    fn synced(&mut self, solver: &ForcedPhase) {
+    fn synced(&mut self, solver: &DrivenPhase<Forced>) {
         let t = self.map.t;
         let (f0, c) = (self.scene.F0, self.map.sys.C);
         let omega = self.omega;
@@ -356,7 +357,7 @@ impl<'a, P: Probe> SceneEvents<'a, ForcedPhase> for Run<'a, P> {
         if let Some(win) = &mut self.window
             && self.scene.energies
         {
-            let (wf, wv) = integrate(win.piece, t, h_max, |tt| {
+            let (wf, wv) = gauss_legendre(win.piece, t, h_max, |tt| {
                 let v = solver.at(tt).v;
                 (f0 * (omega * tt).cos() * v, c * v * v)
             });
@@ -402,7 +403,7 @@ impl<'a, P: Probe> SceneEvents<'a, ForcedPhase> for Run<'a, P> {
         self.candidate(self.map.s.x);
     }
 
-    fn limit(&mut self, solver: &mut ForcedPhase) -> Option<Outcome> {
+    fn limit(&mut self, solver: &mut DrivenPhase<Forced>) -> Option<Outcome> {
         self.samples();
         if self.map.t >= self.section_time(self.k_next) {
             if self.at_section(self.k_next) {
@@ -513,57 +514,9 @@ fn section_period(w: &[Section], omega: f64, wn: f64, tol: f64) -> u32 {
         .map_or(0, |p| p as u32)
 }
 
-/// `(int f.0, int f.1)` over `[a, b]` by 8-point Gauss–Legendre on pieces at most `h_max` long.
-fn integrate(a: f64, b: f64, h_max: f64, f: impl Fn(f64) -> (f64, f64)) -> (f64, f64) {
-    // Nodes and weights of 8-point Gauss–Legendre on [-1, 1] (positive half).
-    const X: [f64; 4] = [
-        0.183_434_642_495_649_8,
-        0.525_532_409_916_329,
-        0.796_666_477_413_626_7,
-        0.960_289_856_497_536_2,
-    ];
-    const W: [f64; 4] = [
-        0.362_683_783_378_362,
-        0.313_706_645_877_887_3,
-        0.222_381_034_453_374_5,
-        0.101_228_536_290_376_3,
-    ];
-    if b <= a {
-        return (0.0, 0.0);
-    }
-    let pieces = ((b - a) / h_max).ceil().max(1.0) as u64;
-    let h = (b - a) / pieces as f64;
-    let (mut s0, mut s1) = (0.0, 0.0);
-    for i in 0..pieces {
-        let lo = a + i as f64 * h;
-        let hi = if i + 1 == pieces { b } else { lo + h };
-        let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
-        for (x, w) in X.iter().zip(W) {
-            let (p0, p1) = f(mid - half * x);
-            let (q0, q1) = f(mid + half * x);
-            s0 += w * half * (p0 + q0);
-            s1 += w * half * (p1 + q1);
-        }
-    }
-    (s0, s1)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn gauss_legendre_is_exact_for_trigonometric_pieces() {
-        let w = 63.0;
-        let (a, b) = (0.013, 0.4);
-        let (i0, i1) = integrate(a, b, std::f64::consts::TAU / w / 16.0, |t| {
-            ((w * t).cos(), (w * t).sin().powi(2))
-        });
-        let e0 = ((w * b).sin() - (w * a).sin()) / w;
-        let e1 = 0.5 * (b - a) - ((2.0 * w * b).sin() - (2.0 * w * a).sin()) / (4.0 * w);
-        assert!((i0 - e0).abs() <= 1e-15, "{i0} {e0}");
-        assert!((i1 - e1).abs() <= 1e-15 * e1.abs().max(1.0), "{i1} {e1}");
-    }
 
     #[test]
     fn period_of_a_repeating_sequence() {

@@ -1,0 +1,293 @@
+//! The streaming reduction of a harmonic study's parts ([`ForcedReducer`]): each design's runs →
+//! one core [`Run`] per case (its peak amplitude and peak reduction over the band) and the ideal
+//! case's [`Curve`]; then the core's reduction over the designs, its jumps located by
+//! [`ForcedIdeal`].
+
+use super::analysis::{Plan, Probes};
+use super::curve::{Curve, CurvePoint};
+use super::design::design_peak;
+use super::probe::ForcedIdeal;
+use super::summary::ForcedSummary;
+use super::verify::{self, CaseTop, LifeQuestion, Verification};
+use crate::orbits::attractors::AttractorRow;
+use crate::reduce::core::{Options, Reducer, Run, Summary, outcome_index};
+use crate::sim::forced::{DesignPeak, NonPeriodicPeak};
+use crate::sim::{ForcedRecord, Outcome, Scene};
+use crate::store::RunRow;
+use crate::study::Study;
+
+/// The streaming reduction of a harmonic study's parts.
+pub struct ForcedReducer<'a> {
+    study: &'a Study,
+    reducer: Reducer<'a>,
+    /// Frequencies per curve and cases per design point.
+    n_f: u64,
+    n_cases: u64,
+    /// Rows of a design whose curve is not complete yet (a chunk that ended inside a curve).
+    pending: Vec<RunRow<ForcedRecord>>,
+    /// The ideal case's stored attractors, by design.
+    attractors: std::collections::BTreeMap<u64, Vec<AttractorRow>>,
+    /// Whether the parts came with attractors.
+    stored: bool,
+    curves: Vec<Curve>,
+    runs: u64,
+    outcomes: [u64; 6],
+    /// Which steady state is the design quantity.
+    peak: DesignPeak,
+    /// What a verification needs of each design and case ([`verify`]): its highest motions
+    /// that are not periodic, its system and linear peak (m), and each design's runs.
+    tops: std::collections::BTreeMap<(u64, u32), CaseTop>,
+    systems: std::collections::BTreeMap<(u64, u32), (crate::model::System, f64)>,
+    runs_of: std::collections::BTreeMap<u64, Vec<Run>>,
+}
+
+impl<'a> ForcedReducer<'a> {
+    /// `design` is [`super::design_study`] of `study`; `options` usually [`super::options`] of it.
+    pub fn new(study: &'a Study, design: &'a Study, options: Options) -> Self {
+        ForcedReducer {
+            study,
+            reducer: Reducer::new(design, options),
+            n_f: study.curve_points(),
+            n_cases: study.cases.len() as u64,
+            pending: Vec::new(),
+            attractors: Default::default(),
+            stored: false,
+            curves: Vec::new(),
+            runs: 0,
+            outcomes: [0; 6],
+            peak: design_peak(study),
+            tops: Default::default(),
+            systems: Default::default(),
+            runs_of: Default::default(),
+        }
+    }
+
+    /// Reduces one part's rows (whole curves, in `point_id` order): one reducer run per design
+    /// and case, and the ideal case's curve; `attractors` are the part's stored attractors
+    /// (`None`: a dataset written before the sweep stored them).
+    pub fn push(&mut self, rows: Vec<RunRow<ForcedRecord>>, attractors: Option<Vec<AttractorRow>>) {
+        self.stored |= attractors.is_some();
+        for a in attractors.into_iter().flatten() {
+            let design = a.run.point / self.n_f;
+            self.tops
+                .entry((design, a.run.case))
+                .or_default()
+                .add(&a, design);
+            if a.run.ideal {
+                self.attractors.entry(design).or_default().push(a);
+            }
+        }
+        for r in &rows {
+            self.runs += 1;
+            self.outcomes[outcome_index(r.record.outcome)] += 1;
+        }
+        let mut rows = rows;
+        if !self.pending.is_empty() {
+            let mut all = std::mem::take(&mut self.pending);
+            all.append(&mut rows);
+            rows = all;
+        }
+        let full = (self.n_f * self.n_cases) as usize;
+        let n_f = self.n_f;
+        let mut groups: Vec<&[RunRow<ForcedRecord>]> = rows
+            .chunk_by(|a, b| a.point / n_f == b.point / n_f)
+            .collect();
+        // A curve the next part continues waits for it.
+        if groups.last().is_some_and(|g| g.len() < full) {
+            let last = groups.pop().unwrap_or_default();
+            self.pending = last.to_vec();
+        }
+        let mut runs = Vec::with_capacity(groups.len() * self.n_cases as usize);
+        for g in groups {
+            self.design(g, &mut runs);
+        }
+        self.reducer.push(runs);
+    }
+
+    /// One design's runs: a reducer run per case, and the ideal case's curve.
+    fn design(&mut self, rows: &[RunRow<ForcedRecord>], runs: &mut Vec<Run>) {
+        let design = rows[0].point / self.n_f;
+        let from = runs.len();
+        let mut cases: Vec<u32> = rows.iter().map(|r| r.case).collect();
+        cases.sort_unstable();
+        cases.dedup();
+        for c in cases {
+            let of_case: Vec<&RunRow<ForcedRecord>> = rows.iter().filter(|r| r.case == c).collect();
+            let first = of_case[0];
+            let failed = of_case
+                .iter()
+                .map(|r| r.record.outcome)
+                .find(|o| *o != Outcome::Ok);
+            let peak = of_case
+                .iter()
+                .map(|r| CurvePoint::of(&r.record, self.peak).design)
+                .fold(f64::NAN, f64::max);
+            let linear = of_case
+                .iter()
+                .map(|r| r.record.amplitude_linear)
+                .fold(f64::NAN, f64::max);
+            let (response, damping) = match failed {
+                None => (peak, 1.0 - peak / linear),
+                Some(_) => (f64::NAN, f64::NAN),
+            };
+            self.systems.insert((design, c), (first.system, linear));
+            runs.push(Run {
+                point: design,
+                case: c,
+                ideal: first.ideal,
+                dm: first.dm,
+                dd: first.dd,
+                noise_seed: first.noise_seed,
+                outcome: failed.unwrap_or(Outcome::Ok),
+                response,
+                di: damping,
+            });
+            if first.ideal {
+                self.curves.push(Curve {
+                    design,
+                    system: first.system,
+                    f0: first.record.F0,
+                    attractors: None,
+                    points: of_case
+                        .iter()
+                        .map(|r| CurvePoint::of(&r.record, self.peak))
+                        .collect(),
+                });
+            }
+        }
+        self.runs_of.insert(design, runs[from..].to_vec());
+    }
+
+    /// Whether this reduction verifies the deciding designs ([`verify`]): a whole analysis (a
+    /// shard writes no ranking), peaks of the worst steady state with stored attractors, and
+    /// design-life amplitudes.
+    fn verifies(&self, plan: &Plan) -> bool {
+        plan.shard.is_none()
+            && self.stored
+            && self.peak == DesignPeak::Worst
+            && matches!(self.study.scene, Scene::Harmonic(h) if h.nonperiodic_peak == NonPeriodicPeak::Life)
+    }
+
+    /// The verification ([`verify`]): the deciding designs' cases measured directly, their runs
+    /// reduced again and the ideal curves' peaks updated.
+    fn verify(&mut self) -> Verification {
+        let Scene::Harmonic(h) = self.study.scene else {
+            return Verification::default();
+        };
+        let ranks = self.reducer.ranks();
+        let curves = &self.curves;
+        let interval = |d: u64| {
+            curves
+                .binary_search_by_key(&d, |c| c.design)
+                .ok()
+                .and_then(|i| curves[i].peak_interval())
+        };
+        let designs = verify::deciding(&ranks, interval);
+        let mut todo = Vec::new();
+        for &d in &designs {
+            for r in self.runs_of.get(&d).into_iter().flatten() {
+                let key = (d, r.case);
+                if let (Some(top), Some(&(sys, _))) = (self.tops.get(&key), self.systems.get(&key))
+                    && r.outcome == Outcome::Ok
+                    && !top.top.is_empty()
+                {
+                    todo.push((key, top, sys, r.response));
+                }
+            }
+        }
+        let life = LifeQuestion {
+            design_life: h.design_life,
+            quantile: h.life_quantile,
+        };
+        let peaks = verify::verify_all(&todo, &self.study.solver, life);
+        for p in &peaks {
+            let linear = self.systems.get(&(p.design, p.case)).map_or(f64::NAN, |s| s.1);
+            if let Some(run) = self
+                .runs_of
+                .get_mut(&p.design)
+                .and_then(|rs| rs.iter_mut().find(|r| r.case == p.case))
+            {
+                run.response = p.after;
+                run.di = 1.0 - p.after / linear;
+                if run.ideal
+                    && let Ok(i) = self.curves.binary_search_by_key(&p.design, |c| c.design)
+                {
+                    for v in &p.verified {
+                        self.curves[i].take_verified(v);
+                    }
+                }
+            }
+        }
+        for d in &designs {
+            if let Some(rs) = self.runs_of.get(d) {
+                self.reducer.replace(rs);
+            }
+        }
+        Verification {
+            designs,
+            peaks,
+            ranks_before: ranks,
+        }
+    }
+
+    /// Everything that needs all the designs (the core's [`Reducer::finish_with`], its jumps
+    /// located with [`ForcedIdeal`]), and the curves.
+    ///
+    /// `plan` says whether this is one shard of the analysis and what earlier shards computed;
+    /// the jump probes computed here are returned with the summaries (what a shard stores).
+    pub fn finish(mut self, plan: &Plan) -> (Summary, ForcedSummary, Probes) {
+        let pending = std::mem::take(&mut self.pending);
+        if !pending.is_empty() {
+            let mut runs = Vec::new();
+            self.design(&pending, &mut runs);
+            self.reducer.push(runs);
+        }
+        self.curves.sort_by_key(|c| c.design);
+        self.curves.dedup_by_key(|c| c.design);
+        for c in &mut self.curves {
+            let rows = self.attractors.remove(&c.design);
+            c.attractors = self.stored.then(|| rows.unwrap_or_default());
+        }
+        let verification = if self.verifies(plan) {
+            self.verify()
+        } else {
+            Verification::default()
+        };
+        let ideal = ForcedIdeal::new(self.study, &self.curves, plan);
+        let mut summary = self.reducer.finish_with(&ideal);
+        let probes = ideal.computed();
+        drop(ideal);
+        // The outcomes of the simulated runs, not of the designs' cases (the reducer's runs).
+        summary.outcome_totals = self.outcomes;
+        let frequency = self
+            .study
+            .frequency_axis()
+            .map(|a| (a.key.clone(), a.values.clone()));
+        (
+            summary,
+            ForcedSummary {
+                frequency,
+                curves: self.curves,
+                runs: self.runs,
+                outcomes: self.outcomes,
+                design_peak: self.peak,
+                analysis: plan.clone(),
+                design_life: match self.study.scene {
+                    Scene::Harmonic(h) => h.design_life,
+                    Scene::Free => f64::NAN,
+                },
+                life_quantile: match self.study.scene {
+                    Scene::Harmonic(h) => h.life_quantile,
+                    Scene::Free => f64::NAN,
+                },
+                nonperiodic_peak: match self.study.scene {
+                    Scene::Harmonic(h) => h.nonperiodic_peak,
+                    Scene::Free => NonPeriodicPeak::Life,
+                },
+                curve_lines: Default::default(),
+                verification,
+            },
+            probes,
+        )
+    }
+}

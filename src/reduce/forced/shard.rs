@@ -1,0 +1,159 @@
+//! What a shard of a harmonic study's analysis stores in `RUN_DIR/analysis/`
+//! ([`crate::store::analysis`]) and the final `reduce` reads back ([`super::analysis`] has how
+//! the analysis is split): its jump probes ([`probes_table`]) and its designs' branches with each
+//! row's section ([`branches_part`]).
+
+use std::collections::{BTreeMap, HashMap};
+
+use super::steady::branches_table;
+use crate::orbits::response::{BranchRow, Response};
+use crate::store::table::{Column, Table};
+
+/// The probes table of a shard: one row per probe, the design axes' values (columns named as
+/// the axes), `ok` and the probe's `peak_amplitude` and `peak_reduction`.
+pub fn probes_table(axes: &[String], probes: &[(Vec<u64>, Option<[f64; 2]>)]) -> Table {
+    let mut t = Table::default();
+    for (a, key) in axes.iter().enumerate() {
+        t.push(
+            crate::store::table::axis_column(key),
+            Column::F64(probes.iter().map(|p| f64::from_bits(p.0[a])).collect()),
+        );
+    }
+    t.push(
+        "ok",
+        Column::Bool(probes.iter().map(|p| p.1.is_some()).collect()),
+    );
+    for (k, name) in ["peak_amplitude", "peak_reduction"].iter().enumerate() {
+        t.push(
+            *name,
+            Column::F64(
+                probes
+                    .iter()
+                    .map(|p| p.1.map_or(f64::NAN, |v| v[k]))
+                    .collect(),
+            ),
+        );
+    }
+    t
+}
+
+/// [`probes_table`] read back; `None` when a column is missing.
+pub fn probes_from_table(
+    axes: &[String],
+    t: &Table,
+) -> Option<HashMap<Vec<u64>, Option<[f64; 2]>>> {
+    let f64s = |name: &str| match t.get(name)? {
+        Column::F64(v) => Some(v),
+        _ => None,
+    };
+    let cols: Vec<&Vec<f64>> = axes
+        .iter()
+        .map(|k| f64s(&crate::store::table::axis_column(k)))
+        .collect::<Option<_>>()?;
+    let Column::Bool(ok) = t.get("ok")? else {
+        return None;
+    };
+    let (peak, pr) = (f64s("peak_amplitude")?, f64s("peak_reduction")?);
+    Some(
+        (0..t.n_rows())
+            .map(|i| {
+                let key = cols.iter().map(|c| c[i].to_bits()).collect();
+                (key, ok[i].then_some([peak[i], pr[i]]))
+            })
+            .collect(),
+    )
+}
+
+/// The branches of `responses` as a shard stores them: the `branches` table's columns and each
+/// row's section (`section_x`, `section_v`, `section_z`, `section_w`).
+pub fn branches_part(responses: &[Response]) -> Table {
+    let mut t = branches_table(responses);
+    let rows: Vec<&BranchRow> = responses.iter().flat_map(|r| &r.branches).collect();
+    for (k, name) in ["section_x", "section_v", "section_z", "section_w"]
+        .iter()
+        .enumerate()
+    {
+        t.push(*name, Column::F64(rows.iter().map(|b| b.s[k]).collect()));
+    }
+    t
+}
+
+/// [`branches_part`] read back, by design; `None` when a column is missing or of another type.
+pub fn branches_from_part(t: &Table) -> Option<BTreeMap<u64, Vec<BranchRow>>> {
+    let f = |name: &str| match t.get(name)? {
+        Column::F64(v) => Some(v),
+        _ => None,
+    };
+    let u = |name: &str| match t.get(name)? {
+        Column::U64(v) => Some(v),
+        _ => None,
+    };
+    let s = |name: &str| match t.get(name)? {
+        Column::Str(v) => Some(v),
+        _ => None,
+    };
+    let Column::Bool(stable) = t.get("stable")? else {
+        return None;
+    };
+    let (point, branch, period) = (u("point")?, u("branch")?, u("period")?);
+    let (r, omega, f0, amp) = (f("r")?, f("omega")?, f("F0")?, f("amplitude")?);
+    let (ipp, mu) = (f("impacts_per_period")?, f("multiplier_max")?);
+    let (stability, label, end) = (s("stability")?, s("label")?, s("end")?);
+    let sec = [
+        f("section_x")?,
+        f("section_v")?,
+        f("section_z")?,
+        f("section_w")?,
+    ];
+    // The multipliers and the grazing speed (absent from parts of older versions: NaN).
+    let nan = vec![f64::NAN; t.n_rows()];
+    let g = |name: &str| f(name).unwrap_or(&nan);
+    let mus: Vec<[&Vec<f64>; 2]> = (1..=4)
+        .map(|k| [g(&format!("mu{k}_re")), g(&format!("mu{k}_im"))])
+        .collect();
+    let graze = g("min_impact_speed");
+    let located = match t.get("located") {
+        Some(Column::Bool(v)) => v.clone(),
+        _ => vec![false; t.n_rows()],
+    };
+    let mut out: BTreeMap<u64, Vec<BranchRow>> = BTreeMap::new();
+    for i in 0..t.n_rows() {
+        let design = point[i]?;
+        out.entry(design).or_default().push(BranchRow {
+            design,
+            branch: branch[i]? as u32,
+            r: r[i],
+            omega: omega[i],
+            F0: f0[i],
+            amplitude: amp[i],
+            period: period[i]? as u32,
+            impacts_per_period: ipp[i],
+            stable: stable[i],
+            stability: intern(&stability[i]),
+            multiplier_max: mu[i],
+            multipliers: std::array::from_fn(|k| (mus[k][0][i], mus[k][1][i])),
+            min_impact_speed: graze[i],
+            label: intern(&label[i]),
+            located: located[i],
+            end: intern(&end[i]),
+            s: [sec[0][i], sec[1][i], sec[2][i], sec[3][i]],
+        });
+    }
+    Some(out)
+}
+
+/// The `'static` name a stored label, end or stability was written from: the branch rows carry
+/// them as `&'static str`. Each distinct name read back is kept once for the process.
+fn intern(s: &str) -> &'static str {
+    use std::sync::Mutex;
+    static NAMES: Mutex<Vec<&'static str>> = Mutex::new(Vec::new());
+    let Ok(mut names) = NAMES.lock() else {
+        return "";
+    };
+    if let Some(n) = names.iter().find(|n| **n == s) {
+        return n;
+    }
+    let n: &'static str = Box::leak(s.to_string().into_boxed_str());
+    names.push(n);
+    n
+}

@@ -1,0 +1,169 @@
+//! The spread of the response over the cases of each design point along one axis: box plots
+//! (min–max whiskers, quartile boxes, median) and the ideal case, or bands above
+//! [`MANY`] points; the located jumps marked. With several axes it is drawn along each axis through the recommended
+//! design.
+
+use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
+use plotters::prelude::*;
+
+use crate::report::charts::plumbing::{
+    BLUE, Chart, MANY, Profile, TITLE, err, minmax, pad, series_legend, xy_chart,
+};
+
+use crate::reduce::ResponseStats;
+use crate::report::text::axis_desc;
+
+pub struct SpreadChart<'a>(pub &'a Profile<'a>);
+
+pub const SIZE: (u32, u32) = (1000, 560);
+
+impl Chart for SpreadChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let pr = self.0;
+        let name = pr.s.options.response.name;
+        let xs = &pr.xs;
+        let (x0, x1) = minmax(xs.iter().copied());
+        let step = if xs.len() > 1 {
+            (x1 - x0) / (xs.len() - 1) as f64
+        } else {
+            1.0
+        };
+        let (x0, x1) = (x0 - step, x1 + step);
+        let cm = 100.0;
+        let (y0, y1) = minmax(
+            pr.points
+                .iter()
+                .flat_map(|p| [p.response.min * cm, p.response.max * cm]),
+        );
+        let (y0, y1) = pad(y0, y1, 0.08);
+        let title = format!(
+            "Spread of {name} over the cases along {}{}",
+            pr.key(),
+            pr.at()
+        );
+        let mut chart = xy_chart(
+            root,
+            (&title, TITLE),
+            (x0..x1, y0..y1),
+            (&axis_desc(pr.key()), &format!("{name} (cm)")),
+        )?;
+        let w = step * 0.35;
+        super::di::jump_lines(&mut chart, pr, (y0, y1))?;
+        let box_color = BLUE;
+        if pr.points.len() > MANY {
+            return self.bands(&mut chart);
+        }
+        let mut first = true;
+        for (p, &x) in pr.points.iter().zip(xs) {
+            let p = &p.response;
+            if !p.min.is_finite() {
+                continue;
+            }
+            let whisker = chart
+                .draw_series(std::iter::once(PathElement::new(
+                    vec![(x, p.min * cm), (x, p.max * cm)],
+                    BLACK.mix(0.7),
+                )))
+                .map_err(err)?;
+            if first {
+                whisker
+                    .label("min – max")
+                    .legend(|(x, y)| PathElement::new(vec![(x + 9, y - 6), (x + 9, y + 6)], BLACK));
+            }
+            let bx = chart
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(x - w, p.q1 * cm), (x + w, p.q3 * cm)],
+                    box_color.mix(0.5).filled(),
+                )))
+                .map_err(err)?;
+            if first {
+                bx.label("quartiles").legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 6), (x + 18, y + 6)], box_color.mix(0.5).filled())
+                });
+            }
+            let med = chart
+                .draw_series(std::iter::once(PathElement::new(
+                    vec![(x - w, p.median * cm), (x + w, p.median * cm)],
+                    BLACK.stroke_width(2),
+                )))
+                .map_err(err)?;
+            if first {
+                med.label("median").legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(2))
+                });
+            }
+            let ideal = chart
+                .draw_series(
+                    std::iter::once(p.ideal)
+                        .filter(|v| v.is_finite())
+                        .map(|v| Cross::new((x, v * cm), 4, RED.stroke_width(2))),
+                )
+                .map_err(err)?;
+            if first {
+                ideal
+                    .label("ideal case")
+                    .legend(|(x, y)| Cross::new((x + 9, y), 4, RED.stroke_width(2)));
+            }
+            first = false;
+        }
+        series_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+        Ok(())
+    }
+}
+
+impl SpreadChart<'_> {
+    /// Many points: min–max and quartile bands, the median and the ideal case as lines.
+    fn bands<'a, DB: DrawingBackend + 'a>(
+        &self,
+        chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    ) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let pr = self.0;
+        let cm = 100.0;
+        let line = |f: fn(&ResponseStats) -> f64| pr.series(|p| f(&p.response) * cm);
+        let band = |lo: fn(&ResponseStats) -> f64, hi: fn(&ResponseStats) -> f64| {
+            let mut b = line(hi);
+            b.extend(line(lo).into_iter().rev());
+            b
+        };
+        let blue = BLUE;
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                band(|p| p.min, |p| p.max),
+                blue.mix(0.2).filled(),
+            )))
+            .map_err(err)?
+            .label("min – max")
+            .legend(move |(x, y)| {
+                Rectangle::new([(x, y - 6), (x + 18, y + 6)], blue.mix(0.2).filled())
+            });
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                band(|p| p.q1, |p| p.q3),
+                blue.mix(0.5).filled(),
+            )))
+            .map_err(err)?
+            .label("quartiles")
+            .legend(move |(x, y)| {
+                Rectangle::new([(x, y - 6), (x + 18, y + 6)], blue.mix(0.5).filled())
+            });
+        chart
+            .draw_series(LineSeries::new(line(|p| p.median), BLACK.stroke_width(1)))
+            .map_err(err)?
+            .label("median")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK));
+        chart
+            .draw_series(LineSeries::new(line(|p| p.ideal), RED.stroke_width(1)))
+            .map_err(err)?
+            .label("ideal case")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED));
+        series_legend(chart, SeriesLabelPosition::UpperLeft)?;
+        Ok(())
+    }
+}
