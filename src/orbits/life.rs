@@ -1,35 +1,34 @@
 //! The largest amplitude of a motion that is not periodic over a design life (docs/model.md,
-//! "The amplitude over a design life"): the motion is run period by period from a state on
-//! it, its per-period maxima `z_k = max |x|` over period `k` are collected, and the
+//! "The amplitude over a design life"): the motion is run period by period from states on it
+//! (its chains), its per-period maxima `z_k = max |x|` over period `k` are collected, and the
 //! peaks-over-threshold estimate of [`crate::stats::extremes`] gives the quantile of the
 //! largest of `N` periods with its 90 % interval. The window grows (doubling) until the
-//! interval's half-width is within the tolerance of the estimate, or a cap is reached.
+//! interval's half-width is within the tolerance of the estimate, or a cap is reached. The
+//! chains run in parallel (each is a pure function of its start, so the result does not depend
+//! on the threads).
 //!
-//! The tail's shape is kept at or below 0: the largest excursion of the main mass is bounded
-//! (the force's work over a period is bounded and the damper and the impacts only dissipate),
-//! so its per-period maxima lie in the domain of a bounded (Weibull-type) or at most exponential
-//! tail; a positive fitted shape would be the sample's sub-asymptotic noise, and extrapolated
-//! over a long life it gives absurd amplitudes (several times the structure's linear response
-//! was seen on the showcase).
+//! The tail's shape is kept in `[-1/2, 0]` ([`crate::stats::extremes::Life::bounded`]): the
+//! largest excursion of the main mass is bounded (the force's work over a period is bounded and
+//! the damper and the impacts only dissipate), and below -1/2 the likelihood is not regular.
 //!
 //! Clusters of exceedances are separated by `run` periods below the threshold: three times the
 //! motion's Lyapunov time `1 / lambda_1` (the time over which it forgets where it was; about 3
 //! periods on the showcase's chaotic motions, `lambda_1` near 1 per forcing period), clamped to
 //! `[2, 50]` (50 when the exponent is not positive: a slowly mixing motion).
 //!
-//! Only the per-period maxima from the pooled 0.80 quantile up enter the estimate (every
-//! candidate threshold is at or above it, and the periods below a threshold only count). So
-//! after the first window, which locates every extremum, the motion runs with a floor
-//! ([`FLOOR_QUANTILE`] of the maxima so far): extrema of `x` below it are not located
-//! ([`eval_above`]): watching `x'` for its zeros is about half of a chaotic motion's steps, and
-//! the floor saves about 30 % of a window's steps (11 % of its time; BENCHMARKS.md). A period whose maximum
-//! is below the floor keeps a value below it. Before each estimate the run checks that the
-//! values it uses are exact (at most the lowest 80 % below the floor); when they are not, the
-//! whole measurement is run again without a floor, from the same states.
+//! Only the per-period maxima above the estimate's thresholds enter it (the periods below only
+//! count), and its thresholds rise as the sample grows (a fixed number of the highest cluster
+//! maxima). So after the first window, which locates every extremum, the motion runs with a
+//! floor, the lowest threshold of the last estimate: extrema of `x` below it are not located
+//! ([`eval_above`]; watching `x'` for its zeros is about half of a chaotic motion's steps). A
+//! period whose maximum is below the floor keeps a value below it. After each estimate the run
+//! checks that its thresholds are all at or above the floor (so every value it used is exact);
+//! when one is not, the whole measurement is run again without a floor, from the same states.
 
 use super::map::{Forcing, Section, eval, eval_above};
 use crate::sim::Outcome;
-use crate::stats::extremes::{LOWEST_CANDIDATE, Life, LifeEstimate, life_pot};
+use crate::stats::extremes::{Life, LifeEstimate, life_pot};
+use rayon::prelude::*;
 
 /// What the life estimate of one motion asks for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,11 +66,6 @@ pub struct LifeRun {
     pub exact: bool,
 }
 
-/// The quantile of the per-period maxima measured so far below which later periods do not
-/// locate their extrema (module doc): well below the 0.80 quantile the estimate starts from,
-/// so that a sample that grows does not often push that quantile under the floor.
-pub const FLOOR_QUANTILE: f64 = 0.5;
-
 impl LifeRun {
     /// A measurement of one chain starting at `state`.
     pub fn new(state: Section) -> LifeRun {
@@ -104,47 +98,42 @@ impl LifeRun {
     }
 
     /// Runs `n` more periods in all, shared out evenly over the chains (the first chains take
-    /// the remainder), locating the extrema from [`LifeRun::floor`] up.
+    /// the remainder), locating the extrema from [`LifeRun::floor`] up. The chains run in
+    /// parallel; a chain whose simulator stops (an outcome other than `ok`) fails the run.
     pub fn extend(&mut self, f: &Forcing, n: u64) {
+        if self.failed {
+            return;
+        }
         let floor = self.floor;
         let k = self.chains.len().max(1) as u64;
-        for (i, (z, state)) in self.chains.iter_mut().enumerate() {
-            if self.failed {
-                return;
-            }
-            let m = n / k + u64::from((i as u64) < n % k);
-            z.reserve(m as usize);
-            for _ in 0..m {
-                let e = eval_above(f, state, 1, floor);
-                if e.outcome != Outcome::Ok {
-                    self.failed = true;
-                    return;
+        let failed: Vec<bool> = self
+            .chains
+            .par_iter_mut()
+            .enumerate()
+            .map(|(i, (z, state))| {
+                let m = n / k + u64::from((i as u64) < n % k);
+                z.reserve(m as usize);
+                for _ in 0..m {
+                    let e = eval_above(f, state, 1, floor);
+                    if e.outcome != Outcome::Ok {
+                        return true;
+                    }
+                    z.push(e.amplitude);
+                    *state = e.end;
                 }
-                z.push(e.amplitude);
-                *state = e.end;
-            }
-        }
+                false
+            })
+            .collect();
+        self.failed = failed.iter().any(|&x| x);
     }
 
-    /// Every chain's per-period maxima, one after the other.
-    fn pooled(&self) -> Vec<f64> {
-        self.chains
-            .iter()
-            .flat_map(|c| c.0.iter().copied())
-            .collect()
-    }
-
-    /// Whether the per-period maxima the estimate uses are exact: the order statistic of the
-    /// lowest candidate threshold ([`LOWEST_CANDIDATE`]) is at or above the floor (a period below the
-    /// floor keeps a value below it).
+    /// Whether the per-period maxima the estimate uses are exact: its lowest threshold is at or
+    /// above the floor (a period below the floor keeps a value below it).
     pub fn floor_holds(&self) -> bool {
-        if self.floor <= 0.0 {
-            return true;
-        }
-        let z = self.pooled();
-        let below = z.iter().filter(|&&v| v < self.floor).count();
-        let lo = ((z.len().saturating_sub(1)) as f64 * LOWEST_CANDIDATE).floor() as usize;
-        below <= lo
+        self.floor <= 0.0
+            || self
+                .estimate
+                .is_none_or(|e| e.lowest_threshold >= self.floor)
     }
 
     /// The largest amplitude over the periods measured.
@@ -162,12 +151,8 @@ impl LifeRun {
         self.estimate = life_pot(
             &chains,
             cluster_run(lambda),
-            Life {
-                n_life: s.n_life,
-                q: s.quantile,
-                // The main mass's excursion is bounded (module doc): a tail of shape <= 0.
-                xi_max: 0.0,
-            },
+            // The main mass's excursion is bounded (module doc).
+            Life::bounded(s.n_life, s.quantile),
         );
         self.estimate
     }
@@ -191,20 +176,24 @@ impl LifeRun {
         if want > have {
             self.extend(f, want - have);
         }
-        if !self.failed && !self.floor_holds() {
-            // Run again without a floor (module doc).
-            self.chains = self.starts.iter().map(|s| (Vec::new(), *s)).collect();
-            self.floor = 0.0;
-            self.extend(f, want);
-        }
         if self.failed {
             return false;
         }
         self.estimate(s, lambda);
+        if !self.floor_holds() {
+            // Run again without a floor (module doc).
+            self.chains = self.starts.iter().map(|s| (Vec::new(), *s)).collect();
+            self.floor = 0.0;
+            self.extend(f, want);
+            if self.failed {
+                return false;
+            }
+            self.estimate(s, lambda);
+        }
         if !self.exact {
-            self.floor = self
-                .floor
-                .max(crate::numeric::quantile(&self.pooled(), FLOOR_QUANTILE));
+            if let Some(e) = self.estimate {
+                self.floor = self.floor.max(e.lowest_threshold);
+            }
         }
         self.capped = !self.settled(s) && self.periods() >= s.cap;
         !self.settled(s) && !self.capped
@@ -262,4 +251,46 @@ pub fn period_maxima(f: &Forcing, s: &Section, burn: u64, n: u64) -> Option<Vec<
     let mut run = LifeRun::new(state);
     run.extend(f, n);
     (!run.failed).then(|| run.chains.swap_remove(0).0)
+}
+
+/// Chains of a direct measurement ([`measure_directly`]).
+pub const DIRECT_CHAINS: usize = 16;
+
+/// Periods each chain of a direct measurement runs before it is measured: the nudge of its
+/// start grows by `e^(lambda_1 n)`, past the attractor's size within some 30 periods on the
+/// motions measured (`lambda_1` about 1 per period), so the chains are independent.
+pub const DIRECT_BURN: u64 = 200;
+
+/// A motion measured directly from a state on it (`section`): [`DIRECT_CHAINS`] chains, chain
+/// `i` from the state with its main mass moved by `i` nm and run [`DIRECT_BURN`] periods, then
+/// `periods` periods in all (the window doubling from `periods / 64` as in [`LifeRun::grow`], so
+/// its floor applies), and the design-life estimate of `s` from all of them. What the
+/// harmonic reduction's verification runs on the motions that decide a ranking
+/// (`crate::reduce::forced::verify`); `None` when a chain's simulator stopped.
+pub fn measure_directly(
+    f: &Forcing,
+    section: &Section,
+    lambda: f64,
+    s: &LifeSettings,
+    periods: u64,
+) -> Option<LifeSummary> {
+    let starts: Vec<Option<Section>> = (0..DIRECT_CHAINS)
+        .into_par_iter()
+        .map(|i| {
+            let mut start = *section;
+            start[0] += i as f64 * 1e-9;
+            let e = eval(f, &start, DIRECT_BURN, false);
+            (e.outcome == Outcome::Ok).then_some(e.end)
+        })
+        .collect();
+    let starts: Option<Vec<Section>> = starts.into_iter().collect();
+    let settings = LifeSettings {
+        tol: 0.0,
+        first: (periods / 64).max(1),
+        cap: periods,
+        ..*s
+    };
+    let mut run = LifeRun::chains(starts?);
+    run.refine(f, &settings, lambda);
+    (!run.failed).then(|| run.summary())
 }

@@ -2,28 +2,34 @@
 //! states that are not periodic (docs/scenes.md, "The amplitude over a design life").
 //!
 //! A curve serves two decisions: its design quantity, the largest design amplitude over its
-//! frequencies and their attractors, and at each frequency whether the damper helps (the
-//! frequency's design amplitude below the main mass's linear amplitude there,
+//! frequencies and their attractors (the **peak**), and at each frequency whether the damper
+//! helps (the frequency's design amplitude below the main mass's linear amplitude there,
 //! [`crate::model::System::linear_amplitude`]: the band and share where it helps). A periodic
 //! orbit's amplitude is exact; a motion that is not periodic has an amplitude over the design
-//! life that only a long measurement estimates ([`super::life`], 10^3 to 10^5 periods each).
-//! So:
+//! life that only a long measurement estimates ([`super::life`]: its 90 % interval narrows from
+//! about ±50 % after 2,000 periods to ±5 % after some 10^5 to 10^6 on the slowest tails). So:
 //!
 //! 1. **Estimate** every one from [`LifeSettings::first`] periods, with its 90 % interval. (No
 //!    motion is screened out by its window maximum: on the showcase a motion's life amplitude
-//!    reached 2.3 times its 200-period window maximum, and a screen at half the curve's largest
-//!    window maximum lost the peak of two of its nine designs; BENCHMARKS.md.)
-//! 2. **Race.** The leader's lower bound is the largest of the periodic amplitudes and the
-//!    estimates' lower ends. A motion is refined (its window doubled) while it has neither met
-//!    the tolerance nor its cap and its interval, widened by a factor `k` that shrinks as the
-//!    measurement grows (`[lo / k, hi k]`, [`DROPS`]: a short sample's interval misses rare
-//!    excursions), either reaches the leader's lower bound or holds the linear amplitude at its
-//!    frequency. The race ends when none is left. The leader itself is refined to the
-//!    tolerance.
+//!    reached 2.3 times its 200-period window maximum.)
+//! 2. **The peak.** Its interval is `[lower, upper]`: the largest periodic amplitude and lower
+//!    end of an interval, and the largest periodic amplitude and upper end. While it is wider
+//!    than the tolerance (`upper - lower > 2 tol peak`), the motion with the highest upper end
+//!    that could still carry the peak (upper end above `lower`) is measured again (its window
+//!    doubled). The motion with the largest estimate, the **leader**, may be measured up to its
+//!    cap (`life_max_periods`); the others only up to a sixteenth of it ([`SCREEN`]): a motion
+//!    that is not the leader cannot settle the peak by itself, and refining every motion of a
+//!    chaotic plateau to the tolerance costs several times the rest of a study (measured on the
+//!    bundled frequency-response study: 1.4 * 10^8 periods against 4 * 10^7 with the screen; a
+//!    screened motion whose estimate overtakes the leader's becomes the leader and goes on).
+//! 3. **Where the damper helps.** Then each motion whose interval holds the linear amplitude at
+//!    its frequency is measured again until it no longer does, meets the tolerance or reaches
+//!    the screen.
 //!
-//! Deterministic: the motions are measured from their stored states, in curve order. A scene
-//! with `nonperiodic_peak = "window"` ([`NonPeriodicPeak::Window`]) takes no part: its motions
-//! keep their census window's maximum.
+//! Deterministic: the motions are measured from their stored states, one at a time in an order
+//! the rule fixes (each measurement's chains run in parallel). A scene with
+//! `nonperiodic_peak = "window"` ([`NonPeriodicPeak::Window`]) takes no part: its motions keep
+//! their census window's maximum.
 
 use super::census::{Census, Kind};
 use super::life::{LifeRun, LifeSettings};
@@ -34,57 +40,6 @@ use crate::stats::extremes::LifeEstimate;
 
 /// Periods of a motion's first life estimate.
 pub const FIRST: u64 = 2000;
-
-/// The drop factor `k` from `periods` on (the last row that applies): a motion leaves the race
-/// when its interval widened by it, `[lo / k, hi k]`, is below the leader's lower bound and
-/// does not hold the linear amplitude at its frequency ([`may_drop`]). A short sample's
-/// interval misses rare excursions: on the showcase a motion's first 4,000 periods showed a
-/// bounded tail, 0.65 cm [0.64, 0.74], and the next 4,000 a rarer, larger excursion that moved
-/// it to 1.14 cm [0.81, 1.44].
-///
-/// The factors are read from the distribution of the ratio of a motion's final life amplitude
-/// to its interval's ends after `periods`, measured on the showcase's 45 curves with every
-/// motion that is not periodic refined until its tolerance or its cap (`examples/race_drop.rs`,
-/// `results/race_drop.md`), and checked on the decisions they serve:
-/// - to the upper end, its 99.5th percentile was 1.55, 1.38, 1.15 and 1.02 after 2,000, 4,000,
-///   8,000 and 16,000 periods (2,492 to 1,918 motions), and 1.51, 1.40, 1.27 and 1.04 with
-///   another seed (other starts, other motions; `results/race_drop_seed7.md`). Each factor is
-///   about a fifth above the larger of the two. To the lower end, its 0.5th percentile was
-///   0.82, 0.89, 0.96 and 1.00 (0.87, 0.89, 0.91 and 1.00 with the other seed), well above
-///   `1 / k`;
-/// - its largest value was 2.36, 2.12, 2.00 and 1.15 (1.25 to 2.12 with the other seed): a rare
-///   excursion's, and it moves with the sample. About 1 in 700 to 900 ratios lies outside
-///   `[1 / k, k]`: such a motion can leave the race with a life amplitude other than refining
-///   would give;
-/// - what matters is whether a decision moves: on both seeds' 45 curves and the design map's 5
-///   (`results/race_drop_design_map.md`) the race gives every design peak that refining every
-///   motion gives (the same bits) and the same help decision at every frequency, at 52 % of
-///   those periods. The factors of `c3daf45` (3, 2.5, 2.4 and 2, a fifth above the largest
-///   ratio, with the upper end only) took 67 %, and the help decision rested on first
-///   estimates.
-///
-/// (The rule before `6bd18b6`, the upper end itself below the leader after 8,000 periods,
-/// could drop a motion whose life amplitude was 1.6 times that upper end.)
-pub const DROPS: [(u64, f64); 4] = [(2000, 1.85), (4000, 1.65), (8000, 1.5), (16000, 1.25)];
-
-/// Whether a motion measured for `periods` with estimate `e` may leave the race (module doc):
-/// its interval widened by the factor of [`DROPS`], `[lo / k, hi k]`, lies below the leader's
-/// lower bound `leader` and does not hold `linear`, the linear amplitude at its frequency
-/// (whether the damper helps there does not rest on it).
-fn may_drop(periods: u64, e: &LifeEstimate, leader: f64, linear: f64) -> bool {
-    drop_factor(periods)
-        .is_some_and(|k| e.hi * k < leader && !(e.lo / k <= linear && linear <= e.hi * k))
-}
-
-/// The drop factor `k` of a motion measured for `periods` (the last row of [`DROPS`] that
-/// applies; `None` before the first).
-pub fn drop_factor(periods: u64) -> Option<f64> {
-    DROPS
-        .iter()
-        .rev()
-        .find(|(n, _)| periods >= *n)
-        .map(|&(_, k)| k)
-}
 
 /// The life settings of a scene at forcing `f`: its design life in forcing periods.
 pub fn settings(f: &Forcing, h: &Harmonic) -> LifeSettings {
@@ -107,6 +62,60 @@ struct Runner {
     lambda: f64,
     run: LifeRun,
     active: bool,
+}
+
+/// What the race's rule sees of a motion: its estimate, periods measured, whether it can be
+/// measured further (not failed, not within its tolerance, not at its cap), and the linear
+/// amplitude at its frequency (m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Entry {
+    estimate: Option<LifeEstimate>,
+    periods: u64,
+    active: bool,
+    linear: f64,
+}
+
+impl Entry {
+    /// The motion's interval, unbounded before its first estimate.
+    fn interval(&self) -> (f64, f64) {
+        self.estimate
+            .map_or((f64::NEG_INFINITY, f64::INFINITY), |e| (e.lo, e.hi))
+    }
+}
+
+/// The share of the cap a motion is measured to unless it leads the curve (module doc).
+pub const SCREEN: u64 = 16;
+
+/// The motion the race measures next (module doc), or `None` when it is over: `periodic` is the
+/// largest periodic amplitude of the curve, `tol` and `cap` the scene's `life_tol` and
+/// `life_max_periods`; `all` refines every motion to its tolerance.
+fn next(motions: &[Entry], periodic: f64, tol: f64, cap: u64, all: bool) -> Option<usize> {
+    if all {
+        return motions.iter().position(|m| m.active);
+    }
+    let lower = motions.iter().map(|m| m.interval().0).fold(periodic, f64::max);
+    let upper = motions.iter().map(|m| m.interval().1).fold(periodic, f64::max);
+    let (leader, peak) = motions
+        .iter()
+        .enumerate()
+        .filter_map(|(i, m)| m.estimate.map(|e| (Some(i), e.amplitude)))
+        .fold((None, periodic), |a, b| if b.1 > a.1 { b } else { a });
+    let open = |i: usize, m: &Entry| m.active && (Some(i) == leader || m.periods < cap / SCREEN);
+    if upper - lower > 2.0 * tol * peak {
+        let carrier = motions
+            .iter()
+            .enumerate()
+            .filter(|&(i, m)| open(i, m) && m.interval().1 > lower)
+            .max_by(|a, b| a.1.interval().1.total_cmp(&b.1.interval().1))
+            .map(|(i, _)| i);
+        if carrier.is_some() {
+            return carrier;
+        }
+    }
+    motions.iter().enumerate().position(|(i, m)| {
+        let (lo, hi) = m.interval();
+        open(i, m) && lo <= m.linear && m.linear <= hi
+    })
 }
 
 /// Runs the race over a curve (module doc): `points[i]` is frequency `i`'s forcing and scene
@@ -155,32 +164,29 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
     for r in &mut runners {
         r.active = r.run.grow(&r.f, &r.s, r.lambda);
     }
+    let periodic = censuses
+        .iter()
+        .flatten()
+        .flat_map(|c| &c.attractors)
+        .filter(|a| matches!(a.kind, Kind::Periodic(_)))
+        .map(|a| a.amplitude)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let (tol, cap) = runners.first().map_or((0.0, 0), |r| (r.s.tol, r.s.cap));
     loop {
-        let periodic = censuses
+        let entries: Vec<Entry> = runners
             .iter()
-            .flatten()
-            .flat_map(|c| &c.attractors)
-            .filter(|a| matches!(a.kind, Kind::Periodic(_)))
-            .map(|a| a.amplitude)
-            .fold(f64::NEG_INFINITY, f64::max);
-        let leader = runners
-            .iter()
-            .filter_map(|r| r.run.estimate.map(|e| e.lo))
-            .fold(periodic, f64::max);
-        let mut any = false;
-        for r in &mut runners {
-            let reaches = all
-                || r.run
-                    .estimate
-                    .is_none_or(|e| !may_drop(r.run.periods(), &e, leader, r.linear));
-            if r.active && reaches {
-                r.active = r.run.grow(&r.f, &r.s, r.lambda);
-                any = true;
-            }
-        }
-        if !any {
+            .map(|r| Entry {
+                estimate: r.run.estimate,
+                periods: r.run.periods(),
+                active: r.active,
+                linear: r.linear,
+            })
+            .collect();
+        let Some(i) = next(&entries, periodic, tol, cap, all) else {
             break;
-        }
+        };
+        let r = &mut runners[i];
+        r.active = r.run.grow(&r.f, &r.s, r.lambda);
     }
     for r in runners {
         let Some(c) = censuses[r.at.0].as_mut() else {
@@ -201,36 +207,62 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
 mod tests {
     use super::*;
 
-    /// An estimate with interval `[lo, hi]` (the rest does not enter the rule).
-    fn estimate(lo: f64, hi: f64) -> LifeEstimate {
-        LifeEstimate {
-            amplitude: 0.5 * (lo + hi),
-            lo,
-            hi,
-            threshold: 0.0,
-            sigma: 0.0,
-            xi: 0.0,
-            xi_se: 0.0,
-            end_point: f64::NAN,
-            exceedances: 0,
-            measured: 0,
+    /// A motion with estimate `a` in `[lo, hi]` (m) after `periods`, the linear amplitude at its
+    /// frequency 1 mm.
+    fn motion(a: f64, lo: f64, hi: f64, periods: u64) -> Entry {
+        Entry {
+            estimate: Some(LifeEstimate {
+                amplitude: a,
+                lo,
+                hi,
+                threshold: 0.0,
+                sigma: 0.0,
+                xi: 0.0,
+                xi_se: 0.0,
+                end_point: f64::NAN,
+                exceedances: 0,
+                measured: periods,
+                lowest_threshold: 0.0,
+            }),
+            periods,
+            active: true,
+            linear: 1e-3,
         }
     }
 
     #[test]
-    fn a_motion_leaves_the_race_only_when_neither_decision_rests_on_it() {
-        // After 2,000 periods k = 1.85: [3, 4] mm widens to [1.62, 7.4] mm.
-        let e = estimate(3e-3, 4e-3);
-        // Below a 10 mm leader and a 1 mm linear amplitude: it decides nothing.
-        assert!(may_drop(2000, &e, 10e-3, 1e-3));
-        // Its widened interval reaches a 7 mm leader: it could carry the peak.
-        assert!(!may_drop(2000, &e, 7e-3, 1e-3));
-        // It holds a 2 mm linear amplitude at its frequency (whether the damper helps there),
-        // though its interval does not: it stays.
-        assert!(!may_drop(2000, &e, 10e-3, 2e-3));
-        // From 16,000 periods on k = 1.25: [2.4, 5] mm, which no longer holds 2 mm.
-        assert!(may_drop(16000, &e, 10e-3, 2e-3));
-        // Before its first estimate's periods no rule applies.
-        assert!(!may_drop(1000, &e, 10e-3, 1e-3));
+    fn the_motion_that_could_carry_the_peak_highest_is_measured_first() {
+        let ms = [motion(9e-3, 7e-3, 12e-3, 2000), motion(8e-3, 6e-3, 14e-3, 2000)];
+        // The peak is in [7, 14] mm: the second reaches highest.
+        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), Some(1));
+        // A periodic orbit of 15 mm carries the peak exactly: nothing can change it.
+        assert_eq!(next(&ms, 15e-3, 0.05, 1 << 20, false), None);
+    }
+
+    #[test]
+    fn only_the_leader_is_measured_past_the_screen() {
+        let cap = 1 << 20;
+        let screened = cap / SCREEN;
+        // The second reaches highest but has had its screen; the leader (the larger estimate)
+        // goes on.
+        let ms = [motion(9e-3, 7e-3, 12e-3, 2000), motion(8e-3, 6e-3, 14e-3, screened)];
+        assert_eq!(next(&ms, 0.0, 0.05, cap, false), Some(0));
+        // Once the leader is within the tolerance and the other screened, the race is over,
+        // though the peak's interval is still wider.
+        let ms = [motion(9e-3, 8.8e-3, 9.2e-3, 2000), motion(8e-3, 6e-3, 14e-3, screened)];
+        let mut ms = ms;
+        ms[0].active = false;
+        assert_eq!(next(&ms, 0.0, 0.05, cap, false), None);
+    }
+
+    #[test]
+    fn a_peak_within_the_tolerance_leaves_the_help_decision() {
+        // The peak is settled ([9.8, 10.2] mm); the other motion's interval holds the linear
+        // amplitude at its frequency (1 mm): it is measured.
+        let ms = [motion(10e-3, 9.8e-3, 10.2e-3, 4000), motion(1.1e-3, 0.8e-3, 1.6e-3, 2000)];
+        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), Some(1));
+        // Not once its interval clears it.
+        let ms = [motion(10e-3, 9.8e-3, 10.2e-3, 4000), motion(1.3e-3, 1.1e-3, 1.6e-3, 4000)];
+        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), None);
     }
 }

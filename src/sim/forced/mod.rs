@@ -27,7 +27,7 @@
 //! phase. That bounds the second and fourth derivatives of every watched function (the gaps to
 //! the walls, `x'`, the contact force), and the safe step of [`crate::sim::exact`] cannot step
 //! over a root: no impact is missed, grazing contacts included, and event times are within
-//! `tol * 2 pi sqrt(M/K)` of the true roots (see [`events`]).
+//! `tol * 2 pi sqrt(M/K)` of the true roots (see the event finder, [`crate::sim::driven`]).
 //!
 //! # Ranges
 //! `F0 > 0` (N); `omega > 0` (rad/s) or `r = omega / sqrt(K/M) > 0`, not both. Resonance
@@ -72,7 +72,6 @@
 //!   `(M x'^2 + m y'^2 + K x^2) / 2` at each impact and plastic closing). On a periodic orbit
 //!   the work equals the two losses.
 
-pub mod events;
 pub mod motion;
 mod steady;
 
@@ -131,8 +130,9 @@ pub struct Harmonic {
     /// The 90 % interval's half-width, relative to the estimate, at which a life measurement
     /// stops growing. Default 0.05, range `[0.001, 1]`.
     pub life_tol: f64,
-    /// The longest life measurement of one steady state (forcing periods). Default 20000,
-    /// range `[2000, 10^7]`.
+    /// The longest life measurement of one steady state (forcing periods). Default 1,024,000
+    /// (2,000 doubled nine times: the slowest tails validated need some 5 * 10^5 periods for
+    /// 5 %, `results/life_validation.md`), range `[2000, 10^8]`.
     pub life_max_periods: u64,
     /// Integrate the window's energies (default `true`; no study key). The steady-state
     /// solvers of [`crate::orbits`] evaluate the stroboscopic map without them.
@@ -217,7 +217,7 @@ impl Default for Harmonic {
             design_life: 3.6e6,
             life_quantile: 0.5,
             life_tol: 0.05,
-            life_max_periods: 20_000,
+            life_max_periods: 1_024_000,
             energies: true,
             x_floor: 0.0,
         }
@@ -328,7 +328,7 @@ impl Harmonic {
             "life_max_periods",
             self.life_max_periods as f64,
             2000.0,
-            1e7,
+            1e8,
         )
     }
 

@@ -1,0 +1,326 @@
+//! The decision verified (docs/scenes.md, "The decision verified"): the designs that decide a
+//! harmonic study's ranking get their peak motions measured directly, and are ranked on that.
+//!
+//! A motion that is not periodic carries an estimate of its largest amplitude over the design
+//! life, from the periods the sweep's race spent on it (a few thousand for a motion that does
+//! not lead its curve, up to `life_max_periods` for one that does,
+//! [`crate::orbits::race`]). Before the ranking is final:
+//!
+//! 1. **Which designs decide.** The best-ranked design of the ranking as the sweep measured it,
+//!    and every design whose ideal-case peak interval (its 90 % interval; a periodic peak's is
+//!    one point) overlaps the best design's: those whose order the estimates cannot settle.
+//! 2. **Their peaks measured directly.** For each of their cases, the motions that are not
+//!    periodic are taken in decreasing order of their estimate while one could still carry the
+//!    case's peak (its estimate above the largest periodic amplitude and every value measured
+//!    directly so far), at most [`MOST`] per case: each is run again from its stored state on
+//!    [`DIRECT_CHAINS`](crate::orbits::life::DIRECT_CHAINS) independent chains for
+//!    [`PERIODS`] periods (at least 10^6) and its design-life amplitude estimated from them
+//!    ([`crate::orbits::life::measure_directly`]); the case's peak becomes the largest of its
+//!    periodic amplitudes, the direct values and the estimates not measured again.
+//! 3. **Ranked on them.** The design's runs are reduced again with the new peaks, then the
+//!    study is ranked ([`crate::reduce::core::Reducer::replace`]). The report shows each
+//!    direct value beside the estimate, the periods it rests on, and the ranks it moved.
+//!
+//! Deterministic: every direct measurement is a pure function of the stored state, and the
+//! designs and motions are chosen from the ranking and the stored estimates alone.
+
+use rayon::prelude::*;
+
+use crate::model::System;
+use crate::orbits::attractors::AttractorRow;
+use crate::orbits::life::{LifeSettings, LifeSummary, measure_directly};
+use crate::orbits::map::{Forcing, Section};
+use crate::orbits::race::FIRST;
+use crate::sim::SolverSettings;
+
+/// Periods of a direct measurement: 2,000 doubled nine times, at least 10^6.
+pub const PERIODS: u64 = 1_024_000;
+
+/// The most motions measured directly per case.
+pub const MOST: usize = 3;
+
+/// A motion that is not periodic, kept from the stored attractors for a verification: where
+/// it is, a state on it, its largest Lyapunov exponent (per forcing period) and its estimate
+/// (m) with the 90 % interval and the periods it rests on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contender {
+    pub design: u64,
+    pub case: u32,
+    pub r: f64,
+    pub omega: f64,
+    pub f0: f64,
+    pub section: Section,
+    pub lambda: f64,
+    pub amplitude: f64,
+    pub lo: f64,
+    pub hi: f64,
+    pub measured: u64,
+}
+
+impl Contender {
+    /// The contender of a stored attractor that is not periodic (`None` for a periodic one).
+    pub fn of(a: &AttractorRow, design: u64) -> Option<Contender> {
+        (!a.kind.periodic()).then(|| Contender {
+            design,
+            case: a.run.case,
+            r: a.run.r,
+            omega: a.run.omega,
+            f0: a.run.F0,
+            section: a.section,
+            lambda: a.lyapunov,
+            amplitude: a.amplitude,
+            lo: a.life_lo,
+            hi: a.life_hi,
+            measured: a.measured_periods,
+        })
+    }
+}
+
+/// What one case keeps for a verification while the parts stream in: its largest periodic
+/// amplitude (m), its [`MOST`] highest motions that are not periodic, and the largest design
+/// amplitude of the others (m; `-inf` when none), so memory stays bounded per case.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CaseTop {
+    pub periodic: f64,
+    pub top: Vec<Contender>,
+    pub rest: f64,
+}
+
+impl Default for CaseTop {
+    fn default() -> Self {
+        CaseTop {
+            periodic: f64::NEG_INFINITY,
+            top: Vec::new(),
+            rest: f64::NEG_INFINITY,
+        }
+    }
+}
+
+impl CaseTop {
+    /// Takes in one stored attractor of the case.
+    pub fn add(&mut self, a: &AttractorRow, design: u64) {
+        match Contender::of(a, design) {
+            None => self.periodic = self.periodic.max(a.amplitude),
+            Some(c) => self.push(c),
+        }
+    }
+
+    /// Takes in a motion that is not periodic: the [`MOST`] highest stay (ties to the lower
+    /// frequency), the others leave their amplitude in `rest`.
+    pub fn push(&mut self, c: Contender) {
+        self.top.push(c);
+        self.top.sort_by(|x, y| {
+            y.amplitude
+                .total_cmp(&x.amplitude)
+                .then(x.r.total_cmp(&y.r))
+        });
+        if self.top.len() > MOST
+            && let Some(dropped) = self.top.pop()
+        {
+            self.rest = self.rest.max(dropped.amplitude);
+        }
+    }
+}
+
+/// One direct measurement beside the estimate it checks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Verified {
+    pub motion: Contender,
+    /// The design-life amplitude from the direct measurement and its 90 % interval (m), the
+    /// periods it rests on, and the largest amplitude seen over them (m); `None` when the
+    /// simulator stopped a chain.
+    pub direct: Option<LifeSummary>,
+}
+
+impl Verified {
+    /// The motion's design amplitude after the verification (m): the direct estimate (at least
+    /// the largest amplitude seen), or the estimate when the direct measurement failed.
+    pub fn value(&self) -> f64 {
+        self.direct
+            .and_then(|d| d.estimate.map(|e| e.amplitude.max(d.window_max)))
+            .unwrap_or(self.motion.amplitude)
+    }
+}
+
+/// A case's peak after its verification.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CasePeak {
+    pub design: u64,
+    pub case: u32,
+    /// The peak before and after (m).
+    pub before: f64,
+    pub after: f64,
+    /// Whether the peak after rests on a periodic orbit or a direct measurement (not on an
+    /// estimate that was not measured again).
+    pub supported: bool,
+    pub verified: Vec<Verified>,
+}
+
+/// A reduction's verification: the deciding designs, each verified case's peak, and the ranking
+/// before it (design and rank, best first); empty when the reduction verifies nothing.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Verification {
+    pub designs: Vec<u64>,
+    pub peaks: Vec<CasePeak>,
+    pub ranks_before: Vec<(u64, u64)>,
+}
+
+impl Verification {
+    /// The rank a design had before the verification.
+    pub fn rank_before(&self, design: u64) -> Option<u64> {
+        self.ranks_before
+            .iter()
+            .find(|r| r.0 == design)
+            .map(|r| r.1)
+    }
+
+    /// The direct measurements of a design's case, in the order they ran.
+    pub fn of(&self, design: u64, case: u32) -> Option<&CasePeak> {
+        self.peaks
+            .iter()
+            .find(|p| p.design == design && p.case == case)
+    }
+}
+
+/// The scene's life question: design life `design_life` (s) at quantile `quantile`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LifeQuestion {
+    pub design_life: f64,
+    pub quantile: f64,
+}
+
+/// Verifies one case (module doc, step 2): `sys` is the case's system, `settings` the study's
+/// solver, `before` the case's peak as the sweep measured it.
+pub fn verify_case(
+    (design, case): (u64, u32),
+    top: &CaseTop,
+    sys: &System,
+    settings: &SolverSettings,
+    life: LifeQuestion,
+    before: f64,
+) -> CasePeak {
+    let mut best = top.periodic;
+    let mut verified = Vec::new();
+    for c in &top.top {
+        if c.amplitude <= best {
+            break;
+        }
+        let f = Forcing {
+            sys: *sys,
+            F0: c.f0,
+            omega: c.omega,
+            settings: *settings,
+        };
+        let s = LifeSettings {
+            n_life: life.design_life / f.period(),
+            quantile: life.quantile,
+            tol: 0.0,
+            first: FIRST,
+            cap: PERIODS,
+        };
+        let v = Verified {
+            motion: *c,
+            direct: measure_directly(&f, &c.section, c.lambda, &s, PERIODS),
+        };
+        best = best.max(v.value());
+        verified.push(v);
+    }
+    let unmeasured = top
+        .top
+        .iter()
+        .skip(verified.len())
+        .map(|c| c.amplitude)
+        .fold(top.rest, f64::max);
+    let failed = verified.iter().any(|v| v.direct.is_none());
+    CasePeak {
+        design,
+        case,
+        before,
+        after: if verified.is_empty() {
+            before
+        } else {
+            best.max(unmeasured)
+        },
+        supported: !failed && unmeasured <= best,
+        verified,
+    }
+}
+
+/// The designs that decide the ranking (module doc, step 1): the best-ranked design of `ranks`
+/// (best first) and every design whose peak interval overlaps its own; `interval(d)` is design
+/// `d`'s ideal-case peak interval (m), `None` when unknown.
+pub fn deciding(ranks: &[(u64, u64)], interval: impl Fn(u64) -> Option<(f64, f64)>) -> Vec<u64> {
+    let Some(&(best, _)) = ranks.first() else {
+        return Vec::new();
+    };
+    let Some((lo, hi)) = interval(best) else {
+        return vec![best];
+    };
+    let mut out: Vec<u64> = ranks
+        .iter()
+        .map(|&(d, _)| d)
+        .filter(|&d| d == best || interval(d).is_some_and(|(l, h)| l <= hi && lo <= h))
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+/// A case to verify: its design and case, what it kept, its system and its peak before (m).
+pub type CaseToVerify<'a> = ((u64, u32), &'a CaseTop, System, f64);
+
+/// Verifies every case of the deciding designs in parallel; the results in the input's order.
+pub fn verify_all(
+    cases: &[CaseToVerify],
+    settings: &SolverSettings,
+    life: LifeQuestion,
+) -> Vec<CasePeak> {
+    cases
+        .par_iter()
+        .map(|(at, top, sys, before)| verify_case(*at, top, sys, settings, life, *before))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_deciding_designs_overlap_the_best_ones_interval() {
+        let iv = |d: u64| match d {
+            0 => Some((1.0, 1.2)),
+            1 => Some((1.1, 1.3)),
+            2 => Some((1.25, 1.25)),
+            _ => None,
+        };
+        // Design 0 ranks first; 1 overlaps it, 2 (periodic, 1.25) does not, 3 is unknown.
+        assert_eq!(deciding(&[(0, 1), (2, 2), (1, 3), (3, 4)], iv), vec![0, 1]);
+        assert_eq!(deciding(&[], iv), Vec::<u64>::new());
+    }
+
+    fn contender(a: f64) -> Contender {
+        Contender {
+            design: 0,
+            case: 0,
+            r: a,
+            omega: 1.0,
+            f0: 0.1,
+            section: [0.0; 4],
+            lambda: 1.0,
+            amplitude: a,
+            lo: a,
+            hi: a,
+            measured: 2000,
+        }
+    }
+
+    #[test]
+    fn a_case_keeps_its_highest_motions_and_the_largest_of_the_rest() {
+        let mut t = CaseTop::default();
+        for a in [1.0, 5.0, 3.0, 4.0, 2.0] {
+            t.push(contender(a));
+        }
+        let kept: Vec<f64> = t.top.iter().map(|c| c.amplitude).collect();
+        assert_eq!(kept, vec![5.0, 4.0, 3.0]);
+        assert_eq!(t.rest, 2.0);
+    }
+}

@@ -1,0 +1,150 @@
+use super::*;
+
+use crate::sim::noise::mix64;
+
+/// A uniform number in (0, 1) from a seed and an index.
+fn unif(seed: u64, i: u64) -> f64 {
+    ((mix64(seed ^ mix64(i)) >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+}
+
+fn gpd_sample(seed: u64, n: usize, sigma: f64, xi: f64) -> Vec<f64> {
+    (0..n as u64)
+        .map(|i| {
+            let p = unif(seed, i);
+            sigma * growth(1.0 / p, xi)
+        })
+        .collect()
+}
+
+#[test]
+fn gpd_fit_recovers_known_laws_and_the_exponential_limit() {
+    for (sigma, xi) in [(0.5, -0.3), (1.0, 0.0), (2.0, 0.2)] {
+        let y = gpd_sample(3, 4000, sigma, xi);
+        let fit = fit_gpd(&y, (-XI_MAX, XI_MAX)).unwrap();
+        assert!((fit.gpd.xi - xi).abs() < 4.0 * fit.xi_se, "{fit:?} vs {xi}");
+        assert!(
+            (fit.gpd.sigma / sigma - 1.0).abs() < 0.1,
+            "{fit:?} vs {sigma}"
+        );
+    }
+    // xi -> 0: the likelihood is continuous.
+    let y = gpd_sample(4, 100, 1.0, 0.0);
+    let a = Gpd {
+        sigma: 1.0,
+        xi: 0.0,
+    }
+    .nll(&y);
+    let b = Gpd {
+        sigma: 1.0,
+        xi: 1e-7,
+    }
+    .nll(&y);
+    assert!((a - b).abs() < 1e-4 * a.abs(), "{a} {b}");
+}
+
+#[test]
+fn declustering_keeps_one_maximum_per_run() {
+    let z = [0.0, 2.0, 3.0, 0.0, 2.5, 0.0, 0.0, 0.0, 4.0, 0.0];
+    assert_eq!(decluster(&z, 1.0, 1), vec![3.0, 2.5, 4.0]);
+    assert_eq!(decluster(&z, 1.0, 2), vec![3.0, 4.0]);
+    assert_eq!(decluster(&z, 1.0, 5), vec![4.0]);
+}
+
+/// Coverage of the 90 % profile-likelihood interval of the life quantile on excesses of a
+/// known law: 200 seeds, each 150 excesses (a rate of 0.05 per period over 3000 periods),
+/// a life of 10^6 periods, the median of its maximum.
+#[test]
+fn pot_interval_covers_the_true_life_quantile_at_its_nominal_rate() {
+    // Any shape allowed (a heavy tail among them), and the bounded fit on a bounded law.
+    for (sigma, xi, xi_max) in [(1.0, -0.2, XI_MAX), (1.0, 0.1, XI_MAX), (1.0, -0.2, 0.0)] {
+        let life = Life {
+            n_life: 1e6,
+            q: 0.5,
+            xi_min: -XI_MAX,
+            xi_max,
+        };
+        let nu = 0.05;
+        let truth = sigma * growth(life.m(nu), xi);
+        let mut covered = 0;
+        let seeds = 200;
+        for seed in 0..seeds {
+            let y = gpd_sample(1000 + seed, 150, sigma, xi);
+            let fit = fit_gpd(&y, (-XI_MAX, xi_max)).unwrap();
+            let est = life_from_excesses(&y, 0.0, nu, life, fit).unwrap();
+            if est.lo <= truth && truth <= est.hi {
+                covered += 1;
+            }
+        }
+        let rate = covered as f64 / seeds as f64;
+        eprintln!("GPD xi {xi} (fitted in [-0.95, {xi_max}]): coverage {rate}");
+        assert!((0.80..=0.97).contains(&rate), "xi {xi}: coverage {rate}");
+    }
+}
+
+/// The same for block maxima of a known GEV law: 200 seeds of 60 blocks of 100 periods.
+#[test]
+fn gev_interval_covers_the_true_life_quantile_at_its_nominal_rate() {
+    let (mu, sigma, xi) = (10.0, 1.0, -0.15);
+    let life = Life {
+        n_life: 1e6,
+        q: 0.5,
+        xi_min: -XI_MAX,
+        xi_max: XI_MAX,
+    };
+    let block = 100;
+    let y = -(life.q.ln()) * block as f64 / life.n_life;
+    let truth = mu + sigma * growth(1.0 / y, xi);
+    let mut covered = 0;
+    let seeds = 200;
+    for seed in 0..seeds {
+        let x: Vec<f64> = (0..60)
+            .map(|i| {
+                let p = unif(5000 + seed, i);
+                mu + sigma * growth(1.0 / -p.ln(), xi)
+            })
+            .collect();
+        let est = life_gev(&x, block, life).unwrap();
+        if est.lo <= truth && truth <= est.hi {
+            covered += 1;
+        }
+    }
+    let rate = covered as f64 / seeds as f64;
+    eprintln!("GEV: coverage {rate}");
+    assert!((0.80..=0.97).contains(&rate), "coverage {rate}");
+}
+
+/// The bounded estimate on per-period values of a known bounded law, `z = 1 - U^(1/alpha)`
+/// (`P(z > 1 - s) = s^alpha`, a shape of `-1/alpha`), independent periods: over 100 samples of
+/// 20,000 periods, the median of the largest of `N` periods, `1 - (1 - 0.5^(1/N))^(1/alpha)`,
+/// lies in the 90 % interval at least at the nominal rate less a margin for 100 draws, and the
+/// estimate is within 2 % of it in every sample (an extrapolation by 50 and 500 times).
+#[test]
+fn bounded_estimate_covers_the_life_quantile_of_a_known_bounded_law() {
+    for alpha in [2.5, 3.0] {
+        for n_life in [1e6, 1e7] {
+            let truth = 1.0 - (1.0 - 0.5f64.powf(1.0 / n_life)).powf(1.0 / alpha);
+            let life = Life::bounded(n_life, 0.5);
+            let (mut covered, mut worst) = (0, 0.0f64);
+            let seeds = 100;
+            for seed in 0..seeds {
+                let z: Vec<f64> = (0..20_000u64)
+                    .map(|i| 1.0 - unif(9000 + seed, i).powf(1.0 / alpha))
+                    .collect();
+                let est = life_pot(&[z.as_slice()], 1, life).unwrap();
+                covered += usize::from(est.lo <= truth && truth <= est.hi);
+                worst = worst.max((est.amplitude / truth - 1.0).abs());
+            }
+            let rate = covered as f64 / seeds as f64;
+            eprintln!("alpha {alpha} N {n_life}: coverage {rate}, worst error {worst}");
+            assert!(rate >= 0.84, "alpha {alpha} N {n_life}: coverage {rate}");
+            assert!(worst <= 0.02, "alpha {alpha} N {n_life}: worst error {worst}");
+        }
+    }
+}
+
+#[test]
+fn tail_sizes_grow_with_the_sample_and_stop_at_a_hundred() {
+    assert_eq!(tail_sizes(2000), [12, 25, 50]);
+    assert_eq!(tail_sizes(40_000), [25, 50, 100]);
+    assert_eq!(tail_sizes(1_000_000), [50, 100, 200]);
+}
