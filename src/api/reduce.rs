@@ -360,6 +360,30 @@ pub fn write_outputs_with(
                 &t,
             )?);
         }
+        // The motions measured again to verify the ranking; no table when none was.
+        if fs.verification.peaks.iter().all(|p| p.verified.is_empty()) {
+            for name in ["verification.parquet", "verification.csv"] {
+                let stale = dir.join(name);
+                if stale.exists() {
+                    std::fs::remove_file(&stale)
+                        .with_context(|| format!("removing {}", stale.display()))?;
+                }
+            }
+        } else {
+            let rank = |d: u64| {
+                summary
+                    .points
+                    .iter()
+                    .find(|p| p.point == d)
+                    .and_then(|p| p.rank)
+            };
+            let t = forced::verify::table(&fs.verification, rank);
+            files.extend(store::summary::write_table(
+                dir,
+                TableKind::Verification,
+                &t,
+            )?);
+        }
         // The recommended design's bifurcation diagram: its attractors' sections.
         let samples = summary
             .anchor()

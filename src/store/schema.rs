@@ -104,10 +104,14 @@ pub enum TableKind {
     /// `bifurcations.parquet`, `bifurcations.csv`: one row per point of a bifurcation curve
     /// followed in `(r, p)` over a design axis `p` (`reduce` of a harmonic study).
     Bifurcations,
+    /// `verification.parquet`, `verification.csv`: one row per motion a harmonic study's
+    /// `reduce` measured again directly to verify the ranking (docs/scenes.md, "The decision
+    /// verified").
+    Verification,
 }
 
 impl TableKind {
-    pub const ALL: [TableKind; 11] = [
+    pub const ALL: [TableKind; 12] = [
         TableKind::Points,
         TableKind::ForcedPoints,
         TableKind::Summary,
@@ -119,6 +123,7 @@ impl TableKind {
         TableKind::Branches,
         TableKind::Probes,
         TableKind::Bifurcations,
+        TableKind::Verification,
     ];
 
     /// The table's name (`impactsweep.table`, the file stem).
@@ -135,6 +140,7 @@ impl TableKind {
             TableKind::Branches => "branches",
             TableKind::Probes => "probes",
             TableKind::Bifurcations => "bifurcations",
+            TableKind::Verification => "verification",
         }
     }
 }
@@ -192,6 +198,13 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
             "p" => Some(UNIT_OF_P),
             "r" | "period" | "impacts_per_period" => Some("1"),
             "amplitude" => Some("m"),
+            _ => None,
+        },
+        TableKind::Verification => match column {
+            "point" | "case" | "supported" | "rank_before" | "rank_after" => Some(""),
+            "r" | "estimate_periods" | "direct_periods" => Some("1"),
+            "estimate" | "estimate_lo" | "estimate_hi" | "direct" | "direct_lo" | "direct_hi"
+            | "largest_seen" | "peak_before" | "peak_after" => Some("m"),
             _ => None,
         },
         TableKind::Probes => match column {

@@ -32,6 +32,8 @@ use crate::orbits::life::{LifeSettings, LifeSummary, measure_directly};
 use crate::orbits::map::{Forcing, Section};
 use crate::orbits::race::FIRST;
 use crate::sim::SolverSettings;
+use crate::stats::extremes::LifeEstimate;
+use crate::store::table::{Column, Table};
 
 /// Periods of a direct measurement: 2,000 doubled nine times, at least 10^6.
 pub const PERIODS: u64 = 1_024_000;
@@ -60,7 +62,7 @@ pub struct Contender {
 impl Contender {
     /// The contender of a stored attractor that is not periodic (`None` for a periodic one).
     pub fn of(a: &AttractorRow, design: u64) -> Option<Contender> {
-        (!a.kind.periodic()).then(|| Contender {
+        (!a.kind.periodic()).then_some(Contender {
             design,
             case: a.run.case,
             r: a.run.r,
@@ -278,6 +280,101 @@ pub fn verify_all(
         .par_iter()
         .map(|(at, top, sys, before)| verify_case(*at, top, sys, settings, life, *before))
         .collect()
+}
+
+/// The `verification` table (docs/schema.md): one row per motion measured directly, its
+/// estimate beside its direct value with the periods each rests on, and its case's peak and
+/// its design's rank before and after; `rank_after(d)` is design `d`'s rank after.
+pub fn table(v: &Verification, rank_after: impl Fn(u64) -> Option<u64>) -> Table {
+    let rows: Vec<(&CasePeak, &Verified)> = v
+        .peaks
+        .iter()
+        .flat_map(|p| p.verified.iter().map(move |m| (p, m)))
+        .collect();
+    let direct = |m: &Verified, f: fn(&LifeSummary) -> f64| m.direct.map_or(f64::NAN, |d| f(&d));
+    let estimate = |m: &Verified, f: fn(&LifeEstimate) -> f64| {
+        m.direct
+            .and_then(|d| d.estimate)
+            .map_or(f64::NAN, |e| f(&e))
+    };
+    let mut t = Table::default();
+    t.push(
+        "point",
+        Column::U64(rows.iter().map(|r| Some(r.0.design)).collect()),
+    );
+    t.push(
+        "case",
+        Column::U64(rows.iter().map(|r| Some(u64::from(r.0.case))).collect()),
+    );
+    t.push(
+        "r",
+        Column::F64(rows.iter().map(|r| r.1.motion.r).collect()),
+    );
+    t.push(
+        "estimate",
+        Column::F64(rows.iter().map(|r| r.1.motion.amplitude).collect()),
+    );
+    t.push(
+        "estimate_lo",
+        Column::F64(rows.iter().map(|r| r.1.motion.lo).collect()),
+    );
+    t.push(
+        "estimate_hi",
+        Column::F64(rows.iter().map(|r| r.1.motion.hi).collect()),
+    );
+    t.push(
+        "estimate_periods",
+        Column::U64(rows.iter().map(|r| Some(r.1.motion.measured)).collect()),
+    );
+    t.push(
+        "direct",
+        Column::F64(
+            rows.iter()
+                .map(|r| estimate(r.1, |e| e.amplitude))
+                .collect(),
+        ),
+    );
+    t.push(
+        "direct_lo",
+        Column::F64(rows.iter().map(|r| estimate(r.1, |e| e.lo)).collect()),
+    );
+    t.push(
+        "direct_hi",
+        Column::F64(rows.iter().map(|r| estimate(r.1, |e| e.hi)).collect()),
+    );
+    t.push(
+        "direct_periods",
+        Column::U64(
+            rows.iter()
+                .map(|r| r.1.direct.map(|d| d.measured))
+                .collect(),
+        ),
+    );
+    t.push(
+        "largest_seen",
+        Column::F64(rows.iter().map(|r| direct(r.1, |d| d.window_max)).collect()),
+    );
+    t.push(
+        "peak_before",
+        Column::F64(rows.iter().map(|r| r.0.before).collect()),
+    );
+    t.push(
+        "peak_after",
+        Column::F64(rows.iter().map(|r| r.0.after).collect()),
+    );
+    t.push(
+        "supported",
+        Column::Bool(rows.iter().map(|r| r.0.supported).collect()),
+    );
+    t.push(
+        "rank_before",
+        Column::U64(rows.iter().map(|r| v.rank_before(r.0.design)).collect()),
+    );
+    t.push(
+        "rank_after",
+        Column::U64(rows.iter().map(|r| rank_after(r.0.design)).collect()),
+    );
+    t
 }
 
 #[cfg(test)]
