@@ -26,7 +26,7 @@ secs() { /usr/bin/time -f "%e" -o "$1" "${@:2}" >/dev/null; cat "$1"; }
 for v in base new; do
   bin=$NEW; [ "$v" = base ] && bin=$BASE_BIN
   run=$(secs "$work/t" "$bin" run "$cfg" --out "$work/$v" --quiet)
-  red=$(secs "$work/t" "$bin" reduce "$work/$v/frequency-response" --quiet)
+  red=$(secs "$work/t" "$bin" reduce "$work/$v/frequency-response")
   echo "$v $run $red" >> "$work/showcase"
 done
 # One-frequency studies: Table I's M and K, C = 0.1 N s/m, e = 0.9, F0 = 0.1 N, 16 starts, seed 1.
@@ -53,7 +53,7 @@ r = $4
 starts = 16
 TOML
   run=$(secs "$work/t" "$NEW" run "$work/$1.toml" --out "$work/one" --quiet)
-  red=$(secs "$work/t" "$NEW" reduce "$work/one/$1" --quiet)
+  red=$(secs "$work/t" "$NEW" reduce "$work/one/$1")
   periods=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
     $col["kind"] != "periodic" && $col["kind"] != "neutral" { p += $col["measured_periods"] } END { print p + 0 }' \
     "$work/one/$1/attractors.csv")

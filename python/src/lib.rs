@@ -457,6 +457,7 @@ fn life_estimate<'py>(
     design_periods: f64,
     quantile: f64,
     run: usize,
+    xi_min: f64,
     xi_max: f64,
 ) -> PyResult<Option<Bound<'py, PyDict>>> {
     use impactsweep::stats::extremes::{Life, XI_MAX, life_pot};
@@ -479,12 +480,18 @@ fn life_estimate<'py>(
             "xi_max={xi_max}: allowed [-{XI_MAX}, {XI_MAX}]"
         )));
     }
+    if !(xi_min.is_finite() && -XI_MAX <= xi_min && xi_min <= xi_max) {
+        return Err(PyValueError::new_err(format!(
+            "xi_min={xi_min}: allowed [-{XI_MAX}, xi_max={xi_max}]"
+        )));
+    }
     if let Some(v) = z.iter().find(|v| !v.is_finite()) {
         return Err(PyValueError::new_err(format!("maxima: {v} is not finite")));
     }
     let life = Life {
         n_life: design_periods,
         q: quantile,
+        xi_min,
         xi_max,
     };
     let Some(e) = py.detach(|| life_pot(&[z.as_slice()], run, life)) else {

@@ -6,7 +6,8 @@ use super::free;
 use crate::model::System;
 use crate::sim::{Outcome, Request, SolverSettings};
 use crate::study::{
-    Axis, Case, DiSource, Ranking, Reliability, RunSettings, SafetyForm, Study, Zones,
+    Axis, Case, DiSource, Ranking, Reliability, RunSettings, SafetyForm, Study, VERIFY_PERIODS,
+    Zones,
 };
 
 /// A study over the given axes with `n_cases` cases (case 0 ideal), paper defaults for the
@@ -53,6 +54,7 @@ pub fn study(axes: Vec<(&str, Vec<f64>)>, n_cases: usize) -> Study {
             wf1: 0.5,
             wf2: 0.5,
             di_source: DiSource::Ideal,
+            verify_periods: VERIFY_PERIODS,
         },
         run: RunSettings {
             chunk_points: 16,

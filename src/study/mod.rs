@@ -47,7 +47,7 @@ mod zones;
 pub use axis::Axis;
 pub use perturb::Case;
 pub use random::{DEFAULT_DT, DEFAULT_REALIZATIONS};
-pub use ranking::{DiSource, Ranking};
+pub use ranking::{DiSource, Ranking, VERIFY_PERIODS};
 pub use record::EVEN_TOL;
 pub use reliability::{Reliability, SafetyForm};
 pub use run::{DEFAULT_CHUNK_RUNS, RunSettings, whole_curves};

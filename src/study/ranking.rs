@@ -22,7 +22,14 @@ pub struct Ranking {
     /// Weight of DI. Default 0.5.
     pub wf2: f64,
     pub di_source: DiSource,
+    /// Periods of each direct measurement that verifies a harmonic study's ranking (docs/scenes.md,
+    /// "The decision verified"). Default [`VERIFY_PERIODS`]; 0: no verification; otherwise
+    /// `[2000, 1e8]`.
+    pub verify_periods: u64,
 }
+
+/// The default of [`Ranking::verify_periods`]: 2,000 doubled nine times, at least 10^6.
+pub const VERIFY_PERIODS: u64 = 1_024_000;
 
 impl Default for Ranking {
     fn default() -> Self {
@@ -30,6 +37,7 @@ impl Default for Ranking {
             wf1: 0.5,
             wf2: 0.5,
             di_source: DiSource::Ideal,
+            verify_periods: VERIFY_PERIODS,
         }
     }
 }
@@ -40,6 +48,7 @@ pub(super) struct RawRanking {
     wf1: Option<f64>,
     wf2: Option<f64>,
     di_source: Option<String>,
+    verify_periods: Option<f64>,
 }
 
 /// The validated `[ranking]`: the weights sum to 1.
@@ -81,9 +90,21 @@ pub(super) fn ranking(cx: &Cx, raw: &RawRanking) -> Result<Ranking, InputError> 
             ));
         }
     };
+    let verify_periods = match rk.verify_periods {
+        None => VERIFY_PERIODS,
+        Some(v) if v == 0.0 || (v.fract() == 0.0 && (2000.0..=1e8).contains(&v)) => v as u64,
+        Some(v) => {
+            return Err(cx.err(
+                "[ranking].verify_periods",
+                num(v),
+                "allowed: 0 (no verification) or a whole number of periods in [2000, 1e8]",
+            ));
+        }
+    };
     Ok(Ranking {
         wf1,
         wf2,
         di_source,
+        verify_periods,
     })
 }

@@ -121,8 +121,8 @@ pub fn curve_life(m: f64, d: f64, rs: &[f64], seed: u64) -> Vec<Option<Estimate>
         .map(|r| format!("{r:?}"))
         .collect::<Vec<_>>()
         .join(", ");
-    let text = study_text(m, d, rs[0], seed, None)
-        .replace(&format!("r = {}\n", rs[0]), &format!("r = [{list}]\n"));
+    let text = study_text(m, d, rs[0], seed, None).replace(&format!("r = {}\n", rs[0]), "")
+        + &format!("[sweep]\nr = [{list}]\n");
     let study = Study::parse(Path::new("curve.toml"), &text).expect("a valid study");
     let plan = Plan::new(&study);
     let runs: Vec<_> = (0..plan.n_points()).map(|p| plan.run(p, 0)).collect();

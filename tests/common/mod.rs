@@ -9,7 +9,8 @@ use std::path::{Path, PathBuf};
 use impactsweep::model::System;
 use impactsweep::sim::{NoiseSettings, Request, SolverSettings};
 use impactsweep::study::{
-    Axis, Case, DiSource, Ranking, Reliability, RunSettings, SafetyForm, Study, Zones,
+    Axis, Case, DiSource, Ranking, Reliability, RunSettings, SafetyForm, Study, VERIFY_PERIODS,
+    Zones,
 };
 
 /// The Table I system, `e` over `n_e` values in [0.45, 0.95], `m` over 3 values, four cases per
@@ -82,6 +83,7 @@ pub fn study(name: &str, n_e: usize) -> Study {
             wf1: 0.5,
             wf2: 0.5,
             di_source: DiSource::Ideal,
+            verify_periods: VERIFY_PERIODS,
         },
         run: RunSettings {
             chunk_points: 16,

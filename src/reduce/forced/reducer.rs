@@ -159,10 +159,11 @@ impl<'a> ForcedReducer<'a> {
     }
 
     /// Whether this reduction verifies the deciding designs ([`verify`]): a whole analysis (a
-    /// shard writes no ranking), peaks of the worst steady state with stored attractors, and
-    /// design-life amplitudes.
+    /// shard writes no ranking), peaks of the worst steady state with stored attractors,
+    /// design-life amplitudes, and `[ranking] verify_periods` above 0.
     fn verifies(&self, plan: &Plan) -> bool {
         plan.shard.is_none()
+            && self.study.ranking.verify_periods > 0
             && self.stored
             && self.peak == DesignPeak::Worst
             && matches!(self.study.scene, Scene::Harmonic(h) if h.nonperiodic_peak == NonPeriodicPeak::Life)
@@ -198,6 +199,7 @@ impl<'a> ForcedReducer<'a> {
         let life = LifeQuestion {
             design_life: h.design_life,
             quantile: h.life_quantile,
+            periods: self.study.ranking.verify_periods,
         };
         let peaks = verify::verify_all(&todo, &self.study.solver, life);
         for p in &peaks {
@@ -227,6 +229,7 @@ impl<'a> ForcedReducer<'a> {
             }
         }
         Verification {
+            periods: life.periods,
             designs,
             peaks,
             ranks_before: ranks,

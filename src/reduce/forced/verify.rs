@@ -14,7 +14,8 @@
 //!    case's peak (its estimate above the largest periodic amplitude and every value measured
 //!    directly so far), at most [`MOST`] per case: each is run again from its stored state on
 //!    [`DIRECT_CHAINS`](crate::orbits::life::DIRECT_CHAINS) independent chains for
-//!    [`PERIODS`] periods (at least 10^6) and its design-life amplitude estimated from them
+//!    `[ranking] verify_periods` periods in all (default 1,024,000, at least 10^6;
+//!    [`crate::study::Ranking::verify_periods`]) and its design-life amplitude estimated from them
 //!    ([`crate::orbits::life::measure_directly`]); the case's peak becomes the largest of its
 //!    periodic amplitudes, the direct values and the estimates not measured again.
 //! 3. **Ranked on them.** The design's runs are reduced again with the new peaks, then the
@@ -34,9 +35,6 @@ use crate::orbits::race::FIRST;
 use crate::sim::SolverSettings;
 use crate::stats::extremes::LifeEstimate;
 use crate::store::table::{Column, Table};
-
-/// Periods of a direct measurement: 2,000 doubled nine times, at least 10^6.
-pub const PERIODS: u64 = 1_024_000;
 
 /// The most motions measured directly per case.
 pub const MOST: usize = 3;
@@ -60,9 +58,12 @@ pub struct Contender {
 }
 
 impl Contender {
-    /// The contender of a stored attractor that is not periodic (`None` for a periodic one).
+    /// The contender of a stored attractor that is not periodic and has a design-life estimate
+    /// (`None` for a periodic one, and for a motion whose estimate could not be made: its
+    /// maxima show no tail to fit, so a longer run of it would not either).
     pub fn of(a: &AttractorRow, design: u64) -> Option<Contender> {
-        (!a.kind.periodic()).then_some(Contender {
+        let estimated = a.life_lo.is_finite() && a.life_hi.is_finite();
+        (!a.kind.periodic() && estimated).then_some(Contender {
             design,
             case: a.run.case,
             r: a.run.r,
@@ -78,9 +79,10 @@ impl Contender {
     }
 }
 
-/// What one case keeps for a verification while the parts stream in: its largest periodic
-/// amplitude (m), its [`MOST`] highest motions that are not periodic, and the largest design
-/// amplitude of the others (m; `-inf` when none), so memory stays bounded per case.
+/// What one case keeps for a verification while the parts stream in: the largest amplitude it
+/// takes as it is (m: of its periodic orbits, and of motions with no design-life estimate), its
+/// [`MOST`] highest motions that are not periodic, and the largest design amplitude of the
+/// others (m; `-inf` when none), so memory stays bounded per case.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CaseTop {
     pub periodic: f64,
@@ -162,6 +164,8 @@ pub struct CasePeak {
 /// before it (design and rank, best first); empty when the reduction verifies nothing.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Verification {
+    /// Periods of each direct measurement (`[ranking] verify_periods`).
+    pub periods: u64,
     pub designs: Vec<u64>,
     pub peaks: Vec<CasePeak>,
     pub ranks_before: Vec<(u64, u64)>,
@@ -184,11 +188,13 @@ impl Verification {
     }
 }
 
-/// The scene's life question: design life `design_life` (s) at quantile `quantile`.
+/// The scene's life question: design life `design_life` (s) at quantile `quantile`, measured
+/// directly over `periods` forcing periods.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LifeQuestion {
     pub design_life: f64,
     pub quantile: f64,
+    pub periods: u64,
 }
 
 /// Verifies one case (module doc, step 2): `sys` is the case's system, `settings` the study's
@@ -218,11 +224,11 @@ pub fn verify_case(
             quantile: life.quantile,
             tol: 0.0,
             first: FIRST,
-            cap: PERIODS,
+            cap: life.periods,
         };
         let v = Verified {
             motion: *c,
-            direct: measure_directly(&f, &c.section, c.lambda, &s, PERIODS),
+            direct: measure_directly(&f, &c.section, c.lambda, &s, life.periods),
         };
         best = best.max(v.value());
         verified.push(v);

@@ -103,10 +103,10 @@ fn verified(s: &Summary, fs: &ForcedSummary) -> String {
     let measured: usize = v.peaks.iter().map(|p| p.verified.len()).sum();
     let _ = writeln!(
         o,
-        "\n**The decision verified.** The designs that decide the ranking (the best ranked as the sweep measured it, and every design whose peak interval overlaps its peak) are {}. Every motion that is not periodic and could carry a peak of one of their cases was measured again directly, from its stored state on 16 independent chains for {} periods, and the ranking uses those values ({} motions; the estimates' periods are the sweep's race).",
+        "\n**The decision verified.** The designs that decide the ranking (the best ranked as the sweep measured it, and every design whose peak interval overlaps its peak) are {}. Every motion that is not periodic and could carry a peak of one of their cases was measured again directly, from its stored state on 16 independent chains for {} periods, and the ranking uses those values ({}; the estimates' periods are the sweep's race).",
         names.join(", "),
-        crate::report::text::thousands(crate::reduce::forced::verify::PERIODS),
-        measured
+        crate::report::text::thousands(v.periods),
+        crate::report::text::count(measured as u64, "motion", "motions")
     );
     if measured > 0 {
         let _ = writeln!(
