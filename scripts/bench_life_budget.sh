@@ -23,9 +23,15 @@ fi
 cfg=configs/frequency-response.toml
 up0=$(uptime)
 secs() { /usr/bin/time -f "%e" -o "$1" "${@:2}" >/dev/null; cat "$1"; }
-for v in base new; do
-  bin=$NEW; [ "$v" = base ] && bin=$BASE_BIN
-  run=$(secs "$work/t" "$bin" run "$cfg" --out "$work/$v" --quiet)
+# The trade a user can make: the race's cap a quarter of the default (the deciding designs are
+# still measured to 1,024,000 periods by the verification).
+sed -e 's/^design_peak = "worst"/design_peak = "worst"\nlife_max_periods = 256000/' "$cfg" > "$work/quarter.toml"
+grep -q '^life_max_periods = 256000' "$work/quarter.toml"
+for v in base new quarter; do
+  bin=$NEW; study=$cfg
+  [ "$v" = base ] && bin=$BASE_BIN
+  [ "$v" = quarter ] && study=$work/quarter.toml
+  run=$(secs "$work/t" "$bin" run "$study" --out "$work/$v" --quiet)
   red=$(secs "$work/t" "$bin" reduce "$work/$v/frequency-response")
   echo "$v $run $red" >> "$work/showcase"
 done
@@ -69,6 +75,13 @@ points=$(
 up1=$(uptime)
 read -r _ brun bred < <(grep '^base' "$work/showcase")
 read -r _ nrun nred < <(grep '^new' "$work/showcase")
+read -r _ qrun qred < <(grep '^quarter' "$work/showcase")
+# Each design's ideal peak and rank (summary.csv, columns by name).
+ranks() {
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+    { printf "%s:%.4f:%s ", $col["point"], 100 * $col["peak_amplitude_ideal"], $col["rank"] }' \
+    "$work/$1/frequency-response/summary.csv"
+}
 # The race's periods in the showcase's ideal case (attractors.csv: the ideal case's rows).
 race() {
   awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
@@ -89,8 +102,16 @@ out=results/bench_life_budget.md
   echo "|---|---|---|---|---|"
   echo "| \`$base\` | $brun | $bred | $(awk "BEGIN { print $brun + $bred }") | $(race base) |"
   echo "| this commit | $nrun | $nred | $(awk "BEGIN { print $nrun + $nred }") | $(race new) |"
+  echo "| this commit, \`life_max_periods = 256000\` | $qrun | $qred | $(awk "BEGIN { print $qrun + $qred }") | $(race quarter) |"
   echo
-  echo "Ratio: $(awk "BEGIN { printf \"%.2f\", ($nrun + $nred) / ($brun + $bred) }") (the budget: 1.5)."
+  echo "Ratios to \`$base\`: $(awk "BEGIN { printf \"%.2f\", ($nrun + $nred) / ($brun + $bred) }") by default," \
+    "$(awk "BEGIN { printf \"%.2f\", ($qrun + $qred) / ($brun + $bred) }") with the quarter cap (the budget: 1.5)."
+  echo
+  echo "Each design's ideal peak (cm) and rank, \`point:peak:rank\`:"
+  echo
+  echo "- \`$base\`: $(ranks base)"
+  echo "- this commit: $(ranks new)"
+  echo "- quarter cap: $(ranks quarter)"
   echo
   echo "One-frequency studies (16 starts, 1,000 h, study seed 1), this commit, wall seconds:"
   echo "\`run\` is the census and the design life, \`reduce\` the verification of the one design."
