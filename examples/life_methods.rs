@@ -72,7 +72,9 @@ fn pot_before(chains: &[&[f64]], run: usize, n_life: f64) -> Option<LifeEstimate
     let mut sorted: Vec<f64> = chains.iter().flat_map(|c| c.iter().copied()).collect();
     sorted.sort_by(f64::total_cmp);
     let target = (0.5 * (sorted.len() as f64).sqrt()).max(30.0);
-    let probs = (0..=15).map(|i| 0.80 + 0.01 * i as f64).chain((1..=24).map(|i| 0.95 + 0.002 * i as f64));
+    let probs = (0..=15)
+        .map(|i| 0.80 + 0.01 * i as f64)
+        .chain((1..=24).map(|i| 0.95 + 0.002 * i as f64));
     let mut best: Option<(f64, f64, Vec<f64>)> = None;
     for p in probs {
         let u = impactsweep::numeric::quantile_sorted(&sorted, p);
@@ -88,7 +90,12 @@ fn pot_before(chains: &[&[f64]], run: usize, n_life: f64) -> Option<LifeEstimate
     let (_, u, maxima) = best?;
     let y: Vec<f64> = maxima.iter().map(|v| v - u).collect();
     let fit = fit_gpd(&y, (-XI_MAX, 0.0))?;
-    let life = Life { n_life, q: 0.5, xi_min: -XI_MAX, xi_max: 0.0 };
+    let life = Life {
+        n_life,
+        q: 0.5,
+        xi_min: -XI_MAX,
+        xi_max: 0.0,
+    };
     life_from_excesses(&y, u, maxima.len() as f64 / sorted.len() as f64, life, fit)
 }
 
@@ -98,7 +105,10 @@ fn gev(chains: &[&[f64]], n_life: f64) -> Option<LifeEstimate> {
     let b = (total / 128).max(1);
     let x: Vec<f64> = chains
         .iter()
-        .flat_map(|c| c.chunks_exact(b).map(|w| w.iter().copied().fold(f64::MIN, f64::max)))
+        .flat_map(|c| {
+            c.chunks_exact(b)
+                .map(|w| w.iter().copied().fold(f64::MIN, f64::max))
+        })
         .collect();
     life_gev(&x, b, Life::bounded(n_life, 0.5))
 }
@@ -151,12 +161,17 @@ fn ams(f: &Forcing, seed: u64, delta: f64) -> (Vec<(f64, f64)>, u64) {
         for (q, &i) in dead.iter().enumerate() {
             let key = it * 64 + q as u64;
             let j = alive[(unif(sd ^ 0xABC, key) * alive.len() as f64) as usize];
-            let t = clones[j].z.iter().position(|&v| v > smin).expect("a crossing");
+            let t = clones[j]
+                .z
+                .iter()
+                .position(|&v| v > smin)
+                .expect("a crossing");
             let mut s0 = clones[j].s[t];
             let kk = key * 4;
             s0[0] += delta * 0.01 * (2.0 * unif(sd, kk) - 1.0);
             s0[1] += delta * 0.01 * w * (2.0 * unif(sd, kk + 1) - 1.0);
-            s0[2] = (s0[2] + delta * 0.01 * (2.0 * unif(sd, kk + 2) - 1.0)).clamp(-0.5 * d, 0.5 * d);
+            s0[2] =
+                (s0[2] + delta * 0.01 * (2.0 * unif(sd, kk + 2) - 1.0)).clamp(-0.5 * d, 0.5 * d);
             s0[3] += delta * 0.01 * w * (2.0 * unif(sd, kk + 3) - 1.0);
             let (z, s) = (clones[j].z[..=t].to_vec(), clones[j].s[..=t].to_vec());
             clones[i] = run(s0, z, s, &mut count);
@@ -168,7 +183,10 @@ fn ams(f: &Forcing, seed: u64, delta: f64) -> (Vec<(f64, f64)>, u64) {
 /// The median of the largest of `l` periods from an AMS tail curve `(ln p_T, level)`.
 fn ams_level(curve: &[(f64, f64)], l: f64) -> f64 {
     let target = (1.0 - 0.5f64.powf(100.0 / l)).ln();
-    curve.iter().find(|c| c.0 <= target).map_or(f64::NAN, |c| c.1)
+    curve
+        .iter()
+        .find(|c| c.0 <= target)
+        .map_or(f64::NAN, |c| c.1)
 }
 
 /// One method's results at one horizon over the seeds: errors (%) and intervals holding.
@@ -205,26 +223,53 @@ impl Tally {
 }
 
 fn truths(p: &Point, f: &Forcing) -> Option<[(f64, f64); 3]> {
-    let text = std::fs::read_to_string(Path::new("results/life_validation/brute").join(format!("{}.json", p.name))).ok()?;
+    let text = std::fs::read_to_string(
+        Path::new("results/life_validation/brute").join(format!("{}.json", p.name)),
+    )
+    .ok()?;
     let v: serde_json::Value = serde_json::from_str(&text).ok()?;
     let blocks: Vec<f64> = v["blocks"]
         .as_array()?
         .iter()
-        .map(|b| b.as_array().map_or(f64::NAN, |s| s.iter().filter_map(|x| x.as_f64()).fold(f64::MIN, f64::max)))
+        .map(|b| {
+            b.as_array().map_or(f64::NAN, |s| {
+                s.iter().filter_map(|x| x.as_f64()).fold(f64::MIN, f64::max)
+            })
+        })
         .collect();
     let life = 3.6e6 / f.period();
-    let at = |l: f64| (l, impactsweep::numeric::quantile(&blocks, 0.5f64.powf(1e6 / l)));
+    let at = |l: f64| {
+        (
+            l,
+            impactsweep::numeric::quantile(&blocks, 0.5f64.powf(1e6 / l)),
+        )
+    };
     Some([at(1e6), at(1e7), at(life)])
 }
 
 fn main() {
     let ns: Vec<u64> = {
-        let a: Vec<u64> = std::env::args().skip(1).filter_map(|s| s.parse().ok()).collect();
-        if a.is_empty() { vec![32_000, 128_000, 512_000] } else { a }
+        let a: Vec<u64> = std::env::args()
+            .skip(1)
+            .filter_map(|s| s.parse().ok())
+            .collect();
+        if a.is_empty() {
+            vec![32_000, 128_000, 512_000]
+        } else {
+            a
+        }
     };
-    let only: Vec<String> = std::env::args().skip(1).filter(|s| s.parse::<u64>().is_err()).collect();
-    println!("| point | periods | horizon | bounded POT (chosen) | POT before | GEV | sample max |\n|---|---|---|---|---|---|---|");
-    for p in POINTS.iter().filter(|p| only.is_empty() || only.iter().any(|o| o == p.name)) {
+    let only: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|s| s.parse::<u64>().is_err())
+        .collect();
+    println!(
+        "| point | periods | horizon | bounded POT (chosen) | POT before | GEV | sample max |\n|---|---|---|---|---|---|---|"
+    );
+    for p in POINTS
+        .iter()
+        .filter(|p| only.is_empty() || only.iter().any(|o| o == p.name))
+    {
         let f = validation::forcing_of(p);
         let Some(tr) = truths(p, &f) else { continue };
         for &n in &ns {
@@ -238,19 +283,32 @@ fn main() {
                     t[h][0].add(e3(life_pot(&refs, run, Life::bounded(l, 0.5))), truth);
                     t[h][1].add(e3(pot_before(&refs, run, l)), truth);
                     t[h][2].add(e3(gev(&refs, l)), truth);
-                    let mx = refs.iter().flat_map(|c| c.iter().copied()).fold(f64::MIN, f64::max);
+                    let mx = refs
+                        .iter()
+                        .flat_map(|c| c.iter().copied())
+                        .fold(f64::MIN, f64::max);
                     t[h][3].add(Some((mx, f64::NAN, f64::NAN)), truth);
                 }
             }
             for (h, name) in ["1e6", "1e7", "life"].iter().enumerate() {
-                println!("| {} | {n} | {name} | {} | {} | {} | {} |", p.name, t[h][0].cell(), t[h][1].cell(), t[h][2].cell(), t[h][3].cell());
+                println!(
+                    "| {} | {n} | {name} | {} | {} | {} | {} |",
+                    p.name,
+                    t[h][0].cell(),
+                    t[h][1].cell(),
+                    t[h][2].cell(),
+                    t[h][3].cell()
+                );
             }
         }
         if p.name == "P1" {
             for delta in [1e-4, 1e-3, 1e-2] {
                 let mut t: Vec<Tally> = (0..3).map(|_| Default::default()).collect();
                 let mut periods = Vec::new();
-                let runs: Vec<(Vec<(f64, f64)>, u64)> = (1..=10u64).into_par_iter().map(|s| ams(&f, s, delta)).collect();
+                let runs: Vec<(Vec<(f64, f64)>, u64)> = (1..=10u64)
+                    .into_par_iter()
+                    .map(|s| ams(&f, s, delta))
+                    .collect();
                 for (curve, count) in runs {
                     periods.push(count as f64);
                     for (h, &(l, truth)) in tr.iter().enumerate() {
@@ -259,7 +317,12 @@ fn main() {
                     }
                 }
                 for (h, name) in ["1e6", "1e7", "life"].iter().enumerate() {
-                    println!("| {} AMS delta {delta:e} (10 runs) | {:.0} | {name} | {} | | | |", p.name, impactsweep::numeric::median(&periods), t[h].cell());
+                    println!(
+                        "| {} AMS delta {delta:e} (10 runs) | {:.0} | {name} | {} | | | |",
+                        p.name,
+                        impactsweep::numeric::median(&periods),
+                        t[h].cell()
+                    );
                 }
             }
         }

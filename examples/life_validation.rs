@@ -51,14 +51,62 @@ pub struct Point {
 /// The points: the two of the reference brute force, the bundled study's three d = 20 mm
 /// peaks, its best-ranked design's peak, and others with other masses and clearances.
 pub const POINTS: [Point; 8] = [
-    Point { name: "P1", m: 0.02, d: 0.02, r: 1.01, why: "reference point, slow bounded tail" },
-    Point { name: "P2", m: 0.005, d: 0.005, r: 0.975, why: "reference point, tight tail" },
-    Point { name: "S1", m: 0.02, d: 0.02, r: 1.0, why: "showcase peak, m = 20 g, d = 20 mm" },
-    Point { name: "S2", m: 0.005, d: 0.02, r: 0.99, why: "showcase peak, m = 5 g, d = 20 mm" },
-    Point { name: "S3", m: 0.01, d: 0.02, r: 0.935, why: "showcase peak, m = 10 g, d = 20 mm" },
-    Point { name: "S4", m: 0.02, d: 0.01, r: 0.9, why: "m = 20 g, d = 10 mm" },
-    Point { name: "S5", m: 0.01, d: 0.02, r: 0.995, why: "m = 10 g, d = 20 mm, near resonance" },
-    Point { name: "S6", m: 0.02, d: 0.01, r: 0.895, why: "showcase's best design's peak" },
+    Point {
+        name: "P1",
+        m: 0.02,
+        d: 0.02,
+        r: 1.01,
+        why: "reference point, slow bounded tail",
+    },
+    Point {
+        name: "P2",
+        m: 0.005,
+        d: 0.005,
+        r: 0.975,
+        why: "reference point, tight tail",
+    },
+    Point {
+        name: "S1",
+        m: 0.02,
+        d: 0.02,
+        r: 1.0,
+        why: "showcase peak, m = 20 g, d = 20 mm",
+    },
+    Point {
+        name: "S2",
+        m: 0.005,
+        d: 0.02,
+        r: 0.99,
+        why: "showcase peak, m = 5 g, d = 20 mm",
+    },
+    Point {
+        name: "S3",
+        m: 0.01,
+        d: 0.02,
+        r: 0.935,
+        why: "showcase peak, m = 10 g, d = 20 mm",
+    },
+    Point {
+        name: "S4",
+        m: 0.02,
+        d: 0.01,
+        r: 0.9,
+        why: "m = 20 g, d = 10 mm",
+    },
+    Point {
+        name: "S5",
+        m: 0.01,
+        d: 0.02,
+        r: 0.995,
+        why: "m = 10 g, d = 20 mm, near resonance",
+    },
+    Point {
+        name: "S6",
+        m: 0.02,
+        d: 0.01,
+        r: 0.895,
+        why: "showcase's best design's peak",
+    },
 ];
 
 /// The forcing of a point.
@@ -67,8 +115,19 @@ pub fn forcing_of(p: &Point) -> Forcing {
 }
 
 fn forcing(p: &Point) -> Forcing {
-    let sys = System { m: p.m, d: p.d, C: 0.1, e: 0.9, ..System::TABLE_I };
-    Forcing { sys, F0: 0.1, omega: p.r * sys.omega(), settings: SolverSettings::default() }
+    let sys = System {
+        m: p.m,
+        d: p.d,
+        C: 0.1,
+        e: 0.9,
+        ..System::TABLE_I
+    };
+    Forcing {
+        sys,
+        F0: 0.1,
+        omega: p.r * sys.omega(),
+        settings: SolverSettings::default(),
+    }
 }
 
 /// A uniform number in (0, 1) from a seed and an index.
@@ -117,17 +176,30 @@ fn brute_run(f: &Forcing, seed: u64, b: u64) -> Option<Vec<f64>> {
 
 fn brute(args: &[String]) {
     let name = &args[0];
-    let p = POINTS.iter().find(|p| p.name == name).expect("a point of POINTS");
+    let p = POINTS
+        .iter()
+        .find(|p| p.name == name)
+        .expect("a point of POINTS");
     let blocks: u64 = args[1].parse().expect("BLOCKS");
     let seed: u64 = args[2].parse().expect("SEED");
     let f = forcing(p);
     let t = Instant::now();
-    let runs: Vec<Option<Vec<f64>>> =
-        (0..blocks).into_par_iter().map(|b| brute_run(&f, seed, b)).collect();
+    let runs: Vec<Option<Vec<f64>>> = (0..blocks)
+        .into_par_iter()
+        .map(|b| brute_run(&f, seed, b))
+        .collect();
     let ok: Vec<&Vec<f64>> = runs.iter().flatten().collect();
     let rows: Vec<String> = ok
         .iter()
-        .map(|v| format!("[{}]", v.iter().map(|x| format!("{x:e}")).collect::<Vec<_>>().join(",")))
+        .map(|v| {
+            format!(
+                "[{}]",
+                v.iter()
+                    .map(|x| format!("{x:e}"))
+                    .collect::<Vec<_>>()
+                    .join(",")
+            )
+        })
         .collect();
     println!(
         "{{\"name\":\"{name}\",\"m\":{},\"d\":{},\"r\":{},\"block\":1000000,\"sub\":100000,\"seed\":{seed},\"runs\":{},\"periodic\":{},\"cpu_s\":{:.0},\"blocks\":[\n{}\n]}}",
@@ -171,14 +243,19 @@ fn estimate_one(p: &Point, seed: u64, periods: Option<f64>) -> Option<String> {
         .iter()
         .filter(|a| matches!(a.kind, Kind::NonPeriodic(_)))
         .max_by(|a, b| a.amplitude.total_cmp(&b.amplitude))?;
-    let Kind::NonPeriodic(w) = &a.kind else { return None };
+    let Kind::NonPeriodic(w) = &a.kind else {
+        return None;
+    };
     let life = w.life?;
     let e = life.estimate?;
     let n = periods.unwrap_or(3.6e6 / forcing(p).period());
     Some(format!(
         "{},{seed},{},{n:.6e},{:.9e},{:.9e},{:.9e},{},{},{:.4},{:.4},{:.9e}",
         p.name,
-        HORIZONS.iter().find(|h| h.1 == periods).map_or("?", |h| h.0),
+        HORIZONS
+            .iter()
+            .find(|h| h.1 == periods)
+            .map_or("?", |h| h.0),
         e.amplitude,
         e.lo,
         e.hi,
@@ -194,7 +271,10 @@ fn estimate(args: &[String]) {
     let seeds: u64 = args.first().map_or(20, |s| s.parse().expect("SEEDS"));
     let only: Vec<&str> = args.iter().skip(1).map(String::as_str).collect();
     println!("point,seed,horizon,periods,amplitude,lo,hi,measured,capped,xi,seconds,window_max");
-    for p in POINTS.iter().filter(|p| only.is_empty() || only.contains(&p.name)) {
+    for p in POINTS
+        .iter()
+        .filter(|p| only.is_empty() || only.contains(&p.name))
+    {
         for seed in 1..=seeds {
             for (_, h) in HORIZONS {
                 match estimate_one(p, seed, h) {
@@ -221,7 +301,9 @@ fn read_brute(dir: &Path, name: &str) -> Option<Brute> {
         .as_array()?
         .iter()
         .map(|b| match b {
-            serde_json::Value::Array(s) => s.iter().filter_map(|x| x.as_f64()).fold(f64::MIN, f64::max),
+            serde_json::Value::Array(s) => {
+                s.iter().filter_map(|x| x.as_f64()).fold(f64::MIN, f64::max)
+            }
             x => x.as_f64().expect("a block maximum"),
         })
         .collect();
@@ -246,7 +328,11 @@ fn brute_median(blocks: &[f64], l: f64) -> (f64, f64, f64) {
         })
         .collect();
     boot.sort_by(f64::total_cmp);
-    (est, impactsweep::numeric::quantile_sorted(&boot, 0.05), impactsweep::numeric::quantile_sorted(&boot, 0.95))
+    (
+        est,
+        impactsweep::numeric::quantile_sorted(&boot, 0.05),
+        impactsweep::numeric::quantile_sorted(&boot, 0.95),
+    )
 }
 
 /// One row of `estimates.csv`.
@@ -283,29 +369,60 @@ fn read_estimates(path: &Path) -> Vec<Row> {
 }
 
 fn report(args: &[String]) {
-    let dir = Path::new(args.first().map_or("results/life_validation", String::as_str));
+    let dir = Path::new(
+        args.first()
+            .map_or("results/life_validation", String::as_str),
+    );
     let rows = read_estimates(&dir.join("estimates.csv"));
     let cm = |v: f64| format!("{:.4}", v * 100.0);
     println!("# The design life against brute force\n");
-    println!("Regenerated by `scripts/life_validation.sh` (the estimates) from the brute force it keeps in `results/life_validation/brute/` (`scripts/life_validation.sh --brute` runs it again: hours of CPU). Every point: Table I's M = 0.1 kg and K = 400 N/m, C = 0.1 N s/m, e = 0.9, F0 = 0.1 N. Brute force: independent runs of 10^6 periods from random starts after 2,000 transient periods, the exact simulator period by period; the median over L periods is the 0.5^(10^6/L) quantile of the block maxima, with its 90 % bootstrap interval. The estimate: the point as a one-frequency study of 16 starts (`design_life` set to each horizon), run as the sweep runs it, at study seeds 1 to 20.\n");
-    println!("| point | m (g) | d (mm) | r | what | brute-force blocks of 10^6 (periodic starts left out) | CPU |\n|---|---|---|---|---|---|---|");
+    println!(
+        "Regenerated by `scripts/life_validation.sh` (the estimates) from the brute force it keeps in `results/life_validation/brute/` (`scripts/life_validation.sh --brute` runs it again: hours of CPU). Every point: Table I's M = 0.1 kg and K = 400 N/m, C = 0.1 N s/m, e = 0.9, F0 = 0.1 N. Brute force: independent runs of 10^6 periods from random starts after 2,000 transient periods, the exact simulator period by period; the median over L periods is the 0.5^(10^6/L) quantile of the block maxima, with its 90 % bootstrap interval. The estimate: the point as a one-frequency study of 16 starts (`design_life` set to each horizon), run as the sweep runs it, at study seeds 1 to 20.\n"
+    );
+    println!(
+        "| point | m (g) | d (mm) | r | what | brute-force blocks of 10^6 (periodic starts left out) | CPU |\n|---|---|---|---|---|---|---|"
+    );
     for p in &POINTS {
-        let Some(b) = read_brute(&dir.join("brute"), p.name) else { continue };
-        println!("| {} | {} | {} | {} | {} | {} ({}) | {:.0} min |", p.name, p.m * 1e3, p.d * 1e3, p.r, p.why, b.blocks.len(), b.periodic, b.cpu_s / 60.0);
+        let Some(b) = read_brute(&dir.join("brute"), p.name) else {
+            continue;
+        };
+        println!(
+            "| {} | {} | {} | {} | {} | {} ({}) | {:.0} min |",
+            p.name,
+            p.m * 1e3,
+            p.d * 1e3,
+            p.r,
+            p.why,
+            b.blocks.len(),
+            b.periodic,
+            b.cpu_s / 60.0
+        );
     }
     println!("\n## Error and coverage over the study seeds\n");
-    println!("Error: the estimate against the brute-force median, in per cent (min / median / max over the seeds). Coverage: the seeds whose 90 % interval holds the brute-force median. Periods: measured by the design life (median / max). Time: the census and the design life, wall clock on the machine of BENCHMARKS.md (median / max).\n");
-    println!("| point | horizon | brute force (cm) [90 %] | error % min / med / max | within 5 % | coverage | periods | time (s) |\n|---|---|---|---|---|---|---|---|");
+    println!(
+        "Error: the estimate against the brute-force median, in per cent (min / median / max over the seeds). Coverage: the seeds whose 90 % interval holds the brute-force median. Periods: measured by the design life (median / max). Time: the census and the design life, wall clock on the machine of BENCHMARKS.md (median / max).\n"
+    );
+    println!(
+        "| point | horizon | brute force (cm) [90 %] | error % min / med / max | within 5 % | coverage | periods | time (s) |\n|---|---|---|---|---|---|---|---|"
+    );
     let mut worst = 0.0f64;
     for p in &POINTS {
-        let Some(b) = read_brute(&dir.join("brute"), p.name) else { continue };
+        let Some(b) = read_brute(&dir.join("brute"), p.name) else {
+            continue;
+        };
         for (h, _) in HORIZONS {
-            let rs: Vec<&Row> = rows.iter().filter(|r| r.point == p.name && r.horizon == h).collect();
+            let rs: Vec<&Row> = rows
+                .iter()
+                .filter(|r| r.point == p.name && r.horizon == h)
+                .collect();
             if rs.is_empty() {
                 continue;
             }
             let (truth, tlo, thi) = brute_median(&b.blocks, rs[0].periods);
-            let err: Vec<f64> = rs.iter().map(|r| 100.0 * (r.amplitude / truth - 1.0)).collect();
+            let err: Vec<f64> = rs
+                .iter()
+                .map(|r| 100.0 * (r.amplitude / truth - 1.0))
+                .collect();
             let within = err.iter().filter(|e| e.abs() <= 5.0).count();
             let cover = rs.iter().filter(|r| r.lo <= truth && truth <= r.hi).count();
             let med = |v: Vec<f64>| impactsweep::numeric::median(&v);
@@ -315,9 +432,19 @@ fn report(args: &[String]) {
             worst = worst.max(err.iter().map(|e| e.abs()).fold(0.0, f64::max));
             println!(
                 "| {} | {h} | {} [{} – {}] | {:.1} / {:.1} / {:.1} | {within} of {} | {cover} of {} | {:.0} / {:.0} | {:.2} / {:.2} |",
-                p.name, cm(truth), cm(tlo), cm(thi),
-                err.iter().copied().fold(f64::MAX, f64::min), med(err.clone()), mx(&err),
-                rs.len(), rs.len(), med(periods.clone()), mx(&periods), med(secs.clone()), mx(&secs)
+                p.name,
+                cm(truth),
+                cm(tlo),
+                cm(thi),
+                err.iter().copied().fold(f64::MAX, f64::min),
+                med(err.clone()),
+                mx(&err),
+                rs.len(),
+                rs.len(),
+                med(periods.clone()),
+                mx(&periods),
+                med(secs.clone()),
+                mx(&secs)
             );
         }
     }
@@ -330,6 +457,8 @@ fn main() {
         Some("brute") => brute(&args[1..]),
         Some("estimate") => estimate(&args[1..]),
         Some("report") => report(&args[1..]),
-        _ => eprintln!("usage: life_validation brute NAME BLOCKS SEED | estimate [SEEDS [POINT..]] | report"),
+        _ => eprintln!(
+            "usage: life_validation brute NAME BLOCKS SEED | estimate [SEEDS [POINT..]] | report"
+        ),
     }
 }

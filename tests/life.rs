@@ -38,9 +38,15 @@ fn check_point(name: &str, m: f64, d: f64, r: f64) {
             }
             holding += usize::from(e.lo <= truth && truth <= e.hi);
         }
-        eprintln!("{name} at {:.3e} periods: {holding} of 20 intervals hold {truth}", runs[0].periods);
+        eprintln!(
+            "{name} at {:.3e} periods: {holding} of 20 intervals hold {truth}",
+            runs[0].periods
+        );
         if holding < 17 {
-            failures.push(format!("{name} at {:.3e} periods: {holding} of 20 intervals hold the median", runs[0].periods));
+            failures.push(format!(
+                "{name} at {:.3e} periods: {holding} of 20 intervals hold the median",
+                runs[0].periods
+            ));
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
@@ -67,12 +73,19 @@ fn issue_43_a_chaotic_band_is_as_smooth_as_brute_force() {
     let rs = [0.99, 0.995, 1.0, 1.005, 1.01];
     let lives = common::life::curve_life(0.02, 0.02, &rs, 1);
     let period = |r: f64| std::f64::consts::TAU / (r * (400.0f64 / 0.1).sqrt());
-    let (s1, p1) = (Brute::read("S1").median(3.6e6 / period(1.0)), Brute::read("P1").median(3.6e6 / period(1.01)));
+    let (s1, p1) = (
+        Brute::read("S1").median(3.6e6 / period(1.0)),
+        Brute::read("P1").median(3.6e6 / period(1.01)),
+    );
     let brute_step = (s1 - p1).abs();
     let mut failures = Vec::new();
     for (i, pair) in lives.windows(2).enumerate() {
         let (Some(a), Some(b)) = (pair[0], pair[1]) else {
-            failures.push(format!("r = {} or {}: no motion that is not periodic", rs[i], rs[i + 1]));
+            failures.push(format!(
+                "r = {} or {}: no motion that is not periodic",
+                rs[i],
+                rs[i + 1]
+            ));
             continue;
         };
         let step = (a.amplitude - b.amplitude).abs();
@@ -137,14 +150,24 @@ fn issue_43_the_report_shows_the_verified_peaks() {
     assert!(!rows.is_empty(), "no verified motion in\n{section}");
     for row in &rows {
         // | design | case | at r | estimate [90 %] | periods | direct [90 %] | periods | largest | before → after |
-        let direct_periods: u64 = row[7].replace(',', "").parse().unwrap_or_else(|_| panic!("direct periods in {row:?}"));
-        assert!(direct_periods >= 1_000_000, "a direct value on {direct_periods} periods: {row:?}");
+        let direct_periods: u64 = row[7]
+            .replace(',', "")
+            .parse()
+            .unwrap_or_else(|_| panic!("direct periods in {row:?}"));
+        assert!(
+            direct_periods >= 1_000_000,
+            "a direct value on {direct_periods} periods: {row:?}"
+        );
         let direct: f64 = row[6].split(' ').next().unwrap().parse().unwrap();
         let after: f64 = row[9].split('→').nth(1).unwrap().trim().parse().unwrap();
-        assert!(after >= direct - 1e-4, "the case peak {after} cm is below its direct value {direct} cm: {row:?}");
+        assert!(
+            after >= direct - 1e-4,
+            "the case peak {after} cm is below its direct value {direct} cm: {row:?}"
+        );
     }
     assert!(
-        section.contains("The verification moved no rank.") || section.contains("**The verification moved ranks**"),
+        section.contains("The verification moved no rank.")
+            || section.contains("**The verification moved ranks**"),
         "the report does not say whether a rank moved:\n{section}"
     );
 }

@@ -93,8 +93,14 @@ fn next(motions: &[Entry], periodic: f64, tol: f64, cap: u64, all: bool) -> Opti
     if all {
         return motions.iter().position(|m| m.active);
     }
-    let lower = motions.iter().map(|m| m.interval().0).fold(periodic, f64::max);
-    let upper = motions.iter().map(|m| m.interval().1).fold(periodic, f64::max);
+    let lower = motions
+        .iter()
+        .map(|m| m.interval().0)
+        .fold(periodic, f64::max);
+    let upper = motions
+        .iter()
+        .map(|m| m.interval().1)
+        .fold(periodic, f64::max);
     let (leader, peak) = motions
         .iter()
         .enumerate()
@@ -232,7 +238,10 @@ mod tests {
 
     #[test]
     fn the_motion_that_could_carry_the_peak_highest_is_measured_first() {
-        let ms = [motion(9e-3, 7e-3, 12e-3, 2000), motion(8e-3, 6e-3, 14e-3, 2000)];
+        let ms = [
+            motion(9e-3, 7e-3, 12e-3, 2000),
+            motion(8e-3, 6e-3, 14e-3, 2000),
+        ];
         // The peak is in [7, 14] mm: the second reaches highest.
         assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), Some(1));
         // A periodic orbit of 15 mm carries the peak exactly: nothing can change it.
@@ -245,11 +254,17 @@ mod tests {
         let screened = cap / SCREEN;
         // The second reaches highest but has had its screen; the leader (the larger estimate)
         // goes on.
-        let ms = [motion(9e-3, 7e-3, 12e-3, 2000), motion(8e-3, 6e-3, 14e-3, screened)];
+        let ms = [
+            motion(9e-3, 7e-3, 12e-3, 2000),
+            motion(8e-3, 6e-3, 14e-3, screened),
+        ];
         assert_eq!(next(&ms, 0.0, 0.05, cap, false), Some(0));
         // Once the leader is within the tolerance and the other screened, the race is over,
         // though the peak's interval is still wider.
-        let ms = [motion(9e-3, 8.8e-3, 9.2e-3, 2000), motion(8e-3, 6e-3, 14e-3, screened)];
+        let ms = [
+            motion(9e-3, 8.8e-3, 9.2e-3, 2000),
+            motion(8e-3, 6e-3, 14e-3, screened),
+        ];
         let mut ms = ms;
         ms[0].active = false;
         assert_eq!(next(&ms, 0.0, 0.05, cap, false), None);
@@ -259,10 +274,16 @@ mod tests {
     fn a_peak_within_the_tolerance_leaves_the_help_decision() {
         // The peak is settled ([9.8, 10.2] mm); the other motion's interval holds the linear
         // amplitude at its frequency (1 mm): it is measured.
-        let ms = [motion(10e-3, 9.8e-3, 10.2e-3, 4000), motion(1.1e-3, 0.8e-3, 1.6e-3, 2000)];
+        let ms = [
+            motion(10e-3, 9.8e-3, 10.2e-3, 4000),
+            motion(1.1e-3, 0.8e-3, 1.6e-3, 2000),
+        ];
         assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), Some(1));
         // Not once its interval clears it.
-        let ms = [motion(10e-3, 9.8e-3, 10.2e-3, 4000), motion(1.3e-3, 1.1e-3, 1.6e-3, 4000)];
+        let ms = [
+            motion(10e-3, 9.8e-3, 10.2e-3, 4000),
+            motion(1.3e-3, 1.1e-3, 1.6e-3, 4000),
+        ];
         assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), None);
     }
 }

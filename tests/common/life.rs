@@ -34,20 +34,35 @@ pub fn study_text(m: f64, d: f64, r: f64, seed: u64, periods: Option<f64>) -> St
 
 /// The design life of the motion that is not periodic with the largest design amplitude in the
 /// study of [`study_text`] (`None` when its census found none).
-pub fn one_frequency_life(m: f64, d: f64, r: f64, seed: u64, periods: Option<f64>) -> Option<Estimate> {
+pub fn one_frequency_life(
+    m: f64,
+    d: f64,
+    r: f64,
+    seed: u64,
+    periods: Option<f64>,
+) -> Option<Estimate> {
     let text = study_text(m, d, r, seed, periods);
     let study = Study::parse(Path::new("life.toml"), &text).expect("a valid study");
     let plan = Plan::new(&study);
     let run = plan.run(0, 0);
     let freq = plan.curve_frequency(&run);
-    let curve = run_curve(&run.system, &study.solver, &study.request, study.noise.as_ref(), study.seed, vec![freq]);
+    let curve = run_curve(
+        &run.system,
+        &study.solver,
+        &study.request,
+        study.noise.as_ref(),
+        study.seed,
+        vec![freq],
+    );
     let census = curve.censuses.into_iter().flatten().next()?;
     let a = census
         .attractors
         .iter()
         .filter(|a| matches!(a.kind, Kind::NonPeriodic(_)))
         .max_by(|a, b| a.amplitude.total_cmp(&b.amplitude))?;
-    let Kind::NonPeriodic(w) = &a.kind else { return None };
+    let Kind::NonPeriodic(w) = &a.kind else {
+        return None;
+    };
     let life = w.life?;
     let e = life.estimate?;
     let f = run.system;
@@ -69,14 +84,22 @@ pub struct Brute {
 impl Brute {
     /// `results/life_validation/brute/NAME.json`.
     pub fn read(name: &str) -> Brute {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("results/life_validation/brute/{name}.json"));
-        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join(format!("results/life_validation/brute/{name}.json"));
+        let text =
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let v: serde_json::Value = serde_json::from_str(&text).expect("brute-force JSON");
         let blocks = v["blocks"]
             .as_array()
             .expect("blocks")
             .iter()
-            .map(|b| b.as_array().expect("sub-block maxima").iter().filter_map(|x| x.as_f64()).fold(f64::MIN, f64::max))
+            .map(|b| {
+                b.as_array()
+                    .expect("sub-block maxima")
+                    .iter()
+                    .filter_map(|x| x.as_f64())
+                    .fold(f64::MIN, f64::max)
+            })
             .collect();
         Brute { blocks }
     }
@@ -93,14 +116,26 @@ impl Brute {
 /// the estimate of its motion that is not periodic with the largest design amplitude (`None`
 /// where the census found only periodic motions).
 pub fn curve_life(m: f64, d: f64, rs: &[f64], seed: u64) -> Vec<Option<Estimate>> {
-    let list = rs.iter().map(|r| format!("{r:?}")).collect::<Vec<_>>().join(", ");
-    let text = study_text(m, d, rs[0], seed, None).replace(&format!("r = {}\n", rs[0]), &format!("r = [{list}]\n"));
+    let list = rs
+        .iter()
+        .map(|r| format!("{r:?}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let text = study_text(m, d, rs[0], seed, None)
+        .replace(&format!("r = {}\n", rs[0]), &format!("r = [{list}]\n"));
     let study = Study::parse(Path::new("curve.toml"), &text).expect("a valid study");
     let plan = Plan::new(&study);
     let runs: Vec<_> = (0..plan.n_points()).map(|p| plan.run(p, 0)).collect();
     let freqs = runs.iter().map(|run| plan.curve_frequency(run)).collect();
     let f = runs[0].system;
-    let curve = run_curve(&f, &study.solver, &study.request, study.noise.as_ref(), study.seed, freqs);
+    let curve = run_curve(
+        &f,
+        &study.solver,
+        &study.request,
+        study.noise.as_ref(),
+        study.seed,
+        freqs,
+    );
     curve
         .censuses
         .into_iter()
@@ -112,7 +147,9 @@ pub fn curve_life(m: f64, d: f64, rs: &[f64], seed: u64) -> Vec<Option<Estimate>
                 .iter()
                 .filter(|a| matches!(a.kind, Kind::NonPeriodic(_)))
                 .max_by(|a, b| a.amplitude.total_cmp(&b.amplitude))?;
-            let Kind::NonPeriodic(w) = &a.kind else { return None };
+            let Kind::NonPeriodic(w) = &a.kind else {
+                return None;
+            };
             let life = w.life?;
             let e = life.estimate?;
             let period = std::f64::consts::TAU / (r * (f.K / f.M).sqrt());

@@ -180,9 +180,10 @@ impl Curve {
         let Some(rows) = self.attractors.as_mut() else {
             return;
         };
-        if let Some(a) = rows.iter_mut().find(|a| {
-            a.run.point == at && !a.kind.periodic() && a.amplitude == v.motion.amplitude
-        }) {
+        if let Some(a) = rows
+            .iter_mut()
+            .find(|a| a.run.point == at && !a.kind.periodic() && a.amplitude == v.motion.amplitude)
+        {
             a.amplitude = v.value();
             a.life_amplitude = e.amplitude;
             a.life_lo = e.lo;

@@ -201,7 +201,10 @@ impl<'a> ForcedReducer<'a> {
         };
         let peaks = verify::verify_all(&todo, &self.study.solver, life);
         for p in &peaks {
-            let linear = self.systems.get(&(p.design, p.case)).map_or(f64::NAN, |s| s.1);
+            let linear = self
+                .systems
+                .get(&(p.design, p.case))
+                .map_or(f64::NAN, |s| s.1);
             if let Some(run) = self
                 .runs_of
                 .get_mut(&p.design)

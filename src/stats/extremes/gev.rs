@@ -128,7 +128,14 @@ pub fn life_gev(x: &[f64], block: usize, life: Life) -> Option<LifeEstimate> {
         let start = vec![
             vec![s0, gev.xi],
             vec![s0 + 0.2, gev.xi],
-            vec![s0, if gev.xi - 0.1 >= range.0 { gev.xi - 0.1 } else { gev.xi + 0.1 }],
+            vec![
+                s0,
+                if gev.xi - 0.1 >= range.0 {
+                    gev.xi - 0.1
+                } else {
+                    gev.xi + 0.1
+                },
+            ],
         ];
         minimise(P { x, z, g, xi: range }, start)
             .map(|p| {
@@ -162,4 +169,3 @@ pub fn life_gev(x: &[f64], block: usize, life: Life) -> Option<LifeEstimate> {
         lowest_threshold: f64::NAN,
     })
 }
-

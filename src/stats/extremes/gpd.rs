@@ -240,4 +240,3 @@ fn root(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> f64 {
         .and_then(|r| r.state().get_best_param().copied())
         .unwrap_or(0.5 * (a + b))
 }
-

@@ -181,7 +181,10 @@ fn threshold_for(chains: &[&[f64]], sorted: &[f64], k: usize, run: usize) -> Opt
     // 30 periods), or the median.
     let p0 = (1.0 - 20.0 * (k + 1) as f64 / n as f64).max(0.5);
     let base = crate::numeric::quantile_sorted(sorted, p0);
-    let mut maxima: Vec<f64> = chains.iter().flat_map(|c| decluster(c, base, run)).collect();
+    let mut maxima: Vec<f64> = chains
+        .iter()
+        .flat_map(|c| decluster(c, base, run))
+        .collect();
     if maxima.len() <= k {
         return None;
     }
@@ -190,7 +193,13 @@ fn threshold_for(chains: &[&[f64]], sorted: &[f64], k: usize, run: usize) -> Opt
 }
 
 /// One fit (module doc) at the threshold that leaves about `k` cluster maxima.
-fn fit_top(chains: &[&[f64]], sorted: &[f64], k: usize, run: usize, life: Life) -> Option<LifeEstimate> {
+fn fit_top(
+    chains: &[&[f64]],
+    sorted: &[f64],
+    k: usize,
+    run: usize,
+    life: Life,
+) -> Option<LifeEstimate> {
     let u = threshold_for(chains, sorted, k, run)?;
     let maxima: Vec<f64> = chains.iter().flat_map(|c| decluster(c, u, run)).collect();
     if maxima.len() < MIN_CLUSTERS {
@@ -233,7 +242,10 @@ pub fn life_pot(chains: &[&[f64]], run: usize, life: Life) -> Option<LifeEstimat
     };
     est.lo = fits.iter().map(|f| f.lo).fold(f64::INFINITY, f64::min);
     est.hi = fits.iter().map(|f| f.hi).fold(f64::NEG_INFINITY, f64::max);
-    est.lowest_threshold = fits.iter().map(|f| f.threshold).fold(f64::INFINITY, f64::min);
+    est.lowest_threshold = fits
+        .iter()
+        .map(|f| f.threshold)
+        .fold(f64::INFINITY, f64::min);
     est.measured = sorted.len() as u64;
     Some(est)
 }

@@ -137,7 +137,10 @@ fn bounded_estimate_covers_the_life_quantile_of_a_known_bounded_law() {
             let rate = covered as f64 / seeds as f64;
             eprintln!("alpha {alpha} N {n_life}: coverage {rate}, worst error {worst}");
             assert!(rate >= 0.84, "alpha {alpha} N {n_life}: coverage {rate}");
-            assert!(worst <= 0.02, "alpha {alpha} N {n_life}: worst error {worst}");
+            assert!(
+                worst <= 0.02,
+                "alpha {alpha} N {n_life}: worst error {worst}"
+            );
         }
     }
 }

@@ -133,7 +133,9 @@ fn verified(s: &Summary, fs: &ForcedSummary) -> String {
                         cm(e.lo),
                         cm(e.hi)
                     )),
-                    direct.map_or("–".into(), |(d, _)| crate::report::text::thousands(d.measured)),
+                    direct.map_or("–".into(), |(d, _)| crate::report::text::thousands(
+                        d.measured
+                    )),
                     direct.map_or("–".into(), |(d, _)| cm(d.window_max)),
                     cm(p.before),
                     cm(p.after)
@@ -146,7 +148,10 @@ fn verified(s: &Summary, fs: &ForcedSummary) -> String {
         if let (Some(before), Some(after)) = (v.rank_before(p.point), p.rank)
             && before != after
         {
-            moves.push(format!("{} from {before} to {after}", design_text(s, p.point)));
+            moves.push(format!(
+                "{} from {before} to {after}",
+                design_text(s, p.point)
+            ));
         }
     }
     let unsupported: Vec<String> = v
