@@ -190,10 +190,10 @@ impl LifeRun {
             }
             self.estimate(s, lambda);
         }
-        if !self.exact {
-            if let Some(e) = self.estimate {
-                self.floor = self.floor.max(e.lowest_threshold);
-            }
+        if !self.exact
+            && let Some(e) = self.estimate
+        {
+            self.floor = self.floor.max(e.lowest_threshold);
         }
         self.capped = !self.settled(s) && self.periods() >= s.cap;
         !self.settled(s) && !self.capped

@@ -60,7 +60,7 @@ pub struct Contender {
 impl Contender {
     /// The contender of a stored attractor that is not periodic (`None` for a periodic one).
     pub fn of(a: &AttractorRow, design: u64) -> Option<Contender> {
-        (!a.kind.periodic()).then(|| Contender {
+        (!a.kind.periodic()).then_some(Contender {
             design,
             case: a.run.case,
             r: a.run.r,
