@@ -409,6 +409,35 @@ mod tests {
     use crate::orbits::analytic::symmetric_period1;
     use crate::orbits::map::tests::table_i;
 
+    /// A contact added and removed again gives the orbit back, wherever it falls: after the
+    /// first impact, or before it (placed one orbit period later, past the section's instant,
+    /// so that the section state is still the orbit's).
+    #[test]
+    fn a_contact_added_and_removed_gives_the_orbit_back() {
+        let f = table_i(0.005, 0.005, 0.9, 0.1, 0.1, 0.93);
+        let o = symmetric_period1(&f.sys, f.F0, f.omega)
+            .into_iter()
+            .find(|o| o.admissible)
+            .expect("an orbit");
+        let io = ImpactOrbit::from_section(&f, &o.section, 1).expect("impacts");
+        let t1 = io.phases[0] / f.omega;
+        for t in [0.5 * t1, t1 + 0.1 * f.period()] {
+            let (with, j) = io.with_contact(&f, t, 1.0);
+            assert_eq!(with.walls.len(), 3);
+            assert!(with.phases.windows(2).all(|w| w[0] < w[1]), "{with:?}");
+            assert_eq!(
+                with.without(&f, j).as_ref(),
+                Some(&io),
+                "contact at t = {t}"
+            );
+        }
+        // A contact before the first impact is placed past the section's instant: the section
+        // state is computed in the flight across that instant, the orbit's.
+        let (with, _) = io.with_contact(&f, 0.5 * t1, 1.0);
+        let (a, b) = (io.fly(&f, false).section, with.fly(&f, false).section);
+        assert_eq!(a, b, "the section moved with a contact in the last flight");
+    }
+
     /// The symmetric two-impact orbit in closed form, recorded by the simulator in impact
     /// coordinates, solves the system to rounding, and its approach speeds are the closed
     /// form's `W- - V-` on both walls.

@@ -10,7 +10,7 @@
 //!   [`crate::orbits::graze::nearest_contact`]). Past it that touch is an impact whose approach
 //!   speed `u` grows from zero. In impact coordinates ([`crate::orbits::sequence`]) the orbit
 //!   with the contact as one more impact is smooth in `u`, and `lambda(u)` is smooth too; so the
-//!   orbit is solved at a given contact speed, `u = 0.1 omega d/2` (else `0.05`, `0.2`), with
+//!   orbit is solved at a given contact speed, `u = 0.3 omega d/2` (else `0.1`, `0.05`), with
 //!   the parameter an unknown ([`crate::orbits::sequence::speed_at`]). Its parameter lies past
 //!   the grazing where the orbit persists, or back before it where the two meet in a nonsmooth
 //!   fold (the branch then turns back with the new contact): either way the branch goes on;
@@ -44,8 +44,11 @@ pub(super) const REACH: f64 = 0.05;
 
 /// The new contact's approach speeds tried, in units of `omega d/2`: above
 /// [`VANISHING_SPEED`] so that the walk does not take it for an impact vanishing, small enough
-/// to stay near the grazing.
-pub(super) const CONTACT_SPEEDS: [f64; 3] = [0.1, 0.05, 0.2];
+/// to stay near the grazing. The corrector's basin on the section shrinks like the square of
+/// the slowest impact's speed (the map's derivatives grow like its inverse): from `0.1` the
+/// steps creep away from the grazing (hundreds of points on the design-map showcase), from
+/// `0.3` they do not.
+pub(super) const CONTACT_SPEEDS: [f64; 3] = [0.3, 0.1, 0.05];
 
 /// A flight nearer a wall than this (relative to `d/2`) is the grazing contact to add.
 pub(super) const CONTACT_GAP: f64 = 1e-3;
@@ -57,11 +60,19 @@ pub(super) const VANISHED_SPEED: f64 = 1e-3;
 /// each past the zero first, then before it.
 pub(super) const REMOVAL_STEPS: [f64; 3] = [1e-3, 1e-4, 1e-2];
 
+/// The contact's slower speeds (units of `omega d/2`) at which its family is tabulated between
+/// the grazing and the point the walk goes on from: the walk starts at the first of
+/// [`CONTACT_SPEEDS`] that solves, up to a few per cent of the parameter past the grazing.
+pub(super) const FILL_SPEEDS: [f64; 4] = [0.02, 0.05, 0.1, 0.2];
+
 /// Where a branch that ends at a grazing is run from, past the grazing (relative).
 pub(super) const BEYOND: f64 = 1e-3;
 
 /// The budget of that run, in forcing periods: the census's default start budget.
 pub(super) const RUN_PERIODS: u64 = 2000;
+
+/// An orbit solved in impact coordinates: its forcing and section state.
+type Solved = (Forcing, Section);
 
 /// The point the walk goes on from past a grazing: scaled unknowns, the unit tangent, the
 /// extended Jacobian and map evaluation there, the orbit and its forcing.
@@ -71,6 +82,8 @@ pub(super) struct Resumed {
     pub(super) here: OnBranch,
     pub(super) orbit: Orbit,
     pub(super) f: Forcing,
+    /// Points of the same orbit family between the grazing and this one, in that order.
+    pub(super) fill: Vec<BranchPoint>,
 }
 
 /// The orbit past the grazing `row` (the branch's last row, travelling in the parameter as
@@ -94,8 +107,11 @@ pub(super) fn through_grazing(
         return None;
     }
     let mut found = None;
-    if let Some((fz, sz)) = contact_added(curve, f, &fg, row, &io) {
-        found = resume(curve, row, &fz, &sz, n + 1, settings);
+    if let Some((fz, sz, fill)) = contact_added(curve, f, &fg, row, &io) {
+        found = resume(curve, row, &fz, &sz, n + 1, settings).map(|mut next| {
+            next.fill = fill_points(curve, &fill, &next.orbit);
+            next
+        });
     }
     if found.is_none() && row.min_impact_speed <= slow {
         found = impact_removed(curve, f, row, &io, dir, settings);
@@ -104,14 +120,15 @@ pub(super) fn through_grazing(
 }
 
 /// The orbit with the grazing contact of `row` (at `fg`) as one more impact, at the first of
-/// [`CONTACT_SPEEDS`] where it solves: its forcing and section state.
+/// [`CONTACT_SPEEDS`] where it solves: its forcing and section state, and the same orbit's
+/// family at the slower speeds of [`FILL_SPEEDS`] where they solve (slowest first).
 fn contact_added(
     curve: &mut Curve,
     f: &Forcing,
     fg: &Forcing,
     row: &BranchPoint,
     io: &ImpactOrbit,
-) -> Option<(Forcing, Section)> {
+) -> Option<(Forcing, Section, Vec<Solved>)> {
     let near = nearest_contact(fg, &row.s, curve.p)?;
     curve.periods += curve.p;
     if near.gap > CONTACT_GAP * fg.half_gap() {
@@ -121,10 +138,38 @@ fn contact_added(
     let param = curve.param;
     let lambda = row.value(param);
     let scale = fg.omega * fg.half_gap();
-    CONTACT_SPEEDS.iter().find_map(|&speed| {
+    let at = |speed: f64| {
         let (fz, _, sz, _) = speed_at(&|x| param.at(f, x), lambda, &with, j, speed * scale)?;
         Some((fz, sz))
-    })
+    };
+    let (speed, (fz, sz)) = CONTACT_SPEEDS
+        .iter()
+        .find_map(|&speed| at(speed).map(|found| (speed, found)))?;
+    let fill = FILL_SPEEDS
+        .iter()
+        .filter(|&&u| u < speed)
+        .filter_map(|&u| at(u))
+        .collect();
+    Some((fz, sz, fill))
+}
+
+/// The orbits of a contact's family between the grazing and the point the walk goes on from
+/// ([`contact_added`]), as branch points: each by Newton on the section from its section state,
+/// kept where it has the impacts of the walk's orbit `next`.
+fn fill_points(curve: &mut Curve, fill: &[Solved], next: &Orbit) -> Vec<BranchPoint> {
+    let newton = Newton::default();
+    let mut out = Vec::new();
+    for (fl, s) in fill {
+        curve.periods += curve.p;
+        if let (Termination::Converged { .. }, Some(st)) = solve(fl, curve.p, s, &newton)
+            && let Some(orbit) = orbit_at(fl, curve.p, &st, &newton)
+            && orbit.impacts == next.impacts
+            && orbit.period == next.period
+        {
+            out.push(point(fl, &orbit, Label::None));
+        }
+    }
+    out
 }
 
 /// The orbit without `row`'s vanishing impact, past the parameter where its speed is zero
@@ -199,6 +244,7 @@ fn resume(
         here,
         orbit,
         f: fl.clone(),
+        fill: Vec::new(),
     })
 }
 

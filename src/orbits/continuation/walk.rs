@@ -111,6 +111,7 @@ impl Walk {
             return false;
         };
         self.passed.push(lambda);
+        self.pts.extend(next.fill);
         self.pts.push(point(&next.f, &next.orbit, Label::None));
         self.prev_orbit = next.orbit;
         self.trail.push((self.u, self.t));
