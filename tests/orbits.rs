@@ -924,10 +924,12 @@ fn curve_through_located(
             })
             .unwrap_or_else(|| panic!("no stable two-impact orbit at d = {d}, r = {r}"));
         let b = follow(&f, &orbit, Param::Ratio, &cont).remove(0);
+        // The two-impact orbit's (the branch goes on through its grazings, issue 45, onto
+        // orbits with other impact counts and labels of their own).
         let p = b
             .points
             .iter()
-            .find(|p| p.located && p.label == label)
+            .find(|p| p.located && p.label == label && p.impacts == 2 * u64::from(p.period))
             .unwrap_or_else(|| panic!("no located {} at d = {d}", label.name()));
         (f.at_ratio(p.r), p.s, p.period)
     };

@@ -415,11 +415,29 @@ pub(crate) fn local_extremes(
     n: usize,
     steps: usize,
 ) -> Vec<(f64, f64)> {
+    local_extremes_at(f, slopes, len, n, steps)
+        .into_iter()
+        .map(|(v, sign, _)| (v, sign))
+        .collect()
+}
+
+/// [`local_extremes`] with where each lies: `(value, sign, s)`, `s` in `[0, len]` the argument
+/// of the larger of the golden-section search's last two values.
+pub(crate) fn local_extremes_at(
+    f: &impl Fn(f64) -> f64,
+    slopes: [f64; 2],
+    len: f64,
+    n: usize,
+    steps: usize,
+) -> Vec<(f64, f64, f64)> {
     let n = n.max(2);
     let s = |i: usize| len * i as f64 / n as f64;
     let vals: Vec<f64> = (0..=n).map(|i| f(s(i))).collect();
     let mut out = Vec::new();
-    let mut refine = |a: f64, b: f64, sign: f64| out.push((golden(f, a, b, sign, steps), sign));
+    let mut refine = |a: f64, b: f64, sign: f64| {
+        let (at, v) = golden(f, a, b, sign, steps);
+        out.push((v, sign, at));
+    };
     for i in 1..n {
         let v = vals[i];
         if v >= vals[i - 1] && v >= vals[i + 1] {
@@ -446,8 +464,9 @@ pub(crate) fn local_extremes(
 }
 
 /// The extreme value of `f` on `[a, b]` by golden-section search: the maximum for `sign = 1`,
-/// the minimum for `sign = -1` (of a function unimodal there; otherwise a value `f` takes).
-fn golden(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, sign: f64, steps: usize) -> f64 {
+/// the minimum for `sign = -1` (of a function unimodal there; otherwise a value `f` takes), and
+/// where it is taken: `(s, f(s))`.
+fn golden(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, sign: f64, steps: usize) -> (f64, f64) {
     let g = 0.5 * (5f64.sqrt() - 1.0);
     let mut c = b - g * (b - a);
     let mut e = a + g * (b - a);
@@ -470,7 +489,12 @@ fn golden(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, sign: f64, steps: usi
             break;
         }
     }
-    sign * fc.max(fe)
+    // As `fc.max(fe)`: the one that is not NaN.
+    if fc >= fe || fe.is_nan() {
+        (c, sign * fc)
+    } else {
+        (e, sign * fe)
+    }
 }
 
 #[cfg(test)]
@@ -602,7 +626,7 @@ mod tests {
     #[test]
     fn golden_section_finds_an_interior_extremum() {
         let f = |s: f64| (s - 0.3).powi(2);
-        assert!(golden(&f, 0.0, 1.0, -1.0, GOLDEN_STEPS).abs() <= 1e-15);
+        assert!(golden(&f, 0.0, 1.0, -1.0, GOLDEN_STEPS).1.abs() <= 1e-15);
         let (lo, hi) = interior_extremes(|s| (7.0 * s).sin(), [7.0, 7.0 * 7f64.cos()], 1.0, 64);
         assert!((hi - 1.0).abs() <= 1e-15 && (lo + 1.0).abs() <= 1e-15);
     }

@@ -20,7 +20,7 @@
 //! ([`super::analytic`]): a grid of 8 points per radian of the fastest rate, each local extremum
 //! refined by golden-section search.
 
-use super::analytic::local_extremes;
+use super::analytic::local_extremes_at;
 use super::map::{Forcing, Section};
 use crate::sim::forced::motion::Forced;
 use crate::sim::forced::simulate_harmonic;
@@ -69,7 +69,26 @@ impl Probe for Flights {
 /// the run does not end `ok`. Negative values cannot occur for a simulated motion (it would
 /// have hit the wall).
 pub fn flight_gap(f: &Forcing, s: &Section, p: u64) -> Option<f64> {
-    scan(f, s, p).map(|(gap, _)| gap)
+    scan(f, s, p).map(|(gap, _)| gap.gap)
+}
+
+/// Where a flight comes nearest a wall over `p` forcing periods from section state `s`
+/// ([`flight_gap`]): the gap there (m), the instant `t` in `[0, p T]` (s) and the wall's sign
+/// (`+1` the right wall `z = +d/2`, `-1` the left). At a grazing this is the contact that
+/// becomes an impact on the far side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Nearest {
+    pub gap: f64,
+    pub t: f64,
+    pub wall: f64,
+}
+
+/// The flight's extremum nearest a wall ([`Nearest`]); `None` when the run does not end `ok` or
+/// no flight has an interior extremum.
+pub fn nearest_contact(f: &Forcing, s: &Section, p: u64) -> Option<Nearest> {
+    scan(f, s, p)
+        .map(|(gap, _)| gap)
+        .filter(|g| g.gap.is_finite())
 }
 
 /// The grazing test function of the motion from `s` over `p` periods (m), signed and continuous
@@ -80,11 +99,13 @@ pub fn flight_gap(f: &Forcing, s: &Section, p: u64) -> Option<f64> {
 /// go to zero linearly in the distance to the grazing. `None` when the run does not end `ok`.
 pub fn grazing_value(f: &Forcing, s: &Section, p: u64) -> Option<f64> {
     let (gap, depth) = scan(f, s, p)?;
+    let gap = gap.gap;
     Some(if gap <= -depth { gap } else { depth })
 }
 
-/// The smallest flight gap and the impact depth nearest zero (`-inf` without impacts).
-fn scan(f: &Forcing, s: &Section, p: u64) -> Option<(f64, f64)> {
+/// The smallest flight gap, where it is, and the impact depth nearest zero (`-inf` without
+/// impacts).
+fn scan(f: &Forcing, s: &Section, p: u64) -> Option<(Nearest, f64)> {
     let sys = f.started(s);
     let mut flights = Flights::default();
     let out = simulate_harmonic(
@@ -114,7 +135,11 @@ fn scan(f: &Forcing, s: &Section, p: u64) -> Option<(f64, f64)> {
     let mut segments = vec![(0.0, start, free_at_start)];
     segments.extend(flights.starts.iter().copied());
     let t_end = out.t_stop;
-    let mut gap = f64::INFINITY;
+    let mut gap = Nearest {
+        gap: f64::INFINITY,
+        t: f64::NAN,
+        wall: f64::NAN,
+    };
     for (i, &(t_a, a, free)) in segments.iter().enumerate() {
         let t_b = segments.get(i + 1).map_or(t_end, |seg| seg.0);
         let len = t_b - t_a;
@@ -125,9 +150,17 @@ fn scan(f: &Forcing, s: &Section, p: u64) -> Option<(f64, f64)> {
         let z = |s: f64| a.y + a.w * s - forced.jet(t_a, h0, g0, t_a + s).x;
         let v_end = forced.jet(t_a, h0, g0, t_b).v;
         let n = ((POINTS_PER_RADIAN * len * rate).ceil() as usize).clamp(16, 1 << 16);
-        for (v, sign) in local_extremes(&z, [a.w - a.v, a.w - v_end], len, n, GOLDEN_STEPS) {
+        let slopes = [a.w - a.v, a.w - v_end];
+        for (v, sign, at) in local_extremes_at(&z, slopes, len, n, GOLDEN_STEPS) {
             // A maximum approaches the right wall, a minimum the left one.
-            gap = gap.min(l - sign * v);
+            let g = l - sign * v;
+            if g < gap.gap {
+                gap = Nearest {
+                    gap: g,
+                    t: t_a + at,
+                    wall: sign,
+                };
+            }
         }
     }
     let mut depth = f64::NEG_INFINITY;

@@ -54,6 +54,10 @@ pub struct BranchRow {
     pub located: bool,
     /// How the branch ended at this end (on its first and last rows; `""` elsewhere).
     pub end: &'static str,
+    /// Where the branch ends at a grazing (`end = "grazing_end"`), what the motion becomes
+    /// there: `chaos`, `jump` or `none` ([`super::continuation::GrazingOutcome`]); `""`
+    /// elsewhere.
+    pub grazing_outcome: &'static str,
     /// The orbit's section state at forcing phase 0 (not a table column: for starting Newton
     /// on the branch).
     pub s: Section,
@@ -301,12 +305,12 @@ pub fn covers(b: &Branch, f: &Forcing, orbit: &Orbit, param: Param) -> bool {
 fn push_branch(out: &mut Response, design: u64, branch: u32, b: &Branch) {
     let n = b.points.len();
     for (k, p) in b.points.iter().enumerate() {
-        let end = if k == 0 {
-            b.ends.0.name()
+        let (end, outcome) = if k == 0 {
+            (b.ends.0.name(), b.outcomes.0)
         } else if k + 1 == n {
-            b.ends.1.name()
+            (b.ends.1.name(), b.outcomes.1)
         } else {
-            ""
+            ("", None)
         };
         out.branches.push(BranchRow {
             design,
@@ -325,6 +329,7 @@ fn push_branch(out: &mut Response, design: u64, branch: u32, b: &Branch) {
             label: p.label.name(),
             located: p.located,
             end,
+            grazing_outcome: outcome.map_or("", |o| o.name()),
             s: p.s,
         });
     }
@@ -370,6 +375,7 @@ fn push_family(
                     label: "",
                     located: false,
                     end: "",
+                    grazing_outcome: "",
                     s: o.s,
                 });
                 open = true;

@@ -102,6 +102,8 @@ struct Flown {
     /// Every flight's local extrema of `z` within the clearance (to `1e-9` of it); checked only
     /// when asked for ([`ImpactOrbit::fly`]), `true` otherwise.
     inside: bool,
+    /// `(x, x', y')` just after each impact, in order (m, m/s, m/s).
+    afters: Vec<[f64; 3]>,
 }
 
 impl ImpactOrbit {
@@ -188,6 +190,7 @@ impl ImpactOrbit {
         let mut residual = Vec::with_capacity(n + 3);
         let mut speeds = Vec::with_capacity(n);
         let mut section = [f64::NAN; 4];
+        let mut afters = vec![[f64::NAN; 3]; n];
         let mut inside = true;
         let rate = f.omega.max(wn).max(f.sys.C / big_m);
         for k in 0..n {
@@ -208,14 +211,18 @@ impl ImpactOrbit {
             let wall = self.walls[(k + 1) % n];
             residual.push((y - jet.x - wall * l) / l);
             speeds.push(wall * (a.w - jet.v));
-            if k + 1 == n {
-                // The section instant `p T` lies in the last flight.
+            // The section instant `p T` lies in the flight across phase `2 pi p`: the last one,
+            // unless a contact added past the section ends it before that
+            // ([`ImpactOrbit::with_contact`]).
+            let across = phi_a <= span && span < phi_b;
+            if across || (k + 1 == n && section[0].is_nan()) {
                 let t_s = span / f.omega;
                 let at = forced.jet(t_a, h0, g0, t_s);
                 let y_s = a.y + a.w * (t_s - t_a);
                 section = [at.x, at.v, y_s - at.x, a.w];
             }
             let (v, w) = impact(big_m, m, e, jet.v, a.w);
+            afters[(k + 1) % n] = [jet.x, v, w];
             a = State {
                 x: jet.x,
                 v,
@@ -232,7 +239,43 @@ impl ImpactOrbit {
             speeds,
             section,
             inside,
+            afters,
         }
+    }
+
+    /// The same orbit with one more impact: a contact at the instant `t` (s, in `[0, p T)`) on
+    /// `wall` (`+1` right, `-1` left), where a flight touches that wall at a grazing (its
+    /// approach speed zero there, so the orbit is unchanged). The first impact stays the first:
+    /// a contact before it is placed one orbit period later, in the flight through the section.
+    /// Returns the orbit and the contact's index in it.
+    pub fn with_contact(&self, f: &Forcing, t: f64, wall: f64) -> (ImpactOrbit, usize) {
+        let span = std::f64::consts::TAU * self.p as f64;
+        let mut phi = f.omega * t;
+        if self.phases.first().is_some_and(|&first| phi <= first) {
+            phi += span;
+        }
+        let k = self.phases.partition_point(|&q| q < phi);
+        let mut out = self.clone();
+        out.phases.insert(k, phi);
+        out.walls.insert(k, wall);
+        (out, k)
+    }
+
+    /// The same orbit without impact `j` (one whose approach speed is zero at `f`, so the orbit
+    /// is unchanged); `None` when it is the only impact. Without the first impact the second is
+    /// the first, with the state just after it.
+    pub fn without(&self, f: &Forcing, j: usize) -> Option<ImpactOrbit> {
+        let n = self.walls.len();
+        if n < 2 || j >= n {
+            return None;
+        }
+        let mut out = self.clone();
+        if j == 0 {
+            out.after = self.fly(f, false).afters[1];
+        }
+        out.phases.remove(j);
+        out.walls.remove(j);
+        Some(out)
     }
 
     /// Whether the orbit at `f` is one the simulator would run: phases increasing within one
@@ -264,6 +307,23 @@ pub fn speed_zero(
     orbit: &ImpactOrbit,
     j: usize,
 ) -> Option<(Forcing, ImpactOrbit, Section, Vec<f64>)> {
+    speed_at(at, lambda_start, orbit, j, 0.0)
+}
+
+/// Where impact `j`'s approach speed is `target` (m/s, `>= 0`), the parameter `lambda` an
+/// unknown as in [`speed_zero`] (which is this with `target = 0`). Past a grazing, the orbit with
+/// the new contact is found this way ([`ImpactOrbit::with_contact`], the contact's speed the
+/// target): along that orbit's family the contact's speed is a smooth function of the
+/// parameter's, so the family is reached at a given speed, on whichever side of the grazing it
+/// lies (di Bernardo et al. 2008, §7.3: it persists on the far side, or turns back in a
+/// nonsmooth fold).
+pub fn speed_at(
+    at: &impl Fn(f64) -> Forcing,
+    lambda_start: f64,
+    orbit: &ImpactOrbit,
+    j: usize,
+    target: f64,
+) -> Option<(Forcing, ImpactOrbit, Section, Vec<f64>)> {
     let f0 = at(lambda_start);
     let (l, wn) = (f0.half_gap(), f0.sys.omega());
     let n = orbit.walls.len();
@@ -271,27 +331,55 @@ pub fn speed_zero(
         return None;
     }
     let dim = n + 4;
-    let mut u = orbit.to_unknowns(l, wn);
-    u.push(1.0);
+    let mut u0 = orbit.to_unknowns(l, wn);
+    u0.push(1.0);
     let residual = |u: &[f64]| -> Option<Vec<f64>> {
         let f = at(u[dim - 1] * lambda_start);
         let o = orbit.with_unknowns(&u[..dim - 1], l, wn);
         let flown = o.fly(&f, false);
         let mut r = flown.residual;
-        r.push(flown.speeds[j] / (wn * l));
+        r.push((flown.speeds[j] - target) / (wn * l));
         r.iter().all(|v| v.is_finite()).then_some(r)
     };
+    let u = newton(u0, &residual)?;
+    let f = at(u[dim - 1] * lambda_start);
+    let o = orbit.with_unknowns(&u[..dim - 1], l, wn);
+    let flown = o.fly(&f, true);
+    if !o.admissible(&f, &flown, j) {
+        return None;
+    }
+    Some((f, o, flown.section, flown.speeds))
+}
+
+/// The orbit with `orbit`'s impact sequence at `f` (the parameter fixed), by Newton from
+/// `orbit`: the orbit, its section state and every impact's approach speed; `None` when Newton
+/// does not converge or the orbit is not admissible (every impact approaching its wall, every
+/// flight inside the clearance).
+pub fn solve_at(f: &Forcing, orbit: &ImpactOrbit) -> Option<(ImpactOrbit, Section, Vec<f64>)> {
+    let (l, wn) = (f.half_gap(), f.sys.omega());
+    let residual = |u: &[f64]| -> Option<Vec<f64>> {
+        let r = orbit.with_unknowns(u, l, wn).fly(f, false).residual;
+        r.iter().all(|v| v.is_finite()).then_some(r)
+    };
+    let u = newton(orbit.to_unknowns(l, wn), &residual)?;
+    let o = orbit.with_unknowns(&u, l, wn);
+    let flown = o.fly(f, true);
+    if !o.admissible(f, &flown, usize::MAX) {
+        return None;
+    }
+    Some((o, flown.section, flown.speeds))
+}
+
+/// Newton on a square system from `u` with a central-difference Jacobian (steps [`FD_STEP`]):
+/// at most [`MAX_ITERATIONS`] iterations to a residual norm of [`TOLERANCE`]; `None` when the
+/// residual is not finite, the linear solve fails or it does not converge.
+fn newton(mut u: Vec<f64>, residual: &dyn Fn(&[f64]) -> Option<Vec<f64>>) -> Option<Vec<f64>> {
+    let dim = u.len();
     for _ in 0..MAX_ITERATIONS {
         let r = residual(&u)?;
         let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
         if norm <= TOLERANCE {
-            let f = at(u[dim - 1] * lambda_start);
-            let o = orbit.with_unknowns(&u[..dim - 1], l, wn);
-            let flown = o.fly(&f, true);
-            if !o.admissible(&f, &flown, j) {
-                return None;
-            }
-            return Some((f, o, flown.section, flown.speeds));
+            return Some(u);
         }
         let mut jac = DMatrix::zeros(dim, dim);
         for c in 0..dim {
@@ -320,6 +408,35 @@ mod tests {
     use super::*;
     use crate::orbits::analytic::symmetric_period1;
     use crate::orbits::map::tests::table_i;
+
+    /// A contact added and removed again gives the orbit back, wherever it falls: after the
+    /// first impact, or before it (placed one orbit period later, past the section's instant,
+    /// so that the section state is still the orbit's).
+    #[test]
+    fn a_contact_added_and_removed_gives_the_orbit_back() {
+        let f = table_i(0.005, 0.005, 0.9, 0.1, 0.1, 0.93);
+        let o = symmetric_period1(&f.sys, f.F0, f.omega)
+            .into_iter()
+            .find(|o| o.admissible)
+            .expect("an orbit");
+        let io = ImpactOrbit::from_section(&f, &o.section, 1).expect("impacts");
+        let t1 = io.phases[0] / f.omega;
+        for t in [0.5 * t1, t1 + 0.1 * f.period()] {
+            let (with, j) = io.with_contact(&f, t, 1.0);
+            assert_eq!(with.walls.len(), 3);
+            assert!(with.phases.windows(2).all(|w| w[0] < w[1]), "{with:?}");
+            assert_eq!(
+                with.without(&f, j).as_ref(),
+                Some(&io),
+                "contact at t = {t}"
+            );
+        }
+        // A contact before the first impact is placed past the section's instant: the section
+        // state is computed in the flight across that instant, the orbit's.
+        let (with, _) = io.with_contact(&f, 0.5 * t1, 1.0);
+        let (a, b) = (io.fly(&f, false).section, with.fly(&f, false).section);
+        assert_eq!(a, b, "the section moved with a contact in the last flight");
+    }
 
     /// The symmetric two-impact orbit in closed form, recorded by the simulator in impact
     /// coordinates, solves the system to rounding, and its approach speeds are the closed

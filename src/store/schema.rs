@@ -261,7 +261,8 @@ fn forced_points_unit(column: &str) -> Option<&'static str> {
 fn orbits_unit(column: &str) -> Option<&'static str> {
     Some(match column {
         "point_id" | "point" | "case" | "ideal" | "branch" | "attractor" | "kind" | "stable"
-        | "stability" | "label" | "located" | "end" | "origin" | "life_capped" => "",
+        | "stability" | "label" | "located" | "end" | "grazing_outcome" | "origin"
+        | "life_capped" => "",
         "r" | "period" | "impacts_per_period" | "basin_share" | "starts" | "multiplier_max"
         | "tail_shape" | "exceedances" | "measured_periods" => "1",
         "mu1_re" | "mu1_im" | "mu2_re" | "mu2_im" | "mu3_re" | "mu3_im" | "mu4_re" | "mu4_im" => {

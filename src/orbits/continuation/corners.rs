@@ -94,7 +94,9 @@ pub(super) fn at_range_end(
     let (_, l0) = curve.unscale(u);
     let (_, l1) = curve.unscale(u_new);
     let bound = l1.clamp(settings.range.0, settings.range.1);
-    if l1 == l0 {
+    // From a point on the bound itself (a branch started at the range's end) the point at the
+    // bound is that point again: no new row (issue 45, item 2).
+    if l1 == l0 || (l0 - bound).abs() <= 1e-12 * bound.abs() {
         return None;
     }
     let mut from = u + (u_new - u) * ((bound - l0) / (l1 - l0));

@@ -39,13 +39,19 @@
 //! cannot be solved (the map is not smooth there) a `BP` or `NS` is dropped and the others stay
 //! on the point past the change.
 //!
+//! At a located grazing where the steps fail, the orbit with the changed impact sequence (the
+//! grazing contact added, or the vanishing impact removed) is solved past it, seeded from the
+//! grazing orbit, and the branch goes on along it ([`through`]): its impact count changes there
+//! and the `GR` row stays.
+//!
 //! # Ends
 //! Every branch ends with a named reason ([`End`]): `range` (it left the swept interval),
 //! `no_impacts`, `step_too_small`, `max_points` ([`ContSettings::max_points`]), `simulator`,
 //! `grazing_end` (the steps failed where, one step past the last point, the orbit's impact count
-//! changes: the map is not smooth there, and often not continuous, so the branch cannot pass; or
-//! every impact's approach speed vanished at once, where the orbit joins the non-impacting
-//! family), `closed` (back on a point it went through), or
+//! changes, and no orbit with the changed impact sequence continues the branch past that
+//! grazing ([`through`]); or every impact's approach speed vanished at once, where the orbit
+//! joins the non-impacting family; the branch's [`GrazingOutcome`] says what the motion becomes
+//! there), `closed` (back on a point it went through), or
 //! `grazing`: the corrector came back along the branch it came from (nearer the point before
 //! than half a step), which happens at a corner of the branch where an impact grazes and the
 //! map is not smooth; the last point is labelled `GR` rather than taken for a fold.
@@ -55,11 +61,13 @@ use nalgebra::{SMatrix, SVector};
 
 mod corners;
 mod located;
+mod through;
 mod walk;
 
 use corners::*;
 pub use located::LOCATED_TOL;
 use located::*;
+use through::*;
 use walk::*;
 
 pub use super::label::Label;
@@ -127,6 +135,29 @@ impl End {
     }
 }
 
+/// What the motion becomes where a branch ends at a grazing that no periodic orbit continues
+/// past ([`End::GrazingEnd`]; [`through`]): a run from the grazing orbit a little past it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GrazingOutcome {
+    /// A motion that is not periodic (chaos through the square-root singularity of the
+    /// discontinuity map, or not settled within the run).
+    Chaos,
+    /// A periodic attractor: another branch's orbit, or the non-impacting family.
+    Jump,
+    /// Neither is known: the run failed.
+    None,
+}
+
+impl GrazingOutcome {
+    pub fn name(self) -> &'static str {
+        match self {
+            GrazingOutcome::Chaos => "chaos",
+            GrazingOutcome::Jump => "jump",
+            GrazingOutcome::None => "none",
+        }
+    }
+}
+
 /// One point of a branch.
 #[derive(Clone, Debug, PartialEq)]
 #[allow(non_snake_case)]
@@ -170,6 +201,8 @@ pub struct Branch {
     pub points: Vec<BranchPoint>,
     /// The ends (first point's side, last point's side).
     pub ends: (End, End),
+    /// At an end [`End::GrazingEnd`], what the motion becomes past it (`None` at other ends).
+    pub outcomes: (Option<GrazingOutcome>, Option<GrazingOutcome>),
     /// Forcing periods simulated to follow it (locating its labels included).
     pub periods: u64,
     /// Labels located on it ([`super::locate`]), and the forcing periods that took.
@@ -391,24 +424,24 @@ fn follow_one(
     };
     let mut switches = Vec::new();
     let start = point(f, orbit, Label::None);
-    let mut sides: Vec<(Vec<BranchPoint>, End)> = Vec::new();
+    let mut sides: Vec<(Vec<BranchPoint>, End, Option<GrazingOutcome>)> = Vec::new();
     for dir in [-1.0, 1.0] {
-        if sides.first().is_some_and(|(_, end)| *end == End::Closed) {
+        if sides.first().is_some_and(|(_, end, _)| *end == End::Closed) {
             // The first side went round the whole curve (or into a loop it follows once).
-            sides.push((Vec::new(), End::Closed));
+            sides.push((Vec::new(), End::Closed, None));
             continue;
         }
-        let (pts, end) = side(&mut curve, f, orbit, dir, settings, &mut switches);
-        sides.push((pts, end));
+        sides.push(side(&mut curve, f, orbit, dir, settings, &mut switches));
     }
-    let (mut down, end_down) = sides.remove(0);
-    let (up, end_up) = sides.remove(0);
+    let (mut down, end_down, out_down) = sides.remove(0);
+    let (up, end_up, out_up) = sides.remove(0);
     down.reverse();
     down.push(start);
     down.extend(up);
     let branch = Branch {
         points: down,
         ends: (end_down, end_up),
+        outcomes: (out_down, out_up),
         periods: curve.periods,
         located: curve.located,
         periods_locating: curve.periods_locating,

@@ -5,7 +5,8 @@
 
 use super::*;
 
-/// The points on one side of the start (`dir` = the sign of the first step in `lambda`).
+/// The points on one side of the start (`dir` = the sign of the first step in `lambda`), how the
+/// side ended and, at a grazing it ends at, what the motion becomes there.
 pub(super) fn side(
     curve: &mut Curve,
     f: &Forcing,
@@ -13,13 +14,13 @@ pub(super) fn side(
     dir: f64,
     settings: &ContSettings,
     switches: &mut Vec<(Forcing, Orbit)>,
-) -> (Vec<BranchPoint>, End) {
+) -> (Vec<BranchPoint>, End, Option<GrazingOutcome>) {
     let u = curve.to_u(&orbit.s, curve.param.get(f));
     let Some((_, a, e)) = curve.residual(&u) else {
-        return (Vec::new(), End::Simulator);
+        return (Vec::new(), End::Simulator, None);
     };
     let Some(t) = tangent(&a, &V5::new(0.0, 0.0, 0.0, 0.0, dir)) else {
-        return (Vec::new(), End::StepTooSmall);
+        return (Vec::new(), End::StepTooSmall, None);
     };
     let mut walk = Walk {
         pts: Vec::new(),
@@ -33,6 +34,7 @@ pub(super) fn side(
         u_before: None,
         crossed: false,
         trail: Vec::new(),
+        passed: Vec::new(),
     };
     while walk.pts.len() < settings.max_points {
         let u_pred = walk.u + walk.t * walk.h;
@@ -47,12 +49,21 @@ pub(super) fn side(
                 walk.advance(curve, f, next, iters, settings, switches)
             }
         };
-        if let Some(end) = step {
-            return (walk.pts, end);
+        match step {
+            Some(End::GrazingEnd) if walk.through(curve, f, settings) => {}
+            Some(End::GrazingEnd) => {
+                let outcome = walk.outcome(curve, f);
+                return (walk.pts, End::GrazingEnd, Some(outcome));
+            }
+            Some(end) => return (walk.pts, end, None),
+            None => {}
         }
     }
-    (walk.pts, End::MaxPoints)
+    (walk.pts, End::MaxPoints, None)
 }
+
+/// Most grazings one side of a branch is continued through ([`super::through`]).
+pub(super) const MAX_PASSES: usize = 8;
 
 /// One side of a branch being followed ([`side`]): its points so far and where it stands.
 pub(super) struct Walk {
@@ -76,9 +87,51 @@ pub(super) struct Walk {
     crossed: bool,
     /// The points so far and their tangents, to see the branch close on itself.
     trail: Vec<(V5, V5)>,
+    /// The parameter values of the grazings passed ([`super::through`]): each is passed once.
+    passed: Vec<f64>,
 }
 
 impl Walk {
+    /// The side ended at a grazing (its last row): the orbit with the changed impact sequence
+    /// past it ([`super::through::through_grazing`]) is the next point, and the walk goes on from it.
+    /// Whether it does (at most [`MAX_PASSES`] times a side, once per grazing).
+    fn through(&mut self, curve: &mut Curve, f: &Forcing, settings: &ContSettings) -> bool {
+        let Some(row) = self.pts.last().cloned() else {
+            return false;
+        };
+        let lambda = row.value(curve.param);
+        let again = self
+            .passed
+            .iter()
+            .any(|&p| (p - lambda).abs() <= 1e-6 * lambda.abs());
+        if row.label != Label::GR || again || self.passed.len() >= MAX_PASSES {
+            return false;
+        }
+        let Some(next) = through_grazing(curve, f, &row, self.t[4], settings) else {
+            return false;
+        };
+        self.passed.push(lambda);
+        self.pts.extend(next.fill);
+        self.pts.push(point(&next.f, &next.orbit, Label::None));
+        self.prev_orbit = next.orbit;
+        self.trail.push((self.u, self.t));
+        self.u_before = None;
+        (self.u, self.t, self.here) = (next.u, next.t, next.here);
+        self.h = settings.h0;
+        self.crossed = false;
+        true
+    }
+
+    /// What the motion becomes past the grazing where the side ends: a run from its last row
+    /// (the grazing orbit) a little past it ([`super::through::outcome_beyond`]).
+    fn outcome(&self, curve: &mut Curve, f: &Forcing) -> GrazingOutcome {
+        let (s, lambda) = match self.pts.last() {
+            Some(row) => (row.s, row.value(curve.param)),
+            None => curve.unscale(&self.u),
+        };
+        outcome_beyond(curve, f, &s, lambda, self.t[4])
+    }
+
     /// The corrector failed from `u_pred`: the step is halved; below the smallest step the
     /// branch has a corner (an impact on the section, a grazing), passed once per corner (the
     /// flag is cleared by the next ordinary step), or its end there. `Some` when the side ends.

@@ -112,6 +112,8 @@ pub fn branches_from_part(t: &Table) -> Option<BTreeMap<u64, Vec<BranchRow>>> {
         .map(|k| [g(&format!("mu{k}_re")), g(&format!("mu{k}_im"))])
         .collect();
     let graze = g("min_impact_speed");
+    // Where a branch ends at a grazing, what follows (absent from parts of older versions).
+    let outcome = s("grazing_outcome");
     let located = match t.get("located") {
         Some(Column::Bool(v)) => v.clone(),
         _ => vec![false; t.n_rows()],
@@ -136,6 +138,7 @@ pub fn branches_from_part(t: &Table) -> Option<BTreeMap<u64, Vec<BranchRow>>> {
             label: intern(&label[i]),
             located: located[i],
             end: intern(&end[i]),
+            grazing_outcome: outcome.map_or("", |o| intern(&o[i])),
             s: [sec[0][i], sec[1][i], sec[2][i], sec[3][i]],
         });
     }

@@ -420,6 +420,7 @@ pub fn branches_table(responses: &[Response]) -> Table {
         Column::Bool(rows.iter().map(|b| b.located).collect()),
     );
     t.push("end", s(&|b| b.end));
+    t.push("grazing_outcome", s(&|b| b.grazing_outcome));
     t
 }
 
