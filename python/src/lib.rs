@@ -450,7 +450,7 @@ fn period_maxima<'py>(
 /// per-period maxima (f64 bytes): the dict of its fields, or `None` when no threshold leaves
 /// enough clusters.
 #[pyfunction]
-#[pyo3(signature = (maxima, design_periods, quantile, run, xi_max))]
+#[pyo3(signature = (maxima, design_periods, quantile, run, xi_min, xi_max))]
 fn life_estimate<'py>(
     py: Python<'py>,
     maxima: Bound<'py, PyBytes>,
