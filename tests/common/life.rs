@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use impactsweep::orbits::census::Kind;
+use impactsweep::orbits::census::{Census, Kind};
 use impactsweep::orbits::curve::run_curve;
 use impactsweep::plan::Plan;
 use impactsweep::study::Study;
@@ -55,6 +55,14 @@ pub fn one_frequency_life(
         vec![freq],
     );
     let census = curve.censuses.into_iter().flatten().next()?;
+    let f = run.system;
+    let period = std::f64::consts::TAU / (r * (f.K / f.M).sqrt());
+    largest_life(&census, periods.unwrap_or(3.6e6 / period))
+}
+
+/// The design life of the census's motion that is not periodic with the largest design
+/// amplitude, asked for over `periods` forcing periods (`None` when it has none, or no estimate).
+fn largest_life(census: &Census, periods: f64) -> Option<Estimate> {
     let a = census
         .attractors
         .iter()
@@ -65,10 +73,8 @@ pub fn one_frequency_life(
     };
     let life = w.life?;
     let e = life.estimate?;
-    let f = run.system;
-    let period = std::f64::consts::TAU / (r * (f.K / f.M).sqrt());
     Some(Estimate {
-        periods: periods.unwrap_or(3.6e6 / period),
+        periods,
         amplitude: e.amplitude,
         lo: e.lo,
         hi: e.hi,
@@ -141,25 +147,8 @@ pub fn curve_life(m: f64, d: f64, rs: &[f64], seed: u64) -> Vec<Option<Estimate>
         .into_iter()
         .zip(rs)
         .map(|(census, &r)| {
-            let census = census?;
-            let a = census
-                .attractors
-                .iter()
-                .filter(|a| matches!(a.kind, Kind::NonPeriodic(_)))
-                .max_by(|a, b| a.amplitude.total_cmp(&b.amplitude))?;
-            let Kind::NonPeriodic(w) = &a.kind else {
-                return None;
-            };
-            let life = w.life?;
-            let e = life.estimate?;
             let period = std::f64::consts::TAU / (r * (f.K / f.M).sqrt());
-            Some(Estimate {
-                periods: 3.6e6 / period,
-                amplitude: e.amplitude,
-                lo: e.lo,
-                hi: e.hi,
-                measured: life.measured,
-            })
+            largest_life(&census?, 3.6e6 / period)
         })
         .collect()
 }
