@@ -328,20 +328,6 @@ fn issue_18_queue_and_status_write_the_index() {
         ));
 }
 
-/// `cp -r`: the pages are checked from a copy in another directory.
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        let target = to.join(e.file_name());
-        if e.file_type().unwrap().is_dir() {
-            copy_dir(&e.path(), &target);
-        } else {
-            std::fs::copy(e.path(), target).unwrap();
-        }
-    }
-}
-
 fn check_in_browser(root: &Path, extra: &[&str]) -> String {
     let out = std::process::Command::new(common::python())
         .arg("tests/html_check.py")
@@ -412,7 +398,7 @@ fn issue_18_pages_in_headless_chromium() {
         .iter()
         .map(|root| {
             let c = elsewhere.path().join(root.file_name().unwrap());
-            copy_dir(root, &c);
+            common::copy_dir(root, &c);
             c
         })
         .collect();

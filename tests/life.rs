@@ -130,12 +130,64 @@ fn issue_43_the_report_shows_the_verified_peaks() {
     .unwrap();
     let out = tmp.path().join("out");
     let run = common::run_study_file(&study, &out, "verify");
-    assert_cmd::Command::cargo_bin("impactsweep")
+    let reduce = |args: &[&str], run: &std::path::Path| {
+        let out = assert_cmd::Command::cargo_bin("impactsweep")
+            .unwrap()
+            .arg("reduce")
+            .arg(run)
+            .args(args)
+            .assert()
+            .success();
+        String::from_utf8_lossy(&out.get_output().stdout).to_string()
+    };
+    // The same dataset reduced as two analysis shards, then the final reduction (item 3, "as
+    // Slurm tasks"): the shards measure the verification's motions between them, and the final
+    // reduction takes their measurements and writes the same files as a whole `reduce`.
+    let sharded = tmp.path().join("sharded");
+    common::copy_dir(&run, &sharded);
+    reduce(&[], &run);
+    let mut by_shards = 0;
+    for i in 0..2 {
+        let line = reduce(&["--shard", &format!("{i}/2")], &sharded);
+        let n: usize = line
+            .lines()
+            .next()
+            .unwrap_or_default()
+            .split(", ")
+            .find_map(|p| p.strip_suffix(" motions verified"))
+            .and_then(|p| p.trim().parse().ok())
+            .unwrap_or_else(|| panic!("no count of verified motions in {line:?}"));
+        by_shards += n;
+    }
+    let last = reduce(&[], &sharded);
+    let measured_again = std::fs::read_to_string(run.join("verification.csv"))
         .unwrap()
-        .arg("reduce")
-        .arg(&run)
-        .assert()
-        .success();
+        .lines()
+        .filter(|l| l.split(',').nth(11) == Some("true"))
+        .count();
+    assert!(by_shards > 0, "the shards measured nothing");
+    assert_eq!(
+        by_shards, measured_again,
+        "every measured motion is measured by one shard"
+    );
+    assert!(
+        last.contains(&format!(
+            "; {by_shards} verified motions measured by the analysis shards"
+        )),
+        "the final reduction did not take the shards' measurements: {last}"
+    );
+    for f in [
+        "report.md",
+        "verification.csv",
+        "summary.csv",
+        "attractors.csv",
+    ] {
+        assert_eq!(
+            std::fs::read(run.join(f)).unwrap(),
+            std::fs::read(sharded.join(f)).unwrap(),
+            "{f}: the sharded verification differs from a whole reduce's"
+        );
+    }
     let report = std::fs::read_to_string(run.join("report.md")).unwrap();
     let section = report
         .split("**The decision verified.**")

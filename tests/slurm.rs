@@ -832,7 +832,7 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
         "the sharded sweep's points and attractors differ from one machine's"
     );
     for i in 0..2 {
-        for t in ["probes", "branches"] {
+        for t in ["probes", "branches", "verification"] {
             let f = run_h.join(format!("analysis/{t}-{i}-of-2.parquet"));
             assert!(
                 f.is_file(),
@@ -842,13 +842,22 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
             );
         }
     }
+    assert_eq!(
+        run_h.join("verification.csv").is_file(),
+        want.join("verification.csv").is_file(),
+        "one reduction verified motions, the other did not"
+    );
     for f in [
         "summary.csv",
         "jumps.csv",
         "branches.csv",
         "attractors.csv",
         "zones.csv",
-    ] {
+        "verification.csv",
+    ]
+    .into_iter()
+    .filter(|f| want.join(f).is_file())
+    {
         assert_eq!(
             std::fs::read(run_h.join(f)).unwrap(),
             std::fs::read(want.join(f)).unwrap(),

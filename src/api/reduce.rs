@@ -100,6 +100,8 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
         );
     }
     let audit = read_audit(dir)?;
+    // Direct measurements of the verification that analysis shards made and this reduction took.
+    let mut from_shards = 0;
     let (summary, files) = match study.scene {
         Scene::Free => {
             let opts = options(&study, args);
@@ -137,6 +139,13 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
             if let Some(shard) = args.shard {
                 return write_analysis_shard(&study, dir, shard, &fs, &probes);
             }
+            from_shards = fs
+                .verification
+                .peaks
+                .iter()
+                .flat_map(|p| &p.verified)
+                .filter(|v| !v.as_raced && plan.prior.verified.contains_key(&v.motion.key()))
+                .count();
             let files = write_outputs_with(&study, &summary, dir, audit.as_ref(), Some(&fs))?;
             (summary, files)
         }
@@ -154,7 +163,11 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
             ),
             None => "; no robust design".to_string(),
         }
-    );
+    ) + &if from_shards > 0 {
+        format!("; {from_shards} verified motions measured by the analysis shards")
+    } else {
+        String::new()
+    };
     Ok((line, files))
 }
 
@@ -166,14 +179,14 @@ fn analysis_plan(
     shard: Option<(u64, u64)>,
 ) -> anyhow::Result<analysis::Plan> {
     use analysis::{Plan, Prior, Shard};
-    use forced::shard::{branches_from_part, probes_from_table};
+    use forced::shard::{branches_from_part, probes_from_table, verification_from_part};
     if let Some((index, count)) = shard {
         return Ok(Plan {
             shard: Some(Shard { index, count }),
             prior: Prior::default(),
         });
     }
-    let Some((probes, branches)) = store::analysis::read_complete(dir, &study.source)? else {
+    let Some(set) = store::analysis::read_complete(dir, &study.source)? else {
         return Ok(Plan::default());
     };
     let keys: Vec<String> = forced::design_study(study)
@@ -191,15 +204,20 @@ fn analysis_plan(
             dir.display()
         )
     };
-    for t in &probes {
+    for t in &set.probes {
         prior
             .probes
             .extend(probes_from_table(&keys, t).ok_or_else(bad)?);
     }
-    for t in &branches {
+    for t in &set.branches {
         prior
             .branches
             .extend(branches_from_part(t).ok_or_else(bad)?);
+    }
+    for t in &set.verification {
+        prior
+            .verified
+            .extend(verification_from_part(t).ok_or_else(bad)?);
     }
     Ok(Plan { shard: None, prior })
 }
@@ -268,15 +286,32 @@ fn write_analysis_shard(
         dir,
         shard,
         &study.source,
-        forced::shard::probes_table(&keys, probes),
-        forced::shard::branches_part(&steady),
+        vec![
+            (
+                TableKind::Probes,
+                forced::shard::probes_table(&keys, probes),
+            ),
+            (TableKind::Branches, forced::shard::branches_part(&steady)),
+            (
+                TableKind::Verification,
+                forced::shard::verification_part(&fs.verification),
+            ),
+        ],
     )?;
+    let measured = fs
+        .verification
+        .peaks
+        .iter()
+        .flat_map(|p| &p.verified)
+        .filter(|v| !v.as_raced)
+        .count();
     let line = format!(
-        "analysis shard {}/{}: {} jump probes, {} branch points",
+        "analysis shard {}/{}: {} jump probes, {} branch points, {} motions verified",
         shard.0,
         shard.1,
         probes.len(),
-        branches
+        branches,
+        measured
     );
     Ok((line, files))
 }

@@ -137,6 +137,16 @@ pub fn refine_all(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option
     race_with(points, censuses, true);
 }
 
+/// One step of a runner's measurement ([`LifeRun::grow`]); whether it may go on. A motion with
+/// no estimate after its second window (`2 first` periods) stops there: its maxima show no tail
+/// to fit (a transient that reached a periodic orbit, or maxima that repeat), and longer runs of
+/// the same maxima would not show one (on a newcomer's study of the structure without a damper
+/// such motions grew to the screen, 64,000 periods each, for nothing).
+fn grow(r: &mut Runner) -> bool {
+    let more = r.run.grow(&r.f, &r.s, r.lambda);
+    more && (r.run.estimate.is_some() || r.run.periods() < 2 * r.s.first)
+}
+
 fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Census>], all: bool) {
     let mut runners = Vec::new();
     for (i, (p, c)) in points.iter().zip(censuses.iter()).enumerate() {
@@ -168,7 +178,7 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
         }
     }
     for r in &mut runners {
-        r.active = r.run.grow(&r.f, &r.s, r.lambda);
+        r.active = grow(r);
     }
     let periodic = censuses
         .iter()
@@ -192,7 +202,7 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
             break;
         };
         let r = &mut runners[i];
-        r.active = r.run.grow(&r.f, &r.s, r.lambda);
+        r.active = grow(r);
     }
     for r in runners {
         let Some(c) = censuses[r.at.0].as_mut() else {

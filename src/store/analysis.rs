@@ -1,6 +1,6 @@
 //! `RUN_DIR/analysis/`: what each shard of a harmonic study's analysis computed
-//! ([`crate::reduce::forced::analysis`]): `probes-I-of-N.parquet` and
-//! `branches-I-of-N.parquet`, each carrying the study text it was computed for. Intermediate
+//! ([`crate::reduce::forced::analysis`]): `probes-I-of-N.parquet`, `branches-I-of-N.parquet`
+//! and `verification-I-of-N.parquet`, each carrying the study text it was computed for. Intermediate
 //! files: the final `reduce` reads a complete set of them and writes the study's tables.
 
 use std::path::{Path, PathBuf};
@@ -19,19 +19,18 @@ fn shard_path(run_dir: &Path, kind: TableKind, index: u64, count: u64) -> PathBu
     analysis_dir(run_dir).join(format!("{}-{index}-of-{count}.parquet", kind.name()))
 }
 
-/// Writes shard `index` of `count`'s probes and branches (each atomically, synced); returns the
-/// two paths.
+/// Writes shard `index` of `count`'s tables (each atomically, synced): its probes, its branches
+/// and its share of the verification ([`TableKind::Verification`]); returns the paths.
 pub fn write_shard(
     run_dir: &Path,
     (index, count): (u64, u64),
     study_text: &str,
-    probes: Table,
-    branches: Table,
+    tables: Vec<(TableKind, Table)>,
 ) -> Result<Vec<PathBuf>> {
     let dir = analysis_dir(run_dir);
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     let mut out = Vec::new();
-    for (kind, t) in [(TableKind::Probes, probes), (TableKind::Branches, branches)] {
+    for (kind, t) in tables {
         let path = shard_path(run_dir, kind, index, count);
         let opts = super::WriteOptions {
             dictionary: &[],
@@ -44,9 +43,19 @@ pub fn write_shard(
     Ok(out)
 }
 
-/// The probes and branches tables of a complete set of shards written for `study_text`: the
-/// largest `N` for which every shard `0..N` left both files. `None` when there is none.
-pub fn read_complete(run_dir: &Path, study_text: &str) -> Result<Option<(Vec<Table>, Vec<Table>)>> {
+/// The tables of a complete set of analysis shards, each kind in shard order.
+#[derive(Debug, Default)]
+pub struct ShardSet {
+    pub probes: Vec<Table>,
+    pub branches: Vec<Table>,
+    /// The verification's direct measurements (absent from shards of earlier versions, and
+    /// from a shard whose file is missing: the final reduction measures those cases itself).
+    pub verification: Vec<Table>,
+}
+
+/// The tables of a complete set of shards written for `study_text`: the largest `N` for which
+/// every shard `0..N` left its probes and branches. `None` when there is none.
+pub fn read_complete(run_dir: &Path, study_text: &str) -> Result<Option<ShardSet>> {
     let dir = analysis_dir(run_dir);
     let Ok(entries) = std::fs::read_dir(&dir) else {
         return Ok(None);
@@ -65,24 +74,29 @@ pub fn read_complete(run_dir: &Path, study_text: &str) -> Result<Option<(Vec<Tab
         }
     }
     counts.sort_unstable_by(|a, b| b.cmp(a));
+    let written_for = |path: &Path| {
+        super::part_metadata(path)
+            .is_ok_and(|meta| meta.get(META_STUDY).map(String::as_str) == Some(study_text))
+    };
     'sets: for n in counts {
-        let (mut probes, mut branches) = (Vec::new(), Vec::new());
+        let mut set = ShardSet::default();
         for i in 0..n {
             for (kind, into) in [
-                (TableKind::Probes, &mut probes),
-                (TableKind::Branches, &mut branches),
+                (TableKind::Probes, &mut set.probes),
+                (TableKind::Branches, &mut set.branches),
             ] {
                 let path = shard_path(run_dir, kind, i, n);
-                let Ok(meta) = super::part_metadata(&path) else {
-                    continue 'sets;
-                };
-                if meta.get(META_STUDY).map(String::as_str) != Some(study_text) {
+                if !written_for(&path) {
                     continue 'sets;
                 }
                 into.push(super::summary::read_table(&path)?);
             }
+            let path = shard_path(run_dir, TableKind::Verification, i, n);
+            if written_for(&path) {
+                set.verification.push(super::summary::read_table(&path)?);
+            }
         }
-        return Ok(Some((probes, branches)));
+        return Ok(Some(set));
     }
     Ok(None)
 }

@@ -201,10 +201,23 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
             _ => None,
         },
         TableKind::Verification => match column {
-            "point" | "case" | "supported" | "rank_before" | "rank_after" => Some(""),
-            "r" | "estimate_periods" | "direct_periods" => Some("1"),
-            "estimate" | "estimate_lo" | "estimate_hi" | "direct" | "direct_lo" | "direct_hi"
-            | "largest_seen" | "peak_before" | "peak_after" => Some("m"),
+            "point" | "case" | "supported" | "measured_again" | "rank_before" | "rank_after"
+            | "direct_capped" | "direct_fitted" => Some(""),
+            "r" | "estimate_periods" | "direct_periods" | "direct_xi" | "direct_xi_se"
+            | "direct_exceedances" | "direct_fit_periods" => Some("1"),
+            "estimate"
+            | "estimate_lo"
+            | "estimate_hi"
+            | "direct"
+            | "direct_lo"
+            | "direct_hi"
+            | "largest_seen"
+            | "peak_before"
+            | "peak_after"
+            | "direct_threshold"
+            | "direct_sigma"
+            | "direct_end_point"
+            | "direct_lowest_threshold" => Some("m"),
             _ => None,
         },
         TableKind::Probes => match column {

@@ -401,3 +401,18 @@ dd = [0.001]
 "#
     )
 }
+
+/// `cp -r`: a directory copied with its subdirectories (a run directory reduced twice, pages
+/// checked from another place).
+pub fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        let target = to.join(e.file_name());
+        if e.file_type().unwrap().is_dir() {
+            copy_dir(&e.path(), &target);
+        } else {
+            std::fs::copy(e.path(), target).unwrap();
+        }
+    }
+}

@@ -7,7 +7,10 @@
 //! the dataset only. `reduce --shard I/N` runs the cheap streaming reduction, then only its share
 //! of the simulating work: the designs `d` with `d % N == I`, and the jump probes on the grid
 //! lines whose key falls to shard `I` ([`Shard::owns_line`]); it writes what it computed into
-//! `RUN_DIR/analysis/` ([`super::shard`], [`crate::store::analysis`]) and no report. A later
+//! `RUN_DIR/analysis/` ([`super::shard`], [`crate::store::analysis`]) and no report. The
+//! verification of the deciding designs ([`super::verify`]) is shared out the same way: every
+//! shard reduces all the designs' runs, so each knows the ranking and which cases decide it, and
+//! measures the cases that fall to it ([`super::verify::share`]). A later
 //! `reduce` without `--shard` finds a complete set of `N` shards written for this study, takes
 //! their branches and probes instead of computing them, and writes every output: the same bits a
 //! `reduce` alone writes, since each design's branches and each probe are deterministic and
@@ -67,6 +70,9 @@ pub struct Prior {
     pub branches: BTreeMap<u64, Vec<BranchRow>>,
     /// A complete set of shards: every design was analysed (one without a row has no branch).
     pub complete: bool,
+    /// The direct measurements of the verification the shards made
+    /// ([`super::verify::Measured`]).
+    pub verified: super::verify::Measured,
 }
 
 impl Prior {

@@ -158,20 +158,21 @@ impl<'a> ForcedReducer<'a> {
         self.runs_of.insert(design, runs[from..].to_vec());
     }
 
-    /// Whether this reduction verifies the deciding designs ([`verify`]): a whole analysis (a
-    /// shard writes no ranking), peaks of the worst steady state with stored attractors,
-    /// design-life amplitudes, and `[ranking] verify_periods` above 0.
-    fn verifies(&self, plan: &Plan) -> bool {
-        plan.shard.is_none()
-            && self.study.ranking.verify_periods > 0
+    /// Whether this reduction verifies the deciding designs ([`verify`]): peaks of the worst
+    /// steady state with stored attractors, design-life amplitudes, and `[ranking]
+    /// verify_periods` above 0. (A shard of the analysis measures its share of the cases.)
+    fn verifies(&self) -> bool {
+        self.study.ranking.verify_periods > 0
             && self.stored
             && self.peak == DesignPeak::Worst
             && matches!(self.study.scene, Scene::Harmonic(h) if h.nonperiodic_peak == NonPeriodicPeak::Life)
     }
 
-    /// The verification ([`verify`]): the deciding designs' cases measured directly, their runs
-    /// reduced again and the ideal curves' peaks updated.
-    fn verify(&mut self) -> Verification {
+    /// The verification ([`verify`]): the deciding designs' cases measured directly (those
+    /// `plan`'s earlier shards measured taken from them), their runs reduced again and the ideal
+    /// curves' peaks updated. A shard of the analysis measures only its share of the cases
+    /// ([`verify::share`]) and changes nothing: the final reduction takes its measurements.
+    fn verify(&mut self, plan: &Plan) -> Verification {
         let Scene::Harmonic(h) = self.study.scene else {
             return Verification::default();
         };
@@ -201,7 +202,18 @@ impl<'a> ForcedReducer<'a> {
             quantile: h.life_quantile,
             periods: self.study.ranking.verify_periods,
         };
-        let peaks = verify::verify_all(&todo, &self.study.solver, life);
+        if let Some(shard) = plan.shard {
+            let mine: Vec<_> = verify::share(&todo, shard.index, shard.count)
+                .cloned()
+                .collect();
+            return Verification {
+                periods: life.periods,
+                peaks: verify::verify_all(&mine, &self.study.solver, life, &plan.prior.verified),
+                designs,
+                ranks_before: ranks,
+            };
+        }
+        let peaks = verify::verify_all(&todo, &self.study.solver, life, &plan.prior.verified);
         for p in &peaks {
             let linear = self
                 .systems
@@ -254,8 +266,8 @@ impl<'a> ForcedReducer<'a> {
             let rows = self.attractors.remove(&c.design);
             c.attractors = self.stored.then(|| rows.unwrap_or_default());
         }
-        let verification = if self.verifies(plan) {
-            self.verify()
+        let verification = if self.verifies() {
+            self.verify(plan)
         } else {
             Verification::default()
         };

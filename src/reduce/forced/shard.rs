@@ -1,12 +1,16 @@
 //! What a shard of a harmonic study's analysis stores in `RUN_DIR/analysis/`
 //! ([`crate::store::analysis`]) and the final `reduce` reads back ([`super::analysis`] has how
-//! the analysis is split): its jump probes ([`probes_table`]) and its designs' branches with each
-//! row's section ([`branches_part`]).
+//! the analysis is split): its jump probes ([`probes_table`]), its designs' branches with each
+//! row's section ([`branches_part`]) and its share of the verification's direct measurements
+//! ([`verification_part`]).
 
 use std::collections::{BTreeMap, HashMap};
 
 use super::steady::branches_table;
+use super::verify::{Measured, Verification, Verified};
+use crate::orbits::life::LifeSummary;
 use crate::orbits::response::{BranchRow, Response};
+use crate::stats::extremes::LifeEstimate;
 use crate::store::table::{Column, Table};
 
 /// The probes table of a shard: one row per probe, the design axes' values (columns named as
@@ -159,4 +163,123 @@ fn intern(s: &str) -> &'static str {
     let n: &'static str = Box::leak(s.to_string().into_boxed_str());
     names.push(n);
     n
+}
+
+/// The columns a shard's verification part adds to the `verification` table's: the rest of each
+/// direct measurement's [`LifeSummary`] (its tail law and whether it was capped or fitted), so
+/// the final reduction rebuilds it bit for bit.
+const DIRECT_EXTRA: [&str; 6] = [
+    "direct_threshold",
+    "direct_sigma",
+    "direct_xi",
+    "direct_xi_se",
+    "direct_end_point",
+    "direct_lowest_threshold",
+];
+
+/// The verification a shard made, as it stores it (`analysis/verification-I-of-N.parquet`): the
+/// `verification` table's columns (no rank after: a shard ranks nothing) and [`DIRECT_EXTRA`],
+/// `direct_exceedances`, `direct_fit_periods`, `direct_capped` and `direct_fitted`.
+pub fn verification_part(v: &Verification) -> Table {
+    let mut t = super::verify::table(v, |_| None);
+    let rows: Vec<&Verified> = v.peaks.iter().flat_map(|p| &p.verified).collect();
+    let fit = |m: &Verified| m.direct.and_then(|d| d.estimate);
+    let extra: [fn(&LifeEstimate) -> f64; 6] = [
+        |e| e.threshold,
+        |e| e.sigma,
+        |e| e.xi,
+        |e| e.xi_se,
+        |e| e.end_point,
+        |e| e.lowest_threshold,
+    ];
+    for (name, get) in DIRECT_EXTRA.iter().zip(extra) {
+        t.push(
+            *name,
+            Column::F64(
+                rows.iter()
+                    .map(|m| fit(m).map_or(f64::NAN, |e| get(&e)))
+                    .collect(),
+            ),
+        );
+    }
+    t.push(
+        "direct_exceedances",
+        Column::U64(rows.iter().map(|m| fit(m).map(|e| e.exceedances)).collect()),
+    );
+    t.push(
+        "direct_fit_periods",
+        Column::U64(rows.iter().map(|m| fit(m).map(|e| e.measured)).collect()),
+    );
+    t.push(
+        "direct_capped",
+        Column::Bool(
+            rows.iter()
+                .map(|m| m.direct.is_some_and(|d| d.capped))
+                .collect(),
+        ),
+    );
+    t.push(
+        "direct_fitted",
+        Column::Bool(rows.iter().map(|m| fit(m).is_some()).collect()),
+    );
+    t
+}
+
+/// [`verification_part`] read back: the direct measurements of the motions the shard measured
+/// (not those taken as raced), by motion; `None` when a column is missing or of another type.
+pub fn verification_from_part(t: &Table) -> Option<Measured> {
+    let f = |name: &str| match t.get(name)? {
+        Column::F64(v) => Some(v),
+        _ => None,
+    };
+    let u = |name: &str| match t.get(name)? {
+        Column::U64(v) => Some(v),
+        _ => None,
+    };
+    let b = |name: &str| match t.get(name)? {
+        Column::Bool(v) => Some(v),
+        _ => None,
+    };
+    let (point, case, periods) = (u("point")?, u("case")?, u("direct_periods")?);
+    let (exceed, fit_periods) = (u("direct_exceedances")?, u("direct_fit_periods")?);
+    let (again, capped, fitted) = (
+        b("measured_again")?,
+        b("direct_capped")?,
+        b("direct_fitted")?,
+    );
+    let (r, estimate, largest) = (f("r")?, f("estimate")?, f("largest_seen")?);
+    let (amp, lo, hi) = (f("direct")?, f("direct_lo")?, f("direct_hi")?);
+    let extra: Vec<&Vec<f64>> = DIRECT_EXTRA.iter().map(|n| f(n)).collect::<Option<_>>()?;
+    let mut out = Measured::new();
+    for i in 0..t.n_rows() {
+        if !again[i] {
+            continue;
+        }
+        let key = (
+            point[i]?,
+            u32::try_from(case[i]?).ok()?,
+            r[i].to_bits(),
+            estimate[i].to_bits(),
+        );
+        let direct = periods[i].map(|measured| LifeSummary {
+            estimate: fitted[i].then(|| LifeEstimate {
+                amplitude: amp[i],
+                lo: lo[i],
+                hi: hi[i],
+                threshold: extra[0][i],
+                sigma: extra[1][i],
+                xi: extra[2][i],
+                xi_se: extra[3][i],
+                end_point: extra[4][i],
+                exceedances: exceed[i].unwrap_or(0),
+                measured: fit_periods[i].unwrap_or(0),
+                lowest_threshold: extra[5][i],
+            }),
+            measured,
+            capped: capped[i],
+            window_max: largest[i],
+        });
+        out.insert(key, direct);
+    }
+    Some(out)
 }

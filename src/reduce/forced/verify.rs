@@ -12,7 +12,9 @@
 //! 2. **Their peaks measured directly.** For each of their cases, the motions that are not
 //!    periodic are taken in decreasing order of their estimate while one could still carry the
 //!    case's peak (its estimate above the largest periodic amplitude and every value measured
-//!    directly so far), at most [`MOST`] per case: each is run again from its stored state on
+//!    directly so far), at most [`MOST`] per case. A motion whose estimate already rests on at
+//!    least `verify_periods` periods (a race leader that grew to `life_max_periods`) is a direct
+//!    measurement as it stands and is taken as it is; every other one is run again from its stored state on
 //!    [`DIRECT_CHAINS`](crate::orbits::life::DIRECT_CHAINS) independent chains for
 //!    `[ranking] verify_periods` periods in all (default 1,024,000, at least 10^6;
 //!    [`crate::study::Ranking::verify_periods`]) and its design-life amplitude estimated from them
@@ -132,13 +134,17 @@ pub struct Verified {
     pub motion: Contender,
     /// The design-life amplitude from the direct measurement and its 90 % interval (m), the
     /// periods it rests on, and the largest amplitude seen over them (m); `None` when the
-    /// simulator stopped a chain.
+    /// simulator stopped a chain, and when the motion was not run again.
     pub direct: Option<LifeSummary>,
+    /// The motion was not run again: its estimate already rests on at least the verification's
+    /// periods (the sweep's race grew it that far), so it is a direct measurement as it is.
+    pub as_raced: bool,
 }
 
 impl Verified {
     /// The motion's design amplitude after the verification (m): the direct estimate (at least
-    /// the largest amplitude seen), or the estimate when the direct measurement failed.
+    /// the largest amplitude seen), or the estimate when it was taken as raced or the direct
+    /// measurement failed.
     pub fn value(&self) -> f64 {
         self.direct
             .and_then(|d| d.estimate.map(|e| e.amplitude.max(d.window_max)))
@@ -155,7 +161,7 @@ pub struct CasePeak {
     pub before: f64,
     pub after: f64,
     /// Whether the peak after rests on a periodic orbit or a direct measurement (not on an
-    /// estimate that was not measured again).
+    /// estimate that rests on fewer periods than the verification's).
     pub supported: bool,
     pub verified: Vec<Verified>,
 }
@@ -197,8 +203,29 @@ pub struct LifeQuestion {
     pub periods: u64,
 }
 
+/// A motion's identity across processes: its design, case, and the bits of its frequency ratio
+/// and estimate (m). What a shard's stored direct measurement is found by ([`Measured`]).
+pub type MotionKey = (u64, u32, u64, u64);
+
+impl Contender {
+    /// The motion's [`MotionKey`].
+    pub fn key(&self) -> MotionKey {
+        (
+            self.design,
+            self.case,
+            self.r.to_bits(),
+            self.amplitude.to_bits(),
+        )
+    }
+}
+
+/// Direct measurements an analysis shard made (`reduce --shard`), by motion: the final
+/// reduction takes them instead of running them again (`None`: the measurement failed).
+pub type Measured = std::collections::HashMap<MotionKey, Option<LifeSummary>>;
+
 /// Verifies one case (module doc, step 2): `sys` is the case's system, `settings` the study's
-/// solver, `before` the case's peak as the sweep measured it.
+/// solver, `before` the case's peak as the sweep measured it; a motion `measured` already holds
+/// (an analysis shard's) is taken from it, the others are measured here.
 pub fn verify_case(
     (design, case): (u64, u32),
     top: &CaseTop,
@@ -206,6 +233,7 @@ pub fn verify_case(
     settings: &SolverSettings,
     life: LifeQuestion,
     before: f64,
+    measured: &Measured,
 ) -> CasePeak {
     let mut best = top.periodic;
     let mut verified = Vec::new();
@@ -213,22 +241,23 @@ pub fn verify_case(
         if c.amplitude <= best {
             break;
         }
-        let f = Forcing {
-            sys: *sys,
-            F0: c.f0,
-            omega: c.omega,
-            settings: *settings,
-        };
-        let s = LifeSettings {
-            n_life: life.design_life / f.period(),
-            quantile: life.quantile,
-            tol: 0.0,
-            first: FIRST,
-            cap: life.periods,
+        if c.measured >= life.periods {
+            best = best.max(c.amplitude);
+            verified.push(Verified {
+                motion: *c,
+                direct: None,
+                as_raced: true,
+            });
+            continue;
+        }
+        let direct = match measured.get(&c.key()) {
+            Some(d) => *d,
+            None => measure(c, sys, settings, life),
         };
         let v = Verified {
             motion: *c,
-            direct: measure_directly(&f, &c.section, c.lambda, &s, life.periods),
+            direct,
+            as_raced: false,
         };
         best = best.max(v.value());
         verified.push(v);
@@ -239,7 +268,7 @@ pub fn verify_case(
         .skip(verified.len())
         .map(|c| c.amplitude)
         .fold(top.rest, f64::max);
-    let failed = verified.iter().any(|v| v.direct.is_none());
+    let failed = verified.iter().any(|v| !v.as_raced && v.direct.is_none());
     CasePeak {
         design,
         case,
@@ -252,6 +281,30 @@ pub fn verify_case(
         supported: !failed && unmeasured <= best,
         verified,
     }
+}
+
+/// Motion `c` of a case with system `sys` measured directly over `life.periods` periods
+/// ([`measure_directly`]).
+fn measure(
+    c: &Contender,
+    sys: &System,
+    settings: &SolverSettings,
+    life: LifeQuestion,
+) -> Option<LifeSummary> {
+    let f = Forcing {
+        sys: *sys,
+        F0: c.f0,
+        omega: c.omega,
+        settings: *settings,
+    };
+    let s = LifeSettings {
+        n_life: life.design_life / f.period(),
+        quantile: life.quantile,
+        tol: 0.0,
+        first: FIRST,
+        cap: life.periods,
+    };
+    measure_directly(&f, &c.section, c.lambda, &s, life.periods)
 }
 
 /// The designs that decide the ranking (module doc, step 1): the best-ranked design of `ranks`
@@ -277,15 +330,27 @@ pub fn deciding(ranks: &[(u64, u64)], interval: impl Fn(u64) -> Option<(f64, f64
 pub type CaseToVerify<'a> = ((u64, u32), &'a CaseTop, System, f64);
 
 /// Verifies every case of the deciding designs in parallel; the results in the input's order.
+/// `measured`: what analysis shards measured already.
 pub fn verify_all(
     cases: &[CaseToVerify],
     settings: &SolverSettings,
     life: LifeQuestion,
+    measured: &Measured,
 ) -> Vec<CasePeak> {
     cases
         .par_iter()
-        .map(|(at, top, sys, before)| verify_case(*at, top, sys, settings, life, *before))
+        .map(|(at, top, sys, before)| verify_case(*at, top, sys, settings, life, *before, measured))
         .collect()
+}
+
+/// The cases of `cases` an analysis shard verifies: the `k`-th (in the deterministic order the
+/// reduction lists them) falls to shard `k % count`.
+pub fn share<T>(cases: &[T], index: u64, count: u64) -> impl Iterator<Item = &T> {
+    cases
+        .iter()
+        .enumerate()
+        .filter(move |(k, _)| *k as u64 % count.max(1) == index)
+        .map(|(_, c)| c)
 }
 
 /// The `verification` table (docs/schema.md): one row per motion measured directly, its
@@ -298,7 +363,10 @@ pub fn table(v: &Verification, rank_after: impl Fn(u64) -> Option<u64>) -> Table
         .flat_map(|p| p.verified.iter().map(move |m| (p, m)))
         .collect();
     let direct = |m: &Verified, f: fn(&LifeSummary) -> f64| m.direct.map_or(f64::NAN, |d| f(&d));
-    let estimate = |m: &Verified, f: fn(&LifeEstimate) -> f64| {
+    let estimate = |m: &Verified, f: fn(&LifeEstimate) -> f64, raced: fn(&Contender) -> f64| {
+        if m.as_raced {
+            return raced(&m.motion);
+        }
         m.direct
             .and_then(|d| d.estimate)
             .map_or(f64::NAN, |e| f(&e))
@@ -336,25 +404,43 @@ pub fn table(v: &Verification, rank_after: impl Fn(u64) -> Option<u64>) -> Table
         "direct",
         Column::F64(
             rows.iter()
-                .map(|r| estimate(r.1, |e| e.amplitude))
+                .map(|r| estimate(r.1, |e| e.amplitude, |c| c.amplitude))
                 .collect(),
         ),
     );
     t.push(
         "direct_lo",
-        Column::F64(rows.iter().map(|r| estimate(r.1, |e| e.lo)).collect()),
+        Column::F64(
+            rows.iter()
+                .map(|r| estimate(r.1, |e| e.lo, |c| c.lo))
+                .collect(),
+        ),
     );
     t.push(
         "direct_hi",
-        Column::F64(rows.iter().map(|r| estimate(r.1, |e| e.hi)).collect()),
+        Column::F64(
+            rows.iter()
+                .map(|r| estimate(r.1, |e| e.hi, |c| c.hi))
+                .collect(),
+        ),
     );
     t.push(
         "direct_periods",
         Column::U64(
             rows.iter()
-                .map(|r| r.1.direct.map(|d| d.measured))
+                .map(|r| {
+                    if r.1.as_raced {
+                        Some(r.1.motion.measured)
+                    } else {
+                        r.1.direct.map(|d| d.measured)
+                    }
+                })
                 .collect(),
         ),
+    );
+    t.push(
+        "measured_again",
+        Column::Bool(rows.iter().map(|r| !r.1.as_raced).collect()),
     );
     t.push(
         "largest_seen",
@@ -414,6 +500,17 @@ mod tests {
             hi: a,
             measured: 2000,
         }
+    }
+
+    #[test]
+    fn the_shards_share_the_cases_each_once() {
+        let cases: Vec<u32> = (0..11).collect();
+        let mut all: Vec<u32> = (0..3)
+            .flat_map(|i| share(&cases, i, 3).copied().collect::<Vec<_>>())
+            .collect();
+        all.sort_unstable();
+        assert_eq!(all, cases);
+        assert_eq!(share(&cases, 1, 3).count(), 4);
     }
 
     #[test]

@@ -101,12 +101,28 @@ fn verified(s: &Summary, fs: &ForcedSummary) -> String {
     let mut o = String::new();
     let names: Vec<String> = v.designs.iter().map(|&d| design_text(s, d)).collect();
     let measured: usize = v.peaks.iter().map(|p| p.verified.len()).sum();
+    let raced = v
+        .peaks
+        .iter()
+        .flat_map(|p| &p.verified)
+        .filter(|m| m.as_raced)
+        .count();
     let _ = writeln!(
         o,
-        "\n**The decision verified.** The designs that decide the ranking (the best ranked as the sweep measured it, and every design whose peak interval overlaps its peak) are {}. Every motion that is not periodic and could carry a peak of one of their cases was measured again directly, from its stored state on 16 independent chains for {} periods, and the ranking uses those values ({}; the estimates' periods are the sweep's race).",
+        "\n**The decision verified.** The designs that decide the ranking (the best ranked as the sweep measured it, and every design whose peak interval overlaps its peak) are {}. Every motion that is not periodic and could carry a peak of one of their cases was measured directly, from its stored state on 16 independent chains for {} periods, and the ranking uses those values ({}; the estimates' periods are the sweep's race{}).",
         names.join(", "),
         crate::report::text::thousands(v.periods),
-        crate::report::text::count(measured as u64, "motion", "motions")
+        crate::report::text::count(measured as u64, "motion", "motions"),
+        if raced > 0 {
+            format!(
+                "; {} the race had already measured that long {} taken as {} (\"as raced\")",
+                crate::report::text::count(raced as u64, "motion", "motions"),
+                if raced == 1 { "is" } else { "are" },
+                if raced == 1 { "it is" } else { "they are" }
+            )
+        } else {
+            String::new()
+        }
     );
     if measured > 0 {
         let _ = writeln!(
@@ -127,15 +143,25 @@ fn verified(s: &Summary, fs: &ForcedSummary) -> String {
                     cm(c.lo),
                     cm(c.hi),
                     crate::report::text::thousands(c.measured),
-                    direct.map_or("failed".into(), |(_, e)| format!(
-                        "{} [{} – {}]",
-                        cm(e.amplitude),
-                        cm(e.lo),
-                        cm(e.hi)
-                    )),
-                    direct.map_or("–".into(), |(d, _)| crate::report::text::thousands(
-                        d.measured
-                    )),
+                    if m.as_raced {
+                        format!(
+                            "{} [{} – {}], as raced",
+                            cm(c.amplitude),
+                            cm(c.lo),
+                            cm(c.hi)
+                        )
+                    } else {
+                        direct.map_or("failed".into(), |(_, e)| {
+                            format!("{} [{} – {}]", cm(e.amplitude), cm(e.lo), cm(e.hi))
+                        })
+                    },
+                    if m.as_raced {
+                        crate::report::text::thousands(c.measured)
+                    } else {
+                        direct.map_or("–".into(), |(d, _)| {
+                            crate::report::text::thousands(d.measured)
+                        })
+                    },
                     direct.map_or("–".into(), |(d, _)| cm(d.window_max)),
                     cm(p.before),
                     cm(p.after)
