@@ -224,11 +224,34 @@ fn evaluate(f: &Forcing, s: &Section, scene: &Harmonic, jacobian: bool) -> MapEv
         None,
         &mut rec,
     );
-    let end = [out.end.x, out.end.v, out.end.y - out.end.x, out.end.w];
+    // `m = 0` is the main mass alone: a massless inner mass cannot act on it, so its state is
+    // no part of the motion. The section keeps it at zero (as the sweep's record does): a start
+    // anywhere in the cavity lands on the one steady state of the main mass, not on a family
+    // of copies that differ only where the massless inner mass was left.
+    let alone = sys.m == 0.0;
+    let end = if alone {
+        [out.end.x, out.end.v, 0.0, 0.0]
+    } else {
+        [out.end.x, out.end.v, out.end.y - out.end.x, out.end.w]
+    };
     let end_state = out.end;
     let lin = (jacobian && out.outcome == Outcome::Ok)
         .then(|| linearise(f, &rec.events, out.t_stop, &end_state))
-        .flatten();
+        .flatten()
+        .map(|(mut j, mut d)| {
+            if alone {
+                for (i, row) in j.iter_mut().enumerate() {
+                    for (k, v) in row.iter_mut().enumerate() {
+                        if i >= 2 || k >= 2 {
+                            *v = 0.0;
+                        }
+                    }
+                }
+                d.omega[2..].fill(0.0);
+                d.force[2..].fill(0.0);
+            }
+            (j, d)
+        });
     let (jac, d_param) = match lin {
         Some((j, d)) => (Some(j), Some(d)),
         None => (None, None),

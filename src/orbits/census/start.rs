@@ -179,8 +179,11 @@ pub(super) fn land(
     probe: Option<(ProbeResult, Cloud)>,
 ) -> Settled {
     let x_scale = f.half_gap().max(rec.amplitude);
+    // `m = 0`: the main mass alone, linear, whose one steady state is the non-impacting orbit
+    // wherever the transient has got to (a massless inner mass cannot act on it).
+    let alone = f.sys.m == 0.0;
     if rec.impacts_per_period == 0.0
-        && s[3].abs() <= 1e-12 * f.omega * x_scale
+        && (alone || s[3].abs() <= 1e-12 * f.omega * x_scale)
         && let Some(o) = non_impacting(f, s[0] + s[2])
     {
         // The sweep goes on from where the motion is (the family's section places the inner

@@ -30,7 +30,7 @@ pub fn apply(points: &mut [PointStats], wf1: f64, wf2: f64) -> (f64, f64) {
         p.perfectibility = if known(p) && with_r {
             perfectibility(p.reliability, p.di, r_max, di_max, wf1, wf2)
         } else if known(p) {
-            100.0 * p.di / di_max
+            100.0 * super::stats::of_best(p.di, di_max)
         } else {
             f64::NAN
         };

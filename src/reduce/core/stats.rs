@@ -230,9 +230,16 @@ pub fn anderson_darling(xs: &[f64]) -> (f64, f64) {
     (a, p.clamp(0.0, 1.0))
 }
 
-/// Perfectibility, eq. 11: `P = (WF1 R / R_max + WF2 DI / DI_max) * 100` (%).
+/// Perfectibility, eq. 11: `P = (WF1 R / R_max + WF2 DI / DI_max) * 100` (%). A value equal to
+/// its best counts 1 even when the best is 0 (a study whose designs do not damp at all, such as
+/// the structure without a damper: `0 / 0` would leave its only design unranked).
 pub fn perfectibility(r: f64, di: f64, r_max: f64, di_max: f64, wf1: f64, wf2: f64) -> f64 {
-    (wf1 * r / r_max + wf2 * di / di_max) * 100.0
+    (wf1 * of_best(r, r_max) + wf2 * of_best(di, di_max)) * 100.0
+}
+
+/// `v / best`, 1 when `v` is the best.
+pub fn of_best(v: f64, best: f64) -> f64 {
+    if v == best { 1.0 } else { v / best }
 }
 
 #[cfg(test)]
