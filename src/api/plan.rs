@@ -34,6 +34,12 @@ pub const BYTES_PER_RUN: u64 = 90;
 /// whose runs off the impact band are identical and compress); rounded up to 70.
 pub const BYTES_PER_FORCED_RUN: u64 = 70;
 
+/// Bytes of Parquet per run of a random or record study: eight Float64 observables that change
+/// on every realization (`amplitude t_peak rms_x rms_acc first_passage_time energy_impact
+/// t_stop` and the counts) beside ids and the design's values that compress to a few bytes;
+/// an estimate like the others, not measured on a large study yet.
+pub const BYTES_PER_RANDOM_RUN: u64 = 80;
+
 /// Rough Parquet size of one row of a harmonic study's `attractors` table (bytes): one steady
 /// state that a run's census found, 33 columns of which the section state, amplitudes, exponent
 /// and life statistics are floats that barely compress. Measured: 89.1 bytes per row for
@@ -268,6 +274,7 @@ fn describe_disk(w: &mut String, study: &Study, plan: &Plan, sample: Option<Samp
     let per_run = match study.scene {
         Scene::Free => BYTES_PER_RUN,
         Scene::Harmonic(_) => BYTES_PER_FORCED_RUN,
+        Scene::Random(_) => BYTES_PER_RANDOM_RUN,
     };
     let points = runs.saturating_mul(per_run).saturating_add(parts);
     let what = format!(

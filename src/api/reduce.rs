@@ -140,6 +140,7 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
             let files = write_outputs_with(&study, &summary, dir, audit.as_ref(), Some(&fs))?;
             (summary, files)
         }
+        Scene::Random(_) => anyhow::bail!("todo"),
     };
     let line = format!(
         "reduced {} design points ({} zones, {} jumps, {} Pareto-optimal{})",

@@ -83,6 +83,8 @@ pub enum TableKind {
     Points,
     /// `points/part-NNNNNN.parquet`: one row per run of a harmonic (forced) study.
     ForcedPoints,
+    /// `points/part-NNNNNN.parquet`: one row per realization of a random or record study.
+    RandomPoints,
     /// `summary.parquet`, `summary.csv`: one row per design point.
     Summary,
     /// `zones.parquet`, `zones.csv`: one row per zone.
@@ -111,9 +113,10 @@ pub enum TableKind {
 }
 
 impl TableKind {
-    pub const ALL: [TableKind; 12] = [
+    pub const ALL: [TableKind; 13] = [
         TableKind::Points,
         TableKind::ForcedPoints,
+        TableKind::RandomPoints,
         TableKind::Summary,
         TableKind::Zones,
         TableKind::Jumps,
@@ -131,6 +134,7 @@ impl TableKind {
         match self {
             TableKind::Points => "points",
             TableKind::ForcedPoints => "forced_points",
+            TableKind::RandomPoints => "random_points",
             TableKind::Summary => "summary",
             TableKind::Zones => "zones",
             TableKind::Jumps => "jumps",
@@ -159,8 +163,10 @@ pub const UNIT_OF_SIZE: &str = "[size_unit]";
 /// The unit of `column` in `table`; `None` for a column the contract does not know (the writer
 /// refuses it, so that no column goes undocumented).
 pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
-    if matches!(table, TableKind::Points | TableKind::ForcedPoints)
-        && let Some(key) = system_key(column)
+    if matches!(
+        table,
+        TableKind::Points | TableKind::ForcedPoints | TableKind::RandomPoints
+    ) && let Some(key) = system_key(column)
     {
         return system_unit(key);
     }
@@ -175,6 +181,7 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
     match table {
         TableKind::Points => points_unit(column),
         TableKind::ForcedPoints => forced_points_unit(column),
+        TableKind::RandomPoints => random_points_unit(column),
         TableKind::Summary => summary_unit(column),
         TableKind::Zones => {
             for suffix in ["_from", "_to"] {
@@ -252,6 +259,22 @@ fn forced_points_unit(column: &str) -> Option<&'static str> {
         "worst_kind" => "",
         "worst_lyapunov" => "1/period",
         "worst_window_amplitude" | "worst_life_lo" | "worst_life_hi" => "m",
+        _ => return None,
+    })
+}
+
+/// The random and record scenes' points (store/random.rs).
+fn random_points_unit(column: &str) -> Option<&'static str> {
+    Some(match column {
+        "point_id" | "point" | "case" | "ideal" | "noise_seed" | "solver" | "outcome" => "",
+        "dm" => "kg",
+        "dd" | "amplitude" | "rms_x" => "m",
+        "tol" | "scale" | "zeta_g" | "zeta_f" | "impacts" | "sticks" | "samples" | "steps" => "1",
+        "S0" => "(m/s^2)^2 s/rad or N^2 s/rad",
+        "omega_g" | "omega_f" => "rad/s",
+        "t_peak" | "first_passage_time" | "t_stop" => "s",
+        "rms_acc" => "m/s^2",
+        "energy_impact" => "J",
         _ => return None,
     })
 }
