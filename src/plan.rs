@@ -12,9 +12,12 @@
 //!   holds a whole number of its curves, so chunk `k` holds whole frequency-response curves:
 //!   a design, in the reducer's sense, is a design point without its frequency;
 //! * in a random or record study the cases of a design point are its realizations
-//!   `0..realizations` ([`crate::study::Study::n_cases`]); realization `c` at design point `p`
-//!   draws its load from [`RealizationStream::new`]`(study.seed, p, c)` ([`Plan::load_stream`]),
-//!   so its record is the same bits whatever the thread count, chunk size, shard or resume.
+//!   `0..realizations` ([`crate::study::Study::n_cases`]); realization `c` draws its load's
+//!   normals from [`RealizationStream::new`]`(study.seed, 0, c)` ([`Plan::load_stream`]) at
+//!   every design point: the same realization number is the same white noise at every design
+//!   and intensity (common random numbers: designs are compared on the same loads, and a
+//!   fragility curve's intensities scale the same loads), and a run's record is the same bits
+//!   whatever the thread count, chunk size, shard or resume.
 
 use crate::model::System;
 use crate::sim::Scene;
@@ -130,10 +133,10 @@ impl<'a> Plan<'a> {
         }
     }
 
-    /// The load stream of a run of a random study (module doc); a record draws nothing from
-    /// it.
+    /// The load stream of a run of a random study: its realization's, the same at every design
+    /// point (module doc); a record draws nothing from it.
     pub fn load_stream(&self, run: &RunSpec) -> RealizationStream {
-        RealizationStream::new(self.study.seed, run.point, u64::from(run.case))
+        RealizationStream::new(self.study.seed, 0, u64::from(run.case))
     }
 
     /// A run of a harmonic study as one frequency of its curve

@@ -181,10 +181,17 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         .filter(|c| c.dm != 0.0 || c.dd != 0.0)
         .count();
     let _ = writeln!(w, "design points:  {}", plan.n_points());
-    let _ = writeln!(
-        w,
-        "cases/point:    {n_cases} (1 ideal, {perturbed} perturbed, {noisy} with noise)"
-    );
+    if let Scene::Random(_) = study.scene {
+        let _ = writeln!(
+            w,
+            "cases/point:    {n_cases} realizations (the same loads at every design point)"
+        );
+    } else {
+        let _ = writeln!(
+            w,
+            "cases/point:    {n_cases} (1 ideal, {perturbed} perturbed, {noisy} with noise)"
+        );
+    }
     let _ = writeln!(w, "total runs:     {}", plan.n_runs());
     match &study.noise {
         Some(ns) => {
@@ -201,10 +208,10 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
             let _ = writeln!(w, "noise:          off");
         }
     }
-    if let Scene::Harmonic(h) = &study.scene {
-        describe_harmonic(w, study, h);
-    } else {
-        describe_free(w, study);
+    match &study.scene {
+        Scene::Harmonic(h) => describe_harmonic(w, study, h),
+        Scene::Random(r) => describe_random(w, r),
+        Scene::Free => describe_free(w, study),
     }
     let _ = writeln!(
         w,
@@ -348,6 +355,45 @@ fn describe_free(w: &mut String, study: &Study) {
         None => format!("to the end of positive half-cycle {}", study.request.peaks),
     };
     let _ = writeln!(w, "each run:       {horizon}");
+}
+
+/// The random and record scenes' lines: the load, its sampling and duration, the threshold.
+fn describe_random(w: &mut String, r: &sim::random::RandomScene) {
+    use sim::random::Excitation;
+    let load = match &r.excitation {
+        Excitation::Random(l) => format!(
+            "{} noise, S0 = {} (two-sided, per rad/s){}",
+            l.spectrum.name(),
+            fmt_value(l.S0),
+            if l.envelope.is_some() {
+                ", with an envelope"
+            } else {
+                ""
+            }
+        ),
+        Excitation::Record(rec) => format!(
+            "a record of {} samples, scale {}",
+            rec.values.len(),
+            fmt_value(rec.scale)
+        ),
+    };
+    let _ = writeln!(w, "load:           {} ({load})", r.input.name());
+    let _ = writeln!(
+        w,
+        "each run:       {} s in samples of {} s ({} samples), solver exact",
+        fmt_value(r.duration),
+        fmt_value(r.dt),
+        r.segments()
+    );
+    let _ = writeln!(
+        w,
+        "threshold:      {}",
+        r.threshold
+            .map_or("none (no first passage, no p_f)".to_string(), |b| format!(
+                "|x| > {} m",
+                fmt_value(b)
+            ))
+    );
 }
 
 /// The harmonic scene's lines: the force, the frequency band (fixed or swept) and each run's

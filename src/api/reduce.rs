@@ -140,7 +140,9 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
             let files = write_outputs_with(&study, &summary, dir, audit.as_ref(), Some(&fs))?;
             (summary, files)
         }
-        Scene::Random(_) => anyhow::bail!("todo"),
+        Scene::Random(_) => {
+            crate::api::random::reduce_random(&study, dir, &parts, |o| options_over(o, args))?
+        }
     };
     let line = format!(
         "reduced {} design points ({} zones, {} jumps, {} Pareto-optimal{})",

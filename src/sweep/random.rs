@@ -2,7 +2,8 @@
 //! random or record study, beside [`super::simulate`]'s free-decay and harmonic runs.
 //!
 //! A run is a realization `c` of design point `p` ([`crate::plan`]): its load is drawn as it
-//! runs from [`Plan::load_stream`] (study seed, `p`, `c`), never stored; a record's samples are
+//! runs from [`Plan::load_stream`] (study seed and `c`: the same load at every design point),
+//! never stored; a record's samples are
 //! the study's, shared. A design point's setup ([`RandomRun::new`]: its oscillators, its
 //! propagator over `dt`, its quadratic forms) is prepared once per chunk and shared by its
 //! realizations, which run in parallel on the current rayon pool. Pure: the same plan and chunk
