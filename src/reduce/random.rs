@@ -379,8 +379,13 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
         .iter()
         .map(|d| rs.point(rs.grid_point(d.point, j, &lens)))
         .collect();
-    let f = |g: &dyn Fn(&PointPf) -> f64| Column::F64(pf.iter().map(|p| p.map_or(f64::NAN, g)).collect());
-    t.push("threshold", Column::F64(vec![rs.threshold.unwrap_or(f64::NAN); rows.len()]));
+    let f = |g: &dyn Fn(&PointPf) -> f64| {
+        Column::F64(pf.iter().map(|p| p.map_or(f64::NAN, g)).collect())
+    };
+    t.push(
+        "threshold",
+        Column::F64(vec![rs.threshold.unwrap_or(f64::NAN); rows.len()]),
+    );
     t.push("p_f", f(&|p| p.p_f));
     t.push("p_f_lo", f(&|p| p.p_f_lo));
     t.push("p_f_hi", f(&|p| p.p_f_hi));

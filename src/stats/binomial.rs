@@ -70,7 +70,10 @@ mod tests {
     fn five_of_ten_is_the_textbook_interval() {
         // Clopper–Pearson 95 % for 5/10: (0.1871, 0.8129) (e.g. R's binom.test).
         let p = clopper_pearson(5, 10, 0.95);
-        assert!((p.lo - 0.187_086).abs() < 1e-5 && (p.hi - 0.812_914).abs() < 1e-5, "{p:?}");
+        assert!(
+            (p.lo - 0.187_086).abs() < 1e-5 && (p.hi - 0.812_914).abs() < 1e-5,
+            "{p:?}"
+        );
     }
 
     #[test]

@@ -48,7 +48,7 @@ pub use axis::Axis;
 pub use perturb::Case;
 pub use random::{DEFAULT_DT, DEFAULT_REALIZATIONS};
 pub use ranking::{DiSource, Ranking, VERIFY_PERIODS};
-pub use record::EVEN_TOL;
+pub use record::{EVEN_TOL, RECORD_COPY};
 pub use reliability::{Reliability, SafetyForm};
 pub use run::{DEFAULT_CHUNK_RUNS, RunSettings, whole_curves};
 pub use scene::frequency_axis;
@@ -213,6 +213,26 @@ impl Study {
             Scene::Harmonic(_) => frequency_axis(&self.axes).map(|i| &self.axes[i]),
             Scene::Free | Scene::Random(_) => None,
         }
+    }
+
+    /// The file a record study's record is read from (`[scene] record` relative to the study
+    /// file, or the run directory's copy [`RECORD_COPY`]); `None` for any other study.
+    pub fn record_path(&self) -> Option<PathBuf> {
+        let Scene::Random(r) = &self.scene else {
+            return None;
+        };
+        if r.draws_normals() {
+            return None;
+        }
+        let doc: toml::Table = self.source.parse().ok()?;
+        let shown = doc.get("scene")?.get("record")?.as_str()?;
+        let dir = self.path.parent().unwrap_or(Path::new("."));
+        let path = dir.join(shown);
+        Some(if path.exists() {
+            path
+        } else {
+            dir.join(RECORD_COPY)
+        })
     }
 
     /// Design points per frequency-response curve: the length of the frequency axis of a

@@ -14,7 +14,11 @@ use crate::report::text::{count, fmt_num, thousands};
 pub fn scene_text(s: &Summary, rs: &RandomSummary) -> SceneText {
     let per = count(
         rs.realizations,
-        if rs.record { "record run" } else { "realization" },
+        if rs.record {
+            "record run"
+        } else {
+            "realization"
+        },
         if rs.record {
             "record runs"
         } else {
@@ -33,6 +37,15 @@ pub fn scene_text(s: &Summary, rs: &RandomSummary) -> SceneText {
             None => format!("{per} per design"),
         }),
         window_peaks: false,
+    }
+}
+
+/// A number at label precision, `–` when unknown.
+fn num(v: f64) -> String {
+    if v.is_finite() {
+        fmt_num(v)
+    } else {
+        "–".into()
     }
 }
 
@@ -78,15 +91,11 @@ pub fn section(s: &Summary, rs: &RandomSummary) -> String {
          unless the study gives a strength); two designs whose intervals overlap are not told \
          apart by this many runs.\n",
         cm(b),
-        count(
-            rs.realizations,
-            "realization",
-            if rs.record {
-                "record runs"
-            } else {
-                "realizations"
-            }
-        ),
+        if rs.record {
+            count(rs.realizations, "record run", "record runs")
+        } else {
+            count(rs.realizations, "realization", "realizations")
+        },
     );
     let _ = writeln!(
         o,
@@ -162,11 +171,16 @@ fn fragility(s: &Summary, rs: &RandomSummary, designs: &[&PointStats], lens: &[u
             (
                 format!(
                     "{} [{}, {}]",
-                    fmt_num(x.theta),
-                    fmt_num(x.theta_lo),
-                    fmt_num(x.theta_hi)
+                    num(x.theta),
+                    num(x.theta_lo),
+                    num(x.theta_hi)
                 ),
-                format!("{} [{}, {}]", f(x.beta, 3), f(x.beta_lo, 3), f(x.beta_hi, 3)),
+                format!(
+                    "{} [{}, {}]",
+                    f(x.beta, 3),
+                    f(x.beta_lo, 3),
+                    f(x.beta_hi, 3)
+                ),
                 outcome_name(x.outcome),
             )
         });

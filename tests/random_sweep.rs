@@ -1,0 +1,275 @@
+//! Issue 44, the random and record scenes in the sweep: a random study runs end to end through
+//! the binary (run → reduce → status), its dataset is the same bits on 1 or 2 threads and
+//! after an interrupted run is resumed, a record study with a swept scale gets its fragility
+//! columns, and `p_f` is the share of stored realizations whose amplitude passed the threshold
+//! with its exact interval. Tiny studies (a few dozen realizations of a few seconds): the whole
+//! file runs in a few seconds.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use impactsweep::sim::random::RealizationRecord;
+use impactsweep::store::{self, RunRow};
+use impactsweep::study::Study;
+use impactsweep::sweep::{self, SweepOptions};
+use predicates::prelude::*;
+
+fn bin() -> Command {
+    Command::cargo_bin("impactsweep").unwrap()
+}
+
+/// A structure in a Kanai–Tajimi ground motion's band (omega_n = 5 pi rad/s, 2 % damping),
+/// with and without a damper and two clearances: 4 design points × `n` realizations of 2 s.
+fn random_study(dir: &Path, name: &str, n: u64) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(
+        &path,
+        format!(
+            "[study]\nname = \"{name}\"\nseed = 44\n[system]\nM = 1.0\nK = 246.7\nC = 0.628\n\
+             e = 0.6\n[scene]\nkind = \"random\"\nspectrum = \"kanai-tajimi\"\nomega_g = 15.708\n\
+             zeta_g = 0.6\nS0 = 0.004\nduration = 2\nthreshold = 0.012\nrealizations = {n}\n\
+             [sweep]\nm = [0.0, 0.05]\nd = [0.01, 0.03]\n"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+/// Every stored row of a run directory, in chunk order.
+fn rows(dir: &Path) -> Vec<RunRow<RealizationRecord>> {
+    store::part_files(dir)
+        .unwrap()
+        .iter()
+        .flat_map(|p| store::read_rows::<RealizationRecord>(p).unwrap())
+        .collect()
+}
+
+/// The part files of a run directory, by name, as bytes.
+fn parts(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    common::dataset(dir)
+        .into_iter()
+        .filter(|(n, _)| n.ends_with(".parquet"))
+        .collect()
+}
+
+/// A CSV column by name, one string per row.
+fn column(path: &Path, name: &str) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = common::csv_cells(lines.next().unwrap());
+    let i = header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("{name} not in {header:?}"));
+    lines.map(|l| common::csv_cells(l)[i].clone()).collect()
+}
+
+#[test]
+fn issue_44_a_random_study_runs_reduces_and_reports_through_the_binary() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = random_study(tmp.path(), "quake", 24);
+    let out = tmp.path().join("out");
+    let dir = common::run_study_file(&study, &out, "quake");
+    bin()
+        .arg("status")
+        .arg(&dir)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("runs 96/96 done"))
+        .stdout(predicate::str::contains("complete"));
+    // The points table: one row per realization, the issue's columns, the load's values.
+    let part = store::part_path(&dir, 0);
+    let meta = store::part_metadata(&part).unwrap();
+    assert_eq!(meta[store::META_TABLE], "random_points");
+    let rows = rows(&dir);
+    assert_eq!(rows.len(), 96);
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(r.point_id, i as u64);
+        assert_eq!((r.point, u64::from(r.case)), (i as u64 / 24, i as u64 % 24));
+        assert_eq!(r.noise_seed, Some(u64::from(r.case)));
+        let rec = &r.record.record;
+        assert_eq!(rec.outcome, impactsweep::sim::Outcome::Ok);
+        assert!(rec.amplitude > 0.0 && rec.rms_x > 0.0 && rec.rms_x < rec.amplitude);
+        assert!(rec.rms_acc > 0.0 && rec.t_peak <= 2.0);
+        // The first passage is stored exactly when the amplitude passed the threshold.
+        assert_eq!(rec.first_passage_time.is_some(), rec.amplitude > 0.012);
+        assert_eq!(r.record.load[0], Some(0.004)); // S0
+        assert_eq!(r.record.load[5], None); // a random load has no scale
+        if r.system.m == 0.0 {
+            assert_eq!(rec.impacts, 0);
+        }
+    }
+    // The same realization is the same load at every design: without a damper the clearance
+    // changes nothing, bit for bit.
+    for c in 0..24 {
+        assert_eq!(rows[c].record.record, rows[24 + c].record.record);
+    }
+    bin().arg("reduce").arg(&dir).assert().success();
+    // p_f is the share of realizations that passed, with its Clopper–Pearson interval.
+    let summary = dir.join("summary.csv");
+    let pf = column(&summary, "p_f");
+    let (lo, hi) = (column(&summary, "p_f_lo"), column(&summary, "p_f_hi"));
+    let exceed = column(&summary, "n_exceed");
+    let points = column(&summary, "point");
+    assert_eq!(points.len(), 4);
+    let mut any_between = false;
+    for (i, p) in points.iter().enumerate() {
+        let p: u64 = p.parse().unwrap();
+        let k = rows
+            .iter()
+            .filter(|r| r.point == p && r.record.record.amplitude > 0.012)
+            .count();
+        assert_eq!(exceed[i], k.to_string());
+        let want = impactsweep::stats::binomial::clopper_pearson(k as u64, 24, 0.95);
+        let got: f64 = pf[i].parse().unwrap();
+        assert_eq!(got, k as f64 / 24.0);
+        assert!((lo[i].parse::<f64>().unwrap() - want.lo).abs() < 1e-12);
+        assert!((hi[i].parse::<f64>().unwrap() - want.hi).abs() < 1e-12);
+        any_between |= k > 0 && k < 24;
+    }
+    assert!(
+        any_between,
+        "a test of p_f needs a design with 0 < p_f < 1: {pf:?}"
+    );
+    // Ranked by p_f: rank 1 has the lowest.
+    let ranks = column(&summary, "rank");
+    let best = ranks.iter().position(|r| r == "1").unwrap();
+    let lowest = pf
+        .iter()
+        .map(|v| v.parse::<f64>().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(pf[best].parse::<f64>().unwrap(), lowest);
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(
+        report.contains("## First-passage reliability")
+            && report.contains("24 realizations per design")
+            && report.contains("Clopper–Pearson"),
+        "{report}"
+    );
+    assert!(dir.join("report.html").exists());
+}
+
+#[test]
+fn issue_44_threads_and_resume_give_the_same_bits() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = random_study(tmp.path(), "det", 12);
+    let run = |out: &str, threads: &str, extra: &[&str]| -> PathBuf {
+        let out = tmp.path().join(out);
+        bin()
+            .arg("run")
+            .arg(&study)
+            .args([
+                "--out",
+                out.to_str().unwrap(),
+                "--quiet",
+                "--threads",
+                threads,
+            ])
+            .args(extra)
+            .assert()
+            .success();
+        out.join("det")
+    };
+    let one = run("one", "1", &["--chunk-points", "1"]);
+    let two = run("two", "2", &["--chunk-points", "1"]);
+    assert_eq!(parts(&one).len(), 4);
+    assert!(
+        common::dataset(&one) == common::dataset(&two),
+        "the datasets differ"
+    );
+    // An interrupted run (one chunk of four written), resumed on two threads.
+    let s = Study::load(&study).unwrap();
+    let resumed = tmp.path().join("resumed");
+    let first = sweep::run_study(
+        &s,
+        &resumed,
+        &SweepOptions {
+            threads: Some(1),
+            chunk_points: Some(1),
+            stop_after: Some(1),
+            ..SweepOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!((first.chunks_written, first.chunks_left), (1, 3));
+    bin()
+        .arg("run")
+        .arg(&study)
+        .args(["--out", resumed.to_str().unwrap(), "--quiet", "--resume"])
+        .args(["--threads", "2"])
+        .assert()
+        .success();
+    assert!(
+        parts(&resumed.join("det")) == parts(&one),
+        "the resumed parts differ"
+    );
+    // Another chunk size cuts other part files, of the same rows.
+    let whole = run("whole", "2", &[]);
+    assert_eq!(parts(&whole).len(), 1);
+    assert_eq!(rows(&whole), rows(&one));
+}
+
+#[test]
+fn issue_44_a_record_study_with_a_swept_scale_gets_its_fragility() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A 3-s accelerogram: a 2.5 Hz burst under a rise and a decay, at 0.01 s.
+    let mut csv = String::from("t,a\n");
+    for k in 0..=300 {
+        let t = k as f64 * 0.01;
+        let a = (t * std::f64::consts::TAU * 2.5).sin()
+            * (t / 0.5).min(1.0)
+            * (-(t - 1.5).max(0.0)).exp();
+        csv.push_str(&format!("{},{a}\n", k as f64 / 100.0));
+    }
+    std::fs::write(tmp.path().join("quake.csv"), csv).unwrap();
+    let study = tmp.path().join("rec.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"rec\"\n[system]\nM = 1.0\nK = 246.7\nC = 0.628\ne = 0.6\n\
+         [scene]\nkind = \"record\"\nrecord = \"quake.csv\"\nduration = 4\nthreshold = 0.1\n\
+         [sweep]\nm = [0.0, 0.05]\nscale = [0.25, 0.5, 1, 2, 4, 8]\n",
+    )
+    .unwrap();
+    let dir = common::run_study_file(&study, &tmp.path().join("out"), "rec");
+    let rows = rows(&dir);
+    assert_eq!(rows.len(), 12);
+    for r in &rows {
+        assert_eq!(r.noise_seed, None); // a record draws no normals
+        assert!(r.record.load[5].is_some() && r.record.load[0].is_none());
+        assert_eq!(r.record.record.samples, 400);
+    }
+    // The structure alone is linear: its amplitude grows in proportion to the scale.
+    let bare: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.system.m == 0.0)
+        .map(|r| r.record.record.amplitude / r.record.load[5].unwrap())
+        .collect();
+    for a in &bare {
+        assert!((a / bare[0] - 1.0).abs() < 1e-9, "{bare:?}");
+    }
+    // The run directory keeps the record beside its study.toml: its own study loads from
+    // there (reduce and status read it), wherever the record was.
+    assert!(dir.join("record.csv").exists());
+    std::fs::remove_file(tmp.path().join("quake.csv")).unwrap();
+    bin().arg("status").arg(&dir).assert().success();
+    bin().arg("reduce").arg(&dir).assert().success();
+    let summary = dir.join("summary.csv");
+    // Two designs (the scale is the intensity), ranked at the design scale 1 (the lower
+    // middle of six values), each with its fragility fit.
+    assert_eq!(column(&summary, "point").len(), 2);
+    assert_eq!(column(&summary, "intensity"), ["scale", "scale"]);
+    assert_eq!(column(&summary, "intensity_design"), ["1", "1"]);
+    let outcomes = column(&summary, "fragility_outcome");
+    // One record per scale: every design's exceedances are separated in scale (all safe
+    // below some scale, all passed above it), so the fit says so instead of a number.
+    assert_eq!(outcomes, ["separated", "separated"]);
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(report.contains("### Fragility over scale"), "{report}");
+    assert!(
+        report.contains("1 record run per design")
+            || report.contains("6 intensities × 1 record run"),
+        "{report}"
+    );
+}
