@@ -8,7 +8,7 @@
 //! their keys in the same table; [`super::random`] validates them into a
 //! [`crate::sim::random::RandomScene`] for [`super::RandomStudy`], which
 //! [`Study::load`](super::Study::load) turns into a study of
-//! [`Scene::Random`](crate::sim::Scene::Random); [`scene`] validates the free and harmonic
+//! [`Scene::Random`]; [`scene`] validates the free and harmonic
 //! scenes only.
 //!
 //! Resonance without damping is refused for every run of the plan (each design point, each
