@@ -357,14 +357,15 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "peak_impacts_per_period"
         | "peak_basin_share" => "1",
         "peak_periodic" => "",
-        // A random or record study (reduce/random.rs): the amplitude per realization is the
+        // A random or record study (reduce/random/): the amplitude per realization is the
         // response, the share of realizations within the threshold the damping quantity.
         "amplitude_mean" | "amplitude_sd" | "amplitude_min" | "amplitude_q1"
         | "amplitude_median" | "amplitude_q3" | "amplitude_max" | "amplitude_ideal"
         | "rms_x_mean" | "threshold" => "m",
         "p_s" | "p_s_ideal" | "p_s_sd" | "p_f" | "p_f_lo" | "p_f_hi" | "beta" | "n_exceed"
-        | "fragility_beta" | "fragility_beta_lo" | "fragility_beta_hi" => "1",
-        "intensity" | "fragility_outcome" => "",
+        | "p_f_cov" | "p_f_cov_upper" | "subset_runs" | "fragility_beta" | "fragility_beta_lo"
+        | "fragility_beta_hi" => "1",
+        "intensity" | "fragility_outcome" | "p_f_method" => "",
         "intensity_design" | "fragility_theta" | "fragility_theta_lo" | "fragility_theta_hi" => {
             UNIT_OF_INTENSITY
         }

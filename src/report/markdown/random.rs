@@ -5,7 +5,7 @@
 
 use std::fmt::Write;
 
-use crate::reduce::random::{RandomSummary, outcome_name};
+use crate::reduce::random::{RandomSummary, beta_of, outcome_name};
 use crate::reduce::{PointStats, Summary};
 use crate::report::markdown::{MAX_ROWS, SceneText, cm, design_text, f, ranked};
 use crate::report::text::{count, fmt_num, thousands};
@@ -89,12 +89,20 @@ pub fn section(s: &Summary, rs: &RandomSummary) -> String {
          design's {}: the share that passed, with its exact (Clopper–Pearson) 95 % interval; \
          `beta` = −Φ⁻¹(p_f). Rank 1 has the lowest `p_f` (the ranking is by `p_s = 1 − p_f` \
          unless the study gives a strength); two designs whose intervals overlap are not told \
-         apart by this many runs.\n",
+         apart by this many runs.{}\n",
         cm(b),
         if rs.record {
             count(rs.realizations, "record run", "record runs")
         } else {
             count(rs.realizations, "realization", "realizations")
+        },
+        if rs.subset.is_empty() {
+            ""
+        } else {
+            " Where fewer than 10 realizations passed, `p_f` is subset simulation's (Au and Beck \
+             2001, over the realization's white-noise samples; its interval from its coefficient \
+             of variation with the levels fully correlated); the ranking stays on the Monte \
+             Carlo counts."
         },
     );
     let _ = writeln!(
@@ -108,13 +116,24 @@ pub fn section(s: &Summary, rs: &RandomSummary) -> String {
         let Some(p) = rs.point(rs.grid_point(d.point, j, &lens)) else {
             continue;
         };
+        let (pf, beta) = match rs.subset_of(d.point) {
+            Some(x) => (
+                format!(
+                    "{} (subset simulation, CoV {})",
+                    pf_text(x.p_f, x.lo, x.hi),
+                    f(x.cov, 2)
+                ),
+                beta_of(x.p_f),
+            ),
+            None => (pf_text(p.p_f, p.p_f_lo, p.p_f_hi), p.beta),
+        };
         let _ = writeln!(
             o,
             "| {} | {} | {} | {} | {} of {} | {} | {} |",
             d.rank.map_or("–".into(), |r| r.to_string()),
             design_text(s, d.point),
-            pf_text(p.p_f, p.p_f_lo, p.p_f_hi),
-            f(p.beta, 3),
+            pf,
+            f(beta, 3),
             thousands(p.exceed),
             thousands(p.n),
             cm(d.response.mean),

@@ -32,6 +32,15 @@
 //! Without a strength the ranking is by `p_s`, i.e. by `p_f` (rank 1 the lowest), ties to the
 //! lower design index. A random load has no ideal case: the jumps between grid designs are
 //! found, not located between them ([`NoIdeal`]).
+//!
+//! # Small p_f
+//! With `reduce --subset N`, a design (at the design intensity) whose realizations passed the
+//! threshold fewer than [`subset::SUBSET_BELOW`] times gets `p_f` by subset simulation
+//! ([`subset`]): its `p_f`, interval and `beta` are then subset simulation's
+//! (`p_f_method = subset`, `p_f_cov` its coefficient of variation); `n_exceed` stays the Monte
+//! Carlo count, and the ranking stays on the Monte Carlo `p_s`.
+
+pub mod subset;
 
 use rayon::prelude::*;
 
@@ -45,6 +54,7 @@ use crate::stats::fragility::{self, Counts, FitOutcome, Fragility};
 use crate::store::RunRow;
 use crate::store::table::{Column, Table};
 use crate::study::{DiSource, Study};
+use subset::{SUBSET_BELOW, SubsetPf, subset_pf};
 
 /// The random scene's response: the largest `|x|` of a realization over the duration.
 pub const AMPLITUDE: Response = Response {
@@ -166,11 +176,7 @@ impl PointPf {
             p_f: ci.p,
             p_f_lo: ci.lo,
             p_f_hi: ci.hi,
-            beta: if ci.p.is_nan() {
-                f64::NAN
-            } else {
-                -crate::reduce::core::stats::phi_inv(ci.p)
-            },
+            beta: beta_of(ci.p),
             rms_x_mean,
         }
     }
@@ -190,6 +196,8 @@ pub struct RandomSummary {
     /// Per design (the core's points, in design order): its fragility fit, when the study
     /// sweeps an intensity.
     pub fragility: Vec<(u64, Fragility)>,
+    /// Per design that got one (in design order): subset simulation's `p_f` ([`subset`]).
+    pub subset: Vec<(u64, SubsetPf)>,
 }
 
 impl RandomSummary {
@@ -222,6 +230,14 @@ impl RandomSummary {
             .binary_search_by_key(&point, |p| p.point)
             .ok()
             .map(|i| &self.points[i])
+    }
+
+    /// Subset simulation's estimate for design `design`, if it got one.
+    pub fn subset_of(&self, design: u64) -> Option<&SubsetPf> {
+        self.subset
+            .binary_search_by_key(&design, |f| f.0)
+            .ok()
+            .map(|i| &self.subset[i].1)
     }
 
     /// The fragility fit of design `design`, if any.
@@ -304,8 +320,10 @@ impl<'a> RandomReducer<'a> {
         self.core.push(runs);
     }
 
-    /// The core's summary over the designs, and the scene's own.
-    pub fn finish(mut self) -> (Summary, RandomSummary) {
+    /// The core's summary over the designs, and the scene's own; with `subset = Some(n)`
+    /// subset simulation of `n` samples per level for the designs with few exceedances
+    /// ([`subset`]).
+    pub fn finish(mut self, subset: Option<usize>) -> (Summary, RandomSummary) {
         self.points.sort_by_key(|p| p.point);
         self.points.dedup_by_key(|p| p.point);
         let summary = self.core.finish_with(&NoIdeal);
@@ -320,7 +338,20 @@ impl<'a> RandomReducer<'a> {
             intensity: self.intensity,
             points: self.points,
             fragility: Vec::new(),
+            subset: Vec::new(),
         };
+        if let (Some(n), Some(b)) = (subset, rs.threshold) {
+            let lens = lens(&summary.grid);
+            let j = rs.intensity.as_ref().map_or(0, |i| i.design);
+            for d in &summary.points {
+                let g = rs.grid_point(d.point, j, &lens);
+                if rs.point(g).is_some_and(|p| p.exceed < SUBSET_BELOW)
+                    && let Some(s) = subset_pf(self.study, g, b, n)
+                {
+                    rs.subset.push((d.point, s));
+                }
+            }
+        }
         if let (Some(i), Some(_)) = (&rs.intensity, rs.threshold) {
             let design_axes = lens(&summary.grid);
             let fits: Vec<(u64, Fragility)> = summary
@@ -383,6 +414,19 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
         .iter()
         .map(|d| rs.point(rs.grid_point(d.point, j, &lens)))
         .collect();
+    let ss: Vec<Option<&SubsetPf>> = rows.iter().map(|d| rs.subset_of(d.point)).collect();
+    // A column of the Monte Carlo estimate, or subset simulation's where the design got one.
+    let either = |mc: &dyn Fn(&PointPf) -> f64, sub: &dyn Fn(&SubsetPf) -> f64| {
+        Column::F64(
+            pf.iter()
+                .zip(&ss)
+                .map(|(p, s)| match s {
+                    Some(s) => sub(s),
+                    None => p.map_or(f64::NAN, mc),
+                })
+                .collect(),
+        )
+    };
     let f = |g: &dyn Fn(&PointPf) -> f64| {
         Column::F64(pf.iter().map(|p| p.map_or(f64::NAN, g)).collect())
     };
@@ -390,10 +434,27 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
         "threshold",
         Column::F64(vec![rs.threshold.unwrap_or(f64::NAN); rows.len()]),
     );
-    t.push("p_f", f(&|p| p.p_f));
-    t.push("p_f_lo", f(&|p| p.p_f_lo));
-    t.push("p_f_hi", f(&|p| p.p_f_hi));
-    t.push("beta", f(&|p| p.beta));
+    t.push("p_f", either(&|p| p.p_f, &|s| s.p_f));
+    t.push("p_f_lo", either(&|p| p.p_f_lo, &|s| s.lo));
+    t.push("p_f_hi", either(&|p| p.p_f_hi, &|s| s.hi));
+    t.push("beta", either(&|p| p.beta, &|s| beta_of(s.p_f)));
+    t.push(
+        "p_f_method",
+        Column::Str(
+            ss.iter()
+                .map(|s| if s.is_some() { "subset" } else { "monte_carlo" }.to_string())
+                .collect(),
+        ),
+    );
+    t.push("p_f_cov", either(&|p| mc_cov(p.p_f, p.n), &|s| s.cov));
+    t.push(
+        "p_f_cov_upper",
+        either(&|p| mc_cov(p.p_f, p.n), &|s| s.cov_upper),
+    );
+    t.push(
+        "subset_runs",
+        Column::U64(ss.iter().map(|s| s.map(|s| s.runs)).collect()),
+    );
     t.push(
         "n_exceed",
         Column::U64(pf.iter().map(|p| p.map(|p| p.exceed)).collect()),
@@ -425,6 +486,20 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
                 .collect(),
         ),
     );
+}
+
+/// The reliability index `-Phi^-1(p)` (NaN for a NaN `p`).
+pub fn beta_of(p: f64) -> f64 {
+    if p.is_nan() {
+        f64::NAN
+    } else {
+        -crate::reduce::core::stats::phi_inv(p)
+    }
+}
+
+/// Monte Carlo's coefficient of variation of `p` from `n` runs, `sqrt((1 - p) / (n p))`.
+fn mc_cov(p: f64, n: u64) -> f64 {
+    ((1.0 - p) / (n as f64 * p)).sqrt()
 }
 
 /// The length of each axis of a grid.
@@ -483,6 +558,7 @@ mod tests {
             intensity: intensity(&s),
             points: Vec::new(),
             fragility: Vec::new(),
+            subset: Vec::new(),
         };
         let mut seen = Vec::new();
         for p in 0..12 {
