@@ -267,6 +267,13 @@ fn issue_44_a_record_study_with_a_swept_scale_gets_its_fragility() {
     assert_eq!(outcomes, ["separated", "separated"]);
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(report.contains("### Fragility over scale"), "{report}");
+    // The fragility chart and its data: both designs at the six scales (the one without
+    // damper is drawn dashed beside the ranked one).
+    assert!(dir.join("fragility.png").exists() && dir.join("fragility.svg").exists());
+    let data = std::fs::read_to_string(dir.join("fragility.csv")).unwrap();
+    assert_eq!(data.lines().next(), Some("point,intensity,p_f,p_f_fitted"));
+    assert_eq!(data.lines().count(), 1 + 12);
+    assert!(report.contains("fragility.svg"), "{report}");
     assert!(
         report.contains("1 record run per design")
             || report.contains("6 intensities × 1 record run"),

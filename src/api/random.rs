@@ -69,7 +69,8 @@ fn write_outputs(
     ] {
         files.extend(store::summary::write_table(dir, kind, &t)?);
     }
-    let chart_files = charts::summary_charts(summary, dir)?;
+    let mut chart_files = charts::random::charts(summary, rs, dir)?;
+    chart_files.extend(charts::summary_charts(summary, dir)?);
     let names: Vec<String> = chart_files
         .iter()
         .filter_map(|f| f.file_name().and_then(|n| n.to_str()).map(String::from))
