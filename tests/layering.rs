@@ -529,7 +529,7 @@ fn issue_45_no_scene_imports_another() {
     let sources = sources();
     for (layer, scenes) in [
         ("reduce", &["free", "forced", "random"][..]),
-        ("report::charts", &["free", "forced"][..]),
+        ("report::charts", &["free", "forced", "random"][..]),
         ("report::markdown", &["forced", "random"][..]),
     ] {
         for scene in scenes {
@@ -571,6 +571,7 @@ fn issue_45_the_reports_core_knows_no_scene() {
             &[
                 "report::charts::free",
                 "report::charts::forced",
+                "report::charts::random",
                 "report::markdown::forced",
                 "report::markdown::random",
                 "reduce::free",
