@@ -1,6 +1,6 @@
 //! Issue 44, the random and record scenes in the sweep: a random study runs end to end through
-//! the binary (run → reduce → status), its dataset is the same bits on 1 or 2 threads and
-//! after an interrupted run is resumed, a record study with a swept scale gets its fragility
+//! the binary (run → reduce → status), its dataset is the same bits on 1 or 2 threads, in two
+//! shards and after an interrupted run is resumed, a record study with a swept scale gets its fragility
 //! columns, and `p_f` is the share of stored realizations whose amplitude passed the threshold
 //! with its exact interval. Tiny studies (a few dozen realizations of a few seconds): the whole
 //! file runs in a few seconds.
@@ -152,7 +152,7 @@ fn issue_44_a_random_study_runs_reduces_and_reports_through_the_binary() {
 }
 
 #[test]
-fn issue_44_threads_and_resume_give_the_same_bits() {
+fn issue_44_threads_shards_and_resume_give_the_same_bits() {
     let tmp = tempfile::tempdir().unwrap();
     let study = random_study(tmp.path(), "det", 12);
     let run = |out: &str, threads: &str, extra: &[&str]| -> PathBuf {
@@ -204,6 +204,14 @@ fn issue_44_threads_and_resume_give_the_same_bits() {
     assert!(
         parts(&resumed.join("det")) == parts(&one),
         "the resumed parts differ"
+    );
+    // Two shards into one directory.
+    for shard in ["0/2", "1/2"] {
+        run("sharded", "1", &["--chunk-points", "1", "--shard", shard]);
+    }
+    assert!(
+        parts(&tmp.path().join("sharded").join("det")) == parts(&one),
+        "the sharded parts differ"
     );
     // Another chunk size cuts other part files, of the same rows.
     let whole = run("whole", "2", &[]);
