@@ -177,6 +177,22 @@ pub struct ReduceCmd {
     /// lines), `all` (every line: the cost grows with the number of designs) or `none`.
     #[arg(long, value_name = "LINES", default_value = "recommended", value_parser = parse_curve_lines)]
     pub bifurcation_curves: CurveLines,
+    /// A random study: subset simulation with N samples per level (a multiple of 10, at least
+    /// 100; 1000 is Au and Beck's) for each design whose realizations passed the threshold
+    /// fewer than 10 times; about N runs per decade of p_f per such design.
+    #[arg(long, value_name = "N", value_parser = parse_subset)]
+    pub subset: Option<u64>,
+}
+
+/// Parses `--subset N`: a multiple of 10, at least 100 (subset simulation's chains of 10 need
+/// 10 seeds at least), at most 10^6.
+fn parse_subset(s: &str) -> Result<u64, String> {
+    match s.parse::<u64>() {
+        Ok(n) if (100..=1_000_000).contains(&n) && n.is_multiple_of(10) => Ok(n),
+        _ => Err(format!(
+            "'{s}': expected a whole number of samples per level, a multiple of 10 in [100, 1000000]"
+        )),
+    }
 }
 
 /// Parses `recommended`, `all` or `none`.
@@ -339,6 +355,7 @@ pub fn main() -> anyhow::Result<()> {
             bootstrap: c.bootstrap.map(|b| b as usize),
             shard: c.shard,
             bifurcation_curves: c.bifurcation_curves,
+            subset: c.subset.map(|n| n as usize),
         }),
         Command::Plot(PlotCmd::Waveform(c)) => app::reduce::waveform(&app::reduce::WaveformArgs {
             sets: c.sets,

@@ -10,15 +10,23 @@
 //!   a noise seed at one design point share their noise (as the paper's Table II rows do);
 //! * in a harmonic study the frequency axis is the last (the study moves it there) and a chunk
 //!   holds a whole number of its curves, so chunk `k` holds whole frequency-response curves:
-//!   a design, in the reducer's sense, is a design point without its frequency.
+//!   a design, in the reducer's sense, is a design point without its frequency;
+//! * in a random or record study the cases of a design point are its realizations
+//!   `0..realizations` ([`crate::study::Study::n_cases`]); realization `c` draws its load's
+//!   normals from [`RealizationStream::new`]`(study.seed, 0, c)` ([`Plan::load_stream`]) at
+//!   every design point: the same realization number is the same white noise at every design
+//!   and intensity (common random numbers: designs are compared on the same loads, and a
+//!   fragility curve's intensities scale the same loads), and a run's record is the same bits
+//!   whatever the thread count, chunk size, shard or resume.
 
 use crate::model::System;
 use crate::sim::Scene;
 use crate::sim::noise::NoiseStream;
+use crate::sim::random::RealizationStream;
 use crate::study::{Case, Study};
 
 /// One run to simulate.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RunSpec {
     /// `point * n_cases + case`.
     pub point_id: u64,
@@ -28,9 +36,11 @@ pub struct RunSpec {
     pub case: u32,
     /// The system of this run: the design point's axis values over the base, then `dm`, `dd`.
     pub system: System,
-    /// The scene of this run: the study's, with the design point's `F0`, `omega` or `r`.
+    /// The scene of this run: the study's, with the design point's `F0`, `omega` or `r` (a
+    /// random study's: its `S0`, filter keys or `scale`).
     pub scene: Scene,
-    /// The case (`dm`, `dd`, `noise_seed`, `ideal`).
+    /// The case (`dm`, `dd`, `noise_seed`, `ideal`); in a random study realization `c` is the
+    /// case `dm = dd = 0`, not ideal, `noise_seed = c` for a random load (none for a record).
     pub spec: Case,
 }
 
@@ -50,7 +60,7 @@ impl<'a> Plan<'a> {
     }
 
     pub fn n_cases(&self) -> u64 {
-        self.study.cases.len() as u64
+        self.study.n_cases()
     }
 
     pub fn n_runs(&self) -> u64 {
@@ -82,7 +92,7 @@ impl<'a> Plan<'a> {
     /// its system key or on the scene's `F0`, `omega` or `r`.
     pub fn point(&self, p: u64) -> (System, Scene) {
         let mut sys = self.study.system;
-        let mut scene = self.study.scene;
+        let mut scene = self.study.scene.clone();
         for (axis, v) in self.study.axes.iter().zip(self.point_values(p)) {
             if !sys.set(&axis.key, v) {
                 scene.set(&axis.key, v);
@@ -93,7 +103,15 @@ impl<'a> Plan<'a> {
 
     /// Run `(p, c)`.
     pub fn run(&self, p: u64, c: u32) -> RunSpec {
-        let spec = self.study.cases[c as usize];
+        let spec = match &self.study.scene {
+            Scene::Random(r) => Case {
+                dm: 0.0,
+                dd: 0.0,
+                noise_seed: r.draws_normals().then_some(u64::from(c)),
+                ideal: false,
+            },
+            Scene::Free | Scene::Harmonic(_) => self.study.cases[c as usize],
+        };
         let (mut system, scene) = self.point(p);
         system.m += spec.dm;
         system.d += spec.dd;
@@ -115,13 +133,19 @@ impl<'a> Plan<'a> {
         }
     }
 
+    /// The load stream of a run of a random study: its realization's, the same at every design
+    /// point (module doc); a record draws nothing from it.
+    pub fn load_stream(&self, run: &RunSpec) -> RealizationStream {
+        RealizationStream::new(self.study.seed, 0, u64::from(run.case))
+    }
+
     /// A run of a harmonic study as one frequency of its curve
     /// ([`crate::orbits::curve::run_curve`]): its scene, design point and noise stream.
     pub fn curve_frequency(&self, run: &RunSpec) -> crate::orbits::curve::CurveFrequency {
         crate::orbits::curve::CurveFrequency {
             scene: match run.scene {
                 Scene::Harmonic(h) => h,
-                Scene::Free => crate::sim::Harmonic::default(),
+                Scene::Free | Scene::Random(_) => crate::sim::Harmonic::default(),
             },
             point: run.point,
             noise: self.noise_stream(run),

@@ -15,8 +15,8 @@
 //!   modules in `reduce/forced/`, form no circle;
 //! * the store never imports the reducer, the report, the sweep or the command line's layers;
 //! * the reducer never imports the report, the sweep, the API or the command line;
-//! * `reduce/core/` knows no scene: it imports neither `reduce::free` nor `reduce::forced`, nor
-//!   the harmonic scene's layers below it (`orbits`, `sim::forced`);
+//! * `reduce/core/` knows no scene: it imports neither `reduce::free`, `reduce::forced` nor
+//!   `reduce::random`, nor the scenes' layers below it (`orbits`, `sim::forced`, `sim::random`);
 //! * a scene module of `reduce/` never imports another scene's;
 //! * the report's scene-independent modules (`report/text.rs`, `charts/plumbing.rs`,
 //!   `charts/core/`, `markdown/core/`, `html/`) import no scene module, of the report or of the
@@ -512,7 +512,14 @@ fn issue_45_the_reducers_core_knows_no_scene() {
         violations(
             &sources,
             &["reduce::core"],
-            &["reduce::free", "reduce::forced", "orbits", "sim::forced"],
+            &[
+                "reduce::free",
+                "reduce::forced",
+                "reduce::random",
+                "orbits",
+                "sim::forced",
+                "sim::random",
+            ],
         ),
     );
 }
@@ -521,15 +528,15 @@ fn issue_45_the_reducers_core_knows_no_scene() {
 fn issue_45_no_scene_imports_another() {
     let sources = sources();
     for (layer, scenes) in [
-        ("reduce", &["free", "forced"][..]),
-        ("report::charts", &["free", "forced"][..]),
-        ("report::markdown", &["forced"][..]),
+        ("reduce", &["free", "forced", "random"][..]),
+        ("report::charts", &["free", "forced", "random"][..]),
+        ("report::markdown", &["forced", "random"][..]),
     ] {
         for scene in scenes {
             let from = format!("{layer}::{scene}");
             assert!(under(&sources, &from).count() >= 1, "no module {from}");
             // Another scene's module of this layer, or of the reducer below it.
-            let others: Vec<String> = ["free", "forced"]
+            let others: Vec<String> = ["free", "forced", "random"]
                 .iter()
                 .filter(|o| *o != scene)
                 .flat_map(|o| [format!("{layer}::{o}"), format!("reduce::{o}")])
@@ -564,11 +571,15 @@ fn issue_45_the_reports_core_knows_no_scene() {
             &[
                 "report::charts::free",
                 "report::charts::forced",
+                "report::charts::random",
                 "report::markdown::forced",
+                "report::markdown::random",
                 "reduce::free",
                 "reduce::forced",
+                "reduce::random",
                 "orbits",
                 "sim::forced",
+                "sim::random",
             ],
         ),
     );

@@ -4,9 +4,9 @@
 //! columns), and nothing panics. Messages name the study file, the key, the value and what is
 //! allowed; a record's also name the record file and the row.
 //!
-//! The sweep does not run these scenes yet, so the binary refuses them all alike (`tests/
-//! study_errors.rs` pins that message); these go through the library's loader. `{dir}` stands
-//! for `tests/bad_studies/random`.
+//! These go through the library's loader; the binary loads the same way (`Study::load` turns
+//! a random study into a `Study`), and `tests/study_errors.rs` pins one of them through it.
+//! `{dir}` stands for `tests/bad_studies/random`.
 
 use std::path::Path;
 

@@ -226,9 +226,28 @@ fn run_harmonic(tmp: &Path, name: &str) -> PathBuf {
     common::run_study_file(&study, &tmp.join("out"), name)
 }
 
+/// A tiny random study with a swept intensity (issue 44) run and reduced into `tmp/out/<name>`;
+/// returns its run directory.
+fn run_random(tmp: &Path, name: &str) -> PathBuf {
+    let study = tmp.join(format!("{name}.toml"));
+    std::fs::write(
+        &study,
+        format!(
+            "[study]\nname = \"{name}\"\n[system]\nK = 246.7\nC = 0.628\n[scene]\n\
+             kind = \"random\"\nspectrum = \"kanai-tajimi\"\nomega_g = 15.7\nzeta_g = 0.6\n\
+             duration = 1\nthreshold = 0.005\nrealizations = 8\n[sweep]\n\
+             S0 = [0.001, 0.004, 0.016]\nm = [0.0, 0.05]\n"
+        ),
+    )
+    .unwrap();
+    let dir = common::run_study_file(&study, &tmp.join("out"), name);
+    bin().arg("reduce").arg(&dir).assert().success();
+    dir
+}
+
 /// `docs/schema.md` lists every column of every table the tool writes, with the type and unit
 /// the files carry, and nothing else; the names are unique without case. The harmonic scene's
-/// `forced_points` table too (issue 12).
+/// `forced_points` table too (issue 12), and the random scene's `random_points` (issue 44).
 #[test]
 fn issue_9_docs_schema_md_matches_every_written_table() {
     let tmp = tempfile::tempdir().unwrap();
@@ -254,10 +273,11 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
     .unwrap();
     let bif = common::run_study_file(&bif_study, &tmp.path().join("out"), "bif");
     bin().arg("reduce").arg(&bif).assert().success();
+    let random = run_random(tmp.path(), "random");
     let docs = documented();
-    // Each table with the files that hold it: a free-decay and a harmonic reduction write the
-    // same reducer tables, with the columns of their scene (issue 12).
-    let both = |name: &str| vec![dir.join(name), forced.join(name)];
+    // Each table with the files that hold it: a free-decay, a harmonic and a random reduction
+    // write the same reducer tables, with the columns of their scene (issues 12 and 44).
+    let both = |name: &str| vec![dir.join(name), forced.join(name), random.join(name)];
     for (kind, paths) in [
         (
             TableKind::Points,
@@ -266,6 +286,10 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
         (
             TableKind::ForcedPoints,
             vec![impactsweep::store::part_path(&forced, 0)],
+        ),
+        (
+            TableKind::RandomPoints,
+            vec![impactsweep::store::part_path(&random, 0)],
         ),
         (TableKind::Summary, both("summary.parquet")),
         (TableKind::Zones, both("zones.parquet")),

@@ -184,11 +184,12 @@ const BAD: &[(&str, &str)] = &[
         "zone_axis_not_swept.toml",
         "zone_axis_not_swept.toml: [zones].zone[0].axis = \"m\": a zone is a range of a swept axis; swept: e",
     ),
-    // Issue 44: the random and record scenes are checked (tests/random_study_errors.rs) but not
-    // run yet; their keys do not belong to the other scenes.
+    // Issue 44: the random and record scenes are checked (tests/random_study_errors.rs, through
+    // the library) and reach the binary's messages the same way; their keys do not belong to
+    // the other scenes.
     (
-        "random_not_run_yet.toml",
-        "random_not_run_yet.toml: [scene].kind = \"random\": the random and record scenes are not run by sweep, reduce and report yet (issue 44: their simulator and their study checks are in, impactsweep::study::RandomStudy loads such a study); the kinds a sweep runs: free, harmonic",
+        "random_S0_negative_via_run.toml",
+        "random_S0_negative_via_run.toml: [scene].S0 = -0.01: the two-sided spectral density must be in (0, 1e12] ((m/s^2)^2 or N^2 per rad/s)",
     ),
     (
         "random_key_in_free_study.toml",

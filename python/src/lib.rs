@@ -103,6 +103,8 @@ fn simulate<'py>(py: Python<'py>, sets: Vec<String>) -> PyResult<Bound<'py, PyAn
     let json = match s.run_scene(&mut NoProbe) {
         SceneRecord::Free(rec) => record_json(&s, &rec),
         SceneRecord::Harmonic(rec) => forced_json(&s, &rec),
+        // `--set scene=` names the free and harmonic scenes only.
+        SceneRecord::Random(rec) => serde_json::to_value(&rec).unwrap_or_default(),
     };
     json_to_py(py, &json)
 }
@@ -208,6 +210,13 @@ fn simulate_batch<'py>(
             let rows = run_rows::<ForcedRecord>(py, pool.as_ref(), &inputs, &study)?
                 .map_err(PyValueError::new_err)?;
             impactsweep::store::points::to_batch(&rows, &settings)
+        }
+        // `--set scene=` names the free and harmonic scenes only.
+        Scene::Random(_) => {
+            return Err(PyValueError::new_err(
+                "simulate_batch runs the free and harmonic scenes; a random study runs with \
+                 `impactsweep run`",
+            ));
         }
     }
     .map_err(py_err)?;
@@ -317,7 +326,7 @@ fn batch_study(base: &Setup, seed: u64) -> PyResult<Study> {
     study.seed = seed;
     study.solver = base.solver;
     study.request = base.request;
-    study.scene = base.scene;
+    study.scene = base.scene.clone();
     study.system = base.system;
     Ok(study)
 }
@@ -385,6 +394,7 @@ fn trace<'py>(
     let json = match &rec {
         SceneRecord::Free(r) => record_json(&s, r),
         SceneRecord::Harmonic(r) => forced_json(&s, r),
+        SceneRecord::Random(r) => serde_json::to_value(r).unwrap_or_default(),
     };
     // Impact rows are the trace's rows that are not on the dt grid: the probe records them
     // with the state just before; the Python layer gets their times from a second pass.

@@ -1,8 +1,9 @@
 //! The calls the command line ([`crate::app`]) and the Python binding share: a keyed single run
 //! ([`setup`]), the sizing of a study ([`plan`]) and the reduction of a run directory
-//! ([`reduce`]). The binding imports these, never [`crate::app`], which is only the command
+//! ([`reduce`]; a random or record study's in [`random`]). The binding imports these, never [`crate::app`], which is only the command
 //! line (arguments in, printing out).
 
 pub mod plan;
+pub mod random;
 pub mod reduce;
 pub mod setup;

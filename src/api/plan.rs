@@ -34,6 +34,12 @@ pub const BYTES_PER_RUN: u64 = 90;
 /// whose runs off the impact band are identical and compress); rounded up to 70.
 pub const BYTES_PER_FORCED_RUN: u64 = 70;
 
+/// Bytes of Parquet per run of a random or record study: eight Float64 observables that change
+/// on every realization (`amplitude t_peak rms_x rms_acc first_passage_time energy_impact
+/// t_stop` and the counts) beside ids and the design's values that compress to a few bytes;
+/// an estimate like the others, not measured on a large study yet.
+pub const BYTES_PER_RANDOM_RUN: u64 = 80;
+
 /// Rough Parquet size of one row of a harmonic study's `attractors` table (bytes): one steady
 /// state that a run's census found, 33 columns of which the section state, amplitudes, exponent
 /// and life statistics are floats that barely compress. Measured: 89.1 bytes per row for
@@ -175,10 +181,17 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         .filter(|c| c.dm != 0.0 || c.dd != 0.0)
         .count();
     let _ = writeln!(w, "design points:  {}", plan.n_points());
-    let _ = writeln!(
-        w,
-        "cases/point:    {n_cases} (1 ideal, {perturbed} perturbed, {noisy} with noise)"
-    );
+    if let Scene::Random(_) = study.scene {
+        let _ = writeln!(
+            w,
+            "cases/point:    {n_cases} realizations (the same loads at every design point)"
+        );
+    } else {
+        let _ = writeln!(
+            w,
+            "cases/point:    {n_cases} (1 ideal, {perturbed} perturbed, {noisy} with noise)"
+        );
+    }
     let _ = writeln!(w, "total runs:     {}", plan.n_runs());
     match &study.noise {
         Some(ns) => {
@@ -195,10 +208,10 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
             let _ = writeln!(w, "noise:          off");
         }
     }
-    if let Scene::Harmonic(h) = &study.scene {
-        describe_harmonic(w, study, h);
-    } else {
-        describe_free(w, study);
+    match &study.scene {
+        Scene::Harmonic(h) => describe_harmonic(w, study, h),
+        Scene::Random(r) => describe_random(w, r),
+        Scene::Free => describe_free(w, study),
     }
     let _ = writeln!(
         w,
@@ -268,6 +281,7 @@ fn describe_disk(w: &mut String, study: &Study, plan: &Plan, sample: Option<Samp
     let per_run = match study.scene {
         Scene::Free => BYTES_PER_RUN,
         Scene::Harmonic(_) => BYTES_PER_FORCED_RUN,
+        Scene::Random(_) => BYTES_PER_RANDOM_RUN,
     };
     let points = runs.saturating_mul(per_run).saturating_add(parts);
     let what = format!(
@@ -341,6 +355,45 @@ fn describe_free(w: &mut String, study: &Study) {
         None => format!("to the end of positive half-cycle {}", study.request.peaks),
     };
     let _ = writeln!(w, "each run:       {horizon}");
+}
+
+/// The random and record scenes' lines: the load, its sampling and duration, the threshold.
+fn describe_random(w: &mut String, r: &sim::random::RandomScene) {
+    use sim::random::Excitation;
+    let load = match &r.excitation {
+        Excitation::Random(l) => format!(
+            "{} noise, S0 = {} (two-sided, per rad/s){}",
+            l.spectrum.name(),
+            fmt_value(l.S0),
+            if l.envelope.is_some() {
+                ", with an envelope"
+            } else {
+                ""
+            }
+        ),
+        Excitation::Record(rec) => format!(
+            "a record of {} samples, scale {}",
+            rec.values.len(),
+            fmt_value(rec.scale)
+        ),
+    };
+    let _ = writeln!(w, "load:           {} ({load})", r.input.name());
+    let _ = writeln!(
+        w,
+        "each run:       {} s in samples of {} s ({} samples), solver exact",
+        fmt_value(r.duration),
+        fmt_value(r.dt),
+        r.segments()
+    );
+    let _ = writeln!(
+        w,
+        "threshold:      {}",
+        r.threshold
+            .map_or("none (no first passage, no p_f)".to_string(), |b| format!(
+                "|x| > {} m",
+                fmt_value(b)
+            ))
+    );
 }
 
 /// The harmonic scene's lines: the force, the frequency band (fixed or swept) and each run's

@@ -38,6 +38,10 @@ pub struct ReduceArgs {
     pub shard: Option<(u64, u64)>,
     /// A harmonic study: the lines of the design grid its bifurcation curves are followed along.
     pub bifurcation_curves: analysis::CurveLines,
+    /// A random study: subset simulation of this many samples per level for the designs whose
+    /// realizations passed the threshold fewer than 10 times
+    /// ([`crate::reduce::random::subset`]); `None`: Monte Carlo only.
+    pub subset: Option<usize>,
 }
 
 /// `impactsweep plot waveform`.
@@ -149,6 +153,13 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
             let files = write_outputs_with(&study, &summary, dir, audit.as_ref(), Some(&fs))?;
             (summary, files)
         }
+        Scene::Random(_) => crate::api::random::reduce_random(
+            &study,
+            dir,
+            &parts,
+            |o| options_over(o, args),
+            args.subset,
+        )?,
     };
     let line = format!(
         "reduced {} design points ({} zones, {} jumps, {} Pareto-optimal{})",

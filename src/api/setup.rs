@@ -232,7 +232,7 @@ impl Setup {
                 0,
                 0,
             )),
-            Scene::Free => sim::simulate_scene(
+            Scene::Free | Scene::Random(_) => sim::simulate_scene(
                 &self.system,
                 &self.solver,
                 &self.request,
@@ -394,7 +394,7 @@ pub fn forced_json(setup: &Setup, rec: &ForcedRecord) -> serde_json::Value {
     insert_setup(&mut map, setup);
     map.insert(
         "harmonic".into(),
-        serde_json::to_value(setup.scene).unwrap_or_default(),
+        serde_json::to_value(&setup.scene).unwrap_or_default(),
     );
     serde_json::Value::Object(map)
 }

@@ -236,6 +236,10 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         (SceneRecord::Free(rec), false) => print!("{}", record_text(&setup, rec)),
         (SceneRecord::Harmonic(rec), true) => println!("{}", forced_json(&setup, rec)),
         (SceneRecord::Harmonic(rec), false) => print!("{}", forced_text(&setup, rec)),
+        // `--set scene=` names the free and harmonic scenes only; a random run's record as JSON.
+        (SceneRecord::Random(rec), _) => {
+            println!("{}", serde_json::to_string(rec).unwrap_or_default())
+        }
     }
     if let (Some(path), false) = (&args.trace, args.json) {
         println!("trace    {}", path.display());

@@ -7,7 +7,9 @@
 //!   ideal case);
 //! * [`forced`]: the harmonic scene (each design's frequency-response curve, its peak and peak
 //!   reduction; the jump probes, the steady states and branches, the bifurcation curves, the
-//!   per-design analysis in shards).
+//!   per-design analysis in shards);
+//! * [`random`]: the random and record scenes (first-passage `p_f` per design by Monte Carlo
+//!   with its exact interval, the fragility fit over a swept intensity).
 //!
 //! A scene imports the core and never another scene; the core imports no scene
 //! (`docs/architecture.md`, `tests/layering.rs`). The core's types are re-exported here.
@@ -15,6 +17,7 @@
 pub mod core;
 pub mod forced;
 pub mod free;
+pub mod random;
 #[doc(hidden)]
 pub mod testing;
 

@@ -37,6 +37,7 @@ pub fn study(axes: Vec<(&str, Vec<f64>)>, n_cases: usize) -> Study {
             })
             .collect(),
         cases,
+        realizations: 0,
         noise: None,
         solver: SolverSettings::default(),
         reliability: Reliability {

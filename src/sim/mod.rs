@@ -52,13 +52,16 @@ pub use phase::{State, Wall, impact};
 
 /// What a run simulates: the paper's free decay, or steady-state forced vibration (model.md §8).
 /// A study states its scene; the free-decay scene is exactly what [`simulate`] does.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "lowercase")]
 pub enum Scene {
     /// Free decay from the initial state (model.md §1–3): [`Record`].
     Free,
     /// Harmonic force `F0 cos(omega t)` on the main mass, steady state: [`ForcedRecord`].
     Harmonic(Harmonic),
+    /// A random or recorded load (model.md §13): [`random::RandomRecord`]. A record's samples
+    /// are shared ([`random::Recorded`]), so a clone is cheap.
+    Random(random::RandomScene),
 }
 
 impl Scene {
@@ -69,6 +72,7 @@ impl Scene {
         match self {
             Scene::Free => "free",
             Scene::Harmonic(_) => "harmonic",
+            Scene::Random(_) => "random",
         }
     }
 
@@ -78,6 +82,7 @@ impl Scene {
         match self {
             Scene::Free => false,
             Scene::Harmonic(h) => h.set(key, value),
+            Scene::Random(r) => r.set(key, value),
         }
     }
 }
@@ -88,6 +93,7 @@ impl Scene {
 pub enum SceneRecord {
     Free(Record),
     Harmonic(ForcedRecord),
+    Random(random::RandomRecord),
 }
 
 impl SceneRecord {
@@ -95,12 +101,15 @@ impl SceneRecord {
         match self {
             SceneRecord::Free(r) => r.outcome,
             SceneRecord::Harmonic(r) => r.outcome,
+            SceneRecord::Random(r) => r.outcome,
         }
     }
 }
 
 /// Runs one system in `scene`: [`simulate`] for free decay, [`simulate_harmonic`] for the forced
-/// scene. Pure, as both are.
+/// scene, [`random::simulate_random`] for a random or recorded load (a random load's
+/// realization 0 of study seed 0 at design point 0; `noise` is not used: the load is the
+/// scene's). Pure, as all three are.
 pub fn simulate_scene<P: Probe>(
     sys: &crate::model::System,
     settings: &SolverSettings,
@@ -114,6 +123,14 @@ pub fn simulate_scene<P: Probe>(
         Scene::Harmonic(h) => {
             SceneRecord::Harmonic(simulate_harmonic(sys, settings, req, h, noise, probe))
         }
+        Scene::Random(r) => SceneRecord::Random(random::simulate_random(
+            sys,
+            settings,
+            req,
+            r,
+            random::RealizationStream::new(0, 0, 0),
+            probe,
+        )),
     }
 }
 

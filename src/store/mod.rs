@@ -3,6 +3,7 @@
 //! One writer ([`write_batch`]) and one reader ([`open`], [`read_batches`]) serve every table:
 //!
 //! * [`points`]: the sweep's runs, one part file per chunk (`points/part-NNNNNN.parquet`);
+//! * [`random`]: the random and record scenes' points table (`random_points`);
 //! * [`attractors`]: a harmonic sweep's steady states, one part file per chunk beside the
 //!   points (`attractors/part-NNNNNN.parquet`);
 //! * [`summary`]: the reducer's summary, zones and jumps tables (Parquet and CSV), from the plain
@@ -24,6 +25,7 @@ pub mod analysis;
 pub mod attractors;
 pub mod manifest;
 pub mod points;
+pub mod random;
 pub mod schema;
 pub mod summary;
 pub mod table;

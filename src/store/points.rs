@@ -16,7 +16,11 @@
 //!   `energy_force energy_viscous energy_impact`, the whole run's `impacts sticks steps t_stop`,
 //!   and the attractor census at that frequency, `starts attractors amplitude_worst
 //!   worst_period worst_impacts_per_period worst_basin_share rest_amplitude rest_period
-//!   census_periods` ([`Steady`]).
+//!   census_periods` ([`Steady`]);
+//! * the random and record scenes ([`RealizationRecord`], table `random_points`, in
+//!   [`super::random`]): the load's swept keys `S0 omega_g zeta_g omega_f zeta_f scale`, `outcome`,
+//!   `amplitude t_peak rms_x rms_acc first_passage_time`, `impacts sticks energy_impact`,
+//!   `samples t_stop steps`.
 //!
 //! `solver` and `outcome` are dictionary-encoded; `noise_seed` is null without noise;
 //! observables are NaN when the outcome says so. A part's key-value metadata adds the study text
@@ -36,6 +40,7 @@ use arrow::datatypes::{DataType, Int8Type, Schema, SchemaRef};
 use super::schema::{META_STUDY, META_TABLE, TableKind, column_name};
 use crate::model::{SYSTEM_KEYS, System};
 use crate::sim::forced::Steady;
+use crate::sim::random::RealizationRecord;
 use crate::sim::{ForcedRecord, Outcome, Record, SolverSettings, State};
 
 /// The `f64` observable columns of a [`Record`], in schema order.
@@ -79,7 +84,7 @@ pub trait StoredRecord: Sized {
     fn read(batch: &RecordBatch) -> Result<Vec<Self>>;
 }
 
-fn dict_type() -> DataType {
+pub(super) fn dict_type() -> DataType {
     DataType::Dictionary(Box::new(DataType::Int8), Box::new(DataType::Utf8))
 }
 
@@ -243,12 +248,12 @@ pub fn write_part<R: StoredRecord>(
 }
 
 /// A Float64 column of `rows`.
-fn f64col<R>(rows: &[RunRow<R>], f: impl Fn(&RunRow<R>) -> f64) -> ArrayRef {
+pub(super) fn f64col<R>(rows: &[RunRow<R>], f: impl Fn(&RunRow<R>) -> f64) -> ArrayRef {
     Arc::new(Float64Array::from_iter_values(rows.iter().map(f)))
 }
 
 /// A UInt64 column of `rows`.
-fn u64col<R>(rows: &[RunRow<R>], f: impl Fn(&RunRow<R>) -> u64) -> ArrayRef {
+pub(super) fn u64col<R>(rows: &[RunRow<R>], f: impl Fn(&RunRow<R>) -> u64) -> ArrayRef {
     Arc::new(UInt64Array::from_iter_values(rows.iter().map(f)))
 }
 
@@ -263,7 +268,7 @@ fn dict<R>(rows: &[RunRow<R>], names: &[&str], f: impl Fn(&RunRow<R>) -> i8) -> 
 
 /// The outcome column: the dictionary is every outcome in [`Outcome::ALL`] order, so keys are
 /// stable across files.
-fn outcome_col<R: StoredRecord>(rows: &[RunRow<R>]) -> Result<ArrayRef> {
+pub(super) fn outcome_col<R: StoredRecord>(rows: &[RunRow<R>]) -> Result<ArrayRef> {
     let outcomes: Vec<&str> = Outcome::ALL.iter().map(|o| o.name()).collect();
     dict(rows, &outcomes, |r| {
         Outcome::ALL
@@ -630,11 +635,12 @@ pub fn read_ids_outcomes(path: &Path) -> Result<(Vec<u64>, BTreeMap<String, u64>
         }
         (rows.iter().map(|r| r.point_id).collect(), counts)
     }
-    let forced = part_metadata(path)?
-        .get(META_TABLE)
-        .is_some_and(|t| t == TableKind::ForcedPoints.name());
-    Ok(if forced {
+    let meta = part_metadata(path)?;
+    let table = meta.get(META_TABLE).map(String::as_str);
+    Ok(if table == Some(TableKind::ForcedPoints.name()) {
         of(read_rows::<ForcedRecord>(path)?)
+    } else if table == Some(TableKind::RandomPoints.name()) {
+        of(read_rows::<RealizationRecord>(path)?)
     } else {
         of(read_rows::<Record>(path)?)
     })
@@ -669,7 +675,7 @@ pub fn read_rows<R: StoredRecord>(path: &Path) -> Result<Vec<RunRow<R>>> {
     Ok(rows)
 }
 
-fn column<'a, T: 'static>(batch: &'a RecordBatch, name: &str) -> Result<&'a T> {
+pub(super) fn column<'a, T: 'static>(batch: &'a RecordBatch, name: &str) -> Result<&'a T> {
     batch
         .column_by_name(name)
         .ok_or_else(|| anyhow!("column `{name}` is missing"))?
@@ -696,7 +702,7 @@ fn dict_strings(batch: &RecordBatch, name: &str) -> Result<Vec<String>> {
 }
 
 /// The outcome of every row.
-fn outcomes(batch: &RecordBatch) -> Result<Vec<Outcome>> {
+pub(super) fn outcomes(batch: &RecordBatch) -> Result<Vec<Outcome>> {
     dict_strings(batch, "outcome")?
         .into_iter()
         .map(|name| {

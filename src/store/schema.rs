@@ -61,8 +61,9 @@ pub fn system_unit(key: &str) -> Option<&'static str> {
 pub fn axis_unit(key: &str) -> Option<&'static str> {
     system_unit(key).or(match key {
         "F0" => Some("N"),
-        "omega" => Some("rad/s"),
-        "r" => Some("1"),
+        "omega" | "omega_g" | "omega_f" => Some("rad/s"),
+        "r" | "zeta_g" | "zeta_f" | "scale" => Some("1"),
+        "S0" => Some(S0_UNIT),
         _ => None,
     })
 }
@@ -72,9 +73,18 @@ pub fn axis_key(column: &str) -> Option<&'static str> {
     system_key(column).or_else(|| {
         crate::sim::Harmonic::AXES
             .into_iter()
+            .chain(crate::sim::random::RandomScene::AXES)
             .find(|k| *k == column)
     })
 }
+
+/// The unit of a random load's two-sided spectral density `S0`: (m/s^2)^2 per rad/s for ground
+/// acceleration, N^2 per rad/s for a force.
+pub const S0_UNIT: &str = "(m/s^2)^2 s/rad or N^2 s/rad";
+
+/// See [`UNIT_OF_AXIS`]: a fragility curve's median capacity is in the unit of the intensity
+/// its study sweeps (`S0` or a record's `scale`), which its `intensity` column names.
+pub const UNIT_OF_INTENSITY: &str = "[intensity]";
 
 /// The tables the tool writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,6 +93,8 @@ pub enum TableKind {
     Points,
     /// `points/part-NNNNNN.parquet`: one row per run of a harmonic (forced) study.
     ForcedPoints,
+    /// `points/part-NNNNNN.parquet`: one row per realization of a random or record study.
+    RandomPoints,
     /// `summary.parquet`, `summary.csv`: one row per design point.
     Summary,
     /// `zones.parquet`, `zones.csv`: one row per zone.
@@ -111,9 +123,10 @@ pub enum TableKind {
 }
 
 impl TableKind {
-    pub const ALL: [TableKind; 12] = [
+    pub const ALL: [TableKind; 13] = [
         TableKind::Points,
         TableKind::ForcedPoints,
+        TableKind::RandomPoints,
         TableKind::Summary,
         TableKind::Zones,
         TableKind::Jumps,
@@ -131,6 +144,7 @@ impl TableKind {
         match self {
             TableKind::Points => "points",
             TableKind::ForcedPoints => "forced_points",
+            TableKind::RandomPoints => "random_points",
             TableKind::Summary => "summary",
             TableKind::Zones => "zones",
             TableKind::Jumps => "jumps",
@@ -159,8 +173,10 @@ pub const UNIT_OF_SIZE: &str = "[size_unit]";
 /// The unit of `column` in `table`; `None` for a column the contract does not know (the writer
 /// refuses it, so that no column goes undocumented).
 pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
-    if matches!(table, TableKind::Points | TableKind::ForcedPoints)
-        && let Some(key) = system_key(column)
+    if matches!(
+        table,
+        TableKind::Points | TableKind::ForcedPoints | TableKind::RandomPoints
+    ) && let Some(key) = system_key(column)
     {
         return system_unit(key);
     }
@@ -175,6 +191,7 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
     match table {
         TableKind::Points => points_unit(column),
         TableKind::ForcedPoints => forced_points_unit(column),
+        TableKind::RandomPoints => random_points_unit(column),
         TableKind::Summary => summary_unit(column),
         TableKind::Zones => {
             for suffix in ["_from", "_to"] {
@@ -269,6 +286,22 @@ fn forced_points_unit(column: &str) -> Option<&'static str> {
     })
 }
 
+/// The random and record scenes' points (store/random.rs).
+fn random_points_unit(column: &str) -> Option<&'static str> {
+    Some(match column {
+        "point_id" | "point" | "case" | "ideal" | "noise_seed" | "solver" | "outcome" => "",
+        "dm" => "kg",
+        "dd" | "amplitude" | "rms_x" => "m",
+        "tol" | "scale" | "zeta_g" | "zeta_f" | "impacts" | "sticks" | "samples" | "steps" => "1",
+        "S0" => S0_UNIT,
+        "omega_g" | "omega_f" => "rad/s",
+        "t_peak" | "first_passage_time" | "t_stop" => "s",
+        "rms_acc" => "m/s^2",
+        "energy_impact" => "J",
+        _ => return None,
+    })
+}
+
 /// The attractors table (the sweep's parts, store/attractors.rs) and the branches table of a
 /// harmonic study (reduce/forced/steady.rs).
 fn orbits_unit(column: &str) -> Option<&'static str> {
@@ -337,6 +370,18 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "peak_impacts_per_period"
         | "peak_basin_share" => "1",
         "peak_periodic" => "",
+        // A random or record study (reduce/random/): the amplitude per realization is the
+        // response, the share of realizations within the threshold the damping quantity.
+        "amplitude_mean" | "amplitude_sd" | "amplitude_min" | "amplitude_q1"
+        | "amplitude_median" | "amplitude_q3" | "amplitude_max" | "amplitude_ideal"
+        | "rms_x_mean" | "threshold" => "m",
+        "p_s" | "p_s_ideal" | "p_s_sd" | "p_f" | "p_f_lo" | "p_f_hi" | "beta" | "n_exceed"
+        | "p_f_cov" | "p_f_cov_upper" | "subset_runs" | "fragility_beta" | "fragility_beta_lo"
+        | "fragility_beta_hi" => "1",
+        "intensity" | "fragility_outcome" | "p_f_method" => "",
+        "intensity_design" | "fragility_theta" | "fragility_theta_lo" | "fragility_theta_hi" => {
+            UNIT_OF_INTENSITY
+        }
         _ => return None,
     })
 }
@@ -346,7 +391,7 @@ fn zones_unit(column: &str) -> Option<&'static str> {
         "zone" | "label" | "declared" | "best_point" | "rep_point" => "",
         "n_points" | "n_merged" | "mean_reliability" => "1",
         "mean_di" => "m/s",
-        "mean_peak_reduction" => "1",
+        "mean_peak_reduction" | "mean_p_s" => "1",
         "perfectibility" => "%",
         _ => return None,
     })

@@ -12,9 +12,9 @@
 //! point's extremes), `solver.rs`, `reliability.rs`, `zones.rs`, `ranking.rs`, `run.rs`.
 //!
 //! A study of the random or record scene (`[scene] kind = "random"` or `"record"`) is validated
-//! into a [`RandomStudy`] by [`RandomStudy::load`] (`random.rs`, the record file in
-//! `record.rs`); the sweep, the store and the reducer do not run those scenes yet, so
-//! [`Study::load`] refuses them with a message that says so.
+//! into a [`RandomStudy`] (`random.rs`, the record file in `record.rs`), which [`Study::load`]
+//! turns into a [`Study`] of [`Scene::Random`] whose cases are its realizations
+//! ([`Study::realizations`]).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -48,7 +48,7 @@ pub use axis::Axis;
 pub use perturb::Case;
 pub use random::{DEFAULT_DT, DEFAULT_REALIZATIONS};
 pub use ranking::{DiSource, Ranking, VERIFY_PERIODS};
-pub use record::EVEN_TOL;
+pub use record::{EVEN_TOL, RECORD_COPY};
 pub use reliability::{Reliability, SafetyForm};
 pub use run::{DEFAULT_CHUNK_RUNS, RunSettings, whole_curves};
 pub use scene::frequency_axis;
@@ -93,6 +93,10 @@ pub struct Study {
     pub ranking: Ranking,
     /// `[run]`: engine settings.
     pub run: RunSettings,
+    /// A random or record study ([`Scene::Random`]): its runs per design point, the
+    /// realizations `0..realizations` (`cases` is empty). 0 in the other scenes, whose runs
+    /// are `cases`.
+    pub realizations: u64,
 }
 
 /// The default size guard: a study with more runs than this is refused unless the caller
@@ -171,8 +175,8 @@ impl Study {
             self.path.display(),
             runs,
             self.n_points(),
-            self.cases.len(),
-            if self.cases.len() == 1 { "" } else { "s" },
+            self.n_cases(),
+            if self.n_cases() == 1 { "" } else { "s" },
             MAX_RUNS
         )))
     }
@@ -185,9 +189,17 @@ impl Study {
             .fold(1u64, |n, a| n.saturating_mul(a.values.len() as u64))
     }
 
+    /// Runs per design point: its cases, or a random study's realizations.
+    pub fn n_cases(&self) -> u64 {
+        match self.scene {
+            Scene::Random(_) => self.realizations,
+            Scene::Free | Scene::Harmonic(_) => self.cases.len() as u64,
+        }
+    }
+
     /// Total runs: points × cases. Saturates at `u64::MAX`.
     pub fn n_runs(&self) -> u64 {
-        self.n_points().saturating_mul(self.cases.len() as u64)
+        self.n_points().saturating_mul(self.n_cases())
     }
 
     /// The axis of a system key, if it is swept.
@@ -199,8 +211,28 @@ impl Study {
     pub fn frequency_axis(&self) -> Option<&Axis> {
         match self.scene {
             Scene::Harmonic(_) => frequency_axis(&self.axes).map(|i| &self.axes[i]),
-            Scene::Free => None,
+            Scene::Free | Scene::Random(_) => None,
         }
+    }
+
+    /// The file a record study's record is read from (`[scene] record` relative to the study
+    /// file, or the run directory's copy [`RECORD_COPY`]); `None` for any other study.
+    pub fn record_path(&self) -> Option<PathBuf> {
+        let Scene::Random(r) = &self.scene else {
+            return None;
+        };
+        if r.draws_normals() {
+            return None;
+        }
+        let doc: toml::Table = self.source.parse().ok()?;
+        let shown = doc.get("scene")?.get("record")?.as_str()?;
+        let dir = self.path.parent().unwrap_or(Path::new("."));
+        let path = dir.join(shown);
+        Some(if path.exists() {
+            path
+        } else {
+            dir.join(RECORD_COPY)
+        })
     }
 
     /// Design points per frequency-response curve: the length of the frequency axis of a
@@ -318,9 +350,20 @@ fn with_raw<T>(
 }
 
 /// Parses and validates study text (no size guard): TOML syntax, then the raw form, then each
-/// table in turn; the first error found is returned.
+/// table in turn; the first error found is returned. A random or record study is validated as
+/// a [`RandomStudy`] and becomes a [`Study`] of [`Scene::Random`].
 fn from_text(path: &Path, text: &str) -> Result<Study, InputError> {
-    with_raw(path, text, |cx, raw| validate(cx, raw, path, text))
+    with_raw(path, text, |cx, raw| {
+        let random = match raw.scene.as_ref() {
+            Some(s) => scene::RANDOM_KINDS.contains(&s.kind(cx)?),
+            None => false,
+        };
+        if random {
+            random_study(cx, raw, path, text).map(Study::from)
+        } else {
+            validate(cx, raw, path, text)
+        }
+    })
 }
 
 /// Each table of a free or harmonic study in turn.
@@ -348,7 +391,7 @@ fn validate(cx: &Cx, raw: &RawStudy, path: &Path, text: &str) -> Result<Study, I
     let ranking = ranking::ranking(cx, &raw.ranking)?;
     let curve = match scene {
         Scene::Harmonic(_) => scene::frequency_axis(&axes).map(|i| &axes[i]),
-        Scene::Free => None,
+        Scene::Free | Scene::Random(_) => None,
     };
     let run = run::run(cx, &raw.run, cases.len() as u64, &scene, curve)?;
     scene::check_runs(cx, &scene, &system, &axes, &cases)?;
@@ -368,13 +411,14 @@ fn validate(cx: &Cx, raw: &RawStudy, path: &Path, text: &str) -> Result<Study, I
         zones,
         ranking,
         run,
+        realizations: 0,
     })
 }
 
 /// A validated study of the random or record scene (`[scene] kind = "random"` or `"record"`,
 /// docs/scenes.md): the load, the realizations per design point and the tables a random study
-/// shares with the others. The sweep, the store and the reducer do not run it yet; what they
-/// will need is in docs/scenes.md. The structure starts at rest unless `[system]` says
+/// shares with the others. [`Study::load`] reads it as a [`Study`] of [`Scene::Random`]
+/// (`Study::from`), which the sweep and the reducer run. The structure starts at rest unless `[system]` says
 /// otherwise (`x0`, `v0`, `y0`, `w0` default to 0 here, not to Table I's `v0 = 2 m/s`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct RandomStudy {
@@ -473,6 +517,32 @@ impl RandomStudy {
             }
         }
         (sys, scene)
+    }
+}
+
+impl From<RandomStudy> for Study {
+    /// The random study as the sweep and the reducer take any study: its scene
+    /// [`Scene::Random`], no cases (its runs are the realizations, [`Study::n_cases`]), no
+    /// measurement noise, the default request (a random run lasts its scene's duration).
+    fn from(r: RandomStudy) -> Study {
+        Study {
+            path: r.path,
+            source: r.source,
+            name: r.name,
+            seed: r.seed,
+            request: Request::default(),
+            scene: Scene::Random(r.scene),
+            system: r.system,
+            axes: r.axes,
+            cases: Vec::new(),
+            noise: None,
+            solver: r.solver,
+            reliability: r.reliability,
+            zones: r.zones,
+            ranking: r.ranking,
+            run: r.run,
+            realizations: r.realizations,
+        }
     }
 }
 

@@ -17,7 +17,7 @@
 //! | `envelope = { t1, t2, c }` | random | s, s, 1/s | none | `0 <= t1 <= t2`, `c >= 0` |
 //! | `realizations` | random | | 1000 | `[1, 10^7]` (a record: 1) |
 //! | `threshold` | both | m | none | `> 0` |
-//! | `record` | record | path | required | CSV relative to the study file |
+//! | `record` | record | path | required | CSV relative to the study file (in a run directory, its copy `record.csv` when the path does not resolve there) |
 //! | `scale` | record | 1 | 1 | `> 0`, sweepable |
 
 use std::collections::BTreeMap;
@@ -260,7 +260,12 @@ fn recorded(
             "a record is one load: realizations must be 1 (sweep scale for intensities)",
         ));
     }
-    let file = record::read(cx, shown, &dir.join(shown))?;
+    let mut path = dir.join(shown);
+    let copy = dir.join(record::RECORD_COPY);
+    if !path.exists() && copy.exists() {
+        path = copy;
+    }
+    let file = record::read(cx, shown, &path)?;
     if let Some(i) = input
         && i != file.input
     {

@@ -20,6 +20,11 @@ use super::{Cx, num};
 use crate::error::InputError;
 use crate::sim::random::Input;
 
+/// The copy of a record study's record in its run directory, beside `study.toml`: read when
+/// the study's own path does not resolve from there (the run directory's study is the user's
+/// text, with the record's path relative to where the user kept it).
+pub const RECORD_COPY: &str = "record.csv";
+
 /// How far a sample's time may sit from its place on the grid, relative to `dt`.
 pub const EVEN_TOL: f64 = 1e-6;
 

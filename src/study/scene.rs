@@ -6,9 +6,10 @@
 //!
 //! `kind = "random"` and `kind = "record"` (a random load per realization, a recorded one) have
 //! their keys in the same table; [`super::random`] validates them into a
-//! [`crate::sim::random::RandomScene`] for [`super::RandomStudy`]. [`Study`](super::Study) does
-//! not run them yet (the sweep, the points table and the reduction of those scenes are to come):
-//! loading such a study as a `Study` is refused with a message that says so.
+//! [`crate::sim::random::RandomScene`] for [`super::RandomStudy`], which
+//! [`Study::load`](super::Study::load) turns into a study of
+//! [`Scene::Random`]; [`scene`] validates the free and harmonic
+//! scenes only.
 //!
 //! Resonance without damping is refused for every run of the plan (each design point, each
 //! case's perturbed `m`) at load, not discovered in the night: [`check_runs`] bounds the dynamic
@@ -208,9 +209,8 @@ pub(super) fn scene(
         return Err(cx.err(
             "[scene].kind",
             format!("{kind:?}"),
-            "the random and record scenes are not run by sweep, reduce and report yet (issue \
-             44: their simulator and their study checks are in, impactsweep::study::RandomStudy \
-             loads such a study); the kinds a sweep runs: free, harmonic",
+            "a random or record study is validated by impactsweep::study::RandomStudy (the \
+             free and harmonic scenes here)",
         ));
     }
     if let Some(key) = raw.random_given().first() {
@@ -518,7 +518,7 @@ mod tests {
     fn harmonic(s: &Study) -> Harmonic {
         match s.scene {
             Scene::Harmonic(h) => h,
-            Scene::Free => panic!("free scene"),
+            _ => panic!("not the harmonic scene"),
         }
     }
 

@@ -33,7 +33,7 @@ pub(super) fn axes(
 ) -> Result<Vec<Axis>, InputError> {
     let keys: &[&'static str] = match scene {
         Scene::Harmonic(_) => &crate::sim::Harmonic::AXES,
-        Scene::Free => &[],
+        Scene::Free | Scene::Random(_) => &[],
     };
     let scene_axes = SceneAxes {
         keys,

@@ -17,6 +17,7 @@ use super::simulate::{ChunkRows, SceneRun};
 use crate::accuracy::Audit;
 use crate::error::InputError;
 use crate::plan::Plan;
+use crate::sim::random::RealizationRecord;
 use crate::sim::{ForcedRecord, Record, Scene};
 use crate::store::manifest::WritingEntry;
 use crate::store::{self, Checksum, ChunkEntry, Manifest, RunRow, StoredRecord};
@@ -232,6 +233,14 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
             Scene::Harmonic(_) => {
                 write_chunks::<ForcedRecord>(&plan, &dir, &pending, opts, algorithm, &mut journal)
             }
+            Scene::Random(_) => write_chunks::<RealizationRecord>(
+                &plan,
+                &dir,
+                &pending,
+                opts,
+                algorithm,
+                &mut journal,
+            ),
         })
         .with_context(|| {
             format!(
@@ -323,8 +332,9 @@ fn check_options(opts: &SweepOptions) -> Result<()> {
     Ok(())
 }
 
-/// Refuses options a harmonic study cannot take (exit 2): a chunk size that would cut a
-/// frequency-response curve (the reducer streams whole curves), and the audit (free decay only).
+/// Refuses options a harmonic, random or record study cannot take (exit 2): a chunk size that
+/// would cut a frequency-response curve (the reducer streams whole curves), and the audit (free
+/// decay only).
 fn check_scene_options(study: &Study, opts: &SweepOptions) -> Result<()> {
     if let Scene::Free = study.scene {
         return Ok(());
@@ -338,7 +348,8 @@ fn check_scene_options(study: &Study, opts: &SweepOptions) -> Result<()> {
         && k > 0
     {
         return Err(InputError::new(format!(
-            "--audit {k}: the accuracy audit re-runs free-decay runs; a harmonic study has none"
+            "--audit {k}: the accuracy audit re-runs free-decay runs; a {} study has none",
+            study.scene.name()
         ))
         .into());
     }

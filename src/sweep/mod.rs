@@ -14,8 +14,9 @@
 //!   [`crate::plan::Plan::noise_stream`]), and `collect` keeps `point_id` order, so a part file's bytes do not
 //!   depend on the thread count, the shard split, or an interruption.
 //!
-//! The records are the study's scene's ([`SceneRun`]): free-decay [`crate::sim::Record`]s or
-//! harmonic [`crate::sim::ForcedRecord`]s, each scene with its own points table.
+//! The records are the study's scene's ([`SceneRun`]): free-decay [`crate::sim::Record`]s,
+//! harmonic [`crate::sim::ForcedRecord`]s or a random study's
+//! [`crate::sim::random::RealizationRecord`]s, each scene with its own points table.
 //!
 //! # The run directory `OUT/<name>/`
 //!
@@ -47,7 +48,8 @@
 //! # Files
 //!
 //! [`engine`] (options, the pipeline, [`run_study`]), [`simulate`] (what one chunk's runs are:
-//! each run on its own, or a harmonic study's curves as tasks with their census), [`rundir`]
+//! each run on its own, or a harmonic study's curves as tasks with their census), [`random`]
+//! (a random or record study's realizations, each design point set up once), [`rundir`]
 //! (opening and claiming a run directory, what is already done), [`journal`] (the bookkeeping of
 //! finished chunks), [`verify`] (is a part what the directory says), [`lock`] (the shard's
 //! writer lock), [`audit`] and [`mod@status`] (what a run directory holds).
@@ -57,6 +59,7 @@ pub mod audit;
 pub mod engine;
 pub mod journal;
 pub mod lock;
+pub mod random;
 pub mod rundir;
 pub mod simulate;
 pub mod status;

@@ -20,7 +20,7 @@ use crate::study::Study;
 /// show (`part-000000`'s rows), else the study's.
 pub fn chunk_points(study: &Study, dir: &Path, cli: Option<u64>) -> Result<u64> {
     let n_points: u64 = study.axes.iter().map(|a| a.values.len() as u64).product();
-    let n_cases = study.cases.len().max(1) as u64;
+    let n_cases = study.n_cases().max(1);
     let recorded = match read_manifest_file(dir)? {
         ManifestFile::Usable(m)
             if m.study == study.name
@@ -120,6 +120,16 @@ pub fn claim(
     };
     if fresh_dir {
         store::write_shared(&dir.join("study.toml"), plan.study.source.as_bytes())?;
+    }
+    // A record study's record beside its study.toml, so that the directory's own study loads
+    // (`reduce`, `status`, the resume command) wherever the record was.
+    if let Some(src) = plan.study.record_path() {
+        let copy = dir.join(crate::study::RECORD_COPY);
+        if src != copy && !copy.exists() {
+            let bytes =
+                std::fs::read(&src).with_context(|| format!("reading {}", src.display()))?;
+            store::write_shared(&copy, &bytes)?;
+        }
     }
     Ok(lock)
 }

@@ -202,7 +202,7 @@ pub fn simulate_forced_run(plan: &Plan, run: &RunSpec) -> ForcedRecord {
     let study = plan.study;
     let scene = match run.scene {
         Scene::Harmonic(h) => h,
-        Scene::Free => Harmonic::default(),
+        Scene::Free | Scene::Random(_) => Harmonic::default(),
     };
     let (seed, point) = (study.seed, run.point);
     match (study.noise.as_ref(), plan.noise_stream(run)) {
@@ -235,7 +235,7 @@ pub fn run_row<R: SceneRun>(plan: &Plan, run: &RunSpec) -> RunRow<R> {
 }
 
 /// The stored row of `run` with its simulated `record`.
-fn row_of<R>(plan: &Plan, run: &RunSpec, record: R) -> RunRow<R> {
+pub(super) fn row_of<R>(plan: &Plan, run: &RunSpec, record: R) -> RunRow<R> {
     RunRow {
         point_id: run.point_id,
         point: run.point,

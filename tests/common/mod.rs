@@ -37,6 +37,7 @@ pub fn study(name: &str, n_e: usize) -> Study {
                 values: vec![0.015, 0.02, 0.025],
             },
         ],
+        realizations: 0,
         cases: vec![
             Case {
                 dm: 0.0,

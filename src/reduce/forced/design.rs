@@ -29,7 +29,7 @@ pub const PEAK_REDUCTION: Damping = Damping {
 pub fn design_peak(study: &Study) -> DesignPeak {
     match study.scene {
         Scene::Harmonic(h) => h.design_peak,
-        Scene::Free => DesignPeak::Worst,
+        Scene::Free | Scene::Random(_) => DesignPeak::Worst,
     }
 }
 

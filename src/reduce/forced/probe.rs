@@ -103,7 +103,7 @@ impl<'a> ForcedIdeal<'a> {
     /// invalid.
     fn design(&self, values: &[f64]) -> Option<(crate::model::System, Harmonic)> {
         let mut sys = self.study.system;
-        let mut scene = self.study.scene;
+        let mut scene = self.study.scene.clone();
         for (key, v) in self.keys.iter().zip(values) {
             if !sys.set(key, *v) {
                 scene.set(key, *v);

@@ -292,15 +292,15 @@ impl<'a> ForcedReducer<'a> {
                 analysis: plan.clone(),
                 design_life: match self.study.scene {
                     Scene::Harmonic(h) => h.design_life,
-                    Scene::Free => f64::NAN,
+                    Scene::Free | Scene::Random(_) => f64::NAN,
                 },
                 life_quantile: match self.study.scene {
                     Scene::Harmonic(h) => h.life_quantile,
-                    Scene::Free => f64::NAN,
+                    Scene::Free | Scene::Random(_) => f64::NAN,
                 },
                 nonperiodic_peak: match self.study.scene {
                     Scene::Harmonic(h) => h.nonperiodic_peak,
-                    Scene::Free => NonPeriodicPeak::Life,
+                    Scene::Free | Scene::Random(_) => NonPeriodicPeak::Life,
                 },
                 curve_lines: Default::default(),
                 verification,

@@ -22,6 +22,10 @@
 //! (the frequency-response curves, the impacts per period and period against the frequency,
 //! the steady states, the bifurcation diagram and the design maps).
 //!
+//! A random or record study sweeping an intensity gets [`random`]'s `fragility` chart: each
+//! design's `p_f` at every intensity and its fitted fragility curve, the structure without
+//! damper beside them.
+//!
 //! And [`free`], the free-decay scene's waveforms (the paper's Figures 2 and 5), [`tradeoff`]
 //! (the solver chart of `tradeoff`). [`plumbing`] holds what they share.
 
@@ -29,6 +33,7 @@ pub mod core;
 pub mod forced;
 pub mod free;
 pub mod plumbing;
+pub mod random;
 pub mod tradeoff;
 
 pub use self::core::summary_charts;

@@ -9,6 +9,7 @@
 
 mod core;
 pub mod forced;
+pub mod random;
 
 use std::fmt::Write;
 

@@ -243,6 +243,45 @@ impl RandomScene {
         }
     }
 
+    /// A scene that stands for none: white noise of unit density over one sample of the default
+    /// `dt`, valid. For a caller that must return a random scene where a study has none.
+    pub fn placeholder() -> RandomScene {
+        RandomScene {
+            input: Input::Base,
+            excitation: Excitation::Random(RandomLoad {
+                spectrum: Spectrum::White,
+                S0: 1.0,
+                envelope: None,
+            }),
+            dt: 0.005,
+            duration: 0.005,
+            threshold: None,
+        }
+    }
+
+    /// Whether a realization draws standard normals (a random load), or none (a record).
+    pub fn draws_normals(&self) -> bool {
+        matches!(self.excitation, Excitation::Random(_))
+    }
+
+    /// The value of a sweepable key ([`RandomScene::AXES`]) if this scene's load has it.
+    pub fn get(&self, key: &str) -> Option<f64> {
+        match (&self.excitation, key) {
+            (Excitation::Random(r), "S0") => Some(r.S0),
+            (Excitation::Record(r), "scale") => Some(r.scale),
+            (Excitation::Random(r), _) => match (r.spectrum, key) {
+                (Spectrum::KanaiTajimi { omega_g, .. }, "omega_g")
+                | (Spectrum::CloughPenzien { omega_g, .. }, "omega_g") => Some(omega_g),
+                (Spectrum::KanaiTajimi { zeta_g, .. }, "zeta_g")
+                | (Spectrum::CloughPenzien { zeta_g, .. }, "zeta_g") => Some(zeta_g),
+                (Spectrum::CloughPenzien { omega_f, .. }, "omega_f") => Some(omega_f),
+                (Spectrum::CloughPenzien { zeta_f, .. }, "zeta_f") => Some(zeta_f),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
     /// Sets a sweepable key ([`RandomScene::AXES`]) that applies to this scene's load; `false`
     /// for any other key.
     pub fn set(&mut self, key: &str, value: f64) -> bool {
@@ -412,6 +451,25 @@ pub struct RandomRecord {
     pub samples: u64,
     pub t_stop: f64,
     pub steps: u64,
+}
+
+/// One realization as the sweep stores it: the values of the load's sweepable keys at its
+/// design point ([`RandomScene::AXES`] order, `None` where the scene's load has no such key;
+/// units as there) beside the run's [`RandomRecord`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RealizationRecord {
+    pub load: [Option<f64>; 6],
+    pub record: RandomRecord,
+}
+
+impl RealizationRecord {
+    /// `record` of a run of `scene`.
+    pub fn new(scene: &RandomScene, record: RandomRecord) -> Self {
+        RealizationRecord {
+            load: RandomScene::AXES.map(|k| scene.get(k)),
+            record,
+        }
+    }
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@ use crate::study::Study;
 pub fn overview(study: &Study, s: &Summary, scene: &SceneText) -> String {
     let mut o = String::new();
     let n_runs: u64 = s.outcome_totals.iter().sum();
-    let cases = study.cases.len() as u64;
+    let cases = study.n_cases();
     let per_point = scene
         .per_point
         .clone()
@@ -191,7 +191,7 @@ pub fn normality(study: &Study, s: &Summary) -> String {
         } else {
             format!(
                 "With {} cases per point the test has little power; where it rejects, read R as a model-based figure, not a measured one.",
-                study.cases.len()
+                study.n_cases()
             )
         };
         let _ = writeln!(

@@ -1,0 +1,86 @@
+//! The reduction of a random or record study's run directory ([`reduce_random`]): its part
+//! files streamed through [`crate::reduce::random::RandomReducer`], then the same outputs as
+//! the other scenes (`summary` with the scene's columns, `zones`, `jumps`, `sensitivity`, the
+//! charts, `report.md` with the scene's section, `report.html`).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+
+use crate::reduce::core::tables;
+use crate::reduce::random::{self, RandomReducer, RandomSummary};
+use crate::reduce::{Options, PointStats, Summary};
+use crate::report::{charts, html, markdown};
+use crate::sim::random::RealizationRecord;
+use crate::store::{self, TableKind};
+use crate::study::Study;
+
+/// Reduces the done parts `parts` of a random or record study into `dir`; `over` applies the
+/// command line's overrides to the scene's options, `subset` asks for subset simulation of
+/// that many samples per level where Monte Carlo saw few exceedances
+/// ([`crate::reduce::random::subset`]). Returns the core's summary and the files written.
+pub fn reduce_random(
+    study: &Study,
+    dir: &Path,
+    parts: &[PathBuf],
+    over: impl Fn(Options) -> Options,
+    subset: Option<usize>,
+) -> anyhow::Result<(Summary, Vec<PathBuf>)> {
+    let design = random::design_study(study);
+    let opts = over(random::options(&design));
+    let mut r = RandomReducer::new(study, &design, opts);
+    for p in parts {
+        r.push(
+            store::read_rows::<RealizationRecord>(p)
+                .with_context(|| format!("reading {}", p.display()))?,
+        );
+    }
+    let (summary, rs) = r.finish(subset);
+    let files = write_outputs(study, &summary, &rs, dir)?;
+    Ok((summary, files))
+}
+
+/// Writes every output of a random study's reduction into `dir`; returns the files written.
+fn write_outputs(
+    study: &Study,
+    summary: &Summary,
+    rs: &RandomSummary,
+    dir: &Path,
+) -> anyhow::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let mut files = Vec::new();
+    let points: Vec<&PointStats> = summary.points.iter().collect();
+    files.extend(store::summary::write_table_in_batches(
+        dir,
+        TableKind::Summary,
+        points.len(),
+        |r| {
+            let rows = &points[r];
+            let mut t = tables::summary_rows(summary, rows);
+            random::summary_columns(&mut t, summary, rs, rows);
+            t
+        },
+    )?);
+    drop(points);
+    for (kind, t) in [
+        (TableKind::Zones, tables::zones_table(summary)),
+        (TableKind::Jumps, tables::jumps_table(summary)),
+        (TableKind::Sensitivity, tables::sensitivity_table(summary)),
+    ] {
+        files.extend(store::summary::write_table(dir, kind, &t)?);
+    }
+    let mut chart_files = charts::random::charts(summary, rs, dir)?;
+    chart_files.extend(charts::summary_charts(summary, dir)?);
+    let names: Vec<String> = chart_files
+        .iter()
+        .filter_map(|f| f.file_name().and_then(|n| n.to_str()).map(String::from))
+        .collect();
+    files.extend(chart_files);
+    let p = dir.join("report.md");
+    let scene = markdown::random::scene_text(summary, rs);
+    let md = markdown::report_with(study, summary, &names, None, &scene);
+    std::fs::write(&p, &md).with_context(|| format!("writing {}", p.display()))?;
+    files.push(p);
+    files.push(html::write_report(&md, summary, &names, dir)?);
+    Ok(files)
+}

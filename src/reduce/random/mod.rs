@@ -1,0 +1,530 @@
+//! The random and record scenes' reduction (model.md §13, docs/scenes.md): first-passage
+//! reliability per design by Monte Carlo over its realizations, the fragility curve when the
+//! study sweeps an intensity, and the core's zones, ranking and recommendation on them.
+//!
+//! # Per design point (the study's grid, intensity included)
+//! Over the realizations whose outcome is `ok` (`n` of them; a run that stopped early is
+//! counted by the core's `all_ok`/`failed`, never in `p_f`): `k` of them exceed the threshold
+//! `b` (`amplitude = max |x| > b`, equivalently a first passage),
+//!
+//! ```text
+//! p_f = k / n,    [p_f_lo, p_f_hi] = Clopper–Pearson at 95 %,    beta = -Phi^-1(p_f),
+//! rms_x_mean = mean of rms_x (m),
+//! ```
+//!
+//! the interval exact (conservative) for any `n` ([`crate::stats::binomial`]); `beta` is
+//! `+inf` when no realization exceeded (`p_f = 0`: Monte Carlo says only `p_f < p_f_hi`). A
+//! study without a threshold has no `p_f` (NaN).
+//!
+//! # Designs and the design intensity
+//! Without an intensity axis (`S0` for a random load, `scale` for a record) a design is a
+//! design point. With one, a design is a design point without its intensity ([`design_study`]),
+//! and the core ranks the designs at the *design intensity*: the middle value of the swept
+//! intensities (the lower middle one for an even count). Each design then gets its fragility
+//! curve `P(exceed | IM) = Phi(ln(IM / theta) / beta)` fitted by maximum likelihood on its
+//! exceedance counts at every intensity ([`crate::stats::fragility`]).
+//!
+//! # The core's view
+//! Each realization is a [`Run`] of its design: the response ([`AMPLITUDE`]) is its
+//! `amplitude`, so the stress route of §5 applies to the peak per realization when the study
+//! gives a strength; the damping quantity ([`SURVIVAL`], `p_s`) is 1 when `|x|` stayed within
+//! the threshold and 0 when it passed, always averaged over the realizations (`p_s = 1 - p_f`).
+//! Without a strength the ranking is by `p_s`, i.e. by `p_f` (rank 1 the lowest), ties to the
+//! lower design index. A random load has no ideal case: the jumps between grid designs are
+//! found, not located between them ([`NoIdeal`]).
+//!
+//! # Small p_f
+//! With `reduce --subset N`, a design (at the design intensity) whose realizations passed the
+//! threshold fewer than [`subset::SUBSET_BELOW`] times gets `p_f` by subset simulation
+//! ([`subset`]): its `p_f`, interval and `beta` are then subset simulation's
+//! (`p_f_method = subset`, `p_f_cov` its coefficient of variation); `n_exceed` stays the Monte
+//! Carlo count, and the ranking stays on the Monte Carlo `p_s`.
+
+pub mod subset;
+
+use rayon::prelude::*;
+
+use crate::reduce::core::{
+    Damping, IdealCase, Options, PointStats, Reducer, Response, Run, Summary,
+};
+use crate::sim::random::{RandomScene, RealizationRecord};
+use crate::sim::{Outcome, Scene};
+use crate::stats::binomial::clopper_pearson;
+use crate::stats::fragility::{self, Counts, FitOutcome, Fragility};
+use crate::store::RunRow;
+use crate::store::table::{Column, Table};
+use crate::study::{DiSource, Study};
+use subset::{SUBSET_BELOW, SubsetPf, subset_pf};
+
+/// The random scene's response: the largest `|x|` of a realization over the duration.
+pub const AMPLITUDE: Response = Response {
+    name: "amplitude",
+    unit: "m",
+    description: "largest |x| over the load's duration",
+};
+
+/// The random scene's damping quantity: the share of realizations whose `|x|` stays within the
+/// threshold, `p_s = 1 - p_f`.
+pub const SURVIVAL: Damping = Damping {
+    name: "p_s",
+    symbol: "p_s",
+    title: "Survival probability",
+    unit: "1",
+    description: "share of realizations whose |x| stays within the threshold, 1 - p_f",
+};
+
+/// The confidence of `p_f`'s interval.
+pub const CONFIDENCE: f64 = 0.95;
+
+/// The keys that are an intensity measure (model.md §13): a random load's `S0`, a record's
+/// `scale`.
+pub const INTENSITY_KEYS: [&str; 2] = ["S0", "scale"];
+
+/// The reducer's options for a random or record study: the study's own, with the amplitude as
+/// the response and `p_s` as the damping quantity, averaged over the realizations (there is no
+/// ideal case).
+pub fn options(study: &Study) -> Options {
+    let mut o = Options::of_study(study, AMPLITUDE, SURVIVAL);
+    o.di_source = DiSource::Mean;
+    o
+}
+
+/// The swept intensity of a study: the axis, its index among the study's axes, and which of
+/// its values is the design intensity (module doc).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Intensity {
+    pub key: String,
+    pub axis: usize,
+    pub values: Vec<f64>,
+    pub design: usize,
+}
+
+/// The study's intensity axis (`S0` or `scale`), if it sweeps one.
+pub fn intensity(study: &Study) -> Option<Intensity> {
+    let axis = study
+        .axes
+        .iter()
+        .position(|a| INTENSITY_KEYS.contains(&a.key.as_str()))?;
+    let values = study.axes[axis].values.clone();
+    Some(Intensity {
+        key: study.axes[axis].key.clone(),
+        axis,
+        design: (values.len() - 1) / 2,
+        values,
+    })
+}
+
+/// The study of the designs: the study without its intensity axis, the intensity fixed at the
+/// design intensity.
+pub fn design_study(study: &Study) -> Study {
+    let mut s = study.clone();
+    if let Some(i) = intensity(study) {
+        let v = i.values[i.design];
+        s.axes.remove(i.axis);
+        if let Scene::Random(r) = &mut s.scene {
+            r.set(&i.key, v);
+        }
+    }
+    s
+}
+
+/// Monte Carlo reliability of one design point of the study's grid (module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointPf {
+    /// The design point (the study's grid, intensity included).
+    pub point: u64,
+    /// Realizations that ended `ok`, and those among them whose `|x|` passed the threshold.
+    pub n: u64,
+    pub exceed: u64,
+    pub p_f: f64,
+    pub p_f_lo: f64,
+    pub p_f_hi: f64,
+    /// `-Phi^-1(p_f)`.
+    pub beta: f64,
+    /// Mean of the realizations' `rms_x` (m).
+    pub rms_x_mean: f64,
+}
+
+impl PointPf {
+    /// The reliability of one design point from its realizations' rows; `threshold` (m) as the
+    /// study sets it.
+    pub fn of(point: u64, rows: &[RunRow<RealizationRecord>], threshold: Option<f64>) -> Self {
+        let ok: Vec<&RunRow<RealizationRecord>> = rows
+            .iter()
+            .filter(|r| r.record.record.outcome == Outcome::Ok)
+            .collect();
+        let n = ok.len() as u64;
+        let rms_x_mean = ok.iter().map(|r| r.record.record.rms_x).sum::<f64>() / n as f64;
+        let Some(b) = threshold else {
+            return PointPf {
+                point,
+                n,
+                exceed: 0,
+                p_f: f64::NAN,
+                p_f_lo: f64::NAN,
+                p_f_hi: f64::NAN,
+                beta: f64::NAN,
+                rms_x_mean,
+            };
+        };
+        let exceed = ok.iter().filter(|r| r.record.record.amplitude > b).count() as u64;
+        let ci = clopper_pearson(exceed, n, CONFIDENCE);
+        PointPf {
+            point,
+            n,
+            exceed,
+            p_f: ci.p,
+            p_f_lo: ci.lo,
+            p_f_hi: ci.hi,
+            beta: beta_of(ci.p),
+            rms_x_mean,
+        }
+    }
+}
+
+/// What the random reduction adds to the core's [`Summary`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct RandomSummary {
+    /// The limit of `|x|` (m), if the study sets one.
+    pub threshold: Option<f64>,
+    /// Realizations per design point, and whether the load is a record.
+    pub realizations: u64,
+    pub record: bool,
+    pub intensity: Option<Intensity>,
+    /// Every design point of the study's grid reduced, in point order.
+    pub points: Vec<PointPf>,
+    /// Per design (the core's points, in design order): its fragility fit, when the study
+    /// sweeps an intensity.
+    pub fragility: Vec<(u64, Fragility)>,
+    /// Per design that got one (in design order): subset simulation's `p_f` ([`subset`]).
+    pub subset: Vec<(u64, SubsetPf)>,
+}
+
+impl RandomSummary {
+    /// The design point of design `design` at intensity index `j` (the design itself without an
+    /// intensity axis).
+    pub fn grid_point(&self, design: u64, j: usize, design_axes: &[usize]) -> u64 {
+        let Some(i) = &self.intensity else {
+            return design;
+        };
+        // Mixed radix, last axis fastest: the design's digits with the intensity's put back.
+        let mut digits = Vec::with_capacity(design_axes.len() + 1);
+        let mut rest = design;
+        for &n in design_axes.iter().rev() {
+            digits.push(rest % n as u64);
+            rest /= n as u64;
+        }
+        digits.reverse();
+        digits.insert(i.axis, j as u64);
+        let mut lens = design_axes.to_vec();
+        lens.insert(i.axis, i.values.len());
+        digits
+            .iter()
+            .zip(&lens)
+            .fold(0u64, |p, (&d, &n)| p * n as u64 + d)
+    }
+
+    /// The reliability of the design point `point`, if it was reduced.
+    pub fn point(&self, point: u64) -> Option<&PointPf> {
+        self.points
+            .binary_search_by_key(&point, |p| p.point)
+            .ok()
+            .map(|i| &self.points[i])
+    }
+
+    /// Subset simulation's estimate for design `design`, if it got one.
+    pub fn subset_of(&self, design: u64) -> Option<&SubsetPf> {
+        self.subset
+            .binary_search_by_key(&design, |f| f.0)
+            .ok()
+            .map(|i| &self.subset[i].1)
+    }
+
+    /// The fragility fit of design `design`, if any.
+    pub fn fragility_of(&self, design: u64) -> Option<&Fragility> {
+        self.fragility
+            .binary_search_by_key(&design, |f| f.0)
+            .ok()
+            .map(|i| &self.fragility[i].1)
+    }
+}
+
+/// The streaming reduction of a random or record study: the part files' rows in, one
+/// [`PointPf`] per design point and the core's statistics per design at the design intensity
+/// out. Memory: a chunk's rows and a fixed size per design point.
+pub struct RandomReducer<'a> {
+    study: &'a Study,
+    core: Reducer<'a>,
+    threshold: Option<f64>,
+    intensity: Option<Intensity>,
+    /// The length of each axis of the study.
+    lens: Vec<usize>,
+    points: Vec<PointPf>,
+}
+
+impl<'a> RandomReducer<'a> {
+    /// `design` is [`design_study`]`(study)`, `options` the core's ([`options`] of it).
+    pub fn new(study: &'a Study, design: &'a Study, options: Options) -> Self {
+        let threshold = match &study.scene {
+            Scene::Random(r) => r.threshold,
+            Scene::Free | Scene::Harmonic(_) => None,
+        };
+        RandomReducer {
+            study,
+            core: Reducer::new(design, options),
+            threshold,
+            intensity: intensity(study),
+            lens: study.axes.iter().map(|a| a.values.len()).collect(),
+            points: Vec::new(),
+        }
+    }
+
+    /// `(design, intensity index)` of a design point of the study's grid.
+    fn split(&self, p: u64) -> (u64, usize) {
+        let Some(i) = &self.intensity else {
+            return (p, 0);
+        };
+        let mut rest = p;
+        let mut digits = vec![0u64; self.lens.len()];
+        for (a, &n) in self.lens.iter().enumerate().rev() {
+            digits[a] = rest % n as u64;
+            rest /= n as u64;
+        }
+        let design = digits
+            .iter()
+            .zip(&self.lens)
+            .enumerate()
+            .filter(|(a, _)| *a != i.axis)
+            .fold(0u64, |d, (_, (&x, &n))| d * n as u64 + x);
+        (design, digits[i.axis] as usize)
+    }
+
+    /// Reduces one part file's rows (whole design points, in point order).
+    pub fn push(&mut self, rows: Vec<RunRow<RealizationRecord>>) {
+        let groups: Vec<&[RunRow<RealizationRecord>]> =
+            rows.chunk_by(|a, b| a.point == b.point).collect();
+        let threshold = self.threshold;
+        let pfs: Vec<PointPf> = groups
+            .par_iter()
+            .map(|g| PointPf::of(g[0].point, g, threshold))
+            .collect();
+        self.points.extend(pfs);
+        let design_j = self.intensity.as_ref().map_or(0, |i| i.design);
+        let runs: Vec<Run> = rows
+            .iter()
+            .filter_map(|r| {
+                let (design, j) = self.split(r.point);
+                (j == design_j).then(|| run_of(r, design, threshold))
+            })
+            .collect();
+        self.core.push(runs);
+    }
+
+    /// The core's summary over the designs, and the scene's own; with `subset = Some(n)`
+    /// subset simulation of `n` samples per level for the designs with few exceedances
+    /// ([`subset`]).
+    pub fn finish(mut self, subset: Option<usize>) -> (Summary, RandomSummary) {
+        self.points.sort_by_key(|p| p.point);
+        self.points.dedup_by_key(|p| p.point);
+        let summary = self.core.finish_with(&NoIdeal);
+        let (realizations, record) = match &self.study.scene {
+            Scene::Random(r) => (self.study.realizations, !r.draws_normals()),
+            Scene::Free | Scene::Harmonic(_) => (0, false),
+        };
+        let mut rs = RandomSummary {
+            threshold: self.threshold,
+            realizations,
+            record,
+            intensity: self.intensity,
+            points: self.points,
+            fragility: Vec::new(),
+            subset: Vec::new(),
+        };
+        if let (Some(n), Some(b)) = (subset, rs.threshold) {
+            let lens = lens(&summary.grid);
+            let j = rs.intensity.as_ref().map_or(0, |i| i.design);
+            for d in &summary.points {
+                let g = rs.grid_point(d.point, j, &lens);
+                if rs.point(g).is_some_and(|p| p.exceed < SUBSET_BELOW)
+                    && let Some(s) = subset_pf(self.study, g, b, n)
+                {
+                    rs.subset.push((d.point, s));
+                }
+            }
+        }
+        if let (Some(i), Some(_)) = (&rs.intensity, rs.threshold) {
+            let design_axes = lens(&summary.grid);
+            let fits: Vec<(u64, Fragility)> = summary
+                .points
+                .par_iter()
+                .map(|d| {
+                    let counts: Vec<Counts> = (0..i.values.len())
+                        .filter_map(|j| {
+                            let p = rs.point(rs.grid_point(d.point, j, &design_axes))?;
+                            Some(Counts {
+                                im: i.values[j],
+                                n: p.n,
+                                exceed: p.exceed,
+                            })
+                        })
+                        .collect();
+                    (d.point, fragility::fit(&counts))
+                })
+                .collect();
+            rs.fragility = fits;
+        }
+        (summary, rs)
+    }
+}
+
+/// A stored realization as the core needs it: its design, the amplitude as the response and
+/// whether it stayed within the threshold as the damping quantity (NaN without a threshold).
+pub fn run_of(r: &RunRow<RealizationRecord>, design: u64, threshold: Option<f64>) -> Run {
+    let rec = &r.record.record;
+    Run {
+        point: design,
+        case: r.case,
+        ideal: false,
+        dm: r.dm,
+        dd: r.dd,
+        noise_seed: r.noise_seed,
+        outcome: rec.outcome,
+        response: rec.amplitude,
+        di: threshold.map_or(f64::NAN, |b| if rec.amplitude > b { 0.0 } else { 1.0 }),
+    }
+}
+
+/// A random load has no ideal case to simulate between the grid's designs.
+pub struct NoIdeal;
+
+impl IdealCase for NoIdeal {
+    fn at(&self, _values: &[f64]) -> Option<[f64; 2]> {
+        None
+    }
+}
+
+/// The summary columns the scene adds for `rows` (the core's points, designs): `p_f`, its
+/// interval, `beta`, `n_exceed`, `rms_x_mean`, the `threshold`, at the design intensity; with an
+/// intensity axis also `intensity` (its key), `intensity_design` and the fragility fit
+/// (`fragility_theta`, `fragility_beta`, their 95 % intervals, `fragility_outcome`).
+pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&PointStats]) {
+    let lens = lens(&s.grid);
+    let j = rs.intensity.as_ref().map_or(0, |i| i.design);
+    let pf: Vec<Option<&PointPf>> = rows
+        .iter()
+        .map(|d| rs.point(rs.grid_point(d.point, j, &lens)))
+        .collect();
+    let ss: Vec<Option<&SubsetPf>> = rows.iter().map(|d| rs.subset_of(d.point)).collect();
+    // A column of the Monte Carlo estimate, or subset simulation's where the design got one.
+    let either = |mc: &dyn Fn(&PointPf) -> f64, sub: &dyn Fn(&SubsetPf) -> f64| {
+        Column::F64(
+            pf.iter()
+                .zip(&ss)
+                .map(|(p, s)| match s {
+                    Some(s) => sub(s),
+                    None => p.map_or(f64::NAN, mc),
+                })
+                .collect(),
+        )
+    };
+    let f = |g: &dyn Fn(&PointPf) -> f64| {
+        Column::F64(pf.iter().map(|p| p.map_or(f64::NAN, g)).collect())
+    };
+    t.push(
+        "threshold",
+        Column::F64(vec![rs.threshold.unwrap_or(f64::NAN); rows.len()]),
+    );
+    t.push("p_f", either(&|p| p.p_f, &|s| s.p_f));
+    t.push("p_f_lo", either(&|p| p.p_f_lo, &|s| s.lo));
+    t.push("p_f_hi", either(&|p| p.p_f_hi, &|s| s.hi));
+    t.push("beta", either(&|p| p.beta, &|s| beta_of(s.p_f)));
+    t.push(
+        "p_f_method",
+        Column::Str(
+            ss.iter()
+                .map(|s| if s.is_some() { "subset" } else { "monte_carlo" }.to_string())
+                .collect(),
+        ),
+    );
+    t.push("p_f_cov", either(&|p| mc_cov(p.p_f, p.n), &|s| s.cov));
+    t.push(
+        "p_f_cov_upper",
+        either(&|p| mc_cov(p.p_f, p.n), &|s| s.cov_upper),
+    );
+    t.push(
+        "subset_runs",
+        Column::U64(ss.iter().map(|s| s.map(|s| s.runs)).collect()),
+    );
+    t.push(
+        "n_exceed",
+        Column::U64(pf.iter().map(|p| p.map(|p| p.exceed)).collect()),
+    );
+    t.push("rms_x_mean", f(&|p| p.rms_x_mean));
+    let Some(i) = &rs.intensity else {
+        return;
+    };
+    t.push("intensity", Column::Str(vec![i.key.clone(); rows.len()]));
+    t.push(
+        "intensity_design",
+        Column::F64(vec![i.values[i.design]; rows.len()]),
+    );
+    let fits: Vec<Option<&Fragility>> = rows.iter().map(|d| rs.fragility_of(d.point)).collect();
+    let g = |h: &dyn Fn(&Fragility) -> f64| {
+        Column::F64(fits.iter().map(|x| x.map_or(f64::NAN, h)).collect())
+    };
+    t.push("fragility_theta", g(&|x| x.theta));
+    t.push("fragility_theta_lo", g(&|x| x.theta_lo));
+    t.push("fragility_theta_hi", g(&|x| x.theta_hi));
+    t.push("fragility_beta", g(&|x| x.beta));
+    t.push("fragility_beta_lo", g(&|x| x.beta_lo));
+    t.push("fragility_beta_hi", g(&|x| x.beta_hi));
+    t.push(
+        "fragility_outcome",
+        Column::Str(
+            fits.iter()
+                .map(|x| x.map_or("none", |x| outcome_name(x.outcome)).to_string())
+                .collect(),
+        ),
+    );
+}
+
+/// The reliability index `-Phi^-1(p)` (NaN for a NaN `p`).
+pub fn beta_of(p: f64) -> f64 {
+    if p.is_nan() {
+        f64::NAN
+    } else {
+        -crate::reduce::core::stats::phi_inv(p)
+    }
+}
+
+/// Monte Carlo's coefficient of variation of `p` from `n` runs, `sqrt((1 - p) / (n p))`.
+fn mc_cov(p: f64, n: u64) -> f64 {
+    ((1.0 - p) / (n as f64 * p)).sqrt()
+}
+
+/// The length of each axis of a grid.
+fn lens(grid: &crate::reduce::core::Grid) -> Vec<usize> {
+    (0..grid.n_axes()).map(|a| grid.n(a)).collect()
+}
+
+/// How a fragility fit ended, as the summary writes it.
+pub fn outcome_name(o: FitOutcome) -> &'static str {
+    match o {
+        FitOutcome::Ok => "ok",
+        FitOutcome::NoOverlap => "no_overlap",
+        FitOutcome::Separated => "separated",
+        FitOutcome::Invalid => "invalid",
+        FitOutcome::Failed => "failed",
+    }
+}
+
+/// The random scene of a study (`None` for another scene).
+pub fn scene_of(study: &Study) -> Option<&RandomScene> {
+    match &study.scene {
+        Scene::Random(r) => Some(r),
+        Scene::Free | Scene::Harmonic(_) => None,
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,215 @@
+//! The random and record scenes' section of `report.md` ([`scene_text`]): each design's
+//! first-passage probability `p_f` with its exact 95 % interval, in rank order, and with a swept
+//! intensity its `p_f` at every intensity and its fragility fit (median capacity `theta`,
+//! dispersion `beta`).
+
+use std::fmt::Write;
+
+use crate::reduce::random::{RandomSummary, beta_of, outcome_name};
+use crate::reduce::{PointStats, Summary};
+use crate::report::markdown::{MAX_ROWS, SceneText, cm, design_text, f, ranked};
+use crate::report::text::{count, fmt_num, thousands};
+
+/// How the core's sections word a random or record study, and its own section.
+pub fn scene_text(s: &Summary, rs: &RandomSummary) -> SceneText {
+    let per = count(
+        rs.realizations,
+        if rs.record {
+            "record run"
+        } else {
+            "realization"
+        },
+        if rs.record {
+            "record runs"
+        } else {
+            "realizations"
+        },
+    );
+    SceneText {
+        section: section(s, rs),
+        point: ("design", "designs"),
+        per_point: Some(match &rs.intensity {
+            Some(i) => format!(
+                "{} × {} per design",
+                count(i.values.len() as u64, "intensity", "intensities"),
+                per
+            ),
+            None => format!("{per} per design"),
+        }),
+        window_peaks: false,
+    }
+}
+
+/// A number at label precision, `–` when unknown.
+fn num(v: f64) -> String {
+    if v.is_finite() {
+        fmt_num(v)
+    } else {
+        "–".into()
+    }
+}
+
+/// `p_f` with its interval: `0.125 [0.06, 0.23]`.
+fn pf_text(p: f64, lo: f64, hi: f64) -> String {
+    if p.is_nan() {
+        return "–".into();
+    }
+    format!("{} [{}, {}]", f(p, 4), f(lo, 4), f(hi, 4))
+}
+
+/// The designs in rank order (all, by point, when none is ranked).
+fn shown(s: &Summary) -> Vec<&PointStats> {
+    let r = ranked(s);
+    if r.is_empty() {
+        s.points.iter().collect()
+    } else {
+        r
+    }
+}
+
+/// The section: the method in two lines, the table of designs, the fragility table.
+pub fn section(s: &Summary, rs: &RandomSummary) -> String {
+    let mut o = String::from("## First-passage reliability\n\n");
+    let Some(b) = rs.threshold else {
+        o += "The study sets no `[scene] threshold`: no first-passage probability is computed \
+              and the designs are not ranked on one. Set a threshold (m) to rank them.\n\n";
+        return o;
+    };
+    let at = match &rs.intensity {
+        Some(i) => format!(
+            " at the design intensity {} = {} (the middle of the swept values)",
+            i.key,
+            fmt_num(i.values[i.design])
+        ),
+        None => String::new(),
+    };
+    let _ = writeln!(
+        o,
+        "`p_f` = P(max |x| > {} cm) over the load's duration{at}, by Monte Carlo over each \
+         design's {}: the share that passed, with its exact (Clopper–Pearson) 95 % interval; \
+         `beta` = −Φ⁻¹(p_f). Rank 1 has the lowest `p_f` (the ranking is by `p_s = 1 − p_f` \
+         unless the study gives a strength); two designs whose intervals overlap are not told \
+         apart by this many runs.{}\n",
+        cm(b),
+        if rs.record {
+            count(rs.realizations, "record run", "record runs")
+        } else {
+            count(rs.realizations, "realization", "realizations")
+        },
+        if rs.subset.is_empty() {
+            ""
+        } else {
+            " Where fewer than 10 realizations passed, `p_f` is subset simulation's (Au and Beck \
+             2001, over the realization's white-noise samples; its interval from its coefficient \
+             of variation with the levels fully correlated); the ranking stays on the Monte \
+             Carlo counts."
+        },
+    );
+    let _ = writeln!(
+        o,
+        "| rank | design | p_f [95 % interval] | beta | exceedances | mean amplitude (cm) | mean rms x (cm) |\n|---|---|---|---|---|---|---|"
+    );
+    let lens: Vec<usize> = (0..s.grid.n_axes()).map(|a| s.grid.n(a)).collect();
+    let j = rs.intensity.as_ref().map_or(0, |i| i.design);
+    let designs = shown(s);
+    for d in designs.iter().take(MAX_ROWS) {
+        let Some(p) = rs.point(rs.grid_point(d.point, j, &lens)) else {
+            continue;
+        };
+        let (pf, beta) = match rs.subset_of(d.point) {
+            Some(x) => (
+                format!(
+                    "{} (subset simulation, CoV {})",
+                    pf_text(x.p_f, x.lo, x.hi),
+                    f(x.cov, 2)
+                ),
+                beta_of(x.p_f),
+            ),
+            None => (pf_text(p.p_f, p.p_f_lo, p.p_f_hi), p.beta),
+        };
+        let _ = writeln!(
+            o,
+            "| {} | {} | {} | {} | {} of {} | {} | {} |",
+            d.rank.map_or("–".into(), |r| r.to_string()),
+            design_text(s, d.point),
+            pf,
+            f(beta, 3),
+            thousands(p.exceed),
+            thousands(p.n),
+            cm(d.response.mean),
+            cm(p.rms_x_mean)
+        );
+    }
+    if designs.len() > MAX_ROWS {
+        let _ = writeln!(
+            o,
+            "\n{} more in `summary.csv`.",
+            thousands((designs.len() - MAX_ROWS) as u64)
+        );
+    }
+    o.push('\n');
+    o += &fragility(s, rs, &designs, &lens);
+    o
+}
+
+/// With a swept intensity: each design's `p_f` at every intensity and its fragility fit.
+fn fragility(s: &Summary, rs: &RandomSummary, designs: &[&PointStats], lens: &[usize]) -> String {
+    let Some(i) = &rs.intensity else {
+        return String::new();
+    };
+    let mut o = format!(
+        "### Fragility over {}\n\nEach design's `p_f` at every swept {} and the lognormal \
+         fragility curve P(exceed | {k}) = Φ(ln({k} / theta) / beta) fitted to its counts by \
+         maximum likelihood (95 % Wald intervals). `theta`, the median capacity, is the \
+         intensity at which half the runs pass the threshold: the larger, the better the \
+         design.\n\n",
+        i.key,
+        i.key,
+        k = i.key
+    );
+    let heads: Vec<String> = i
+        .values
+        .iter()
+        .map(|v| format!("{} = {}", i.key, fmt_num(*v)))
+        .collect();
+    let _ = writeln!(
+        o,
+        "| design | {} | theta [95 %] | beta [95 %] | fit |\n|---|{}---|---|---|",
+        heads.join(" | "),
+        "---|".repeat(heads.len())
+    );
+    for d in designs.iter().take(MAX_ROWS) {
+        let pfs: Vec<String> = (0..i.values.len())
+            .map(|j| {
+                rs.point(rs.grid_point(d.point, j, lens))
+                    .map_or("–".into(), |p| f(p.p_f, 3))
+            })
+            .collect();
+        let fit = rs.fragility_of(d.point);
+        let (theta, beta, outcome) = fit.map_or(("–".into(), "–".into(), "none"), |x| {
+            (
+                format!(
+                    "{} [{}, {}]",
+                    num(x.theta),
+                    num(x.theta_lo),
+                    num(x.theta_hi)
+                ),
+                format!(
+                    "{} [{}, {}]",
+                    f(x.beta, 3),
+                    f(x.beta_lo, 3),
+                    f(x.beta_hi, 3)
+                ),
+                outcome_name(x.outcome),
+            )
+        });
+        let _ = writeln!(
+            o,
+            "| {} | {} | {theta} | {beta} | {outcome} |",
+            design_text(s, d.point),
+            pfs.join(" | ")
+        );
+    }
+    o.push('\n');
+    o
+}

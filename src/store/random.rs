@@ -1,0 +1,116 @@
+//! The random and record scenes' points table (`random_points`, docs/schema.md): one row per
+//! realization ([`RealizationRecord`]), in the part files of [`super::points`] after the
+//! identity, system and solver columns every points table starts with.
+//!
+//! After `tol`: the load's sweepable keys at the design point, `S0` ((m/s^2)^2 or N^2 per
+//! rad/s), `omega_g` (rad/s), `zeta_g`, `omega_f` (rad/s), `zeta_f`, `scale` (null where the
+//! scene's load has no such key); `outcome`; `amplitude` (m), `t_peak` (s), `rms_x` (m),
+//! `rms_acc` (m/s^2), `first_passage_time` (s, null when `|x|` never passes the threshold or the
+//! study sets none); `impacts`, `sticks`; `energy_impact` (J); `samples`, `t_stop` (s), `steps`.
+//! The observables over the duration are NaN unless the outcome is `ok`
+//! ([`crate::sim::random::RandomRecord`]).
+
+use std::sync::Arc;
+
+use anyhow::Result;
+use arrow::array::{Array, ArrayRef, Float64Array, RecordBatch, UInt64Array};
+use arrow::datatypes::DataType;
+
+use super::points::{
+    RunRow, StoredRecord, column, dict_type, f64col, outcome_col, outcomes, u64col,
+};
+use super::schema::TableKind;
+use crate::sim::random::{RandomRecord, RandomScene, RealizationRecord};
+use crate::sim::{Outcome, SolverSettings};
+
+/// The `f64` observables after `outcome`, in schema order (then `first_passage_time`).
+const OBSERVABLES: [&str; 4] = ["amplitude", "t_peak", "rms_x", "rms_acc"];
+
+impl StoredRecord for RealizationRecord {
+    const TABLE: TableKind = TableKind::RandomPoints;
+
+    fn outcome(&self) -> Outcome {
+        self.record.outcome
+    }
+
+    fn fields() -> Vec<(&'static str, DataType, bool)> {
+        let f = |name| (name, DataType::Float64, false);
+        let u = |name| (name, DataType::UInt64, false);
+        let mut cols: Vec<(&str, DataType, bool)> = RandomScene::AXES
+            .iter()
+            .map(|&k| (k, DataType::Float64, true))
+            .collect();
+        cols.push(("outcome", dict_type(), false));
+        cols.extend(OBSERVABLES.map(f));
+        cols.push(("first_passage_time", DataType::Float64, true));
+        cols.extend(["impacts", "sticks"].map(u));
+        cols.push(f("energy_impact"));
+        cols.push(u("samples"));
+        cols.push(f("t_stop"));
+        cols.push(u("steps"));
+        cols
+    }
+
+    fn arrays(rows: &[RunRow<Self>], _settings: &SolverSettings) -> Result<Vec<ArrayRef>> {
+        let opt = |g: &dyn Fn(&RunRow<Self>) -> Option<f64>| -> ArrayRef {
+            Arc::new(Float64Array::from_iter(rows.iter().map(g)))
+        };
+        let mut cols: Vec<ArrayRef> = (0..RandomScene::AXES.len())
+            .map(|i| opt(&|r| r.record.load[i]))
+            .collect();
+        cols.push(outcome_col(rows)?);
+        cols.push(f64col(rows, |r| r.record.record.amplitude));
+        cols.push(f64col(rows, |r| r.record.record.t_peak));
+        cols.push(f64col(rows, |r| r.record.record.rms_x));
+        cols.push(f64col(rows, |r| r.record.record.rms_acc));
+        cols.push(opt(&|r| r.record.record.first_passage_time));
+        cols.push(u64col(rows, |r| r.record.record.impacts));
+        cols.push(u64col(rows, |r| r.record.record.sticks));
+        cols.push(f64col(rows, |r| r.record.record.energy_impact));
+        cols.push(u64col(rows, |r| r.record.record.samples));
+        cols.push(f64col(rows, |r| r.record.record.t_stop));
+        cols.push(u64col(rows, |r| r.record.record.steps));
+        Ok(cols)
+    }
+
+    fn read(batch: &RecordBatch) -> Result<Vec<Self>> {
+        let u64s = |n| column::<UInt64Array>(batch, n);
+        let f64s = |n| column::<Float64Array>(batch, n);
+        let outcome = outcomes(batch)?;
+        let load: Vec<&Float64Array> = RandomScene::AXES
+            .iter()
+            .map(|k| f64s(k))
+            .collect::<Result<_>>()?;
+        let obs: Vec<&Float64Array> = OBSERVABLES.iter().map(|k| f64s(k)).collect::<Result<_>>()?;
+        let passage = f64s("first_passage_time")?;
+        let (impacts, sticks, samples, steps) = (
+            u64s("impacts")?,
+            u64s("sticks")?,
+            u64s("samples")?,
+            u64s("steps")?,
+        );
+        let (energy, t_stop) = (f64s("energy_impact")?, f64s("t_stop")?);
+        let nullable = |c: &Float64Array, i: usize| c.is_valid(i).then(|| c.value(i));
+        Ok(outcome
+            .into_iter()
+            .enumerate()
+            .map(|(i, outcome)| RealizationRecord {
+                load: std::array::from_fn(|j| nullable(load[j], i)),
+                record: RandomRecord {
+                    outcome,
+                    amplitude: obs[0].value(i),
+                    t_peak: obs[1].value(i),
+                    rms_x: obs[2].value(i),
+                    rms_acc: obs[3].value(i),
+                    first_passage_time: nullable(passage, i),
+                    impacts: impacts.value(i),
+                    sticks: sticks.value(i),
+                    energy_impact: energy.value(i),
+                    samples: samples.value(i),
+                    t_stop: t_stop.value(i),
+                    steps: steps.value(i),
+                },
+            })
+            .collect())
+    }
+}

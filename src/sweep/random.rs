@@ -1,0 +1,82 @@
+//! The random and record scenes' runs (docs/scenes.md, model.md §13): the *simulate* step of a
+//! random or record study, beside [`super::simulate`]'s free-decay and harmonic runs.
+//!
+//! A run is a realization `c` of design point `p` ([`crate::plan`]): its load is drawn as it
+//! runs from [`Plan::load_stream`] (study seed and `c`: the same load at every design point),
+//! never stored; a record's samples are
+//! the study's, shared. A design point's setup ([`RandomRun::new`]: its oscillators, its
+//! propagator over `dt`, its quadratic forms) is prepared once per chunk and shared by its
+//! realizations, which run in parallel on the current rayon pool. Pure: the same plan and chunk
+//! give the same rows and bits on any thread count, chunk size or shard split.
+
+use indicatif::ProgressBar;
+use rayon::prelude::*;
+
+use super::simulate::{ChunkRows, SceneRun, row_of};
+use crate::plan::{Plan, RunSpec};
+use crate::sim::random::{RandomRun, RandomScene, RealizationRecord};
+use crate::sim::{NoProbe, Scene};
+use crate::store::RunRow;
+
+impl SceneRun for RealizationRecord {
+    fn simulate(plan: &Plan, run: &RunSpec) -> Self {
+        let scene = random_scene(&run.scene);
+        let setup = RandomRun::new(&run.system, &plan.study.solver, &scene);
+        realization(plan, run, &scene, &setup)
+    }
+
+    /// Each design point of the chunk set up once ([`RandomRun::new`]), then its realizations
+    /// in parallel, in `point_id` order.
+    fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> ChunkRows<Self> {
+        let points = plan.chunk_points(k);
+        let n = plan.n_cases();
+        let setups: Vec<(RunSpec, RandomScene, RandomRun)> = points
+            .clone()
+            .map(|p| {
+                let first = plan.run(p, 0);
+                let scene = random_scene(&first.scene);
+                let setup = RandomRun::new(&first.system, &plan.study.solver, &scene);
+                (first, scene, setup)
+            })
+            .collect();
+        let rows = (points.start * n..points.end * n)
+            .into_par_iter()
+            .map(|id| {
+                let (p, c) = (id / n, (id % n) as u32);
+                let (first, scene, setup) = &setups[(p - points.start) as usize];
+                let run = plan.run(p, c);
+                debug_assert_eq!(run.system, first.system);
+                let row = row_of(plan, &run, realization(plan, &run, scene, setup));
+                if let Some(pb) = progress {
+                    pb.inc(1);
+                }
+                row
+            })
+            .collect::<Vec<RunRow<Self>>>();
+        ChunkRows {
+            rows,
+            attractors: None,
+        }
+    }
+}
+
+/// The random scene of a run (the design point's values set by the plan); a run of another
+/// scene never reaches here (the engine picks the record type from the study's scene), and
+/// would get the placeholder of [`RandomScene::placeholder`].
+fn random_scene(scene: &Scene) -> RandomScene {
+    match scene {
+        Scene::Random(r) => r.clone(),
+        Scene::Free | Scene::Harmonic(_) => RandomScene::placeholder(),
+    }
+}
+
+/// Realization `run.case` of `run.point` on its design point's `setup`.
+fn realization(
+    plan: &Plan,
+    run: &RunSpec,
+    scene: &RandomScene,
+    setup: &RandomRun,
+) -> RealizationRecord {
+    let record = setup.run(&plan.study.request, plan.load_stream(run), &mut NoProbe);
+    RealizationRecord::new(scene, record)
+}
