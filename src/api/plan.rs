@@ -210,7 +210,7 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
     }
     match &study.scene {
         Scene::Harmonic(h) => describe_harmonic(w, study, h),
-        Scene::Random(r) => describe_random(w, r),
+        Scene::Random(r) => describe_random(w, r, |k| study.axis(k).is_some()),
         Scene::Free => describe_free(w, study),
     }
     let _ = writeln!(
@@ -357,14 +357,22 @@ fn describe_free(w: &mut String, study: &Study) {
     let _ = writeln!(w, "each run:       {horizon}");
 }
 
-/// The random and record scenes' lines: the load, its sampling and duration, the threshold.
-fn describe_random(w: &mut String, r: &sim::random::RandomScene) {
+/// The random and record scenes' lines: the load, its sampling and duration, the threshold;
+/// `swept(key)`: whether the study sweeps a scene key (its value here is a placeholder).
+fn describe_random(w: &mut String, r: &sim::random::RandomScene, swept: impl Fn(&str) -> bool) {
     use sim::random::Excitation;
+    let value = |key: &str, v: f64| {
+        if swept(key) {
+            "swept".to_string()
+        } else {
+            fmt_value(v)
+        }
+    };
     let load = match &r.excitation {
         Excitation::Random(l) => format!(
             "{} noise, S0 = {} (two-sided, per rad/s){}",
             l.spectrum.name(),
-            fmt_value(l.S0),
+            value("S0", l.S0),
             if l.envelope.is_some() {
                 ", with an envelope"
             } else {
@@ -374,7 +382,7 @@ fn describe_random(w: &mut String, r: &sim::random::RandomScene) {
         Excitation::Record(rec) => format!(
             "a record of {} samples, scale {}",
             rec.values.len(),
-            fmt_value(rec.scale)
+            value("scale", rec.scale)
         ),
     };
     let _ = writeln!(w, "load:           {} ({load})", r.input.name());
