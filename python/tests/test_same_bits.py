@@ -47,6 +47,9 @@ def random_harmonic(rng):
         "F0": float(rng.uniform(0.05, 0.2)),
         "r": float(rng.uniform(0.7, 1.3)),
         "n_meas": 4,
+        # A brief design life: the bits compared are the same for any length, and the census's
+        # chaotic leaders would otherwise each run 1,024,000 periods.
+        "life_max_periods": 2000,
     }
 
 
@@ -133,6 +136,7 @@ v0 = 0.0
 kind = "harmonic"
 F0 = 0.1
 n_meas = 8
+life_max_periods = 2000
 [sweep]
 m = [0.005, 0.02]
 d = [0.005, 0.015]
@@ -144,7 +148,7 @@ r = { start = 0.85, stop = 1.15, num = 13 }
     "text,name,columns,fixed",
     [
         (FREE_STUDY, "batch", ["e", "mass_inner", "d"], {"C": 0.2}),
-        (HARMONIC_STUDY, "fbatch", ["mass_inner", "d", "r"], {"v0": 0.0, "F0": 0.1, "n_meas": 8, "scene": "harmonic"}),
+        (HARMONIC_STUDY, "fbatch", ["mass_inner", "d", "r"], {"v0": 0.0, "F0": 0.1, "n_meas": 8, "life_max_periods": 2000, "scene": "harmonic"}),
     ],
     ids=["free", "harmonic"],
 )
