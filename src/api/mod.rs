@@ -7,3 +7,4 @@ pub mod plan;
 pub mod random;
 pub mod reduce;
 pub mod setup;
+mod tables;

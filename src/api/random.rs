@@ -62,13 +62,7 @@ fn write_outputs(
         },
     )?);
     drop(points);
-    for (kind, t) in [
-        (TableKind::Zones, tables::zones_table(summary)),
-        (TableKind::Jumps, tables::jumps_table(summary)),
-        (TableKind::Sensitivity, tables::sensitivity_table(summary)),
-    ] {
-        files.extend(store::summary::write_table(dir, kind, &t)?);
-    }
+    files.extend(super::tables::write_core_tables(summary, dir)?);
     let mut chart_files = charts::random::charts(summary, rs, dir)?;
     chart_files.extend(charts::summary_charts(summary, dir)?);
     let names: Vec<String> = chart_files

@@ -369,13 +369,7 @@ pub fn write_outputs_with(
         },
     )?);
     drop(points);
-    for (kind, t) in [
-        (TableKind::Zones, tables::zones_table(summary)),
-        (TableKind::Jumps, tables::jumps_table(summary)),
-        (TableKind::Sensitivity, tables::sensitivity_table(summary)),
-    ] {
-        files.extend(store::summary::write_table(dir, kind, &t)?);
-    }
+    files.extend(super::tables::write_core_tables(summary, dir)?);
     let mut chart_files = Vec::new();
     if let Some(fs) = forced {
         let (steady, written) = write_steady_states(study, fs, summary.anchor(), dir)?;

@@ -46,18 +46,14 @@ pub fn probes_from_table(
     axes: &[String],
     t: &Table,
 ) -> Option<HashMap<Vec<u64>, Option<[f64; 2]>>> {
-    let f64s = |name: &str| match t.get(name)? {
-        Column::F64(v) => Some(v),
-        _ => None,
-    };
     let cols: Vec<&Vec<f64>> = axes
         .iter()
-        .map(|k| f64s(&crate::store::table::axis_column(k)))
+        .map(|k| f64s(t, &crate::store::table::axis_column(k)))
         .collect::<Option<_>>()?;
     let Column::Bool(ok) = t.get("ok")? else {
         return None;
     };
-    let (peak, pr) = (f64s("peak_amplitude")?, f64s("peak_reduction")?);
+    let (peak, pr) = (f64s(t, "peak_amplitude")?, f64s(t, "peak_reduction")?);
     Some(
         (0..t.n_rows())
             .map(|i| {
@@ -84,18 +80,11 @@ pub fn branches_part(responses: &[Response]) -> Table {
 
 /// [`branches_part`] read back, by design; `None` when a column is missing or of another type.
 pub fn branches_from_part(t: &Table) -> Option<BTreeMap<u64, Vec<BranchRow>>> {
-    let f = |name: &str| match t.get(name)? {
-        Column::F64(v) => Some(v),
-        _ => None,
-    };
-    let u = |name: &str| match t.get(name)? {
-        Column::U64(v) => Some(v),
-        _ => None,
-    };
-    let s = |name: &str| match t.get(name)? {
-        Column::Str(v) => Some(v),
-        _ => None,
-    };
+    let (f, u, s) = (
+        |n: &str| f64s(t, n),
+        |n: &str| u64s(t, n),
+        |n: &str| strs(t, n),
+    );
     let Column::Bool(stable) = t.get("stable")? else {
         return None;
     };
@@ -228,18 +217,11 @@ pub fn verification_part(v: &Verification) -> Table {
 /// [`verification_part`] read back: the direct measurements of the motions the shard measured
 /// (not those taken as raced), by motion; `None` when a column is missing or of another type.
 pub fn verification_from_part(t: &Table) -> Option<Measured> {
-    let f = |name: &str| match t.get(name)? {
-        Column::F64(v) => Some(v),
-        _ => None,
-    };
-    let u = |name: &str| match t.get(name)? {
-        Column::U64(v) => Some(v),
-        _ => None,
-    };
-    let b = |name: &str| match t.get(name)? {
-        Column::Bool(v) => Some(v),
-        _ => None,
-    };
+    let (f, u, b) = (
+        |n: &str| f64s(t, n),
+        |n: &str| u64s(t, n),
+        |n: &str| bools(t, n),
+    );
     let (point, case, periods) = (u("point")?, u("case")?, u("direct_periods")?);
     let (exceed, fit_periods) = (u("direct_exceedances")?, u("direct_fit_periods")?);
     let (again, capped, fitted) = (
@@ -282,4 +264,36 @@ pub fn verification_from_part(t: &Table) -> Option<Measured> {
         out.insert(key, direct);
     }
     Some(out)
+}
+
+/// Column `name` of `t` as floats; `None` when missing or of another type.
+fn f64s<'a>(t: &'a Table, name: &str) -> Option<&'a Vec<f64>> {
+    match t.get(name)? {
+        Column::F64(v) => Some(v),
+        _ => None,
+    }
+}
+
+/// Column `name` of `t` as nullable unsigned integers.
+fn u64s<'a>(t: &'a Table, name: &str) -> Option<&'a Vec<Option<u64>>> {
+    match t.get(name)? {
+        Column::U64(v) => Some(v),
+        _ => None,
+    }
+}
+
+/// Column `name` of `t` as strings.
+fn strs<'a>(t: &'a Table, name: &str) -> Option<&'a Vec<String>> {
+    match t.get(name)? {
+        Column::Str(v) => Some(v),
+        _ => None,
+    }
+}
+
+/// Column `name` of `t` as booleans.
+fn bools<'a>(t: &'a Table, name: &str) -> Option<&'a Vec<bool>> {
+    match t.get(name)? {
+        Column::Bool(v) => Some(v),
+        _ => None,
+    }
 }

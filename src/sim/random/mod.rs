@@ -499,15 +499,8 @@ mod tests {
     #[test]
     fn segments_count_whole_samples_and_a_last_short_one() {
         let mut s = RandomScene {
-            input: Input::Base,
-            excitation: Excitation::Random(RandomLoad {
-                spectrum: Spectrum::White,
-                S0: 1.0,
-                envelope: None,
-            }),
-            dt: 0.005,
             duration: 20.0,
-            threshold: None,
+            ..RandomScene::placeholder()
         };
         assert_eq!(s.segments(), 4000);
         s.duration = 20.001;
