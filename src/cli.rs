@@ -179,18 +179,20 @@ pub struct ReduceCmd {
     pub bifurcation_curves: CurveLines,
     /// A random study: subset simulation with N samples per level (a multiple of 10, at least
     /// 100; 1000 is Au and Beck's) for each design whose realizations passed the threshold
-    /// fewer than 10 times; about N runs per decade of p_f per such design.
-    #[arg(long, value_name = "N", value_parser = parse_subset)]
-    pub subset: Option<u64>,
+    /// fewer than 10 times, its estimate ranking it; about N runs per decade of p_f per such
+    /// design (at most 10,000 with N = 1000). 0: Monte Carlo only.
+    #[arg(long, value_name = "N", default_value = "1000", value_parser = parse_subset)]
+    pub subset: u64,
 }
 
-/// Parses `--subset N`: a multiple of 10, at least 100 (subset simulation's chains of 10 need
-/// 10 seeds at least), at most 10^6.
+/// Parses `--subset N`: 0 (off), or a multiple of 10, at least 100 (subset simulation's chains
+/// of 10 need 10 seeds at least), at most 10^6.
 fn parse_subset(s: &str) -> Result<u64, String> {
     match s.parse::<u64>() {
-        Ok(n) if (100..=1_000_000).contains(&n) && n.is_multiple_of(10) => Ok(n),
+        Ok(n) if n == 0 || ((100..=1_000_000).contains(&n) && n.is_multiple_of(10)) => Ok(n),
         _ => Err(format!(
-            "'{s}': expected a whole number of samples per level, a multiple of 10 in [100, 1000000]"
+            "'{s}': expected 0 (Monte Carlo only) or a whole number of samples per level, a \
+             multiple of 10 in [100, 1000000]"
         )),
     }
 }
@@ -355,7 +357,7 @@ pub fn main() -> anyhow::Result<()> {
             bootstrap: c.bootstrap.map(|b| b as usize),
             shard: c.shard,
             bifurcation_curves: c.bifurcation_curves,
-            subset: c.subset.map(|n| n as usize),
+            subset: (c.subset > 0).then_some(c.subset as usize),
         }),
         Command::Plot(PlotCmd::Waveform(c)) => app::reduce::waveform(&app::reduce::WaveformArgs {
             sets: c.sets,

@@ -27,6 +27,14 @@ const BAD: &[(&str, &str)] = &[
         "{dir}/random_axis_out_of_range.toml: [sweep].S0 = 0: the two-sided spectral density must be in (0, 1e12] ((m/s^2)^2 or N^2 per rad/s)",
     ),
     (
+        "random_design_intensity_not_swept.toml",
+        "{dir}/random_design_intensity_not_swept.toml: [scene].design_intensity = 0.01: needs a swept intensity: sweep S0 (a random load) or scale (a record) in [sweep]",
+    ),
+    (
+        "random_design_intensity_off_grid.toml",
+        "{dir}/random_design_intensity_off_grid.toml: [scene].design_intensity = 0.03: must be one of the swept S0 values: 0.005, 0.01, 0.02",
+    ),
+    (
         "random_envelope_key.toml",
         "{dir}/random_envelope_key.toml: [scene].envelope.decay = 0.5: unknown key 'decay'; allowed keys: t1, t2, c",
     ),
@@ -88,7 +96,7 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "random_unknown_key.toml",
-        "{dir}/random_unknown_key.toml: [scene].sigma = 2: unknown key 'sigma'; allowed keys: kind, F0, omega, r, n_trans, n_trans_max, n_meas, trans_tol, period_tol, starts, design_peak, nonperiodic_peak, design_life, life_quantile, life_tol, life_max_periods, input, spectrum, S0, omega_g, zeta_g, omega_f, zeta_f, dt, duration, envelope, realizations, threshold, record, scale",
+        "{dir}/random_unknown_key.toml: [scene].sigma = 2: unknown key 'sigma'; allowed keys: kind, F0, omega, r, n_trans, n_trans_max, n_meas, trans_tol, period_tol, starts, design_peak, nonperiodic_peak, design_life, life_quantile, life_tol, life_max_periods, input, spectrum, S0, omega_g, zeta_g, omega_f, zeta_f, dt, duration, envelope, realizations, threshold, record, scale, design_intensity",
     ),
     (
         "random_unknown_spectrum.toml",

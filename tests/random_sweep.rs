@@ -372,8 +372,9 @@ fn issue_44_p_f_of_the_linear_structure_matches_an_independent_monte_carlo() {
 
 /// `reduce --subset N`: a design whose realizations passed the threshold fewer than 10 times
 /// gets `p_f` by subset simulation (Au and Beck) over its white-noise samples, and its estimate
-/// agrees with the Monte Carlo estimate of the same study within both intervals (the linear
-/// structure under white force, 3,000 realizations of 5 s: 6 passed 4.3 sigma).
+/// agrees with the Monte Carlo estimate of the same study (`--subset 0`) within both intervals
+/// (the linear structure under white force, 3,000 realizations of 5 s: 6 passed 4.3 sigma).
+/// Without `--subset` it is subset simulation with 1,000 per level.
 #[test]
 fn issue_44_subset_simulation_takes_the_designs_monte_carlo_barely_sees() {
     let tmp = tempfile::tempdir().unwrap();
@@ -386,7 +387,12 @@ fn issue_44_subset_simulation_takes_the_designs_monte_carlo_barely_sees() {
     )
     .unwrap();
     let dir = common::run_study_file(&study, &tmp.path().join("out"), "rare");
-    bin().arg("reduce").arg(&dir).assert().success();
+    bin()
+        .arg("reduce")
+        .arg(&dir)
+        .args(["--subset", "0"])
+        .assert()
+        .success();
     let summary = dir.join("summary.csv");
     let num = |name: &str| -> f64 { column(&summary, name)[0].parse().unwrap() };
     assert_eq!(column(&summary, "p_f_method"), ["monte_carlo"]);
@@ -416,6 +422,14 @@ fn issue_44_subset_simulation_takes_the_designs_monte_carlo_barely_sees() {
     assert_eq!(column(&summary, "subset_runs"), ["1400"]);
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(report.contains("(subset simulation, CoV"), "{report}");
+    bin().arg("reduce").arg(&dir).assert().success();
+    assert_eq!(column(&summary, "p_f_method"), ["subset"]);
+    assert_eq!(column(&summary, "subset_runs"), ["2800"]);
+    assert!(
+        mc_lo <= num("p_f") && num("p_f") <= mc_hi,
+        "subset {} against Monte Carlo {mc} [{mc_lo}, {mc_hi}]",
+        num("p_f")
+    );
     bin()
         .arg("reduce")
         .arg(&dir)
@@ -423,6 +437,59 @@ fn issue_44_subset_simulation_takes_the_designs_monte_carlo_barely_sees() {
         .assert()
         .code(2)
         .stderr(predicate::str::contains(
-            "a multiple of 10 in [100, 1000000]",
+            "expected 0 (Monte Carlo only) or a whole number of samples per level",
         ));
+}
+
+/// The design intensity chosen by `[scene] design_intensity`, subset simulation by default where
+/// Monte Carlo barely sees a failure, its estimate ranking the designs, and the ranking by
+/// median capacity: the linear structure under white force at two dampings, three intensities of
+/// 400 realizations, ranked at the lowest, where no realization passes.
+#[test]
+fn issue_44_the_designs_rank_on_subset_simulation_at_the_chosen_intensity() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("damped.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"damped\"\nseed = 3\n[system]\nM = 1.0\nK = 400.0\nm = 0.0\n\
+         [scene]\nkind = \"random\"\ninput = \"force\"\nspectrum = \"white\"\nduration = 5\n\
+         threshold = 0.27\nrealizations = 400\ndesign_intensity = 0.5\n\
+         [sweep]\nC = [2.0, 3.0]\nS0 = [0.5, 2.0, 8.0]\n",
+    )
+    .unwrap();
+    let dir = common::run_study_file(&study, &tmp.path().join("out"), "damped");
+    bin().arg("reduce").arg(&dir).assert().success();
+    let summary = dir.join("summary.csv");
+    let nums = |name: &str| -> Vec<f64> {
+        column(&summary, name)
+            .iter()
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    assert_eq!(column(&summary, "intensity_design"), ["0.5", "0.5"]);
+    assert_eq!(nums("n_exceed"), [0.0, 0.0]);
+    assert_eq!(column(&summary, "p_f_method"), ["subset", "subset"]);
+    let (pf, ps) = (nums("p_f"), nums("p_s"));
+    // sigma_x = sqrt(pi S0 / (K C)): 4.3 and 5.3 sigma over 5 s, both near 1e-3 or below.
+    assert!(pf[1] < pf[0] && pf[0] < 0.01 && pf[1] > 0.0, "{pf:?}");
+    for (f, s) in pf.iter().zip(&ps) {
+        assert_eq!(
+            *s,
+            1.0 - f,
+            "the ranking's p_s is subset simulation's 1 - p_f"
+        );
+    }
+    // The better damped design ranks first, on subset simulation's estimate where Monte Carlo
+    // ties them at 0 of 400.
+    assert_eq!(column(&summary, "rank"), ["2", "1"]);
+    // Over the intensities it is also the stronger: the larger median capacity.
+    let theta = nums("fragility_theta");
+    assert!(theta[1] > theta[0], "{theta:?}");
+    assert_eq!(column(&summary, "capacity_rank"), ["2", "1"]);
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(
+        report.contains("S0 = 0.5 (the study's `design_intensity`)"),
+        "{report}"
+    );
+    assert!(report.contains("| capacity rank |"), "{report}");
 }

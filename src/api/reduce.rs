@@ -17,14 +17,17 @@ use anyhow::Context;
 use crate::api::setup::{Setup, trace};
 use crate::reduce::core::tables;
 use crate::reduce::forced::{self, analysis, bifurcations};
+use crate::reduce::random::subset::DEFAULT_SUBSET_N;
 use crate::reduce::{self, Options, Summary, free};
 use crate::report::{charts, html, markdown};
 use crate::sim::{ForcedRecord, Scene};
 use crate::store::{self, TableKind};
 use crate::study::{DiSource, LoadOptions, SafetyForm, Study};
 
-/// `impactsweep reduce RUN_DIR`.
-#[derive(Clone, Debug, Default)]
+/// `impactsweep reduce RUN_DIR`. Its default: the study's own settings, subset simulation of
+/// [`DEFAULT_SUBSET_N`] samples per level where a random study's Monte Carlo saw few
+/// exceedances.
+#[derive(Clone, Debug)]
 pub struct ReduceArgs {
     pub dir: PathBuf,
     /// Use the paper's small-C_n safety factor instead of Shigley's exact relation.
@@ -42,6 +45,20 @@ pub struct ReduceArgs {
     /// realizations passed the threshold fewer than 10 times
     /// ([`crate::reduce::random::subset`]); `None`: Monte Carlo only.
     pub subset: Option<usize>,
+}
+
+impl Default for ReduceArgs {
+    fn default() -> Self {
+        ReduceArgs {
+            dir: PathBuf::new(),
+            paper_safety: false,
+            di_mean: false,
+            bootstrap: None,
+            shard: None,
+            bifurcation_curves: analysis::CurveLines::default(),
+            subset: Some(DEFAULT_SUBSET_N),
+        }
+    }
 }
 
 /// `impactsweep plot waveform`.

@@ -38,6 +38,7 @@ pub fn study(axes: Vec<(&str, Vec<f64>)>, n_cases: usize) -> Study {
             .collect(),
         cases,
         realizations: 0,
+        design_intensity: None,
         noise: None,
         solver: SolverSettings::default(),
         reliability: Reliability {

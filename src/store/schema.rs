@@ -377,7 +377,7 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "rms_x_mean" | "threshold" => "m",
         "p_s" | "p_s_ideal" | "p_s_sd" | "p_f" | "p_f_lo" | "p_f_hi" | "beta" | "n_exceed"
         | "p_f_cov" | "p_f_cov_upper" | "subset_runs" | "fragility_beta" | "fragility_beta_lo"
-        | "fragility_beta_hi" => "1",
+        | "fragility_beta_hi" | "capacity_rank" => "1",
         "intensity" | "fragility_outcome" | "p_f_method" => "",
         "intensity_design" | "fragility_theta" | "fragility_theta_lo" | "fragility_theta_hi" => {
             UNIT_OF_INTENSITY

@@ -46,7 +46,7 @@ mod zones;
 
 pub use axis::Axis;
 pub use perturb::Case;
-pub use random::{DEFAULT_DT, DEFAULT_REALIZATIONS};
+pub use random::{DEFAULT_DT, DEFAULT_REALIZATIONS, INTENSITY_KEYS};
 pub use ranking::{DiSource, Ranking, VERIFY_PERIODS};
 pub use record::{EVEN_TOL, RECORD_COPY};
 pub use reliability::{Reliability, SafetyForm};
@@ -97,6 +97,9 @@ pub struct Study {
     /// realizations `0..realizations` (`cases` is empty). 0 in the other scenes, whose runs
     /// are `cases`.
     pub realizations: u64,
+    /// A random or record study with a swept intensity: `[scene].design_intensity`, the swept
+    /// value its designs are ranked at (one of the axis's values); `None` for the middle one.
+    pub design_intensity: Option<f64>,
 }
 
 /// The default size guard: a study with more runs than this is refused unless the caller
@@ -412,6 +415,7 @@ fn validate(cx: &Cx, raw: &RawStudy, path: &Path, text: &str) -> Result<Study, I
         ranking,
         run,
         realizations: 0,
+        design_intensity: None,
     })
 }
 
@@ -433,6 +437,9 @@ pub struct RandomStudy {
     pub scene: RandomScene,
     /// `[scene].realizations`: runs per design point (1 for a record).
     pub realizations: u64,
+    /// `[scene].design_intensity`: the swept `S0` or `scale` the designs are ranked at (one of
+    /// its swept values; `None`: the middle one).
+    pub design_intensity: Option<f64>,
     pub system: System,
     /// `[sweep]`: system keys and the scene's `S0`, `omega_g`, `zeta_g`, `omega_f`, `zeta_f` or
     /// `scale`, in file order, the last varying fastest.
@@ -542,6 +549,7 @@ impl From<RandomStudy> for Study {
             ranking: r.ranking,
             run: r.run,
             realizations: r.realizations,
+            design_intensity: r.design_intensity,
         }
     }
 }
@@ -646,6 +654,7 @@ fn random_study(
             "the accuracy audit re-runs free-decay runs; a random study has none",
         ));
     }
+    let design_intensity = random::design_intensity(cx, raw_scene.design_intensity, &axes)?;
     Ok(RandomStudy {
         path: path.to_path_buf(),
         source: text.to_string(),
@@ -653,6 +662,7 @@ fn random_study(
         seed: h.seed.unwrap_or(0),
         scene,
         realizations,
+        design_intensity,
         system,
         axes: axes.clone(),
         solver,

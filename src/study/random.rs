@@ -40,6 +40,53 @@ pub const DEFAULT_REALIZATIONS: u64 = 1000;
 /// strong-motion records.
 pub const DEFAULT_DT: f64 = 0.005;
 
+/// The keys that are an intensity measure (model.md §13): a random load's `S0`, a record's
+/// `scale`. A study sweeping one ranks its designs at one of its values, the design intensity.
+pub const INTENSITY_KEYS: [&str; 2] = ["S0", "scale"];
+
+/// `[scene].design_intensity`: the swept intensity value the designs are ranked at. Allowed
+/// only with a swept `S0` or `scale`, and only as one of its swept values (matched to a
+/// relative 1e-9, the value stored as the axis holds it).
+pub(super) fn design_intensity(
+    cx: &Cx,
+    given: Option<f64>,
+    axes: &[super::Axis],
+) -> Result<Option<f64>, InputError> {
+    let Some(v) = given else {
+        return Ok(None);
+    };
+    let Some(axis) = axes
+        .iter()
+        .find(|a| INTENSITY_KEYS.contains(&a.key.as_str()))
+    else {
+        return Err(cx.err(
+            "[scene].design_intensity",
+            num(v),
+            "needs a swept intensity: sweep S0 (a random load) or scale (a record) in [sweep]",
+        ));
+    };
+    match axis
+        .values
+        .iter()
+        .find(|&&x| (x - v).abs() <= 1e-9 * x.abs().max(v.abs()))
+    {
+        Some(&x) => Ok(Some(x)),
+        None => Err(cx.err(
+            "[scene].design_intensity",
+            num(v),
+            format!(
+                "must be one of the swept {} values: {}",
+                axis.key,
+                axis.values
+                    .iter()
+                    .map(|&x| num(x))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        )),
+    }
+}
+
 /// Checks one value of a swept scene key on its own (`S0`, `omega_g`, `zeta_g`, `omega_f`,
 /// `zeta_f`, `scale`).
 pub(super) fn check_key(key: &str, v: f64) -> Result<(), RangeError> {

@@ -64,6 +64,7 @@ pub(super) struct RawScene {
     pub(super) threshold: Option<f64>,
     pub(super) record: Option<String>,
     scale: Option<f64>,
+    pub(super) design_intensity: Option<f64>,
 }
 
 /// The scene kinds of [`super::random`].
@@ -75,7 +76,13 @@ pub(super) const RANDOM_ONLY: [&str; 8] = [
     "spectrum", "S0", "omega_g", "zeta_g", "omega_f", "zeta_f", "dt", "envelope",
 ];
 pub(super) const RECORD_ONLY: [&str; 2] = ["record", "scale"];
-pub(super) const RANDOM_SHARED: [&str; 4] = ["input", "duration", "realizations", "threshold"];
+pub(super) const RANDOM_SHARED: [&str; 5] = [
+    "input",
+    "duration",
+    "realizations",
+    "threshold",
+    "design_intensity",
+];
 
 /// `[scene] envelope = { t1, t2, c }` (s, s, 1/s).
 #[derive(Deserialize)]
@@ -139,6 +146,7 @@ impl RawScene {
             "duration" => self.duration,
             "threshold" => self.threshold,
             "scale" => self.scale,
+            "design_intensity" => self.design_intensity,
             _ => None,
         }
     }

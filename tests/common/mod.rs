@@ -38,6 +38,7 @@ pub fn study(name: &str, n_e: usize) -> Study {
             },
         ],
         realizations: 0,
+        design_intensity: None,
         cases: vec![
             Case {
                 dm: 0.0,

@@ -214,6 +214,15 @@ impl<'a> Reducer<'a> {
         self.study
     }
 
+    /// Lets a scene replace what its designs' runs give by its own estimate before the ranking
+    /// (a random study's subset simulation of `p_f`, [`crate::reduce::random::subset`]): `f`
+    /// gets the designs reduced so far, in design order.
+    pub fn adjust(&mut self, f: impl FnOnce(&mut [PointStats])) {
+        self.points.sort_by_key(|p| p.point);
+        self.points.dedup_by_key(|p| p.point);
+        f(&mut self.points);
+    }
+
     /// Everything that needs the whole sweep, with `ideal` the study's ideal case anywhere in
     /// the design space (where the jumps are located): the scene's own
     /// ([`crate::reduce::free::finish`] simulates it; the harmonic scene continues its stored

@@ -19,8 +19,9 @@
 //! # Designs and the design intensity
 //! Without an intensity axis (`S0` for a random load, `scale` for a record) a design is a
 //! design point. With one, a design is a design point without its intensity ([`design_study`]),
-//! and the core ranks the designs at the *design intensity*: the middle value of the swept
-//! intensities (the lower middle one for an even count). Each design then gets its fragility
+//! and the core ranks the designs at the *design intensity*: `[scene].design_intensity`, one of
+//! the swept values, or else the middle value of the swept intensities (the lower middle one for
+//! an even count). Each design then gets its fragility
 //! curve `P(exceed | IM) = Phi(ln(IM / theta) / beta)` fitted by maximum likelihood on its
 //! exceedance counts at every intensity ([`crate::stats::fragility`]).
 //!
@@ -76,9 +77,7 @@ pub const SURVIVAL: Damping = Damping {
 /// The confidence of `p_f`'s interval.
 pub const CONFIDENCE: f64 = 0.95;
 
-/// The keys that are an intensity measure (model.md §13): a random load's `S0`, a record's
-/// `scale`.
-pub const INTENSITY_KEYS: [&str; 2] = ["S0", "scale"];
+pub use crate::study::INTENSITY_KEYS;
 
 /// The reducer's options for a random or record study: the study's own, with the amplitude as
 /// the response and `p_s` as the damping quantity, averaged over the realizations (there is no
@@ -97,6 +96,8 @@ pub struct Intensity {
     pub axis: usize,
     pub values: Vec<f64>,
     pub design: usize,
+    /// Whether the study chose the design intensity (`[scene].design_intensity`).
+    pub chosen: bool,
 }
 
 /// The study's intensity axis (`S0` or `scale`), if it sweeps one.
@@ -106,10 +107,14 @@ pub fn intensity(study: &Study) -> Option<Intensity> {
         .iter()
         .position(|a| INTENSITY_KEYS.contains(&a.key.as_str()))?;
     let values = study.axes[axis].values.clone();
+    let chosen = study
+        .design_intensity
+        .and_then(|v| values.iter().position(|&x| x == v));
     Some(Intensity {
         key: study.axes[axis].key.clone(),
         axis,
-        design: (values.len() - 1) / 2,
+        design: chosen.unwrap_or((values.len() - 1) / 2),
+        chosen: chosen.is_some(),
         values,
     })
 }
@@ -182,6 +187,26 @@ impl PointPf {
     }
 }
 
+/// The design point of the study's grid that is design `design` (over the design axes'
+/// lengths `design_axes`) at intensity index `j` of `i`.
+fn point_at(i: &Intensity, design: u64, j: usize, design_axes: &[usize]) -> u64 {
+    // Mixed radix, last axis fastest: the design's digits with the intensity's put back.
+    let mut digits = Vec::with_capacity(design_axes.len() + 1);
+    let mut rest = design;
+    for &n in design_axes.iter().rev() {
+        digits.push(rest % n as u64);
+        rest /= n as u64;
+    }
+    digits.reverse();
+    digits.insert(i.axis, j as u64);
+    let mut lens = design_axes.to_vec();
+    lens.insert(i.axis, i.values.len());
+    digits
+        .iter()
+        .zip(&lens)
+        .fold(0u64, |p, (&d, &n)| p * n as u64 + d)
+}
+
 /// What the random reduction adds to the core's [`Summary`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct RandomSummary {
@@ -198,6 +223,9 @@ pub struct RandomSummary {
     pub fragility: Vec<(u64, Fragility)>,
     /// Per design that got one (in design order): subset simulation's `p_f` ([`subset`]).
     pub subset: Vec<(u64, SubsetPf)>,
+    /// Per design whose fragility fit ended ok (in design order): its rank by median capacity
+    /// `theta`, 1 the largest, ties to the lower design ([`capacity_ranks`]).
+    pub capacity_rank: Vec<(u64, u64)>,
 }
 
 impl RandomSummary {
@@ -207,21 +235,7 @@ impl RandomSummary {
         let Some(i) = &self.intensity else {
             return design;
         };
-        // Mixed radix, last axis fastest: the design's digits with the intensity's put back.
-        let mut digits = Vec::with_capacity(design_axes.len() + 1);
-        let mut rest = design;
-        for &n in design_axes.iter().rev() {
-            digits.push(rest % n as u64);
-            rest /= n as u64;
-        }
-        digits.reverse();
-        digits.insert(i.axis, j as u64);
-        let mut lens = design_axes.to_vec();
-        lens.insert(i.axis, i.values.len());
-        digits
-            .iter()
-            .zip(&lens)
-            .fold(0u64, |p, (&d, &n)| p * n as u64 + d)
+        point_at(i, design, j, design_axes)
     }
 
     /// The reliability of the design point `point`, if it was reduced.
@@ -238,6 +252,14 @@ impl RandomSummary {
             .binary_search_by_key(&design, |f| f.0)
             .ok()
             .map(|i| &self.subset[i].1)
+    }
+
+    /// The rank of design `design` by median capacity, if its fit ended ok.
+    pub fn capacity_rank_of(&self, design: u64) -> Option<u64> {
+        self.capacity_rank
+            .binary_search_by_key(&design, |f| f.0)
+            .ok()
+            .map(|i| self.capacity_rank[i].1)
     }
 
     /// The fragility fit of design `design`, if any.
@@ -322,10 +344,35 @@ impl<'a> RandomReducer<'a> {
 
     /// The core's summary over the designs, and the scene's own; with `subset = Some(n)`
     /// subset simulation of `n` samples per level for the designs with few exceedances
-    /// ([`subset`]).
+    /// ([`subset`]), whose estimate then ranks them (`p_s = 1 - p_f`).
     pub fn finish(mut self, subset: Option<usize>) -> (Summary, RandomSummary) {
         self.points.sort_by_key(|p| p.point);
         self.points.dedup_by_key(|p| p.point);
+        let mut subsets: Vec<(u64, SubsetPf)> = Vec::new();
+        if let (Some(n), Some(b)) = (subset, self.threshold) {
+            let (study, points, intensity) = (self.study, &self.points, &self.intensity);
+            let design_lens: Vec<usize> = self
+                .lens
+                .iter()
+                .enumerate()
+                .filter(|(a, _)| intensity.as_ref().is_none_or(|i| i.axis != *a))
+                .map(|(_, &n)| n)
+                .collect();
+            self.core.adjust(|designs| {
+                for d in designs.iter_mut() {
+                    let g = intensity
+                        .as_ref()
+                        .map_or(d.point, |i| point_at(i, d.point, i.design, &design_lens));
+                    let few = points
+                        .binary_search_by_key(&g, |p| p.point)
+                        .is_ok_and(|i| points[i].exceed < SUBSET_BELOW);
+                    if few && let Some(s) = subset_pf(study, g, b, n) {
+                        d.di = 1.0 - s.p_f;
+                        subsets.push((d.point, s));
+                    }
+                }
+            });
+        }
         let summary = self.core.finish_with(&NoIdeal);
         let (realizations, record) = match &self.study.scene {
             Scene::Random(r) => (self.study.realizations, !r.draws_normals()),
@@ -338,20 +385,9 @@ impl<'a> RandomReducer<'a> {
             intensity: self.intensity,
             points: self.points,
             fragility: Vec::new(),
-            subset: Vec::new(),
+            subset: subsets,
+            capacity_rank: Vec::new(),
         };
-        if let (Some(n), Some(b)) = (subset, rs.threshold) {
-            let lens = lens(&summary.grid);
-            let j = rs.intensity.as_ref().map_or(0, |i| i.design);
-            for d in &summary.points {
-                let g = rs.grid_point(d.point, j, &lens);
-                if rs.point(g).is_some_and(|p| p.exceed < SUBSET_BELOW)
-                    && let Some(s) = subset_pf(self.study, g, b, n)
-                {
-                    rs.subset.push((d.point, s));
-                }
-            }
-        }
         if let (Some(i), Some(_)) = (&rs.intensity, rs.threshold) {
             let design_axes = lens(&summary.grid);
             let fits: Vec<(u64, Fragility)> = summary
@@ -371,10 +407,30 @@ impl<'a> RandomReducer<'a> {
                     (d.point, fragility::fit(&counts))
                 })
                 .collect();
+            rs.capacity_rank = capacity_ranks(&fits);
             rs.fragility = fits;
         }
         (summary, rs)
     }
+}
+
+/// The designs ranked by median capacity (model.md §13): those whose fragility fit ended ok,
+/// by `theta` descending (the intensity at which half the runs pass the threshold: the larger,
+/// the stronger the design over every intensity, where the ranking by `p_f` looks at one),
+/// ties to the lower design; `(design, rank)` in design order.
+pub fn capacity_ranks(fits: &[(u64, Fragility)]) -> Vec<(u64, u64)> {
+    let mut order: Vec<&(u64, Fragility)> = fits
+        .iter()
+        .filter(|(_, f)| f.outcome == FitOutcome::Ok && f.theta.is_finite())
+        .collect();
+    order.sort_by(|a, b| b.1.theta.total_cmp(&a.1.theta).then(a.0.cmp(&b.0)));
+    let mut ranks: Vec<(u64, u64)> = order
+        .iter()
+        .enumerate()
+        .map(|(r, (d, _))| (*d, r as u64 + 1))
+        .collect();
+    ranks.sort_by_key(|x| x.0);
+    ranks
 }
 
 /// A stored realization as the core needs it: its design, the amplitude as the response and
@@ -442,7 +498,12 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
         "p_f_method",
         Column::Str(
             ss.iter()
-                .map(|s| if s.is_some() { "subset" } else { "monte_carlo" }.to_string())
+                .map(|s| match s {
+                    Some(s) if s.converged => "subset",
+                    Some(_) => "subset_unconverged",
+                    None => "monte_carlo",
+                })
+                .map(str::to_string)
                 .collect(),
         ),
     );
@@ -472,6 +533,10 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
     let g = |h: &dyn Fn(&Fragility) -> f64| {
         Column::F64(fits.iter().map(|x| x.map_or(f64::NAN, h)).collect())
     };
+    t.push(
+        "capacity_rank",
+        Column::U64(rows.iter().map(|d| rs.capacity_rank_of(d.point)).collect()),
+    );
     t.push("fragility_theta", g(&|x| x.theta));
     t.push("fragility_theta_lo", g(&|x| x.theta_lo));
     t.push("fragility_theta_hi", g(&|x| x.theta_hi));

@@ -24,6 +24,13 @@ use crate::study::Study;
 /// Carlo's coefficient of variation `sqrt((1 - p) / (n p))` is then above about 0.3.
 pub const SUBSET_BELOW: u64 = 10;
 
+/// Samples per level by default (Au and Beck's choice): about 1,000 runs per decade of `p_f`.
+pub const DEFAULT_SUBSET_N: usize = 1000;
+
+/// Runs at most per design by default: with [`DEFAULT_SUBSET_N`] per level, 11 levels
+/// (`p_f` down to about 1e-11), and never fewer than 6 levels (1e-6) for another `n`.
+pub const MAX_SUBSET_RUNS: usize = 10_000;
+
 /// A subset simulation's estimate of a design point's `p_f`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SubsetPf {
@@ -53,9 +60,12 @@ pub fn subset_pf(study: &Study, point: u64, b: f64, n: usize) -> Option<SubsetPf
         return None;
     }
     let setup = RandomRun::new(&sys, &study.solver, &scene);
+    // Each level after the first adds n (1 - p0) runs.
+    let per_level = (n - n / 10).max(1);
     let settings = SubsetSettings {
         n,
         seed: mix64(study.seed ^ mix64(point ^ 0x5B5E_75B5)),
+        max_levels: (1 + MAX_SUBSET_RUNS.saturating_sub(n) / per_level).clamp(6, 20),
         ..SubsetSettings::default()
     };
     let r = subset_simulation(setup.n_normals(), b, &settings, |u| {

@@ -31,6 +31,7 @@ fn a_design_and_its_intensity_give_back_the_design_point() {
         points: Vec::new(),
         fragility: Vec::new(),
         subset: Vec::new(),
+        capacity_rank: Vec::new(),
     };
     let mut seen = Vec::new();
     for p in 0..12 {

@@ -77,9 +77,14 @@ pub fn section(s: &Summary, rs: &RandomSummary) -> String {
     };
     let at = match &rs.intensity {
         Some(i) => format!(
-            " at the design intensity {} = {} (the middle of the swept values)",
+            " at the design intensity {} = {} ({})",
             i.key,
-            fmt_num(i.values[i.design])
+            fmt_num(i.values[i.design]),
+            if i.chosen {
+                "the study's `design_intensity`"
+            } else {
+                "the middle of the swept values; `[scene] design_intensity` chooses another"
+            }
         ),
         None => String::new(),
     };
@@ -101,8 +106,7 @@ pub fn section(s: &Summary, rs: &RandomSummary) -> String {
         } else {
             " Where fewer than 10 realizations passed, `p_f` is subset simulation's (Au and Beck \
              2001, over the realization's white-noise samples; its interval from its coefficient \
-             of variation with the levels fully correlated); the ranking stays on the Monte \
-             Carlo counts."
+             of variation with the levels fully correlated), and it ranks the design."
         },
     );
     let _ = writeln!(
@@ -162,7 +166,8 @@ fn fragility(s: &Summary, rs: &RandomSummary, designs: &[&PointStats], lens: &[u
          fragility curve P(exceed | {k}) = Φ(ln({k} / theta) / beta) fitted to its counts by \
          maximum likelihood (95 % Wald intervals). `theta`, the median capacity, is the \
          intensity at which half the runs pass the threshold: the larger, the better the \
-         design.\n\n",
+         design over every intensity. The designs are listed by it (`capacity rank`, \
+         `capacity_rank` in `summary.csv`; a design whose fit did not end ok has none).\n\n",
         i.key,
         i.key,
         k = i.key
@@ -174,11 +179,13 @@ fn fragility(s: &Summary, rs: &RandomSummary, designs: &[&PointStats], lens: &[u
         .collect();
     let _ = writeln!(
         o,
-        "| design | {} | theta [95 %] | beta [95 %] | fit |\n|---|{}---|---|---|",
+        "| capacity rank | design | {} | theta [95 %] | beta [95 %] | fit |\n|---|---|{}---|---|---|",
         heads.join(" | "),
         "---|".repeat(heads.len())
     );
-    for d in designs.iter().take(MAX_ROWS) {
+    let mut by_capacity = designs.to_vec();
+    by_capacity.sort_by_key(|d| (rs.capacity_rank_of(d.point).unwrap_or(u64::MAX), d.point));
+    for d in by_capacity.iter().take(MAX_ROWS) {
         let pfs: Vec<String> = (0..i.values.len())
             .map(|j| {
                 rs.point(rs.grid_point(d.point, j, lens))
@@ -205,7 +212,9 @@ fn fragility(s: &Summary, rs: &RandomSummary, designs: &[&PointStats], lens: &[u
         });
         let _ = writeln!(
             o,
-            "| {} | {} | {theta} | {beta} | {outcome} |",
+            "| {} | {} | {} | {theta} | {beta} | {outcome} |",
+            rs.capacity_rank_of(d.point)
+                .map_or("–".into(), |r| r.to_string()),
             design_text(s, d.point),
             pfs.join(" | ")
         );
