@@ -6,6 +6,10 @@
 //! * run `(p, c)` with case `c` in `0..n_cases`; its stable `point_id = p * n_cases + c`;
 //! * chunk `k` holds design points `k * chunk_points .. min((k + 1) * chunk_points, n_points)`
 //!   and all their cases, in `point_id` order; shard `i/N` takes the chunks with `k % N == i`;
+//!   a random study whose design points have more realizations than `[run].chunk_realizations`
+//!   (`c`) splits each into `B = ceil(n_cases / c)` blocks instead: chunk `k` is block `k % B`
+//!   of design point `k / B`, its realizations `(k % B) c .. min((k % B + 1) c, n_cases)`, so
+//!   chunks stay contiguous ranges of `point_id` ([`Plan::chunk_runs`]);
 //! * the noise stream of a run is `NoiseStream::new(study.seed, noise_seed, p)`: cases sharing
 //!   a noise seed at one design point share their noise (as the paper's Table II rows do);
 //! * in a harmonic study the frequency axis is the last (the study moves it there) and a chunk
@@ -68,7 +72,42 @@ impl<'a> Plan<'a> {
     }
 
     pub fn n_chunks(&self) -> u64 {
-        self.n_points().div_ceil(self.study.run.chunk_points.max(1))
+        match self.blocks() {
+            1 => self.n_points().div_ceil(self.study.run.chunk_points.max(1)),
+            b => self.n_points().saturating_mul(b),
+        }
+    }
+
+    /// Runs of one design point a chunk holds at most: all its cases, or a random study's
+    /// `[run].chunk_realizations` when its points have more realizations (module doc).
+    pub fn chunk_cases(&self) -> u64 {
+        let n = self.n_cases();
+        match self.study.scene {
+            Scene::Random(_) => n.min(self.study.run.chunk_realizations.max(1)),
+            Scene::Free | Scene::Harmonic(_) => n,
+        }
+    }
+
+    /// Chunks per design point: 1 unless a random study's points are split into blocks.
+    pub fn blocks(&self) -> u64 {
+        self.n_cases().div_ceil(self.chunk_cases().max(1)).max(1)
+    }
+
+    /// The runs (`point_id`s) of chunk `k`, a contiguous range.
+    pub fn chunk_runs(&self, k: u64) -> std::ops::Range<u64> {
+        let n = self.n_cases();
+        match self.blocks() {
+            1 => {
+                let p = self.chunk_points(k);
+                p.start * n..p.end * n
+            }
+            b => {
+                let (p, block) = (k / b, k % b);
+                let c = self.chunk_cases();
+                let start = p * n + block * c;
+                start..(start + c).min((p + 1) * n)
+            }
+        }
     }
 
     /// The axis values of design point `p` (one per axis, in axis order).
@@ -152,8 +191,13 @@ impl<'a> Plan<'a> {
         }
     }
 
-    /// Design points of chunk `k`.
+    /// Design points of chunk `k` (whole, or the one point a block belongs to).
     pub fn chunk_points(&self, k: u64) -> std::ops::Range<u64> {
+        let b = self.blocks();
+        if b > 1 {
+            let p = (k / b).min(self.n_points());
+            return p..(p + 1).min(self.n_points());
+        }
         let per = self.study.run.chunk_points.max(1);
         let start = (k * per).min(self.n_points());
         start..((k + 1) * per).min(self.n_points())

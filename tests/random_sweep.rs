@@ -217,6 +217,61 @@ fn issue_44_threads_shards_and_resume_give_the_same_bits() {
     let whole = run("whole", "2", &[]);
     assert_eq!(parts(&whole).len(), 1);
     assert_eq!(rows(&whole), rows(&one));
+    // A design point's realizations split into blocks of 5 (5, 5 and 2 of 12: 3 chunks a
+    // point, 12 in all): interrupted after 4, resumed, and in three shards, the same rows; its
+    // reduction (each point's blocks read together) the same summary as the whole points'.
+    let text = std::fs::read_to_string(&study).unwrap() + "[run]\nchunk_realizations = 5\n";
+    let blocked_study = tmp.path().join("blocked.toml");
+    std::fs::write(&blocked_study, text.replace("\"det\"", "\"blocked\"")).unwrap();
+    let b = Study::load(&blocked_study).unwrap();
+    let blocked = tmp.path().join("blocked");
+    let first = sweep::run_study(
+        &b,
+        &blocked,
+        &SweepOptions {
+            threads: Some(2),
+            stop_after: Some(4),
+            ..SweepOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!((first.chunks_written, first.chunks_left), (4, 8));
+    bin()
+        .arg("run")
+        .arg(&blocked_study)
+        .args(["--out", blocked.to_str().unwrap(), "--quiet", "--resume"])
+        .assert()
+        .success();
+    let blocked = blocked.join("blocked");
+    assert_eq!(parts(&blocked).len(), 12);
+    assert_eq!(rows(&blocked), rows(&one));
+    for shard in ["0/3", "1/3", "2/3"] {
+        bin()
+            .arg("run")
+            .arg(&blocked_study)
+            .args(["--out", tmp.path().join("bshard").to_str().unwrap(), "--quiet"])
+            .args(["--shard", shard])
+            .assert()
+            .success();
+    }
+    assert!(
+        parts(&tmp.path().join("bshard").join("blocked")) == parts(&blocked),
+        "the sharded blocks differ"
+    );
+    bin()
+        .arg("status")
+        .arg(&blocked)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("chunks 12/12 done"));
+    for dir in [&blocked, &whole] {
+        bin().arg("reduce").arg(dir).assert().success();
+    }
+    assert_eq!(
+        std::fs::read(blocked.join("summary.csv")).unwrap(),
+        std::fs::read(whole.join("summary.csv")).unwrap(),
+        "the blocked reduction differs"
+    );
 }
 
 #[test]

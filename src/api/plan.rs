@@ -213,12 +213,23 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         Scene::Random(r) => describe_random(w, r, |k| study.axis(k).is_some()),
         Scene::Free => describe_free(w, study),
     }
-    let _ = writeln!(
-        w,
-        "chunks:         {} of up to {} design points",
-        plan.n_chunks(),
-        study.run.chunk_points
-    );
+    if plan.blocks() > 1 {
+        let _ = writeln!(
+            w,
+            "chunks:         {} of up to {} realizations ({} per design point, \
+             [run].chunk_realizations)",
+            plan.n_chunks(),
+            plan.chunk_cases(),
+            plan.blocks()
+        );
+    } else {
+        let _ = writeln!(
+            w,
+            "chunks:         {} of up to {} design points",
+            plan.n_chunks(),
+            study.run.chunk_points
+        );
+    }
     if let Some(warning) = tiny_parts(&plan) {
         let _ = writeln!(w, "warning:        {warning}");
     }
@@ -458,8 +469,7 @@ pub const PART_OVERHEAD_BYTES: u64 = 10_600;
 
 /// A warning when the study's part files will be tiny (see [`TINY_PART_RUNS`]).
 pub fn tiny_parts(plan: &Plan) -> Option<String> {
-    let study = plan.study;
-    let runs_per_part = study.run.chunk_points.min(plan.n_points()) * plan.n_cases();
+    let runs_per_part = plan.chunk_runs(0).end;
     if plan.n_chunks() < TINY_MIN_CHUNKS || runs_per_part >= TINY_PART_RUNS {
         return None;
     }

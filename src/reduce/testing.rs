@@ -60,6 +60,7 @@ pub fn study(axes: Vec<(&str, Vec<f64>)>, n_cases: usize) -> Study {
         },
         run: RunSettings {
             chunk_points: 16,
+            chunk_realizations: crate::study::DEFAULT_CHUNK_RUNS,
             audit: 0,
         },
     }

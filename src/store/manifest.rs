@@ -30,6 +30,10 @@ pub struct Manifest {
     pub n_cases: u64,
     pub n_runs: u64,
     pub chunk_points: u64,
+    /// A random study whose design points are split into blocks of realizations
+    /// ([`crate::plan::Plan::chunk_runs`]): runs per block; absent when chunks hold whole points.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chunk_cases: Option<u64>,
     pub n_chunks: u64,
     /// How `chunks[].checksum` is computed.
     pub checksum: String,
@@ -222,6 +226,7 @@ impl Manifest {
             n_cases: plan.n_cases(),
             n_runs: plan.n_runs(),
             chunk_points,
+            chunk_cases: (plan.blocks() > 1).then(|| plan.chunk_cases()),
             n_chunks: plan.n_chunks(),
             checksum: Checksum::DEFAULT.doc().into(),
             chunks_done: 0,
@@ -272,6 +277,7 @@ impl Manifest {
             && self.n_cases == fresh.n_cases
             && self.n_runs == fresh.n_runs
             && self.chunk_points == fresh.chunk_points
+            && self.chunk_cases == fresh.chunk_cases
             && self.n_chunks == fresh.n_chunks;
         (!same).then(|| {
             format!(
@@ -302,8 +308,16 @@ impl Manifest {
         }
     }
 
-    /// The point ids (rows) of chunk `k`: whole design points with all their cases.
+    /// The point ids (rows) of chunk `k`: whole design points with all their cases, or a block
+    /// of one point's realizations ([`crate::plan::Plan::chunk_runs`]).
     pub fn chunk_ids(&self, k: u64) -> std::ops::Range<u64> {
+        if let Some(c) = self.chunk_cases {
+            let c = c.max(1);
+            let b = self.n_cases.div_ceil(c).max(1);
+            let p = (k / b).min(self.n_points);
+            let start = (p * self.n_cases + (k % b) * c).min(self.n_points * self.n_cases);
+            return start..(start + c).min((p + 1) * self.n_cases);
+        }
         let per = self.chunk_points.max(1);
         let start = k.saturating_mul(per).min(self.n_points);
         let end = k.saturating_add(1).saturating_mul(per).min(self.n_points);

@@ -655,6 +655,13 @@ fn random_study(
         ));
     }
     let design_intensity = random::design_intensity(cx, raw_scene.design_intensity, &axes)?;
+    let run = run::run(
+        cx,
+        &raw.run,
+        realizations,
+        &Scene::Random(scene.clone()),
+        None,
+    )?;
     Ok(RandomStudy {
         path: path.to_path_buf(),
         source: text.to_string(),
@@ -669,7 +676,7 @@ fn random_study(
         reliability: reliability::reliability(cx, &raw.reliability)?,
         zones: zones::zones(cx, &raw.zones, &axes)?,
         ranking: ranking::ranking(cx, &raw.ranking)?,
-        run: run::run(cx, &raw.run, realizations, &Scene::Free, None)?,
+        run,
     })
 }
 

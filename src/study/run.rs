@@ -14,6 +14,11 @@ pub struct RunSettings {
     /// harmonic study whole frequency-response curves: a multiple of the frequency axis's
     /// length). Default: enough points for about 65536 runs.
     pub chunk_points: u64,
+    /// A random or record study: realizations per chunk at most. A design point with more
+    /// realizations than this is split into blocks of this many (the last shorter), one chunk
+    /// each, so that a chunk's rows stay bounded in memory and an interruption loses at most
+    /// one block. Default [`DEFAULT_CHUNK_RUNS`]; unused by the other scenes.
+    pub chunk_realizations: u64,
     /// Accuracy audit: points re-run with `exact` at tight tolerance. Default 0 until the
     /// fidelity issue lands.
     pub audit: u64,
@@ -32,6 +37,7 @@ pub const DEFAULT_CHUNK_RUNS_CENSUS: u64 = 4_096;
 #[serde(deny_unknown_fields)]
 pub(super) struct RawRun {
     chunk_points: Option<u64>,
+    chunk_realizations: Option<u64>,
     audit: Option<u64>,
 }
 
@@ -62,8 +68,27 @@ pub(super) fn run(
     let default = (aim / n_cases).max(1);
     let mut run = RunSettings {
         chunk_points: (default / per_curve).max(1) * per_curve,
+        chunk_realizations: DEFAULT_CHUNK_RUNS,
         audit: 0,
     };
+    if let Some(c) = raw.chunk_realizations {
+        if !matches!(scene, Scene::Random(_)) {
+            return Err(cx.err(
+                "[run].chunk_realizations",
+                c,
+                "belongs to the random and record scenes (their design points' realizations); \
+                 this study's runs are chunked by [run].chunk_points",
+            ));
+        }
+        if c == 0 {
+            return Err(cx.err(
+                "[run].chunk_realizations",
+                c,
+                "must be a whole number >= 1",
+            ));
+        }
+        run.chunk_realizations = c;
+    }
     if let Some(c) = raw.chunk_points {
         if c == 0 {
             return Err(cx.err("[run].chunk_points", c, "must be a whole number >= 1"));

@@ -169,8 +169,8 @@ pub fn shard_chunks(n_chunks: u64, shard: (u64, u64)) -> impl Iterator<Item = u6
 
 /// Rows chunk `k` must have.
 pub fn chunk_rows(plan: &Plan, k: u64) -> u64 {
-    let p = plan.chunk_points(k);
-    (p.end - p.start) * plan.n_cases()
+    let r = plan.chunk_runs(k);
+    r.end - r.start
 }
 
 /// How often the engine syncs its file system while writing: part files and journal lines are

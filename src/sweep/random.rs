@@ -26,7 +26,8 @@ impl SceneRun for RealizationRecord {
     }
 
     /// Each design point of the chunk set up once ([`RandomRun::new`]), then its realizations
-    /// in parallel, in `point_id` order.
+    /// (all, or the chunk's block of them, [`Plan::chunk_runs`]) in parallel, in `point_id`
+    /// order.
     fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> ChunkRows<Self> {
         let points = plan.chunk_points(k);
         let n = plan.n_cases();
@@ -39,7 +40,8 @@ impl SceneRun for RealizationRecord {
                 (first, scene, setup)
             })
             .collect();
-        let rows = (points.start * n..points.end * n)
+        let rows = plan
+            .chunk_runs(k)
             .into_par_iter()
             .map(|id| {
                 let (p, c) = (id / n, (id % n) as u32);

@@ -72,14 +72,17 @@ impl Status {
         let _ = writeln!(o, "{}: study {}", dir.display(), m.study);
         let _ = writeln!(
             o,
-            "chunks {}/{} done, runs {}/{} done ({} points x {} cases, {} points per chunk)",
+            "chunks {}/{} done, runs {}/{} done ({} points x {} cases, {})",
             self.done.len(),
             m.n_chunks,
             self.runs_done,
             m.n_runs,
             m.n_points,
             m.n_cases,
-            m.chunk_points
+            match m.chunk_cases {
+                Some(c) => format!("a point's cases split into chunks of {c}"),
+                None => format!("{} points per chunk", m.chunk_points),
+            }
         );
         for (k, why) in &self.damaged {
             let _ = writeln!(o, "damaged: {}: {why}", store::part_path(dir, *k).display());

@@ -89,6 +89,7 @@ pub fn study(name: &str, n_e: usize) -> Study {
         },
         run: RunSettings {
             chunk_points: 16,
+            chunk_realizations: impactsweep::study::DEFAULT_CHUNK_RUNS,
             audit: 0,
         },
     }

@@ -282,6 +282,9 @@ pub struct RandomReducer<'a> {
     /// The length of each axis of the study.
     lens: Vec<usize>,
     points: Vec<PointPf>,
+    /// The last design point's rows seen so far: a point split into blocks of realizations
+    /// ([`crate::plan::Plan::chunk_runs`]) spans several part files, read in order.
+    pending: Vec<RunRow<RealizationRecord>>,
 }
 
 impl<'a> RandomReducer<'a> {
@@ -298,6 +301,7 @@ impl<'a> RandomReducer<'a> {
             intensity: intensity(study),
             lens: study.axes.iter().map(|a| a.values.len()).collect(),
             points: Vec::new(),
+            pending: Vec::new(),
         }
     }
 
@@ -321,8 +325,30 @@ impl<'a> RandomReducer<'a> {
         (design, digits[i.axis] as usize)
     }
 
-    /// Reduces one part file's rows (whole design points, in point order).
+    /// Takes one part file's rows (in point order; part files in chunk order): every design
+    /// point they complete is reduced, the last one kept until the next point starts or
+    /// [`RandomReducer::finish`].
     pub fn push(&mut self, rows: Vec<RunRow<RealizationRecord>>) {
+        let mut rows = rows;
+        if self.pending.first().map(|r| r.point) == rows.first().map(|r| r.point) {
+            let mut joined = std::mem::take(&mut self.pending);
+            joined.append(&mut rows);
+            rows = joined;
+        } else {
+            let done = std::mem::take(&mut self.pending);
+            self.reduce_points(done);
+        }
+        let last = rows.last().map(|r| r.point);
+        let split = rows.partition_point(|r| Some(r.point) != last);
+        self.pending = rows.split_off(split);
+        self.reduce_points(rows);
+    }
+
+    /// Reduces whole design points' rows.
+    fn reduce_points(&mut self, rows: Vec<RunRow<RealizationRecord>>) {
+        if rows.is_empty() {
+            return;
+        }
         let groups: Vec<&[RunRow<RealizationRecord>]> =
             rows.chunk_by(|a, b| a.point == b.point).collect();
         let threshold = self.threshold;
@@ -346,6 +372,8 @@ impl<'a> RandomReducer<'a> {
     /// subset simulation of `n` samples per level for the designs with few exceedances
     /// ([`subset`]), whose estimate then ranks them (`p_s = 1 - p_f`).
     pub fn finish(mut self, subset: Option<usize>) -> (Summary, RandomSummary) {
+        let last = std::mem::take(&mut self.pending);
+        self.reduce_points(last);
         self.points.sort_by_key(|p| p.point);
         self.points.dedup_by_key(|p| p.point);
         let mut subsets: Vec<(u64, SubsetPf)> = Vec::new();
