@@ -7,11 +7,16 @@ store and reducer, so a number computed here has the same bits as the command li
 >>> import impactsweep as isw
 >>> isw.simulate(e=0.9)["xmax"]                      # one run, as `impactsweep simulate --json`
 >>> isw.simulate_batch({"e": es, "m": ms}, d=0.01)   # one run per row, a pyarrow Table
+>>> isw.simulate(scene="random", spectrum="white", S0=0.01, duration=5, realization=3)
 
 Keys are those of ``impactsweep simulate --set KEY=VALUE``: the system ``M m K C d e x0 v0 y0
 w0`` (SI units), the solver's (``solver tol h rtol atol chatter_tol max_impacts max_steps
 t_max_periods``), ``peaks``/``t_end`` for free decay, and with ``scene="harmonic"`` the forcing
-``F0 omega r n_trans n_trans_max n_meas trans_tol period_tol``.
+``F0 omega r n_trans n_trans_max n_meas trans_tol period_tol``. ``scene="random"`` and
+``scene="record"`` take the keys of a random or record study's ``[scene]`` (``spectrum S0
+omega_g zeta_g omega_f zeta_f dt duration envelope threshold input``; ``record scale``) with the
+system and solver keys, and run one realization: the stream of ``seed`` and ``realization``
+(the sweep's row), or the standard ``normals`` handed in.
 
 Errors: bad input raises ``ValueError`` with the command line's message (the file or key, the
 value, what is allowed); Ctrl-C raises ``KeyboardInterrupt`` in a long ``simulate_batch`` or
@@ -21,6 +26,7 @@ value, what is allowed); Ctrl-C raises ``KeyboardInterrupt`` in a long ``simulat
 
 from __future__ import annotations
 
+import json
 import os
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
@@ -32,6 +38,8 @@ from . import _impactsweep as _ext
 __all__ = [
     "simulate",
     "simulate_batch",
+    "n_normals",
+    "realization_normals",
     "trace",
     "period_maxima",
     "life_amplitude",
@@ -78,20 +86,161 @@ def _sets(keys: Mapping[str, Any], scene: str) -> List[str]:
     return sets
 
 
+#: The scenes: free decay and the harmonic scene take ``impactsweep simulate --set`` keys; the
+#: random and record scenes the keys of their study's ``[scene]``.
+SCENES = ("free", "harmonic", "random", "record")
+_RANDOM_SCENES = ("random", "record")
+#: The keys of ``scene="random"`` and ``scene="record"`` besides the system's and the solver's
+#: (docs/scenes.md, "Inputs"); the run's own ``seed``, ``realization`` and ``normals``.
+RANDOM_KEYS = ("input", "spectrum", "S0", "omega_g", "zeta_g", "omega_f", "zeta_f", "dt", "duration",
+               "envelope", "threshold")
+RECORD_KEYS = ("input", "record", "scale", "duration", "threshold")
+_RUN_KEYS = ("seed", "realization", "normals")
+_STRING_KEYS = ("input", "spectrum", "record", "solver")
+_INTEGER_KEYS = ("max_impacts", "max_steps")
+
+
+def _scene(scene: Any) -> str:
+    if scene not in SCENES:
+        raise ValueError(f"scene={scene!r}: unknown scene; allowed: {', '.join(SCENES)}")
+    return scene
+
+
+def _toml(key: str, v: Any) -> str:
+    """One value of a random or record setup as the study file would hold it."""
+    if key in _STRING_KEYS:
+        if key == "record" and isinstance(v, os.PathLike):
+            v = os.fspath(v)
+        if not isinstance(v, str):
+            raise ValueError(f"{key}={v!r}: expected a string")
+        return json.dumps(v)
+    if key == "envelope":
+        if not isinstance(v, Mapping) or sorted(v) != ["c", "t1", "t2"]:
+            raise ValueError(f"envelope={v!r}: expected a mapping {{'t1': s, 't2': s, 'c': 1/s}}")
+        return "{ " + ", ".join(f"{k} = {_toml(f'envelope.{k}', v[k])}" for k in ("t1", "t2", "c")) + " }"
+    if isinstance(v, (bool, np.bool_)) or isinstance(v, str):
+        raise ValueError(f"{key}={v!r}: expected a number")
+    if key in _INTEGER_KEYS:
+        try:
+            n = int(v)
+        except (TypeError, ValueError, OverflowError):
+            n = -1
+        if n != v or n < 0:
+            raise ValueError(f"{key}={v!r}: must be a whole number >= 0")
+        return str(n)
+    try:
+        return repr(float(v))
+    except (TypeError, ValueError):
+        raise ValueError(f"{key}={v!r}: expected a number") from None
+
+
+def _random_text(scene: str, keys: Mapping[str, Any]) -> str:
+    """The study text of a random or record setup: one design point, the keys in their tables
+    (the Rust side parses and checks it as a study file, so the defaults are a study's: the
+    structure at rest)."""
+    own = RANDOM_KEYS if scene == "random" else RECORD_KEYS
+    tables: Dict[str, List[str]] = {"scene": [f'kind = "{scene}"'], "system": [], "solver": []}
+    for key, v in keys.items():
+        if key in own:
+            table = "scene"
+        elif key in SYSTEM_KEYS:
+            table = "system"
+        elif key in SOLVER_KEYS:
+            table = "solver"
+        else:
+            other = [s for s in _RANDOM_SCENES if s != scene][0]
+            if key in (RECORD_KEYS if scene == "random" else RANDOM_KEYS):
+                why = f"a key of the {other} scene"
+            else:
+                why = "unknown key"
+            allowed = " ".join((*own, *SYSTEM_KEYS, *SOLVER_KEYS, *_RUN_KEYS))
+            raise ValueError(f"{key}={v!r}: {why} for scene={scene!r}; allowed keys: {allowed}")
+        if v is None and key == "threshold":
+            continue
+        tables[table].append(f"{'kind' if key == 'solver' else key} = {_toml(key, v)}")
+    parts = ['[study]\nname = "simulate"\n']
+    parts += [f"[{t}]\n" + "".join(f"{line}\n" for line in lines) for t, lines in tables.items()]
+    return "".join(parts)
+
+
+def _whole(key: str, v: Any) -> int:
+    """A seed or a realization number: a whole number in [0, 2^64)."""
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)) or not 0 <= int(v) < 2**64:
+        raise ValueError(f"{key}={v!r}: must be a whole number in [0, 2^64)")
+    return int(v)
+
+
+def _normals(u: Any) -> bytes:
+    arr = np.ascontiguousarray(np.asarray(u, dtype=np.float64))
+    if arr.ndim != 1:
+        raise ValueError(f"normals: {arr.ndim}-dimensional; expected one standard normal per entry (1-D)")
+    return arr.tobytes()
+
+
 def simulate(*, scene: str = "free", outputs: Optional[Sequence[str]] = None, **keys: Any) -> Dict[str, Any]:
     """One run: the record ``impactsweep simulate --set KEY=VALUE ... --json`` prints, as a dict.
 
     Same keys and the same float bits as the command line (NaN observables are ``None``, as
     JSON's null). ``scene="harmonic"`` runs the forced scene. ``outputs`` keeps only those
     keys of the record.
+
+    ``scene="random"`` (or ``"record"``) runs one realization of a random (record) study's
+    design: the keys of its ``[scene]`` (``spectrum S0 omega_g zeta_g omega_f zeta_f dt
+    duration envelope threshold input``; a record's ``record scale duration threshold input``,
+    ``record`` a CSV path) with the system's and the solver's, the same defaults and checks as
+    the study file (the structure starts at rest). The load is realization ``realization``
+    (default 0) of study seed ``seed`` (default 0): the same bits as the sweep's row of that
+    realization at that design. ``normals`` (a 1-D array of ``n_normals`` standard normals)
+    replaces the stream, as subset simulation hands them in. The record has the run's
+    observables (``amplitude t_peak rms_x rms_acc first_passage_time impacts sticks
+    energy_impact samples t_stop steps outcome``; ``first_passage_time`` is None when ``|x|``
+    never passed ``threshold``), then ``scene seed realization`` (None with ``normals`` or a
+    record), ``n_normals``, ``system``, ``solver`` and the scene's settings under its name.
     """
-    rec = _ext.simulate(_sets(keys, scene))
+    scene = _scene(scene)
+    if scene in _RANDOM_SCENES:
+        run = {k: keys.pop(k) for k in _RUN_KEYS if k in keys}
+        seed = _whole("seed", run.get("seed", 0))
+        realization = _whole("realization", run.get("realization", 0))
+        normals = run.get("normals")
+        if normals is not None and ("seed" in run or "realization" in run):
+            raise ValueError("normals: given with seed or realization; the normals replace the stream they name")
+        rec = _ext.simulate_random(
+            _random_text(scene, keys), seed, realization, None if normals is None else _normals(normals)
+        )
+    else:
+        for k in _RUN_KEYS:
+            if k in keys:
+                raise ValueError(f"{k}: a key of the random scene; add scene=\"random\"")
+        rec = _ext.simulate(_sets(keys, scene))
     if outputs is None:
         return rec
     unknown = [k for k in outputs if k not in rec]
     if unknown:
         raise ValueError(f"outputs: unknown key '{unknown[0]}'; allowed: {' '.join(rec)}")
     return {k: rec[k] for k in outputs}
+
+
+def n_normals(*, scene: str = "random", **keys: Any) -> int:
+    """The standard normals one run of the random setup of ``keys`` (as :func:`simulate` takes
+    them) draws: the length of its ``normals``. One per load sample for white noise
+    (``ceil(duration / dt) + 1``), one per interval through a filter (``ceil(duration / dt)``),
+    0 for a record."""
+    scene = _scene(scene)
+    if scene not in _RANDOM_SCENES:
+        raise ValueError(f"scene={scene!r}: only a random load draws normals; allowed: random, record")
+    return _ext.random_n_normals(_random_text(scene, keys))
+
+
+def realization_normals(n: int, *, seed: int = 0, realization: int = 0) -> np.ndarray:
+    """The first ``n`` standard normals of the load stream of realization ``realization`` under
+    study seed ``seed``: what that realization's run draws, in order (so
+    ``simulate(normals=realization_normals(n_normals(**keys), seed=s, realization=c), **keys)``
+    is ``simulate(seed=s, realization=c, **keys)`` bit for bit)."""
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 0:
+        raise ValueError(f"n={n!r}: must be a whole number >= 0")
+    raw = _ext.realization_normals(_whole("seed", seed), _whole("realization", realization), int(n))
+    return np.frombuffer(raw, dtype=np.float64).copy()
 
 
 def _columns(inputs: Any) -> Dict[str, np.ndarray]:
@@ -239,10 +388,18 @@ def run(
     return _ext.run(path, text, os.fspath(out), resume, reduce, threads, chunk_points, allow_large)
 
 
-def reduce(run_dir: StudyLike) -> str:
+def reduce(run_dir: StudyLike, *, subset: Optional[int] = None) -> str:
     """``impactsweep reduce``: writes the summary, zones, report and charts into ``run_dir``;
-    returns the reducer's one-line summary."""
-    return _ext.reduce(os.fspath(run_dir))
+    returns the reducer's one-line summary. ``subset=N`` is ``--subset N``: a random study's
+    designs with fewer than 10 exceedances also get ``p_f`` by subset simulation, ``N`` samples
+    a level (a multiple of 10 in [100, 10^6])."""
+    if subset is not None and (
+        isinstance(subset, (bool, np.bool_)) or not isinstance(subset, (int, np.integer)) or subset < 0
+    ):
+        raise ValueError(
+            f"subset={subset!r}: expected a whole number of samples per level, a multiple of 10 in [100, 1000000]"
+        )
+    return _ext.reduce(os.fspath(run_dir), None if subset is None else int(subset))
 
 
 def status(run_dir: StudyLike) -> Dict[str, Any]:

@@ -23,6 +23,9 @@ use impactsweep::api::setup::{Setup, forced_json, record_json, trace_scene};
 use impactsweep::error::{InputError, Interrupted};
 use impactsweep::model::SYSTEM_KEYS;
 use impactsweep::plan::{Plan, RunSpec};
+use impactsweep::sim::random::{
+    Excitation, GivenNormals, Normals, RandomRecord, RandomRun, RandomScene, RealizationStream,
+};
 use impactsweep::sim::{
     ForcedRecord, Harmonic, NoProbe, Record, Scene, SceneRecord, SolverSettings,
 };
@@ -108,6 +111,215 @@ fn simulate<'py>(py: Python<'py>, sets: Vec<String>) -> PyResult<Bound<'py, PyAn
     };
     json_to_py(py, &json)
 }
+
+/// The name a random or record setup's study text goes by; [`random_err`] takes it off the
+/// messages.
+const RANDOM_FILE: &str = "simulate";
+
+/// A study's message about the keys of `simulate(scene="random")` as the keyword arguments
+/// name them: without the file (the Python layer wrote the text) and without the table
+/// (`[scene].S0 = -1: ...` reads `S0 = -1: ...`, `[solver].kind` reads `solver`).
+fn random_err(err: InputError) -> PyErr {
+    let msg = err.0;
+    let msg = msg
+        .strip_prefix(&format!("{RANDOM_FILE}: "))
+        .unwrap_or(&msg)
+        .replace("[solver].kind", "solver");
+    let mut msg = msg.as_str().to_owned();
+    for table in ["[scene].", "[system].", "[solver]."] {
+        msg = msg.replace(table, "");
+    }
+    PyValueError::new_err(msg)
+}
+
+/// The one design of a random or record setup: the study text the Python layer writes for
+/// `simulate(scene="random", ...)`'s keys, parsed and checked as a study file is (so the same
+/// defaults: the structure at rest), and its scene prepared.
+struct RandomDesign {
+    study: Study,
+    system: impactsweep::model::System,
+    scene: RandomScene,
+    run: RandomRun,
+}
+
+impl RandomDesign {
+    fn parse(text: &str) -> PyResult<RandomDesign> {
+        let study = Study::parse(Path::new(RANDOM_FILE), text).map_err(random_err)?;
+        let Scene::Random(scene) = study.scene.clone() else {
+            return Err(PyValueError::new_err(
+                "scene: the random or record scene's setup has no [scene] kind (a bug: please \
+                 report it)",
+            ));
+        };
+        let system = study.system;
+        let run = RandomRun::new(&system, &study.solver, &scene);
+        Ok(RandomDesign {
+            study,
+            system,
+            scene,
+            run,
+        })
+    }
+
+    /// The record of one run as a JSON object: the run's observables, then what it ran (the
+    /// scene, the stream or `null` for normals handed in or a record, `n_normals`, the system,
+    /// the solver and the scene's settings under its name).
+    fn json(&self, rec: &RandomRecord, stream: Option<(u64, u64)>) -> serde_json::Value {
+        let mut map = match serde_json::to_value(rec) {
+            Ok(serde_json::Value::Object(m)) => m,
+            _ => serde_json::Map::new(),
+        };
+        let kind = if self.scene.draws_normals() {
+            "random"
+        } else {
+            "record"
+        };
+        map.insert("scene".into(), kind.into());
+        let (seed, realization) = match stream {
+            Some((s, r)) => (s.into(), r.into()),
+            None => (serde_json::Value::Null, serde_json::Value::Null),
+        };
+        map.insert("seed".into(), seed);
+        map.insert("realization".into(), realization);
+        map.insert("n_normals".into(), self.run.n_normals().into());
+        let mut system = serde_json::Map::new();
+        for k in SYSTEM_KEYS {
+            let v = self.system.get(k).unwrap_or(f64::NAN);
+            system.insert(
+                k.into(),
+                serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, Into::into),
+            );
+        }
+        map.insert("system".into(), system.into());
+        map.insert(
+            "solver".into(),
+            serde_json::to_value(self.study.solver).unwrap_or_default(),
+        );
+        map.insert(kind.into(), self.scene_json());
+        serde_json::Value::Object(map)
+    }
+
+    /// The scene's settings under the study file's keys (`input dt duration threshold`, a random
+    /// load's `spectrum S0`, its filter's keys and `envelope`; a record's `scale` and
+    /// `record_samples`, the samples it holds).
+    fn scene_json(&self) -> serde_json::Value {
+        let num =
+            |v: f64| serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, Into::into);
+        let sc = &self.scene;
+        let mut m = serde_json::Map::new();
+        m.insert("input".into(), sc.input.name().into());
+        match &sc.excitation {
+            Excitation::Random(r) => {
+                m.insert("spectrum".into(), r.spectrum.name().into());
+                for k in RandomScene::AXES {
+                    if let Some(v) = sc.get(k) {
+                        m.insert(k.into(), num(v));
+                    }
+                }
+                let envelope = r.envelope.map_or(
+                    serde_json::Value::Null,
+                    |e| serde_json::json!({"t1": num(e.t1), "t2": num(e.t2), "c": num(e.c)}),
+                );
+                m.insert("envelope".into(), envelope);
+            }
+            Excitation::Record(r) => {
+                m.insert("scale".into(), num(r.scale));
+                m.insert("record_samples".into(), r.values.len().into());
+            }
+        }
+        m.insert("dt".into(), num(sc.dt));
+        m.insert("duration".into(), num(sc.duration));
+        m.insert(
+            "threshold".into(),
+            sc.threshold.map_or(serde_json::Value::Null, num),
+        );
+        serde_json::Value::Object(m)
+    }
+}
+
+/// One run of the random or record scene: the setup of study text `text` (its one design),
+/// realization `realization` of study seed `seed` (the stream the sweep's row of that
+/// realization draws, [`Plan::load_stream`]), or the standard normals `normals` (f64 bytes,
+/// native endian, exactly `n_normals` of them) in its place. Returns the record as a dict.
+#[pyfunction]
+#[pyo3(signature = (text, seed, realization, normals=None))]
+fn simulate_random<'py>(
+    py: Python<'py>,
+    text: &str,
+    seed: u64,
+    realization: u64,
+    normals: Option<Bound<'py, PyBytes>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let d = RandomDesign::parse(text)?;
+    let req = d.study.request;
+    let (rec, stream) = match normals {
+        Some(bytes) => {
+            let u = f64s(bytes.as_bytes());
+            check_normals(&d, &u)?;
+            let rec = py.detach(|| d.run.run(&req, GivenNormals::new(&u), &mut NoProbe));
+            (rec, None)
+        }
+        None => {
+            let stream = RealizationStream::new(seed, 0, realization);
+            let rec = py.detach(|| d.run.run(&req, stream, &mut NoProbe));
+            (rec, d.scene.draws_normals().then_some((seed, realization)))
+        }
+    };
+    json_to_py(py, &d.json(&rec, stream))
+}
+
+/// Normals handed in: a random load's, exactly `n_normals` of them, every one finite.
+fn check_normals(d: &RandomDesign, u: &[f64]) -> PyResult<()> {
+    if !d.scene.draws_normals() {
+        return Err(PyValueError::new_err(
+            "normals: a record's load draws no normals; leave normals out",
+        ));
+    }
+    let n = d.run.n_normals();
+    if u.len() != n {
+        return Err(PyValueError::new_err(format!(
+            "normals: {} values; this load draws n_normals = {n} standard normals ({} load \
+             intervals of dt: one normal per sample for white noise, one per interval through a \
+             filter)",
+            u.len(),
+            d.run.segments()
+        )));
+    }
+    if let Some((i, v)) = u.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "normals[{i}] = {v}: a standard normal must be finite"
+        )));
+    }
+    Ok(())
+}
+
+/// The standard normals one run of the random setup `text` draws (0 for a record).
+#[pyfunction]
+fn random_n_normals(text: &str) -> PyResult<usize> {
+    Ok(RandomDesign::parse(text)?.run.n_normals())
+}
+
+/// The first `n` standard normals of realization `realization`'s load stream under study seed
+/// `seed` (f64 bytes, native endian): what its run draws, in order.
+#[pyfunction]
+fn realization_normals<'py>(
+    py: Python<'py>,
+    seed: u64,
+    realization: u64,
+    n: usize,
+) -> PyResult<Bound<'py, PyBytes>> {
+    if n > MAX_NORMALS {
+        return Err(PyValueError::new_err(format!(
+            "n={n}: allowed 0 ..= {MAX_NORMALS} (a run draws at most one normal per load sample)"
+        )));
+    }
+    let mut s = RealizationStream::new(seed, 0, realization);
+    let bytes: Vec<u8> = (0..n).flat_map(|_| s.next_normal().to_ne_bytes()).collect();
+    Ok(PyBytes::new(py, &bytes))
+}
+
+/// Most normals [`realization_normals`] gives: a run's most load samples, and one.
+const MAX_NORMALS: usize = impactsweep::sim::random::MAX_SAMPLES as usize + 1;
 
 /// `f64`s from native-endian bytes (a NumPy float64 buffer).
 fn f64s(bytes: &[u8]) -> Vec<f64> {
@@ -629,15 +841,16 @@ fn run<'py>(
     d.set_item("seconds", summary.wall.as_secs_f64())?;
     d.set_item("line", summary.line(&study.name))?;
     if reduce && summary.chunks_left == 0 {
-        let line = reduce_dir(py, &dir)?;
+        let line = reduce_dir(py, &dir, None)?;
         d.set_item("reduce", line)?;
     }
     Ok(d)
 }
 
-fn reduce_dir(py: Python<'_>, dir: &Path) -> PyResult<String> {
+fn reduce_dir(py: Python<'_>, dir: &Path, subset: Option<usize>) -> PyResult<String> {
     let args = impactsweep::api::reduce::ReduceArgs {
         dir: dir.to_path_buf(),
+        subset,
         ..Default::default()
     };
     py.detach(|| impactsweep::api::reduce::reduce_dir(&args))
@@ -645,10 +858,20 @@ fn reduce_dir(py: Python<'_>, dir: &Path) -> PyResult<String> {
         .map_err(py_err)
 }
 
-/// `impactsweep reduce RUN_DIR`: its summary line.
+/// `impactsweep reduce RUN_DIR` (and `--subset N`): its summary line.
 #[pyfunction]
-fn reduce(py: Python<'_>, dir: PathBuf) -> PyResult<String> {
-    reduce_dir(py, &dir)
+#[pyo3(signature = (dir, subset=None))]
+fn reduce(py: Python<'_>, dir: PathBuf, subset: Option<usize>) -> PyResult<String> {
+    // The command line's `--subset N` check (subset simulation's chains of 10 need 10 seeds).
+    if let Some(n) = subset
+        && !((100..=1_000_000).contains(&n) && n.is_multiple_of(10))
+    {
+        return Err(PyValueError::new_err(format!(
+            "subset={n}: expected a whole number of samples per level, a multiple of 10 in \
+             [100, 1000000]"
+        )));
+    }
+    reduce_dir(py, &dir, subset)
 }
 
 /// `impactsweep status RUN_DIR`, as a dict (with the command's text).
@@ -683,6 +906,9 @@ fn keys() -> (Vec<&'static str>, Vec<&'static str>, Vec<&'static str>) {
 #[pymodule]
 fn _impactsweep(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_random, m)?)?;
+    m.add_function(wrap_pyfunction!(random_n_normals, m)?)?;
+    m.add_function(wrap_pyfunction!(realization_normals, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
     m.add_function(wrap_pyfunction!(trace, m)?)?;
     m.add_function(wrap_pyfunction!(period_maxima, m)?)?;
