@@ -249,7 +249,11 @@ fn issue_44_threads_shards_and_resume_give_the_same_bits() {
         bin()
             .arg("run")
             .arg(&blocked_study)
-            .args(["--out", tmp.path().join("bshard").to_str().unwrap(), "--quiet"])
+            .args([
+                "--out",
+                tmp.path().join("bshard").to_str().unwrap(),
+                "--quiet",
+            ])
             .args(["--shard", shard])
             .assert()
             .success();

@@ -388,18 +388,18 @@ def run(
     return _ext.run(path, text, os.fspath(out), resume, reduce, threads, chunk_points, allow_large)
 
 
-def reduce(run_dir: StudyLike, *, subset: Optional[int] = None) -> str:
+def reduce(run_dir: StudyLike, *, subset: int = 1000) -> str:
     """``impactsweep reduce``: writes the summary, zones, report and charts into ``run_dir``;
     returns the reducer's one-line summary. ``subset=N`` is ``--subset N``: a random study's
-    designs with fewer than 10 exceedances also get ``p_f`` by subset simulation, ``N`` samples
-    a level (a multiple of 10 in [100, 10^6])."""
-    if subset is not None and (
-        isinstance(subset, (bool, np.bool_)) or not isinstance(subset, (int, np.integer)) or subset < 0
-    ):
+    designs with fewer than 10 exceedances get ``p_f`` by subset simulation, ``N`` samples a
+    level (a multiple of 10 in [100, 10^6]; 1000 by default), which ranks them; ``subset=0``
+    keeps Monte Carlo alone."""
+    if isinstance(subset, (bool, np.bool_)) or not isinstance(subset, (int, np.integer)) or subset < 0:
         raise ValueError(
-            f"subset={subset!r}: expected a whole number of samples per level, a multiple of 10 in [100, 1000000]"
+            f"subset={subset!r}: expected 0 (Monte Carlo only) or a whole number of samples per level, "
+            "a multiple of 10 in [100, 1000000]"
         )
-    return _ext.reduce(os.fspath(run_dir), None if subset is None else int(subset))
+    return _ext.reduce(os.fspath(run_dir), int(subset))
 
 
 def status(run_dir: StudyLike) -> Dict[str, Any]:

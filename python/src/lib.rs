@@ -841,7 +841,11 @@ fn run<'py>(
     d.set_item("seconds", summary.wall.as_secs_f64())?;
     d.set_item("line", summary.line(&study.name))?;
     if reduce && summary.chunks_left == 0 {
-        let line = reduce_dir(py, &dir, None)?;
+        let line = reduce_dir(
+            py,
+            &dir,
+            Some(impactsweep::reduce::random::subset::DEFAULT_SUBSET_N),
+        )?;
         d.set_item("reduce", line)?;
     }
     Ok(d)
@@ -858,20 +862,19 @@ fn reduce_dir(py: Python<'_>, dir: &Path, subset: Option<usize>) -> PyResult<Str
         .map_err(py_err)
 }
 
-/// `impactsweep reduce RUN_DIR` (and `--subset N`): its summary line.
+/// `impactsweep reduce RUN_DIR` (and `--subset N`, 1000 by default, 0 for Monte Carlo alone):
+/// its summary line.
 #[pyfunction]
-#[pyo3(signature = (dir, subset=None))]
-fn reduce(py: Python<'_>, dir: PathBuf, subset: Option<usize>) -> PyResult<String> {
+#[pyo3(signature = (dir, subset=impactsweep::reduce::random::subset::DEFAULT_SUBSET_N))]
+fn reduce(py: Python<'_>, dir: PathBuf, subset: usize) -> PyResult<String> {
     // The command line's `--subset N` check (subset simulation's chains of 10 need 10 seeds).
-    if let Some(n) = subset
-        && !((100..=1_000_000).contains(&n) && n.is_multiple_of(10))
-    {
+    if subset != 0 && !((100..=1_000_000).contains(&subset) && subset.is_multiple_of(10)) {
         return Err(PyValueError::new_err(format!(
-            "subset={n}: expected a whole number of samples per level, a multiple of 10 in \
-             [100, 1000000]"
+            "subset={subset}: expected 0 (Monte Carlo only) or a whole number of samples per \
+             level, a multiple of 10 in [100, 1000000]"
         )));
     }
-    reduce_dir(py, &dir, subset)
+    reduce_dir(py, &dir, (subset > 0).then_some(subset))
 }
 
 /// `impactsweep status RUN_DIR`, as a dict (with the command's text).

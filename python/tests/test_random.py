@@ -222,7 +222,7 @@ def test_other_bad_calls():
         isw.simulate(scene="record", duration=1.0)
     with pytest.raises(ValueError, match=r"^n=-1: must be a whole number >= 0"):
         isw.realization_normals(-1)
-    with pytest.raises(ValueError, match=r"^subset=50: expected a whole number of samples per level"):
+    with pytest.raises(ValueError, match=r"^subset=50: expected 0 \(Monte Carlo only\) or a whole number of samples per level"):
         isw.reduce("nowhere", subset=50)
-    with pytest.raises(ValueError, match=r"^subset=-5: expected a whole number of samples per level"):
+    with pytest.raises(ValueError, match=r"^subset=-5: expected 0 \(Monte Carlo only\) or a whole number of samples per level"):
         isw.reduce("nowhere", subset=-5)

@@ -81,11 +81,7 @@ pub(super) fn run(
             ));
         }
         if c == 0 {
-            return Err(cx.err(
-                "[run].chunk_realizations",
-                c,
-                "must be a whole number >= 1",
-            ));
+            return Err(cx.err("[run].chunk_realizations", c, "must be a whole number >= 1"));
         }
         run.chunk_realizations = c;
     }
