@@ -108,7 +108,7 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "record_columns.toml",
-        "{dir}/record_columns.toml: [scene].record = \"columns.csv\": {dir}/columns.csv: the header names the columns time, acc; allowed: t,a (ground acceleration, m/s^2) or t,F (force on the main mass, N)",
+        "{dir}/record_columns.toml: [scene].record = \"columns.csv\": {dir}/columns.csv: the columns are time, acc; allowed: t,a (ground acceleration, m/s^2) or t,F (force on the main mass, N)",
     ),
     (
         "record_input_mismatch.toml",
@@ -124,7 +124,23 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "record_parquet.toml",
-        "{dir}/record_parquet.toml: [scene].record = \"quake.parquet\": a Parquet record is not read yet; give the record as CSV with a header t,a (ground acceleration, m/s^2) or t,F (force, N)",
+        "{dir}/record_parquet.toml: [scene].record = \"quake.parquet\": cannot read the record file {dir}/quake.parquet: no such file",
+    ),
+    (
+        "record_parquet_columns.toml",
+        "{dir}/record_parquet_columns.toml: [scene].record = \"quake_columns.parquet\": {dir}/quake_columns.parquet: the columns are t, acc; allowed: t,a (ground acceleration, m/s^2) or t,F (force on the main mass, N)",
+    ),
+    (
+        "record_parquet_null.toml",
+        "{dir}/record_parquet_null.toml: [scene].record = \"quake_null.parquet\": {dir}/quake_null.parquet: row 2: a is null: every value must be a finite number",
+    ),
+    (
+        "record_parquet_text.toml",
+        "{dir}/record_parquet_text.toml: [scene].record = \"quake_text.parquet\": {dir}/quake_text.parquet: column a holds Utf8; a record's columns hold numbers (floats or integers)",
+    ),
+    (
+        "record_parquet_uneven.toml",
+        "{dir}/record_parquet_uneven.toml: [scene].record = \"quake_uneven.parquet\": {dir}/quake_uneven.parquet: row 2: t = 0.01: the samples must be evenly spaced; with dt = 0.013333333333333334 s ((t_last - t_first) / (rows - 1)) this row belongs at t = 0.013333333333333334, within 1e-6 dt",
     ),
     (
         "record_realizations.toml",

@@ -282,13 +282,16 @@ fn issue_44_threads_shards_and_resume_give_the_same_bits() {
 fn issue_44_a_record_study_with_a_swept_scale_gets_its_fragility() {
     let tmp = tempfile::tempdir().unwrap();
     // A 3-s accelerogram: a 2.5 Hz burst under a rise and a decay, at 0.01 s.
-    let mut csv = String::from("t,a\n");
-    for k in 0..=300 {
-        let t = k as f64 * 0.01;
+    let quake = |t: f64| -> f64 {
         let a = (t * std::f64::consts::TAU * 2.5).sin()
             * (t / 0.5).min(1.0)
             * (-(t - 1.5).max(0.0)).exp();
-        csv.push_str(&format!("{},{a}\n", k as f64 / 100.0));
+        f64::from(a as f32)
+    };
+    let mut csv = String::from("t,a\n");
+    for k in 0..=300 {
+        let t = k as f64 / 100.0;
+        csv.push_str(&format!("{t},{}\n", quake(k as f64 * 0.01)));
     }
     std::fs::write(tmp.path().join("quake.csv"), csv).unwrap();
     let study = tmp.path().join("rec.toml");
@@ -315,6 +318,46 @@ fn issue_44_a_record_study_with_a_swept_scale_gets_its_fragility() {
         .collect();
     for a in &bare {
         assert!((a / bare[0] - 1.0).abs() < 1e-9, "{bare:?}");
+    }
+    // The same record as Parquet (`t` as Float64, `a` as Float32 widened back: the CSV's
+    // values are written as the f32 they round to, so both files hold the same numbers) runs
+    // to the same records, and its run directory keeps `record.parquet`.
+    let (ts, accs): (Vec<f64>, Vec<f64>) = (0..=300)
+        .map(|k| (k as f64 / 100.0, quake(k as f64 * 0.01)))
+        .unzip();
+    let schema = std::sync::Arc::new(arrow::datatypes::Schema::new(vec![
+        arrow::datatypes::Field::new("t", arrow::datatypes::DataType::Float64, false),
+        arrow::datatypes::Field::new("a", arrow::datatypes::DataType::Float32, false),
+    ]));
+    let batch = arrow::array::RecordBatch::try_new(
+        schema.clone(),
+        vec![
+            std::sync::Arc::new(arrow::array::Float64Array::from(ts)),
+            std::sync::Arc::new(arrow::array::Float32Array::from(
+                accs.iter().map(|&a| a as f32).collect::<Vec<f32>>(),
+            )),
+        ],
+    )
+    .unwrap();
+    let file = std::fs::File::create(tmp.path().join("quake.parquet")).unwrap();
+    let mut w = parquet::arrow::ArrowWriter::try_new(file, schema, None).unwrap();
+    w.write(&batch).unwrap();
+    w.close().unwrap();
+    let pq_study = tmp.path().join("recpq.toml");
+    std::fs::write(
+        &pq_study,
+        std::fs::read_to_string(&study)
+            .unwrap()
+            .replace("quake.csv", "quake.parquet")
+            .replace("\"rec\"", "\"recpq\""),
+    )
+    .unwrap();
+    let pq_dir = common::run_study_file(&pq_study, &tmp.path().join("out"), "recpq");
+    assert!(pq_dir.join("record.parquet").exists());
+    let pq_rows = self::rows(&pq_dir);
+    assert_eq!(pq_rows.len(), rows.len());
+    for (p, c) in pq_rows.iter().zip(&rows) {
+        assert_eq!(p.record, c.record, "the Parquet record runs as its CSV");
     }
     // The run directory keeps the record beside its study.toml: its own study loads from
     // there (reduce and status read it), wherever the record was.

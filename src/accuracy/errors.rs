@@ -1,8 +1,7 @@
 //! Error statistics: relative errors of observables against the reference, run by run.
 
-use serde::{Deserialize, Serialize};
-
 use crate::sim::{Outcome, Record};
+pub use crate::store::audit::{Audit, ErrorStats};
 
 /// `|a - b| / |b|` (`|a - b|` when `b = 0`); `None` unless both are finite.
 pub fn rel_err(a: f64, b: f64) -> Option<f64> {
@@ -11,15 +10,6 @@ pub fn rel_err(a: f64, b: f64) -> Option<f64> {
     }
     let d = (a - b).abs();
     Some(if b == 0.0 { d } else { d / b.abs() })
-}
-
-/// Max and median of a set of relative errors (NaN when the set is empty).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ErrorStats {
-    /// Runs where both values were finite.
-    pub n: u64,
-    pub max: f64,
-    pub median: f64,
 }
 
 impl ErrorStats {
@@ -111,28 +101,6 @@ pub fn compare(truth: &[Record], got: &[Observed]) -> Comparison {
         unfinished,
         runs: truth.len() as u64,
     }
-}
-
-/// The realised error of a sweep's solver against the reference (`run --audit`, the
-/// manifest's `"audit"`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Audit {
-    /// The audited design points (their ideal case).
-    pub points: Vec<u64>,
-    /// The study's solver, its accuracy knob (`tol`, `h` or `rtol`) and that knob's value.
-    pub solver: String,
-    pub knob: String,
-    pub knob_value: f64,
-    /// The study's event tolerance.
-    pub tol: f64,
-    /// The reference.
-    pub reference: String,
-    /// `|a - b| / |b|` (`|a - b|` when `b = 0`) over the runs where both are finite.
-    pub xmax: ErrorStats,
-    pub t1: ErrorStats,
-    pub di: ErrorStats,
-    pub outcome_changed: u64,
-    pub impacts_changed: u64,
 }
 
 /// The audit of `points` from their `(got, reference)` record pairs, in the same order: every

@@ -10,46 +10,12 @@
 
 use std::time::Instant;
 
-use super::errors::{Comparison, ErrorStats, Observed, compare};
+use super::errors::{Comparison, Observed, compare};
 use super::reference::Reference;
 use crate::numeric::median;
 use crate::sim::{self, NoProbe, Record, SolverKind, SolverSettings};
 
-/// One row of the trade-off table: a solver at one knob setting.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Row {
-    /// `exact`, `rk4`, `dopri5`, or a peer (`scipy-RK45`, `scipy-DOP853`).
-    pub solver: String,
-    /// The knob as a person reads it (`h = T/400`).
-    pub setting: String,
-    /// Knob name and value (`tol`, `h` in s, `rtol`).
-    pub knob: String,
-    pub value: f64,
-    /// `dopri5`'s (and the peer's) absolute tolerance, NaN otherwise.
-    pub atol: f64,
-    /// Median wall time per run (s).
-    pub time_per_run: f64,
-    /// Median CPU time of the timing thread per run (s): what ranks and charts the settings,
-    /// because on a shared machine it does not count the time other processes held the core.
-    pub cpu_per_run: f64,
-    /// Timed repetitions of the whole set.
-    pub reps: u32,
-    /// Mean solver steps per run (NaN for the peer).
-    pub steps_per_run: f64,
-    pub xmax: ErrorStats,
-    pub t1: ErrorStats,
-    pub di: ErrorStats,
-    pub impacts: ErrorStats,
-    /// Runs whose outcome differs from the reference's.
-    pub changed_outcome: u64,
-    /// Runs whose impact count differs from the reference's.
-    pub changed_impacts: u64,
-    /// Runs the solver could not finish (the peer's chatter guard).
-    pub unfinished: u64,
-    pub runs: u64,
-    /// The cheapest setting of its solver with max DI error under [`super::DI_GOAL`].
-    pub cheapest: bool,
-}
+pub use crate::store::tradeoff::Row;
 
 impl Row {
     /// Meets the DI goal with no changed outcome.

@@ -10,8 +10,7 @@ use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
 
 use super::Checksum;
-use crate::accuracy::Audit;
-use crate::plan::Plan;
+use super::audit::Audit;
 
 /// The manifest of a run directory (`manifest.json`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -51,6 +50,18 @@ pub struct Manifest {
     /// Shards (`I/N`) that have written into this directory.
     pub shards: Vec<String>,
     pub audit: Option<Audit>,
+}
+
+/// The sizes of a run directory's dataset, as its plan gives them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sizes {
+    pub n_points: u64,
+    pub n_cases: u64,
+    pub n_runs: u64,
+    pub chunk_points: u64,
+    /// Runs per block of a design point split into blocks; `None` for whole points.
+    pub chunk_cases: Option<u64>,
+    pub n_chunks: u64,
 }
 
 /// One finished chunk.
@@ -212,22 +223,22 @@ pub fn write_manifest(dir: &Path, m: &Manifest) -> Result<()> {
 }
 
 impl Manifest {
-    /// The manifest of a fresh run directory: sizes from the plan, nothing done.
-    pub fn new(plan: &Plan, chunk_points: u64) -> Manifest {
-        let study = plan.study;
+    /// The manifest of a fresh run directory of study `name` (its text `source`, its `seed`)
+    /// of these sizes ([`crate::plan::Plan`]'s), nothing done.
+    pub fn new(name: &str, source: &str, seed: u64, sizes: Sizes) -> Manifest {
         Manifest {
             tool: "impactsweep".into(),
             version: env!("CARGO_PKG_VERSION").into(),
             schema_version: super::SCHEMA_VERSION,
-            study: study.name.clone(),
-            study_checksum: Some(study_checksum(&study.source)),
-            seed: study.seed,
-            n_points: plan.n_points(),
-            n_cases: plan.n_cases(),
-            n_runs: plan.n_runs(),
-            chunk_points,
-            chunk_cases: (plan.blocks() > 1).then(|| plan.chunk_cases()),
-            n_chunks: plan.n_chunks(),
+            study: name.to_string(),
+            study_checksum: Some(study_checksum(source)),
+            seed,
+            n_points: sizes.n_points,
+            n_cases: sizes.n_cases,
+            n_runs: sizes.n_runs,
+            chunk_points: sizes.chunk_points,
+            chunk_cases: sizes.chunk_cases,
+            n_chunks: sizes.n_chunks,
             checksum: Checksum::DEFAULT.doc().into(),
             chunks_done: 0,
             runs_done: 0,

@@ -23,6 +23,8 @@
 
 pub mod analysis;
 pub mod attractors;
+pub mod audit;
+pub mod columns;
 pub mod manifest;
 pub mod points;
 pub mod random;

@@ -48,7 +48,7 @@ pub use axis::Axis;
 pub use perturb::Case;
 pub use random::{DEFAULT_DT, DEFAULT_REALIZATIONS, INTENSITY_KEYS};
 pub use ranking::{DiSource, Ranking, VERIFY_PERIODS};
-pub use record::{EVEN_TOL, RECORD_COPY};
+pub use record::{EVEN_TOL, RECORD_COPY, RECORD_COPY_PARQUET, record_copy};
 pub use reliability::{Reliability, SafetyForm};
 pub use run::{DEFAULT_CHUNK_RUNS, RunSettings, whole_curves};
 pub use scene::frequency_axis;
@@ -234,7 +234,7 @@ impl Study {
         Some(if path.exists() {
             path
         } else {
-            dir.join(RECORD_COPY)
+            dir.join(record::record_copy(shown))
         })
     }
 

@@ -17,7 +17,7 @@
 //! | `envelope = { t1, t2, c }` | random | s, s, 1/s | none | `0 <= t1 <= t2`, `c >= 0` |
 //! | `realizations` | random | | 1000 | `[1, 10^7]` (a record: 1) |
 //! | `threshold` | both | m | none | `> 0` |
-//! | `record` | record | path | required | CSV relative to the study file (in a run directory, its copy `record.csv` when the path does not resolve there) |
+//! | `record` | record | path | required | CSV or Parquet relative to the study file (in a run directory, its copy `record.csv` or `record.parquet` when the path does not resolve there) |
 //! | `scale` | record | 1 | 1 | `> 0`, sweepable |
 
 use std::collections::BTreeMap;
@@ -308,7 +308,7 @@ fn recorded(
         ));
     }
     let mut path = dir.join(shown);
-    let copy = dir.join(record::RECORD_COPY);
+    let copy = dir.join(record::record_copy(shown));
     if !path.exists() && copy.exists() {
         path = copy;
     }

@@ -10,8 +10,9 @@
 //! Each error names the study, the key, the record file, the row (counted from the first data
 //! row, with its line in the file) and what is allowed.
 //!
-//! A Parquet record is refused with a message: reading one needs a reader of plain columns from
-//! the store layer, which does not exist yet.
+//! A Parquet record (a path ending in `.parquet`) holds the same two columns, `t` and `a` or `t`
+//! and `F`, of floats or integers ([`crate::store::columns`] reads them), with the same checks;
+//! its rows are counted from 1.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -24,6 +25,25 @@ use crate::sim::random::Input;
 /// the study's own path does not resolve from there (the run directory's study is the user's
 /// text, with the record's path relative to where the user kept it).
 pub const RECORD_COPY: &str = "record.csv";
+
+/// The run directory's copy of a Parquet record ([`RECORD_COPY`]'s sibling).
+pub const RECORD_COPY_PARQUET: &str = "record.parquet";
+
+/// The name of the run directory's copy of the record the study names `shown`.
+pub fn record_copy(shown: &str) -> &'static str {
+    if is_parquet(Path::new(shown)) {
+        RECORD_COPY_PARQUET
+    } else {
+        RECORD_COPY
+    }
+}
+
+/// Whether a record path names a Parquet file (by its extension, any case).
+fn is_parquet(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("parquet"))
+}
 
 /// How far a sample's time may sit from its place on the grid, relative to `dt`.
 pub const EVEN_TOL: f64 = 1e-6;
@@ -41,14 +61,26 @@ pub(super) struct RecordFile {
 pub(super) fn read(cx: &Cx, shown: &str, path: &Path) -> Result<RecordFile, InputError> {
     let at = "[scene].record";
     let value = format!("{shown:?}");
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    if ext.eq_ignore_ascii_case("parquet") {
-        return Err(cx.err(
-            at,
-            value,
-            "a Parquet record is not read yet; give the record as CSV with a header t,a \
-             (ground acceleration, m/s^2) or t,F (force, N)",
-        ));
+    if is_parquet(path) {
+        if !path.exists() {
+            return Err(cx.err(
+                at,
+                &value,
+                format!(
+                    "cannot read the record file {}: no such file",
+                    path.display()
+                ),
+            ));
+        }
+        let read = crate::store::columns::read_f64_columns(path).and_then(|cols| {
+            let names: Vec<&str> = cols.iter().map(|(n, _)| n.as_str()).collect();
+            let input = input_of(&names)?;
+            match cols.as_slice() {
+                [(_, t), (_, v)] => check(t, v, input, &|i| format!("row {}", i + 1)),
+                _ => unreachable!("input_of takes two columns"),
+            }
+        });
+        return read.map_err(|why| cx.err(at, &value, format!("{}: {why}", path.display())));
     }
     let text = std::fs::read_to_string(path).map_err(|e| {
         cx.err(
@@ -75,17 +107,7 @@ pub(super) fn parse(text: &str) -> Result<RecordFile, String> {
         .split(',')
         .map(|c| c.trim().trim_matches('"'))
         .collect();
-    let input = match names.as_slice() {
-        ["t", "a"] => Input::Base,
-        ["t", "F"] => Input::Force,
-        _ => {
-            return Err(format!(
-                "the header names the columns {}; allowed: t,a (ground acceleration, m/s^2) or \
-                 t,F (force on the main mass, N)",
-                names.join(", ")
-            ));
-        }
-    };
+    let input = input_of(&names)?;
     let column = names[1];
     let mut ts: Vec<f64> = Vec::new();
     let mut values: Vec<f64> = Vec::new();
@@ -125,6 +147,52 @@ pub(super) fn parse(text: &str) -> Result<RecordFile, String> {
         values.push(pair[1]);
         rows.push(line);
     }
+    check(&ts, &values, input, &|i| {
+        format!("row {} (line {})", i + 1, rows[i])
+    })
+}
+
+/// What a record's two columns are: `t,a` ground acceleration, `t,F` a force.
+fn input_of(names: &[&str]) -> Result<Input, String> {
+    match names {
+        ["t", "a"] => Ok(Input::Base),
+        ["t", "F"] => Ok(Input::Force),
+        _ => Err(format!(
+            "the columns are {}; allowed: t,a (ground acceleration, m/s^2) or t,F (force on the \
+             main mass, N)",
+            names.join(", ")
+        )),
+    }
+}
+
+/// Checks a record's samples (at least two, evenly spaced; the values finite and `t`
+/// increasing as read), `row(i)` naming sample `i` in messages.
+fn check(
+    ts: &[f64],
+    values: &[f64],
+    input: Input,
+    row: &dyn Fn(usize) -> String,
+) -> Result<RecordFile, String> {
+    let column = if input == Input::Base { "a" } else { "F" };
+    for (i, (&t, &v)) in ts.iter().zip(values).enumerate() {
+        for (name, x) in [("t", t), (column, v)] {
+            if !x.is_finite() {
+                return Err(format!(
+                    "{}: {name} = {}: every value must be a finite number",
+                    row(i),
+                    num(x)
+                ));
+            }
+        }
+        if i > 0 && t <= ts[i - 1] {
+            return Err(format!(
+                "{}: t = {} is not after the previous row's t = {}: the times must increase",
+                row(i),
+                num(t),
+                num(ts[i - 1])
+            ));
+        }
+    }
     if ts.len() < 2 {
         return Err(format!(
             "{} row{}; a record needs at least two samples",
@@ -134,14 +202,13 @@ pub(super) fn parse(text: &str) -> Result<RecordFile, String> {
     }
     let n = ts.len();
     let dt = (ts[n - 1] - ts[0]) / (n - 1) as f64;
-    for (i, (&t, &line)) in ts.iter().zip(&rows).enumerate() {
+    for (i, &t) in ts.iter().enumerate() {
         let grid = ts[0] + i as f64 * dt;
         if (t - grid).abs() > EVEN_TOL * dt {
             return Err(format!(
-                "row {} (line {line}): t = {}: the samples must be evenly spaced; with \
-                 dt = {} s ((t_last - t_first) / (rows - 1)) this row belongs at t = {}, within \
-                 {} dt",
-                i + 1,
+                "{}: t = {}: the samples must be evenly spaced; with dt = {} s ((t_last - \
+                 t_first) / (rows - 1)) this row belongs at t = {}, within {} dt",
+                row(i),
                 num(t),
                 num(dt),
                 num(grid),
@@ -151,7 +218,7 @@ pub(super) fn parse(text: &str) -> Result<RecordFile, String> {
     }
     Ok(RecordFile {
         dt,
-        values: values.into(),
+        values: values.to_vec().into(),
         input,
     })
 }

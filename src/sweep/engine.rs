@@ -167,6 +167,18 @@ pub fn shard_chunks(n_chunks: u64, shard: (u64, u64)) -> impl Iterator<Item = u6
     (shard.0..n_chunks).step_by(shard.1.max(1) as usize)
 }
 
+/// The dataset's sizes as the manifest records them, with `chunk_points` the run directory's.
+pub fn sizes(plan: &Plan, chunk_points: u64) -> crate::store::manifest::Sizes {
+    crate::store::manifest::Sizes {
+        n_points: plan.n_points(),
+        n_cases: plan.n_cases(),
+        n_runs: plan.n_runs(),
+        chunk_points,
+        chunk_cases: (plan.blocks() > 1).then(|| plan.chunk_cases()),
+        n_chunks: plan.n_chunks(),
+    }
+}
+
 /// Rows chunk `k` must have.
 pub fn chunk_rows(plan: &Plan, k: u64) -> u64 {
     let r = plan.chunk_runs(k);
@@ -197,7 +209,12 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
             dir.display()
         ));
     }
-    let fresh = Manifest::new(&plan, study.run.chunk_points);
+    let fresh = Manifest::new(
+        &study.name,
+        &study.source,
+        study.seed,
+        sizes(&plan, study.run.chunk_points),
+    );
     if let Some(problem) = journal::start(&dir, &fresh)? {
         warn(&format!(
             "{}: manifest.json {problem}; rebuilt from the journals and the part files (each \

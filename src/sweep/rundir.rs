@@ -124,7 +124,8 @@ pub fn claim(
     // A record study's record beside its study.toml, so that the directory's own study loads
     // (`reduce`, `status`, the resume command) wherever the record was.
     if let Some(src) = plan.study.record_path() {
-        let copy = dir.join(crate::study::RECORD_COPY);
+        let name = src.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        let copy = dir.join(crate::study::record_copy(name));
         if src != copy && !copy.exists() {
             let bytes =
                 std::fs::read(&src).with_context(|| format!("reading {}", src.display()))?;
