@@ -36,13 +36,18 @@ restitution e. The record is linear between its samples in all three.
   moves as one mass M + m until the contact force would pull (C x' + K x changes sign). That is
   impactsweep's chatter rule (docs/model.md §2, §13) at its default tolerance, written anew here.
 
+Sensitivity: impactsweep runs the design over [0, WINDOW] at the record times 1 and 1 + 1e-8
+(proportion there), the SciPy peer at 1, 1 + 1e-8 and 1 + 2e-8, OpenSeesPy at 1 + 1e-8 as well,
+and the timed impactsweep study (below) gives the spread of every observable over N loads 1 + 1e-8 i.
+
 Timing, one realization of the damper design, medians over --reps repetitions in this one run:
 impactsweep's `run` command on one thread (--threads 1) over a record study of N design points
-(the design at scales 1 + 1e-6 i, i = 0..N-1: the same design N times, so that the physics per run
-stays the same) and over one design point; the time per realization is
-(T_N - T_1) / (N - 1) (process start-up, planning and the store's fixed costs cancel), and
-T_N / N (amortized) beside it. OpenSeesPy: model building, analysis and recorders of one run at
-the chosen k and h (the parse of the recorder files left out). SciPy: one run of the event loop.
+(the design under the record times 1 + 1e-8 i, i = 0..N-1: the same design N times within a
+rounding-sized change of its load), wall and CPU time divided by N, so the process's start-up,
+the plan and the store are in it, amortized; the same command over one design point gives the
+marginal CPU per run, (C_N - C_1) / (N - 1). OpenSeesPy: model building, analysis and recorders
+of one run at OPS_TIMED (the parse of the recorder files left out), and OPS_FINE's time from its
+one run in the grid. SciPy: one run of the event loop.
 
 Usage: scripts/peer_random.sh [--bin target/release/impactsweep] [--reps 3] [--runs 1000]
 (the wrapper sets up .venv-peers with openseespy, numpy, scipy, pyarrow; CI does not need it).
