@@ -526,11 +526,15 @@ fn issue_44_subset_simulation_takes_the_designs_monte_carlo_barely_sees() {
     assert!(report.contains("(subset simulation, CoV"), "{report}");
     bin().arg("reduce").arg(&dir).assert().success();
     assert_eq!(column(&summary, "p_f_method"), ["subset"]);
-    assert_eq!(column(&summary, "subset_runs"), ["2800"]);
+    assert_eq!(column(&summary, "subset_runs"), ["3700"]);
+    // One draw of each: their 95 % intervals overlap (tests/subset.rs checks the estimator
+    // over many seeds).
     assert!(
-        mc_lo <= num("p_f") && num("p_f") <= mc_hi,
-        "subset {} against Monte Carlo {mc} [{mc_lo}, {mc_hi}]",
-        num("p_f")
+        num("p_f_lo") <= mc_hi && mc_lo <= num("p_f_hi"),
+        "subset {} [{}, {}] against Monte Carlo {mc} [{mc_lo}, {mc_hi}]",
+        num("p_f"),
+        num("p_f_lo"),
+        num("p_f_hi")
     );
     bin()
         .arg("reduce")
