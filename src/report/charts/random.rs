@@ -2,8 +2,10 @@
 //! a study sweeps an intensity (`S0` or a record's `scale`) and sets a threshold. Each shown
 //! design's Monte Carlo `p_f` at every swept intensity (markers) and its fitted lognormal
 //! fragility curve `Phi(ln(IM / theta) / beta)` (a line), over `log10` of the intensity: the
-//! ranked designs first ([`MAX_DESIGNS`] of them), and the structure without damper (a design
-//! with `m = 0`, dashed grey) beside them when the study has one.
+//! ranked designs first ([`MAX_DESIGNS`] of them, the last place given to the design of the
+//! largest median capacity when the ranking at the design intensity left it out: their curves
+//! cross), and the structure without damper (a design with `m = 0`, dashed grey) beside them
+//! when the study has one.
 
 use std::path::{Path, PathBuf};
 
@@ -100,6 +102,14 @@ pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec
         .find(|&a| s.grid.key(a) == "m")
         .and_then(|a| s.points.iter().find(|p| s.grid.value(p.point, a) == 0.0))
         .map(|p| p.point);
+    // The design of the largest median capacity too, where the ranking at the design intensity
+    // left it out (the curves cross).
+    if let Some(&(top, _)) = rs.capacity_rank.iter().find(|(_, r)| *r == 1)
+        && !shown.contains(&top)
+    {
+        shown.pop();
+        shown.push(top);
+    }
     shown.retain(|&d| Some(d) != bare);
     let logs: Vec<f64> = i.values.iter().map(|v| v.log10()).collect();
     let (x0, x1) = (logs[0], logs[logs.len() - 1]);

@@ -54,7 +54,19 @@ fn pf_text(p: f64, lo: f64, hi: f64) -> String {
     if p.is_nan() {
         return "–".into();
     }
-    format!("{} [{}, {}]", f(p, 4), f(lo, 4), f(hi, 4))
+    format!("{} [{}, {}]", prob(p), prob(lo), prob(hi))
+}
+
+/// A probability to two significant digits: `0.12`, `0.0031`, `4.7e-6` (below 1e-3), `0`.
+fn prob(p: f64) -> String {
+    if p == 0.0 || !p.is_finite() {
+        return f(p, 0);
+    }
+    if p < 1e-3 {
+        return format!("{p:.1e}");
+    }
+    let digits = (1 - p.log10().floor() as i32).max(2) as usize;
+    f(p, digits)
 }
 
 /// The designs in rank order (all, by point, when none is ranked).
