@@ -246,7 +246,7 @@ mod tests {
             ),
             (
                 "time,acc\n0,1\n",
-                "the header names the columns time, acc; allowed: t,a (ground acceleration, \
+                "the columns are time, acc; allowed: t,a (ground acceleration, \
                  m/s^2) or t,F (force on the main mass, N)",
             ),
             ("t,a\n0,1\n", "1 row; a record needs at least two samples"),
