@@ -51,15 +51,32 @@ impl Chart for SpreadChart<'_> {
             (x0..x1, y0..y1),
             (&axis_desc(pr.key()), &format!("{name} (cm)")),
         )?;
-        let w = step * 0.35;
+        // Half a box: 0.35 of the grid step, or on an uneven grid (a geometric one) 0.35 of the
+        // distance to the nearer neighbour, so that boxes never overlap.
+        let gaps: Vec<f64> = xs.windows(2).map(|g| (g[1] - g[0]).abs()).collect();
+        let uneven = gaps.iter().copied().fold(0.0, f64::max)
+            > 1.01 * gaps.iter().copied().fold(f64::INFINITY, f64::min);
+        let half = |i: usize| -> f64 {
+            let near = [i.checked_sub(1).map(|j| gaps[j]), gaps.get(i).copied()]
+                .into_iter()
+                .flatten()
+                .fold(f64::INFINITY, f64::min);
+            if uneven && near.is_finite() {
+                near * 0.35
+            } else {
+                step * 0.35
+            }
+        };
+        let any_ideal = pr.points.iter().any(|p| p.response.ideal.is_finite());
         super::di::jump_lines(&mut chart, pr, (y0, y1))?;
         let box_color = BLUE;
         if pr.points.len() > MANY {
             return self.bands(&mut chart);
         }
         let mut first = true;
-        for (p, &x) in pr.points.iter().zip(xs) {
+        for (i, (p, &x)) in pr.points.iter().zip(xs).enumerate() {
             let p = &p.response;
+            let w = half(i);
             if !p.min.is_finite() {
                 continue;
             }
@@ -103,7 +120,7 @@ impl Chart for SpreadChart<'_> {
                         .map(|v| Cross::new((x, v * cm), 4, RED.stroke_width(2))),
                 )
                 .map_err(err)?;
-            if first {
+            if first && any_ideal {
                 ideal
                     .label("ideal case")
                     .legend(|(x, y)| Cross::new((x + 9, y), 4, RED.stroke_width(2)));
