@@ -137,11 +137,7 @@ pub(super) fn parse(text: &str) -> Result<RecordFile, String> {
         if let Some(&prev) = ts.last()
             && pair[0] <= prev
         {
-            return Err(format!(
-                "{at}: t = {} is not after the previous row's t = {}: the times must increase",
-                num(pair[0]),
-                num(prev)
-            ));
+            return Err(not_after(&at, pair[0], prev));
         }
         ts.push(pair[0]);
         values.push(pair[1]);
@@ -150,6 +146,15 @@ pub(super) fn parse(text: &str) -> Result<RecordFile, String> {
     check(&ts, &values, input, &|i| {
         format!("row {} (line {})", i + 1, rows[i])
     })
+}
+
+/// The message for a sample at `at` whose time `t` does not follow the previous one's `prev`.
+fn not_after(at: &str, t: f64, prev: f64) -> String {
+    format!(
+        "{at}: t = {} is not after the previous row's t = {}: the times must increase",
+        num(t),
+        num(prev)
+    )
 }
 
 /// What a record's two columns are: `t,a` ground acceleration, `t,F` a force.
@@ -185,12 +190,7 @@ fn check(
             }
         }
         if i > 0 && t <= ts[i - 1] {
-            return Err(format!(
-                "{}: t = {} is not after the previous row's t = {}: the times must increase",
-                row(i),
-                num(t),
-                num(ts[i - 1])
-            ));
+            return Err(not_after(&row(i), t, ts[i - 1]));
         }
     }
     if ts.len() < 2 {
