@@ -136,6 +136,19 @@ impl LifeRun {
                 .is_none_or(|e| e.lowest_threshold >= self.floor)
     }
 
+    /// Whether the maxima repeat: every chain's last [`REPEAT_WINDOW`] per-period maxima take at
+    /// most [`REPEAT_VALUES`] distinct values (relative `1e-9`): a periodic orbit reached, or a
+    /// motion that repeats itself. An irregular motion (a chaotic transient still approaching its
+    /// attractor, whose largest values come in a few long build-ups) does not.
+    pub fn repeats(&self) -> bool {
+        self.chains.iter().all(|(z, _)| {
+            let mut last = z[z.len().saturating_sub(REPEAT_WINDOW)..].to_vec();
+            last.sort_by(f64::total_cmp);
+            last.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs());
+            last.len() <= REPEAT_VALUES
+        })
+    }
+
     /// The largest amplitude over the periods measured.
     pub fn window_max(&self) -> f64 {
         self.chains
@@ -226,6 +239,12 @@ pub struct LifeSummary {
     pub window_max: f64,
 }
 
+/// The last per-period maxima of a chain [`LifeRun::repeats`] looks at.
+pub const REPEAT_WINDOW: usize = 256;
+
+/// The most distinct values among them of a chain that repeats ([`LifeRun::repeats`]).
+pub const REPEAT_VALUES: usize = 32;
+
 /// Periods below the threshold that separate clusters of exceedances (module doc).
 pub fn cluster_run(lambda: f64) -> usize {
     let n = 3.0 / lambda;
@@ -293,4 +312,32 @@ pub fn measure_directly(
     let mut run = LifeRun::chains(starts?);
     run.refine(f, &settings, lambda);
     (!run.failed).then(|| run.summary())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run_of(chains: Vec<Vec<f64>>) -> LifeRun {
+        let mut run = LifeRun::chains(vec![[0.0; 4]; chains.len()]);
+        for (c, z) in run.chains.iter_mut().zip(chains) {
+            c.0 = z;
+        }
+        run
+    }
+
+    /// A periodic orbit reached (a cycle of 3 values, rounding noise at 1e-12 relative) repeats;
+    /// an irregular motion, or one chain of it among repeating ones, does not.
+    #[test]
+    fn maxima_repeat_on_a_periodic_orbit_and_not_on_an_irregular_motion() {
+        let cycle: Vec<f64> = (0..4000)
+            .map(|i| [1e-2, 1.1e-2, 0.9e-2][i % 3] * (1.0 + 1e-12 * (i % 7) as f64))
+            .collect();
+        let irregular: Vec<f64> = (0..4000)
+            .map(|i| 1e-2 * (1.0 + 0.1 * ((i as f64) * 0.618_033_988_7).fract()))
+            .collect();
+        assert!(run_of(vec![cycle.clone(), cycle.clone()]).repeats());
+        assert!(!run_of(vec![irregular.clone()]).repeats());
+        assert!(!run_of(vec![cycle, irregular]).repeats());
+    }
 }

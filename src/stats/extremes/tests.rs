@@ -148,8 +148,9 @@ fn bounded_estimate_covers_the_life_quantile_of_a_known_bounded_law() {
 }
 
 #[test]
-fn tail_sizes_grow_with_the_sample_and_stop_at_a_hundred() {
-    assert_eq!(tail_sizes(2000), [12, 25, 50]);
-    assert_eq!(tail_sizes(40_000), [25, 50, 100]);
-    assert_eq!(tail_sizes(1_000_000), [50, 100, 200]);
+fn the_estimate_keeps_the_highest_clusters_and_the_band_grows_with_the_sample() {
+    assert_eq!(tail_sizes(), [12, 25, 50]);
+    assert_eq!(band_sizes(2000), [12, 25, 50]);
+    assert_eq!(band_sizes(40_000), [25, 50, 100]);
+    assert_eq!(band_sizes(1_000_000), [50, 100, 200]);
 }
