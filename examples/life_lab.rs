@@ -16,46 +16,15 @@
 //! Samples are cached in `$LAB` (default `/tmp/life_lab`).
 //!
 //! `cargo run --release --example life_lab -- SEEDS POINT:N ...`
-#[path = "life_validation.rs"]
+#[path = "life_methods.rs"]
 #[allow(dead_code)]
-mod validation;
+mod methods;
 
 use impactsweep::orbits::life::cluster_run;
-use impactsweep::orbits::map::{Forcing, eval};
-use impactsweep::sim::noise::mix64;
-use impactsweep::stats::extremes::{Life, LifeEstimate, decluster, fit_gpd, life_from_excesses};
-use rayon::prelude::*;
-use std::path::Path;
-use validation::POINTS;
-
-fn unif(seed: u64, i: u64) -> f64 {
-    ((mix64(seed ^ mix64(i)) >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-}
-
-fn sample(f: &impactsweep::orbits::map::Forcing, seed: u64, n: u64) -> Vec<Vec<f64>> {
-    let per = n / 16;
-    let mut chains = Vec::new();
-    let mut k = 0u64;
-    while chains.len() < 16 {
-        let batch: Vec<Option<Vec<f64>>> = (k..k + 16 - chains.len() as u64)
-            .into_par_iter()
-            .map(|b| {
-                let s = mix64(seed.wrapping_mul(0x51_7CC1) ^ b);
-                let start = [0.02 * (unif(s, 0) - 0.5), unif(s, 1) - 0.5, 0.0, 0.0];
-                let st = eval(f, &start, 2000, false).end;
-                let z = impactsweep::orbits::life::period_maxima(f, &st, 0, per)?;
-                let tail = &z[z.len().saturating_sub(64)..];
-                let mut v = tail.to_vec();
-                v.sort_by(f64::total_cmp);
-                v.dedup_by(|x, y| (*x - *y).abs() < 1e-12);
-                (v.len() > 8).then_some(z)
-            })
-            .collect();
-        k += batch.len() as u64;
-        chains.extend(batch.into_iter().flatten());
-    }
-    chains
-}
+use impactsweep::orbits::map::Forcing;
+use impactsweep::stats::extremes::{Life, LifeEstimate, fit_top};
+use methods::validation::{self, POINTS};
+use methods::{sample, truths};
 
 fn cached(f: &Forcing, name: &str, seed: u64, n: u64) -> Vec<Vec<f64>> {
     let dir = std::env::var("LAB").unwrap_or_else(|_| "/tmp/life_lab".into());
@@ -79,52 +48,25 @@ fn cached(f: &Forcing, name: &str, seed: u64, n: u64) -> Vec<Vec<f64>> {
     c
 }
 
-fn truths(name: &str, f: &Forcing) -> [(f64, f64); 3] {
-    let text = std::fs::read_to_string(
-        Path::new("results/life_validation/brute").join(format!("{name}.json")),
-    )
-    .unwrap();
-    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let blocks: Vec<f64> = v["blocks"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|b| {
-            b.as_array().map_or(f64::NAN, |s| {
-                s.iter().filter_map(|x| x.as_f64()).fold(f64::MIN, f64::max)
-            })
-        })
-        .collect();
-    let life = 3.6e6 / f.period();
-    let at = |l: f64| {
-        (
-            l,
-            impactsweep::numeric::quantile(&blocks, 0.5f64.powf(1e6 / l)),
-        )
-    };
-    [at(1e6), at(1e7), at(life)]
-}
-
-/// Fit at the threshold leaving k cluster maxima (copy of the library's, k free).
+/// The fit at the threshold leaving `k` cluster maxima ([`fit_top`]).
 fn fit_k(chains: &[&[f64]], k: usize, run: usize, life: Life) -> Option<LifeEstimate> {
-    let n: usize = chains.iter().map(|c| c.len()).sum();
     let mut sorted: Vec<f64> = chains.iter().flat_map(|c| c.iter().copied()).collect();
     sorted.sort_unstable_by(f64::total_cmp);
-    let p0 = (1.0 - 20.0 * (k + 1) as f64 / n as f64).max(0.5);
-    let base = impactsweep::numeric::quantile_sorted(&sorted, p0);
-    let mut maxima: Vec<f64> = chains
-        .iter()
-        .flat_map(|c| decluster(c, base, run))
-        .collect();
-    if maxima.len() <= k {
-        return None;
-    }
-    maxima.sort_unstable_by(|a, b| b.total_cmp(a));
-    let u = maxima[k];
-    let mx: Vec<f64> = chains.iter().flat_map(|c| decluster(c, u, run)).collect();
-    let y: Vec<f64> = mx.iter().map(|v| v - u).collect();
-    let fit = fit_gpd(&y, (life.xi_min, life.xi_max))?;
-    life_from_excesses(&y, u, mx.len() as f64 / n as f64, life, fit)
+    fit_top(chains, &sorted, k, run, life)
+}
+
+/// One cell of a table: the errors `e` (%) min / median / max, how many are within 5 %, and how
+/// many intervals `hold` the brute-force median, each of `e.len()`.
+fn cell(e: &[f64], hold: usize) -> String {
+    let lo = e.iter().copied().fold(f64::MAX, f64::min);
+    let hi = e.iter().copied().fold(f64::MIN, f64::max);
+    let within = e.iter().filter(|x| x.abs() <= 5.0).count();
+    format!(
+        "{lo:.1} / {:.1} / {hi:.1}, {within} / {}, {hold} / {}",
+        impactsweep::numeric::median(e),
+        e.len(),
+        e.len()
+    )
 }
 
 /// The rule before: `k = sqrt(n) / 4` clamped to `[25, 100]`.
@@ -181,7 +123,7 @@ fn race_mode(args: &[String]) {
         let n: u64 = n.parse().unwrap();
         let p = POINTS.iter().find(|p| p.name == name).unwrap();
         let f = validation::forcing_of(p);
-        let tr = truths(name, &f);
+        let tr = truths(p, &f).expect("the point's brute force");
         let run = cluster_run(1.0);
         let variants = [
             "sqrt(n)/4",
@@ -222,15 +164,10 @@ fn race_mode(args: &[String]) {
             let cells: Vec<String> = res[v]
                 .iter()
                 .map(|(e, hold, used)| {
-                    let lo = e.iter().copied().fold(f64::MAX, f64::min);
-                    let hi = e.iter().copied().fold(f64::MIN, f64::max);
-                    let within = e.iter().filter(|x| x.abs() <= 5.0).count();
                     let umax = used.iter().copied().fold(0.0, f64::max);
                     format!(
-                        "{lo:.1} / {:.1} / {hi:.1}, {within} / {}, {hold} / {}, {:.0} / {umax:.0}",
-                        impactsweep::numeric::median(e),
-                        e.len(),
-                        e.len(),
+                        "{}, {:.0} / {umax:.0}",
+                        cell(e, *hold),
                         impactsweep::numeric::median(used)
                     )
                 })
@@ -255,7 +192,7 @@ fn main() {
         let n: u64 = n.parse().unwrap();
         let p = POINTS.iter().find(|p| p.name == name).unwrap();
         let f = validation::forcing_of(p);
-        let tr = truths(name, &f);
+        let tr = truths(p, &f).expect("the point's brute force");
         let run = cluster_run(1.0);
         let fracs = [8usize, 4, 2, 1];
         let variants = ["sqrt(n)/4", "k = 25 (chosen)", "k = 35"];
@@ -289,19 +226,8 @@ fn main() {
         eprintln!();
         for (fi, &fr) in fracs.iter().enumerate() {
             for (v, vn) in variants.iter().enumerate() {
-                let mut cells = Vec::new();
-                for (e, hold) in &res[fi][v] {
-                    let lo = e.iter().copied().fold(f64::MAX, f64::min);
-                    let hi = e.iter().copied().fold(f64::MIN, f64::max);
-                    let within = e.iter().filter(|x| x.abs() <= 5.0).count();
-                    cells.push(format!(
-                        "{lo:.1} / {:.1} / {hi:.1}, {within} / {}, {} / {}",
-                        impactsweep::numeric::median(e),
-                        e.len(),
-                        hold,
-                        e.len()
-                    ));
-                }
+                let cells: Vec<String> =
+                    res[fi][v].iter().map(|(e, hold)| cell(e, *hold)).collect();
                 println!(
                     "| {name} | {} | {vn} | {} |",
                     n / fr as u64,

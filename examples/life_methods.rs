@@ -22,7 +22,7 @@
 
 #[path = "life_validation.rs"]
 #[allow(dead_code)]
-mod validation;
+pub mod validation;
 
 use impactsweep::orbits::life::cluster_run;
 use impactsweep::orbits::map::{Forcing, Section, eval, eval_above};
@@ -41,7 +41,7 @@ fn unif(seed: u64, i: u64) -> f64 {
 
 /// 16 chains of `n / 16` per-period maxima from random starts on the point's attractor (a
 /// start that settles on a periodic orbit is replaced by the next).
-fn sample(f: &Forcing, seed: u64, n: u64) -> Vec<Vec<f64>> {
+pub fn sample(f: &Forcing, seed: u64, n: u64) -> Vec<Vec<f64>> {
     let per = n / 16;
     let mut chains = Vec::new();
     let mut k = 0u64;
@@ -222,7 +222,8 @@ impl Tally {
     }
 }
 
-fn truths(p: &Point, f: &Forcing) -> Option<[(f64, f64); 3]> {
+/// The brute-force medians of the point at 10^6, 10^7 periods and 1,000 h, `(periods, median)`.
+pub fn truths(p: &Point, f: &Forcing) -> Option<[(f64, f64); 3]> {
     let text = std::fs::read_to_string(
         Path::new("results/life_validation/brute").join(format!("{}.json", p.name)),
     )

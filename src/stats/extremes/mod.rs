@@ -216,8 +216,9 @@ fn threshold_for(chains: &[&[f64]], sorted: &[f64], k: usize, run: usize) -> Opt
     Some(maxima[k])
 }
 
-/// One fit (module doc) at the threshold that leaves about `k` cluster maxima.
-fn fit_top(
+/// One fit (module doc) at the threshold that leaves about `k` cluster maxima of `chains`,
+/// `sorted` their values in increasing order.
+pub fn fit_top(
     chains: &[&[f64]],
     sorted: &[f64],
     k: usize,
