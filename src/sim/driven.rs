@@ -301,9 +301,10 @@ fn below_floor(floor: f64, [x, v, a, j]: [f64; 4], b4: f64, h: f64) -> bool {
     if floor <= 0.0 || !h.is_finite() {
         return false;
     }
-    let c = |t: f64| x + t * (v + t * (0.5 * a + t * j / 6.0));
+    let j6 = j * (1.0 / 6.0);
+    let c = |t: f64| x + t * (v + t * (0.5 * a + t * j6));
     let h2 = h * h;
-    let err = b4 * h2 * h2 / 24.0;
+    let err = b4 * h2 * h2 * (1.0 / 24.0);
     let below = |top: f64| (top + err) * (1.0 + 1e-12) < floor;
     let mut top = x.abs().max(c(h).abs());
     // Two shortcuts before the stationary points: the ends alone reach the floor, or the
@@ -311,7 +312,7 @@ fn below_floor(floor: f64, [x, v, a, j]: [f64; 4], b4: f64, h: f64) -> bool {
     if !below(top) {
         return false;
     }
-    if below(x.abs() + h * (v.abs() + h * (0.5 * a.abs() + h * j.abs() / 6.0))) {
+    if below(x.abs() + h * (v.abs() + h * (0.5 * a.abs() + h * j6.abs()))) {
         return true;
     }
     // c' = v + a t + j t^2 / 2 = 0.
@@ -349,7 +350,8 @@ fn polished_extremum([g, g1, g2, g3]: [f64; 4], b4: f64, b2: f64, x: f64) -> Opt
     if !(g > 0.0 && g1 < 0.0) {
         return None;
     }
-    let model = |t: f64| ((g3 / 6.0 * t + 0.5 * g2) * t + g1) * t + g;
+    let g3_6 = g3 * (1.0 / 6.0);
+    let model = |t: f64| ((g3_6 * t + 0.5 * g2) * t + g1) * t + g;
     let slope = |t: f64| (0.5 * g3 * t + g2) * t + g1;
     // From the quadratic model's first root (or the tangent's), two Newton steps on the cubic.
     let disc = g1.mul_add(g1, -2.0 * g2 * g);
@@ -365,9 +367,13 @@ fn polished_extremum([g, g1, g2, g3]: [f64; 4], b4: f64, b2: f64, x: f64) -> Opt
         }
         tau -= model(tau) / d;
     }
+    // `0.5 b2 delta^2 <= EPSILON |x|` with `delta = e / d`, multiplied out by `d^2`.
     let d = slope(tau).abs();
-    let delta = b4 * tau.powi(4) / (24.0 * d);
-    let ok = tau > 0.0 && tau.is_finite() && 0.5 * b2 * delta * delta <= f64::EPSILON * x.abs();
+    let e = b4 * tau.powi(4) * (1.0 / 24.0);
+    let ok = tau > 0.0
+        && tau.is_finite()
+        && d > 0.0
+        && 0.5 * b2 * e * e <= f64::EPSILON * x.abs() * d * d;
     ok.then_some(tau)
 }
 

@@ -571,12 +571,14 @@ mod tests {
 
     /// Issue 16's first row: at r = 0.90 the motion from rest never impacts (0.131 cm), while
     /// other starts reach period-1 orbits at 0.199 and 0.211 cm, 61 % higher. The census finds
-    /// them, and the worst is an impacting orbit.
+    /// them, and the worst is an impacting orbit. The 0.211 cm orbit's basin is small (1 of 24
+    /// starts in the issue's brute force): 12 starts met it only by the luck of the draw (none
+    /// did once the simulator's last bits changed), 36 meet it once and 48 three times.
     #[test]
     fn census_finds_the_impacting_orbit_the_rest_start_misses() {
         let f = forcing(0.005, 0.005, 0.9, 0.1, 0.1, 0.9);
-        let c = census(&f, &[0.0, 0.0, 0.0, 0.0], &settings(12));
-        assert_eq!(c.starts, 12);
+        let c = census(&f, &[0.0, 0.0, 0.0, 0.0], &settings(48));
+        assert_eq!(c.starts, 48);
         let first = &c.attractors[0];
         assert!(matches!(&first.kind, Kind::Periodic(o) if o.impacts == 0));
         assert!(
@@ -640,10 +642,13 @@ mod tests {
         }
     }
 
-    /// Two windows of one chaotic motion (the second starts 1,000 periods further along the
-    /// first's trajectory) whose clouds disagree (here the second's is cut to a single section,
-    /// so its spread is 0) are one attractor on the second look: the census keeps one, with
-    /// both starts, the larger window maximum and the other's state as a chain.
+    /// Two windows of one chaotic motion (the second starts `1,000 k` periods further along the
+    /// first's trajectory, `k = 1..=20`) whose clouds disagree (here the second's is cut to a
+    /// single section, so its spread is 0) are one attractor on the second look when its
+    /// 400-period clouds agree: the census then keeps one, with both starts, the larger window
+    /// maximum and the other's state as a chain. The clouds' rule is a test on two samples and
+    /// on this motion it agrees for 9 of the 20 draws (before and after the simulator's speed
+    /// work changed its last bits): at least 5 are asked for, and each merge is checked.
     #[test]
     fn a_second_look_merges_two_windows_of_one_chaotic_motion() {
         // The showcase's m = 5 g, d = 5 mm at r = 0.975: chaotic, every start.
@@ -658,25 +663,34 @@ mod tests {
             attractor(st, Origin::Start(0), 1)
         };
         let a = on_it([0.0, 0.0, 0.0, 0.0]);
-        let later = eval(&f, &a.section, 1000, false).end;
-        let mut b = on_it(later);
-        if let Kind::NonPeriodic(w) = &mut b.kind {
-            let mut cut = Cloud::new(&f);
-            cut.add(&b.section);
-            w.cloud = cut;
+        let mut merged = 0;
+        for k in 1..=20 {
+            let later = eval(&f, &a.section, 1000 * k, false).end;
+            let mut b = on_it(later);
+            if let Kind::NonPeriodic(w) = &mut b.kind {
+                let mut cut = Cloud::new(&f);
+                cut.add(&b.section);
+                w.cloud = cut;
+            }
+            b.window_amplitude = 2.0 * a.window_amplitude;
+            assert!(!same(&f, &a, &b));
+            let mut census = Census::default();
+            census.merge(&f, a.clone());
+            let periods = census.periods;
+            let at = census.merge(&f, b.clone());
+            assert_eq!(census.periods, periods + 2 * SECOND_LOOK);
+            if at != 0 {
+                assert_eq!(census.attractors.len(), 2);
+                continue;
+            }
+            merged += 1;
+            assert_eq!(census.attractors.len(), 1);
+            let one = &census.attractors[0];
+            assert_eq!(one.starts, 2);
+            assert_eq!(one.window_amplitude, b.window_amplitude);
+            assert!(matches!(&one.kind, Kind::NonPeriodic(w) if w.chains == vec![b.section]));
         }
-        b.window_amplitude = 2.0 * a.window_amplitude;
-        assert!(!same(&f, &a, &b));
-        let mut census = Census::default();
-        census.merge(&f, a.clone());
-        let periods = census.periods;
-        assert_eq!(census.merge(&f, b.clone()), 0);
-        assert_eq!(census.attractors.len(), 1);
-        assert_eq!(census.periods, periods + 2 * SECOND_LOOK);
-        let merged = &census.attractors[0];
-        assert_eq!(merged.starts, 2);
-        assert_eq!(merged.window_amplitude, b.window_amplitude);
-        assert!(matches!(&merged.kind, Kind::NonPeriodic(w) if w.chains == vec![b.section]));
+        assert!(merged >= 5, "{merged} of 20 merged");
     }
 
     #[test]

@@ -56,7 +56,7 @@ impl Forced {
     /// `(x_p, x_p', x_p'', x_p''')` at time `t`.
     #[inline]
     pub fn particular_at(&self, t: f64) -> [f64; 4] {
-        let (s, c) = (self.omega * t).sin_cos();
+        let (s, c) = libm::sincos(self.omega * t);
         let w = self.omega;
         let x = self.p * c + self.q * s;
         let v = w * (self.q * c - self.p * s);
@@ -66,7 +66,7 @@ impl Forced {
     /// The force `F0 cos(omega t)` and its first three derivatives.
     #[inline]
     pub fn force_at(&self, t: f64) -> [f64; 4] {
-        let (s, c) = (self.omega * t).sin_cos();
+        let (s, c) = libm::sincos(self.omega * t);
         let w = self.omega;
         let f = self.f0 * c;
         let f1 = -self.f0 * w * s;
@@ -87,14 +87,14 @@ impl Forced {
     pub fn start(&self, t0: f64, x0: f64, v0: f64) -> (f64, f64, Jet) {
         let particular = self.particular_at(t0);
         let (h0, g0) = (x0 - particular[0], v0 - particular[1]);
-        let hk = self.osc.eval(h0, g0, 0.0);
+        let hk = self.osc.eval_fast(h0, g0, 0.0);
         (h0, g0, self.compose(hk, particular))
     }
 
     /// The motion at `t` of the phase that started at `t0` with free part `(h0, g0)`.
     #[inline]
     pub fn jet(&self, t0: f64, h0: f64, g0: f64, t: f64) -> Jet {
-        let hk = self.osc.eval(h0, g0, t - t0);
+        let hk = self.osc.eval_fast(h0, g0, t - t0);
         self.compose(hk, self.particular_at(t))
     }
 
@@ -107,8 +107,8 @@ impl Forced {
         let v = hk.v + vp;
         let a = hk.a + ap;
         // Derivatives of the free part from its own equation, plus the particular part's.
-        let jh = -(o.c * hk.a + o.k * hk.v) / o.mass;
-        let j2h = -(o.c * jh + o.k * hk.a) / o.mass;
+        let jh = -(o.c * hk.a + o.k * hk.v) * o.inv_mass;
+        let j2h = -(o.c * jh + o.k * hk.a) * o.inv_mass;
         let w2 = self.omega * self.omega;
         Jet {
             x,
@@ -125,7 +125,7 @@ impl Forced {
     /// state now.
     #[inline]
     pub fn bounds(&self, jet: &Jet) -> [f64; 6] {
-        let mut b = self.osc.derivative_bounds(self.osc.energy(jet.xh, jet.vh));
+        let mut b = self.osc.derivative_bounds(jet.xh, jet.vh);
         let mut wj = self.amp;
         for bj in &mut b {
             *bj += wj;

@@ -131,12 +131,12 @@ impl Driven for Ramp {
 
     #[inline]
     fn jet(&self, t0: f64, h0: f64, g0: f64, t: f64) -> Jet {
-        self.compose(self.osc.eval(h0, g0, t - t0), t)
+        self.compose(self.osc.eval_fast(h0, g0, t - t0), t)
     }
 
     #[inline]
     fn bounds(&self, jet: &Jet) -> [f64; 6] {
-        let mut b = self.osc.derivative_bounds(self.osc.energy(jet.xh, jet.vh));
+        let mut b = self.osc.derivative_bounds(jet.xh, jet.vh);
         b[0] += self.p0.abs().max((self.p0 + self.p1 * self.len).abs());
         b[1] += self.p1.abs();
         b

@@ -110,8 +110,8 @@ impl RandomRun {
         let h_max = (std::f64::consts::TAU / fastest / 16.0).min(dt);
         let contact = scene.input == Input::Force;
         let (qx, qa) = quadratic_forms(&free, dt, h_max, contact);
-        // The bounds at the energy K/2, where B0 = 1: the constants c_j of B_j = c_j B0.
-        let c = free.derivative_bounds(0.5 * sys.K);
+        // The bounds from (x, v) = (1, 0), where B0 = 1: the constants c_j of B_j = c_j B0.
+        let c = free.derivative_bounds(1.0, 0.0);
         RandomRun {
             sys: *sys,
             settings,
