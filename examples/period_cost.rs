@@ -1,7 +1,9 @@
 //! A fixed single-thread workload of the design life's measurement (issue 43's points): for each
-//! point, one start on its attractor (2,000 transient periods), then `N` periods with and
-//! without the floor the life measurement uses. Prints the time per period and a checksum of
-//! the maxima so the A/B of a simulator change can compare both speed and bits.
+//! point, one start on its attractor (2,000 transient periods), then `N` periods located in full
+//! and `N` with a floor (`0.8 d`, at least 4 mm: extrema below it are not located, as in the
+//! life measurement's later windows). Prints the time per period and a checksum of the maxima,
+//! so the A/B of a simulator change compares both speed and bits (BENCHMARKS.md, "The
+//! simulator's cost per period").
 //!
 //! `cargo run --release --example period_cost -- [N]` (default 20000)
 
