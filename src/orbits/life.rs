@@ -293,6 +293,21 @@ pub fn measure_directly(
     s: &LifeSettings,
     periods: u64,
 ) -> Option<LifeSummary> {
+    measure_directly_above(f, section, lambda, s, periods, f64::NEG_INFINITY)
+}
+
+/// [`measure_directly`], stopped early once the estimate's interval lies wholly below `bar`
+/// (m): a motion that can no longer reach a case's peak need not be measured to the end (its
+/// summary says how many periods it rests on). One whose interval still reaches `bar` runs
+/// all `periods`. Deterministic: the windows and the test are those of `periods` and `bar`.
+pub fn measure_directly_above(
+    f: &Forcing,
+    section: &Section,
+    lambda: f64,
+    s: &LifeSettings,
+    periods: u64,
+    bar: f64,
+) -> Option<LifeSummary> {
     let starts: Vec<Option<Section>> = (0..DIRECT_CHAINS)
         .into_par_iter()
         .map(|i| {
@@ -310,7 +325,11 @@ pub fn measure_directly(
         ..*s
     };
     let mut run = LifeRun::chains(starts?);
-    run.refine(f, &settings, lambda);
+    while run.grow(f, &settings, lambda) {
+        if run.estimate.is_some_and(|e| e.hi < bar) {
+            break;
+        }
+    }
     (!run.failed).then(|| run.summary())
 }
 

@@ -19,8 +19,11 @@
 //!    [`DIRECT_CHAINS`](crate::orbits::life::DIRECT_CHAINS) independent chains for
 //!    `[ranking] verify_periods` periods in all (default 1,024,000, at least 10^6;
 //!    [`crate::study::Ranking::verify_periods`]) and its design-life amplitude estimated from them
-//!    ([`crate::orbits::life::measure_directly`]); the case's peak becomes the largest of its
-//!    periodic amplitudes, the direct values and the estimates not measured again.
+//!    ([`crate::orbits::life::measure_directly_above`]), its window doubling; it stops early once
+//!    its interval lies wholly below the case's peak so far (it cannot carry the peak), so the
+//!    motion that carries a case's peak always rests on the whole `verify_periods`. The case's
+//!    peak becomes the largest of its periodic amplitudes, the direct values and the estimates
+//!    not measured again.
 //! 3. **Ranked on them.** The design's runs are reduced again with the new peaks, then the
 //!    study is ranked ([`crate::reduce::core::Reducer::replace`]). The report shows each
 //!    direct value beside the estimate, the periods it rests on, and the ranks it moved.
@@ -32,7 +35,7 @@ use rayon::prelude::*;
 
 use crate::model::System;
 use crate::orbits::attractors::AttractorRow;
-use crate::orbits::life::{LifeSettings, LifeSummary, measure_directly};
+use crate::orbits::life::{LifeSettings, LifeSummary, measure_directly_above};
 use crate::orbits::map::{Forcing, Section};
 use crate::orbits::race::FIRST;
 use crate::sim::SolverSettings;
@@ -259,7 +262,7 @@ pub fn verify_case(
         }
         let direct = match measured.get(&c.key()) {
             Some(d) => *d,
-            None => measure(c, sys, settings, life),
+            None => measure(c, sys, settings, life, best),
         };
         let v = Verified {
             motion: *c,
@@ -284,13 +287,15 @@ pub fn verify_case(
     }
 }
 
-/// Motion `c` of a case with system `sys` measured directly over `life.periods` periods
-/// ([`measure_directly`]).
+/// Motion `c` of a case with system `sys` measured directly over `life.periods` periods, or
+/// fewer once its interval lies below `bar`, the case's peak so far
+/// ([`measure_directly_above`]).
 fn measure(
     c: &Contender,
     sys: &System,
     settings: &SolverSettings,
     life: LifeQuestion,
+    bar: f64,
 ) -> Option<LifeSummary> {
     let f = Forcing {
         sys: *sys,
@@ -305,7 +310,7 @@ fn measure(
         first: FIRST,
         cap: life.periods,
     };
-    measure_directly(&f, &c.section, c.lambda, &s, life.periods)
+    measure_directly_above(&f, &c.section, c.lambda, &s, life.periods, bar)
 }
 
 /// The designs that decide the ranking (module doc, step 1): the best-ranked design of `ranks`
