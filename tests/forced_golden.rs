@@ -183,8 +183,13 @@ fn digest() -> (usize, u64) {
     (cases.len(), h.0)
 }
 
-/// Minted on branch `random` before the event finder became generic (see the module doc).
-const GOLDEN: (usize, u64) = (26, 0xf0bd_a944_54f1_d4bd);
+/// Minted on branch `random` before the event finder became generic (see the module doc);
+/// re-minted after `39736dd` (issue 43's budget: the driven scenes' sines and cosines from the
+/// `libm` crate, multiplications by reciprocals, the energy bounds from one square root), a
+/// change meant to move the last bits: a periodic orbit's amplitude moved by 3e-13 relative
+/// (r = 0.9, e = 0.6: 0.012140350951443614 → 0.012140350951439552 m), the motions that do not
+/// repeat within their window took other sample paths. Before: `(26, 0xf0bd_a944_54f1_d4bd)`.
+const GOLDEN: (usize, u64) = (26, 0x888c_68ea_f35d_0590);
 
 #[test]
 fn harmonic_records_are_bit_identical_to_the_golden_digest() {

@@ -155,8 +155,10 @@ impl Oscillator {
         self.eval_by::<false>(x0, v0, tau)
     }
 
-    /// [`Oscillator::eval`] by the fast mode functions ([`Oscillator::modes_by`]), the acceleration by a multiplication
-    /// by `1 / mass`: what the driven scenes' closed forms evaluate at every step.
+    /// [`Oscillator::eval`] with the fast mode functions (the `libm` crate's sine and cosine, a
+    /// multiplication by `1 / root`) and the acceleration by a multiplication by `1 / mass`: what
+    /// the driven scenes' closed forms evaluate at every step. It agrees with `eval` to a few
+    /// ulps.
     #[inline]
     pub fn eval_fast(&self, x0: f64, v0: f64, tau: f64) -> Kinematics {
         self.eval_by::<true>(x0, v0, tau)
@@ -295,6 +297,25 @@ mod tests {
                     "c={c} i={i}: {v} vs {}",
                     k.v
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn the_fast_evaluation_agrees_with_the_standard_one() {
+        let crit = 2.0 * (400.0f64 * 0.1).sqrt();
+        for c in [0.0, 0.1, crit * 0.5, crit, crit * 2.0] {
+            let o = Oscillator::new(0.1, 400.0, c);
+            for i in 0..2000 {
+                let t = i as f64 * 7.3e-4;
+                let (a, b) = (o.eval(0.003, 2.0, t), o.eval_fast(0.003, 2.0, t));
+                let scale = 0.003f64.hypot(2.0 / o.w2.sqrt());
+                assert!((a.x - b.x).abs() <= 1e-14 * scale, "c={c} t={t}");
+                assert!(
+                    (a.v - b.v).abs() <= 1e-14 * scale * o.w2.sqrt(),
+                    "c={c} t={t}"
+                );
+                assert!((a.a - b.a).abs() <= 1e-14 * scale * o.w2, "c={c} t={t}");
             }
         }
     }
