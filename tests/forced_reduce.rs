@@ -192,7 +192,11 @@ fn issue_12_each_design_reduces_to_its_peak_over_the_band() {
         .find(|r| r.point == 11 + 5 && r.ideal)
         .unwrap();
     assert!(at_1.record.attenuation < 0.1, "{:?}", at_1.record);
-    assert!(num(&damped["peak_reduction_ideal"]) > 0.3, "{damped:?}");
+    // Its peak is a chaotic motion's design-life estimate (about 3.35 cm, its 90 % interval
+    // +-5 %), so the reduction is asked with that margin: PR > 0.25, not a draw's 0.3.
+    assert!(num(&damped["peak_reduction_ideal"]) > 0.25, "{damped:?}");
+    let pr_hi = 1.0 - num(&damped["peak_life_hi"]) / num(&damped["linear_peak"]);
+    assert!(pr_hi > 0.2, "{damped:?}");
     assert_eq!(num(&damped["peak_r"]), 0.9);
     let (from, to) = (num(&damped["help_r_from"]), num(&damped["help_r_to"]));
     assert!(from < 1.0 && to > 1.0, "{from} {to}");

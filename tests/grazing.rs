@@ -258,6 +258,14 @@ fn issue_45_branches_go_on_through_grazing_or_say_what_follows() {
                 }
                 let rel = best / scale(&fr, &st.s);
                 eprintln!("  at r = {r}: the census's orbit to {rel:e}");
+                if rel > 1e-3 {
+                    // Another orbit of the same period and impact count (at r = 0.9 on this
+                    // study two coexist): the census's starts did not meet this one's basin,
+                    // as above. A discrepancy of the same orbit is far below this.
+                    eprintln!("  at r = {r}: the census holds another orbit of its impact count");
+                    missed += 1;
+                    continue;
+                }
                 assert!(
                     rel <= 1e-8,
                     "past the grazing at r = {} (branch {}), the orbit at r = {r} is {rel:e} \

@@ -110,7 +110,7 @@ fn col(head: &[String], name: &str) -> usize {
 /// moved into the sweep), every stable periodic attractor of the ideal curves (point, period,
 /// amplitude) and every design's peak. Each attractor is still in the committed
 /// `attractors.csv` (which the test above regenerates) at its point with its period and its
-/// amplitude to 1e-8 relative, and no design's peak is lower than it was. A peak carried by a
+/// amplitude to 1e-8 relative, and no design's peak is lower than it was (to 1e-8). A peak carried by a
 /// motion that is not periodic is an estimate over the design life with its 90 % interval
 /// (e53b9e3 had the largest `|x|` of a 200-period window of another run of it in its place):
 /// such a peak may be lower only where its interval's upper end still reaches the old value.
@@ -158,8 +158,10 @@ fn the_showcase_keeps_every_stable_periodic_attractor_and_no_peak_falls() {
         } else {
             is.max(now[shi].parse().unwrap())
         };
+        // A periodic peak to the attractors' own 1e-8 (the simulator's last bits move it by
+        // about 1e-13).
         assert!(
-            reach >= was,
+            reach >= was * (1.0 - 1e-8),
             "design {}: peak {is} (upper end {reach}) below {was}",
             p[pp]
         );

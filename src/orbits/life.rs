@@ -149,6 +149,14 @@ impl LifeRun {
         })
     }
 
+    /// The largest of every chain's last [`REPEAT_WINDOW`] per-period maxima.
+    pub fn last_max(&self) -> f64 {
+        self.chains
+            .iter()
+            .flat_map(|(z, _)| z[z.len().saturating_sub(REPEAT_WINDOW)..].iter().copied())
+            .fold(f64::NAN, f64::max)
+    }
+
     /// The largest amplitude over the periods measured.
     pub fn window_max(&self) -> f64 {
         self.chains

@@ -219,12 +219,21 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
         let r = &mut runners[i];
         r.active = grow(r);
     }
+    // Motions that turned out to be transients onto a periodic orbit the census holds at their
+    // point, removed after every result is written (their indices stay valid until then).
+    let mut landed: Vec<(usize, usize, usize)> = Vec::new();
     for r in runners {
         let Some(c) = censuses[r.at.0].as_mut() else {
             continue;
         };
-        let a = &mut c.attractors[r.at.1];
         let summary = r.run.summary();
+        if summary.estimate.is_none()
+            && r.run.repeats()
+            && let Some(k) = orbit_reached(c, r.run.last_max())
+        {
+            landed.push((r.at.0, r.at.1, k));
+        }
+        let a = &mut c.attractors[r.at.1];
         // Without an estimate, the largest value measured (a lower bound of the life's).
         a.amplitude = summary
             .estimate
@@ -234,6 +243,26 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
             w.life = Some(summary);
         }
     }
+    landed.sort_unstable_by(|a, b| b.cmp(a));
+    for (i, j, k) in landed {
+        if let Some(c) = censuses[i].as_mut() {
+            let starts = c.attractors[j].starts;
+            c.attractors[k].starts += starts;
+            c.attractors.remove(j);
+        }
+    }
+}
+
+/// The periodic attractor of census `c` whose amplitude is `top`, the largest of a motion's last
+/// per-period maxima after they began to repeat (to 1e-6 relative): a start that was still
+/// approaching that orbit when the census's budget ended (a multiplier near 1) and reached it
+/// during its life measurement. It is that orbit, and its starts join the orbit's basin. (On
+/// the bundled study one such start at r = 0.94 measured 4,000 periods whose maxima repeated
+/// at the census's period-4 orbit's amplitude, 5.6e-6 relative above it in its window.)
+fn orbit_reached(c: &Census, top: f64) -> Option<usize> {
+    c.attractors.iter().position(|a| {
+        matches!(a.kind, Kind::Periodic(_)) && (a.amplitude - top).abs() <= 1e-6 * a.amplitude
+    })
 }
 
 #[cfg(test)]
