@@ -536,15 +536,33 @@ fn issue_23_window_peaks_store_the_same_attractors_without_the_design_life() {
     };
     let life = rows("life", "");
     let window = rows("window", "nonperiodic_peak = \"window\"\n");
-    assert_eq!(life.len(), window.len());
+    // The design life may also find that a motion was a start still approaching a periodic
+    // orbit of its census (`orbits::race`): it is folded into that orbit, so the life study can
+    // hold fewer rows, each of which the window study holds (the same point, case and section).
+    assert!(life.len() <= window.len());
+    let key = |a: &impactsweep::orbits::attractors::AttractorRow| {
+        (a.run.point, a.run.case, a.section.map(f64::to_bits))
+    };
+    let folded: Vec<_> = window
+        .iter()
+        .filter(|w| !life.iter().any(|l| key(l) == key(w)))
+        .collect();
+    assert_eq!(life.len() + folded.len(), window.len());
+    assert!(folded.iter().all(|w| !w.kind.periodic()), "{folded:?}");
+    let window: Vec<_> = window
+        .iter()
+        .filter(|w| life.iter().any(|l| key(l) == key(w)))
+        .collect();
     let mut measured = 0;
-    for (l, w) in life.iter().zip(&window) {
-        assert_eq!(
-            (l.run.point, l.run.case, l.attractor),
-            (w.run.point, w.run.case, w.attractor)
-        );
+    for (l, w) in life.iter().zip(window) {
+        assert_eq!((l.run.point, l.run.case), (w.run.point, w.run.case));
         if l.kind.periodic() {
-            assert_eq!(format!("{l:?}"), format!("{w:?}"));
+            // Its basin holds the folded starts too.
+            let same = |a: &impactsweep::orbits::attractors::AttractorRow| {
+                (a.kind, a.amplitude.to_bits(), a.section.map(f64::to_bits))
+            };
+            assert_eq!(same(l), same(w));
+            assert!(l.starts >= w.starts);
             continue;
         }
         let census = |a: &impactsweep::orbits::attractors::AttractorRow| {
