@@ -243,11 +243,16 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
             w.life = Some(summary);
         }
     }
-    landed.sort_unstable_by(|a, b| b.cmp(a));
-    for (i, j, k) in landed {
+    // Starts join their orbits first (indices as found), then removals from the highest index.
+    for &(i, j, k) in &landed {
         if let Some(c) = censuses[i].as_mut() {
             let starts = c.attractors[j].starts;
             c.attractors[k].starts += starts;
+        }
+    }
+    landed.sort_unstable_by(|a, b| b.cmp(a));
+    for (i, j, _) in landed {
+        if let Some(c) = censuses[i].as_mut() {
             c.attractors.remove(j);
         }
     }
