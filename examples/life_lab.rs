@@ -15,6 +15,10 @@
 //!
 //! Samples are cached in `$LAB` (default `/tmp/life_lab`).
 //!
+//! `race SEEDS CAP POINT:N ...` emulates the race's windows with each rule's estimator;
+//! `stops SEEDS CAP POINT:N ...` the race's stopping rules ([`RULES`]) on the chosen estimator
+//! (`results/life_stops.md`, `scripts/life_validation.sh --stops`).
+//!
 //! `cargo run --release --example life_lab -- SEEDS POINT:N ...`
 #[path = "life_methods.rs"]
 #[allow(dead_code)]
@@ -177,10 +181,122 @@ fn race_mode(args: &[String]) {
     }
 }
 
+/// Stopping rules for the race's windows, on the chosen estimator: each takes the estimates of
+/// the windows so far, `(amplitude, lo, hi)`, and says whether to stop at the last.
+type Rule = fn(&[(f64, f64, f64)]) -> bool;
+
+fn hw(e: &(f64, f64, f64)) -> f64 {
+    0.5 * (e.2 - e.1) / e.0
+}
+
+/// The rules `stops_mode` compares.
+const RULES: [(&str, Rule); 5] = [
+    ("half-width <= 5 % (before)", |w| hw(w.last().unwrap()) <= 0.05),
+    ("half-width <= 3 %", |w| hw(w.last().unwrap()) <= 0.03),
+    ("half-width <= 5 % at two successive windows (chosen)", |w| {
+        w.len() >= 2 && w[w.len() - 2..].iter().all(|e| hw(e) <= 0.05)
+    }),
+    ("half-width <= 5 %, the window before within 2.5 %", |w| {
+        w.len() >= 2 && hw(&w[w.len() - 1]) <= 0.05 && {
+            let (a, b) = (w[w.len() - 1].0, w[w.len() - 2].0);
+            (a - b).abs() <= 0.025 * a
+        }
+    }),
+    ("half-width <= 5 %, the window before inside its interval", |w| {
+        w.len() >= 2 && hw(&w[w.len() - 1]) <= 0.05 && {
+            let (l, p) = (w[w.len() - 1], w[w.len() - 2].0);
+            l.1 <= p && p <= l.2
+        }
+    }),
+];
+
+/// The race's windows emulated under each rule of [`RULES`]: `stops SEEDS CAP POINT:N ...`.
+fn stops_mode(args: &[String]) {
+    let seeds: u64 = args[0].parse().unwrap();
+    let cap: usize = args[1].parse().unwrap();
+    println!(
+        "| point | rule | 1e6: error % min / med / max, within 5 %, coverage, periods med / max | 1e7 | life | mean periods |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for spec in &args[2..] {
+        let (name, n) = spec.split_once(':').unwrap();
+        let n: u64 = n.parse().unwrap();
+        let p = POINTS.iter().find(|p| p.name == name).unwrap();
+        let f = validation::forcing_of(p);
+        let tr = truths(p, &f).expect("the point's brute force");
+        let run = cluster_run(1.0);
+        let mut res = vec![vec![(Vec::<f64>::new(), 0usize, Vec::<f64>::new()); 3]; RULES.len()];
+        for seed in 1..=seeds {
+            let full = cached(&f, name, seed, n);
+            for (h, &(l, truth)) in tr.iter().enumerate() {
+                let life = Life::bounded(l, 0.5);
+                let fits = |r: &[&[f64]], ks: &[usize]| -> Vec<LifeEstimate> {
+                    ks.iter().filter_map(|&k| fit_k(r, k, run, life)).collect()
+                };
+                let total = |r: &[&[f64]]| r.iter().map(|c| c.len()).sum::<usize>();
+                let both = |r: &[&[f64]]| {
+                    let (a, lo, hi) = combine(fits(r, &[12, 25, 50]))?;
+                    let o = fits(r, &old_sizes(total(r)));
+                    let lo = o.iter().map(|f| f.lo).fold(lo, f64::min);
+                    let hi = o.iter().map(|f| f.hi).fold(hi, f64::max);
+                    Some((a, lo, hi))
+                };
+                // Every window's estimate once, then each rule walks them.
+                let mut windows = Vec::new();
+                let mut m = 2000usize;
+                loop {
+                    let per = m / full.len();
+                    let r: Vec<&[f64]> = full.iter().map(|c| &c[..per.min(c.len())]).collect();
+                    windows.push((m, both(&r)));
+                    if m >= cap {
+                        break;
+                    }
+                    m = (2 * m).min(cap);
+                }
+                for (v, (_, rule)) in RULES.iter().enumerate() {
+                    let mut seen = Vec::new();
+                    for (i, (m, e)) in windows.iter().enumerate() {
+                        let Some(e) = e else { continue };
+                        seen.push(*e);
+                        if rule(&seen) || i + 1 == windows.len() {
+                            let (a, lo, hi) = *e;
+                            res[v][h].0.push(100.0 * (a / truth - 1.0));
+                            res[v][h].1 += usize::from(lo <= truth && truth <= hi);
+                            res[v][h].2.push(*m as f64);
+                            break;
+                        }
+                    }
+                }
+            }
+            eprint!(".");
+        }
+        eprintln!();
+        for (v, (vn, _)) in RULES.iter().enumerate() {
+            let cells: Vec<String> = res[v]
+                .iter()
+                .map(|(e, hold, used)| {
+                    let umax = used.iter().copied().fold(0.0, f64::max);
+                    format!(
+                        "{}, {:.0} / {umax:.0}",
+                        cell(e, *hold),
+                        impactsweep::numeric::median(used)
+                    )
+                })
+                .collect();
+            let mean: f64 = res[v].iter().flat_map(|r| r.2.iter()).sum::<f64>()
+                / res[v].iter().map(|r| r.2.len()).sum::<usize>() as f64;
+            println!("| {name} | {vn} | {} | {mean:.0} |", cells.join(" | "));
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args[0] == "race" {
         return race_mode(&args[1..]);
+    }
+    if args[0] == "stops" {
+        return stops_mode(&args[1..]);
     }
     println!(
         "| point | periods | rule | 1e6: error % min / med / max, within 5 %, coverage | 1e7 | life |"

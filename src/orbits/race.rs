@@ -25,6 +25,9 @@
 //!    chaotic plateau to the tolerance costs several times the rest of a study (measured on the
 //!    bundled frequency-response study: 1.4 * 10^8 periods against 4 * 10^7 with the screen; a
 //!    screened motion whose estimate overtakes the leader's becomes the leader and goes on).
+//!    A leader whose last window met the tolerance is measured once more while it could carry
+//!    the peak, even where the peak's interval is already narrow enough: a measurement settles
+//!    only when two successive windows meet the tolerance ([`LifeRun::settled`]).
 //! 3. **Where the damper helps.** Then each motion whose interval holds the linear amplitude at
 //!    its frequency is measured again until it no longer does, meets the tolerance or reaches
 //!    the screen.
@@ -68,13 +71,14 @@ struct Runner {
 }
 
 /// What the race's rule sees of a motion: its estimate, periods measured, whether it can be
-/// measured further (not failed, not within its tolerance, not at its cap), and the linear
-/// amplitude at its frequency (m).
+/// measured further (not failed, not settled, not at its cap), whether its last window met the
+/// tolerance ([`LifeRun::meets`]), and the linear amplitude at its frequency (m).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Entry {
     estimate: Option<LifeEstimate>,
     periods: u64,
     active: bool,
+    meets: bool,
     linear: f64,
 }
 
@@ -128,6 +132,16 @@ fn next(motions: &[Entry], periodic: f64, tol: f64, cap: u64, all: bool) -> Opti
         if carrier.is_some() {
             return carrier;
         }
+    }
+    // A leader whose last window met the tolerance, and that could carry the peak, is measured
+    // once more: the next window must meet it too ([`LifeRun::settled`]), though the peak's
+    // interval may already be narrow enough.
+    if let Some(l) = leader
+        && open(l, &motions[l])
+        && motions[l].meets
+        && motions[l].interval().1 > lower
+    {
+        return Some(l);
     }
     motions.iter().enumerate().position(|(i, m)| {
         let (lo, hi) = m.interval();
@@ -210,6 +224,7 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
                 estimate: r.run.estimate,
                 periods: r.run.periods(),
                 active: r.active,
+                meets: r.run.meets(&r.s),
                 linear: r.linear,
             })
             .collect();
@@ -293,6 +308,7 @@ mod tests {
             }),
             periods,
             active: true,
+            meets: 0.5 * (hi - lo) <= 0.05 * a,
             linear: 1e-3,
         }
     }
@@ -355,18 +371,31 @@ mod tests {
 
     #[test]
     fn a_peak_within_the_tolerance_leaves_the_help_decision() {
-        // The peak is settled ([9.8, 10.2] mm); the other motion's interval holds the linear
-        // amplitude at its frequency (1 mm): it is measured.
-        let ms = [
+        // The peak is settled ([9.8, 10.2] mm, its leader's two last windows within the
+        // tolerance); the other motion's interval holds the linear amplitude at its frequency
+        // (1 mm): it is measured.
+        let mut ms = [
             motion(10e-3, 9.8e-3, 10.2e-3, 4000),
             motion(1.1e-3, 0.8e-3, 1.6e-3, 2000),
         ];
+        ms[0].active = false;
         assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), Some(1));
         // Not once its interval clears it.
-        let ms = [
-            motion(10e-3, 9.8e-3, 10.2e-3, 4000),
-            motion(1.3e-3, 1.1e-3, 1.6e-3, 4000),
-        ];
+        ms[1] = motion(1.3e-3, 1.1e-3, 1.6e-3, 4000);
+        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), None);
+    }
+
+    /// The stopping rule asks two successive windows to meet the tolerance: a leader whose first
+    /// window within it narrows the peak's interval enough is still measured once more while it
+    /// could carry the peak, and not when a periodic orbit above its interval carries it.
+    #[test]
+    fn a_leader_within_the_tolerance_once_is_measured_once_more() {
+        let ms = [motion(10e-3, 9.8e-3, 10.2e-3, 128_000)];
+        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), Some(0));
+        assert_eq!(next(&ms, 10.5e-3, 0.05, 1 << 20, false), None);
+        // Settled (not active): the race is over.
+        let mut ms = ms;
+        ms[0].active = false;
         assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), None);
     }
 }
