@@ -191,23 +191,29 @@ fn hw(e: &(f64, f64, f64)) -> f64 {
 
 /// The rules `stops_mode` compares.
 const RULES: [(&str, Rule); 5] = [
-    ("half-width <= 5 % (before)", |w| hw(w.last().unwrap()) <= 0.05),
-    ("half-width <= 3 %", |w| hw(w.last().unwrap()) <= 0.03),
-    ("half-width <= 5 % at two successive windows (chosen)", |w| {
-        w.len() >= 2 && w[w.len() - 2..].iter().all(|e| hw(e) <= 0.05)
+    ("half-width <= 5 % (before)", |w| {
+        hw(w.last().unwrap()) <= 0.05
     }),
+    ("half-width <= 3 %", |w| hw(w.last().unwrap()) <= 0.03),
+    (
+        "half-width <= 5 % at two successive windows (chosen)",
+        |w| w.len() >= 2 && w[w.len() - 2..].iter().all(|e| hw(e) <= 0.05),
+    ),
     ("half-width <= 5 %, the window before within 2.5 %", |w| {
         w.len() >= 2 && hw(&w[w.len() - 1]) <= 0.05 && {
             let (a, b) = (w[w.len() - 1].0, w[w.len() - 2].0);
             (a - b).abs() <= 0.025 * a
         }
     }),
-    ("half-width <= 5 %, the window before inside its interval", |w| {
-        w.len() >= 2 && hw(&w[w.len() - 1]) <= 0.05 && {
-            let (l, p) = (w[w.len() - 1], w[w.len() - 2].0);
-            l.1 <= p && p <= l.2
-        }
-    }),
+    (
+        "half-width <= 5 %, the window before inside its interval",
+        |w| {
+            w.len() >= 2 && hw(&w[w.len() - 1]) <= 0.05 && {
+                let (l, p) = (w[w.len() - 1], w[w.len() - 2].0);
+                l.1 <= p && p <= l.2
+            }
+        },
+    ),
 ];
 
 /// The race's windows emulated under each rule of [`RULES`]: `stops SEEDS CAP POINT:N ...`.
