@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Issue 43's budget: the bundled frequency-response study (configs/frequency-response.toml) end
 # to end (run, then reduce: the verification included) with this commit's binary and with the
-# binary before the issue (BASE, default e7df294), in one script run, then one-frequency studies
+# binary before the issue (BASE, default e7df294), in one script run (ROUNDS runs of each, default
+# 3, interleaved; their medians, and each round's ratio), then one-frequency studies
 # of chaotic points (16 starts, 1,000 h) with this commit's binary: `run` (the census and the
 # design life) and `reduce` (the verification of the one design) timed apart.
 # Writes results/bench_life_budget.md (figures, machine, load, commits) and prints it.
@@ -27,14 +28,23 @@ secs() { /usr/bin/time -f "%e" -o "$1" "${@:2}" >/dev/null; cat "$1"; }
 # still measured to 1,024,000 periods by the verification).
 sed -e 's/^design_peak = "worst"/design_peak = "worst"\nlife_max_periods = 256000/' "$cfg" > "$work/quarter.toml"
 grep -q '^life_max_periods = 256000' "$work/quarter.toml"
-for v in base new quarter; do
-  bin=$NEW; study=$cfg
-  [ "$v" = base ] && bin=$BASE_BIN
-  [ "$v" = quarter ] && study=$work/quarter.toml
-  run=$(secs "$work/t" "$bin" run "$study" --out "$work/$v" --quiet)
-  red=$(secs "$work/t" "$bin" reduce "$work/$v/frequency-response")
-  echo "$v $run $red" >> "$work/showcase"
+# The base and this commit ROUNDS times each (default 3), interleaved, so a machine whose speed
+# drifts during the script weighs on both alike; the quarter cap once. Each run in a fresh
+# directory (an existing one would resume).
+rounds=${ROUNDS:-3}
+one() { # label binary study
+  local run red
+  run=$(secs "$work/t" "$2" run "$3" --out "$work/$1" --quiet)
+  red=$(secs "$work/t" "$2" reduce "$work/$1/frequency-response")
+  echo "$1 $run $red" >> "$work/showcase"
+}
+for k in $(seq "$rounds"); do
+  one "base$k" "$BASE_BIN" "$cfg"
+  one "new$k" "$NEW" "$cfg"
 done
+one quarter "$NEW" "$work/quarter.toml"
+ln -s "$work/base1" "$work/base"
+ln -s "$work/new1" "$work/new"
 # One-frequency studies: Table I's M and K, C = 0.1 N s/m, e = 0.9, F0 = 0.1 N, 16 starts, seed 1.
 point() { # name m d r
   cat > "$work/$1.toml" <<TOML
@@ -70,9 +80,20 @@ points=$(
   point S5 0.01 0.02 0.995
 )
 up1=$(uptime)
-read -r _ brun bred < <(grep '^base' "$work/showcase")
-read -r _ nrun nred < <(grep '^new' "$work/showcase")
-read -r _ qrun qred < <(grep '^quarter' "$work/showcase")
+# Medians over the rounds of run, reduce and end to end; the end-to-end times in round order.
+med() { sort -g | awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }'; }
+stat() { # label: median run, reduce, end to end, then every end to end
+  local rows
+  rows=$(grep "^$1[0-9]* " "$work/showcase")
+  echo "$(awk '{ print $2 }' <<< "$rows" | med) $(awk '{ print $3 }' <<< "$rows" | med)" \
+    "$(awk '{ print $2 + $3 }' <<< "$rows" | med) $(awk '{ printf "%s%.1f", (NR > 1 ? "/" : ""), $2 + $3 }' <<< "$rows")"
+}
+read -r brun bred btot ball < <(stat base)
+read -r nrun nred ntot nall < <(stat new)
+read -r qrun qred qtot qall < <(stat quarter)
+# Each round's ratio (this commit's round k against the base's round k).
+paired=$(paste -d' ' <(grep '^base' "$work/showcase") <(grep '^new' "$work/showcase") \
+  | awk '{ printf "%s%.2f", (NR > 1 ? ", " : ""), ($5 + $6) / ($2 + $3) }')
 # Each design's ideal peak and rank (summary.csv, columns by name).
 ranks() {
   awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
@@ -90,19 +111,21 @@ out=results/bench_life_budget.md
   echo "## Issue 43's budget (\`scripts/bench_life_budget.sh\`)"
   echo
   echo "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores," \
-    "this commit \`$(git rev-parse --short HEAD)\` against \`$base\`, release builds, one run of each."
+    "this commit \`$(git rev-parse --short HEAD)\` against \`$base\`, release builds, $rounds runs of each" \
+    "interleaved (the quarter cap one)."
   echo "\`uptime\` at start: \`$up0\`; at end: \`$up1\`."
   echo
-  echo "The bundled frequency-response study, wall seconds:"
+  echo "The bundled frequency-response study, wall seconds (medians over the runs; end to end of each run"
+  echo "in the order run):"
   echo
-  echo "| binary | run | reduce | end to end | ideal case (attractors.csv) |"
-  echo "|---|---|---|---|---|"
-  echo "| \`$base\` | $brun | $bred | $(awk "BEGIN { print $brun + $bred }") | $(race base) |"
-  echo "| this commit | $nrun | $nred | $(awk "BEGIN { print $nrun + $nred }") | $(race new) |"
-  echo "| this commit, \`life_max_periods = 256000\` | $qrun | $qred | $(awk "BEGIN { print $qrun + $qred }") | $(race quarter) |"
+  echo "| binary | run | reduce | end to end | each run | ideal case (attractors.csv) |"
+  echo "|---|---|---|---|---|---|"
+  echo "| \`$base\` | $brun | $bred | $btot | $ball | $(race base) |"
+  echo "| this commit | $nrun | $nred | $ntot | $nall | $(race new) |"
+  echo "| this commit, \`life_max_periods = 256000\` | $qrun | $qred | $qtot | $qall | $(race quarter) |"
   echo
-  echo "Ratios to \`$base\`: $(awk "BEGIN { printf \"%.2f\", ($nrun + $nred) / ($brun + $bred) }") by default," \
-    "$(awk "BEGIN { printf \"%.2f\", ($qrun + $qred) / ($brun + $bred) }") with the quarter cap (the budget: 1.5)."
+  echo "Ratios to \`$base\`: $(awk "BEGIN { printf \"%.2f\", $ntot / $btot }") by default (the medians; each round's: $paired)," \
+    "$(awk "BEGIN { printf \"%.2f\", $qtot / $btot }") with the quarter cap (the budget: 1.5)."
   echo
   echo "Each design's ideal peak (cm) and rank, \`point:peak:rank\`:"
   echo
