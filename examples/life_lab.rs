@@ -91,6 +91,19 @@ fn combine(fits: Vec<LifeEstimate>) -> Option<(f64, f64, f64)> {
     Some((v, lo, hi))
 }
 
+/// The chosen estimate: the median of the fits at 12, 25 and 50 cluster maxima, its interval the
+/// union with the fits at the growing count's sizes ([`old_sizes`]).
+fn chosen(r: &[&[f64]], run: usize, life: Life) -> Option<(f64, f64, f64)> {
+    let fits = |ks: &[usize]| -> Vec<LifeEstimate> {
+        ks.iter().filter_map(|&k| fit_k(r, k, run, life)).collect()
+    };
+    let (a, lo, hi) = combine(fits(&[12, 25, 50]))?;
+    let o = fits(&old_sizes(r.iter().map(|c| c.len()).sum()));
+    let lo = o.iter().map(|f| f.lo).fold(lo, f64::min);
+    let hi = o.iter().map(|f| f.hi).fold(hi, f64::max);
+    Some((a, lo, hi))
+}
+
 /// The race's stopping emulated on one motion: windows of 2,000 periods doubling to `cap`,
 /// stopping where the interval's half-width is within 5 % of the estimate; the estimate there
 /// and the periods it used.
@@ -145,13 +158,7 @@ fn race_mode(args: &[String]) {
                 let total = |r: &[&[f64]]| r.iter().map(|c| c.len()).sum::<usize>();
                 let old = |r: &[&[f64]]| combine(fits(r, &old_sizes(total(r))));
                 let k25 = |r: &[&[f64]]| combine(fits(r, &[12, 25, 50]));
-                let both = |r: &[&[f64]]| {
-                    let (a, lo, hi) = combine(fits(r, &[12, 25, 50]))?;
-                    let o = fits(r, &old_sizes(total(r)));
-                    let lo = o.iter().map(|f| f.lo).fold(lo, f64::min);
-                    let hi = o.iter().map(|f| f.hi).fold(hi, f64::max);
-                    Some((a, lo, hi))
-                };
+                let both = |r: &[&[f64]]| chosen(r, run, life);
                 let ests: [Estimator; 3] = [&old, &k25, &both];
                 for (v, est) in ests.iter().enumerate() {
                     if let Some((a, lo, hi, used)) = raced(&full, cap, est) {
@@ -236,17 +243,7 @@ fn stops_mode(args: &[String]) {
             let full = cached(&f, name, seed, n);
             for (h, &(l, truth)) in tr.iter().enumerate() {
                 let life = Life::bounded(l, 0.5);
-                let fits = |r: &[&[f64]], ks: &[usize]| -> Vec<LifeEstimate> {
-                    ks.iter().filter_map(|&k| fit_k(r, k, run, life)).collect()
-                };
-                let total = |r: &[&[f64]]| r.iter().map(|c| c.len()).sum::<usize>();
-                let both = |r: &[&[f64]]| {
-                    let (a, lo, hi) = combine(fits(r, &[12, 25, 50]))?;
-                    let o = fits(r, &old_sizes(total(r)));
-                    let lo = o.iter().map(|f| f.lo).fold(lo, f64::min);
-                    let hi = o.iter().map(|f| f.hi).fold(hi, f64::max);
-                    Some((a, lo, hi))
-                };
+                let both = |r: &[&[f64]]| chosen(r, run, life);
                 // Every window's estimate once, then each rule walks them.
                 let mut windows = Vec::new();
                 let mut m = 2000usize;
