@@ -22,8 +22,13 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=results/life_validation
-cargo build --release --quiet --example life_validation
-bin=target/release/examples/life_validation
+# LIFE_VALIDATION_BIN: an example binary built already (scripts/test.sh builds it in the test
+# profile for --check: the bits do not depend on the profile); otherwise a release build.
+bin=${LIFE_VALIDATION_BIN:-}
+if [ -z "$bin" ]; then
+  cargo build --release --quiet --example life_validation
+  bin=target/release/examples/life_validation
+fi
 
 brute() {
     mkdir -p "$dir/brute"

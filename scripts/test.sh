@@ -26,11 +26,20 @@ cargo clippy --all-targets -- -D warnings
 # warnings denied: a link broken by a move or a rename fails here.
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib --document-private-items
 cargo test --all-targets
+# The committed validation of the design life (results/life_validation.md): its report
+# regenerates from the committed estimates, and a slice of them (point P2, seeds 1 and 2) is
+# reproduced bit for bit. The example in the test profile (its dependencies are built already).
+cargo build --quiet --profile test --example life_validation
+LIFE_VALIDATION_BIN="$PWD/target/debug/examples/life_validation" scripts/life_validation.sh --check
+# The Python extension is its own workspace; its lint and build go into the main target
+# directory, so the dependencies it shares with the main crate (same versions, features and
+# optimisation: .cargo/config.toml) are not compiled again (BENCHMARKS.md, "CI time").
+export CARGO_TARGET_DIR="$PWD/target"
 cargo fmt --check --manifest-path python/Cargo.toml
 cargo clippy --manifest-path python/Cargo.toml --all-targets -- -D warnings
 # maturin (pinned in .venv) builds it; the venv on PATH is where its pip hook finds the binary.
 # The tests' build is the dev profile of python/Cargo.toml (quicker to compile from cold than
-# release; BENCHMARKS.md, "CI time"); the bits it computes are the same.
+# release); the bits it computes are the same.
 PATH="$PWD/.venv/bin:$PATH" MATURIN_PEP517_ARGS="--profile dev" \
   .venv/bin/pip install --quiet --disable-pip-version-check --no-build-isolation ./python
 IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" .venv/bin/python -m pytest python/tests -q
