@@ -25,7 +25,10 @@ cargo clippy --all-targets -- -D warnings
 # The library's docs, private items included (the module docs link to what they explain), with
 # warnings denied: a link broken by a move or a rename fails here.
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib --document-private-items
-cargo test --all-targets
+# Every test: the library's, the binary's, the integration tests and the benchmarks (each run
+# once as a smoke test). The examples hold no tests; clippy above has compiled them, and
+# building each at the test profile's opt-level would cost minutes (BENCHMARKS.md, "CI time").
+cargo test --lib --bins --tests --benches
 # The committed validation of the design life (results/life_validation.md): its report
 # regenerates from the committed estimates, and a slice of them (point P2, seeds 1 and 2) is
 # reproduced bit for bit. The example in the test profile (its dependencies are built already).

@@ -218,8 +218,8 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
             _ => None,
         },
         TableKind::Verification => match column {
-            "point" | "case" | "supported" | "measured_again" | "rank_before" | "rank_after"
-            | "direct_capped" | "direct_fitted" => Some(""),
+            "point" | "case" | "supported" | "measured_again" | "round" | "rank_before"
+            | "rank_after" | "direct_capped" | "direct_fitted" => Some(""),
             "r" | "estimate_periods" | "direct_periods" | "direct_xi" | "direct_xi_se"
             | "direct_exceedances" | "direct_fit_periods" => Some("1"),
             "estimate"

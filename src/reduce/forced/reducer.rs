@@ -8,7 +8,7 @@ use super::curve::{Curve, CurvePoint};
 use super::design::design_peak;
 use super::probe::ForcedIdeal;
 use super::summary::ForcedSummary;
-use super::verify::{self, CaseTop, LifeQuestion, Verification};
+use super::verify::{self, CasePeak, CaseTop, LifeQuestion, Verification};
 use crate::orbits::attractors::AttractorRow;
 use crate::reduce::core::{Options, Reducer, Run, Summary, outcome_index};
 use crate::sim::forced::{DesignPeak, NonPeriodicPeak};
@@ -170,13 +170,63 @@ impl<'a> ForcedReducer<'a> {
 
     /// The verification ([`verify`]): the deciding designs' cases measured directly (those
     /// `plan`'s earlier shards measured taken from them), their runs reduced again and the ideal
-    /// curves' peaks updated. A shard of the analysis measures only its share of the cases
-    /// ([`verify::share`]) and changes nothing: the final reduction takes its measurements.
+    /// curves' peaks updated. Then again, in rounds, while the ranking so moved has a best design
+    /// (or one overlapping it) not verified yet: the best-ranked design of the final ranking
+    /// always rests on direct measurements. A shard of the analysis measures only its share of
+    /// the first round's cases ([`verify::share`]) and changes nothing: the final reduction takes
+    /// its measurements and runs the rounds after (they depend on every shard's).
     fn verify(&mut self, plan: &Plan) -> Verification {
         let Scene::Harmonic(h) = self.study.scene else {
             return Verification::default();
         };
-        let ranks = self.reducer.ranks();
+        let life = LifeQuestion {
+            design_life: h.design_life,
+            quantile: h.life_quantile,
+            periods: self.study.ranking.verify_periods,
+        };
+        let ranks_before = self.reducer.ranks();
+        let mut v = Verification {
+            periods: life.periods,
+            ranks_before,
+            ..Verification::default()
+        };
+        loop {
+            let new: Vec<u64> = self
+                .deciding()
+                .into_iter()
+                .filter(|d| !v.designs.contains(d))
+                .collect();
+            if new.is_empty() {
+                break;
+            }
+            let todo = self.cases_to_verify(&new);
+            if let Some(shard) = plan.shard {
+                let mine: Vec<_> = verify::share(&todo, shard.index, shard.count)
+                    .cloned()
+                    .collect();
+                v.peaks = verify::verify_all(&mine, &self.study.solver, life, &plan.prior.verified);
+                v.designs = new;
+                v.rounds = 1;
+                return v;
+            }
+            let mut peaks =
+                verify::verify_all(&todo, &self.study.solver, life, &plan.prior.verified);
+            self.take_verified(&peaks, &new);
+            v.rounds += 1;
+            for p in &mut peaks {
+                p.round = v.rounds;
+            }
+            v.designs.extend(new);
+            v.peaks.extend(peaks);
+        }
+        v.designs.sort_unstable();
+        // In design and case order whatever the rounds (each case is verified once).
+        v.peaks.sort_by_key(|p| (p.design, p.case));
+        v
+    }
+
+    /// The designs that decide the ranking as it stands ([`verify::deciding`]).
+    fn deciding(&self) -> Vec<u64> {
         let curves = &self.curves;
         let interval = |d: u64| {
             curves
@@ -184,9 +234,14 @@ impl<'a> ForcedReducer<'a> {
                 .ok()
                 .and_then(|i| curves[i].peak_interval())
         };
-        let designs = verify::deciding(&ranks, interval);
+        verify::deciding(&self.reducer.ranks(), interval)
+    }
+
+    /// The cases of `designs` a verification measures: those whose runs succeeded and kept a
+    /// motion that is not periodic.
+    fn cases_to_verify(&self, designs: &[u64]) -> Vec<verify::CaseToVerify<'_>> {
         let mut todo = Vec::new();
-        for &d in &designs {
+        for &d in designs {
             for r in self.runs_of.get(&d).into_iter().flatten() {
                 let key = (d, r.case);
                 if let (Some(top), Some(&(sys, _))) = (self.tops.get(&key), self.systems.get(&key))
@@ -197,24 +252,13 @@ impl<'a> ForcedReducer<'a> {
                 }
             }
         }
-        let life = LifeQuestion {
-            design_life: h.design_life,
-            quantile: h.life_quantile,
-            periods: self.study.ranking.verify_periods,
-        };
-        if let Some(shard) = plan.shard {
-            let mine: Vec<_> = verify::share(&todo, shard.index, shard.count)
-                .cloned()
-                .collect();
-            return Verification {
-                periods: life.periods,
-                peaks: verify::verify_all(&mine, &self.study.solver, life, &plan.prior.verified),
-                designs,
-                ranks_before: ranks,
-            };
-        }
-        let peaks = verify::verify_all(&todo, &self.study.solver, life, &plan.prior.verified);
-        for p in &peaks {
+        todo
+    }
+
+    /// Takes in one round's case peaks: each case's run and its ideal curve get the new peak,
+    /// and `designs` are reduced again.
+    fn take_verified(&mut self, peaks: &[CasePeak], designs: &[u64]) {
+        for p in peaks {
             let linear = self
                 .systems
                 .get(&(p.design, p.case))
@@ -235,16 +279,10 @@ impl<'a> ForcedReducer<'a> {
                 }
             }
         }
-        for d in &designs {
+        for d in designs {
             if let Some(rs) = self.runs_of.get(d) {
                 self.reducer.replace(rs);
             }
-        }
-        Verification {
-            periods: life.periods,
-            designs,
-            peaks,
-            ranks_before: ranks,
         }
     }
 

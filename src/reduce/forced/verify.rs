@@ -168,6 +168,8 @@ pub struct CasePeak {
     /// estimate that rests on fewer periods than the verification's).
     pub supported: bool,
     pub verified: Vec<Verified>,
+    /// The verification's round that measured it (from 1: [`Verification::designs`]).
+    pub round: usize,
 }
 
 /// A reduction's verification: the deciding designs, each verified case's peak, and the ranking
@@ -176,7 +178,11 @@ pub struct CasePeak {
 pub struct Verification {
     /// Periods of each direct measurement (`[ranking] verify_periods`).
     pub periods: u64,
+    /// The designs verified, in design order, and the rounds they took (the first round's
+    /// designs decide the ranking as the sweep measured it; a later round's, the ranking the
+    /// rounds before moved).
     pub designs: Vec<u64>,
+    pub rounds: usize,
     pub peaks: Vec<CasePeak>,
     pub ranks_before: Vec<(u64, u64)>,
 }
@@ -284,6 +290,7 @@ pub fn verify_case(
         },
         supported: !failed && unmeasured <= best,
         verified,
+        round: 1,
     }
 }
 
@@ -463,6 +470,10 @@ pub fn table(v: &Verification, rank_after: impl Fn(u64) -> Option<u64>) -> Table
     t.push(
         "supported",
         Column::Bool(rows.iter().map(|r| r.0.supported).collect()),
+    );
+    t.push(
+        "round",
+        Column::U64(rows.iter().map(|r| Some(r.0.round as u64)).collect()),
     );
     t.push(
         "rank_before",

@@ -109,8 +109,16 @@ fn verified(s: &Summary, fs: &ForcedSummary) -> String {
         .count();
     let _ = writeln!(
         o,
-        "\n**The decision verified.** The designs that decide the ranking (the best ranked as the sweep measured it, and every design whose peak interval overlaps its peak) are {}. Every motion that is not periodic and could carry a peak of one of their cases was measured directly, from its stored state on 16 independent chains for {} periods (a motion whose interval fell wholly below its case's peak on the way stopped there: it cannot carry the peak), and the ranking uses those values ({}; the estimates' periods are the sweep's race{}).",
+        "\n**The decision verified.** The designs that decide the ranking (the best ranked as the sweep measured it, and every design whose peak interval overlaps its peak) are {}{}. Every motion that is not periodic and could carry a peak of one of their cases was measured directly, from its stored state on 16 independent chains for {} periods (a motion whose interval fell wholly below its case's peak on the way stopped there: it cannot carry the peak), and the ranking uses those values ({}; the estimates' periods are the sweep's race{}).",
         names.join(", "),
+        if v.rounds > 1 {
+            format!(
+                " (in {} rounds: where the direct values made another design the best, or one overlapping it, that had not been measured, the verification ran again on the ranking so moved, so the best-ranked design rests on direct measurements)",
+                v.rounds
+            )
+        } else {
+            String::new()
+        },
         crate::report::text::thousands(v.periods),
         crate::report::text::count(measured as u64, "motion", "motions"),
         if raced > 0 {
