@@ -35,14 +35,16 @@ cargo test --lib --bins --tests --benches
 cargo build --quiet --profile test --example life_validation
 LIFE_VALIDATION_BIN="$PWD/target/debug/examples/life_validation" scripts/life_validation.sh --check
 # The Python extension is its own workspace; its lint and build go into the main target
-# directory, so the dependencies it shares with the main crate (same versions, features and
-# optimisation: .cargo/config.toml) are not compiled again (BENCHMARKS.md, "CI time").
+# directory with the feature `share-test-build`, which resolves every dependency the two
+# workspaces share (the main crate included) to the same versions, features and optimisation as
+# the test build above (python/Cargo.toml, .cargo/config.toml), so none is compiled again: only
+# pyo3, the pyarrow bridge and the extension itself are (BENCHMARKS.md, "CI time").
 export CARGO_TARGET_DIR="$PWD/target"
 cargo fmt --check --manifest-path python/Cargo.toml
-cargo clippy --manifest-path python/Cargo.toml --all-targets -- -D warnings
+cargo clippy --manifest-path python/Cargo.toml --all-targets --features share-test-build -- -D warnings
 # maturin (pinned in .venv) builds it; the venv on PATH is where its pip hook finds the binary.
 # The tests' build is the dev profile of python/Cargo.toml (quicker to compile from cold than
 # release); the bits it computes are the same.
-PATH="$PWD/.venv/bin:$PATH" MATURIN_PEP517_ARGS="--profile dev" \
+PATH="$PWD/.venv/bin:$PATH" MATURIN_PEP517_ARGS="--profile dev --features share-test-build" \
   .venv/bin/pip install --quiet --disable-pip-version-check --no-build-isolation ./python
 IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" .venv/bin/python -m pytest python/tests -q
