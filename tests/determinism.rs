@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 use common::{dead_pid, study};
 use impactsweep::plan::Plan;

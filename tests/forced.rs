@@ -3,7 +3,7 @@
 //! orbits, resonance refusal, noise and determinism. Every run is bounded by the solver's caps
 //! (never by a timer) and ends with a named outcome.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -10,8 +10,8 @@
 //!
 //! Minted on branch `random` at the commit that adds this file, before the event finder became
 //! generic. **Re-minting**: only for a change meant to move harmonic bits; run
-//! `cargo test --test forced_golden -- --nocapture`, check the change is the one intended, and
-//! paste the new digest here with the commit it was minted on.
+//! `cargo test --test integration forced_golden:: -- --nocapture`, check the change is the one
+//! intended, and paste the new digest here with the commit it was minted on.
 
 use impactsweep::model::System;
 use impactsweep::sim::noise::NoiseStream;

@@ -5,7 +5,7 @@
 //! the linear system beside them and the impacts per period and the period against r. The
 //! reduction streams whole curves.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

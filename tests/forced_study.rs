@@ -4,7 +4,7 @@
 //! whole frequency-response curves, and records bit-identical whatever the threads, chunks,
 //! shards or interruptions.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

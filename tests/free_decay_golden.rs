@@ -12,8 +12,8 @@
 //!
 //! **Re-minting.** A change that is *meant* to move free-decay bits (the simulator speed work of
 //! issue 11 may move the last bits of event times, for instance) re-mints it: run
-//! `cargo test --test free_decay_golden -- --nocapture`, check that the change is the one
-//! intended (the failing message prints the new digest and the record count; compare a few
+//! `cargo test --test integration free_decay_golden:: -- --nocapture`, check that the change is
+//! the one intended (the failing message prints the new digest and the record count; compare a few
 //! records with `impactsweep simulate --json` before and after), and paste the new digest here
 //! with the commit it was minted on.
 

@@ -8,7 +8,7 @@
 //! 1e-8. No branch of that study, nor of a small harmonic study, has two identical consecutive
 //! points.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

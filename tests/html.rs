@@ -10,7 +10,7 @@
 //! skips, loudly, when `/usr/bin/chromedriver` is missing (`scripts/test.sh` installs it when
 //! it can). With `IMPACTSWEEP_SCREENSHOT=PATH` it also writes the README's screenshot.
 
-mod common;
+use crate::common;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};

@@ -10,7 +10,7 @@
 //! The Python interpreter is `$IMPACTSWEEP_PYTHON`, else the repository's `.venv/bin/python`
 //! (`scripts/setup-python.sh` creates it with the pinned packages).
 
-mod common;
+use crate::common;
 
 use common::python;
 

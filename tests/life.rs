@@ -7,7 +7,7 @@
 //! every estimate within 5 % of the brute-force median at its horizon, and the 90 % interval
 //! holding that median in at least 17 of the 20 seeds (85 %).
 
-mod common;
+use crate::common;
 
 use common::life::{Brute, one_frequency_life};
 use rayon::prelude::*;

@@ -2,7 +2,7 @@
 //! every periodic steady state that brute-force transient runs reach is in the census and on a
 //! stable branch, and a design with a hysteresis loop.
 
-mod common;
+use crate::common;
 
 use common::table_i as forcing;
 use impactsweep::model::System;

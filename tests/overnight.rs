@@ -8,7 +8,7 @@
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 use common::{chart_rows_are_summary_rows, csv_by_point};
 

@@ -5,7 +5,7 @@
 //! with its exact interval. Tiny studies (a few dozen realizations of a few seconds): the whole
 //! file runs in a few seconds.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

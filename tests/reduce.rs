@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 use impactsweep::api::reduce::{WaveformArgs, waveform_files, write_outputs};
 use impactsweep::reduce::core::regions::NO_REGION;
@@ -447,8 +447,8 @@ fn waveform_command_draws_both_figures() {
 
 /// Throughput of the reducer alone on 10^6 synthetic runs (83,334 points × 12 cases) pushed in
 /// chunks of 65,532 runs, as the store's part files would deliver them. Not a timed assert:
-/// run with `cargo test --release --test reduce -- --ignored --nocapture million` and read the
-/// figure (BENCHMARKS.md).
+/// run with `cargo test --release --test integration -- --ignored --nocapture reduce::million`
+/// and read the figure (BENCHMARKS.md).
 #[test]
 #[ignore]
 fn million_runs_throughput() {

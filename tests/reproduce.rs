@@ -70,7 +70,8 @@ fn design_space_regenerates_the_committed_showcase() {
 /// and design lives, then the verification's 27 million direct periods: about 4 minutes of the
 /// test build on 2 cores), so CI reruns a slice of it instead
 /// ([`frequency_response_slice_reproduces_the_committed_attractors`]) and this whole run is
-/// left to `cargo test --test reproduce -- --ignored` and the script.
+/// left to the script and to
+/// `cargo test --test integration reproduce:: -- --ignored`.
 #[test]
 #[ignore = "the whole frequency-response showcase (about 4 min); CI reruns a slice of it"]
 fn frequency_response_regenerates_the_committed_showcase() {

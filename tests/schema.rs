@@ -2,7 +2,7 @@
 //! writes, the masses as `mass_main` and `mass_inner`, units in the Parquet field metadata,
 //! `docs/schema.md` in step with the code, and a clear message for a dataset of schema version 1.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

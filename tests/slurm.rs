@@ -5,7 +5,7 @@
 //! are there, any failure is a test failure. The cluster is stopped by PID on every exit path
 //! (a Drop guard), and the test checks that its daemons are gone.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::fs::File;
