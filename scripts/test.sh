@@ -21,8 +21,9 @@ if ! { command -v chromium >/dev/null && command -v chromedriver >/dev/null; }; 
 fi
 export IMPACTSWEEP_PYTHON="$PWD/.venv/bin/python"
 # A build from cold (CI's) gains nothing from incremental compilation's caches and pays for
-# writing them (about 1 GB; the crate's cold test build 336 s -> 314 s without): off for both
-# workspaces' builds below, so they still share their artifacts (BENCHMARKS.md, "CI time").
+# writing them (about 1 GB; the crate's cold test build 336 s -> 314 s without): off for every
+# build below, the Python extension's too, so they share their artifacts (BENCHMARKS.md, "CI
+# time").
 export CARGO_INCREMENTAL=0
 cargo fmt --check
 cargo clippy --all-targets -- -D warnings
@@ -38,17 +39,17 @@ cargo test --lib --bins --tests --benches
 # reproduced bit for bit. The example in the test profile (its dependencies are built already).
 cargo build --quiet --profile test --example life_validation
 LIFE_VALIDATION_BIN="$PWD/target/debug/examples/life_validation" scripts/life_validation.sh --check
-# The Python extension is its own workspace; its lint and build go into the main target
-# directory with the feature `share-test-build`, which resolves every dependency the two
-# workspaces share (the main crate included) to the same versions, features and optimisation as
-# the test build above (python/Cargo.toml, .cargo/config.toml), so none is compiled again: only
-# pyo3, the pyarrow bridge and the extension itself are (BENCHMARKS.md, "CI time").
-export CARGO_TARGET_DIR="$PWD/target"
+# The Python extension (python/, a member of the workspace that `cargo test` leaves out): its
+# lint, and its build (the dev profile, whose settings for the main crate and its dependencies
+# are the test profile's) with the feature `share-test-build`, which resolves
+# every dependency it shares with the main crate to the same features as the test build above
+# (python/Cargo.toml), so the main crate and its dependencies are not compiled again: only pyo3,
+# the pyarrow bridge and the extension itself are (BENCHMARKS.md, "CI time").
 cargo fmt --check --manifest-path python/Cargo.toml
-cargo clippy --manifest-path python/Cargo.toml --all-targets --features share-test-build -- -D warnings
+cargo clippy -p impactsweep-py --all-targets --features share-test-build -- -D warnings
 # maturin (pinned in .venv) builds it; the venv on PATH is where its pip hook finds the binary.
-# The tests' build is the dev profile of python/Cargo.toml (quicker to compile from cold than
-# release); the bits it computes are the same.
+# The bits it computes do not depend on the profile (a user's `pip install ./python` builds
+# release).
 PATH="$PWD/.venv/bin:$PATH" MATURIN_PEP517_ARGS="--profile dev --features share-test-build" \
   .venv/bin/pip install --quiet --disable-pip-version-check --no-build-isolation ./python
 IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" .venv/bin/python -m pytest python/tests -q
