@@ -8,6 +8,8 @@
 #[path = "common/mod.rs"]
 mod common;
 
+#[path = "build_sharing.rs"]
+mod build_sharing;
 #[path = "cli_simulate.rs"]
 mod cli_simulate;
 #[path = "determinism.rs"]
