@@ -148,6 +148,19 @@ fn issue_44_a_random_study_runs_reduces_and_reports_through_the_binary() {
             && report.contains("Clopper–Pearson"),
         "{report}"
     );
+    // The two designs without a damper (m = 0 at either d) are one system: one row, with
+    // the range of their ranks.
+    let table = report
+        .split("## First-passage reliability")
+        .nth(1)
+        .and_then(|t| t.split("\n\n").find(|b| b.starts_with("| rank |")))
+        .unwrap_or_else(|| panic!("{report}"));
+    assert_eq!(table.lines().count(), 2 + 3, "{table}");
+    assert!(
+        table.contains("| m = 0 kg, any d (no damper, 2 designs) |")
+            && !table.contains("m = 0 kg, d ="),
+        "{table}"
+    );
     assert!(dir.join("report.html").exists());
 }
 

@@ -8,7 +8,7 @@ use std::fmt::Write;
 use crate::reduce::random::{RandomSummary, beta_of, outcome_name};
 use crate::reduce::{PointStats, Summary};
 use crate::report::markdown::{MAX_ROWS, SceneText, cm, design_text, f, ranked};
-use crate::report::text::{count, fmt_num, thousands};
+use crate::report::text::{axis_value, count, fmt_num, thousands};
 
 /// How the core's sections word a random or record study, and its own section.
 pub fn scene_text(s: &Summary, rs: &RandomSummary) -> SceneText {
@@ -79,6 +79,76 @@ fn shown(s: &Summary) -> Vec<&PointStats> {
     }
 }
 
+/// The design values a design without a damper (`m = 0`) does not depend on: the clearance and
+/// the restitution act only through the inner mass.
+const DAMPER_KEYS: [&str; 2] = ["d", "e"];
+
+/// One row of a table of designs: the design, its rank's text and its name. The designs
+/// without a damper (`m = 0` on a swept `m`) that differ only in [`DAMPER_KEYS`] are one system,
+/// the main mass alone, whose results are the same; they are listed once, as `m = 0 kg, any d
+/// (no damper, N designs)`, with the range of their ranks (`rank_of`).
+fn rows<'a>(
+    s: &Summary,
+    designs: &[&'a PointStats],
+    rank_of: impl Fn(&PointStats) -> Option<u64>,
+) -> Vec<(&'a PointStats, String, String)> {
+    let n = s.grid.n_axes();
+    let m_axis = (0..n).find(|&a| s.grid.key(a) == "m");
+    let bare = |p: u64| m_axis.is_some_and(|a| s.grid.value(p, a) == 0.0);
+    // What tells two designs without a damper apart: the axes other than m, d and e.
+    let system = |p: u64| -> Vec<u64> {
+        (0..n)
+            .filter(|&a| Some(a) != m_axis && !DAMPER_KEYS.contains(&s.grid.key(a)))
+            .map(|a| s.grid.value(p, a).to_bits())
+            .collect()
+    };
+    let rank = |d: &PointStats| rank_of(d).map_or("–".into(), |r| r.to_string());
+    let mut out = Vec::new();
+    let mut listed: Vec<Vec<u64>> = Vec::new();
+    for &d in designs {
+        if !bare(d.point) {
+            out.push((d, rank(d), design_text(s, d.point)));
+            continue;
+        }
+        let key = system(d.point);
+        if listed.contains(&key) {
+            continue;
+        }
+        let twins: Vec<&PointStats> = designs
+            .iter()
+            .copied()
+            .filter(|t| bare(t.point) && system(t.point) == key)
+            .collect();
+        listed.push(key);
+        if twins.len() < 2 {
+            out.push((d, rank(d), design_text(s, d.point)));
+            continue;
+        }
+        let ranks: Vec<u64> = twins.iter().filter_map(|t| rank_of(t)).collect();
+        let rank_text = match (ranks.iter().min(), ranks.iter().max()) {
+            (Some(lo), Some(hi)) if lo != hi => format!("{lo}–{hi}"),
+            _ => rank(d),
+        };
+        let name = (0..n)
+            .map(|a| {
+                let key = s.grid.key(a);
+                if DAMPER_KEYS.contains(&key) {
+                    format!("any {key}")
+                } else {
+                    axis_value(key, s.grid.value(d.point, a))
+                }
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
+        out.push((
+            d,
+            rank_text,
+            format!("{name} (no damper, {} designs)", twins.len()),
+        ));
+    }
+    out
+}
+
 /// The section: the method in two lines, the table of designs, the fragility table.
 pub fn section(s: &Summary, rs: &RandomSummary) -> String {
     let mut o = String::from("## First-passage reliability\n\n");
@@ -128,7 +198,8 @@ pub fn section(s: &Summary, rs: &RandomSummary) -> String {
     let lens: Vec<usize> = (0..s.grid.n_axes()).map(|a| s.grid.n(a)).collect();
     let j = rs.intensity.as_ref().map_or(0, |i| i.design);
     let designs = shown(s);
-    for d in designs.iter().take(MAX_ROWS) {
+    let listed = rows(s, &designs, |d| d.rank);
+    for (d, rank, name) in listed.iter().take(MAX_ROWS) {
         let Some(p) = rs.point(rs.grid_point(d.point, j, &lens)) else {
             continue;
         };
@@ -145,9 +216,7 @@ pub fn section(s: &Summary, rs: &RandomSummary) -> String {
         };
         let _ = writeln!(
             o,
-            "| {} | {} | {} | {} | {} of {} | {} | {} |",
-            d.rank.map_or("–".into(), |r| r.to_string()),
-            design_text(s, d.point),
+            "| {rank} | {name} | {} | {} | {} of {} | {} | {} |",
             pf,
             f(beta, 3),
             thousands(p.exceed),
@@ -156,11 +225,11 @@ pub fn section(s: &Summary, rs: &RandomSummary) -> String {
             cm(p.rms_x_mean)
         );
     }
-    if designs.len() > MAX_ROWS {
+    if listed.len() > MAX_ROWS {
         let _ = writeln!(
             o,
             "\n{} more in `summary.csv`.",
-            thousands((designs.len() - MAX_ROWS) as u64)
+            thousands((listed.len() - MAX_ROWS) as u64)
         );
     }
     o.push('\n');
@@ -197,7 +266,8 @@ fn fragility(s: &Summary, rs: &RandomSummary, designs: &[&PointStats], lens: &[u
     );
     let mut by_capacity = designs.to_vec();
     by_capacity.sort_by_key(|d| (rs.capacity_rank_of(d.point).unwrap_or(u64::MAX), d.point));
-    for d in by_capacity.iter().take(MAX_ROWS) {
+    let listed = rows(s, &by_capacity, |d| rs.capacity_rank_of(d.point));
+    for (d, rank, name) in listed.iter().take(MAX_ROWS) {
         let pfs: Vec<String> = (0..i.values.len())
             .map(|j| {
                 rs.point(rs.grid_point(d.point, j, lens))
@@ -224,10 +294,7 @@ fn fragility(s: &Summary, rs: &RandomSummary, designs: &[&PointStats], lens: &[u
         });
         let _ = writeln!(
             o,
-            "| {} | {} | {} | {theta} | {beta} | {outcome} |",
-            rs.capacity_rank_of(d.point)
-                .map_or("–".into(), |r| r.to_string()),
-            design_text(s, d.point),
+            "| {rank} | {name} | {} | {theta} | {beta} | {outcome} |",
             pfs.join(" | ")
         );
     }
