@@ -71,6 +71,12 @@ impl Grid {
         self.axes[a].1[self.index(p, a)]
     }
 
+    /// Whether point `p` has no damper: `m = 0` on a swept `m` (the main mass alone, whatever
+    /// the damper's other values).
+    pub fn without_damper(&self, p: u64) -> bool {
+        (0..self.n_axes()).any(|a| self.key(a) == "m" && self.value(p, a) == 0.0)
+    }
+
     /// The axis values of point `p`, in axis order.
     pub fn values(&self, p: u64) -> Vec<f64> {
         (0..self.n_axes()).map(|a| self.value(p, a)).collect()

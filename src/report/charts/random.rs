@@ -98,9 +98,10 @@ pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec
         r.sort_by_key(|p| p.rank);
         r.iter().take(MAX_DESIGNS).map(|p| p.point).collect()
     };
-    let bare = (0..s.grid.n_axes())
-        .find(|&a| s.grid.key(a) == "m")
-        .and_then(|a| s.points.iter().find(|p| s.grid.value(p.point, a) == 0.0))
+    let bare = s
+        .points
+        .iter()
+        .find(|p| s.grid.without_damper(p.point))
         .map(|p| p.point);
     // The design of the largest median capacity too, where the ranking at the design intensity
     // left it out (the curves cross).

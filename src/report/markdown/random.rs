@@ -93,12 +93,10 @@ fn rows<'a>(
     rank_of: impl Fn(&PointStats) -> Option<u64>,
 ) -> Vec<(&'a PointStats, String, String)> {
     let n = s.grid.n_axes();
-    let m_axis = (0..n).find(|&a| s.grid.key(a) == "m");
-    let bare = |p: u64| m_axis.is_some_and(|a| s.grid.value(p, a) == 0.0);
     // What tells two designs without a damper apart: the axes other than m, d and e.
     let system = |p: u64| -> Vec<u64> {
         (0..n)
-            .filter(|&a| Some(a) != m_axis && !DAMPER_KEYS.contains(&s.grid.key(a)))
+            .filter(|&a| s.grid.key(a) != "m" && !DAMPER_KEYS.contains(&s.grid.key(a)))
             .map(|a| s.grid.value(p, a).to_bits())
             .collect()
     };
@@ -106,7 +104,7 @@ fn rows<'a>(
     let mut out = Vec::new();
     let mut listed: Vec<Vec<u64>> = Vec::new();
     for &d in designs {
-        if !bare(d.point) {
+        if !s.grid.without_damper(d.point) {
             out.push((d, rank(d), design_text(s, d.point)));
             continue;
         }
@@ -117,7 +115,7 @@ fn rows<'a>(
         let twins: Vec<&PointStats> = designs
             .iter()
             .copied()
-            .filter(|t| bare(t.point) && system(t.point) == key)
+            .filter(|t| s.grid.without_damper(t.point) && system(t.point) == key)
             .collect();
         listed.push(key);
         if twins.len() < 2 {
