@@ -9,13 +9,15 @@
 #
 #   scripts/bench_life_budget.sh                 builds BASE in a worktree (target/base-BASE)
 #   BASE_BIN=path/to/impactsweep scripts/bench_life_budget.sh
+#   NEW_BIN=path/to/impactsweep ...              this commit's binary, built already
 set -euo pipefail
 cd "$(dirname "$0")/.."
 base=${BASE:-e7df294}
 work=$(mktemp -d)
 trap 'git worktree remove --force "$work/base" 2>/dev/null || true; rm -rf "$work"' EXIT
-cargo build --release --quiet
-NEW=target/release/impactsweep
+# NEW_BIN: this commit's binary built already (e.g. into another target directory).
+NEW=${NEW_BIN:-target/release/impactsweep}
+[ -n "${NEW_BIN:-}" ] || cargo build --release --quiet
 if [ -z "${BASE_BIN:-}" ]; then
   git worktree add --quiet --detach "$work/base" "$base"
   cargo build --release --quiet --manifest-path "$work/base/Cargo.toml" --target-dir "target/base-$base"
