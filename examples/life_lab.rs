@@ -26,7 +26,7 @@ mod methods;
 
 use impactsweep::orbits::life::cluster_run;
 use impactsweep::orbits::map::Forcing;
-use impactsweep::stats::extremes::{Life, LifeEstimate, fit_top};
+use impactsweep::stats::extremes::{Life, LifeEstimate, Upper, fit_top};
 use methods::validation::{self, POINTS};
 use methods::{sample, truths};
 
@@ -54,9 +54,8 @@ fn cached(f: &Forcing, name: &str, seed: u64, n: u64) -> Vec<Vec<f64>> {
 
 /// The fit at the threshold leaving `k` cluster maxima ([`fit_top`]).
 fn fit_k(chains: &[&[f64]], k: usize, run: usize, life: Life) -> Option<LifeEstimate> {
-    let mut sorted: Vec<f64> = chains.iter().flat_map(|c| c.iter().copied()).collect();
-    sorted.sort_unstable_by(f64::total_cmp);
-    fit_top(chains, &sorted, k, run, life)
+    let values: Vec<f64> = chains.iter().flat_map(|c| c.iter().copied()).collect();
+    fit_top(chains, &Upper::for_fits(values, [k]), k, run, life)
 }
 
 /// One cell of a table: the errors `e` (%) min / median / max, how many are within 5 %, and how

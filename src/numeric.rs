@@ -34,16 +34,24 @@ pub fn quantile(xs: &[f64], q: f64) -> f64 {
 /// [`quantile_mut`] of a sample already sorted ascending (by `f64::total_cmp`, no NaN): the same
 /// value, without the selection, for many quantiles of one sample. NaN when empty.
 pub fn quantile_sorted(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
+    quantile_of_ranks(sorted.len(), q, |i| sorted[i])
+}
+
+/// [`quantile_sorted`] of `n` values sorted ascending, the `i`-th read as `at(i)`: the same
+/// interpolation for a caller that holds only the order statistics it reads (ranks
+/// `floor((n - 1) q)` and the next). NaN when `n` is 0.
+pub fn quantile_of_ranks(n: usize, q: f64, at: impl Fn(usize) -> f64) -> f64 {
+    if n == 0 {
         return f64::NAN;
     }
-    let h = (sorted.len() - 1) as f64 * q.clamp(0.0, 1.0);
+    let h = (n - 1) as f64 * q.clamp(0.0, 1.0);
     let lo = h.floor() as usize;
-    let a = sorted[lo];
+    let a = at(lo);
     let frac = h - lo as f64;
-    match sorted.get(lo + 1) {
-        Some(&b) if frac != 0.0 => a + frac * (b - a),
-        _ => a,
+    if lo + 1 < n && frac != 0.0 {
+        a + frac * (at(lo + 1) - a)
+    } else {
+        a
     }
 }
 

@@ -30,6 +30,7 @@ use super::map::{Forcing, Section, eval, eval_above};
 use crate::sim::Outcome;
 use crate::stats::extremes::{Life, LifeEstimate, life_pot};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What the life estimate of one motion asks for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -102,33 +103,30 @@ impl LifeRun {
     }
 
     /// Runs `n` more periods in all, shared out evenly over the chains (the first chains take
-    /// the remainder), locating the extrema from [`LifeRun::floor`] up. The chains run in
-    /// parallel; a chain whose simulator stops (an outcome other than `ok`) fails the run.
+    /// the remainder), locating the extrema from [`LifeRun::floor`] up. A chain whose simulator
+    /// stops (an outcome other than `ok`) fails the run.
+    ///
+    /// The chains run in parallel, [`SEGMENT`] periods at a time in turn (a FIFO of segments,
+    /// each chain's next queued behind the others'), so they advance together and the threads
+    /// finish a window within one segment of each other: run each to its end, the chains' costs
+    /// differ (their impacts do) and one core waited up to a chain's time at every window. Each
+    /// chain is still one sequence of periods, so the values do not depend on the threads.
     pub fn extend(&mut self, f: &Forcing, n: u64) {
         if self.failed {
             return;
         }
         let floor = self.floor;
         let k = self.chains.len().max(1) as u64;
-        let failed: Vec<bool> = self
-            .chains
-            .par_iter_mut()
-            .enumerate()
-            .map(|(i, (z, state))| {
+        let failed = AtomicBool::new(false);
+        rayon::scope_fifo(|scope| {
+            for (i, chain) in self.chains.iter_mut().enumerate() {
                 let m = n / k + u64::from((i as u64) < n % k);
-                z.reserve(m as usize);
-                for _ in 0..m {
-                    let e = eval_above(f, state, 1, floor);
-                    if e.outcome != Outcome::Ok {
-                        return true;
-                    }
-                    z.push(e.amplitude);
-                    *state = e.end;
-                }
-                false
-            })
-            .collect();
-        self.failed = failed.iter().any(|&x| x);
+                chain.0.reserve(m as usize);
+                let failed = &failed;
+                scope.spawn_fifo(move |scope| segment(scope, f, floor, chain, m, failed));
+            }
+        });
+        self.failed = failed.into_inner();
     }
 
     /// Whether the per-period maxima the estimate uses are exact: its lowest threshold is at or
@@ -251,6 +249,37 @@ impl LifeRun {
             capped: self.capped,
             window_max: self.window_max(),
         }
+    }
+}
+
+/// Periods a chain of [`LifeRun::extend`] runs before the next chain's turn: about 10 ms of a
+/// chaotic motion, a small fraction of a window's time per thread.
+pub const SEGMENT: u64 = 2000;
+
+/// Up to [`SEGMENT`] of the `left` periods still due on `chain`, then its next segment queued
+/// behind the other chains' ([`LifeRun::extend`]); a stop of the simulator sets `failed` and ends
+/// the chain.
+fn segment<'s>(
+    scope: &rayon::ScopeFifo<'s>,
+    f: &'s Forcing,
+    floor: f64,
+    chain: &'s mut (Vec<f64>, Section),
+    left: u64,
+    failed: &'s AtomicBool,
+) {
+    let now = left.min(SEGMENT);
+    let (z, state) = chain;
+    for _ in 0..now {
+        let e = eval_above(f, state, 1, floor);
+        if e.outcome != Outcome::Ok {
+            failed.store(true, Ordering::Relaxed);
+            return;
+        }
+        z.push(e.amplitude);
+        *state = e.end;
+    }
+    if left > now {
+        scope.spawn_fifo(move |scope| segment(scope, f, floor, chain, left - now, failed));
     }
 }
 

@@ -32,8 +32,9 @@
 //!    its frequency is measured again until it no longer does, meets the tolerance or reaches
 //!    the screen.
 //!
-//! Deterministic: the motions are measured from their stored states, one at a time in an order
-//! the rule fixes (each measurement's chains run in parallel). A scene with
+//! Deterministic: the motions are measured from their stored states, their first estimates side
+//! by side, then one at a time in an order the rule fixes (each measurement's chains run in
+//! parallel). A scene with
 //! `nonperiodic_peak = "window"` ([`NonPeriodicPeak::Window`]) takes no part: its motions keep
 //! their census window's maximum.
 
@@ -43,6 +44,7 @@ use super::map::Forcing;
 use crate::sim::Harmonic;
 use crate::sim::forced::NonPeriodicPeak;
 use crate::stats::extremes::LifeEstimate;
+use rayon::prelude::*;
 
 /// Periods of a motion's first life estimate.
 pub const FIRST: u64 = 2000;
@@ -206,9 +208,9 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
             }
         }
     }
-    for r in &mut runners {
-        r.active = grow(r);
-    }
+    // Every motion's first estimate: each a pure function of its own states, so they run side by
+    // side (a motion of one or three chains alone would leave a core idle).
+    runners.par_iter_mut().for_each(|r| r.active = grow(r));
     let periodic = censuses
         .iter()
         .flatten()

@@ -154,3 +154,36 @@ fn the_estimate_keeps_the_highest_clusters_and_the_band_grows_with_the_sample() 
     assert_eq!(band_sizes(40_000), [25, 50, 100]);
     assert_eq!(band_sizes(1_000_000), [50, 100, 200]);
 }
+
+#[test]
+fn the_upper_order_statistics_give_the_full_sorts_quantiles_bit_for_bit() {
+    for n in [0usize, 1, 2, 7, 1000, 54_321] {
+        // Ties on purpose: a coarse grid of values.
+        let values: Vec<f64> = (0..n as u64)
+            .map(|i| (unif(9, i) * 500.0).round() / 7.0)
+            .collect();
+        let mut sorted = values.clone();
+        sorted.sort_unstable_by(f64::total_cmp);
+        for q_min in [0.0, 0.5, 0.93, 0.999, 1.0] {
+            let upper = Upper::new(values.clone(), q_min);
+            assert_eq!(upper.len(), n);
+            for q in [q_min, 0.5 * (q_min + 1.0), 0.9999, 1.0]
+                .into_iter()
+                .filter(|&q| q >= q_min)
+            {
+                let (a, b) = (
+                    upper.quantile(q),
+                    crate::numeric::quantile_sorted(&sorted, q),
+                );
+                assert_eq!(
+                    a.to_bits(),
+                    b.to_bits(),
+                    "n = {n}, q_min = {q_min}, q = {q}"
+                );
+            }
+            if n > 10 && q_min > 0.5 {
+                assert!(upper.quantile(0.25).is_nan(), "below q_min");
+            }
+        }
+    }
+}
