@@ -34,9 +34,8 @@
 //!
 //! Deterministic: the motions are measured from their stored states, their first estimates side
 //! by side, then one at a time in an order the rule fixes (each measurement's chains run in
-//! parallel). A scene with
-//! `nonperiodic_peak = "window"` ([`NonPeriodicPeak::Window`]) takes no part: its motions keep
-//! their census window's maximum.
+//! parallel). A scene with `nonperiodic_peak = "window"` ([`NonPeriodicPeak::Window`]) takes no
+//! part: its motions keep their census window's maximum.
 
 use super::census::{Census, Kind};
 use super::life::{LifeRun, LifeSettings};
