@@ -212,7 +212,11 @@ impl<P: Probe> Run<'_, P> {
         }
         // Transient periods run so far (what a run that stops early reports).
         self.n_trans = k;
-        self.history.push(s, self.map.sys.omega());
+        // The history serves only the convergence test of a transient of open length (a life
+        // measurement's one-period runs have none: no allocation per period).
+        if self.scene.n_trans.is_none() {
+            self.history.push(s, self.map.sys.omega());
+        }
         let done = match self.scene.n_trans {
             Some(n) => k >= n,
             None => {
@@ -226,7 +230,12 @@ impl<P: Probe> Run<'_, P> {
             self.window = Some(Window {
                 amplitude: f64::NAN,
                 impacts: 0,
-                sections: vec![s],
+                sections: {
+                    // Every section of the window, allocated once (the first 1,024).
+                    let mut v = Vec::with_capacity((self.scene.n_meas as usize + 1).min(1024));
+                    v.push(s);
+                    v
+                },
                 energy_force: 0.0,
                 energy_viscous: 0.0,
                 energy_impact: 0.0,
