@@ -212,14 +212,12 @@ impl<P: Probe> Run<'_, P> {
         }
         // Transient periods run so far (what a run that stops early reports).
         self.n_trans = k;
-        // The history serves only the convergence test of a transient of open length (a life
-        // measurement's one-period runs have none: no allocation per period).
-        if self.scene.n_trans.is_none() {
-            self.history.push(s, self.map.sys.omega());
-        }
         let done = match self.scene.n_trans {
             Some(n) => k >= n,
+            // The history serves only the convergence test of a transient of open length (a
+            // life measurement's one-period runs keep none: no allocation per period).
             None => {
+                self.history.push(s, self.map.sys.omega());
                 self.converged =
                     transient_converged(&self.history, self.omega, self.scene.trans_tol);
                 self.converged || k >= self.scene.n_trans_max

@@ -319,14 +319,14 @@ pub fn life_pot(chains: &[&[f64]], run: usize, life: Life) -> Option<LifeEstimat
         .filter(|x| !x.is_nan())
         .collect();
     let n = values.len();
-    let band: Vec<usize> = band_sizes(n)
+    let band_ks: Vec<usize> = band_sizes(n)
         .into_iter()
         .filter(|k| !tail_sizes().contains(k))
         .collect();
-    let upper = Upper::for_fits(values, tail_sizes().iter().chain(&band).copied());
+    let upper = Upper::for_fits(values, tail_sizes().iter().chain(&band_ks).copied());
     let fit = |k: &usize| fit_top(chains, &upper, *k, run, life);
     let fits: Vec<LifeEstimate> = tail_sizes().iter().filter_map(fit).collect();
-    let band: Vec<LifeEstimate> = band.iter().filter_map(fit).collect();
+    let band: Vec<LifeEstimate> = band_ks.iter().filter_map(fit).collect();
     let mut est = match fits.len() {
         0 => return None,
         // The median of three, or the lower of two.
