@@ -17,7 +17,16 @@
 //!
 //! `race SEEDS CAP POINT:N ...` emulates the race's windows with each rule's estimator;
 //! `stops SEEDS CAP POINT:N ...` the race's stopping rules ([`RULES`]) on the chosen estimator
-//! (`results/life_stops.md`, `scripts/life_validation.sh --stops`).
+//! (`results/life_stops.md`, `scripts/life_validation.sh --stops`);
+//! `points SEEDS CAP POINT:N ...` the estimate's point value under the chosen stopping rule: the
+//! likelihood's quantile, the posterior median ([`posterior_median`]) under a flat and under
+//! Jeffreys's shape prior (the estimate's), and a bootstrap bias correction
+//! ([`bootstrap_corrected`]), with the same interval (`results/life_points.md`,
+//! `scripts/life_validation.sh --points`); `grid` the posterior median's grid against a finer one.
+//!
+//! The fits here ([`fit_k`]) keep the likelihood's quantile, as the estimate did when
+//! `results/life_tail_sizes.md` and `results/life_stops.md` were made (their rows regenerate as
+//! they are); `points` reports the estimate's own point value beside it.
 //!
 //! `cargo run --release --example life_lab -- SEEDS POINT:N ...`
 #[path = "life_methods.rs"]
@@ -26,7 +35,10 @@ mod methods;
 
 use impactsweep::orbits::life::cluster_run;
 use impactsweep::orbits::map::Forcing;
-use impactsweep::stats::extremes::{Life, LifeEstimate, Upper, fit_top};
+use impactsweep::stats::extremes::{
+    Gpd, Life, LifeEstimate, POSTERIOR_GRID, Point, PosteriorGrid, ShapePrior, Upper, fit_top,
+    posterior_median,
+};
 use methods::validation::{self, POINTS};
 use methods::{sample, truths};
 
@@ -52,10 +64,18 @@ fn cached(f: &Forcing, name: &str, seed: u64, n: u64) -> Vec<Vec<f64>> {
     c
 }
 
-/// The fit at the threshold leaving `k` cluster maxima ([`fit_top`]).
+/// The fit at the threshold leaving `k` cluster maxima ([`fit_top`]), its point value the
+/// likelihood's quantile.
 fn fit_k(chains: &[&[f64]], k: usize, run: usize, life: Life) -> Option<LifeEstimate> {
     let values: Vec<f64> = chains.iter().flat_map(|c| c.iter().copied()).collect();
-    fit_top(chains, &Upper::for_fits(values, [k]), k, run, life)
+    fit_top(
+        chains,
+        &Upper::for_fits(values, [k]),
+        k,
+        run,
+        life,
+        Point::Likelihood,
+    )
 }
 
 /// One cell of a table: the errors `e` (%) min / median / max, how many are within 5 %, and how
@@ -106,6 +126,9 @@ fn chosen(r: &[&[f64]], run: usize, life: Life) -> Option<(f64, f64, f64)> {
 /// The race's stopping emulated on one motion: windows of 2,000 periods doubling to `cap`,
 /// stopping where the interval's half-width is within 5 % of the estimate; the estimate there
 /// and the periods it used.
+/// An estimate: `(amplitude, lo, hi)`.
+type Triple = (f64, f64, f64);
+
 /// An estimate from chains: `(amplitude, lo, hi)`.
 type Estimator<'a> = &'a dyn Fn(&[&[f64]]) -> Option<(f64, f64, f64)>;
 
@@ -300,6 +323,12 @@ fn main() {
     if args[0] == "stops" {
         return stops_mode(&args[1..]);
     }
+    if args[0] == "grid" {
+        return grid_mode();
+    }
+    if args[0] == "points" {
+        return points_mode(&args[1..]);
+    }
     println!(
         "| point | periods | rule | 1e6: error % min / med / max, within 5 %, coverage | 1e7 | life |"
     );
@@ -354,4 +383,229 @@ fn main() {
             }
         }
     }
+}
+
+/// The excesses over `u` of the cluster maxima of `chains`, and their rate per period.
+fn excesses(chains: &[&[f64]], u: f64, run: usize) -> (Vec<f64>, f64) {
+    use impactsweep::stats::extremes::decluster;
+    let total: usize = chains.iter().map(|c| c.len()).sum();
+    let y: Vec<f64> = chains
+        .iter()
+        .flat_map(|c| decluster(c, u, run))
+        .map(|v| v - u)
+        .collect();
+    let nu = y.len() as f64 / total as f64;
+    (y, nu)
+}
+
+/// `m = N nu / (-ln q)` of the life question.
+fn life_m(life: Life, nu: f64) -> f64 {
+    life.n_life * nu / (-life.q.ln())
+}
+
+/// The library's posterior median of one fit ([`posterior_median`] on `grid`).
+fn posterior_on(y: &[f64], m: f64, fit: &LifeEstimate, life: Life, grid: PosteriorGrid) -> f64 {
+    let gpd = Gpd {
+        sigma: fit.sigma,
+        xi: fit.xi,
+    };
+    posterior_median(y, fit.threshold, m, gpd, (life.xi_min, life.xi_max), grid)
+}
+
+/// One fit's life quantile less its median bias under a parametric bootstrap: `b` samples of the
+/// fit's size from the fitted law, each refitted in the same shape range.
+fn bootstrap_corrected(fit: &LifeEstimate, m: f64, life: Life, b: u64) -> f64 {
+    use impactsweep::sim::noise::mix64;
+    use impactsweep::stats::extremes::{fit_gpd, growth};
+    let k = fit.exceedances;
+    let mut zs: Vec<f64> = (0..b)
+        .filter_map(|j| {
+            let y: Vec<f64> = (0..k)
+                .map(|i| {
+                    let s = mix64(fit.threshold.to_bits() ^ mix64((j << 20) ^ i));
+                    let u = ((s >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+                    fit.sigma * (u.powf(-fit.xi) - 1.0) / fit.xi
+                })
+                .collect();
+            let g = fit_gpd(&y, (life.xi_min, life.xi_max))?;
+            Some(fit.threshold + g.gpd.sigma * growth(m, g.gpd.xi))
+        })
+        .collect();
+    zs.sort_by(f64::total_cmp);
+    2.0 * fit.amplitude - zs[zs.len() / 2]
+}
+
+/// The chosen estimate's three fits with each point value replaced by `point(fit, y, m)`:
+/// their median, and the chosen interval.
+fn repointed(
+    r: &[&[f64]],
+    run: usize,
+    life: Life,
+    point: &dyn Fn(&LifeEstimate, &[f64], f64) -> f64,
+) -> Option<(f64, f64, f64)> {
+    let (_, lo, hi) = chosen(r, run, life)?;
+    let fits: Vec<LifeEstimate> = [12usize, 25, 50]
+        .iter()
+        .filter_map(|&k| fit_k(r, k, run, life))
+        .map(|mut e| {
+            let (y, nu) = excesses(r, e.threshold, run);
+            e.amplitude = point(&e, &y, life_m(life, nu));
+            e
+        })
+        .collect();
+    let (a, _, _) = combine(fits)?;
+    Some((a, lo, hi))
+}
+
+/// The point value of the estimate (`points SEEDS CAP POINT:N ...`): the race's windows
+/// emulated with the chosen stopping rule (half-width within 5 % at two successive windows),
+/// and five point values: the likelihood's (the estimate before stop 58); the posterior median
+/// under a flat shape prior, stopped on its own half-widths and reported at the window where
+/// the likelihood's estimate stops; the parametric bootstrap's median-bias correction reported
+/// there; and the posterior median under Jeffreys's prior (the estimate's), stopped on its own.
+fn points_mode(args: &[String]) {
+    let seeds: u64 = args[0].parse().unwrap();
+    let cap: usize = args[1].parse().unwrap();
+    let variants = [
+        "maximum likelihood (before stop 58)",
+        "posterior median, stopped on its own",
+        "posterior median at the likelihood's stop",
+        "bootstrap median-bias corrected at the likelihood's stop",
+        "posterior median, Jeffreys prior (chosen), stopped on its own",
+    ];
+    println!(
+        "| point | point value | 1e6: error % min / med / max, within 5 %, coverage, periods med / max | 1e7 | life |"
+    );
+    println!("|---|---|---|---|---|");
+    let rule = RULES[2].1;
+    for spec in &args[2..] {
+        let (name, n) = spec.split_once(':').unwrap();
+        let n: u64 = n.parse().unwrap();
+        let p = POINTS.iter().find(|p| p.name == name).unwrap();
+        let f = validation::forcing_of(p);
+        let tr = truths(p, &f).expect("the point's brute force");
+        let run = cluster_run(1.0);
+        let mut res = vec![vec![(Vec::<f64>::new(), 0usize, Vec::<f64>::new()); 3]; variants.len()];
+        for seed in 1..=seeds {
+            let full = cached(&f, name, seed, n);
+            for (h, &(l, truth)) in tr.iter().enumerate() {
+                let life = Life::bounded(l, 0.5);
+                let flat = PosteriorGrid {
+                    prior: ShapePrior::Flat,
+                    ..POSTERIOR_GRID
+                };
+                let post = |e: &LifeEstimate, y: &[f64], m: f64| posterior_on(y, m, e, life, flat);
+                let boot =
+                    |e: &LifeEstimate, _: &[f64], m: f64| bootstrap_corrected(e, m, life, 100);
+                let jef = |e: &LifeEstimate, y: &[f64], m: f64| {
+                    posterior_on(y, m, e, life, POSTERIOR_GRID)
+                };
+                // Every window: (periods, likelihood's, posterior's).
+                let mut windows = Vec::new();
+                let mut w = 2000usize;
+                loop {
+                    let per = w / full.len();
+                    let r: Vec<&[f64]> = full.iter().map(|c| &c[..per.min(c.len())]).collect();
+                    windows.push((
+                        w,
+                        r.clone(),
+                        chosen(&r, run, life),
+                        repointed(&r, run, life, &post),
+                        repointed(&r, run, life, &jef),
+                    ));
+                    if w >= cap {
+                        break;
+                    }
+                    w = (2 * w).min(cap);
+                }
+                // The window each stopping stops at: by the likelihood's estimates, by the
+                // posterior's.
+                let stop = |pick: &dyn Fn(usize) -> Option<(f64, f64, f64)>| -> Option<usize> {
+                    let mut seen = Vec::new();
+                    for i in 0..windows.len() {
+                        let Some(e) = pick(i) else { continue };
+                        seen.push(e);
+                        if rule(&seen) || i + 1 == windows.len() {
+                            return Some(i);
+                        }
+                    }
+                    None
+                };
+                let ml_stop = stop(&|i| windows[i].2);
+                let post_stop = stop(&|i| windows[i].3);
+                let jef_stop = stop(&|i| windows[i].4);
+                let picks: [Option<(usize, Option<Triple>)>; 5] = [
+                    ml_stop.map(|i| (i, windows[i].2)),
+                    post_stop.map(|i| (i, windows[i].3)),
+                    ml_stop.map(|i| (i, windows[i].3)),
+                    ml_stop.map(|i| (i, repointed(&windows[i].1, run, life, &boot))),
+                    jef_stop.map(|i| (i, windows[i].4)),
+                ];
+                for (v, pick) in picks.iter().enumerate() {
+                    if let Some((i, Some((a, lo, hi)))) = pick {
+                        res[v][h].0.push(100.0 * (a / truth - 1.0));
+                        res[v][h].1 += usize::from(*lo <= truth && truth <= *hi);
+                        res[v][h].2.push(windows[*i].0 as f64);
+                    }
+                }
+            }
+            eprint!(".");
+        }
+        eprintln!();
+        for (v, vn) in variants.iter().enumerate() {
+            let cells: Vec<String> = res[v]
+                .iter()
+                .map(|(e, hold, used)| {
+                    let umax = used.iter().copied().fold(0.0, f64::max);
+                    format!(
+                        "{}, {:.0} / {umax:.0}",
+                        cell(e, *hold),
+                        impactsweep::numeric::median(used)
+                    )
+                })
+                .collect();
+            println!("| {name} | {vn} | {} |", cells.join(" | "));
+        }
+    }
+}
+
+/// The posterior median's grid against one 10 and 3 times finer (`grid`): the largest relative
+/// difference over the fits of four points at 16,000, 128,000 and 1,024,000 periods, 12, 25 and
+/// 50 cluster maxima, two horizons, six seeds.
+fn grid_mode() {
+    let fine = PosteriorGrid {
+        shapes: 201,
+        scales: 361,
+        width: 3.0,
+        prior: ShapePrior::Jeffreys,
+    };
+    let run = cluster_run(1.0);
+    let mut worst = 0.0f64;
+    for name in ["P1", "S5", "S2", "S4"] {
+        let p = POINTS.iter().find(|p| p.name == name).unwrap();
+        let f = validation::forcing_of(p);
+        for seed in 1..=6u64 {
+            let full = cached(&f, name, seed, 1024000);
+            for w in [16000usize, 128000, 1024000] {
+                let r: Vec<&[f64]> = full.iter().map(|c| &c[..w / full.len()]).collect();
+                for l in [1e6, 3.7e7] {
+                    let life = Life::bounded(l, 0.5);
+                    for k in [12usize, 25, 50] {
+                        let Some(e) = fit_k(&r, k, run, life) else {
+                            continue;
+                        };
+                        let (y, nu) = excesses(&r, e.threshold, run);
+                        let m = life_m(life, nu);
+                        let a = posterior_on(&y, m, &e, life, POSTERIOR_GRID);
+                        let b = posterior_on(&y, m, &e, life, fine);
+                        worst = worst.max((a / b - 1.0).abs());
+                    }
+                }
+            }
+        }
+    }
+    println!(
+        "largest relative difference to the finer grid: {:.4} %",
+        100.0 * worst
+    );
 }

@@ -177,6 +177,204 @@ pub fn life_from_excesses(
     })
 }
 
+/// The prior of the shape in [`posterior_median`] (with a flat prior on `ln sigma`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShapePrior {
+    /// Flat in `xi`.
+    Flat,
+    /// Jeffreys's, `1 / ((1 + xi) sqrt(1 + 2 xi))` (the square root of the determinant of the
+    /// law's Fisher information, with the `1 / sigma` that is the flat prior on `ln sigma`;
+    /// Castellanos & Cabras 2007): the estimate's. It needs `xi > -1/2`.
+    Jeffreys,
+}
+
+/// The grid [`posterior_median`] integrates the posterior on: shape nodes, evenly over the shape
+/// range (over `sqrt(1 + 2 xi)` for the Jeffreys prior, which absorbs its singularity at
+/// `xi = -1/2`); scale nodes, evenly over `ln sigma` within `width` of the fit's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PosteriorGrid {
+    pub shapes: usize,
+    pub scales: usize,
+    pub width: f64,
+    pub prior: ShapePrior,
+}
+
+/// The estimate's grid and prior: 21 shapes by 121 scales within 2.5 of the fit's `ln sigma`,
+/// Jeffreys's prior.
+pub const POSTERIOR_GRID: PosteriorGrid = PosteriorGrid {
+    shapes: 21,
+    scales: 121,
+    width: 2.5,
+    prior: ShapePrior::Jeffreys,
+};
+
+/// The posterior median of the life quantile `z = u + sigma growth(m, xi)` of excesses `y` over
+/// `u`, the shape in `[xi.0, xi.1]` under `grid.prior` and `ln sigma` under a flat prior (the
+/// estimate's point value, [`super`]'s module doc); `fit` is the likelihood's, which centres the
+/// grid. NaN when the likelihood is nowhere finite on the grid.
+///
+/// The likelihood `exp(-nll(sigma, xi))` is evaluated on the nodes of `grid` ([`POSTERIOR_GRID`]
+/// for the estimate). For one shape `z` grows with `sigma`, so `P(z <= z0)` is the posterior
+/// mass of `ln sigma <= ln((z0 - u) / growth(m, xi))`: per shape a cumulative integral over the
+/// scale nodes, exact for a density exponential in `ln sigma` between two nodes (the part cell
+/// too), summed over the shapes by the trapezoid rule with the prior's weights, and the median
+/// found by bisection. Against the same computation on a grid 10 and 3 times finer in each
+/// direction, on the fits of `examples/life_lab.rs` (`grid`: four points, 16,000 to 1,024,000
+/// periods, 12 to 50 cluster maxima, two horizons): within 0.17 %.
+pub fn posterior_median(
+    y: &[f64],
+    u: f64,
+    m: f64,
+    fit: Gpd,
+    xi: (f64, f64),
+    grid: PosteriorGrid,
+) -> f64 {
+    let Some(post) = Posterior::new(y, fit, xi, grid) else {
+        return f64::NAN;
+    };
+    let g: Vec<f64> = (0..post.nx).map(|i| growth(m, post.shape(i))).collect();
+    // P(z <= z0): shape by shape, the mass below the scale that gives z0.
+    let below = |z: f64| -> f64 {
+        let f: f64 = g
+            .iter()
+            .enumerate()
+            .map(|(i, gi)| {
+                post.weight(i) * post.mass_below(i, (((z - u) / gi).ln() - post.t0) / post.dt)
+            })
+            .sum();
+        f / post.total
+    };
+    let span = |t: f64, pick: fn(f64, f64) -> f64| {
+        u + t.exp() * g.iter().copied().reduce(pick).unwrap_or(0.0)
+    };
+    let (mut lo, mut hi) = (
+        span(post.t0, f64::min),
+        span(post.t0 + 2.0 * grid.width, f64::max),
+    );
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if below(mid) < 0.5 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The posterior of [`posterior_median`] on its grid: the log-likelihood less its largest value at
+/// every node (rows by shape), its cumulative integrals over the scales (in units of the cell)
+/// and the total mass.
+struct Posterior {
+    nx: usize,
+    nt: usize,
+    t0: f64,
+    dt: f64,
+    prior: ShapePrior,
+    /// The shape range as `xi`, and as `sqrt(1 + 2 xi)` for Jeffreys's prior.
+    xi: (f64, f64),
+    roots: (f64, f64),
+    l: Vec<f64>,
+    c: Vec<f64>,
+    total: f64,
+}
+
+impl Posterior {
+    fn new(y: &[f64], fit: Gpd, xi: (f64, f64), grid: PosteriorGrid) -> Option<Posterior> {
+        let (nx, nt) = (grid.shapes.max(2), grid.scales.max(2));
+        let root = |x: f64| (1.0 + 2.0 * x).max(0.0).sqrt();
+        let mut p = Posterior {
+            nx,
+            nt,
+            t0: fit.sigma.ln() - grid.width,
+            dt: 2.0 * grid.width / (nt - 1) as f64,
+            prior: grid.prior,
+            xi,
+            roots: (root(xi.0), root(xi.1)),
+            l: vec![f64::INFINITY; nx * nt],
+            c: vec![0.0; nx * nt],
+            total: 0.0,
+        };
+        for i in 0..nx {
+            let shape = p.shape(i);
+            for j in 0..nt {
+                let sigma = (p.t0 + j as f64 * p.dt).exp();
+                p.l[i * nt + j] = Gpd { sigma, xi: shape }.nll(y);
+            }
+        }
+        let best = p.l.iter().copied().fold(f64::INFINITY, f64::min);
+        if !best.is_finite() {
+            return None;
+        }
+        p.l.iter_mut().for_each(|v| *v = best - *v);
+        for i in 0..nx {
+            let mut acc = 0.0;
+            for j in 1..nt {
+                acc += cell_mass(p.l[i * nt + j - 1], p.l[i * nt + j], 1.0);
+                p.c[i * nt + j] = acc;
+            }
+            p.total += p.weight(i) * acc;
+        }
+        Some(p)
+    }
+
+    /// The shape of node `i`: even in `xi`, or in `sqrt(1 + 2 xi)` for Jeffreys's prior.
+    fn shape(&self, i: usize) -> f64 {
+        let f = i as f64 / (self.nx - 1) as f64;
+        match self.prior {
+            ShapePrior::Jeffreys => {
+                let s = self.roots.0 + (self.roots.1 - self.roots.0) * f;
+                0.5 * (s * s - 1.0)
+            }
+            ShapePrior::Flat => self.xi.0 + (self.xi.1 - self.xi.0) * f,
+        }
+    }
+
+    /// The trapezoid weight of shape node `i` times the prior's density in the node variable
+    /// (Jeffreys's `1 / (1 + xi)` in `sqrt(1 + 2 xi)`).
+    fn weight(&self, i: usize) -> f64 {
+        let w = if i == 0 || i + 1 == self.nx { 0.5 } else { 1.0 };
+        match self.prior {
+            ShapePrior::Jeffreys => w / (1.0 + self.shape(i)),
+            ShapePrior::Flat => w,
+        }
+    }
+
+    /// The mass of shape `i` below the scale at `s` cells from the first node.
+    fn mass_below(&self, i: usize, s: f64) -> f64 {
+        let (nt, row) = (self.nt, i * self.nt);
+        if s.is_nan() || s <= 0.0 {
+            0.0
+        } else if s >= (nt - 1) as f64 {
+            self.c[row + nt - 1]
+        } else {
+            let j = s as usize;
+            self.c[row + j] + cell_mass(self.l[row + j], self.l[row + j + 1], s - j as f64)
+        }
+    }
+}
+
+/// `int_0^fr exp(a + (b - a) s) ds`: the mass over the fraction `fr` of a cell of a density
+/// exponential between its log-values `a` and `b` at the cell's ends (linear where one end is
+/// outside the support, `-inf`).
+fn cell_mass(a: f64, b: f64, fr: f64) -> f64 {
+    if !a.is_finite() || !b.is_finite() {
+        let (pa, pb) = (a.exp(), b.exp());
+        return fr * (pa + 0.5 * fr * (pb - pa));
+    }
+    let d = b - a;
+    if d.abs() < 1e-9 {
+        fr * a.exp()
+    } else if (d * fr).abs() <= 1.0 {
+        a.exp() * (d * fr).exp_m1() / d
+    } else {
+        ((a + d * fr).exp() - a.exp()) / d
+    }
+}
+
 /// `min over xi in [xi.0, xi.1]` of `f(xi)` (Brent).
 fn profile_min(xi: (f64, f64), f: impl Fn(f64) -> f64) -> f64 {
     struct C<F>(F);

@@ -187,3 +187,109 @@ fn the_upper_order_statistics_give_the_full_sorts_quantiles_bit_for_bit() {
         }
     }
 }
+
+#[test]
+fn the_posterior_median_is_integrated_finely_enough_and_meets_the_likelihood_on_large_samples() {
+    let bounded = (XI_BOUNDED, 0.0);
+    for prior in [ShapePrior::Jeffreys, ShapePrior::Flat] {
+        let grid = PosteriorGrid {
+            prior,
+            ..POSTERIOR_GRID
+        };
+        let fine = PosteriorGrid {
+            shapes: 201,
+            scales: 361,
+            width: 3.0,
+            prior,
+        };
+        for (k, xi) in [(12, -0.45), (25, -0.35), (50, -0.2), (4000, -0.3)] {
+            let y = gpd_sample(77 + k as u64, k, 0.01, xi);
+            let fit = fit_gpd(&y, bounded).unwrap();
+            let m = 1e5;
+            let z = |g| posterior_median(&y, 1.0, m, fit.gpd, bounded, g);
+            let (a, b) = (z(grid), z(fine));
+            assert!(
+                (a / b - 1.0).abs() < 2e-3,
+                "{prior:?}, k = {k}: {a} against {b}"
+            );
+            if k == 4000 {
+                // The posterior concentrates on the likelihood's maximum.
+                let ml = 1.0 + fit.gpd.sigma * growth(m, fit.gpd.xi);
+                assert!((a / ml - 1.0).abs() < 2e-3, "{prior:?}: {a} against {ml}");
+            }
+        }
+    }
+}
+
+/// The point value on a bounded law whose excesses are exactly generalized Pareto (the law of
+/// the test above, alpha = 2.5: shape -0.4), 100 samples of 20,000 periods, the fit on the 25
+/// highest, a life of 10^7 periods. The likelihood's quantile runs low (its shape piles at the
+/// bound -1/2; measured median -0.8 %), the posterior median under a flat shape prior as far high
+/// (+0.9 %); Jeffreys's prior centres it (-0.1 %) and narrows its spread (90 % of the errors within
+/// 1.4 %, against 2.1 % and 2.3 %).
+#[test]
+fn the_jeffreys_posterior_median_is_centred_where_the_likelihood_runs_low() {
+    let alpha = 2.5;
+    let n_life = 1e7;
+    let truth = 1.0 - (1.0 - 0.5f64.powf(1.0 / n_life)).powf(1.0 / alpha);
+    let life = Life::bounded(n_life, 0.5);
+    let flat = PosteriorGrid {
+        prior: ShapePrior::Flat,
+        ..POSTERIOR_GRID
+    };
+    // Errors of the likelihood's quantile, the flat prior's and Jeffreys's.
+    let mut errors = [Vec::new(), Vec::new(), Vec::new()];
+    for seed in 0..100 {
+        let z: Vec<f64> = (0..20_000u64)
+            .map(|i| 1.0 - unif(7000 + seed, i).powf(1.0 / alpha))
+            .collect();
+        let upper = Upper::for_fits(z.clone(), [TAIL_CLUSTERS]);
+        let e = fit_top(
+            &[z.as_slice()],
+            &upper,
+            TAIL_CLUSTERS,
+            1,
+            life,
+            Point::Likelihood,
+        )
+        .unwrap();
+        let y: Vec<f64> = decluster(&z, e.threshold, 1)
+            .iter()
+            .map(|v| v - e.threshold)
+            .collect();
+        let m = life.m(y.len() as f64 / z.len() as f64);
+        let gpd = Gpd {
+            sigma: e.sigma,
+            xi: e.xi,
+        };
+        let post = |g| posterior_median(&y, e.threshold, m, gpd, (life.xi_min, life.xi_max), g);
+        for (out, a) in errors
+            .iter_mut()
+            .zip([e.amplitude, post(flat), post(POSTERIOR_GRID)])
+        {
+            out.push(a / truth - 1.0);
+        }
+    }
+    let median = |e: &[f64]| crate::numeric::median(e);
+    let p90 = |e: &[f64]| {
+        let mut a: Vec<f64> = e.iter().map(|x| x.abs()).collect();
+        a.sort_by(f64::total_cmp);
+        a[89]
+    };
+    let [ml, flat, jeffreys] = &errors;
+    eprintln!(
+        "median error: likelihood {:+.4}, flat {:+.4}, Jeffreys {:+.4}; 90 % within {:.4}, {:.4}, {:.4}",
+        median(ml),
+        median(flat),
+        median(jeffreys),
+        p90(ml),
+        p90(flat),
+        p90(jeffreys)
+    );
+    assert!(
+        median(ml) < -0.005 && median(flat) > 0.005,
+        "the two biases"
+    );
+    assert!(median(jeffreys).abs() < 0.004, "Jeffreys's median error");
+    assert!(p90(jeffreys) < p90(ml).min(p90(flat)), "Jeffreys's spread");
+}
