@@ -335,7 +335,9 @@ def life_amplitude(
     maxima, by the tool's own estimator (peaks over three thresholds that keep the highest
     cluster maxima, declustered by runs of ``run`` periods below them, a generalized Pareto tail
     of shape in ``[xi_min, xi_max]``; docs/model.md §11). Returns ``amplitude lo hi`` (the
-    median of the three fits and the union of their 90 % profile-likelihood intervals),
+    median of the three fits and the union of their 90 % profile-likelihood intervals; each
+    fit's value is the posterior median of the quantile under Jeffreys's prior when the shapes
+    lie within ``[-0.5, 0]``, the fitted law's quantile otherwise),
     ``threshold sigma xi xi_se end_point exceedances measured`` (of the middle fit); ``None``
     when the sample leaves too few clusters. ``[-0.5, 0]`` is the tool's bounded tail; down to
     -0.95 and up to 0.95 lets the shape free, as a general-purpose fit does.
