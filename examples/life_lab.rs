@@ -92,6 +92,41 @@ fn cell(e: &[f64], hold: usize) -> String {
     )
 }
 
+/// Per variant and horizon: the errors (%), the intervals holding brute force, the periods used.
+type Tally = Vec<Vec<(Vec<f64>, usize, Vec<f64>)>>;
+
+/// One variant's cells: each horizon's [`cell`] and the periods used (median / max).
+fn cells(horizons: &[(Vec<f64>, usize, Vec<f64>)]) -> Vec<String> {
+    horizons
+        .iter()
+        .map(|(e, hold, used)| {
+            let umax = used.iter().copied().fold(0.0, f64::max);
+            format!(
+                "{}, {:.0} / {umax:.0}",
+                cell(e, *hold),
+                impactsweep::numeric::median(used)
+            )
+        })
+        .collect()
+}
+
+/// One table row per variant ([`cells`]).
+fn print_rows(name: &str, variants: &[&str], res: &Tally) {
+    for (v, vn) in variants.iter().enumerate() {
+        println!("| {name} | {vn} | {} |", cells(&res[v]).join(" | "));
+    }
+}
+
+/// A `POINT:N` argument: the point's name, the periods, its forcing and its brute-force medians
+/// at the three horizons.
+fn point_spec(spec: &str) -> (&str, u64, Forcing, [(f64, f64); 3]) {
+    let (name, n) = spec.split_once(':').unwrap();
+    let p = POINTS.iter().find(|p| p.name == name).unwrap();
+    let f = validation::forcing_of(p);
+    let tr = truths(p, &f).expect("the point's brute force");
+    (name, n.parse().unwrap(), f, tr)
+}
+
 /// The rule before: `k = sqrt(n) / 4` clamped to `[25, 100]`.
 fn old_sizes(n: usize) -> [usize; 3] {
     let k = (0.25 * (n as f64).sqrt()).clamp(25.0, 100.0).round() as usize;
@@ -158,11 +193,7 @@ fn race_mode(args: &[String]) {
     );
     println!("|---|---|---|---|---|");
     for spec in &args[2..] {
-        let (name, n) = spec.split_once(':').unwrap();
-        let n: u64 = n.parse().unwrap();
-        let p = POINTS.iter().find(|p| p.name == name).unwrap();
-        let f = validation::forcing_of(p);
-        let tr = truths(p, &f).expect("the point's brute force");
+        let (name, n, f, tr) = point_spec(spec);
         let run = cluster_run(1.0);
         let variants = [
             "sqrt(n)/4",
@@ -193,20 +224,7 @@ fn race_mode(args: &[String]) {
             eprint!(".");
         }
         eprintln!();
-        for (v, vn) in variants.iter().enumerate() {
-            let cells: Vec<String> = res[v]
-                .iter()
-                .map(|(e, hold, used)| {
-                    let umax = used.iter().copied().fold(0.0, f64::max);
-                    format!(
-                        "{}, {:.0} / {umax:.0}",
-                        cell(e, *hold),
-                        impactsweep::numeric::median(used)
-                    )
-                })
-                .collect();
-            println!("| {name} | {vn} | {} |", cells.join(" | "));
-        }
+        print_rows(name, &variants, &res);
     }
 }
 
@@ -254,11 +272,7 @@ fn stops_mode(args: &[String]) {
     );
     println!("|---|---|---|---|---|---|");
     for spec in &args[2..] {
-        let (name, n) = spec.split_once(':').unwrap();
-        let n: u64 = n.parse().unwrap();
-        let p = POINTS.iter().find(|p| p.name == name).unwrap();
-        let f = validation::forcing_of(p);
-        let tr = truths(p, &f).expect("the point's brute force");
+        let (name, n, f, tr) = point_spec(spec);
         let run = cluster_run(1.0);
         let mut res = vec![vec![(Vec::<f64>::new(), 0usize, Vec::<f64>::new()); 3]; RULES.len()];
         for seed in 1..=seeds {
@@ -297,17 +311,7 @@ fn stops_mode(args: &[String]) {
         }
         eprintln!();
         for (v, (vn, _)) in RULES.iter().enumerate() {
-            let cells: Vec<String> = res[v]
-                .iter()
-                .map(|(e, hold, used)| {
-                    let umax = used.iter().copied().fold(0.0, f64::max);
-                    format!(
-                        "{}, {:.0} / {umax:.0}",
-                        cell(e, *hold),
-                        impactsweep::numeric::median(used)
-                    )
-                })
-                .collect();
+            let cells = cells(&res[v]);
             let mean: f64 = res[v].iter().flat_map(|r| r.2.iter()).sum::<f64>()
                 / res[v].iter().map(|r| r.2.len()).sum::<usize>() as f64;
             println!("| {name} | {vn} | {} | {mean:.0} |", cells.join(" | "));
@@ -335,11 +339,7 @@ fn main() {
     println!("|---|---|---|---|---|---|");
     let seeds: u64 = args[0].parse().unwrap();
     for spec in &args[1..] {
-        let (name, n) = spec.split_once(':').unwrap();
-        let n: u64 = n.parse().unwrap();
-        let p = POINTS.iter().find(|p| p.name == name).unwrap();
-        let f = validation::forcing_of(p);
-        let tr = truths(p, &f).expect("the point's brute force");
+        let (name, n, f, tr) = point_spec(spec);
         let run = cluster_run(1.0);
         let fracs = [8usize, 4, 2, 1];
         let variants = ["sqrt(n)/4", "k = 25 (chosen)", "k = 35"];
@@ -479,11 +479,7 @@ fn points_mode(args: &[String]) {
     println!("|---|---|---|---|---|");
     let rule = RULES[2].1;
     for spec in &args[2..] {
-        let (name, n) = spec.split_once(':').unwrap();
-        let n: u64 = n.parse().unwrap();
-        let p = POINTS.iter().find(|p| p.name == name).unwrap();
-        let f = validation::forcing_of(p);
-        let tr = truths(p, &f).expect("the point's brute force");
+        let (name, n, f, tr) = point_spec(spec);
         let run = cluster_run(1.0);
         let mut res = vec![vec![(Vec::<f64>::new(), 0usize, Vec::<f64>::new()); 3]; variants.len()];
         for seed in 1..=seeds {
@@ -552,20 +548,7 @@ fn points_mode(args: &[String]) {
             eprint!(".");
         }
         eprintln!();
-        for (v, vn) in variants.iter().enumerate() {
-            let cells: Vec<String> = res[v]
-                .iter()
-                .map(|(e, hold, used)| {
-                    let umax = used.iter().copied().fold(0.0, f64::max);
-                    format!(
-                        "{}, {:.0} / {umax:.0}",
-                        cell(e, *hold),
-                        impactsweep::numeric::median(used)
-                    )
-                })
-                .collect();
-            println!("| {name} | {vn} | {} |", cells.join(" | "));
-        }
+        print_rows(name, &variants, &res);
     }
 }
 
