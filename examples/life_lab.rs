@@ -398,11 +398,6 @@ fn excesses(chains: &[&[f64]], u: f64, run: usize) -> (Vec<f64>, f64) {
     (y, nu)
 }
 
-/// `m = N nu / (-ln q)` of the life question.
-fn life_m(life: Life, nu: f64) -> f64 {
-    life.n_life * nu / (-life.q.ln())
-}
-
 /// The library's posterior median of one fit ([`posterior_median`] on `grid`).
 fn posterior_on(y: &[f64], m: f64, fit: &LifeEstimate, life: Life, grid: PosteriorGrid) -> f64 {
     let gpd = Gpd {
@@ -449,7 +444,7 @@ fn repointed(
         .filter_map(|&k| fit_k(r, k, run, life))
         .map(|mut e| {
             let (y, nu) = excesses(r, e.threshold, run);
-            e.amplitude = point(&e, &y, life_m(life, nu));
+            e.amplitude = point(&e, &y, life.m(nu));
             e
         })
         .collect();
@@ -578,7 +573,7 @@ fn grid_mode() {
                             continue;
                         };
                         let (y, nu) = excesses(&r, e.threshold, run);
-                        let m = life_m(life, nu);
+                        let m = life.m(nu);
                         let a = posterior_on(&y, m, &e, life, POSTERIOR_GRID);
                         let b = posterior_on(&y, m, &e, life, fine);
                         worst = worst.max((a / b - 1.0).abs());

@@ -166,7 +166,7 @@ impl Life {
     }
 
     /// `m = N nu / (-ln q)` for a cluster rate `nu` per period.
-    fn m(&self, nu: f64) -> f64 {
+    pub fn m(&self, nu: f64) -> f64 {
         self.n_life * nu / (-self.q.ln())
     }
 }
