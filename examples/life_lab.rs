@@ -22,7 +22,10 @@
 //! likelihood's quantile, the posterior median ([`posterior_median`]) under a flat and under
 //! Jeffreys's shape prior (the estimate's), and a bootstrap bias correction
 //! ([`bootstrap_corrected`]), with the same interval (`results/life_points.md`,
-//! `scripts/life_validation.sh --points`); `grid` the posterior median's grid against a finer one.
+//! `scripts/life_validation.sh --points`); `intervals SEEDS CAP POINT:N ...` the estimate's
+//! interval against the fits' posterior credible intervals ([`posterior_quantiles`]) under the
+//! same stopping rule (`results/life_intervals.md`, `scripts/life_validation.sh --intervals`);
+//! `grid` the posterior median's grid against a finer one.
 //!
 //! The fits here ([`fit_k`]) keep the likelihood's quantile, as the estimate did when
 //! `results/life_tail_sizes.md` and `results/life_stops.md` were made (their rows regenerate as
@@ -37,7 +40,7 @@ use impactsweep::orbits::life::cluster_run;
 use impactsweep::orbits::map::Forcing;
 use impactsweep::stats::extremes::{
     Gpd, Life, LifeEstimate, POSTERIOR_GRID, Point, PosteriorGrid, ShapePrior, Upper, fit_top,
-    posterior_median,
+    posterior_median, posterior_quantiles,
 };
 use methods::validation::{self, POINTS};
 use methods::{sample, truths};
@@ -333,6 +336,9 @@ fn main() {
     if args[0] == "points" {
         return points_mode(&args[1..]);
     }
+    if args[0] == "intervals" {
+        return intervals_mode(&args[1..]);
+    }
     println!(
         "| point | periods | rule | 1e6: error % min / med / max, within 5 %, coverage | 1e7 | life |"
     );
@@ -586,4 +592,131 @@ fn grid_mode() {
         "largest relative difference to the finer grid: {:.4} %",
         100.0 * worst
     );
+}
+
+/// The three fits' posterior quantiles (5 %, 50 %, 95 %) under Jeffreys's prior: the median of
+/// their medians (the estimate's point value), and the union of their 90 % credible intervals;
+/// with `middle`, the middle fit's (25 cluster maxima) credible interval alone.
+fn credible(r: &[&[f64]], run: usize, life: Life, middle: bool) -> Option<Triple> {
+    let q: Vec<[f64; 3]> = [12usize, 25, 50]
+        .iter()
+        .filter_map(|&k| fit_k(r, k, run, life).map(|e| (k, e)))
+        .map(|(k, e)| {
+            let (y, nu) = excesses(r, e.threshold, run);
+            let gpd = Gpd {
+                sigma: e.sigma,
+                xi: e.xi,
+            };
+            let shapes = (life.xi_min, life.xi_max);
+            let q = posterior_quantiles(
+                &y,
+                e.threshold,
+                life.m(nu),
+                gpd,
+                shapes,
+                POSTERIOR_GRID,
+                [0.05, 0.5, 0.95],
+            );
+            (k, q)
+        })
+        .map(|(_, q)| q)
+        .collect();
+    if q.is_empty() {
+        return None;
+    }
+    let mut med: Vec<f64> = q.iter().map(|x| x[1]).collect();
+    med.sort_by(f64::total_cmp);
+    let a = med[if med.len() == 3 { 1 } else { 0 }];
+    let pick = if middle && q.len() == 3 {
+        &q[1..2]
+    } else {
+        &q[..]
+    };
+    let lo = pick.iter().map(|x| x[0]).fold(f64::INFINITY, f64::min);
+    let hi = pick.iter().map(|x| x[2]).fold(f64::NEG_INFINITY, f64::max);
+    Some((a, lo, hi))
+}
+
+/// The estimate's interval (`intervals SEEDS CAP POINT:N ...`): the race's windows emulated with
+/// the chosen stopping rule on each interval, the point value the estimate's (Jeffreys's posterior
+/// median of three fits): the union of the fits' profile-likelihood intervals (the estimate's),
+/// the union of the three fits' 90 % credible intervals, and the middle fit's credible interval;
+/// each also at the cap, unstopped.
+fn intervals_mode(args: &[String]) {
+    let seeds: u64 = args[0].parse().unwrap();
+    let cap: usize = args[1].parse().unwrap();
+    let variants = [
+        "profile-likelihood union (chosen)",
+        "credible union of three fits",
+        "credible, the middle fit",
+        "profile-likelihood union, at the cap",
+        "credible union, at the cap",
+        "credible middle, at the cap",
+    ];
+    println!(
+        "| point | interval | 1e6: error % min / med / max, within 5 %, coverage, periods med / max | 1e7 | life | mean periods |"
+    );
+    println!("|---|---|---|---|---|---|");
+    let rule = RULES[2].1;
+    for spec in &args[2..] {
+        let (name, n, f, tr) = point_spec(spec);
+        let run = cluster_run(1.0);
+        let mut res = vec![vec![(Vec::<f64>::new(), 0usize, Vec::<f64>::new()); 3]; variants.len()];
+        for seed in 1..=seeds {
+            let full = cached(&f, name, seed, n);
+            for (h, &(l, truth)) in tr.iter().enumerate() {
+                let life = Life::bounded(l, 0.5);
+                let jef = |e: &LifeEstimate, y: &[f64], m: f64| {
+                    posterior_on(y, m, e, life, POSTERIOR_GRID)
+                };
+                let mut windows: Vec<(usize, [Option<Triple>; 3])> = Vec::new();
+                let mut w = 2000usize;
+                loop {
+                    let per = w / full.len();
+                    let r: Vec<&[f64]> = full.iter().map(|c| &c[..per.min(c.len())]).collect();
+                    windows.push((
+                        w,
+                        [
+                            repointed(&r, run, life, &jef),
+                            credible(&r, run, life, false),
+                            credible(&r, run, life, true),
+                        ],
+                    ));
+                    if w >= cap {
+                        break;
+                    }
+                    w = (2 * w).min(cap);
+                }
+                for v in 0..3 {
+                    let mut seen = Vec::new();
+                    let mut stopped = None;
+                    for (i, (_, e)) in windows.iter().enumerate() {
+                        let Some(e) = e[v] else { continue };
+                        seen.push(e);
+                        if rule(&seen) || i + 1 == windows.len() {
+                            stopped = Some((i, e));
+                            break;
+                        }
+                    }
+                    let last = windows.len() - 1;
+                    let at_cap = windows[last].1[v].map(|e| (last, e));
+                    for (slot, pick) in [(v, stopped), (v + 3, at_cap)] {
+                        if let Some((i, (a, lo, hi))) = pick {
+                            res[slot][h].0.push(100.0 * (a / truth - 1.0));
+                            res[slot][h].1 += usize::from(lo <= truth && truth <= hi);
+                            res[slot][h].2.push(windows[i].0 as f64);
+                        }
+                    }
+                }
+            }
+            eprint!(".");
+        }
+        eprintln!();
+        for (v, vn) in variants.iter().enumerate() {
+            let cells = cells(&res[v]);
+            let mean: f64 = res[v].iter().flat_map(|r| r.2.iter()).sum::<f64>()
+                / res[v].iter().map(|r| r.2.len()).sum::<usize>().max(1) as f64;
+            println!("| {name} | {vn} | {} | {mean:.0} |", cells.join(" | "));
+        }
+    }
 }

@@ -229,8 +229,24 @@ pub fn posterior_median(
     xi: (f64, f64),
     grid: PosteriorGrid,
 ) -> f64 {
+    posterior_quantiles(y, u, m, fit, xi, grid, [0.5])[0]
+}
+
+/// The posterior quantiles `probs` (each in `(0, 1)`) of the life quantile, as
+/// [`posterior_median`] computes its median (which is `probs = [0.5]`): the same posterior on
+/// the same grid, each quantile found by bisection. NaN when the likelihood is nowhere finite on
+/// the grid.
+pub fn posterior_quantiles<const N: usize>(
+    y: &[f64],
+    u: f64,
+    m: f64,
+    fit: Gpd,
+    xi: (f64, f64),
+    grid: PosteriorGrid,
+    probs: [f64; N],
+) -> [f64; N] {
     let Some(post) = Posterior::new(y, fit, xi, grid) else {
-        return f64::NAN;
+        return [f64::NAN; N];
     };
     let g: Vec<f64> = (0..post.nx).map(|i| growth(m, post.shape(i))).collect();
     // P(z <= z0): shape by shape, the mass below the scale that gives z0.
@@ -247,22 +263,24 @@ pub fn posterior_median(
     let span = |t: f64, pick: fn(f64, f64) -> f64| {
         u + t.exp() * g.iter().copied().reduce(pick).unwrap_or(0.0)
     };
-    let (mut lo, mut hi) = (
-        span(post.t0, f64::min),
-        span(post.t0 + 2.0 * grid.width, f64::max),
-    );
-    for _ in 0..64 {
-        let mid = 0.5 * (lo + hi);
-        if mid <= lo || mid >= hi {
-            break;
+    probs.map(|p| {
+        let (mut lo, mut hi) = (
+            span(post.t0, f64::min),
+            span(post.t0 + 2.0 * grid.width, f64::max),
+        );
+        for _ in 0..64 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if below(mid) < p {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
         }
-        if below(mid) < 0.5 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
+        0.5 * (lo + hi)
+    })
 }
 
 /// The posterior of [`posterior_median`] on its grid: the log-likelihood less its largest value at

@@ -94,7 +94,7 @@ pub mod gpd;
 pub use gev::{Gev, fit_gev, life_gev};
 pub use gpd::{
     Gpd, GpdFit, POSTERIOR_GRID, PosteriorGrid, ShapePrior, fit_gpd, growth, life_from_excesses,
-    posterior_median,
+    posterior_median, posterior_quantiles,
 };
 
 /// Chi-square quantile, one degree of freedom, at 0.90: the profile-likelihood interval's drop.

@@ -221,6 +221,33 @@ fn the_posterior_median_is_integrated_finely_enough_and_meets_the_likelihood_on_
     }
 }
 
+/// The posterior's quantiles are ordered, its median is [`posterior_median`]'s, and they close in
+/// on the likelihood's quantile as the sample grows.
+#[test]
+fn posterior_quantiles_bracket_the_median_and_narrow_with_the_sample() {
+    let bounded = (XI_BOUNDED, 0.0);
+    let m = 1e5;
+    let width = |k: usize| {
+        let y = gpd_sample(91 + k as u64, k, 0.01, -0.3);
+        let fit = fit_gpd(&y, bounded).unwrap();
+        let [lo, mid, hi] = posterior_quantiles(
+            &y,
+            1.0,
+            m,
+            fit.gpd,
+            bounded,
+            POSTERIOR_GRID,
+            [0.05, 0.5, 0.95],
+        );
+        let median = posterior_median(&y, 1.0, m, fit.gpd, bounded, POSTERIOR_GRID);
+        assert!(lo < mid && mid < hi, "k = {k}: {lo} {mid} {hi}");
+        assert_eq!(mid.to_bits(), median.to_bits());
+        (hi - lo) / mid
+    };
+    let (small, large) = (width(25), width(4000));
+    assert!(large < 0.25 * small, "{small} against {large}");
+}
+
 /// The point value on a bounded law whose excesses are exactly generalized Pareto (the law of
 /// the test above, alpha = 2.5: shape -0.4), 100 samples of 20,000 periods, the fit on the 25
 /// highest, a life of 10^7 periods. The likelihood's quantile runs low (its shape piles at the
