@@ -9,7 +9,9 @@
 //! stuck pair) is a smooth function of the motion whose second and fourth derivatives are
 //! bounded for the rest of the phase by [`Driven::bounds`] (the free part's energy bound plus
 //! the particular part's: `A omega^j` for the harmonic force, nothing beyond the first
-//! derivative for a linear load); for the contact force `C B3 + K B2 + |L''|` and
+//! derivative for a linear load; under the harmonic force a design-life measurement takes the
+//! tighter [`Driven::bounds_over`] to the step's time limit once per phase,
+//! [`Driven::PHASE_BOUNDS`]); for the contact force `C B3 + K B2 + |L''|` and
 //! `C B5 + K B4 + |L''''|`, with `L` the load in the contact function
 //! ([`Driven::contact_load_bounds`]). The gaps to the walls add the inner mass's own motion
 //! (a cubic in time, `Walls::at` of [`crate::sim::phase`]): its acceleration enters the gaps' second derivative and
@@ -52,6 +54,16 @@ pub(crate) trait Driven: Motion {
     fn jet(&self, t0: f64, h0: f64, g0: f64, t: f64) -> Jet;
     /// `B[j] >= |x^(j)|`, `j = 0..=5`, for every later time of this phase, from `jet` now.
     fn bounds(&self, jet: &Jet) -> [f64; 6];
+    /// Whether the event finder takes its bounds once per phase and time limit
+    /// ([`Driven::bounds_over`] from the phase's first step to the limit) instead of at every
+    /// step ([`Driven::bounds`]) in a run with an extremum floor (a design-life measurement's
+    /// periods after its first window).
+    const PHASE_BOUNDS: bool = false;
+    /// Bounds as [`Driven::bounds`] that hold over the next `horizon` seconds only (the default:
+    /// the phase's).
+    fn bounds_over(&self, jet: &Jet, _horizon: f64) -> [f64; 6] {
+        self.bounds(jet)
+    }
     /// The oscillator `(mass, k, c)` of the free part.
     fn oscillator(&self) -> &Oscillator;
     /// The load `L` in the contact function `C v + K x - L(t)` of a stuck pair (the force on the
@@ -75,6 +87,8 @@ pub(crate) struct DrivenPhase<F: Driven> {
     tol_t: f64,
     steps: u64,
     max_steps: u64,
+    /// The phase's bounds and the time limit they hold to ([`Driven::PHASE_BOUNDS`]).
+    held: Option<(f64, [f64; 6])>,
 }
 
 impl<F: Driven> DrivenPhase<F> {
@@ -89,6 +103,7 @@ impl<F: Driven> DrivenPhase<F> {
             tol_t,
             steps: 0,
             max_steps,
+            held: None,
         }
     }
 
@@ -131,6 +146,7 @@ impl<F: Driven> PhaseSolver for DrivenPhase<F> {
     fn begin(&mut self, f: &F, t: f64, x: f64, v: f64) {
         self.f = *f;
         self.t0 = t;
+        self.held = None;
         (self.h0, self.g0, self.jet) = f.start(t, x, v);
         self.t = t;
         // The phase starts exactly where it was asked to, not at the rounded sum.
@@ -155,8 +171,21 @@ impl<F: Driven> PhaseSolver for DrivenPhase<F> {
                 return Err(StepCap);
             }
             let Jet { x, v, a, j, j2, .. } = self.jet;
-            let b = f.bounds(&self.jet);
             let mut h = w.t_limit - self.t;
+            // The phasors' bounds where a design-life measurement runs (a floor set): the
+            // census and every other run keep the energy bounds, step for step, and their bits.
+            let b = if F::PHASE_BOUNDS && w.x_floor > 0.0 {
+                match self.held {
+                    Some((limit, b)) if limit == w.t_limit => b,
+                    _ => {
+                        let b = f.bounds_over(&self.jet, h);
+                        self.held = Some((w.t_limit, b));
+                        b
+                    }
+                }
+            } else {
+                f.bounds(&self.jet)
+            };
             let mut fired: Option<(Event, f64)> = None;
             let tol_t = self.tol_t;
             let mut consider = |ev: Event, g: f64, g1: f64, g2: f64, g3: f64, b2: f64, b4: f64| {
