@@ -189,7 +189,11 @@ fn digest() -> (usize, u64) {
 /// change meant to move the last bits: a periodic orbit's amplitude moved by 3e-13 relative
 /// (r = 0.9, e = 0.6: 0.012140350951443614 → 0.012140350951439552 m), the motions that do not
 /// repeat within their window took other sample paths. Before: `(26, 0xf0bd_a944_54f1_d4bd)`.
-const GOLDEN: (usize, u64) = (26, 0x888c_68ea_f35d_0590);
+/// Re-minted at stop 59 after `7d68410` (the phasors' derivative bound in a run with an extremum
+/// floor, what a design-life measurement sets): meant to move the floor's case only; every run
+/// without a floor keeps its bits (the showcases' periodic attractors are the same bits).
+/// Before: `(26, 0x888c_68ea_f35d_0590)`.
+const GOLDEN: (usize, u64) = (26, 0x5c18_4578_302c_527d);
 
 #[test]
 fn harmonic_records_are_bit_identical_to_the_golden_digest() {

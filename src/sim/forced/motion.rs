@@ -168,8 +168,9 @@ impl Forced {
 
     /// [`Forced::bounds`] made tighter over the next `horizon` seconds by the phasors: the free
     /// part is `Re(A e^(lambda s))`, `lambda = -alpha + i w_d`, the particular part
-    /// `Re(P e^(i omega s))`, so `x^(j) = Re((i omega)^j (A e^(lambda s) + P e^(i omega s))
-    /// + (lambda^j - (i omega)^j) A e^(lambda s))` and
+    /// `Re(P e^(i omega s))`, so that
+    /// `x^(j) = Re((i omega)^j (A e^(lambda s) + P e^(i omega s)) + (lambda^j - (i omega)^j) A e^(lambda s))`
+    /// and
     /// `|x^(j)| <= omega^j (|A + P| + rate s) + |lambda^j - (i omega)^j| |A|`, with
     /// `rate = min(alpha |A| + |w_d - omega| |P|, |lambda - i omega| |A|)`. Near resonance the
     /// free and particular parts largely cancel and `|A + P|` is the motion's amplitude: the
@@ -189,8 +190,8 @@ impl Forced {
         let rate = (o.alpha * a + self.detune * self.amp).min(a * self.drift);
         let reach = (e + rate * horizon) * (1.0 + 1e-9);
         let free = a * (1.0 + 1e-9);
-        for j in 0..6 {
-            b[j] = b[j].min(self.wpow[j] * reach + self.lag[j] * free);
+        for ((bj, wj), lj) in b.iter_mut().zip(self.wpow).zip(self.lag) {
+            *bj = bj.min(wj * reach + lj * free);
         }
         b
     }
