@@ -412,6 +412,7 @@ fn report(args: &[String]) {
         "| point | horizon | brute force (cm) [90 %] | error % min / med / max | within 5 % | coverage | periods | time (s) |\n|---|---|---|---|---|---|---|---|"
     );
     let mut worst = 0.0f64;
+    let mut misses = Vec::new();
     for p in &POINTS {
         let Some(b) = read_brute(&dir.join("brute"), p.name) else {
             continue;
@@ -436,6 +437,12 @@ fn report(args: &[String]) {
             let periods: Vec<f64> = rs.iter().map(|r| r.measured).collect();
             let secs: Vec<f64> = rs.iter().map(|r| r.seconds).collect();
             worst = worst.max(err.iter().map(|e| e.abs()).fold(0.0, f64::max));
+            misses.extend(
+                rs.iter()
+                    .zip(&err)
+                    .filter(|(_, e)| e.abs() > 5.0)
+                    .map(|(r, &e)| miss(r, e, &b.blocks)),
+            );
             println!(
                 "| {} | {h} | {} [{} – {}] | {:.1} / {:.1} / {:.1} | {within} of {} | {cover} of {} | {:.0} / {:.0} | {:.2} / {:.2} |",
                 p.name,
@@ -455,40 +462,31 @@ fn report(args: &[String]) {
         }
     }
     println!("\nLargest error over every point, horizon and seed: {worst:.1} %.");
-    misses(dir, &rows);
+    print_misses(&misses);
 }
 
-/// The estimates more than 5 % off, each beside its own sample's largest value and where that
-/// value falls among the brute-force maxima of 10^6 periods (a sample of about 10^6 periods
-/// whose largest value is below nearly every block's saw less of the tail than the motion has).
-fn misses(dir: &Path, rows: &[Row]) {
-    let mut lines = Vec::new();
-    for p in &POINTS {
-        let Some(b) = read_brute(&dir.join("brute"), p.name) else {
-            continue;
-        };
-        for r in rows.iter().filter(|r| r.point == p.name) {
-            let (truth, _, _) = brute_median(&b.blocks, r.periods);
-            let err = 100.0 * (r.amplitude / truth - 1.0);
-            if err.abs() <= 5.0 {
-                continue;
-            }
-            let below = b.blocks.iter().filter(|&&m| m < r.window_max).count();
-            lines.push(format!(
-                "| {} | {} | {} | {:.4} [{:.4} – {:.4}] | {err:.1} | {:.0}{} | {:.4} | {below} of {} |",
-                r.point,
-                r.seed,
-                r.horizon,
-                r.amplitude * 100.0,
-                r.lo * 100.0,
-                r.hi * 100.0,
-                r.measured,
-                if r.capped { ", capped" } else { "" },
-                r.window_max * 100.0,
-                b.blocks.len()
-            ));
-        }
-    }
+/// One estimate more than 5 % off (`err`, per cent), beside its own sample's largest value and
+/// the brute-force maxima of 10^6 periods `blocks` below it (a sample of about 10^6 periods whose
+/// largest value is below nearly every block's saw less of the tail than the motion has).
+fn miss(r: &Row, err: f64, blocks: &[f64]) -> String {
+    let below = blocks.iter().filter(|&&m| m < r.window_max).count();
+    format!(
+        "| {} | {} | {} | {:.4} [{:.4} – {:.4}] | {err:.1} | {:.0}{} | {:.4} | {below} of {} |",
+        r.point,
+        r.seed,
+        r.horizon,
+        r.amplitude * 100.0,
+        r.lo * 100.0,
+        r.hi * 100.0,
+        r.measured,
+        if r.capped { ", capped" } else { "" },
+        r.window_max * 100.0,
+        blocks.len()
+    )
+}
+
+/// The table of [`miss`] rows, when there are any.
+fn print_misses(lines: &[String]) {
     if lines.is_empty() {
         return;
     }
