@@ -402,8 +402,10 @@ where
         if !peak.is_finite() {
             continue;
         }
+        // Three decimals (the chart's resolution), above and to the left of the cross: the
+        // bifurcation labels crowd below and to the right of a peak on a fold.
         let name = if named {
-            format!("design peak {} cm", fmt_num(peak * CM))
+            format!("design peak {:.3} cm", peak * CM)
         } else {
             String::new()
         };
@@ -411,7 +413,7 @@ where
             .draw_series(std::iter::once(
                 EmptyElement::at((x, peak * CM))
                     + Cross::new((0, 0), 7, PEAK.stroke_width(3))
-                    + Text::new(name, (9, 4), SMALL.into_font()),
+                    + Text::new(name, (-120, -22), SMALL.into_font()),
             ))
             .map_err(err)?;
     }
