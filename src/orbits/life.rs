@@ -23,7 +23,9 @@
 //! floor, the lowest threshold of the last estimate: extrema of `x` below it are not located
 //! ([`eval_above`]; watching `x'` for its zeros is about half of a chaotic motion's steps). A
 //! period whose maximum is below the floor keeps a value below it. After each estimate the run
-//! checks that its thresholds are all at or above the floor (so every value it used is exact);
+//! checks that its thresholds are all at or above the floor (so every value a fit used is exact;
+//! which cluster maximum is a threshold is chosen above a lower base quantile, where values kept
+//! below the floor can join or part clusters: docs/scenes.md);
 //! when one is not, the whole measurement is run again without a floor, from the same states.
 
 use super::map::{Forcing, Section, eval, eval_above};
