@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Issue 43, item 2 over the study seeds: the chaotic band of m = 20 g, d = 20 mm (Table I's M and
 # K, C = 0.1 N s/m, e = 0.9, F0 = 0.1 N) at r = 0.99, 0.995, 1.00, 1.005, 1.01 as one curve of 16
-# starts, design life 1,000 h, at study seeds 1 to $SEEDS (80 by default; the test
-# `issue_43_a_chaotic_band_is_as_smooth_as_brute_force` runs seeds 1, 7, 14 and 22). Each frequency's
-# design amplitude is the largest life amplitude of its motions that are not periodic; a step
+# starts, design life 1,000 h, at study seeds 1 to $SEEDS (80 by default;
+# the test `issue_43_a_chaotic_band_is_as_smooth_as_brute_force` runs seeds 1, 7, 14 and 22). Each
+# frequency's design amplitude is the largest life amplitude of its motions that are not periodic; a step
 # between neighbours is allowed brute force's step across the band (S1 at r = 1.00 against P1 at
 # r = 1.01 over 1,000 h, results/life_validation.md) plus 5 % of the larger, as in the test.
 # Writes results/band_smoothness.md.
