@@ -36,11 +36,11 @@
 //!    frequency's value that is at the peak (`value < (1 - tol) lo`, the neighbour's value within
 //!    the tolerance of the peak's lower end), and no periodic orbit at the frequency reaches that,
 //!    its motion is measured again, past the screen up to the cap, until it no longer does or is
-//!    settled. A short measurement of a slow tail reads
-//!    low, and its interval misses above more often than its 90 % says: on the chaotic band of
-//!    `scripts/band_smoothness.sh` the motions such frequencies stopped on read 0.60 to 0.92 cm
-//!    where brute force gives about 0.98 cm, after 2,000 to 64,000 periods. A frequency far
-//!    below the peak keeps its estimate and its interval: it decides nothing.
+//!    settled. A short measurement of a slow tail reads low, and its interval misses above more
+//!    often than its 90 % says: on the chaotic band of `scripts/band_smoothness.sh` the motions
+//!    such frequencies stopped on read 0.60 to 0.92 cm where brute force gives about 0.98 cm,
+//!    after 2,000 to 64,000 periods. A frequency far below the peak keeps its estimate and its
+//!    interval: it decides nothing.
 //!
 //! Deterministic: the motions are measured from their stored states, their first estimates side
 //! by side, then one at a time in an order the rule fixes (each measurement's chains run in
@@ -170,14 +170,16 @@ fn peak_lower(motions: &[Entry], periodic: f64) -> f64 {
 
 /// Step 4 of the race (module doc): the motion that carries a frequency's value where that
 /// value lies more than `tol` below the lower end of a neighbouring frequency's value at the
-/// peak (at or above `(1 - tol) lower`, `lower` the peak's lower end), or `None`. `periodic_at[q]` is the
-/// largest periodic amplitude at the curve's `q`-th frequency (`-inf` without one).
+/// peak (at or above `(1 - tol) lower`, `lower` the peak's lower end), or `None`.
+/// `periodic_at[q]` is the largest periodic amplitude at the curve's `q`-th frequency (`-inf`
+/// without one).
 ///
 /// On the chaotic band of `scripts/band_smoothness.sh` (80 study seeds) this rule keeps every
 /// seed's neighbouring frequencies within brute force's step plus 5 % (71 of 80 without it).
-/// Every neighbour counting, not only those at the peak, the bundled frequency-response
-/// study's race measured 1.34 * 10^7 periods against 7.7 * 10^6 without the rule: most such
-/// dips lie far below their design's peak and decide nothing (BENCHMARKS.md, "Stop 62").
+/// On the bundled frequency-response study the race measures 9.6 * 10^6 periods with it and
+/// 7.7 * 10^6 without; counting every neighbour instead of those at the peak, 3.5 * 10^7 (and
+/// 1.34 * 10^7 counting those whose interval reaches the peak): most dips lie well below their
+/// design's peak and decide nothing (BENCHMARKS.md, "Stop 62").
 fn dip(motions: &[Entry], periodic_at: &[f64], lower: f64, tol: f64) -> Option<usize> {
     // Each frequency's value: the motion with its largest estimate.
     let mut top: Vec<Option<(usize, LifeEstimate)>> = vec![None; periodic_at.len()];
