@@ -4,13 +4,17 @@
 //! The time estimate comes from a short timed sample: up to [`SAMPLE_RUNS`] runs drawn evenly
 //! over the plan (same systems, cases and noise as the real sweep), simulated on one thread;
 //! the mean time per run is scaled by the total and divided by the threads a `run` would use,
-//! but a harmonic study takes at least one curve's time: a curve is one task of the sweep.
+//! but a harmonic study takes at least one curve's time: a curve is one task of the sweep. A
+//! harmonic study with a census times its race of the design lives apart and counts it once a
+//! curve ([`Sample::race_seconds`]).
 //! It measures the binary it runs in, so a debug build predicts a debug build.
 
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+use crate::orbits::census::Kind;
+use crate::orbits::curve;
 use crate::plan::Plan;
 use crate::report::text::count;
 use crate::sim::{self, Drive, NoProbe, Scene};
@@ -56,6 +60,12 @@ pub struct Sample {
     /// The steady states the sample's censuses found (the rows it would add to the
     /// `attractors` table; 0 without a census).
     pub steady_states: u64,
+    /// The part of `seconds` the race of the design lives took ([`crate::orbits::race`]; 0
+    /// without a census): a curve's race, whose chains run on every thread, and whose cost
+    /// follows the curve's peak (its leader grows to `life_max_periods`), not its frequencies.
+    pub race_seconds: f64,
+    /// The periods that race measured.
+    pub race_periods: u64,
 }
 
 /// Frequencies of the middle design's ideal curve that the timed sample of a harmonic study
@@ -103,6 +113,8 @@ pub fn time_sample(study: &Study) -> Sample {
         runs: n,
         seconds: start.elapsed().as_secs_f64(),
         steady_states: 0,
+        race_seconds: 0.0,
+        race_periods: 0,
     }
 }
 
@@ -117,27 +129,38 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
             plan.run(design * n_f + i, 0)
         })
         .collect();
-    let freqs = runs.iter().map(|run| plan.curve_frequency(run)).collect();
+    let freqs: Vec<_> = runs.iter().map(|run| plan.curve_frequency(run)).collect();
+    let targets: Vec<_> = freqs.iter().map(|f| (f.scene, f.point)).collect();
+    // `run_curve`'s steps, the race timed apart.
+    let sys = &runs[0].system;
     let start = Instant::now();
-    let out = crate::orbits::curve::run_curve(
-        &runs[0].system,
+    let records = curve::from_rest(
+        sys,
         &study.solver,
         &study.request,
         study.noise.as_ref(),
-        study.seed,
         freqs,
     );
+    let points = curve::curve_points(sys, &study.solver, study.seed, &targets, &records);
+    let mut censuses = curve::census_passes(&points);
+    let raced = Instant::now();
+    crate::orbits::race::race(&curve::race_points(&points, &targets), &mut censuses);
+    let race_seconds = raced.elapsed().as_secs_f64();
     let seconds = start.elapsed().as_secs_f64();
-    let steady_states = out
-        .censuses
-        .iter()
-        .flatten()
-        .map(|c| c.attractors.len() as u64)
+    let found = censuses.iter().flatten().flat_map(|c| &c.attractors);
+    let steady_states = found.clone().count() as u64;
+    let race_periods = found
+        .filter_map(|a| match &a.kind {
+            Kind::NonPeriodic(w) => w.life.map(|l| l.measured),
+            Kind::Periodic(_) => None,
+        })
         .sum();
     Sample {
         runs: n,
         seconds,
         steady_states,
+        race_seconds,
+        race_periods,
     }
 }
 
@@ -244,19 +267,32 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
 }
 
 /// The time estimate from the timed sample `sm`: its time per run scaled by the runs over the
-/// threads, and at least one curve's time for a harmonic study (a curve is one task).
+/// threads, and at least one curve's time for a harmonic study (a curve is one task). A harmonic
+/// study with a census scales its census so, and its race (`sm.race_seconds`, on every thread)
+/// by the curves: a curve's race grows its leader to `life_max_periods` however many
+/// frequencies it has (on configs/frequency-response.toml scaling the whole sample by the
+/// frequencies predicted 7 min for a 108 s run). The reduction's verification is estimated
+/// apart, from the race's speed per period.
 fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm: Sample) {
-    let per_run = sm.seconds / sm.runs as f64;
-    let mut total = per_run * plan.n_runs() as f64 / threads.max(1) as f64;
+    let threads = threads.max(1);
+    let census = (sm.seconds - sm.race_seconds).max(0.0);
+    let per_run = census / sm.runs as f64;
+    let curve = study.curve_points();
+    let harmonic = matches!(study.scene, Scene::Harmonic(_));
+    let curves = if harmonic && curve > 0 {
+        plan.n_runs() / curve
+    } else {
+        0
+    };
+    let mut total =
+        per_run * plan.n_runs() as f64 / threads as f64 + sm.race_seconds * curves as f64;
     // A harmonic study's curve (one design and case over its frequencies) is one task: the
     // run takes at least one curve's time, however many threads there are.
-    let curve = study.curve_points();
     let mut bound = String::new();
-    if matches!(study.scene, Scene::Harmonic(_)) && curve > 1 {
-        let one = per_run * curve as f64;
+    if harmonic && curve > 1 {
+        let one = per_run * curve as f64 + sm.race_seconds;
         if one > total {
             total = one;
-            let curves = plan.n_runs() / curve;
             bound = format!(
                 "; a curve is one task, so its {} at most {}",
                 count(curves, "curve keeps", "curves keep"),
@@ -266,18 +302,43 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
     }
     let what = match study.scene {
         Scene::Harmonic(h) if h.starts > 0 => format!(
-            "{} of one design's curve, census and design life included",
-            count(sm.runs, "frequency", "frequencies")
+            "census {:.1} ms a frequency over a sample of {} of one design's curve, its race \
+             of the design lives {} over {} periods, counted once a curve",
+            per_run * 1e3,
+            count(sm.runs, "frequency", "frequencies"),
+            fmt_duration(sm.race_seconds),
+            crate::report::text::thousands(sm.race_periods)
         ),
-        _ => count(sm.runs, "run", "runs"),
+        _ => format!(
+            "{:.1} us/run over a sample of {}",
+            per_run * 1e6,
+            count(sm.runs, "run", "runs")
+        ),
     };
     let _ = writeln!(
         w,
-        "time estimate:  {} on {threads} thread{} ({:.1} us/run over a sample of {what}{bound})",
+        "time estimate:  {} on {threads} thread{} ({what}{bound})",
         fmt_duration(total),
         if threads == 1 { "" } else { "s" },
-        per_run * 1e6,
     );
+    if let Scene::Harmonic(h) = study.scene
+        && h.starts > 0
+        && sm.race_periods > 0
+        && study.ranking.verify_periods > 0
+    {
+        let per_case = sm.race_seconds / sm.race_periods as f64
+            * study.ranking.verify_periods as f64
+            * crate::reduce::forced::verify::MOST as f64;
+        let _ = writeln!(
+            w,
+            "verification:   `reduce` measures the motions that could carry a peak of the designs \
+             that decide the ranking, at most {} a case over {} periods: up to about {} a case \
+             of each such design at the race's speed",
+            crate::reduce::forced::verify::MOST,
+            crate::report::text::thousands(study.ranking.verify_periods),
+            fmt_duration(per_case)
+        );
+    }
 }
 
 /// The disk estimate: the points at a rough size per run ([`BYTES_PER_RUN`],
@@ -531,6 +592,44 @@ mod tests {
         assert_eq!(fmt_bytes(512), "512 B");
         assert_eq!(fmt_bytes(48_800), "48.8 kB");
         assert_eq!(fmt_bytes(1_234_000_000), "1.2 GB");
+    }
+
+    /// The census scales by the runs over the threads, the race by the curves: 3 designs x 2
+    /// cases x 4 frequencies, a sample of 4 frequencies taking 1 s of census and 2 s of race,
+    /// is 24 runs x 0.25 s / 2 threads + 6 curves x 2 s = 15 s (scaling the whole sample by
+    /// the runs would say 18 s, and 10 times more for a curve of 40 frequencies).
+    #[test]
+    fn a_harmonic_race_counts_once_a_curve() {
+        let text = "[study]\nname = \"s\"\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n\
+                    [sweep]\nm = [0.005, 0.01, 0.02]\nr = [0.9, 1.0, 1.1, 1.2]\n\
+                    [perturb]\ndm = [0.001]\n";
+        let study = Study::parse(Path::new("s.toml"), text).unwrap();
+        let sample = Sample {
+            runs: 4,
+            seconds: 3.0,
+            steady_states: 4,
+            race_seconds: 2.0,
+            race_periods: 1_000_000,
+        };
+        let out = describe(&study, Path::new("out"), 2, Some(sample));
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("time estimate:"))
+            .unwrap();
+        assert!(line.starts_with("time estimate:  15.0 s on 2 threads (census 250.0 ms a frequency over a sample of 4 frequencies"), "{line}");
+        assert!(
+            line.ends_with("2.0 s over 1,000,000 periods, counted once a curve)"),
+            "{line}"
+        );
+        // The verification at that speed: 2 us a period, 1,024,000 periods, 3 motions a case.
+        let v = out
+            .lines()
+            .find(|l| l.starts_with("verification:"))
+            .unwrap();
+        assert!(
+            v.ends_with("up to about 6.1 s a case of each such design at the race's speed"),
+            "{v}"
+        );
     }
 
     #[test]
