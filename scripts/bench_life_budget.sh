@@ -4,7 +4,7 @@
 # binary before the issue (BASE, default e7df294), in one script run (ROUNDS runs of each, default
 # 3, interleaved; their medians, and each round's ratio), then one-frequency studies
 # of chaotic points (16 starts, 1,000 h) with this commit's binary: `run` (the census and the
-# design life) and `reduce` (the verification of the one design) timed apart.
+# design life) and `reduce` (a study of one design is not verified: no order to decide) timed apart.
 # Writes results/bench_life_budget.md (figures, machine, load, commits) and prints it.
 #
 #   scripts/bench_life_budget.sh                 builds BASE in a worktree (target/base-BASE)
@@ -147,7 +147,7 @@ out=results/bench_life_budget.md
   echo
   echo "One-frequency studies (16 starts, 1,000 h, study seed 1), this commit, wall seconds, the median"
   echo "of three runs (with that run's CPU seconds, user time):"
-  echo "\`run\` is the census and the design life, \`reduce\` the verification of the one design."
+  echo "\`run\` is the census and the design life, \`reduce\` the reduction (a study of one design has no ranking to verify)."
   echo
   echo "| point | m (g) | d (mm) | r | run | reduce |"
   echo "|---|---|---|---|---|---|"
