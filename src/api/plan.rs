@@ -321,10 +321,13 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
         fmt_duration(total),
         if threads == 1 { "" } else { "s" },
     );
+    // Verified when two designs or more rank (a design is a curve's frequencies).
+    let designs = plan.n_points() / curve.max(1);
     if let Scene::Harmonic(h) = study.scene
         && h.starts > 0
         && sm.race_periods > 0
         && study.ranking.verify_periods > 0
+        && designs > 1
     {
         let per_case = sm.race_seconds / sm.race_periods as f64
             * study.ranking.verify_periods as f64
@@ -630,6 +633,12 @@ mod tests {
             v.ends_with("up to about 6.1 s a case of each such design at the race's speed"),
             "{v}"
         );
+        // One design is not verified: no line.
+        let text = "[study]\nname = \"s\"\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n\
+                    [sweep]\nr = [0.9, 1.0, 1.1, 1.2]\n";
+        let study = Study::parse(Path::new("s.toml"), text).unwrap();
+        let out = describe(&study, Path::new("out"), 2, Some(sample));
+        assert!(!out.contains("verification:"), "{out}");
     }
 
     #[test]
