@@ -93,7 +93,9 @@ points=$(
 )
 up1=$(uptime)
 # Medians over the rounds of run, reduce and end to end; the end-to-end times in round order.
-med() { sort -g | awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }'; }
+# The median; of an even count, the mean of the middle two (the lower alone read 1.79x where
+# the two rounds gave 1.79 and 1.56).
+med() { sort -g | awk '{ a[NR] = $1 } END { if (NR % 2) print a[(NR + 1) / 2]; else printf "%.2f\n", (a[NR / 2] + a[NR / 2 + 1]) / 2 }'; }
 stat() { # label: median run, reduce, end to end, then every end to end
   local rows
   rows=$(grep "^$1[0-9]* " "$work/showcase")
