@@ -295,3 +295,32 @@ fn issue_43_the_report_shows_the_verified_peaks() {
         "the report does not say whether a rank moved:\n{section}"
     );
 }
+
+/// A study of one design has no order to decide: `reduce` measures nothing again, writes no
+/// verification table, and its report says why (P2, m = 5 g, d = 5 mm, r = 0.975, whose motion
+/// is chaotic; 4 starts).
+#[test]
+fn issue_43_a_study_of_one_design_is_not_verified_and_says_so() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("one.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"one\"\nseed = 1\n[system]\nM = 0.1\nK = 400.0\nC = 0.1\ne = 0.9\nm = 0.005\nd = 0.005\nx0 = 0.0\nv0 = 0.0\ny0 = 0.0\nw0 = 0.0\n\
+         [scene]\nkind = \"harmonic\"\nF0 = 0.1\nr = 0.975\nstarts = 4\n",
+    )
+    .unwrap();
+    let run = common::run_study_file(&study, &tmp.path().join("out"), "one");
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("reduce")
+        .arg(&run)
+        .assert()
+        .success();
+    assert!(!run.join("verification.csv").exists());
+    let report = std::fs::read_to_string(run.join("report.md")).unwrap();
+    assert!(
+        report.contains("**Not verified.** One design ranks, so there is no order to decide"),
+        "{report}"
+    );
+    assert!(!report.contains("**The decision verified.**"), "{report}");
+}

@@ -92,13 +92,13 @@ pub fn section(s: &Summary, fs: &ForcedSummary, shown: &[&PointStats]) -> String
 
 /// The verification's paragraph and table (docs/scenes.md, "The decision verified"): which
 /// designs decided the ranking, each direct measurement beside the estimate it checks, and the
-/// ranks it moved; empty when nothing was verified, but for a study of one design whose peak
-/// rests on an estimate (`estimated`), which is told why it was not.
+/// ranks it moved; empty when nothing was verified, but where one design ranks and a peak rests
+/// on an estimate (`estimated`), which is told why it was not verified.
 fn verified(s: &Summary, fs: &ForcedSummary, estimated: bool) -> String {
     let v = &fs.verification;
     if v.designs.is_empty() {
         return if estimated && v.periods > 0 && v.ranks_before.len() == 1 {
-            "\n**Not verified.** A study of one design has no ranking to decide, so `reduce` does not measure its peak motions again (the designs that decide a ranking are measured directly over `[ranking] verify_periods` periods): the peak rests on the race's estimate above, with its interval and the periods it rests on. A smaller `[scene] life_tol` measures it longer.\n".to_string()
+            "\n**Not verified.** One design ranks, so there is no order to decide and `reduce` does not measure its peak motions again (the designs that decide a ranking are measured directly over `[ranking] verify_periods` periods): the peak rests on the race's estimate above, with its interval and the periods it rests on. A smaller `[scene] life_tol` measures it longer.\n".to_string()
         } else {
             String::new()
         };
