@@ -16,7 +16,8 @@ use std::time::Instant;
 use crate::orbits::census::Kind;
 use crate::orbits::curve;
 use crate::plan::Plan;
-use crate::report::text::count;
+use crate::reduce::forced::verify::MOST;
+use crate::report::text::{count, thousands};
 use crate::sim::{self, Drive, NoProbe, Scene};
 use crate::study::{Study, num as fmt_value};
 
@@ -307,7 +308,7 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
             per_run * 1e3,
             count(sm.runs, "frequency", "frequencies"),
             fmt_duration(sm.race_seconds),
-            crate::report::text::thousands(sm.race_periods)
+            thousands(sm.race_periods)
         ),
         _ => format!(
             "{:.1} us/run over a sample of {}",
@@ -331,14 +332,14 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
     {
         let per_case = sm.race_seconds / sm.race_periods as f64
             * study.ranking.verify_periods as f64
-            * crate::reduce::forced::verify::MOST as f64;
+            * MOST as f64;
         let _ = writeln!(
             w,
             "verification:   `reduce` measures the motions that could carry a peak of the designs \
              that decide the ranking, at most {} a case over {} periods: up to about {} a case \
              of each such design at the race's speed",
-            crate::reduce::forced::verify::MOST,
-            crate::report::text::thousands(study.ranking.verify_periods),
+            MOST,
+            thousands(study.ranking.verify_periods),
             fmt_duration(per_case)
         );
     }
