@@ -337,6 +337,42 @@ pub const DIRECT_CHAINS: usize = 16;
 /// motions measured (`lambda_1` about 1 per period), so the chains are independent.
 pub const DIRECT_BURN: u64 = 200;
 
+/// A state on the motion through `section` for chain `i` of a measurement: the main mass moved
+/// by `i` nm, then [`DIRECT_BURN`] periods run (chain 0 is the section itself run on); `None`
+/// when the simulator stopped.
+fn nudged(f: &Forcing, section: &Section, i: usize) -> Option<Section> {
+    let mut start = *section;
+    start[0] += i as f64 * 1e-9;
+    let e = eval(f, &start, DIRECT_BURN, false);
+    (e.outcome == Outcome::Ok).then_some(e.end)
+}
+
+/// The fewest chains a race's motion is measured on ([`topped_up`]).
+pub const MIN_CHAINS: usize = 4;
+
+/// The states of a motion's measurement, `states` (its own section first, then the census
+/// starts that joined it) topped up to [`MIN_CHAINS`] with nudged copies of the first (chains
+/// `1, 2, ...` of [`nudged`]; one whose simulator stopped is left out). A motion that only one
+/// or two of a census's starts reached would otherwise run its measurement on one or two
+/// threads: at the bundled study's m = 10 g, d = 20 mm, r = 0.935 (a one-frequency study of
+/// 16 starts) the motion that led its race was one start's, measured 256,000 to 512,000
+/// periods on one core. The copies' burn is not measured; the count does not depend on the
+/// threads, so neither do the values.
+pub fn topped_up(f: &Forcing, states: Vec<Section>) -> Vec<Section> {
+    let Some(first) = states.first().copied() else {
+        return states;
+    };
+    let missing = MIN_CHAINS.saturating_sub(states.len());
+    let copies: Vec<Option<Section>> = (1..=missing)
+        .into_par_iter()
+        .map(|i| nudged(f, &first, i))
+        .collect();
+    states
+        .into_iter()
+        .chain(copies.into_iter().flatten())
+        .collect()
+}
+
 /// A motion measured directly from a state on it (`section`): [`DIRECT_CHAINS`] chains, chain
 /// `i` from the state with its main mass moved by `i` nm and run [`DIRECT_BURN`] periods, then
 /// `periods` periods in all (the window doubling from `periods / 64` as in [`LifeRun::grow`], so
@@ -367,12 +403,7 @@ pub fn measure_directly_above(
 ) -> Option<LifeSummary> {
     let starts: Vec<Option<Section>> = (0..DIRECT_CHAINS)
         .into_par_iter()
-        .map(|i| {
-            let mut start = *section;
-            start[0] += i as f64 * 1e-9;
-            let e = eval(f, &start, DIRECT_BURN, false);
-            (e.outcome == Outcome::Ok).then_some(e.end)
-        })
+        .map(|i| nudged(f, section, i))
         .collect();
     let starts: Option<Vec<Section>> = starts.into_iter().collect();
     let settings = LifeSettings {
@@ -400,6 +431,28 @@ mod tests {
             c.0 = z;
         }
         run
+    }
+
+    /// A motion of one state gets [`MIN_CHAINS`] chains: its own state first, then nudged copies
+    /// run on to other states of the same motion, the same bits on every call; a motion of
+    /// enough states keeps them as they are.
+    #[test]
+    fn a_motion_of_one_state_is_topped_up_to_the_fewest_chains() {
+        // The reference point m = 20 g, d = 20 mm, r = 1.01: chaotic.
+        let f = crate::orbits::map::tests::table_i(0.02, 0.02, 0.9, 0.1, 0.1, 1.01);
+        let on = eval(&f, &[0.003, 0.05, 0.0, 0.0], 500, false).end;
+        let states = topped_up(&f, vec![on]);
+        assert_eq!(states.len(), MIN_CHAINS);
+        assert_eq!(states[0], on);
+        for (i, a) in states.iter().enumerate() {
+            for b in &states[i + 1..] {
+                // Apart by more than the nudge's growth would leave without chaos.
+                assert!((a[0] - b[0]).abs() > 1e-6, "{a:?} {b:?}");
+            }
+        }
+        assert_eq!(topped_up(&f, vec![on]), states);
+        let four = vec![on; MIN_CHAINS];
+        assert_eq!(topped_up(&f, four.clone()), four);
     }
 
     /// A periodic orbit reached (a cycle of 3 values, rounding noise at 1e-12 relative) repeats;

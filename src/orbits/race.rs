@@ -48,7 +48,7 @@
 //! part: its motions keep their census window's maximum.
 
 use super::census::{Census, Kind};
-use super::life::{LifeRun, LifeSettings};
+use super::life::{LifeRun, LifeSettings, MIN_CHAINS, topped_up};
 use super::map::Forcing;
 use crate::sim::Harmonic;
 use crate::sim::forced::NonPeriodicPeak;
@@ -261,7 +261,13 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
     }
     // Every motion's first estimate: each a pure function of its own states, so they run side by
     // side (a motion of one or three chains alone would leave a core idle).
-    runners.par_iter_mut().for_each(|r| r.active = grow(r));
+    // A motion of fewer states than MIN_CHAINS gets nudged copies first (`topped_up`).
+    runners.par_iter_mut().for_each(|r| {
+        if r.run.starts.len() < MIN_CHAINS {
+            r.run = LifeRun::chains(topped_up(&r.f, std::mem::take(&mut r.run.starts)));
+        }
+        r.active = grow(r);
+    });
     // The curve's frequencies in order of forcing frequency: each one's place, and its largest
     // periodic amplitude.
     let mut order: Vec<usize> = (0..points.len()).collect();
