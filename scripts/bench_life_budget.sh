@@ -90,6 +90,8 @@ points=$(
   point S1 0.02 0.02 1.0
   point S2 0.005 0.02 0.99
   point S5 0.01 0.02 0.995
+  point S3 0.01 0.02 0.935
+  point S4 0.02 0.01 0.9
 )
 up1=$(uptime)
 # Medians over the rounds of run, reduce and end to end; the end-to-end times in round order.
