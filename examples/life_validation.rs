@@ -30,7 +30,7 @@ use impactsweep::model::System;
 use impactsweep::orbits::census::Kind;
 use impactsweep::orbits::curve::{census_passes, race_points};
 use impactsweep::orbits::map::{Forcing, eval, eval_above};
-use impactsweep::orbits::race::race;
+use impactsweep::orbits::race::{Serves, race};
 use impactsweep::sim::noise::mix64;
 use impactsweep::sim::{Outcome, SolverSettings};
 use impactsweep::study::Study;
@@ -235,7 +235,11 @@ fn estimate_one(p: &Point, seed: u64, periods: Option<f64>) -> Option<String> {
     let t = Instant::now();
     let (points, targets) = showcase::showcase_points(&study, 0, 0);
     let mut censuses = census_passes(&points);
-    race(&race_points(&points, &targets), &mut censuses);
+    race(
+        &race_points(&points, &targets),
+        &mut censuses,
+        Serves::Curve,
+    );
     let secs = t.elapsed().as_secs_f64();
     let c = censuses.into_iter().flatten().next()?;
     let a = c

@@ -18,7 +18,7 @@ use impactsweep::orbits::census::{Census, Kind};
 use impactsweep::orbits::life::LifeRun;
 use impactsweep::orbits::map::Forcing;
 use impactsweep::orbits::race::settings;
-use impactsweep::orbits::race::{race, refine_all};
+use impactsweep::orbits::race::{Serves, race, refine_all};
 use impactsweep::sim::Harmonic;
 use showcase::{ShowcaseCurve, showcase_curve};
 use std::time::Instant;
@@ -82,7 +82,7 @@ fn main() {
         let census_periods: u64 = censuses.iter().flatten().map(|c| c.periods).sum();
         let mut raced = censuses.clone();
         let t = Instant::now();
-        race(&rp, &mut raced);
+        race(&rp, &mut raced, Serves::Curve);
         let t_race = t.elapsed().as_secs_f64();
         let mut all = censuses.clone();
         let t = Instant::now();

@@ -145,7 +145,12 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
     let points = curve::curve_points(sys, &study.solver, study.seed, &targets, &records);
     let mut censuses = curve::census_passes(&points);
     let raced = Instant::now();
-    crate::orbits::race::race(&curve::race_points(&points, &targets), &mut censuses);
+    // The ideal case's race, every rule: a perturbed case's costs at most as much.
+    crate::orbits::race::race(
+        &curve::race_points(&points, &targets),
+        &mut censuses,
+        crate::orbits::race::Serves::Curve,
+    );
     let race_seconds = raced.elapsed().as_secs_f64();
     let seconds = start.elapsed().as_secs_f64();
     let found = censuses.iter().flatten().flat_map(|c| &c.attractors);

@@ -25,6 +25,7 @@
 
 use super::census::{Census, CensusSettings, Origin};
 use super::map::{Forcing, Section};
+use super::race::Serves;
 use super::shoot::Newton;
 use super::{CENSUS_WINDOW, HANDOVER, steady_of};
 use crate::model::System;
@@ -63,7 +64,7 @@ pub fn run_curve(
 ) -> CurveRun {
     let targets: Vec<(Harmonic, u64)> = freqs.iter().map(|f| (f.scene, f.point)).collect();
     let mut records = from_rest(sys, settings, req, noise, freqs);
-    let censuses = curve_census(sys, settings, seed, &targets, &records);
+    let censuses = curve_census(sys, settings, seed, &targets, &records, Serves::Curve);
     fill_steady(&mut records, &censuses);
     CurveRun { records, censuses }
 }
@@ -96,17 +97,19 @@ pub fn from_rest(
 /// design point)` in `targets`, from the records of its runs from the initial state (start 0 goes on
 /// from where each ended). The noise of those runs is a measurement noise that does not move
 /// the system, so the census depends on the system, the scenes and the points only: the cases
-/// of a design that differ only in their noise share it.
+/// of a design that differ only in their noise share it. `serves`: what the curve's values are
+/// for (the ideal case's curve, or a perturbed case's peak alone: [`Serves`]).
 pub fn curve_census(
     sys: &System,
     settings: &SolverSettings,
     seed: u64,
     targets: &[(Harmonic, u64)],
     records: &[ForcedRecord],
+    serves: Serves,
 ) -> Vec<Option<Census>> {
     let points = curve_points(sys, settings, seed, targets, records);
     let mut censuses = census_passes(&points);
-    super::race::race(&race_points(&points, targets), &mut censuses);
+    super::race::race(&race_points(&points, targets), &mut censuses, serves);
     censuses
 }
 

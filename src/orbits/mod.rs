@@ -83,7 +83,7 @@ pub fn forced_run<P: Probe>(
     // The life amplitudes of its motions that are not periodic, where they can change its
     // worst amplitude (a curve of one point: [`race`]).
     let mut cs = [Some(c)];
-    race::race(&[Some((f, *scene))], &mut cs);
+    race::race(&[Some((f, *scene))], &mut cs, race::Serves::Curve);
     if let Some(c) = &cs[0] {
         rec.steady = steady_of(c);
     }

@@ -42,6 +42,10 @@
 //!    after 2,000 to 64,000 periods. A frequency far below the peak keeps its estimate and its
 //!    interval: it decides nothing.
 //!
+//! Steps 3 and 4 run on a curve that is drawn and read frequency by frequency (the ideal
+//! case's, [`Serves::Curve`]); a perturbed case's curve serves its peak alone
+//! ([`Serves::Peak`]).
+//!
 //! Deterministic: the motions are measured from their stored states, their first estimates side
 //! by side, then one at a time in an order the rule fixes (each measurement's chains run in
 //! parallel). A scene with `nonperiodic_peak = "window"` ([`NonPeriodicPeak::Window`]) takes no
@@ -108,8 +112,16 @@ pub const SCREEN: u64 = 16;
 
 /// The motion the race measures next (module doc), or `None` when it is over: `periodic` is the
 /// largest periodic amplitude of the curve, `tol` and `cap` the scene's `life_tol` and
-/// `life_max_periods`; `all` refines every motion to its tolerance.
-fn next(motions: &[Entry], periodic: f64, tol: f64, cap: u64, all: bool) -> Option<usize> {
+/// `life_max_periods`; `all` refines every motion to its tolerance; `help`: step 3 runs (where the
+/// damper helps, [`Serves::Curve`]).
+fn next(
+    motions: &[Entry],
+    periodic: f64,
+    tol: f64,
+    cap: u64,
+    all: bool,
+    help: bool,
+) -> Option<usize> {
     if all {
         return motions.iter().position(|m| m.active);
     }
@@ -152,6 +164,9 @@ fn next(motions: &[Entry], periodic: f64, tol: f64, cap: u64, all: bool) -> Opti
         && motions[l].interval().1 > lower
     {
         return Some(l);
+    }
+    if !help {
+        return None;
     }
     motions.iter().enumerate().position(|(i, m)| {
         let (lo, hi) = m.interval();
@@ -202,17 +217,38 @@ fn dip(motions: &[Entry], periodic_at: &[f64], lower: f64, tol: f64) -> Option<u
     })
 }
 
+/// What a curve's values serve, and so which of the race's rules run on it (module doc).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Serves {
+    /// The curve itself: the ideal case's, which the report draws and reads frequency by
+    /// frequency (where the damper helps) besides its peak. Every rule runs.
+    Curve,
+    /// Its peak alone: a perturbed case's curve, one sample of its design's stress (the summary's
+    /// band, shares and charts are the ideal curve's). Steps 1 and 2 run; step 3 (where the
+    /// damper helps) and step 4 (a dip beside the peak) decide nothing on it. On the bundled
+    /// frequency-response study, with them left out on the perturbed cases the whole summary
+    /// (every design's peaks over its cases, ranks, reliabilities) came out bit for bit the same;
+    /// step 4 alone had measured 13 of the race's 58 million periods there (BENCHMARKS.md,
+    /// "Stop 64").
+    Peak,
+}
+
 /// Runs the race over a curve (module doc): `points[i]` is frequency `i`'s forcing and scene
-/// (`None` where it has no census); the life estimates land in each motion's
-/// [`super::census::Wandering::life`] and its design amplitude becomes the estimate.
-pub fn race(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Census>]) {
-    race_with(points, censuses, false);
+/// (`None` where it has no census), `serves` what its values are for; the life estimates land
+/// in each motion's [`super::census::Wandering::life`] and its design amplitude becomes the
+/// estimate.
+pub fn race(
+    points: &[Option<(Forcing, Harmonic)>],
+    censuses: &mut [Option<Census>],
+    serves: Serves,
+) {
+    race_with(points, censuses, false, serves);
 }
 
 /// What the race saves, for the benchmarks: every motion that is not periodic measured to the
 /// tolerance (or its cap), none stopped by the leader.
 pub fn refine_all(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Census>]) {
-    race_with(points, censuses, true);
+    race_with(points, censuses, true, Serves::Curve);
 }
 
 /// One step of a runner's measurement ([`LifeRun::grow`]); whether it may go on. A motion with
@@ -229,7 +265,12 @@ fn grow(r: &mut Runner) -> bool {
     more && (r.run.estimate.is_some() || r.run.periods() < 2 * r.s.first || !r.run.repeats())
 }
 
-fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Census>], all: bool) {
+fn race_with(
+    points: &[Option<(Forcing, Harmonic)>],
+    censuses: &mut [Option<Census>],
+    all: bool,
+    serves: Serves,
+) {
     let mut runners = Vec::new();
     for (i, (p, c)) in points.iter().zip(censuses.iter()).enumerate() {
         let (Some((f, h)), Some(c)) = (p, c) else {
@@ -307,8 +348,12 @@ fn race_with(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option<Cens
                 freq: place[r.at.0],
             })
             .collect();
-        let found = next(&entries, periodic, tol, cap, all)
-            .or_else(|| dip(&entries, &periodic_at, peak_lower(&entries, periodic), tol));
+        let curve = serves == Serves::Curve;
+        let found = next(&entries, periodic, tol, cap, all, curve).or_else(|| {
+            curve
+                .then(|| dip(&entries, &periodic_at, peak_lower(&entries, periodic), tol))
+                .flatten()
+        });
         let Some(i) = found else {
             break;
         };
@@ -402,9 +447,9 @@ mod tests {
             motion(8e-3, 6e-3, 14e-3, 16_000),
         ];
         // The peak is in [7, 14] mm: the second reaches highest.
-        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), Some(1));
+        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false, true), Some(1));
         // A periodic orbit of 15 mm carries the peak exactly: nothing can change it.
-        assert_eq!(next(&ms, 15e-3, 0.05, 1 << 20, false), None);
+        assert_eq!(next(&ms, 15e-3, 0.05, 1 << 20, false, true), None);
     }
 
     #[test]
@@ -417,7 +462,7 @@ mod tests {
             motion(9e-3, 7e-3, 12e-3, 2000),
             motion(8e-3, 6e-3, 14e-3, screened),
         ];
-        assert_eq!(next(&ms, 0.0, 0.05, cap, false), Some(0));
+        assert_eq!(next(&ms, 0.0, 0.05, cap, false, true), Some(0));
         // Once the leader is within the tolerance and the other screened, the race is over,
         // though the peak's interval is still wider.
         let ms = [
@@ -426,7 +471,7 @@ mod tests {
         ];
         let mut ms = ms;
         ms[0].active = false;
-        assert_eq!(next(&ms, 0.0, 0.05, cap, false), None);
+        assert_eq!(next(&ms, 0.0, 0.05, cap, false, true), None);
     }
 
     /// The showcase's m = 20 g, d = 20 mm with the simulator of `39736dd`: an impact-free orbit of
@@ -443,12 +488,12 @@ mod tests {
             motion(9.67e-3, 9.57e-3, 11.1e-3, screened),
             motion(9.41e-3, 9.14e-3, 15.9e-3, screened),
         ];
-        assert_eq!(next(&ms, 9.74e-3, 0.05, cap, false), Some(1));
+        assert_eq!(next(&ms, 9.74e-3, 0.05, cap, false, true), Some(1));
         // Once the leader has settled and the others have had their screens, the race is over.
         let mut ms = ms;
         ms[1] = motion(9.67e-3, 9.5e-3, 9.9e-3, 4 * screened);
         ms[1].active = false;
-        assert_eq!(next(&ms, 9.74e-3, 0.05, cap, false), None);
+        assert_eq!(next(&ms, 9.74e-3, 0.05, cap, false, true), None);
     }
 
     #[test]
@@ -461,10 +506,12 @@ mod tests {
             motion(1.1e-3, 0.8e-3, 1.6e-3, 2000),
         ];
         ms[0].active = false;
-        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), Some(1));
+        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false, true), Some(1));
+        // Not on a curve that serves its peak alone (a perturbed case's: `Serves::Peak`).
+        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false, false), None);
         // Not once its interval clears it.
         ms[1] = motion(1.3e-3, 1.1e-3, 1.6e-3, 4000);
-        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), None);
+        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false, true), None);
     }
 
     /// The stopping rule asks two successive windows to meet the tolerance: a leader whose first
@@ -473,12 +520,12 @@ mod tests {
     #[test]
     fn a_leader_within_the_tolerance_once_is_measured_once_more() {
         let ms = [motion(10e-3, 9.8e-3, 10.2e-3, 128_000)];
-        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), Some(0));
-        assert_eq!(next(&ms, 10.5e-3, 0.05, 1 << 20, false), None);
+        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false, true), Some(0));
+        assert_eq!(next(&ms, 10.5e-3, 0.05, 1 << 20, false, true), None);
         // Settled (not active): the race is over.
         let mut ms = ms;
         ms[0].active = false;
-        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false), None);
+        assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false, true), None);
     }
 
     /// `m` at the curve's `q`-th frequency.
@@ -515,7 +562,7 @@ mod tests {
         );
         let none = [f64::NEG_INFINITY; 3];
         let lower = peak_lower(&ms, f64::NEG_INFINITY);
-        assert_eq!(next(&ms, f64::NEG_INFINITY, 0.05, cap, false), None);
+        assert_eq!(next(&ms, f64::NEG_INFINITY, 0.05, cap, false, true), None);
         assert_eq!(dip(&ms, &none, lower, 0.05), Some(0));
         // Also past its screen (seed 46: 0.885 cm after 64,000 periods beside 0.984 cm).
         ms[0] = at(motion(8.849e-3, 8.2e-3, 10.4e-3, cap / SCREEN), 0);

@@ -11,6 +11,7 @@ use rayon::prelude::*;
 use crate::orbits::attractors::{AttractorRow, RunId};
 use crate::orbits::curve::{CurveFrequency, curve_census, fill_steady, from_rest};
 use crate::orbits::forced_run;
+use crate::orbits::race::Serves;
 use crate::plan::{Plan, RunSpec};
 use crate::sim::{ForcedRecord, Harmonic, NoProbe, Record, Scene, simulate};
 use crate::store::{RunRow, StoredRecord};
@@ -128,6 +129,13 @@ pub fn simulate_curve(
     let study = plan.study;
     let n_f = study.curve_points();
     let mut censuses = None;
+    // The cases share one census: it serves the ideal curve when one of them is the ideal case,
+    // else the perturbed cases' peaks alone.
+    let serves = if cases.iter().any(|&c| plan.run(design * n_f, c).spec.ideal) {
+        Serves::Curve
+    } else {
+        Serves::Peak
+    };
     let mut rows = Vec::with_capacity(cases.len() * n_f as usize);
     let mut attractors = Vec::new();
     for &case in cases {
@@ -145,7 +153,7 @@ pub fn simulate_curve(
             freqs,
         );
         let cs = censuses.get_or_insert_with(|| {
-            curve_census(&sys, &study.solver, study.seed, &targets, &records)
+            curve_census(&sys, &study.solver, study.seed, &targets, &records, serves)
         });
         fill_steady(&mut records, cs);
         for ((run, record), census) in runs.iter().zip(records).zip(cs.iter()) {
