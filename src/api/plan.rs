@@ -15,6 +15,7 @@ use std::time::Instant;
 
 use crate::orbits::census::Kind;
 use crate::orbits::curve;
+use crate::orbits::race::{Serves, race};
 use crate::plan::Plan;
 use crate::reduce::forced::verify::MOST;
 use crate::report::text::{count, thousands};
@@ -146,10 +147,10 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
     let mut censuses = curve::census_passes(&points);
     let raced = Instant::now();
     // The ideal case's race, every rule: a perturbed case's costs at most as much.
-    crate::orbits::race::race(
+    race(
         &curve::race_points(&points, &targets),
         &mut censuses,
-        crate::orbits::race::Serves::Curve,
+        Serves::Curve,
     );
     let race_seconds = raced.elapsed().as_secs_f64();
     let seconds = start.elapsed().as_secs_f64();
