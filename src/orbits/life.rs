@@ -20,7 +20,9 @@
 //! Only the per-period maxima above the estimate's thresholds enter it (the periods below only
 //! count), and its thresholds rise as the sample grows (a fixed number of the highest cluster
 //! maxima). So after the first window, which locates every extremum, the motion runs with a
-//! floor, the lowest threshold of the last estimate: extrema of `x` below it are not located
+//! floor under the next estimate's thresholds ([`floor_for`]: the threshold of the largest count
+//! of cluster maxima the next window's fits take, read from the periods so far, and never above
+//! the last estimate's lowest threshold): extrema of `x` below it are not located
 //! ([`eval_above`]; watching `x'` for its zeros is about half of a chaotic motion's steps). A
 //! period whose maximum is below the floor keeps a value below it. After each estimate the run
 //! checks that its thresholds are all at or above the floor (so every value a fit used is exact;
@@ -30,7 +32,7 @@
 
 use super::map::{Forcing, Section, eval, eval_above};
 use crate::sim::Outcome;
-use crate::stats::extremes::{Life, LifeEstimate, life_pot};
+use crate::stats::extremes::{Life, LifeEstimate, floor_for, life_pot};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -232,7 +234,11 @@ impl LifeRun {
         if !self.exact
             && let Some(e) = self.estimate
         {
-            self.floor = self.floor.max(e.lowest_threshold);
+            // The floor for the next window (`floor_for`), never above this estimate's thresholds.
+            let next = (2 * self.periods()).min(s.cap) as usize;
+            let chains: Vec<&[f64]> = self.chains.iter().map(|c| c.0.as_slice()).collect();
+            let below = floor_for(&chains, cluster_run(lambda), next).unwrap_or(f64::NEG_INFINITY);
+            self.floor = self.floor.max(below.min(e.lowest_threshold));
         }
         self.capped = !self.settled(s) && self.periods() >= s.cap;
         !self.settled(s) && !self.capped

@@ -320,3 +320,28 @@ fn the_jeffreys_posterior_median_is_centred_where_the_likelihood_runs_low() {
     assert!(median(jeffreys).abs() < 0.004, "Jeffreys's median error");
     assert!(p90(jeffreys) < p90(ml).min(p90(flat)), "Jeffreys's spread");
 }
+
+/// A design-life measurement's floor for its next window (`floor_for`) lies at or under the last
+/// estimate's lowest threshold and under every threshold of the next estimate: 200 samples of a
+/// bounded law whose large values come in build-ups, each measured to `n` periods and then
+/// doubled, as the race's windows grow.
+#[test]
+fn the_next_windows_floor_lies_under_its_thresholds() {
+    let life = Life::bounded(1e7, 0.5);
+    for seed in 0..200u64 {
+        let n = [8_000usize, 64_000, 128_000][(seed % 3) as usize];
+        // Each period's maximum is the larger of a fresh draw and most of the last one.
+        let mut last = 0.0f64;
+        let z: Vec<f64> = (0..2 * n as u64)
+            .map(|i| {
+                last = (1.0 - unif(7000 + seed, i).powf(1.0 / 3.0)).max(0.97 * last);
+                last
+            })
+            .collect();
+        let first = life_pot(&[&z[..n]], 3, life).unwrap();
+        let floor = floor_for(&[&z[..n]], 3, 2 * n).unwrap();
+        assert!(floor <= first.lowest_threshold, "seed {seed}");
+        let next = life_pot(&[z.as_slice()], 3, life).unwrap();
+        assert!(floor <= next.lowest_threshold, "seed {seed}");
+    }
+}
