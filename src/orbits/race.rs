@@ -190,7 +190,8 @@ fn peak_lower(motions: &[Entry], periodic: f64) -> f64 {
 /// without one).
 ///
 /// On the chaotic band of `scripts/band_smoothness.sh` (80 study seeds) this rule keeps every
-/// seed's neighbouring frequencies within brute force's step plus 5 % (71 of 80 without it).
+/// seed's neighbouring frequencies within brute force's step plus their stated error, and 79
+/// of 80 within brute force's step plus 5 % (71 of 80 without it).
 /// On the bundled frequency-response study the race measures 9.6 * 10^6 periods with it and
 /// 7.7 * 10^6 without; counting every neighbour instead of those at the peak, 3.5 * 10^7 (and
 /// 1.34 * 10^7 counting those whose interval reaches the peak): most dips lie well below their
