@@ -171,12 +171,16 @@ impl LifeRun {
             .fold(f64::NAN, f64::max)
     }
 
+    /// Every chain's per-period maxima so far.
+    fn maxima(&self) -> Vec<&[f64]> {
+        self.chains.iter().map(|c| c.0.as_slice()).collect()
+    }
+
     /// Estimates from the periods measured so far ([`life_pot`]), clusters separated by
     /// [`cluster_run`] of the motion's exponent `lambda` (per forcing period).
     pub fn estimate(&mut self, s: &LifeSettings, lambda: f64) -> Option<LifeEstimate> {
-        let chains: Vec<&[f64]> = self.chains.iter().map(|c| c.0.as_slice()).collect();
         self.estimate = life_pot(
-            &chains,
+            &self.maxima(),
             cluster_run(lambda),
             // The main mass's excursion is bounded (module doc).
             Life::bounded(s.n_life, s.quantile),
@@ -208,11 +212,7 @@ impl LifeRun {
     /// run is `capped`.
     pub fn grow(&mut self, f: &Forcing, s: &LifeSettings, lambda: f64) -> bool {
         let have = self.periods();
-        let want = if have < s.first {
-            s.first
-        } else {
-            (2 * have).min(s.cap)
-        };
+        let want = window_after(have, s);
         self.met_before = self.meets(s);
         if want > have {
             self.extend(f, want - have);
@@ -235,9 +235,9 @@ impl LifeRun {
             && let Some(e) = self.estimate
         {
             // The floor for the next window (`floor_for`), never above this estimate's thresholds.
-            let next = (2 * self.periods()).min(s.cap) as usize;
-            let chains: Vec<&[f64]> = self.chains.iter().map(|c| c.0.as_slice()).collect();
-            let below = floor_for(&chains, cluster_run(lambda), next).unwrap_or(f64::NEG_INFINITY);
+            let next = window_after(self.periods(), s) as usize;
+            let below =
+                floor_for(&self.maxima(), cluster_run(lambda), next).unwrap_or(f64::NEG_INFINITY);
             self.floor = self.floor.max(below.min(e.lowest_threshold));
         }
         self.capped = !self.settled(s) && self.periods() >= s.cap;
@@ -257,6 +257,15 @@ impl LifeRun {
             capped: self.capped,
             window_max: self.window_max(),
         }
+    }
+}
+
+/// The window after `have` periods: `first`, then doubling, at most `cap`.
+fn window_after(have: u64, s: &LifeSettings) -> u64 {
+    if have < s.first {
+        s.first
+    } else {
+        (2 * have).min(s.cap)
     }
 }
 

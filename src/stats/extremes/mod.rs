@@ -306,6 +306,15 @@ fn threshold_for(chains: &[&[f64]], upper: &Upper, k: usize, run: usize) -> Opti
     Some(maxima[k])
 }
 
+/// Every chain's per-period maxima in one sample (NaN left out).
+fn pooled(chains: &[&[f64]]) -> Vec<f64> {
+    chains
+        .iter()
+        .flat_map(|c| c.iter().copied())
+        .filter(|x| !x.is_nan())
+        .collect()
+}
+
 /// A floor for the periods that extend `chains` to `next_n` periods in all (the extremum floor of
 /// a design-life measurement, [`crate::orbits::life`]): the threshold that leaves the largest
 /// count of cluster maxima any fit of [`life_pot`] takes from `next_n` periods (`2 k` of
@@ -318,11 +327,7 @@ fn threshold_for(chains: &[&[f64]], upper: &Upper, k: usize, run: usize) -> Opti
 /// seeds 1 to 8, and each time the whole measurement ran again without a floor: at seed 11
 /// 128,000 and 256,000 periods of its 1.4 million. `None` when the sample has too few clusters.
 pub fn floor_for(chains: &[&[f64]], run: usize, next_n: usize) -> Option<f64> {
-    let values: Vec<f64> = chains
-        .iter()
-        .flat_map(|c| c.iter().copied())
-        .filter(|x| !x.is_nan())
-        .collect();
+    let values = pooled(chains);
     let c = band_sizes(next_n)[2].max(2 * TAIL_CLUSTERS);
     let upper = Upper::for_fits(values, [c]);
     threshold_for(chains, &upper, c, run)
@@ -373,11 +378,7 @@ pub fn fit_top(
 /// the median of the three fits of [`tail_sizes`], and the union of their intervals and those of
 /// [`band_sizes`]. `None` when no estimate fit can be made (too few clusters).
 pub fn life_pot(chains: &[&[f64]], run: usize, life: Life) -> Option<LifeEstimate> {
-    let values: Vec<f64> = chains
-        .iter()
-        .flat_map(|c| c.iter().copied())
-        .filter(|x| !x.is_nan())
-        .collect();
+    let values = pooled(chains);
     let n = values.len();
     let band_ks: Vec<usize> = band_sizes(n)
         .into_iter()
