@@ -35,6 +35,8 @@ fn scene() -> RandomScene {
         dt: 0.005,
         duration: 20.0,
         threshold: Some(0.05),
+        intensity: None,
+        im: None,
     }
 }
 

@@ -66,6 +66,8 @@ mod refinement;
 mod reproduce;
 #[path = "schema.rs"]
 mod schema;
+#[path = "seismic_risk.rs"]
+mod seismic_risk;
 #[path = "self_contained.rs"]
 mod self_contained;
 #[path = "simulator.rs"]

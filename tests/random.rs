@@ -43,6 +43,8 @@ fn random_scene(input: Input, spectrum: Spectrum, s0: f64, dt: f64, duration: f6
         dt,
         duration,
         threshold: None,
+        intensity: None,
+        im: None,
     }
 }
 
@@ -319,6 +321,8 @@ fn a_record_through_the_structure_is_the_exact_linear_response() {
         dt,
         duration: 30.0,
         threshold: Some(0.02),
+        intensity: None,
+        im: None,
     };
     scene.validate().unwrap();
     let run = RandomRun::new(&sys, &SolverSettings::default(), &scene);

@@ -146,6 +146,8 @@ fn first_passage_of_the_linear_structure_against_monte_carlo() {
         dt: 0.01,
         duration: 5.0,
         threshold: None,
+        intensity: None,
+        im: None,
     };
     let run = RandomRun::new(&sys, &SolverSettings::default(), &scene);
     let sigma = (std::f64::consts::PI / (sys.K * sys.C)).sqrt();

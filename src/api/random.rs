@@ -63,6 +63,19 @@ fn write_outputs(
     )?);
     drop(points);
     files.extend(super::tables::write_core_tables(summary, dir)?);
+    // The motions' capacities, or no table rather than an earlier reduce's.
+    if rs.capacities.is_empty() {
+        for name in ["capacities.parquet", "capacities.csv"] {
+            let stale = dir.join(name);
+            if stale.exists() {
+                std::fs::remove_file(&stale)
+                    .with_context(|| format!("removing {}", stale.display()))?;
+            }
+        }
+    } else {
+        let t = random::risk::capacities_table(&summary.grid, rs);
+        files.extend(store::summary::write_table(dir, TableKind::Capacities, &t)?);
+    }
     let mut chart_files = charts::random::charts(summary, rs, dir)?;
     chart_files.extend(charts::summary_charts(summary, dir)?);
     let names: Vec<String> = chart_files
@@ -71,7 +84,7 @@ fn write_outputs(
         .collect();
     files.extend(chart_files);
     let p = dir.join("report.md");
-    let scene = markdown::random::scene_text(summary, rs);
+    let scene = markdown::random::scene_text(study, summary, rs);
     let md = markdown::report_with(study, summary, &names, None, &scene);
     std::fs::write(&p, &md).with_context(|| format!("writing {}", p.display()))?;
     files.push(p);

@@ -39,6 +39,7 @@ pub fn study(axes: Vec<(&str, Vec<f64>)>, n_cases: usize) -> Study {
         cases,
         realizations: 0,
         design_intensity: None,
+        hazard: None,
         noise: None,
         solver: SolverSettings::default(),
         reliability: Reliability {

@@ -100,12 +100,12 @@ impl Fragility {
 }
 
 /// The standard normal CDF, accurate in both tails.
-fn phi_cdf(z: f64) -> f64 {
+pub(crate) fn phi_cdf(z: f64) -> f64 {
     0.5 * erfc(-z / std::f64::consts::SQRT_2)
 }
 
 /// The standard normal density.
-fn phi_pdf(z: f64) -> f64 {
+pub(crate) fn phi_pdf(z: f64) -> f64 {
     (-0.5 * z * z).exp() / (2.0 * std::f64::consts::PI).sqrt()
 }
 

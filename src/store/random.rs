@@ -3,8 +3,12 @@
 //! identity, system and solver columns every points table starts with.
 //!
 //! After `tol`: the load's sweepable keys at the design point, `S0` ((m/s^2)^2 or N^2 per
-//! rad/s), `omega_g` (rad/s), `zeta_g`, `omega_f` (rad/s), `zeta_f`, `scale` (null where the
-//! scene's load has no such key); `outcome`; `amplitude` (m), `t_peak` (s), `rms_x` (m),
+//! rad/s), `omega_g` (rad/s), `zeta_g`, `omega_f` (rad/s), `zeta_f`, `scale` (the factor on the
+//! motion: a record's, or under an intensity measure the stripe's `im / own`), `im` (g, the
+//! stripe) (null where the scene's load has no such key); `pga`, `sa` (g, the motion's own at
+//! scale 1, null without an intensity measure); `capacity` (g), `capacity_censored`,
+//! `capacity_resurrected`, `capacity_runs` (the motion's incremental dynamic analysis, null but
+//! at the design stripe of a study with an intensity measure and a threshold); `outcome`; `amplitude` (m), `t_peak` (s), `rms_x` (m),
 //! `rms_acc` (m/s^2), `first_passage_time` (s, null when `|x|` never passes the threshold or the
 //! study sets none); `impacts`, `sticks`; `energy_impact` (J); `samples`, `t_stop` (s), `steps`.
 //! The observables over the duration are NaN unless the outcome is `ok`
@@ -13,14 +17,14 @@
 use std::sync::Arc;
 
 use anyhow::Result;
-use arrow::array::{Array, ArrayRef, Float64Array, RecordBatch, UInt64Array};
+use arrow::array::{Array, ArrayRef, BooleanArray, Float64Array, RecordBatch, UInt64Array};
 use arrow::datatypes::DataType;
 
 use super::points::{
     RunRow, StoredRecord, column, dict_type, f64col, outcome_col, outcomes, u64col,
 };
 use super::schema::TableKind;
-use crate::sim::random::{RandomRecord, RandomScene, RealizationRecord};
+use crate::sim::random::{Capacity, OwnIntensity, RandomRecord, RandomScene, RealizationRecord};
 use crate::sim::{Outcome, SolverSettings};
 
 /// The `f64` observables after `outcome`, in schema order (then `first_passage_time`).
@@ -40,6 +44,10 @@ impl StoredRecord for RealizationRecord {
             .iter()
             .map(|&k| (k, DataType::Float64, true))
             .collect();
+        cols.extend(["pga", "sa", "capacity"].map(|k| (k, DataType::Float64, true)));
+        cols.push(("capacity_censored", DataType::Boolean, true));
+        cols.push(("capacity_resurrected", DataType::Boolean, true));
+        cols.push(("capacity_runs", DataType::UInt64, true));
         cols.push(("outcome", dict_type(), false));
         cols.extend(OBSERVABLES.map(f));
         cols.push(("first_passage_time", DataType::Float64, true));
@@ -58,6 +66,20 @@ impl StoredRecord for RealizationRecord {
         let mut cols: Vec<ArrayRef> = (0..RandomScene::AXES.len())
             .map(|i| opt(&|r| r.record.load[i]))
             .collect();
+        cols.push(opt(&|r| r.record.own.map(|o| o.pga)));
+        cols.push(opt(&|r| r.record.own.map(|o| o.sa)));
+        cols.push(opt(&|r| r.record.capacity.map(|c| c.capacity)));
+        let flag = |g: &dyn Fn(&Capacity) -> bool| -> ArrayRef {
+            Arc::new(BooleanArray::from_iter(
+                rows.iter().map(|r| r.record.capacity.as_ref().map(g)),
+            ))
+        };
+        cols.push(flag(&|c| c.censored));
+        cols.push(flag(&|c| c.resurrected));
+        cols.push(Arc::new(UInt64Array::from_iter(
+            rows.iter()
+                .map(|r| r.record.capacity.map(|c| u64::from(c.runs))),
+        )));
         cols.push(outcome_col(rows)?);
         cols.push(f64col(rows, |r| r.record.record.amplitude));
         cols.push(f64col(rows, |r| r.record.record.t_peak));
@@ -83,6 +105,10 @@ impl StoredRecord for RealizationRecord {
             .collect::<Result<_>>()?;
         let obs: Vec<&Float64Array> = OBSERVABLES.iter().map(|k| f64s(k)).collect::<Result<_>>()?;
         let passage = f64s("first_passage_time")?;
+        let (pga, sa, capacity) = (f64s("pga")?, f64s("sa")?, f64s("capacity")?);
+        let censored = column::<BooleanArray>(batch, "capacity_censored")?;
+        let resurrected = column::<BooleanArray>(batch, "capacity_resurrected")?;
+        let runs = u64s("capacity_runs")?;
         let (impacts, sticks, samples, steps) = (
             u64s("impacts")?,
             u64s("sticks")?,
@@ -96,6 +122,16 @@ impl StoredRecord for RealizationRecord {
             .enumerate()
             .map(|(i, outcome)| RealizationRecord {
                 load: std::array::from_fn(|j| nullable(load[j], i)),
+                own: pga.is_valid(i).then(|| OwnIntensity {
+                    pga: pga.value(i),
+                    sa: sa.value(i),
+                }),
+                capacity: capacity.is_valid(i).then(|| Capacity {
+                    capacity: capacity.value(i),
+                    censored: censored.value(i),
+                    resurrected: resurrected.value(i),
+                    runs: runs.value(i) as u32,
+                }),
                 record: RandomRecord {
                     outcome,
                     amplitude: obs[0].value(i),

@@ -64,6 +64,7 @@ pub fn axis_unit(key: &str) -> Option<&'static str> {
         "omega" | "omega_g" | "omega_f" => Some("rad/s"),
         "r" | "zeta_g" | "zeta_f" | "scale" => Some("1"),
         "S0" => Some(S0_UNIT),
+        "im" => Some("g"),
         _ => None,
     })
 }
@@ -120,10 +121,14 @@ pub enum TableKind {
     /// `reduce` measured again directly to verify the ranking (docs/scenes.md, "The decision
     /// verified").
     Verification,
+    /// `capacities.parquet`, `capacities.csv`: one row per motion of a random or record study
+    /// with an intensity measure and a threshold: its capacity by incremental dynamic analysis
+    /// (`reduce`; docs/scenes.md).
+    Capacities,
 }
 
 impl TableKind {
-    pub const ALL: [TableKind; 13] = [
+    pub const ALL: [TableKind; 14] = [
         TableKind::Points,
         TableKind::ForcedPoints,
         TableKind::RandomPoints,
@@ -137,6 +142,7 @@ impl TableKind {
         TableKind::Probes,
         TableKind::Bifurcations,
         TableKind::Verification,
+        TableKind::Capacities,
     ];
 
     /// The table's name (`impactsweep.table`, the file stem).
@@ -155,6 +161,7 @@ impl TableKind {
             TableKind::Probes => "probes",
             TableKind::Bifurcations => "bifurcations",
             TableKind::Verification => "verification",
+            TableKind::Capacities => "capacities",
         }
     }
 }
@@ -183,7 +190,7 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
     // A design axis (a harmonic study's `F0` too).
     if matches!(
         table,
-        TableKind::Summary | TableKind::Jumps | TableKind::Probes
+        TableKind::Summary | TableKind::Jumps | TableKind::Probes | TableKind::Capacities
     ) && let Some(key) = axis_key(column)
     {
         return axis_unit(key);
@@ -215,6 +222,12 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
             "p" => Some(UNIT_OF_P),
             "r" | "period" | "impacts_per_period" => Some("1"),
             "amplitude" => Some("m"),
+            _ => None,
+        },
+        TableKind::Capacities => match column {
+            "point" | "case" | "censored" | "resurrected" => Some(""),
+            "runs" => Some("1"),
+            "capacity" | "pga" | "sa" => Some("g"),
             _ => None,
         },
         TableKind::Verification => match column {
@@ -289,10 +302,20 @@ fn forced_points_unit(column: &str) -> Option<&'static str> {
 /// The random and record scenes' points (store/random.rs).
 fn random_points_unit(column: &str) -> Option<&'static str> {
     Some(match column {
-        "point_id" | "point" | "case" | "ideal" | "noise_seed" | "solver" | "outcome" => "",
+        "point_id"
+        | "point"
+        | "case"
+        | "ideal"
+        | "noise_seed"
+        | "solver"
+        | "outcome"
+        | "capacity_censored"
+        | "capacity_resurrected" => "",
         "dm" => "kg",
         "dd" | "amplitude" | "rms_x" => "m",
-        "tol" | "scale" | "zeta_g" | "zeta_f" | "impacts" | "sticks" | "samples" | "steps" => "1",
+        "tol" | "scale" | "zeta_g" | "zeta_f" | "impacts" | "sticks" | "samples" | "steps"
+        | "capacity_runs" => "1",
+        "im" | "pga" | "sa" | "capacity" => "g",
         "S0" => S0_UNIT,
         "omega_g" | "omega_f" => "rad/s",
         "t_peak" | "first_passage_time" | "t_stop" => "s",
@@ -379,6 +402,23 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "p_f_cov" | "p_f_cov_upper" | "subset_runs" | "fragility_beta" | "fragility_beta_lo"
         | "fragility_beta_hi" | "capacity_rank" => "1",
         "intensity" | "fragility_outcome" | "p_f_method" => "",
+        "theta" | "theta_lo" | "theta_hi" | "deagg_im_10" | "deagg_im_50" | "deagg_im_90" => "g",
+        "beta_im"
+        | "beta_im_lo"
+        | "beta_im_hi"
+        | "ks"
+        | "ks_critical"
+        | "capacities"
+        | "capacities_censored"
+        | "capacities_resurrected"
+        | "ida_runs_mean"
+        | "p_f_years"
+        | "p_f_years_lo"
+        | "p_f_years_hi"
+        | "risk_rank" => "1",
+        "fit_ok" | "lambda_f_curve" => "",
+        "lambda_f" | "lambda_f_lo" | "lambda_f_hi" | "lambda_f_empirical"
+        | "lambda_f_lognormal" | "lambda_f_cornell" => "1/year",
         "intensity_design" | "fragility_theta" | "fragility_theta_lo" | "fragility_theta_hi" => {
             UNIT_OF_INTENSITY
         }

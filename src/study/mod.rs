@@ -28,8 +28,10 @@ use crate::error::InputError;
 use crate::model::{RangeError, System, fmt_value};
 use crate::sim::random::RandomScene;
 use crate::sim::{NoiseSettings, Request, Scene, SolverKind, SolverSettings};
+use crate::stats::hazard::SiteHazard;
 
 mod axis;
+mod hazard;
 mod noise;
 mod perturb;
 mod random;
@@ -45,6 +47,7 @@ mod toml_error;
 mod zones;
 
 pub use axis::Axis;
+pub use hazard::HAZARD_COPY;
 pub use perturb::Case;
 pub use random::{DEFAULT_DT, DEFAULT_REALIZATIONS, INTENSITY_KEYS};
 pub use ranking::{DiSource, Ranking, VERIFY_PERIODS};
@@ -100,6 +103,9 @@ pub struct Study {
     /// A random or record study with a swept intensity: `[scene].design_intensity`, the swept
     /// value its designs are ranked at (one of the axis's values); `None` for the middle one.
     pub design_intensity: Option<f64>,
+    /// `[hazard]`: the site's hazard curve of a random or record study with an intensity
+    /// measure ([`crate::stats::hazard`]).
+    pub hazard: Option<SiteHazard>,
 }
 
 /// The default size guard: a study with more runs than this is refused unless the caller
@@ -238,6 +244,29 @@ impl Study {
         })
     }
 
+    /// The swept intensity the designs are ranked at (`S0`, `scale` or a stripe's `im`):
+    /// `[scene].design_intensity`, or else the middle swept value (the lower middle one for an
+    /// even count); `None` without an intensity axis.
+    pub fn design_intensity_value(&self) -> Option<f64> {
+        let axis = self
+            .axes
+            .iter()
+            .find(|a| INTENSITY_KEYS.contains(&a.key.as_str()))?;
+        Some(
+            self.design_intensity
+                .unwrap_or(axis.values[(axis.values.len() - 1) / 2]),
+        )
+    }
+
+    /// The file a study's hazard table is read from (`[hazard] table` relative to the study
+    /// file, or the run directory's copy [`hazard::HAZARD_COPY`]); `None` without one.
+    pub fn hazard_path(&self) -> Option<PathBuf> {
+        let doc: toml::Table = self.source.parse().ok()?;
+        let shown = doc.get("hazard")?.get("table")?.as_str()?;
+        let dir = self.path.parent().unwrap_or(Path::new("."));
+        Some(hazard::table_path(dir, shown))
+    }
+
     /// Design points per frequency-response curve: the length of the frequency axis of a
     /// harmonic study, 1 otherwise. Chunks hold whole curves.
     pub fn curve_points(&self) -> u64 {
@@ -270,6 +299,7 @@ struct RawStudy {
     ranking: ranking::RawRanking,
     #[serde(default)]
     run: run::RawRun,
+    hazard: Option<hazard::RawHazard>,
 }
 
 #[derive(Deserialize)]
@@ -373,6 +403,14 @@ fn from_text(path: &Path, text: &str) -> Result<Study, InputError> {
 fn validate(cx: &Cx, raw: &RawStudy, path: &Path, text: &str) -> Result<Study, InputError> {
     let h = &raw.study;
     let scene = scene::scene(cx, raw.scene.as_ref(), &raw.sweep)?;
+    if raw.hazard.is_some() {
+        return Err(InputError::new(format!(
+            "{}: [hazard]: a seismic hazard curve belongs to the random and record scenes with an \
+             intensity measure ([scene] kind = \"random\" or \"record\", intensity = \"pga\" \
+             or \"sa\")",
+            cx.file
+        )));
+    }
     if let Scene::Harmonic(_) = scene {
         free_only(cx, h)?;
     }
@@ -416,6 +454,7 @@ fn validate(cx: &Cx, raw: &RawStudy, path: &Path, text: &str) -> Result<Study, I
         run,
         realizations: 0,
         design_intensity: None,
+        hazard: None,
     })
 }
 
@@ -449,6 +488,8 @@ pub struct RandomStudy {
     pub zones: Zones,
     pub ranking: Ranking,
     pub run: RunSettings,
+    /// `[hazard]`: the site's hazard curve (a study with an intensity measure).
+    pub hazard: Option<SiteHazard>,
 }
 
 impl RandomStudy {
@@ -550,6 +591,7 @@ impl From<RandomStudy> for Study {
             run: r.run,
             realizations: r.realizations,
             design_intensity: r.design_intensity,
+            hazard: r.hazard,
         }
     }
 }
@@ -623,13 +665,26 @@ fn random_study(
         }
     }
     let dir = path.parent().unwrap_or(Path::new("."));
-    let (scene, realizations) = random::scene(cx, kind, raw_scene, &raw.sweep, dir)?;
+    let (mut scene, realizations) = random::scene(cx, kind, raw_scene, &raw.sweep, dir)?;
     let mut system = system::system(cx, &raw.system)?;
     for key in ["x0", "v0", "y0", "w0"] {
         if raw.system.get(key).is_none() {
             system.set(key, 0.0);
         }
     }
+    let swept: Vec<&str> = raw.sweep.keys().map(String::as_str).collect();
+    random::intensity(cx, raw_scene, &system, &swept, &mut scene)?;
+    let hazard = match &raw.hazard {
+        Some(_) if scene.intensity.is_none() => {
+            return Err(InputError::new(format!(
+                "{}: [hazard]: a hazard curve is over an intensity measure in g; give [scene] \
+                 intensity = \"pga\" or \"sa\"",
+                cx.file
+            )));
+        }
+        Some(h) => Some(hazard::hazard(cx, h, dir)?),
+        None => None,
+    };
     let keys = random::axes_of(&scene);
     let scene_axes = sweep::SceneAxes {
         keys: &keys,
@@ -677,6 +732,7 @@ fn random_study(
         zones: zones::zones(cx, &raw.zones, &axes)?,
         ranking: ranking::ranking(cx, &raw.ranking)?,
         run,
+        hazard,
     })
 }
 

@@ -29,8 +29,10 @@ use super::scene::{RANDOM_ONLY, RECORD_ONLY, RawScene};
 use super::{Cx, num, range_value};
 use crate::error::InputError;
 use crate::model::RangeError;
+use crate::sim::random::intensity::{DEFAULT_IDA_MAX, DEFAULT_IDA_TOL};
 use crate::sim::random::{
-    Envelope, Excitation, Input, RandomLoad, RandomScene, Recorded, Spectrum,
+    Envelope, Excitation, Input, IntensitySpec, Measure, RandomLoad, RandomScene, Recorded,
+    Spectrum,
 };
 
 /// Default realizations per design point.
@@ -40,9 +42,10 @@ pub const DEFAULT_REALIZATIONS: u64 = 1000;
 /// strong-motion records.
 pub const DEFAULT_DT: f64 = 0.005;
 
-/// The keys that are an intensity measure (model.md §13): a random load's `S0`, a record's
-/// `scale`. A study sweeping one ranks its designs at one of its values, the design intensity.
-pub const INTENSITY_KEYS: [&str; 2] = ["S0", "scale"];
+/// The keys that are an intensity (model.md §13): a random load's `S0`, a record's `scale`, a
+/// stripe's intensity measure `im` (g). A study sweeping one ranks its designs at one of its
+/// values, the design intensity.
+pub const INTENSITY_KEYS: [&str; 3] = ["S0", "scale", "im"];
 
 /// `[scene].design_intensity`: the swept intensity value the designs are ranked at. Allowed
 /// only with a swept `S0` or `scale`, and only as one of its swept values (matched to a
@@ -90,6 +93,17 @@ pub(super) fn design_intensity(
 /// Checks one value of a swept scene key on its own (`S0`, `omega_g`, `zeta_g`, `omega_f`,
 /// `zeta_f`, `scale`).
 pub(super) fn check_key(key: &str, v: f64) -> Result<(), RangeError> {
+    if key == "im" {
+        return if v.is_finite() && (1e-6..=1e3).contains(&v) {
+            Ok(())
+        } else {
+            Err(RangeError::new(
+                "im",
+                v,
+                "a stripe's intensity (g) must be in [1e-6, 1000]",
+            ))
+        };
+    }
     let mut s = RandomScene {
         input: Input::Base,
         excitation: Excitation::Random(RandomLoad {
@@ -105,6 +119,8 @@ pub(super) fn check_key(key: &str, v: f64) -> Result<(), RangeError> {
         dt: DEFAULT_DT,
         duration: 1.0,
         threshold: None,
+        intensity: None,
+        im: None,
     };
     if key == "scale" {
         s.excitation = Excitation::Record(Recorded {
@@ -118,6 +134,19 @@ pub(super) fn check_key(key: &str, v: f64) -> Result<(), RangeError> {
 
 /// The scene keys a study of `scene` may sweep.
 pub(super) fn axes_of(scene: &RandomScene) -> Vec<&'static str> {
+    if scene.intensity.is_some() {
+        // Stripes are in the intensity measure; the load's own level is fixed.
+        return match &scene.excitation {
+            Excitation::Record(_) => vec!["im"],
+            Excitation::Random(r) => match r.spectrum {
+                Spectrum::White => vec!["im"],
+                Spectrum::KanaiTajimi { .. } => vec!["im", "omega_g", "zeta_g"],
+                Spectrum::CloughPenzien { .. } => {
+                    vec!["im", "omega_g", "zeta_g", "omega_f", "zeta_f"]
+                }
+            },
+        };
+    }
     match &scene.excitation {
         Excitation::Record(_) => vec!["scale"],
         Excitation::Random(r) => match r.spectrum {
@@ -278,6 +307,8 @@ fn random(
         dt: raw.dt.unwrap_or(DEFAULT_DT),
         duration: value("duration")?,
         threshold: raw.threshold,
+        intensity: None,
+        im: None,
     };
     Ok((scene, realizations))
 }
@@ -348,6 +379,8 @@ fn recorded(
         dt: file.dt,
         duration,
         threshold: raw.threshold,
+        intensity: None,
+        im: None,
     };
     if !(file.dt >= 1e-6 && file.dt <= 1.0) {
         return Err(cx.err(
@@ -360,6 +393,80 @@ fn recorded(
         ));
     }
     Ok((scene, 1))
+}
+
+/// `[scene] intensity` (with `T`, `ida_tol`, `ida_max`) onto `scene`: the intensity measure
+/// of the stripes, capacities and hazard. `T` defaults to the structure's own period
+/// `2 pi sqrt(M / K)` of `system`, which must then not be swept (`swept`: the swept keys).
+pub(super) fn intensity(
+    cx: &Cx,
+    raw: &RawScene,
+    system: &crate::model::System,
+    swept: &[&str],
+    scene: &mut RandomScene,
+) -> Result<(), InputError> {
+    let Some(name) = &raw.intensity else {
+        for key in ["T", "ida_tol", "ida_max"] {
+            if raw.has(key) {
+                return Err(cx.err(
+                    &format!("[scene].{key}"),
+                    cx.source("scene", key),
+                    format!(
+                        "{key} belongs to an intensity measure: give [scene] intensity = \"pga\" \
+                         or \"sa\""
+                    ),
+                ));
+            }
+        }
+        return Ok(());
+    };
+    let Some(measure) = Measure::parse(name) else {
+        return Err(cx.err(
+            "[scene].intensity",
+            format!("{name:?}"),
+            format!(
+                "unknown intensity measure; allowed: {} (peak ground acceleration, or the \
+                 spectral acceleration at T with 5 % damping, both in g)",
+                Measure::NAMES.join(", ")
+            ),
+        ));
+    };
+    for key in ["S0", "scale"] {
+        if swept.contains(&key) {
+            return Err(cx.err(
+                &format!("[sweep].{key}"),
+                cx.source("sweep", key),
+                format!(
+                    "with an intensity measure the stripes are [sweep] im = [...] (in g, each \
+                     motion scaled to it); {key} fixes the load's own level"
+                ),
+            ));
+        }
+    }
+    let period = match raw.number("T") {
+        Some(t) => t,
+        None if swept.contains(&"M") || swept.contains(&"K") => {
+            return Err(missing(
+                cx,
+                "T",
+                "Sa's period defaults to the structure's 2 pi sqrt(M / K), which this study \
+                 sweeps; give T (s)",
+            ));
+        }
+        None => system.period(),
+    };
+    scene.intensity = Some(IntensitySpec {
+        measure,
+        period,
+        ida_tol: raw.number("ida_tol").unwrap_or(DEFAULT_IDA_TOL),
+        ida_max: raw.number("ida_max").unwrap_or(DEFAULT_IDA_MAX),
+    });
+    let mut probe = scene.clone();
+    probe.im = None;
+    probe.validate().map_err(|e| {
+        let value = cx.source("scene", &e.key);
+        cx.err(&format!("[scene].{}", e.key), value, e.allowed)
+    })
 }
 
 #[cfg(test)]

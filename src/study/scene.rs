@@ -65,6 +65,10 @@ pub(super) struct RawScene {
     pub(super) record: Option<String>,
     scale: Option<f64>,
     pub(super) design_intensity: Option<f64>,
+    pub(super) intensity: Option<String>,
+    T: Option<f64>,
+    ida_tol: Option<f64>,
+    ida_max: Option<f64>,
 }
 
 /// The scene kinds of [`super::random`].
@@ -76,12 +80,16 @@ pub(super) const RANDOM_ONLY: [&str; 8] = [
     "spectrum", "S0", "omega_g", "zeta_g", "omega_f", "zeta_f", "dt", "envelope",
 ];
 pub(super) const RECORD_ONLY: [&str; 2] = ["record", "scale"];
-pub(super) const RANDOM_SHARED: [&str; 5] = [
+pub(super) const RANDOM_SHARED: [&str; 9] = [
     "input",
     "duration",
     "realizations",
     "threshold",
     "design_intensity",
+    "intensity",
+    "T",
+    "ida_tol",
+    "ida_max",
 ];
 
 /// `[scene] envelope = { t1, t2, c }` (s, s, 1/s).
@@ -147,6 +155,9 @@ impl RawScene {
             "threshold" => self.threshold,
             "scale" => self.scale,
             "design_intensity" => self.design_intensity,
+            "T" => self.T,
+            "ida_tol" => self.ida_tol,
+            "ida_max" => self.ida_max,
             _ => None,
         }
     }
@@ -170,6 +181,7 @@ impl RawScene {
             "envelope" => self.envelope.is_some(),
             "realizations" => self.realizations.is_some(),
             "record" => self.record.is_some(),
+            "intensity" => self.intensity.is_some(),
             _ => self.number(key).is_some(),
         }
     }

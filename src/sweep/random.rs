@@ -14,8 +14,8 @@ use rayon::prelude::*;
 
 use super::simulate::{ChunkRows, SceneRun, row_of};
 use crate::plan::{Plan, RunSpec};
-use crate::sim::random::{RandomRun, RandomScene, RealizationRecord};
-use crate::sim::{NoProbe, Scene};
+use crate::sim::random::{RandomRun, RandomScene, RealizationRecord, ida, own_intensity};
+use crate::sim::{NoProbe, Outcome, Scene};
 use crate::store::RunRow;
 
 impl SceneRun for RealizationRecord {
@@ -72,13 +72,51 @@ fn random_scene(scene: &Scene) -> RandomScene {
     }
 }
 
-/// Realization `run.case` of `run.point` on its design point's `setup`.
+/// Realization `run.case` of `run.point` on its design point's `setup`. Under an intensity
+/// measure: the motion's own PGA and Sa first (one pass over its load), the run at the stripe's
+/// gain `im / own` (1 without stripes), and at the design stripe (every point without stripes)
+/// with a threshold, the motion's capacity by incremental dynamic analysis
+/// ([`crate::sim::random::ida`]), each trial a run of the same motion at another gain.
 fn realization(
     plan: &Plan,
     run: &RunSpec,
     scene: &RandomScene,
     setup: &RandomRun,
 ) -> RealizationRecord {
-    let record = setup.run(&plan.study.request, plan.load_stream(run), &mut NoProbe);
-    RealizationRecord::new(scene, record)
+    let req = &plan.study.request;
+    let Some(spec) = scene.intensity else {
+        let record = setup.run(req, plan.load_stream(run), &mut NoProbe);
+        return RealizationRecord::new(scene, record);
+    };
+    let own = own_intensity(scene, spec.period, plan.load_stream(run));
+    let i0 = own.of(spec.measure);
+    let gain = match scene.im {
+        Some(x) if i0 > 0.0 => x / i0,
+        _ => 1.0,
+    };
+    let record = setup.run_scaled(req, plan.load_stream(run), gain, &mut NoProbe);
+    let amplitude = |r: &crate::sim::random::RandomRecord| {
+        if r.outcome == Outcome::Ok {
+            r.amplitude
+        } else {
+            f64::NAN
+        }
+    };
+    let design_stripe = scene.im.is_none() || scene.im == plan.study.design_intensity_value();
+    let capacity = match scene.threshold {
+        Some(b) if design_stripe && i0 > 0.0 => Some(ida::capacity(
+            i0,
+            b,
+            (gain, amplitude(&record)),
+            spec.ida_tol,
+            spec.ida_max,
+            |s| amplitude(&setup.run_scaled(req, plan.load_stream(run), s, &mut NoProbe)),
+        )),
+        _ => None,
+    };
+    let mut row = RealizationRecord::new(scene, record);
+    row.own = Some(own);
+    row.load[5] = Some(gain);
+    row.capacity = capacity;
+    row
 }

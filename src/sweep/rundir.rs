@@ -132,6 +132,15 @@ pub fn claim(
             store::write_shared(&copy, &bytes)?;
         }
     }
+    // The same for a hazard table.
+    if let Some(src) = plan.study.hazard_path() {
+        let copy = dir.join(crate::study::HAZARD_COPY);
+        if src != copy && !copy.exists() {
+            let bytes =
+                std::fs::read(&src).with_context(|| format!("reading {}", src.display()))?;
+            store::write_shared(&copy, &bytes)?;
+        }
+    }
     Ok(lock)
 }
 

@@ -39,6 +39,7 @@ pub fn study(name: &str, n_e: usize) -> Study {
         ],
         realizations: 0,
         design_intensity: None,
+        hazard: None,
         cases: vec![
             Case {
                 dm: 0.0,

@@ -11,7 +11,9 @@ use super::stats::perfectibility;
 /// Fills `perfectibility`, `rank` and `pareto` of every point; returns `(R_max, DI_max)`, the
 /// eq. 11 denominators (the best R and DI over the points where both are known).
 ///
-/// Rank 1 is the highest perfectibility; ties go to the lower point index. A point whose R or
+/// Rank 1 is the highest perfectibility; ties go to the lower mean response (the design that
+/// stays furthest from trouble: a random study whose designs all kept `p_s = 1` ranks by its
+/// margin to the limit), then to the lower point index. A point whose R or
 /// DI is unknown (no ok run, no ideal run) gets no rank and is never Pareto-optimal.
 pub fn apply(points: &mut [PointStats], wf1: f64, wf2: f64) -> (f64, f64) {
     let with_r = computes_r(points);
@@ -42,6 +44,7 @@ pub fn apply(points: &mut [PointStats], wf1: f64, wf2: f64) -> (f64, f64) {
         points[b]
             .perfectibility
             .total_cmp(&points[a].perfectibility)
+            .then(points[a].response.mean.total_cmp(&points[b].response.mean))
             .then(points[a].point.cmp(&points[b].point))
     });
     for (r, &i) in order.iter().enumerate() {

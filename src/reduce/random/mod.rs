@@ -41,6 +41,7 @@
 //! (`p_f_method = subset`, `p_f_cov` its coefficient of variation); `n_exceed` stays the Monte
 //! Carlo count, and the ranking stays on the Monte Carlo `p_s`.
 
+pub mod risk;
 pub mod subset;
 
 use rayon::prelude::*;
@@ -48,13 +49,16 @@ use rayon::prelude::*;
 use crate::reduce::core::{
     Damping, IdealCase, Options, PointStats, Reducer, Response, Run, Summary,
 };
+use crate::sim::random::IntensitySpec;
 use crate::sim::random::{RandomScene, RealizationRecord};
 use crate::sim::{Outcome, Scene};
 use crate::stats::binomial::clopper_pearson;
 use crate::stats::fragility::{self, Counts, FitOutcome, Fragility};
+use crate::stats::hazard::SiteHazard;
 use crate::store::RunRow;
 use crate::store::table::{Column, Table};
 use crate::study::{DiSource, Study};
+use risk::{DesignRisk, MotionCapacity, design_risk, rank_by_risk};
 use subset::{SUBSET_BELOW, SubsetPf, subset_pf};
 
 /// The random scene's response: the largest `|x|` of a realization over the duration.
@@ -226,6 +230,16 @@ pub struct RandomSummary {
     /// Per design whose fragility fit ended ok (in design order): its rank by median capacity
     /// `theta`, 1 the largest, ties to the lower design ([`capacity_ranks`]).
     pub capacity_rank: Vec<(u64, u64)>,
+    /// The study's intensity measure, if it sets one.
+    pub measure: Option<IntensitySpec>,
+    /// The study's hazard, if it gives one.
+    pub hazard: Option<SiteHazard>,
+    /// Per design with capacities (in design order): its fragility from them and its annual
+    /// risk ([`risk`]).
+    pub risk: Vec<DesignRisk>,
+    /// Every motion's capacity at the design stripe: `(design, case, capacity)`, in design then
+    /// case order (the `capacities` table).
+    pub capacities: Vec<(u64, u32, MotionCapacity)>,
 }
 
 impl RandomSummary {
@@ -262,6 +276,14 @@ impl RandomSummary {
             .map(|i| self.capacity_rank[i].1)
     }
 
+    /// The capacities' fragility and risk of design `design`, if it has capacities.
+    pub fn risk_of(&self, design: u64) -> Option<&DesignRisk> {
+        self.risk
+            .binary_search_by_key(&design, |f| f.design)
+            .ok()
+            .map(|i| &self.risk[i])
+    }
+
     /// The fragility fit of design `design`, if any.
     pub fn fragility_of(&self, design: u64) -> Option<&Fragility> {
         self.fragility
@@ -285,6 +307,8 @@ pub struct RandomReducer<'a> {
     /// The last design point's rows seen so far: a point split into blocks of realizations
     /// ([`crate::plan::Plan::chunk_runs`]) spans several part files, read in order.
     pending: Vec<RunRow<RealizationRecord>>,
+    /// The design stripe's capacities: `(design, case, capacity)`.
+    capacities: Vec<(u64, u32, MotionCapacity)>,
 }
 
 impl<'a> RandomReducer<'a> {
@@ -302,6 +326,7 @@ impl<'a> RandomReducer<'a> {
             lens: study.axes.iter().map(|a| a.values.len()).collect(),
             points: Vec::new(),
             pending: Vec::new(),
+            capacities: Vec::new(),
         }
     }
 
@@ -358,6 +383,15 @@ impl<'a> RandomReducer<'a> {
             .collect();
         self.points.extend(pfs);
         let design_j = self.intensity.as_ref().map_or(0, |i| i.design);
+        for r in &rows {
+            if let Some(c) = &r.record.capacity {
+                let (design, j) = self.split(r.point);
+                if j == design_j {
+                    let m = (c.capacity, c.censored, c.resurrected, c.runs);
+                    self.capacities.push((design, r.case, m));
+                }
+            }
+        }
         let runs: Vec<Run> = rows
             .iter()
             .filter_map(|r| {
@@ -376,16 +410,18 @@ impl<'a> RandomReducer<'a> {
         self.reduce_points(last);
         self.points.sort_by_key(|p| p.point);
         self.points.dedup_by_key(|p| p.point);
+        let design_lens: Vec<usize> = self
+            .lens
+            .iter()
+            .enumerate()
+            .filter(|(a, _)| self.intensity.as_ref().is_none_or(|i| i.axis != *a))
+            .map(|(_, &n)| n)
+            .collect();
+        let risks = self.risks(&design_lens);
+        let hazard = self.study.hazard.as_ref();
         let mut subsets: Vec<(u64, SubsetPf)> = Vec::new();
         if let (Some(n), Some(b)) = (subset, self.threshold) {
             let (study, points, intensity) = (self.study, &self.points, &self.intensity);
-            let design_lens: Vec<usize> = self
-                .lens
-                .iter()
-                .enumerate()
-                .filter(|(a, _)| intensity.as_ref().is_none_or(|i| i.axis != *a))
-                .map(|(_, &n)| n)
-                .collect();
             self.core.adjust(|designs| {
                 for d in designs.iter_mut() {
                     let g = intensity
@@ -397,6 +433,19 @@ impl<'a> RandomReducer<'a> {
                     if few && let Some(s) = subset_pf(study, g, b, n) {
                         d.di = 1.0 - s.p_f;
                         subsets.push((d.point, s));
+                    }
+                }
+            });
+        }
+        if hazard.is_some() {
+            // With a hazard the designs rank by lambda_f: p_s is then the probability of no
+            // failure over the hazard's years, exp(-years lambda_f).
+            self.core.adjust(|designs| {
+                for d in designs.iter_mut() {
+                    if let Ok(i) = risks.binary_search_by_key(&d.point, |r| r.design)
+                        && let Some(r) = &risks[i].risk
+                    {
+                        d.di = 1.0 - r.p_f_years.0;
                     }
                 }
             });
@@ -415,6 +464,13 @@ impl<'a> RandomReducer<'a> {
             fragility: Vec::new(),
             subset: subsets,
             capacity_rank: Vec::new(),
+            measure: match &self.study.scene {
+                Scene::Random(r) => r.intensity,
+                Scene::Free | Scene::Harmonic(_) => None,
+            },
+            hazard: self.study.hazard.clone(),
+            risk: risks,
+            capacities: std::mem::take(&mut self.capacities),
         };
         if let (Some(i), Some(_)) = (&rs.intensity, rs.threshold) {
             let design_axes = lens(&summary.grid);
@@ -439,6 +495,47 @@ impl<'a> RandomReducer<'a> {
             rs.fragility = fits;
         }
         (summary, rs)
+    }
+}
+
+impl RandomReducer<'_> {
+    /// Each design's fragility from its capacities and its risk ([`risk`]), in design order,
+    /// ranked by `lambda_f` with a hazard; none without capacities.
+    fn risks(&mut self, design_lens: &[usize]) -> Vec<DesignRisk> {
+        let caps = &mut self.capacities;
+        if caps.is_empty() {
+            return Vec::new();
+        }
+        caps.sort_by_key(|c| (c.0, c.1));
+        caps.dedup_by_key(|c| (c.0, c.1));
+        let caps = &self.capacities;
+        let ida_max = match &self.study.scene {
+            Scene::Random(r) => r.intensity.map_or(f64::NAN, |s| s.ida_max),
+            Scene::Free | Scene::Harmonic(_) => f64::NAN,
+        };
+        let stripes_of = |design: u64| -> Vec<(f64, PointPf)> {
+            let Some(i) = self.intensity.as_ref().filter(|i| i.key == "im") else {
+                return Vec::new();
+            };
+            (0..i.values.len())
+                .filter_map(|j| {
+                    let g = point_at(i, design, j, design_lens);
+                    let k = self.points.binary_search_by_key(&g, |p| p.point).ok()?;
+                    Some((i.values[j], self.points[k]))
+                })
+                .collect()
+        };
+        let groups: Vec<&[(u64, u32, MotionCapacity)]> = caps.chunk_by(|a, b| a.0 == b.0).collect();
+        let (hazard, seed) = (self.study.hazard.as_ref(), self.study.seed);
+        let mut out: Vec<DesignRisk> = groups
+            .par_iter()
+            .map(|g| {
+                let motions: Vec<MotionCapacity> = g.iter().map(|c| c.2).collect();
+                design_risk(g[0].0, &motions, &stripes_of(g[0].0), hazard, ida_max, seed)
+            })
+            .collect();
+        rank_by_risk(&mut out);
+        out
     }
 }
 
@@ -549,6 +646,9 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
         Column::U64(pf.iter().map(|p| p.map(|p| p.exceed)).collect()),
     );
     t.push("rms_x_mean", f(&|p| p.rms_x_mean));
+    if !rs.risk.is_empty() {
+        risk::summary_columns(t, rs, rows);
+    }
     let Some(i) = &rs.intensity else {
         return;
     };

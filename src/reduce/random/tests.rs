@@ -32,6 +32,10 @@ fn a_design_and_its_intensity_give_back_the_design_point() {
         fragility: Vec::new(),
         subset: Vec::new(),
         capacity_rank: Vec::new(),
+        measure: None,
+        hazard: None,
+        risk: Vec::new(),
+        capacities: Vec::new(),
     };
     let mut seen = Vec::new();
     for p in 0..12 {
@@ -60,7 +64,9 @@ fn p_f_is_the_share_that_passed_with_its_exact_interval() {
         solver: "exact".into(),
         tol: 1e-12,
         record: RealizationRecord {
-            load: [None; 6],
+            load: [None; 7],
+            own: None,
+            capacity: None,
             record: crate::sim::random::RandomRecord {
                 outcome,
                 amplitude,

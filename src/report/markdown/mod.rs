@@ -10,6 +10,7 @@
 mod core;
 pub mod forced;
 pub mod random;
+pub mod seismic;
 
 use std::fmt::Write;
 
@@ -36,6 +37,16 @@ pub struct SceneText {
     /// The study's motions that are not periodic carry their window maxima
     /// (`nonperiodic_peak = "window"`), not amplitudes over a design life.
     pub window_peaks: bool,
+    /// Every run the study's numbers rest on, when the core's count (its runs at the design
+    /// intensity) is not all of them, and what they were (`80,000 at 5 intensities, 16,000
+    /// capacity searches`).
+    pub runs: Option<(u64, String)>,
+    /// What the study is, stated at the report's top (the random scene's load, structure,
+    /// limit, intensity measure and hazard).
+    pub head: String,
+    /// The scene's own decision in place of the core's recommendation (a random study ranks by
+    /// first-passage probability or annual risk, not by the paper's R); `None`: the core's.
+    pub decision: Option<String>,
 }
 
 impl Default for SceneText {
@@ -45,6 +56,9 @@ impl Default for SceneText {
             point: ("design point", "design points"),
             per_point: None,
             window_peaks: false,
+            runs: None,
+            head: String::new(),
+            decision: None,
         }
     }
 }
@@ -72,8 +86,14 @@ pub fn report_with(
     use self::core::{audit, cases, jumps, ranking, recommendation, sensitivity, settings, zones};
     let mut o = format!("# impactsweep report: {}\n\n", study.name);
     o += &cases::overview(study, s, scene);
-    o += &settings::no_strength(s);
-    o += &recommendation::section(s);
+    o += &scene.head;
+    match &scene.decision {
+        Some(d) => o += d,
+        None => {
+            o += &settings::no_strength(s);
+            o += &recommendation::section(s);
+        }
+    }
     o += &scene.section;
     o += &zones::section(s);
     o += &jumps::section(s, scene.window_peaks);

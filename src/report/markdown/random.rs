@@ -11,7 +11,7 @@ use crate::report::markdown::{MAX_ROWS, SceneText, cm, design_text, f, ranked};
 use crate::report::text::{axis_value, count, fmt_num, thousands};
 
 /// How the core's sections word a random or record study, and its own section.
-pub fn scene_text(s: &Summary, rs: &RandomSummary) -> SceneText {
+pub fn scene_text(study: &crate::study::Study, s: &Summary, rs: &RandomSummary) -> SceneText {
     let per = count(
         rs.realizations,
         if rs.record {
@@ -25,23 +25,51 @@ pub fn scene_text(s: &Summary, rs: &RandomSummary) -> SceneText {
             "realizations"
         },
     );
+    let per_design = match &rs.intensity {
+        Some(i) => format!(
+            "{} × {} per design",
+            count(i.values.len() as u64, "intensity", "intensities"),
+            per
+        ),
+        None => format!("{per} per design"),
+    };
     SceneText {
         section: section(s, rs),
         point: ("design", "designs"),
-        per_point: Some(match &rs.intensity {
-            Some(i) => format!(
-                "{} × {} per design",
-                count(i.values.len() as u64, "intensity", "intensities"),
-                per
-            ),
-            None => format!("{per} per design"),
-        }),
+        per_point: Some(per_design.clone()),
         window_peaks: false,
+        runs: Some(every_run(rs, &per_design)),
+        head: super::seismic::head(study, rs),
+        decision: Some(super::seismic::decision(s, rs)),
     }
 }
 
+/// Every run the numbers rest on: each design point's realizations (every intensity), the
+/// capacity searches' runs beyond each motion's first, subset simulation's runs.
+fn every_run(rs: &RandomSummary, per_design: &str) -> (u64, String) {
+    let sweep: u64 = rs.points.len() as u64 * rs.realizations;
+    let ida: u64 = rs
+        .capacities
+        .iter()
+        .map(|c| u64::from(c.2.3.saturating_sub(1)))
+        .sum();
+    let subset: u64 = rs.subset.iter().map(|s| s.1.runs).sum();
+    let mut parts = vec![format!("{} in the sweep ({per_design})", thousands(sweep))];
+    if ida > 0 {
+        parts.push(format!(
+            "{} more by the capacity searches of {} motions",
+            thousands(ida),
+            thousands(rs.capacities.len() as u64)
+        ));
+    }
+    if subset > 0 {
+        parts.push(format!("{} by subset simulation", thousands(subset)));
+    }
+    (sweep + ida + subset, parts.join(", "))
+}
+
 /// A number at label precision, `–` when unknown.
-fn num(v: f64) -> String {
+pub(super) fn num(v: f64) -> String {
     if v.is_finite() {
         fmt_num(v)
     } else {
@@ -50,7 +78,7 @@ fn num(v: f64) -> String {
 }
 
 /// `p_f` with its interval: `0.125 [0.06, 0.23]`.
-fn pf_text(p: f64, lo: f64, hi: f64) -> String {
+pub(super) fn pf_text(p: f64, lo: f64, hi: f64) -> String {
     if p.is_nan() {
         return "–".into();
     }
@@ -58,7 +86,7 @@ fn pf_text(p: f64, lo: f64, hi: f64) -> String {
 }
 
 /// A probability to two significant digits: `0.12`, `0.0031`, `4.7e-6` (below 1e-3), `0`.
-fn prob(p: f64) -> String {
+pub(super) fn prob(p: f64) -> String {
     if p == 0.0 || !p.is_finite() {
         return f(p, 0);
     }
@@ -87,7 +115,7 @@ const DAMPER_KEYS: [&str; 2] = ["d", "e"];
 /// without a damper (`m = 0` on a swept `m`) that differ only in [`DAMPER_KEYS`] are one system,
 /// the main mass alone, whose results are the same; they are listed once, as `m = 0 kg, any d
 /// (no damper, N designs)`, with the range of their ranks (`rank_of`).
-fn rows<'a>(
+pub(super) fn rows<'a>(
     s: &Summary,
     designs: &[&'a PointStats],
     rank_of: impl Fn(&PointStats) -> Option<u64>,
@@ -148,7 +176,7 @@ fn rows<'a>(
 }
 
 /// The section: the method in two lines, the table of designs, the fragility table.
-pub fn section(s: &Summary, rs: &RandomSummary) -> String {
+pub(super) fn section(s: &Summary, rs: &RandomSummary) -> String {
     let mut o = String::from("## First-passage reliability\n\n");
     let Some(b) = rs.threshold else {
         o += "The study sets no `[scene] threshold`: no first-passage probability is computed \
@@ -172,14 +200,21 @@ pub fn section(s: &Summary, rs: &RandomSummary) -> String {
         o,
         "`p_f` = P(max |x| > {} cm) over the load's duration{at}, by Monte Carlo over each \
          design's {}: the share that passed, with its exact (Clopper–Pearson) 95 % interval; \
-         `beta` = −Φ⁻¹(p_f). Rank 1 has the lowest `p_f` (the ranking is by `p_s = 1 − p_f` \
-         unless the study gives a strength); two designs whose intervals overlap are not told \
-         apart by this many runs.{}\n",
+         `beta` = −Φ⁻¹(p_f). {}; two designs whose intervals overlap are not told apart by this \
+         many runs.{}\n",
         cm(b),
         if rs.record {
             count(rs.realizations, "record run", "record runs")
         } else {
             count(rs.realizations, "realization", "realizations")
+        },
+        if rs.hazard.is_some() && !rs.risk.is_empty() {
+            "The rank is by annual risk over the study's hazard (*Capacities by incremental \
+             dynamic analysis*, below), not by this `p_f` at one intensity"
+        } else {
+            "Rank 1 has the lowest `p_f` (the ranking is by `p_s = 1 − p_f` unless the study \
+             gives a strength; designs that all kept `p_s = 1` rank by their mean amplitude, \
+             the margin to the limit)"
         },
         if rs.subset.is_empty() {
             ""
@@ -231,7 +266,11 @@ pub fn section(s: &Summary, rs: &RandomSummary) -> String {
         );
     }
     o.push('\n');
-    o += &fragility(s, rs, &designs, &lens);
+    // The capacities' fragility supersedes the fit to the stripes' counts.
+    if rs.risk.is_empty() {
+        o += &fragility(s, rs, &designs, &lens);
+    }
+    o += &risk_section(s, rs, &designs);
     o
 }
 
@@ -244,9 +283,11 @@ fn fragility(s: &Summary, rs: &RandomSummary, designs: &[&PointStats], lens: &[u
         "### Fragility over {}\n\nEach design's `p_f` at every swept {} and the lognormal \
          fragility curve P(exceed | {k}) = Φ(ln({k} / theta) / beta) fitted to its counts by \
          maximum likelihood (95 % Wald intervals). `theta`, the median capacity, is the \
-         intensity at which half the runs pass the threshold: the larger, the better the \
-         design over every intensity. The designs are listed by it (`capacity rank`, \
-         `capacity_rank` in `summary.csv`; a design whose fit did not end ok has none).\n\n",
+         intensity at which half the runs pass the threshold; the designs are listed by it \
+         (`capacity rank`, `capacity_rank` in `summary.csv`; a design whose fit did not end ok \
+         has none). Two curves with different `beta` cross: a larger `theta` is not a lower \
+         `p_f` at every intensity, and the intensities that matter are those the hazard \
+         weighs.\n\n",
         i.key,
         i.key,
         k = i.key
@@ -298,4 +339,194 @@ fn fragility(s: &Summary, rs: &RandomSummary, designs: &[&PointStats], lens: &[u
     }
     o.push('\n');
     o
+}
+
+/// With capacities (an intensity measure and a threshold): each design's fragility from its
+/// motions' capacities, whether the lognormal holds, and with a hazard its annual risk; the
+/// designs by `lambda_f` (with a hazard) or by median capacity.
+fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> String {
+    let Some(spec) = rs.measure else {
+        return String::new();
+    };
+    if rs.risk.is_empty() {
+        return String::new();
+    }
+    let im = im_name(&spec);
+    let mut o = format!(
+        "### Capacities by incremental dynamic analysis\n\nEach motion of the design stripe \
+         is scaled up until max |x| first passes the limit: its capacity, the {im} (g) of that \
+         first passage, to a relative {} (bracketed, then closed by false position and \
+         bisection; {} runs a motion on average over the study). The fragility is the \
+         capacities' distribution: the empirical curve, and the lognormal fit (`theta` their \
+         geometric mean, `beta` their log standard deviation per ln {im}, maximum likelihood \
+         with censoring where a motion never passed up to {} g), with 95 % bootstrap \
+         intervals over the motions. The lognormal *holds* (`fit`) when its \
+         Kolmogorov–Smirnov distance to the capacities is within Lilliefors' 5 % value, it \
+         lies inside every stripe's Monte Carlo interval{}; where it does not, the empirical \
+         curve is used.\n\n",
+        f(spec.ida_tol, 3),
+        f(
+            rs.risk.iter().map(|r| r.runs_mean).sum::<f64>() / rs.risk.len() as f64,
+            1
+        ),
+        fmt_num(spec.ida_max),
+        if rs.hazard.is_some() {
+            " and its annual rate of failure lies inside the empirical curve's interval"
+        } else {
+            ""
+        },
+    );
+    let mut order = designs.to_vec();
+    order.sort_by_key(|d| {
+        let r = rs.risk_of(d.point);
+        let by_theta = r
+            .and_then(|r| r.fit)
+            .map_or(u64::MAX, |f| (1e9 / f.theta) as u64);
+        (
+            r.and_then(|r| r.risk_rank).unwrap_or(u64::MAX),
+            by_theta,
+            d.point,
+        )
+    });
+    let with_hazard = rs.hazard.is_some();
+    if let Some(h) = &rs.hazard {
+        let _ = writeln!(
+            o,
+            "**Annual risk** over the hazard curve {} ({}): `lambda_f` = ∫ P(f | {im}) \
+             |dλ({im})| per year, over the curve that holds, and the probability of a failure \
+             in {} years, 1 − exp(−{} λ_f). The designs are ranked by `lambda_f` (`risk_rank`; \
+             rank 1 the lowest). `deagg. 10–50–90 %`: the {im} below which 10, 50 and 90 % of \
+             `lambda_f` comes from.\n",
+            hazard_text(&h.curve),
+            h.source.as_deref().unwrap_or("the study's"),
+            fmt_num(h.years),
+            fmt_num(h.years),
+        );
+    }
+    let head = if with_hazard {
+        "| risk rank | design | lambda_f per year [95 %] | P_f in years [95 %] | curve | lambda_f empirical | lambda_f lognormal | deagg. 10–50–90 % (g) | theta (g) [95 %] | beta [95 %] | KS (5 % value) | fit | censored | resurrected |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    } else {
+        "| design | theta (g) [95 %] | beta [95 %] | KS (5 % value) | fit | censored | resurrected |\n|---|---|---|---|---|---|---|"
+    };
+    let _ = writeln!(o, "{head}");
+    let listed = rows(s, &order, |d| rs.risk_of(d.point).and_then(|r| r.risk_rank));
+    for (d, rank, name) in listed.iter().take(MAX_ROWS) {
+        let Some(r) = rs.risk_of(d.point) else {
+            continue;
+        };
+        let iv = |v: (f64, f64, f64)| format!("{} [{}, {}]", num(v.0), num(v.1), num(v.2));
+        let fit_cells = format!(
+            "{} | {} [{}, {}] | {} ({}) | {} | {} of {} | {}",
+            iv(r.theta),
+            f(r.beta.0, 3),
+            f(r.beta.1, 3),
+            f(r.beta.2, 3),
+            f(r.ks, 3),
+            f(r.ks_critical, 3),
+            if r.fit_ok {
+                "holds"
+            } else {
+                "**does not hold**"
+            },
+            thousands(r.censored as u64),
+            thousands(r.n as u64),
+            thousands(r.resurrected as u64),
+        );
+        match &r.risk {
+            Some(k) => {
+                let pv = |v: (f64, f64, f64)| pf_text(v.0, v.1, v.2);
+                let _ = writeln!(
+                    o,
+                    "| {rank} | {name} | {} | {} | {} | {} | {} | {}–{}–{} | {fit_cells} |",
+                    pv(k.lambda_f),
+                    pv(k.p_f_years),
+                    k.curve.name(),
+                    prob(k.empirical.0),
+                    prob(k.lognormal.0),
+                    num(k.deaggregation[0]),
+                    num(k.deaggregation[1]),
+                    num(k.deaggregation[2]),
+                );
+            }
+            None => {
+                let _ = writeln!(o, "| {name} | {fit_cells} |");
+            }
+        }
+    }
+    o.push('\n');
+    o += &stripes_table(s, rs, &order);
+    o
+}
+
+/// Each design's stripes: Monte Carlo against both curves.
+fn stripes_table(s: &Summary, rs: &RandomSummary, order: &[&PointStats]) -> String {
+    let Some(first) = rs.risk.iter().find(|r| !r.stripes.is_empty()) else {
+        return String::new();
+    };
+    let im = rs.measure.map_or("IM".into(), |m| im_name(&m));
+    let mut o = format!(
+        "**Stripes against the capacities.** At each stripe every motion is scaled so that its \
+         own {im} equals the stripe's: the share that passed (Monte Carlo, Clopper–Pearson 95 \
+         %), the empirical curve of the capacities there [bootstrap 95 %] and the lognormal \
+         (a `*` where it lies outside the stripe's interval).\n\n"
+    );
+    let heads: Vec<String> = first
+        .stripes
+        .iter()
+        .map(|x| format!("{im} = {} g", fmt_num(x.im)))
+        .collect();
+    let _ = writeln!(
+        o,
+        "| design | {} |\n|---|{}",
+        heads.join(" | "),
+        "---|".repeat(heads.len())
+    );
+    let listed = rows(s, order, |d| rs.risk_of(d.point).and_then(|r| r.risk_rank));
+    for (d, _, name) in listed.iter().take(MAX_ROWS) {
+        let Some(r) = rs.risk_of(d.point) else {
+            continue;
+        };
+        let cells: Vec<String> = r
+            .stripes
+            .iter()
+            .map(|x| {
+                format!(
+                    "{}; {} [{}, {}]; {}{}",
+                    pf_text(x.p_f, x.p_f_lo, x.p_f_hi),
+                    prob(x.empirical),
+                    prob(x.empirical_lo),
+                    prob(x.empirical_hi),
+                    prob(x.lognormal),
+                    if x.lognormal_ok() { "" } else { "*" }
+                )
+            })
+            .collect();
+        let _ = writeln!(o, "| {name} | {} |", cells.join(" | "));
+    }
+    o.push('\n');
+    o
+}
+
+/// `PGA` or `Sa(0.4 s)`.
+pub(super) fn im_name(spec: &crate::sim::random::IntensitySpec) -> String {
+    match spec.measure {
+        crate::sim::random::Measure::Pga => "PGA".into(),
+        crate::sim::random::Measure::Sa => format!("Sa({} s)", f(spec.period, 3)),
+    }
+}
+
+/// A hazard curve in words.
+fn hazard_text(h: &crate::stats::hazard::Hazard) -> String {
+    match h {
+        crate::stats::hazard::Hazard::Power { k0, k } => {
+            format!("λ(x) = {} x^−{} (x in g)", fmt_num(*k0), fmt_num(*k))
+        }
+        crate::stats::hazard::Hazard::Table { im, .. } => format!(
+            "from a table of {} rows over {}–{} g (log-log interpolation, its end segments \
+             extended)",
+            im.len(),
+            fmt_num(im[0]),
+            fmt_num(im[im.len() - 1])
+        ),
+    }
 }

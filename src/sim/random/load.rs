@@ -313,10 +313,13 @@ pub(crate) struct Samples<'a, N: Normals> {
     q: f64,
     /// The next interval.
     k: u64,
+    /// The factor on every load value (a stripe's or a capacity search's scale; 1 leaves the
+    /// bits as they are).
+    gain: f64,
 }
 
 impl<'a, N: Normals> Samples<'a, N> {
-    pub fn new(plan: &'a Plan, dt: f64, normals: N) -> Self {
+    pub fn new(plan: &'a Plan, dt: f64, normals: N, gain: f64) -> Self {
         let mut s = Samples {
             plan,
             dt,
@@ -324,6 +327,7 @@ impl<'a, N: Normals> Samples<'a, N> {
             state: [0.0; 4],
             q: 0.0,
             k: 0,
+            gain,
         };
         if let Plan::Random { .. } = plan {
             s.q = s.random_sample(0);
@@ -360,9 +364,19 @@ impl<'a, N: Normals> Samples<'a, N> {
 
     /// The load over the next interval: its value at the start and its slope (per s). A
     /// record's interval `k` runs from `scale v_k` to `scale v_{k+1}`; from its last sample on
-    /// the load is zero (free motion).
+    /// the load is zero (free motion). Both times the gain.
     #[inline]
     pub fn next(&mut self) -> (f64, f64) {
+        let (q0, s) = self.next_unscaled();
+        if self.gain == 1.0 {
+            (q0, s)
+        } else {
+            (q0 * self.gain, s * self.gain)
+        }
+    }
+
+    #[inline]
+    fn next_unscaled(&mut self) -> (f64, f64) {
         let k = self.k;
         self.k += 1;
         match self.plan {
@@ -464,7 +478,7 @@ mod tests {
             values: vec![1.0, 3.0, 2.0].into(),
             scale: 2.0,
         };
-        let mut s = Samples::new(&plan, 0.5, GivenNormals::new(&[]));
+        let mut s = Samples::new(&plan, 0.5, GivenNormals::new(&[]), 1.0);
         assert_eq!(s.next(), (2.0, 8.0));
         assert_eq!(s.next(), (6.0, -4.0));
         assert_eq!(s.next(), (0.0, 0.0));

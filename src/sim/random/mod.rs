@@ -58,6 +58,8 @@
 //! The run starts from the system's initial state (a study of these scenes starts at rest by
 //! default).
 
+pub mod ida;
+pub mod intensity;
 pub mod load;
 pub(crate) mod motion;
 mod run;
@@ -68,6 +70,8 @@ use serde::Serialize;
 
 use crate::model::{RangeError, fmt_value};
 
+pub use ida::Capacity;
+pub use intensity::{IntensitySpec, Measure, OwnIntensity, own_intensity};
 pub use load::{GivenNormals, Normals, RealizationStream};
 pub use run::{RandomRun, simulate_random};
 
@@ -220,6 +224,12 @@ pub struct RandomScene {
     pub duration: f64,
     /// The limit of `|x|` for the first passage (m), `> 0`; `None`: no first passage measured.
     pub threshold: Option<f64>,
+    /// The intensity measure the study states stripes, capacities and hazard in (ground
+    /// acceleration only); `None`: the load as given (`S0`, or a record's `scale`).
+    pub intensity: Option<IntensitySpec>,
+    /// A stripe: each motion scaled so that its own intensity measure equals this (g, `> 0`);
+    /// `None`: each motion at scale 1. Only with `intensity`.
+    pub im: Option<f64>,
 }
 
 /// Most load samples of one run (`duration / dt`).
@@ -228,7 +238,9 @@ pub const MAX_SAMPLES: f64 = 1e8;
 impl RandomScene {
     /// The keys a study may sweep besides the system's: the random load's intensity and
     /// filters, the record's scale.
-    pub const AXES: [&'static str; 6] = ["S0", "omega_g", "zeta_g", "omega_f", "zeta_f", "scale"];
+    pub const AXES: [&'static str; 7] = [
+        "S0", "omega_g", "zeta_g", "omega_f", "zeta_f", "scale", "im",
+    ];
 
     /// Samples (intervals of `dt`) the run covers: `ceil(duration / dt)`, the last one possibly
     /// shorter.
@@ -256,6 +268,8 @@ impl RandomScene {
             dt: 0.005,
             duration: 0.005,
             threshold: None,
+            intensity: None,
+            im: None,
         }
     }
 
@@ -266,6 +280,9 @@ impl RandomScene {
 
     /// The value of a sweepable key ([`RandomScene::AXES`]) if this scene's load has it.
     pub fn get(&self, key: &str) -> Option<f64> {
+        if key == "im" {
+            return self.im;
+        }
         match (&self.excitation, key) {
             (Excitation::Random(r), "S0") => Some(r.S0),
             (Excitation::Record(r), "scale") => Some(r.scale),
@@ -285,6 +302,10 @@ impl RandomScene {
     /// Sets a sweepable key ([`RandomScene::AXES`]) that applies to this scene's load; `false`
     /// for any other key.
     pub fn set(&mut self, key: &str, value: f64) -> bool {
+        if key == "im" {
+            self.im = Some(value);
+            return true;
+        }
         match (&mut self.excitation, key) {
             (Excitation::Random(r), "S0") => r.S0 = value,
             (Excitation::Random(r), _) => return set_filter(&mut r.spectrum, key, value),
@@ -328,6 +349,19 @@ impl RandomScene {
         }
         if let Some(b) = self.threshold {
             positive("threshold", b, "the limit of |x| (m)")?;
+        }
+        if let Some(spec) = &self.intensity {
+            spec.validate(self)?;
+        }
+        if let Some(im) = self.im {
+            if self.intensity.is_none() {
+                return Err(RangeError::new(
+                    "im",
+                    im,
+                    "a stripe's intensity (g) needs [scene] intensity = \"pga\" or \"sa\"",
+                ));
+            }
+            within("im", im, 1e-6, 1e3, "a stripe's intensity (g)")?;
         }
         match &self.excitation {
             Excitation::Random(r) => r.validate(),
@@ -455,18 +489,27 @@ pub struct RandomRecord {
 
 /// One realization as the sweep stores it: the values of the load's sweepable keys at its
 /// design point ([`RandomScene::AXES`] order, `None` where the scene's load has no such key;
-/// units as there) beside the run's [`RandomRecord`].
+/// units as there; under an intensity measure `scale` is the factor the run applied to its
+/// motion, `im / own`) beside the run's [`RandomRecord`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RealizationRecord {
-    pub load: [Option<f64>; 6],
+    pub load: [Option<f64>; 7],
+    /// The motion's own intensity measures at scale 1 (g), where the study sets an intensity
+    /// measure.
+    pub own: Option<OwnIntensity>,
+    /// The motion's capacity by incremental dynamic analysis, at the design stripe of a study
+    /// with an intensity measure and a threshold ([`ida`]).
+    pub capacity: Option<Capacity>,
     pub record: RandomRecord,
 }
 
 impl RealizationRecord {
-    /// `record` of a run of `scene`.
+    /// `record` of a run of `scene` at scale 1 without an intensity measure.
     pub fn new(scene: &RandomScene, record: RandomRecord) -> Self {
         RealizationRecord {
             load: RandomScene::AXES.map(|k| scene.get(k)),
+            own: None,
+            capacity: None,
             record,
         }
     }
@@ -525,6 +568,8 @@ mod tests {
             dt: 0.005,
             duration: 1.0,
             threshold: None,
+            intensity: None,
+            im: None,
         };
         assert!(s.set("S0", 0.2) && s.set("omega_g", 12.0));
         assert!(!s.set("omega_f", 1.0) && !s.set("scale", 2.0) && !s.set("M", 1.0));

@@ -151,9 +151,21 @@ impl RandomRun {
         normals: N,
         probe: &mut P,
     ) -> RandomRecord {
+        self.run_scaled(req, normals, 1.0, probe)
+    }
+
+    /// [`RandomRun::run`] with every load value times `gain` (> 0): a stripe's or a capacity
+    /// search's scaling of one motion ([`super::ida`]). `gain = 1` is `run`, bit for bit.
+    pub fn run_scaled<N: Normals, P: Probe>(
+        &self,
+        req: &Request,
+        normals: N,
+        gain: f64,
+        probe: &mut P,
+    ) -> RandomRecord {
         let free = Ramp::new(self.free, 0.0, 0.0, self.scene.dt, (0.0, 0.0), false);
         let mut solver = DrivenPhase::new(&free, self.tol_t, self.settings.max_steps);
-        let mut scene = Realization::new(self, req, normals, probe, free);
+        let mut scene = Realization::new(self, req, normals, gain, probe, free);
         let load = scene.cross();
         scene.begin_interval(&mut solver, load);
         let outcome = phase::run(&mut scene, &mut solver);
@@ -269,7 +281,14 @@ struct Realization<'a, N: Normals, P: Probe> {
 }
 
 impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
-    fn new(run: &'a RandomRun, req: &'a Request, normals: N, probe: &'a mut P, free: Ramp) -> Self {
+    fn new(
+        run: &'a RandomRun,
+        req: &'a Request,
+        normals: N,
+        gain: f64,
+        probe: &'a mut P,
+        free: Ramp,
+    ) -> Self {
         let map = EventMap::new(&run.sys, &run.settings, free, free);
         let x0 = map.s.x;
         let first_passage = run
@@ -280,7 +299,7 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
             map,
             run,
             req,
-            samples: Samples::new(&run.plan, run.scene.dt, normals),
+            samples: Samples::new(&run.plan, run.scene.dt, normals, gain),
             probe,
             k: 0,
             len: run.scene.dt,

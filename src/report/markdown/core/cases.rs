@@ -15,7 +15,10 @@ use crate::study::Study;
 /// its runs are.
 pub fn overview(study: &Study, s: &Summary, scene: &SceneText) -> String {
     let mut o = String::new();
-    let n_runs: u64 = s.outcome_totals.iter().sum();
+    let n_runs: u64 = scene
+        .runs
+        .as_ref()
+        .map_or_else(|| s.outcome_totals.iter().sum(), |r| r.0);
     let cases = study.n_cases();
     let per_point = scene
         .per_point
@@ -25,10 +28,13 @@ pub fn overview(study: &Study, s: &Summary, scene: &SceneText) -> String {
     let planned = s.n_points_planned;
     let _ = writeln!(
         o,
-        "{} of {} reduced ({}: {per_point}).{}\n",
+        "{} of {} reduced ({}).{}\n",
         thousands(s.points.len() as u64),
         count(planned, one, many),
-        count(n_runs, "run", "runs"),
+        match &scene.runs {
+            Some((_, what)) => format!("{}: {what}", count(n_runs, "run", "runs")),
+            None => format!("{}: {per_point}", count(n_runs, "run", "runs")),
+        },
         if (s.points.len() as u64) < s.n_points_planned {
             " **The run is incomplete: the missing points are left out of everything below.**"
         } else {

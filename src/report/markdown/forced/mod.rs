@@ -43,6 +43,7 @@ pub fn scene_text(study: &Study, s: &Summary, fs: &ForcedSummary) -> SceneText {
             )
         }),
         window_peaks: fs.nonperiodic_peak == NonPeriodicPeak::Window,
+        ..SceneText::default()
     }
 }
 
