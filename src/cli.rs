@@ -388,3 +388,25 @@ pub fn main() -> anyhow::Result<()> {
         }),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    fn reduce(args: &[&str]) -> Result<ReduceCmd, clap::Error> {
+        let all = [&["impactsweep", "reduce", "out/x"], args].concat();
+        Cli::try_parse_from(all).map(|c| match c.command {
+            Command::Reduce(r) => r,
+            _ => panic!("not reduce"),
+        })
+    }
+
+    #[test]
+    fn subset_repeats_default_to_one_and_take_a_count_from_1() {
+        assert_eq!(reduce(&[]).unwrap().subset_repeats, 1);
+        let r = reduce(&["--subset", "500", "--subset-repeats", "20"]).unwrap();
+        assert_eq!((r.subset, r.subset_repeats), (500, 20));
+        assert!(reduce(&["--subset-repeats", "0"]).is_err());
+    }
+}
