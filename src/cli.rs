@@ -183,6 +183,11 @@ pub struct ReduceCmd {
     /// design (at most 10,000 with N = 1000). 0: Monte Carlo only.
     #[arg(long, value_name = "N", default_value = "1000", value_parser = parse_subset)]
     pub subset: u64,
+    /// A random study: R independent subset simulations per such design (R times the runs);
+    /// its p_f is their mean and, for R > 1, its interval comes from their spread instead of
+    /// the method's stated coefficient of variation.
+    #[arg(long, value_name = "R", default_value = "1", value_parser = clap::value_parser!(u64).range(1..=1000))]
+    pub subset_repeats: u64,
 }
 
 /// Parses `--subset N`: 0 (off), or a multiple of 10, at least 100 (subset simulation's chains
@@ -358,6 +363,7 @@ pub fn main() -> anyhow::Result<()> {
             shard: c.shard,
             bifurcation_curves: c.bifurcation_curves,
             subset: (c.subset > 0).then_some(c.subset as usize),
+            subset_repeats: c.subset_repeats as usize,
         }),
         Command::Plot(PlotCmd::Waveform(c)) => app::reduce::waveform(&app::reduce::WaveformArgs {
             sets: c.sets,
@@ -380,5 +386,27 @@ pub fn main() -> anyhow::Result<()> {
             cpus_per_task: c.cpus_per_task,
             dry_run: c.dry_run,
         }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    fn reduce(args: &[&str]) -> Result<ReduceCmd, clap::Error> {
+        let all = [&["impactsweep", "reduce", "out/x"], args].concat();
+        Cli::try_parse_from(all).map(|c| match c.command {
+            Command::Reduce(r) => r,
+            _ => panic!("not reduce"),
+        })
+    }
+
+    #[test]
+    fn subset_repeats_default_to_one_and_take_a_count_from_1() {
+        assert_eq!(reduce(&[]).unwrap().subset_repeats, 1);
+        let r = reduce(&["--subset", "500", "--subset-repeats", "20"]).unwrap();
+        assert_eq!((r.subset, r.subset_repeats), (500, 20));
+        assert!(reduce(&["--subset-repeats", "0"]).is_err());
     }
 }

@@ -16,15 +16,15 @@ use crate::store::{self, TableKind};
 use crate::study::Study;
 
 /// Reduces the done parts `parts` of a random or record study into `dir`; `over` applies the
-/// command line's overrides to the scene's options, `subset` asks for subset simulation of
-/// that many samples per level where Monte Carlo saw few exceedances
+/// command line's overrides to the scene's options, `subset` asks for subset simulation (samples
+/// per level, independent repeats) where Monte Carlo saw few exceedances
 /// ([`crate::reduce::random::subset`]). Returns the core's summary and the files written.
 pub fn reduce_random(
     study: &Study,
     dir: &Path,
     parts: &[PathBuf],
     over: impl Fn(Options) -> Options,
-    subset: Option<usize>,
+    subset: Option<random::subset::SubsetAsk>,
 ) -> anyhow::Result<(Summary, Vec<PathBuf>)> {
     let design = random::design_study(study);
     let opts = over(random::options(&design));

@@ -17,7 +17,7 @@ use anyhow::Context;
 use crate::api::setup::{Setup, trace};
 use crate::reduce::core::tables;
 use crate::reduce::forced::{self, analysis, bifurcations};
-use crate::reduce::random::subset::DEFAULT_SUBSET_N;
+use crate::reduce::random::subset::{DEFAULT_SUBSET_N, SubsetAsk};
 use crate::reduce::{self, Options, Summary, free};
 use crate::report::{charts, html, markdown};
 use crate::sim::{ForcedRecord, Scene};
@@ -45,6 +45,9 @@ pub struct ReduceArgs {
     /// realizations passed the threshold fewer than 10 times
     /// ([`crate::reduce::random::subset`]); `None`: Monte Carlo only.
     pub subset: Option<usize>,
+    /// A random study: independent subset simulations per such design (at least 1), their mean
+    /// its `p_f` and their spread its interval when more than 1. Default 1.
+    pub subset_repeats: usize,
 }
 
 impl Default for ReduceArgs {
@@ -57,6 +60,7 @@ impl Default for ReduceArgs {
             shard: None,
             bifurcation_curves: analysis::CurveLines::default(),
             subset: Some(DEFAULT_SUBSET_N),
+            subset_repeats: 1,
         }
     }
 }
@@ -175,7 +179,10 @@ pub fn reduce_dir(args: &ReduceArgs) -> anyhow::Result<(String, Vec<PathBuf>)> {
             dir,
             &parts,
             |o| options_over(o, args),
-            args.subset,
+            args.subset.map(|n| SubsetAsk {
+                n,
+                repeats: args.subset_repeats.max(1),
+            }),
         )?,
     };
     let line = format!(

@@ -673,6 +673,7 @@ fn random_study(
         }
     }
     let swept: Vec<&str> = raw.sweep.keys().map(String::as_str).collect();
+    random::limit(cx, raw_scene, &system, &swept, &mut scene)?;
     random::intensity(cx, raw_scene, &system, &swept, &mut scene)?;
     let hazard = match &raw.hazard {
         Some(_) if scene.intensity.is_none() => {

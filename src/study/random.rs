@@ -17,6 +17,11 @@
 //! | `envelope = { t1, t2, c }` | random | s, s, 1/s | none | `0 <= t1 <= t2`, `c >= 0` |
 //! | `realizations` | random | | 1000 | `[1, 10^7]` (a record: 1) |
 //! | `threshold` | both | m | none | `> 0` |
+//! | `drift_ratio`, `storey_height` | both | 1, m | none | both `> 0`: the limit `b = drift_ratio storey_height` instead of `threshold` |
+//! | `yield_coefficient` | both | 1 | none | `> 0`: the limit at first yield, `b = C_y M g / K`, instead of `threshold` |
+//! | `intensity` | both | | none | `"pga"` or `"sa"` (ground acceleration only): stripes (`[sweep] im`, g), capacities, hazard |
+//! | `T` | both, with `intensity = "sa"` | s | the structure's `2 pi sqrt(M / K)` | `[max(0.01, 8 dt), 100]` |
+//! | `ida_tol`, `ida_max` | both, with `intensity` | 1, g | 0.01, 10 | `[1e-6, 0.5]`, `(0, 1000]` |
 //! | `record` | record | path | required | CSV or Parquet relative to the study file (in a run directory, its copy `record.csv` or `record.parquet` when the path does not resolve there) |
 //! | `scale` | record | 1 | 1 | `> 0`, sweepable |
 
@@ -393,6 +398,88 @@ fn recorded(
         ));
     }
     Ok((scene, 1))
+}
+
+/// The limit of `|x|` as a structure states it: `threshold` (m), or a drift ratio times the
+/// storey height (`drift_ratio`, `storey_height` in m: `b = ratio h`), or first yield at a
+/// base-shear coefficient (`yield_coefficient` `C_y`: the linear structure's base shear
+/// `K b = C_y M g`, `b = C_y M g / K`, with `M` and `K` not swept). At most one form.
+pub(super) fn limit(
+    cx: &Cx,
+    raw: &RawScene,
+    system: &crate::model::System,
+    swept: &[&str],
+    scene: &mut RandomScene,
+) -> Result<(), InputError> {
+    let given: Vec<&str> = ["threshold", "drift_ratio", "yield_coefficient"]
+        .into_iter()
+        .filter(|k| raw.has(k))
+        .collect();
+    if given.len() > 1 {
+        return Err(cx.err(
+            &format!("[scene].{}", given[1]),
+            cx.source("scene", given[1]),
+            format!(
+                "the limit is given once: threshold (m), drift_ratio with storey_height, or \
+                 yield_coefficient; this study also gives {}",
+                given[0]
+            ),
+        ));
+    }
+    let positive = |key: &str, v: f64, what: &str| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(cx.err(
+                &format!("[scene].{key}"),
+                num(v),
+                format!("{what} must be > 0"),
+            ))
+        }
+    };
+    if let Some(h) = raw.number("storey_height")
+        && raw.number("drift_ratio").is_none()
+    {
+        return Err(cx.err(
+            "[scene].storey_height",
+            num(h),
+            "a storey height sets the limit with a drift_ratio (b = drift_ratio * storey_height); \
+             give drift_ratio too",
+        ));
+    }
+    if let Some(r) = raw.number("drift_ratio") {
+        let r = positive(
+            "drift_ratio",
+            r,
+            "the drift ratio (drift over storey height)",
+        )?;
+        let Some(h) = raw.number("storey_height") else {
+            return Err(missing(
+                cx,
+                "storey_height",
+                "a drift_ratio limit needs the storey height (m): b = drift_ratio * storey_height",
+            ));
+        };
+        let h = positive("storey_height", h, "the storey height (m)")?;
+        scene.threshold = Some(r * h);
+    }
+    if let Some(c) = raw.number("yield_coefficient") {
+        let c = positive(
+            "yield_coefficient",
+            c,
+            "the base-shear coefficient at first yield",
+        )?;
+        if swept.contains(&"M") || swept.contains(&"K") {
+            return Err(cx.err(
+                "[scene].yield_coefficient",
+                num(c),
+                "first yield at C_y M g / K needs M and K fixed; this study sweeps one of them \
+                 (give threshold in m instead)",
+            ));
+        }
+        scene.threshold = Some(c * system.M * crate::sim::random::intensity::G / system.K);
+    }
+    Ok(())
 }
 
 /// `[scene] intensity` (with `T`, `ida_tol`, `ida_max`) onto `scene`: the intensity measure

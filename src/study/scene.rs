@@ -69,6 +69,9 @@ pub(super) struct RawScene {
     T: Option<f64>,
     ida_tol: Option<f64>,
     ida_max: Option<f64>,
+    drift_ratio: Option<f64>,
+    storey_height: Option<f64>,
+    yield_coefficient: Option<f64>,
 }
 
 /// The scene kinds of [`super::random`].
@@ -80,7 +83,7 @@ pub(super) const RANDOM_ONLY: [&str; 8] = [
     "spectrum", "S0", "omega_g", "zeta_g", "omega_f", "zeta_f", "dt", "envelope",
 ];
 pub(super) const RECORD_ONLY: [&str; 2] = ["record", "scale"];
-pub(super) const RANDOM_SHARED: [&str; 9] = [
+pub(super) const RANDOM_SHARED: [&str; 12] = [
     "input",
     "duration",
     "realizations",
@@ -90,6 +93,9 @@ pub(super) const RANDOM_SHARED: [&str; 9] = [
     "T",
     "ida_tol",
     "ida_max",
+    "drift_ratio",
+    "storey_height",
+    "yield_coefficient",
 ];
 
 /// `[scene] envelope = { t1, t2, c }` (s, s, 1/s).
@@ -158,6 +164,9 @@ impl RawScene {
             "T" => self.T,
             "ida_tol" => self.ida_tol,
             "ida_max" => self.ida_max,
+            "drift_ratio" => self.drift_ratio,
+            "storey_height" => self.storey_height,
+            "yield_coefficient" => self.yield_coefficient,
             _ => None,
         }
     }

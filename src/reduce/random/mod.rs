@@ -59,7 +59,7 @@ use crate::store::RunRow;
 use crate::store::table::{Column, Table};
 use crate::study::{DiSource, Study};
 use risk::{DesignRisk, MotionCapacity, design_risk, rank_by_risk};
-use subset::{SUBSET_BELOW, SubsetPf, subset_pf};
+use subset::{SUBSET_BELOW, SubsetAsk, SubsetPf, subset_pf};
 
 /// The random scene's response: the largest `|x|` of a realization over the duration.
 pub const AMPLITUDE: Response = Response {
@@ -402,10 +402,10 @@ impl<'a> RandomReducer<'a> {
         self.core.push(runs);
     }
 
-    /// The core's summary over the designs, and the scene's own; with `subset = Some(n)`
-    /// subset simulation of `n` samples per level for the designs with few exceedances
+    /// The core's summary over the designs, and the scene's own; with `subset = Some(ask)`
+    /// subset simulation as asked (samples per level, repeats) for the designs with few exceedances
     /// ([`subset`]), whose estimate then ranks them (`p_s = 1 - p_f`).
-    pub fn finish(mut self, subset: Option<usize>) -> (Summary, RandomSummary) {
+    pub fn finish(mut self, subset: Option<SubsetAsk>) -> (Summary, RandomSummary) {
         let last = std::mem::take(&mut self.pending);
         self.reduce_points(last);
         self.points.sort_by_key(|p| p.point);
