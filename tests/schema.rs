@@ -235,8 +235,9 @@ fn run_random(tmp: &Path, name: &str) -> PathBuf {
         format!(
             "[study]\nname = \"{name}\"\n[system]\nK = 246.7\nC = 0.628\n[scene]\n\
              kind = \"random\"\nspectrum = \"kanai-tajimi\"\nomega_g = 15.7\nzeta_g = 0.6\n\
-             duration = 1\nthreshold = 0.005\nrealizations = 8\n[sweep]\n\
-             S0 = [0.001, 0.004, 0.016]\nm = [0.0, 0.05]\n"
+             S0 = 0.004\nduration = 1\nthreshold = 0.005\nrealizations = 8\n\
+             intensity = \"sa\"\n[sweep]\nim = [0.05, 0.1, 0.2]\nm = [0.0, 0.05]\n\
+             [hazard]\nk0 = 1e-4\nk = 2.5\n"
         ),
     )
     .unwrap();
@@ -292,6 +293,10 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
             vec![impactsweep::store::part_path(&random, 0)],
         ),
         (TableKind::Summary, both("summary.parquet")),
+        (
+            TableKind::Capacities,
+            vec![random.join("capacities.parquet")],
+        ),
         (TableKind::Zones, both("zones.parquet")),
         (TableKind::Jumps, both("jumps.parquet")),
         (TableKind::Sensitivity, both("sensitivity.parquet")),

@@ -309,6 +309,9 @@ pub struct RandomReducer<'a> {
     pending: Vec<RunRow<RealizationRecord>>,
     /// The design stripe's capacities: `(design, case, capacity)`.
     capacities: Vec<(u64, u32, MotionCapacity)>,
+    /// Every stripe's run of every motion: `(design, case, im, passed)`, to find the motions
+    /// whose response falls back below the limit above their capacity.
+    stripe_runs: Vec<(u64, u32, f64, bool)>,
 }
 
 impl<'a> RandomReducer<'a> {
@@ -327,6 +330,7 @@ impl<'a> RandomReducer<'a> {
             points: Vec::new(),
             pending: Vec::new(),
             capacities: Vec::new(),
+            stripe_runs: Vec::new(),
         }
     }
 
@@ -384,6 +388,13 @@ impl<'a> RandomReducer<'a> {
         self.points.extend(pfs);
         let design_j = self.intensity.as_ref().map_or(0, |i| i.design);
         for r in &rows {
+            if let (Some(im), Some(b), Outcome::Ok) =
+                (r.record.load[6], threshold, r.record.record.outcome)
+            {
+                let (design, _) = self.split(r.point);
+                let passed = r.record.record.amplitude > b;
+                self.stripe_runs.push((design, r.case, im, passed));
+            }
             if let Some(c) = &r.record.capacity {
                 let (design, j) = self.split(r.point);
                 if j == design_j {
@@ -508,11 +519,26 @@ impl RandomReducer<'_> {
         }
         caps.sort_by_key(|c| (c.0, c.1));
         caps.dedup_by_key(|c| (c.0, c.1));
-        let caps = &self.capacities;
-        let ida_max = match &self.study.scene {
-            Scene::Random(r) => r.intensity.map_or(f64::NAN, |s| s.ida_max),
-            Scene::Free | Scene::Harmonic(_) => f64::NAN,
+        let (ida_max, ida_tol) = match &self.study.scene {
+            Scene::Random(r) => r
+                .intensity
+                .map_or((f64::NAN, f64::NAN), |s| (s.ida_max, s.ida_tol)),
+            Scene::Free | Scene::Harmonic(_) => (f64::NAN, f64::NAN),
         };
+        // A motion that did not pass at a stripe above its capacity (beyond the capacity's
+        // tolerance) falls back: its response is not monotone in the scale, and the capacity
+        // keeps the first passage.
+        let mut runs = std::mem::take(&mut self.stripe_runs);
+        runs.sort_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)).then(a.2.total_cmp(&b.2)));
+        for c in caps.iter_mut() {
+            let lo = runs.partition_point(|r| (r.0, r.1) < (c.0, c.1));
+            let falls_back = runs[lo..]
+                .iter()
+                .take_while(|r| (r.0, r.1) == (c.0, c.1))
+                .any(|r| !r.3 && !c.2.1 && r.2 >= c.2.0 * (1.0 + ida_tol));
+            c.2.2 |= falls_back;
+        }
+        let caps = &self.capacities;
         let stripes_of = |design: u64| -> Vec<(f64, PointPf)> {
             let Some(i) = self.intensity.as_ref().filter(|i| i.key == "im") else {
                 return Vec::new();

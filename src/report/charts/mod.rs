@@ -34,6 +34,7 @@ pub mod forced;
 pub mod free;
 pub mod plumbing;
 pub mod random;
+pub mod seismic;
 pub mod tradeoff;
 
 pub use self::core::summary_charts;

@@ -89,6 +89,9 @@ impl Chart for FragilityChart {
 /// Draws `<dir>/fragility.{svg,png,csv}` when the study sweeps an intensity and sets a
 /// threshold; returns the files written (none otherwise).
 pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    if !rs.risk.is_empty() {
+        return super::seismic::charts(s, rs, dir);
+    }
     let (Some(i), Some(b)) = (&rs.intensity, rs.threshold) else {
         return Ok(Vec::new());
     };

@@ -363,7 +363,11 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
          intervals over the motions. The lognormal *holds* (`fit`) when its \
          Kolmogorov–Smirnov distance to the capacities is within Lilliefors' 5 % value, it \
          lies inside every stripe's Monte Carlo interval{}; where it does not, the empirical \
-         curve is used.\n\n",
+         curve is used. `fall back`: motions whose response passed the limit at their capacity \
+         and not at a larger scale tried (by the search or at a stripe above the capacity): the \
+         response is not monotone in the scale (a damper engages more in stronger shaking). The \
+         capacity keeps the first passage, so where motions fall back the capacities' curve lies \
+         above the stripes' `p_f`: the first-passage fragility, on the safe side.\n\n",
         f(spec.ida_tol, 3),
         f(
             rs.risk.iter().map(|r| r.runs_mean).sum::<f64>() / rs.risk.len() as f64,
@@ -404,9 +408,9 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
         );
     }
     let head = if with_hazard {
-        "| risk rank | design | lambda_f per year [95 %] | P_f in years [95 %] | curve | lambda_f empirical | lambda_f lognormal | deagg. 10–50–90 % (g) | theta (g) [95 %] | beta [95 %] | KS (5 % value) | fit | censored | resurrected |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "| risk rank | design | lambda_f per year [95 %] | P_f in years [95 %] | curve | lambda_f empirical | lambda_f lognormal | deagg. 10–50–90 % (g) | theta (g) [95 %] | beta [95 %] | KS (5 % value) | fit | censored | fall back |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     } else {
-        "| design | theta (g) [95 %] | beta [95 %] | KS (5 % value) | fit | censored | resurrected |\n|---|---|---|---|---|---|---|"
+        "| design | theta (g) [95 %] | beta [95 %] | KS (5 % value) | fit | censored | fall back |\n|---|---|---|---|---|---|---|"
     };
     let _ = writeln!(o, "{head}");
     let listed = rows(s, &order, |d| rs.risk_of(d.point).and_then(|r| r.risk_rank));

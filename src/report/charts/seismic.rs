@@ -1,0 +1,290 @@
+//! The fragility chart of a study with capacities (an intensity measure and a threshold):
+//! `fragility` (SVG, PNG, its data as CSV) in place of the fit to the stripes' counts. Two
+//! panels over the intensity measure in g: `P(f | IM)` and `log10 P(f | IM)` (down to 1e-4,
+//! where the hazard weighs the curve most). Each shown design's capacities' curve (the lognormal
+//! where it holds, else the empirical step curve, a thin line), its stripes' Monte Carlo `p_f`
+//! (markers) with their Clopper–Pearson 95 % intervals (whiskers), and the structure without
+//! damper dashed grey beside them.
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::plumbing::{
+    BLUE, Chart, Data, GREEN, GREY, LABEL, RED_LINE, err, render, series_legend, shorten, xy_chart,
+};
+use crate::reduce::Summary;
+use crate::reduce::random::RandomSummary;
+use crate::report::text::{axis_value, fmt_num};
+use crate::stats::capacity::Capacities;
+use crate::store::table::{Column, Table};
+
+/// Designs drawn at most besides the structure without damper.
+pub const MAX_DESIGNS: usize = 5;
+
+/// The lowest probability the log panel shows.
+const LOG_FLOOR: f64 = -4.0;
+
+struct Curve {
+    name: String,
+    /// `(im, p)` along the curve.
+    line: Vec<(f64, f64)>,
+    /// `(im, p_f, lo, hi)` at each stripe.
+    stripes: Vec<(f64, f64, f64, f64)>,
+    bare: bool,
+}
+
+struct CapacityChart {
+    title: String,
+    x_desc: String,
+    curves: Vec<Curve>,
+    x: (f64, f64),
+}
+
+const COLORS: [RGBColor; 5] = [
+    BLUE,
+    RED_LINE,
+    GREEN,
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+];
+
+impl CapacityChart {
+    fn panel<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        log: bool,
+    ) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let y = |p: f64| {
+            if log {
+                p.log10().max(LOG_FLOOR - 0.2)
+            } else {
+                p
+            }
+        };
+        let (title, y_range, y_desc) = if log {
+            (
+                "log10 P: the lower tail",
+                (LOG_FLOOR - 0.1)..0.1,
+                "log10 P(max |x| > limit)",
+            )
+        } else {
+            ("P", -0.02..1.02, "P(max |x| > limit)")
+        };
+        let mut chart = xy_chart(
+            area,
+            (title, LABEL),
+            (self.x.0..self.x.1, y_range),
+            (&self.x_desc, y_desc),
+        )?;
+        let mut k = 0;
+        for c in &self.curves {
+            let color = if c.bare {
+                GREY
+            } else {
+                k += 1;
+                COLORS[(k - 1) % COLORS.len()]
+            };
+            let style = color.stroke_width(2);
+            let line: Vec<(f64, f64)> = c
+                .line
+                .iter()
+                .filter(|p| !log || p.1 > 0.0)
+                .map(|&(x, p)| (x, y(p)))
+                .collect();
+            if c.bare {
+                chart
+                    .draw_series(DashedLineSeries::new(line, 8, 5, style))
+                    .map_err(err)?;
+            } else {
+                chart
+                    .draw_series(LineSeries::new(line, style))
+                    .map_err(err)?;
+            }
+            let shown: Vec<&(f64, f64, f64, f64)> =
+                c.stripes.iter().filter(|s| !log || s.1 > 0.0).collect();
+            chart
+                .draw_series(shown.iter().map(|&&(x, _, lo, hi)| {
+                    let lo = if log && lo <= 0.0 {
+                        LOG_FLOOR - 0.2
+                    } else {
+                        y(lo)
+                    };
+                    PathElement::new(vec![(x, lo), (x, y(hi))], color.stroke_width(1))
+                }))
+                .map_err(err)?;
+            let series = chart
+                .draw_series(
+                    shown
+                        .iter()
+                        .map(|&&(x, p, _, _)| Circle::new((x, y(p)), 4, color.filled())),
+                )
+                .map_err(err)?;
+            if !log {
+                series.label(c.name.clone()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+                });
+            }
+        }
+        if log {
+            Ok(())
+        } else {
+            series_legend(&mut chart, SeriesLabelPosition::LowerRight)
+        }
+    }
+}
+
+impl Chart for CapacityChart {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let root = root.titled(&self.title, LABEL).map_err(err)?;
+        let (left, right) = root.split_horizontally(root.dim_in_pixel().0 / 2);
+        self.panel(&left, false)?;
+        self.panel(&right, true)
+    }
+}
+
+/// Draws `<dir>/fragility.{svg,png,csv}` from the capacities; the data holds each shown
+/// design's curve on a grid of 200 intensities (`point`, `im`, `p_curve`, `curve`) and its
+/// stripes (`p_f`, `p_f_lo`, `p_f_hi`, NaN off a stripe).
+pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let Some(b) = rs.threshold else {
+        return Ok(Vec::new());
+    };
+    let bare = s
+        .points
+        .iter()
+        .find(|p| s.grid.without_damper(p.point))
+        .map(|p| p.point);
+    let mut ranked: Vec<_> = s.points.iter().filter(|p| p.rank.is_some()).collect();
+    ranked.sort_by_key(|p| p.rank);
+    let shown: Vec<u64> = ranked
+        .iter()
+        .map(|p| p.point)
+        .filter(|&d| !s.grid.without_damper(d))
+        .take(MAX_DESIGNS)
+        .collect();
+    // The x range: where the shown curves rise, from the capacities.
+    let mut all: Vec<f64> = rs
+        .capacities
+        .iter()
+        .filter(|c| shown.contains(&c.0) || Some(c.0) == bare)
+        .filter(|c| !c.2.1)
+        .map(|c| c.2.0)
+        .collect();
+    all.sort_by(f64::total_cmp);
+    if all.is_empty() {
+        return Ok(Vec::new());
+    }
+    let q = |f: f64| all[((all.len() - 1) as f64 * f) as usize];
+    let (lo, hi) = (q(0.0) * 0.8, q(1.0) * 1.1);
+    let x = (lo, hi);
+    let mut data = Table::default();
+    let mut cols: (Vec<Option<u64>>, Vec<f64>, Vec<f64>, Vec<String>) = Default::default();
+    let mut stripes_cols: (Vec<f64>, Vec<f64>, Vec<f64>) = Default::default();
+    let mut curves = Vec::new();
+    for (d, is_bare) in shown
+        .iter()
+        .map(|&d| (d, false))
+        .chain(bare.map(|d| (d, true)))
+    {
+        let Some(r) = rs.risk_of(d) else {
+            continue;
+        };
+        let caps = Capacities::new(
+            rs.capacities
+                .iter()
+                .filter(|c| c.0 == d)
+                .map(|c| (c.2.0, c.2.1))
+                .collect(),
+        );
+        let use_fit = r.fit_ok && r.fit.is_some();
+        let grid: Vec<f64> = (0..200)
+            .map(|k| lo + (hi - lo) * k as f64 / 199.0)
+            .collect();
+        let line: Vec<(f64, f64)> = grid
+            .iter()
+            .map(|&x| {
+                let p = match (use_fit, r.fit) {
+                    (true, Some(f)) => f.p(x),
+                    _ => caps.p(x),
+                };
+                (x, p)
+            })
+            .collect();
+        for &(x, p) in &line {
+            cols.0.push(Some(d));
+            cols.1.push(x);
+            cols.2.push(p);
+            cols.3
+                .push(if use_fit { "lognormal" } else { "empirical" }.to_string());
+            stripes_cols.0.push(f64::NAN);
+            stripes_cols.1.push(f64::NAN);
+            stripes_cols.2.push(f64::NAN);
+        }
+        for st in &r.stripes {
+            cols.0.push(Some(d));
+            cols.1.push(st.im);
+            cols.2
+                .push(if use_fit { st.lognormal } else { st.empirical });
+            cols.3
+                .push(if use_fit { "lognormal" } else { "empirical" }.to_string());
+            stripes_cols.0.push(st.p_f);
+            stripes_cols.1.push(st.p_f_lo);
+            stripes_cols.2.push(st.p_f_hi);
+        }
+        let label = (0..s.grid.n_axes())
+            .map(|a| axis_value(s.grid.key(a), s.grid.value(d, a)))
+            .collect::<Vec<_>>()
+            .join(", ");
+        curves.push(Curve {
+            name: shorten(
+                &if is_bare {
+                    format!("{label} (no damper)")
+                } else {
+                    format!(
+                        "{label} ({})",
+                        if use_fit { "lognormal" } else { "empirical" }
+                    )
+                },
+                60,
+            ),
+            line,
+            stripes: r
+                .stripes
+                .iter()
+                .map(|s| (s.im, s.p_f, s.p_f_lo, s.p_f_hi))
+                .collect(),
+            bare: is_bare,
+        });
+    }
+    data.push("point", Column::U64(cols.0));
+    data.push("im", Column::F64(cols.1));
+    data.push("p_curve", Column::F64(cols.2));
+    data.push("curve", Column::Str(cols.3));
+    data.push("p_f", Column::F64(stripes_cols.0));
+    data.push("p_f_lo", Column::F64(stripes_cols.1));
+    data.push("p_f_hi", Column::F64(stripes_cols.2));
+    let im = rs.measure.map_or("IM".to_string(), |m| match m.measure {
+        crate::sim::random::Measure::Pga => "PGA".into(),
+        crate::sim::random::Measure::Sa => {
+            format!("Sa({} s)", fmt_num((m.period * 1e3).round() / 1e3))
+        }
+    });
+    let chart = CapacityChart {
+        title: format!(
+            "Fragility from the capacities: P(max |x| > {} cm) against {im}; stripes with 95 % intervals",
+            fmt_num((b * 1e5).round() / 1e3)
+        ),
+        x_desc: format!("{im} (g)"),
+        curves,
+        x,
+    };
+    render(dir, "fragility", (1400, 620), &chart, &Data::Table(data))
+}
