@@ -39,6 +39,11 @@ cargo test --lib --bins --tests --benches
 # reproduced bit for bit. The example in the test profile (its dependencies are built already).
 cargo build --quiet --profile test --example life_validation
 LIFE_VALIDATION_BIN="$PWD/target/debug/examples/life_validation" scripts/life_validation.sh --check
+# The committed validation of subset simulation (results/subset_validation.md): its report
+# regenerates from the committed runs, and a slice (the exact Gaussian case's runs 0-2 at 1e-3,
+# design A's run 0) is reproduced bit for bit.
+cargo build --quiet --profile test --example subset_validation
+SUBSET_VALIDATION_BIN="$PWD/target/debug/examples/subset_validation" scripts/subset_validation.sh --check
 # The Python extension (python/, a member of the workspace that `cargo test` leaves out): its
 # lint, and its build (the dev profile, whose settings for the main crate and its dependencies
 # are the test profile's) with the feature `share-test-build`, which resolves
