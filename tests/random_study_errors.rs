@@ -55,14 +55,6 @@ const BAD: &[(&str, &str)] = &[
         "{dir}/random_input.toml: [scene].input = \"ground\": unknown input; allowed: base (ground acceleration, displacements relative to the ground), force (a force on the main mass)",
     ),
     (
-        "random_missing_duration.toml",
-        "{dir}/random_missing_duration.toml: [scene].duration: missing; the random scene needs duration (fixed here or swept in [sweep])",
-    ),
-    (
-        "random_missing_filter_key.toml",
-        "{dir}/random_missing_filter_key.toml: [scene].omega_f: missing; the random scene needs omega_f (fixed here or swept in [sweep])",
-    ),
-    (
         "random_no_spectrum.toml",
         "{dir}/random_no_spectrum.toml: [scene].spectrum: missing; the random scene needs a spectrum; allowed: white, kanai-tajimi, clough-penzien",
     ),

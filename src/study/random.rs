@@ -10,10 +10,10 @@
 //! | `input` | both | | `"base"` (a record: its column) | `"base"` (ground acceleration) or `"force"` |
 //! | `spectrum` | random | | required | `"white"`, `"kanai-tajimi"`, `"clough-penzien"` |
 //! | `S0` | random | (m/s^2)^2 or N^2 per rad/s | required | `(0, 1e12]`, sweepable |
-//! | `omega_g`, `zeta_g` | random (Kanai–Tajimi, Clough–Penzien) | rad/s, 1 | required | `[1e-3, 1e5]`, `[1e-3, 10]`, sweepable |
-//! | `omega_f`, `zeta_f` | random (Clough–Penzien) | rad/s, 1 | required | the same |
+//! | `omega_g`, `zeta_g` | random (Kanai–Tajimi, Clough–Penzien) | rad/s, 1 | firm soil: `5 pi`, 0.6 | `[1e-3, 1e5]`, `[1e-3, 10]`, sweepable |
+//! | `omega_f`, `zeta_f` | random (Clough–Penzien) | rad/s, 1 | `pi / 2`, 0.6 | the same |
 //! | `dt` | random | s | 0.005 | `[1e-6, 1]` |
-//! | `duration` | both | s | required (a record: its own) | `(0, 1e6]`, at most `1e8` samples |
+//! | `duration` | both | s | 20 (a record: its own) | `(0, 1e6]`, at most `1e8` samples |
 //! | `envelope = { t1, t2, c }` | random | s, s, 1/s | none | `0 <= t1 <= t2`, `c >= 0` |
 //! | `realizations` | random | | 1000 | `[1, 10^7]` (a record: 1) |
 //! | `threshold` | both | m | none | `> 0` |
@@ -201,6 +201,11 @@ pub(super) fn scene(
         match raw.number(key) {
             Some(v) => Ok(v),
             None if sweep.contains_key(key) => Ok(1.0),
+            // Firm soil's filters and a strong motion's length serve where a study gives none
+            // (the report states them).
+            None if kind == "random" && default_of(key).is_some() => {
+                Ok(default_of(key).unwrap_or(f64::NAN))
+            }
             None => Err(missing(
                 cx,
                 key,
@@ -228,6 +233,20 @@ pub(super) fn scene(
         .validate()
         .map_err(|e| cx.err(&format!("[scene].{}", e.key), range_value(&e), e.allowed))?;
     Ok((scene, realizations))
+}
+
+/// The default of a random load's key a study may leave out: firm soil's Kanai–Tajimi filter
+/// (`omega_g = 5 pi` rad/s, `zeta_g = 0.6`), the Clough–Penzien high-pass filter at a tenth of
+/// it (`omega_f = pi / 2` rad/s, `zeta_f = 0.6`), and 20 s of load.
+pub fn default_of(key: &str) -> Option<f64> {
+    Some(match key {
+        "omega_g" => 5.0 * std::f64::consts::PI,
+        "zeta_g" => 0.6,
+        "omega_f" => 0.5 * std::f64::consts::PI,
+        "zeta_f" => 0.6,
+        "duration" => 20.0,
+        _ => return None,
+    })
 }
 
 /// A key of `[scene]` the scene needs and the study lacks.

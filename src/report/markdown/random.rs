@@ -237,6 +237,14 @@ pub(super) fn section(s: &Summary, rs: &RandomSummary) -> String {
             continue;
         };
         let (pf, beta) = match rs.subset_of(d.point) {
+            // Subset simulation's levels did not reach the limit: Monte Carlo's bound says more.
+            Some(x) if x.p_f == 0.0 => (
+                format!(
+                    "{} (below Monte Carlo's bound; subset simulation did not reach the limit)",
+                    pf_text(p.p_f, p.p_f_lo, p.p_f_hi)
+                ),
+                beta_of(p.p_f_hi),
+            ),
             Some(x) => (
                 format!(
                     "{} (subset simulation, CoV {})",

@@ -260,8 +260,8 @@ pub fn decision(s: &Summary, rs: &RandomSummary) -> String {
     };
     let pf = |d: &PointStats| -> (f64, f64, f64) {
         match rs.subset_of(d.point) {
-            Some(x) => (x.p_f, x.lo, x.hi),
-            None => {
+            Some(x) if x.p_f > 0.0 => (x.p_f, x.lo, x.hi),
+            _ => {
                 let lens: Vec<usize> = (0..s.grid.n_axes()).map(|a| s.grid.n(a)).collect();
                 let j = rs.intensity.as_ref().map_or(0, |i| i.design);
                 rs.point(rs.grid_point(d.point, j, &lens))
@@ -282,8 +282,9 @@ pub fn decision(s: &Summary, rs: &RandomSummary) -> String {
     if p == 0.0 {
         let _ = writeln!(
             o,
-            "No design's motion passed the limit{at}: every `p_f` lies below its interval's \
-             upper end (the best's {}; β above {}), and the ranking then follows the mean \
+            "No design's motion passed the limit{at}, and subset simulation's levels did not \
+             reach it: every `p_f` is only bounded, below its Monte Carlo interval's upper end \
+             (the best's {}; β above {}), and the ranking then follows the mean \
              amplitude's margin to the limit: **{}** stays furthest from it (mean max |x| {} cm \
              against the limit's {} cm). A larger intensity, or more realizations, measures \
              `p_f` itself.\n",
