@@ -26,7 +26,7 @@ def _record(path, dt=0.005, n=4001, seed=3):
     with open(path, "w") as f:
         f.write("t,a\n")
         for ti, ai in zip(t, a):
-            f.write(f"{ti!r},{ai!r}\n")
+            f.write(f"{float(ti)!r},{float(ai)!r}\n")
     return a, dt
 
 
