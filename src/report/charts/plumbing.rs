@@ -217,6 +217,15 @@ pub const MAX_JUMP_LINES: usize = 30;
 pub const BLUE: RGBColor = RGBColor(31, 119, 180);
 pub const GREEN: RGBColor = RGBColor(44, 160, 44);
 pub const RED_LINE: RGBColor = RGBColor(214, 39, 40);
+/// The colours of the designs a fragility chart draws, in order (the structure without damper
+/// is [`GREY`]).
+pub const DESIGN_COLORS: [RGBColor; 5] = [
+    BLUE,
+    RED_LINE,
+    GREEN,
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+];
 pub const GREY: RGBColor = RGBColor(60, 60, 60);
 
 /// The colour of a class.

@@ -13,7 +13,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    BLUE, Chart, Data, GREEN, GREY, LABEL, RED_LINE, err, render, series_legend, shorten, xy_chart,
+    Chart, DESIGN_COLORS, Data, GREY, LABEL, err, render, series_legend, shorten, xy_chart,
 };
 use crate::reduce::Summary;
 use crate::reduce::random::RandomSummary;
@@ -49,13 +49,7 @@ impl Chart for FragilityChart {
             (self.x.0..self.x.1, -0.02..1.02),
             (&self.x_desc, "P(max |x| > threshold)"),
         )?;
-        let colors = [
-            BLUE,
-            RED_LINE,
-            GREEN,
-            RGBColor(148, 103, 189),
-            RGBColor(255, 127, 14),
-        ];
+        let colors = DESIGN_COLORS;
         let mut k = 0;
         for c in &self.curves {
             let color = if c.bare {

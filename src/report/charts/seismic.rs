@@ -12,7 +12,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    BLUE, Chart, Data, GREEN, GREY, LABEL, RED_LINE, err, render, series_legend, shorten, xy_chart,
+    Chart, DESIGN_COLORS, Data, GREY, LABEL, err, render, series_legend, shorten, xy_chart,
 };
 use crate::reduce::Summary;
 use crate::reduce::random::RandomSummary;
@@ -41,14 +41,6 @@ struct CapacityChart {
     curves: Vec<Curve>,
     x: (f64, f64),
 }
-
-const COLORS: [RGBColor; 5] = [
-    BLUE,
-    RED_LINE,
-    GREEN,
-    RGBColor(148, 103, 189),
-    RGBColor(255, 127, 14),
-];
 
 impl CapacityChart {
     fn panel<DB: DrawingBackend>(
@@ -87,7 +79,7 @@ impl CapacityChart {
                 GREY
             } else {
                 k += 1;
-                COLORS[(k - 1) % COLORS.len()]
+                DESIGN_COLORS[(k - 1) % DESIGN_COLORS.len()]
             };
             let style = color.stroke_width(2);
             let line: Vec<(f64, f64)> = c

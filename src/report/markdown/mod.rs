@@ -129,6 +129,18 @@ fn charts_section(charts: &[String]) -> String {
     o
 }
 
+/// A probability to two significant digits: `0.12`, `0.0031`, `4.7e-6` (below 1e-3), `0`.
+pub(crate) fn prob(p: f64) -> String {
+    if p == 0.0 || !p.is_finite() {
+        return f(p, 0);
+    }
+    if p < 1e-3 {
+        return format!("{p:.1e}");
+    }
+    let digits = (1 - p.log10().floor() as i32).max(2) as usize;
+    f(p, digits)
+}
+
 /// A number at fixed precision; `–` for NaN, `∞` for infinities.
 pub(crate) fn f(v: f64, digits: usize) -> String {
     if v.is_finite() {

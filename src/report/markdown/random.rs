@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 use crate::reduce::random::{RandomSummary, beta_of, outcome_name};
 use crate::reduce::{PointStats, Summary};
-use crate::report::markdown::{MAX_ROWS, SceneText, cm, design_text, f, ranked};
+use crate::report::markdown::{MAX_ROWS, SceneText, cm, design_text, f, prob, ranked};
 use crate::report::text::{axis_value, count, fmt_num, thousands};
 
 /// How the core's sections word a random or record study, and its own section.
@@ -83,18 +83,6 @@ pub(super) fn pf_text(p: f64, lo: f64, hi: f64) -> String {
         return "–".into();
     }
     format!("{} [{}, {}]", prob(p), prob(lo), prob(hi))
-}
-
-/// A probability to two significant digits: `0.12`, `0.0031`, `4.7e-6` (below 1e-3), `0`.
-pub(super) fn prob(p: f64) -> String {
-    if p == 0.0 || !p.is_finite() {
-        return f(p, 0);
-    }
-    if p < 1e-3 {
-        return format!("{p:.1e}");
-    }
-    let digits = (1 - p.log10().floor() as i32).max(2) as usize;
-    f(p, digits)
 }
 
 /// The designs in rank order (all, by point, when none is ranked).

@@ -8,24 +8,12 @@ use std::fmt::Write;
 
 use crate::reduce::random::{RandomSummary, beta_of};
 use crate::reduce::{PointStats, Summary};
-use crate::report::markdown::{cm, design_text, f, ranked};
+use crate::report::markdown::{cm, design_text, f, prob, ranked};
 use crate::report::text::{fmt_num, thousands};
 use crate::sim::Scene;
 use crate::sim::random::intensity::G;
 use crate::sim::random::{Excitation, Input, Measure, RandomScene, Spectrum};
 use crate::study::Study;
-
-/// A probability to two significant digits (`0.12`, `4.7e-6`).
-fn prob(p: f64) -> String {
-    if p == 0.0 || !p.is_finite() {
-        return f(p, 0);
-    }
-    if p < 1e-3 {
-        return format!("{p:.1e}");
-    }
-    let digits = (1 - p.log10().floor() as i32).max(2) as usize;
-    f(p, digits)
-}
 
 /// The load in words.
 fn load_text(r: &RandomScene) -> String {
