@@ -295,7 +295,8 @@ Examples:
   impactsweep simulate --set e=0.45 --json
   impactsweep simulate --set m=0 --set peaks=5
   impactsweep simulate --trace wave.csv --dt 1e-4 --t-end 0.5
-  impactsweep simulate --set scene=harmonic --set F0=0.3 --set r=0.98 --json";
+  impactsweep simulate --set scene=harmonic --set F0=0.3 --set r=0.98 --json
+  impactsweep simulate --study configs/seismic.toml --point 14 --realization 7 --trace q.csv";
 
 #[derive(Args, Debug)]
 pub struct SimulateCmd {
@@ -314,19 +315,34 @@ pub struct SimulateCmd {
     /// Simulate up to this time (s) instead of stopping after the requested peaks (free decay).
     #[arg(long = "t-end", value_name = "SECONDS")]
     pub t_end: Option<f64>,
+    /// A random or record study: run one of its realizations as its sweep does (the same
+    /// bits as its row), printed as JSON; with --trace its time series at the stripe's scale.
+    #[arg(long, value_name = "STUDY.toml", conflicts_with_all = ["sets", "t_end"])]
+    pub study: Option<PathBuf>,
+    /// With --study: the design point (as in the points table's `point`).
+    #[arg(long, value_name = "P", default_value_t = 0, requires = "study")]
+    pub point: u64,
+    /// With --study: the realization (the points table's `case`).
+    #[arg(long, value_name = "C", default_value_t = 0, requires = "study")]
+    pub realization: u32,
 }
 
 /// Parses the arguments and runs the command.
 pub fn main() -> anyhow::Result<()> {
     let cli = Cli::parse();
     match cli.command {
-        Command::Simulate(c) => app::simulate::run(&app::simulate::SimulateArgs {
-            sets: c.sets,
-            json: c.json,
-            trace: c.trace,
-            dt: Some(c.dt),
-            t_end: c.t_end,
-        }),
+        Command::Simulate(c) => match c.study {
+            Some(study) => {
+                app::simulate::realization(&study, c.point, c.realization, c.trace, c.dt)
+            }
+            None => app::simulate::run(&app::simulate::SimulateArgs {
+                sets: c.sets,
+                json: c.json,
+                trace: c.trace,
+                dt: Some(c.dt),
+                t_end: c.t_end,
+            }),
+        },
         Command::Plan(c) => app::plan::plan(&app::plan::PlanArgs {
             study: c.study,
             out: c.out,

@@ -198,6 +198,55 @@ pub fn record_text(setup: &Setup, rec: &Record) -> String {
     out
 }
 
+/// `simulate --study`: realization `case` of design point `point` of a random or record study,
+/// as its sweep stores it, printed as one JSON object (the load's values at the point, the
+/// motion's own intensity measures and capacity where the study has them, the record); with
+/// `trace` its displacements `t,x,y` every `dt` (and at every impact) at the stripe's scale.
+pub fn realization(
+    study: &Path,
+    point: u64,
+    case: u32,
+    trace: Option<PathBuf>,
+    dt: f64,
+) -> anyhow::Result<()> {
+    let s = crate::study::Study::load(study)?;
+    if !matches!(s.scene, Scene::Random(_)) {
+        return Err(InputError::new(format!(
+            "{}: --study runs one realization of a random or record study ([scene] kind = \
+             \"random\" or \"record\"); for this study use impactsweep run",
+            study.display()
+        ))
+        .into());
+    }
+    let plan = crate::plan::Plan::new(&s);
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(
+            InputError::new(format!("--dt {dt}: the trace interval (s) must be > 0")).into(),
+        );
+    }
+    let Some((row, rows)) =
+        crate::sweep::random::one_realization(&plan, point, case, trace.as_ref().map(|_| dt))
+    else {
+        return Err(InputError::new(format!(
+            "--point {point} --realization {case}: the study has points 0 to {} and \
+             realizations 0 to {}",
+            plan.n_points().saturating_sub(1),
+            plan.n_cases().saturating_sub(1)
+        ))
+        .into());
+    };
+    let mut json = serde_json::to_value(&row)?;
+    if let serde_json::Value::Object(map) = &mut json {
+        map.insert("point".into(), point.into());
+        map.insert("case".into(), case.into());
+    }
+    println!("{json}");
+    if let Some(path) = trace {
+        write_trace(&path, &rows)?;
+    }
+    Ok(())
+}
+
 /// The `simulate` command.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let mut setup = Setup::default();

@@ -72,6 +72,59 @@ fn random_scene(scene: &Scene) -> RandomScene {
     }
 }
 
+/// One realization of a random or record study, as the sweep stores it (the same bits as its
+/// row): realization `case` of design point `point`, with `trace` a sampled trace of the run at
+/// the stripe's scale every `trace` seconds (plus every impact). `None` for a point or a
+/// realization out of the plan, or a study of another scene.
+pub fn one_realization(
+    plan: &Plan,
+    point: u64,
+    case: u32,
+    trace: Option<f64>,
+) -> Option<(RealizationRecord, Vec<(f64, crate::sim::State)>)> {
+    let Scene::Random(_) = &plan.study.scene else {
+        return None;
+    };
+    if point >= plan.n_points() || u64::from(case) >= plan.n_cases() {
+        return None;
+    }
+    let run = plan.run(point, case);
+    let scene = random_scene(&run.scene);
+    let setup = RandomRun::new(&run.system, &plan.study.solver, &scene);
+    let row = realization(plan, &run, &scene, &setup);
+    let mut probe = Trace::default();
+    if let Some(dt) = trace {
+        let req = crate::sim::Request {
+            trace_dt: Some(dt),
+            ..plan.study.request
+        };
+        let gain = row.load[5]
+            .filter(|_| scene.intensity.is_some())
+            .unwrap_or(1.0);
+        setup.run_scaled(&req, plan.load_stream(&run), gain, &mut probe);
+    }
+    Some((row, probe.0))
+}
+
+/// A run's trace: its state every `trace_dt` and before every impact.
+#[derive(Default)]
+struct Trace(Vec<(f64, crate::sim::State)>);
+
+impl crate::sim::Probe for Trace {
+    fn impact(
+        &mut self,
+        t: f64,
+        _wall: crate::sim::Wall,
+        before: &crate::sim::State,
+        _after: &crate::sim::State,
+    ) {
+        self.0.push((t, *before));
+    }
+    fn sample(&mut self, t: f64, state: &crate::sim::State) {
+        self.0.push((t, *state));
+    }
+}
+
 /// Realization `run.case` of `run.point` on its design point's `setup`. Under an intensity
 /// measure: the motion's own PGA and Sa first (one pass over its load), the run at the stripe's
 /// gain `im / own` (1 without stripes), and at the design stripe (every point without stripes)
