@@ -200,11 +200,28 @@ fn issue_67_the_capacities_are_the_same_bits_on_any_thread_count_chunk_and_resum
         .expect("point 4, realization 7");
     let trace = tmp.path().join("q.csv");
     let out = bin()
-        .args(["simulate", "--study", path.to_str().unwrap(), "--point", "4"])
-        .args(["--realization", "7", "--trace", trace.to_str().unwrap(), "--dt", "0.01"])
+        .args([
+            "simulate",
+            "--study",
+            path.to_str().unwrap(),
+            "--point",
+            "4",
+        ])
+        .args([
+            "--realization",
+            "7",
+            "--trace",
+            trace.to_str().unwrap(),
+            "--dt",
+            "0.01",
+        ])
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let amplitude = json["record"]["amplitude"].as_f64().unwrap();
     assert_eq!(amplitude.to_bits(), row.record.record.amplitude.to_bits());
@@ -217,11 +234,20 @@ fn issue_67_the_capacities_are_the_same_bits_on_any_thread_count_chunk_and_resum
     let lines = std::fs::read_to_string(&trace).unwrap().lines().count();
     assert!(lines > 400, "{lines} lines in the trace");
     let bad = bin()
-        .args(["simulate", "--study", path.to_str().unwrap(), "--point", "99"])
+        .args([
+            "simulate",
+            "--study",
+            path.to_str().unwrap(),
+            "--point",
+            "99",
+        ])
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&bad.stderr);
-    assert!(err.contains("--point 99") && err.contains("points 0 to 5"), "{err}");
+    assert!(
+        err.contains("--point 99") && err.contains("points 0 to 5"),
+        "{err}"
+    );
 }
 
 /// The error of loading `text` (with `hazard.csv` holding `table`) as a study.
