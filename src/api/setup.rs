@@ -7,7 +7,7 @@ use crate::error::InputError;
 use crate::model::{SYSTEM_KEYS, System};
 use crate::sim::{
     self, Drive, ForcedRecord, Harmonic, Probe, Record, Request, Scene, SceneRecord, SolverKind,
-    SolverSettings, State, Wall,
+    SolverSettings, State,
 };
 
 /// A fully resolved single run.
@@ -244,20 +244,7 @@ impl Setup {
     }
 }
 
-/// Collects trace rows: samples every `dt` and every impact.
-#[derive(Default)]
-pub struct TraceProbe {
-    pub rows: Vec<(f64, State)>,
-}
-
-impl Probe for TraceProbe {
-    fn impact(&mut self, t: f64, _wall: Wall, before: &State, _after: &State) {
-        self.rows.push((t, *before));
-    }
-    fn sample(&mut self, t: f64, state: &State) {
-        self.rows.push((t, *state));
-    }
-}
+pub use crate::sim::TraceProbe;
 
 /// Simulates with a trace sampled every `dt` (plus every impact) up to `t_end`.
 pub fn trace(setup: &Setup, dt: f64, t_end: Option<f64>) -> (Record, Vec<(f64, State)>) {

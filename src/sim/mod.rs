@@ -436,6 +436,21 @@ pub trait Probe {
     fn energy(&mut self, _t: f64, _energy: f64) {}
 }
 
+/// Collects trace rows: samples every [`Request::trace_dt`] and the state before every impact.
+#[derive(Default)]
+pub struct TraceProbe {
+    pub rows: Vec<(f64, State)>,
+}
+
+impl Probe for TraceProbe {
+    fn impact(&mut self, t: f64, _wall: Wall, before: &State, _after: &State) {
+        self.rows.push((t, *before));
+    }
+    fn sample(&mut self, t: f64, state: &State) {
+        self.rows.push((t, *state));
+    }
+}
+
 /// A probe that observes nothing.
 pub struct NoProbe;
 impl Probe for NoProbe {}

@@ -92,7 +92,7 @@ pub fn one_realization(
     let scene = random_scene(&run.scene);
     let setup = RandomRun::new(&run.system, &plan.study.solver, &scene);
     let row = realization(plan, &run, &scene, &setup);
-    let mut probe = Trace::default();
+    let mut probe = crate::sim::TraceProbe::default();
     if let Some(dt) = trace {
         let req = crate::sim::Request {
             trace_dt: Some(dt),
@@ -103,26 +103,7 @@ pub fn one_realization(
             .unwrap_or(1.0);
         setup.run_scaled(&req, plan.load_stream(&run), gain, &mut probe);
     }
-    Some((row, probe.0))
-}
-
-/// A run's trace: its state every `trace_dt` and before every impact.
-#[derive(Default)]
-struct Trace(Vec<(f64, crate::sim::State)>);
-
-impl crate::sim::Probe for Trace {
-    fn impact(
-        &mut self,
-        t: f64,
-        _wall: crate::sim::Wall,
-        before: &crate::sim::State,
-        _after: &crate::sim::State,
-    ) {
-        self.0.push((t, *before));
-    }
-    fn sample(&mut self, t: f64, state: &crate::sim::State) {
-        self.0.push((t, *state));
-    }
+    Some((row, probe.rows))
 }
 
 /// Realization `run.case` of `run.point` on its design point's `setup`. Under an intensity

@@ -52,12 +52,6 @@ impl Stripe {
     pub fn lognormal_ok(&self) -> bool {
         self.lognormal >= self.p_f_lo && self.lognormal <= self.p_f_hi
     }
-
-    /// The stripe's estimate and the capacities' curve agree: each inside the other's interval.
-    pub fn consistent(&self) -> bool {
-        (self.p_f >= self.empirical_lo && self.p_f <= self.empirical_hi)
-            || (self.empirical >= self.p_f_lo && self.empirical <= self.p_f_hi)
-    }
 }
 
 /// Which fragility curve the risk and the ranking use.

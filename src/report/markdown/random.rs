@@ -377,16 +377,19 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
         },
     );
     let mut order = designs.to_vec();
-    order.sort_by_key(|d| {
-        let r = rs.risk_of(d.point);
-        let by_theta = r
-            .and_then(|r| r.fit)
-            .map_or(u64::MAX, |f| (1e9 / f.theta) as u64);
-        (
-            r.and_then(|r| r.risk_rank).unwrap_or(u64::MAX),
-            by_theta,
-            d.point,
-        )
+    // By risk rank, then by median capacity (the largest first), then by design.
+    order.sort_by(|a, b| {
+        let (ra, rb) = (rs.risk_of(a.point), rs.risk_of(b.point));
+        let rank = |r: Option<&crate::reduce::random::risk::DesignRisk>| {
+            r.and_then(|r| r.risk_rank).unwrap_or(u64::MAX)
+        };
+        let theta = |r: Option<&crate::reduce::random::risk::DesignRisk>| {
+            r.and_then(|r| r.fit).map_or(f64::NEG_INFINITY, |f| f.theta)
+        };
+        rank(ra)
+            .cmp(&rank(rb))
+            .then(theta(rb).total_cmp(&theta(ra)))
+            .then(a.point.cmp(&b.point))
     });
     let with_hazard = rs.hazard.is_some();
     if let Some(h) = &rs.hazard {
