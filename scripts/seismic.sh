@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Regenerates results/seismic/: configs/seismic.toml (a structure in a Kanai-Tajimi ground
-# motion's band, 16 designs over m and d, five intensities S0, 1,000 realizations each: 80,000
-# runs) run and reduced by scripts/showcase.sh, its report.html beside the report. The designs
-# are ranked at the design intensity by subset simulation where Monte Carlo saw fewer than 10
-# exceedances. A release build takes about 25 s on 2 cores. tests/reproduce.rs checks the
-# committed files byte for byte.
+# Regenerates results/seismic/: configs/seismic.toml (a structure in a Clough-Penzien ground
+# motion's band, 16 designs over m and d, six stripes of Sa(T1) in g, 1,000 realizations each,
+# capacities by incremental dynamic analysis at the design stripe, designs ranked by annual risk
+# over an illustrative hazard curve) run and reduced by scripts/showcase.sh, its report.html
+# beside the report. About 41 s on 2 cores (release build). tests/reproduce.rs checks the
+# committed files byte for byte. The record-suite sibling: scripts/seismic_records.sh.
 #
 #   scripts/seismic.sh [WORK_DIR]
 set -euo pipefail

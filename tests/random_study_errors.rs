@@ -88,7 +88,7 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "random_unknown_key.toml",
-        "{dir}/random_unknown_key.toml: [scene].sigma = 2: unknown key 'sigma'; allowed keys: kind, F0, omega, r, n_trans, n_trans_max, n_meas, trans_tol, period_tol, starts, design_peak, nonperiodic_peak, design_life, life_quantile, life_tol, life_max_periods, input, spectrum, S0, omega_g, zeta_g, omega_f, zeta_f, dt, duration, envelope, realizations, threshold, record, scale, design_intensity, intensity, T, ida_tol, ida_max, drift_ratio, storey_height, yield_coefficient",
+        "{dir}/random_unknown_key.toml: [scene].sigma = 2: unknown key 'sigma'; allowed keys: kind, F0, omega, r, n_trans, n_trans_max, n_meas, trans_tol, period_tol, starts, design_peak, nonperiodic_peak, design_life, life_quantile, life_tol, life_max_periods, input, spectrum, S0, omega_g, zeta_g, omega_f, zeta_f, dt, duration, envelope, realizations, threshold, record, records, scale, design_intensity, intensity, T, ida_tol, ida_max, drift_ratio, storey_height, yield_coefficient",
     ),
     (
         "random_unknown_spectrum.toml",
@@ -136,7 +136,7 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "record_realizations.toml",
-        "{dir}/record_realizations.toml: [scene].realizations = 10: a record is one load: realizations must be 1 (sweep scale for intensities)",
+        "{dir}/record_realizations.toml: [scene].realizations = 10: a record is one load: realizations must be 1 (sweep scale for intensities; a suite of records is records = [...])",
     ),
     (
         "record_spectrum_key.toml",
@@ -149,6 +149,50 @@ const BAD: &[(&str, &str)] = &[
     (
         "record_unsorted.toml",
         "{dir}/record_unsorted.toml: [scene].record = \"unsorted.csv\": {dir}/unsorted.csv: row 4 (line 5): t = 0.02 is not after the previous row's t = 0.03: the times must increase",
+    ),
+    (
+        "suite_and_record.toml",
+        "{dir}/suite_and_record.toml: [scene].records = [\"good.csv\"]: give one record (record = \"path\") or a suite (records = [...] or a folder), not both",
+    ),
+    (
+        "suite_bad_file.toml",
+        "{dir}/suite_bad_file.toml: [scene].records = \"nan.csv\": {dir}/nan.csv: row 3 (line 5): a = NaN: every value must be a finite number",
+    ),
+    (
+        "suite_duplicate.toml",
+        "{dir}/suite_duplicate.toml: [scene].records = \"suite_two/../good.csv\": two records named \"good.csv\"; the records of a suite need distinct file names",
+    ),
+    (
+        "suite_empty_folder.toml",
+        "{dir}/suite_empty_folder.toml: [scene].records = \"suite_none\": the folder {dir}/suite_none holds no record (.csv or .parquet files); allowed: a folder of records or a list of files",
+    ),
+    (
+        "suite_empty_list.toml",
+        "{dir}/suite_empty_list.toml: [scene].records = []: an empty list; give the record files (CSV t,a or Parquet) or a folder of them",
+    ),
+    (
+        "suite_list_of_numbers.toml",
+        "{dir}/suite_list_of_numbers.toml: [scene].records = [\"good.csv\", 2]: allowed: a list of record files ([\"a.csv\", \"b.csv\"], relative to the study file) or a folder of them (\"suite\")",
+    ),
+    (
+        "suite_missing_file.toml",
+        "{dir}/suite_missing_file.toml: [scene].records = \"gone.csv\": cannot read the record file {dir}/gone.csv: No such file or directory (os error 2)",
+    ),
+    (
+        "suite_missing_folder.toml",
+        "{dir}/suite_missing_folder.toml: [scene].records = \"no_such_folder\": cannot read the folder {dir}/no_such_folder: No such file or directory (os error 2)",
+    ),
+    (
+        "suite_mixed_input.toml",
+        "{dir}/suite_mixed_input.toml: [scene].records = \"force.csv\": this record is a force, the suite's base; a suite's records share one input (columns t,a or t,F)",
+    ),
+    (
+        "suite_not_a_list.toml",
+        "{dir}/suite_not_a_list.toml: [scene].records = 3: allowed: a list of record files ([\"a.csv\", \"b.csv\"], relative to the study file) or a folder of them (\"suite\")",
+    ),
+    (
+        "suite_realizations.toml",
+        "{dir}/suite_realizations.toml: [scene].realizations = 3: a suite's realizations are its records: 2 here; leave realizations out or give 2",
     ),
 ];
 

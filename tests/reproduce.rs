@@ -299,3 +299,11 @@ fn the_best_ranked_design_is_verified() {
 fn seismic_regenerates_the_committed_showcase() {
     regenerates("seismic.sh", "seismic");
 }
+
+/// Issue 67, item 8: `scripts/seismic_records.sh` regenerates `results/seismic-records/` (the
+/// seismic showcase under the bundled record suite: a capacity per record, annual risk) the
+/// same way.
+#[test]
+fn seismic_records_regenerates_the_committed_showcase() {
+    regenerates("seismic_records.sh", "seismic-records");
+}

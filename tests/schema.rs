@@ -275,6 +275,13 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
     let bif = common::run_study_file(&bif_study, &tmp.path().join("out"), "bif");
     bin().arg("reduce").arg(&bif).assert().success();
     let random = run_random(tmp.path(), "random");
+    // Issue 67: a record suite's capacities name the record.
+    let suite = common::run_study_file(
+        Path::new("configs/seismic-records.toml"),
+        &tmp.path().join("out"),
+        "seismic-records",
+    );
+    bin().arg("reduce").arg(&suite).assert().success();
     let docs = documented();
     // Each table with the files that hold it: a free-decay, a harmonic and a random reduction
     // write the same reducer tables, with the columns of their scene (issues 12 and 44).
@@ -295,7 +302,10 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
         (TableKind::Summary, both("summary.parquet")),
         (
             TableKind::Capacities,
-            vec![random.join("capacities.parquet")],
+            vec![
+                random.join("capacities.parquet"),
+                suite.join("capacities.parquet"),
+            ],
         ),
         (TableKind::Zones, both("zones.parquet")),
         (TableKind::Jumps, both("jumps.parquet")),

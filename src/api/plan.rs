@@ -466,15 +466,40 @@ fn describe_random(w: &mut String, r: &sim::random::RandomScene, swept: impl Fn(
             rec.values.len(),
             value("scale", rec.scale)
         ),
+        Excitation::Suite(s) => format!(
+            "a suite of {} records, {} samples in all, scale {}",
+            s.records.len(),
+            s.records.iter().map(|r| r.values.len()).sum::<usize>(),
+            value("scale", s.scale)
+        ),
     };
     let _ = writeln!(w, "load:           {} ({load})", r.input.name());
-    let _ = writeln!(
-        w,
-        "each run:       {} s in samples of {} s ({} samples), solver exact",
-        fmt_value(r.duration),
-        fmt_value(r.dt),
-        r.segments()
-    );
+    let suite = r.suite();
+    if suite.is_empty() {
+        let _ = writeln!(
+            w,
+            "each run:       {} s in samples of {} s ({} samples), solver exact",
+            fmt_value(r.duration),
+            fmt_value(r.dt),
+            r.segments()
+        );
+    } else {
+        let span = |f: &dyn Fn(&sim::random::SuiteRecord) -> f64| {
+            let lo = suite.iter().map(f).fold(f64::INFINITY, f64::min);
+            let hi = suite.iter().map(f).fold(0.0, f64::max);
+            if lo == hi {
+                fmt_value(lo)
+            } else {
+                format!("{} to {}", fmt_value(lo), fmt_value(hi))
+            }
+        };
+        let _ = writeln!(
+            w,
+            "each run:       its record: {} s in samples of {} s, solver exact",
+            span(&|x| x.duration),
+            span(&|x| x.dt),
+        );
+    }
     let _ = writeln!(
         w,
         "threshold:      {}",

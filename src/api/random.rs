@@ -73,7 +73,11 @@ fn write_outputs(
             }
         }
     } else {
-        let t = random::risk::capacities_table(&summary.grid, rs);
+        let suite: Vec<&str> = match &study.scene {
+            crate::sim::Scene::Random(r) => r.suite().iter().map(|x| x.name.as_str()).collect(),
+            _ => Vec::new(),
+        };
+        let t = random::risk::capacities_table(&summary.grid, rs, &suite);
         files.extend(store::summary::write_table(dir, TableKind::Capacities, &t)?);
     }
     let mut chart_files = charts::random::charts(summary, rs, dir)?;

@@ -225,7 +225,7 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
             _ => None,
         },
         TableKind::Capacities => match column {
-            "point" | "case" | "censored" | "resurrected" => Some(""),
+            "point" | "case" | "record" | "censored" | "resurrected" => Some(""),
             "runs" => Some("1"),
             "capacity" | "pga" | "sa" => Some("g"),
             _ => None,

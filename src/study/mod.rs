@@ -51,7 +51,7 @@ pub use hazard::HAZARD_COPY;
 pub use perturb::Case;
 pub use random::{DEFAULT_DT, DEFAULT_REALIZATIONS, INTENSITY_KEYS};
 pub use ranking::{DiSource, Ranking, VERIFY_PERIODS};
-pub use record::{EVEN_TOL, RECORD_COPY, RECORD_COPY_PARQUET, record_copy};
+pub use record::{EVEN_TOL, RECORD_COPY, RECORD_COPY_PARQUET, SUITE_COPY, record_copy};
 pub use reliability::{Reliability, SafetyForm};
 pub use run::{DEFAULT_CHUNK_RUNS, RunSettings, whole_curves};
 pub use scene::frequency_axis;
@@ -224,24 +224,58 @@ impl Study {
         }
     }
 
-    /// The file a record study's record is read from (`[scene] record` relative to the study
-    /// file, or the run directory's copy [`RECORD_COPY`]); `None` for any other study.
-    pub fn record_path(&self) -> Option<PathBuf> {
+    /// The files a record study reads and their copies in a run directory, relative to it:
+    /// `[scene] record` (relative to the study file, or the run directory's copy
+    /// [`RECORD_COPY`]), or each record of a suite (`[scene] records`, copied into
+    /// [`SUITE_COPY`]` /` under its file name). Empty for any other study.
+    pub fn record_files(&self) -> Vec<(PathBuf, PathBuf)> {
         let Scene::Random(r) = &self.scene else {
-            return None;
+            return Vec::new();
         };
         if r.draws_normals() {
-            return None;
+            return Vec::new();
         }
-        let doc: toml::Table = self.source.parse().ok()?;
-        let shown = doc.get("scene")?.get("record")?.as_str()?;
+        let Ok(doc) = self.source.parse::<toml::Table>() else {
+            return Vec::new();
+        };
         let dir = self.path.parent().unwrap_or(Path::new("."));
-        let path = dir.join(shown);
-        Some(if path.exists() {
-            path
-        } else {
-            dir.join(record::record_copy(shown))
-        })
+        let scene = doc.get("scene");
+        if let Some(shown) = scene.and_then(|s| s.get("record")).and_then(|v| v.as_str()) {
+            let copy = PathBuf::from(record::record_copy(shown));
+            let path = dir.join(shown);
+            return vec![(if path.exists() { path } else { dir.join(&copy) }, copy)];
+        }
+        let Some(records) = scene.and_then(|s| s.get("records")) else {
+            return Vec::new();
+        };
+        let source = match records {
+            toml::Value::String(f) => record::SuiteSource::Folder(f),
+            toml::Value::Array(a) => {
+                let list: Vec<String> = a
+                    .iter()
+                    .filter_map(|v| v.as_str().map(str::to_string))
+                    .collect();
+                return self.suite_copies(&record::SuiteSource::List(&list), dir);
+            }
+            _ => return Vec::new(),
+        };
+        self.suite_copies(&source, dir)
+    }
+
+    /// A suite's files and their copies ([`Study::record_files`]).
+    fn suite_copies(
+        &self,
+        source: &record::SuiteSource<'_>,
+        dir: &Path,
+    ) -> Vec<(PathBuf, PathBuf)> {
+        record::suite_files(source, dir)
+            .map(|files| {
+                files
+                    .into_iter()
+                    .map(|(name, path)| (path, Path::new(SUITE_COPY).join(name)))
+                    .collect()
+            })
+            .unwrap_or_default()
     }
 
     /// The swept intensity the designs are ranked at (`S0`, `scale` or a stripe's `im`):

@@ -15,14 +15,15 @@
 //! | `dt` | random | s | 0.005 | `[1e-6, 1]` |
 //! | `duration` | both | s | 20 (a record: its own) | `(0, 1e6]`, at most `1e8` samples |
 //! | `envelope = { t1, t2, c }` | random | s, s, 1/s | none | `0 <= t1 <= t2`, `c >= 0` |
-//! | `realizations` | random | | 1000 | `[1, 10^7]` (a record: 1) |
+//! | `realizations` | random | | 1000 | `[1, 10^7]` (a record: 1; a suite: its records) |
 //! | `threshold` | both | m | none | `> 0` |
 //! | `drift_ratio`, `storey_height` | both | 1, m | none | both `> 0`: the limit `b = drift_ratio storey_height` instead of `threshold` |
 //! | `yield_coefficient` | both | 1 | none | `> 0`: the limit at first yield, `b = C_y M g / K`, instead of `threshold` |
 //! | `intensity` | both | | none | `"pga"` or `"sa"` (ground acceleration only): stripes (`[sweep] im`, g), capacities, hazard |
 //! | `T` | both, with `intensity = "sa"` | s | the structure's `2 pi sqrt(M / K)` | `[max(0.01, 8 dt), 100]` |
 //! | `ida_tol`, `ida_max` | both, with `intensity` | 1, g | 0.01, 10 | `[1e-6, 0.5]`, `(0, 1000]` |
-//! | `record` | record | path | required | CSV or Parquet relative to the study file (in a run directory, its copy `record.csv` or `record.parquet` when the path does not resolve there) |
+//! | `record` | record | path | required (or `records`) | CSV or Parquet relative to the study file (in a run directory, its copy `record.csv` or `record.parquet` when the path does not resolve there) |
+//! | `records` | record | paths or a folder | instead of `record` | a suite: a list of record files, or a folder whose `.csv` and `.parquet` files are taken by name; realization `c` runs record `c`, each at its own `dt` and length (in a run directory, the copies in `records/`) |
 //! | `scale` | record | 1 | 1 | `> 0`, sweepable |
 
 use std::collections::BTreeMap;
@@ -37,7 +38,7 @@ use crate::model::RangeError;
 use crate::sim::random::intensity::{DEFAULT_IDA_MAX, DEFAULT_IDA_TOL};
 use crate::sim::random::{
     Envelope, Excitation, Input, IntensitySpec, Measure, RandomLoad, RandomScene, Recorded,
-    Spectrum,
+    Spectrum, Suite, SuiteRecord,
 };
 
 /// Default realizations per design point.
@@ -142,7 +143,7 @@ pub(super) fn axes_of(scene: &RandomScene) -> Vec<&'static str> {
     if scene.intensity.is_some() {
         // Stripes are in the intensity measure; the load's own level is fixed.
         return match &scene.excitation {
-            Excitation::Record(_) => vec!["im"],
+            Excitation::Record(_) | Excitation::Suite(_) => vec!["im"],
             Excitation::Random(r) => match r.spectrum {
                 Spectrum::White => vec!["im"],
                 Spectrum::KanaiTajimi { .. } => vec!["im", "omega_g", "zeta_g"],
@@ -153,7 +154,7 @@ pub(super) fn axes_of(scene: &RandomScene) -> Vec<&'static str> {
         };
     }
     match &scene.excitation {
-        Excitation::Record(_) => vec!["scale"],
+        Excitation::Record(_) | Excitation::Suite(_) => vec!["scale"],
         Excitation::Random(r) => match r.spectrum {
             Spectrum::White => vec!["S0"],
             Spectrum::KanaiTajimi { .. } => vec!["S0", "omega_g", "zeta_g"],
@@ -345,12 +346,23 @@ fn recorded(
     value: &dyn Fn(&str) -> Result<f64, InputError>,
     dir: &Path,
 ) -> Result<(RandomScene, u64), InputError> {
+    if let Some(records) = &raw.records {
+        if raw.record.is_some() {
+            return Err(cx.err(
+                "[scene].records",
+                cx.source("scene", "records"),
+                "give one record (record = \"path\") or a suite (records = [...] or a folder), \
+                 not both",
+            ));
+        }
+        return suite(cx, raw, input, value, dir, records);
+    }
     let Some(shown) = &raw.record else {
         return Err(missing(
             cx,
             "record",
             "the record scene needs record = \"path\" (CSV, columns t and a or t and F, relative \
-             to the study file)",
+             to the study file), or a suite: records = [\"a.csv\", ...] or records = \"folder\"",
         ));
     };
     if let Some(n) = raw.realizations
@@ -359,7 +371,8 @@ fn recorded(
         return Err(cx.err(
             "[scene].realizations",
             n,
-            "a record is one load: realizations must be 1 (sweep scale for intensities)",
+            "a record is one load: realizations must be 1 (sweep scale for intensities; a suite \
+             of records is records = [...])",
         ));
     }
     let mut path = dir.join(shown);
@@ -417,6 +430,108 @@ fn recorded(
         ));
     }
     Ok((scene, 1))
+}
+
+/// A suite of records (`[scene] records`): each file read and checked as one record (the error
+/// names the file), all of one input; realization `c` runs record `c`, each at its own `dt` and
+/// length (or the study's `duration`). The scene's own `dt` and `duration` are the suite's
+/// finest and longest (what its checks bound).
+fn suite(
+    cx: &Cx,
+    raw: &RawScene,
+    input: Option<Input>,
+    value: &dyn Fn(&str) -> Result<f64, InputError>,
+    dir: &Path,
+    records: &toml::Value,
+) -> Result<(RandomScene, u64), InputError> {
+    let list: Option<Vec<String>> = records
+        .as_array()
+        .and_then(|a| a.iter().map(|v| v.as_str().map(str::to_string)).collect());
+    let source = match (records.as_str(), &list) {
+        (Some(f), _) => record::SuiteSource::Folder(f),
+        (None, Some(l)) => record::SuiteSource::List(l),
+        _ => {
+            return Err(cx.err(
+                "[scene].records",
+                cx.source("scene", "records"),
+                "allowed: a list of record files ([\"a.csv\", \"b.csv\"], relative to the study \
+                 file) or a folder of them (\"suite\")",
+            ));
+        }
+    };
+    let files = record::suite_files(&source, dir)
+        .map_err(|(value, why)| cx.err("[scene].records", value, why))?;
+    let n = files.len() as u64;
+    if let Some(r) = raw.realizations
+        && r != n
+    {
+        return Err(cx.err(
+            "[scene].realizations",
+            r,
+            format!(
+                "a suite's realizations are its records: {n} here; leave realizations out or \
+                 give {n}"
+            ),
+        ));
+    }
+    let at = "[scene].records";
+    let mut suite: Vec<SuiteRecord> = Vec::with_capacity(files.len());
+    let mut first_input = input;
+    for (name, path) in &files {
+        let file = record::read_at(cx, at, name, path)?;
+        match first_input {
+            Some(i) if i != file.input => {
+                return Err(cx.err(
+                    at,
+                    format!("{name:?}"),
+                    format!(
+                        "this record is a {}, the suite's {}; a suite's records share one input \
+                         (columns t,a or t,F)",
+                        file.input.name(),
+                        i.name()
+                    ),
+                ));
+            }
+            _ => first_input = Some(file.input),
+        }
+        if !(file.dt >= 1e-6 && file.dt <= 1.0) {
+            return Err(cx.err(
+                at,
+                format!("{name:?}"),
+                format!(
+                    "the record's sample interval is {} s; allowed: [1e-6, 1] s",
+                    num(file.dt)
+                ),
+            ));
+        }
+        let length = (file.values.len() - 1) as f64 * file.dt;
+        suite.push(SuiteRecord {
+            name: name.clone(),
+            dt: file.dt,
+            duration: raw.number("duration").unwrap_or(length),
+            values: file.values,
+        });
+    }
+    let scale = if raw.has("scale") {
+        value("scale")?
+    } else {
+        1.0
+    };
+    let dt = suite.iter().map(|r| r.dt).fold(f64::INFINITY, f64::min);
+    let duration = suite.iter().map(|r| r.duration).fold(0.0, f64::max);
+    let scene = RandomScene {
+        input: first_input.unwrap_or(Input::Base),
+        excitation: Excitation::Suite(Suite {
+            records: suite.into(),
+            scale,
+        }),
+        dt,
+        duration,
+        threshold: raw.threshold,
+        intensity: None,
+        im: None,
+    };
+    Ok((scene, n))
 }
 
 /// The limit of `|x|` as a structure states it: `threshold` (m), or a drift ratio times the

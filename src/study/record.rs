@@ -38,6 +38,102 @@ pub fn record_copy(shown: &str) -> &'static str {
     }
 }
 
+/// The folder of a run directory that holds the copies of a suite's records (`[scene] records`),
+/// each under its own file name.
+pub const SUITE_COPY: &str = "records";
+
+/// A suite as the study gives it: a list of record files, or a folder of them.
+pub(super) enum SuiteSource<'a> {
+    List(&'a [String]),
+    Folder(&'a str),
+}
+
+/// A suite's record files, in the suite's order: `(name, path)` with `name` the file name. A
+/// list keeps its order; a folder's `.csv` and `.parquet` files come by name. Paths are relative
+/// to the study's folder `dir`; one that does not resolve there is looked for in `dir`'s
+/// [`SUITE_COPY`] (a run directory's copies). Two records of one file name are refused (their
+/// copies would collide), as are an empty list or folder.
+/// The error is the value as shown and what is allowed.
+pub(super) fn suite_files(
+    source: &SuiteSource<'_>,
+    dir: &Path,
+) -> Result<Vec<(String, std::path::PathBuf)>, (String, String)> {
+    let name_of = |p: &Path| {
+        p.file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or_default()
+            .to_string()
+    };
+    let files: Vec<(String, std::path::PathBuf)> = match source {
+        SuiteSource::List(list) => {
+            if list.is_empty() {
+                return Err((
+                    "[]".into(),
+                    "an empty list; give the record files (CSV t,a or Parquet) or a folder of them"
+                        .into(),
+                ));
+            }
+            let mut files = Vec::new();
+            for shown in list.iter() {
+                let path = dir.join(shown);
+                let name = name_of(&path);
+                let copy = dir.join(SUITE_COPY).join(&name);
+                let path = if !path.exists() && copy.exists() {
+                    copy
+                } else {
+                    path
+                };
+                if files.iter().any(|(n, _): &(String, _)| *n == name) {
+                    return Err((
+                        format!("{shown:?}"),
+                        format!(
+                            "two records named {name:?}; the records of a suite need distinct \
+                             file names"
+                        ),
+                    ));
+                }
+                files.push((name, path));
+            }
+            files
+        }
+        SuiteSource::Folder(shown) => {
+            let mut folder = dir.join(shown);
+            if !folder.is_dir() && dir.join(SUITE_COPY).is_dir() {
+                folder = dir.join(SUITE_COPY);
+            }
+            let entries = std::fs::read_dir(&folder).map_err(|e| {
+                (
+                    format!("{shown:?}"),
+                    format!("cannot read the folder {}: {e}", folder.display()),
+                )
+            })?;
+            let mut files: Vec<(String, std::path::PathBuf)> = entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| {
+                    p.is_file()
+                        && p.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+                            e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("parquet")
+                        })
+                })
+                .map(|p| (name_of(&p), p))
+                .collect();
+            files.sort();
+            if files.is_empty() {
+                return Err((
+                    format!("{shown:?}"),
+                    format!(
+                        "the folder {} holds no record (.csv or .parquet files); allowed: a \
+                         folder of records or a list of files",
+                        folder.display()
+                    ),
+                ));
+            }
+            files
+        }
+    };
+    Ok(files)
+}
+
 /// Whether a record path names a Parquet file (by its extension, any case).
 fn is_parquet(path: &Path) -> bool {
     path.extension()
@@ -59,7 +155,16 @@ pub(super) struct RecordFile {
 /// Reads and checks the record at `path` (as the study wrote it in `shown`, resolved against the
 /// study's folder).
 pub(super) fn read(cx: &Cx, shown: &str, path: &Path) -> Result<RecordFile, InputError> {
-    let at = "[scene].record";
+    read_at(cx, "[scene].record", shown, path)
+}
+
+/// [`read`] for the key `at` (`[scene].record`, or `[scene].records` for a suite's file).
+pub(super) fn read_at(
+    cx: &Cx,
+    at: &str,
+    shown: &str,
+    path: &Path,
+) -> Result<RecordFile, InputError> {
     let value = format!("{shown:?}");
     if is_parquet(path) {
         if !path.exists() {

@@ -63,6 +63,8 @@ pub(super) struct RawScene {
     pub(super) realizations: Option<u64>,
     pub(super) threshold: Option<f64>,
     pub(super) record: Option<String>,
+    /// A suite: a list of files or a folder ([`super::random`] reads it).
+    pub(super) records: Option<toml::Value>,
     scale: Option<f64>,
     pub(super) design_intensity: Option<f64>,
     pub(super) intensity: Option<String>,
@@ -82,7 +84,7 @@ pub(super) const RANDOM_KINDS: [&str; 2] = ["random", "record"];
 pub(super) const RANDOM_ONLY: [&str; 8] = [
     "spectrum", "S0", "omega_g", "zeta_g", "omega_f", "zeta_f", "dt", "envelope",
 ];
-pub(super) const RECORD_ONLY: [&str; 2] = ["record", "scale"];
+pub(super) const RECORD_ONLY: [&str; 3] = ["record", "records", "scale"];
 pub(super) const RANDOM_SHARED: [&str; 12] = [
     "input",
     "duration",
@@ -190,6 +192,7 @@ impl RawScene {
             "envelope" => self.envelope.is_some(),
             "realizations" => self.realizations.is_some(),
             "record" => self.record.is_some(),
+            "records" => self.records.is_some(),
             "intensity" => self.intensity.is_some(),
             _ => self.number(key).is_some(),
         }

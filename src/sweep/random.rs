@@ -20,22 +20,24 @@ use crate::store::RunRow;
 
 impl SceneRun for RealizationRecord {
     fn simulate(plan: &Plan, run: &RunSpec) -> Self {
-        let scene = random_scene(&run.scene);
+        let scene = random_scene(&run.scene, run.case);
         let setup = RandomRun::new(&run.system, &plan.study.solver, &scene);
         realization(plan, run, &scene, &setup)
     }
 
     /// Each design point of the chunk set up once ([`RandomRun::new`]), then its realizations
     /// (all, or the chunk's block of them, [`Plan::chunk_runs`]) in parallel, in `point_id`
-    /// order.
+    /// order. A suite's records differ in `dt` and length: each run sets up its own.
     fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> ChunkRows<Self> {
         let points = plan.chunk_points(k);
         let n = plan.n_cases();
+        let suite = matches!(&plan.study.scene, Scene::Random(r) if !r.suite().is_empty());
         let setups: Vec<(RunSpec, RandomScene, RandomRun)> = points
             .clone()
+            .filter(|_| !suite)
             .map(|p| {
                 let first = plan.run(p, 0);
-                let scene = random_scene(&first.scene);
+                let scene = random_scene(&first.scene, 0);
                 let setup = RandomRun::new(&first.system, &plan.study.solver, &scene);
                 (first, scene, setup)
             })
@@ -45,10 +47,15 @@ impl SceneRun for RealizationRecord {
             .into_par_iter()
             .map(|id| {
                 let (p, c) = (id / n, (id % n) as u32);
-                let (first, scene, setup) = &setups[(p - points.start) as usize];
                 let run = plan.run(p, c);
-                debug_assert_eq!(run.system, first.system);
-                let row = row_of(plan, &run, realization(plan, &run, scene, setup));
+                let record = match setups.get((p - points.start) as usize) {
+                    Some((first, scene, setup)) => {
+                        debug_assert_eq!(run.system, first.system);
+                        realization(plan, &run, scene, setup)
+                    }
+                    None => Self::simulate(plan, &run),
+                };
+                let row = row_of(plan, &run, record);
                 if let Some(pb) = progress {
                     pb.inc(1);
                 }
@@ -62,12 +69,13 @@ impl SceneRun for RealizationRecord {
     }
 }
 
-/// The random scene of a run (the design point's values set by the plan); a run of another
-/// scene never reaches here (the engine picks the record type from the study's scene), and
-/// would get the placeholder of [`RandomScene::placeholder`].
-fn random_scene(scene: &Scene) -> RandomScene {
+/// The random scene of realization `case` of a run (the design point's values set by the
+/// plan; a suite's record `case`, [`RandomScene::for_case`]); a run of another scene never
+/// reaches here (the engine picks the record type from the study's scene), and would get the
+/// placeholder of [`RandomScene::placeholder`].
+fn random_scene(scene: &Scene, case: u32) -> RandomScene {
     match scene {
-        Scene::Random(r) => r.clone(),
+        Scene::Random(r) => r.for_case(case).into_owned(),
         Scene::Free | Scene::Harmonic(_) => RandomScene::placeholder(),
     }
 }
@@ -89,7 +97,7 @@ pub fn one_realization(
         return None;
     }
     let run = plan.run(point, case);
-    let scene = random_scene(&run.scene);
+    let scene = random_scene(&run.scene, case);
     let setup = RandomRun::new(&run.system, &plan.study.solver, &scene);
     let row = realization(plan, &run, &scene, &setup);
     let mut probe = crate::sim::TraceProbe::default();

@@ -121,11 +121,15 @@ pub fn claim(
     if fresh_dir {
         store::write_shared(&dir.join("study.toml"), plan.study.source.as_bytes())?;
     }
-    // A record study's record beside its study.toml, so that the directory's own study loads
-    // (`reduce`, `status`, the resume command) wherever the record was.
-    if let Some(src) = plan.study.record_path() {
-        let name = src.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        let copy = dir.join(crate::study::record_copy(name));
+    // A record study's record (or its suite's records) beside its study.toml, so that the
+    // directory's own study loads (`reduce`, `status`, the resume command) wherever the records
+    // were.
+    for (src, rel) in plan.study.record_files() {
+        let copy = dir.join(rel);
+        if let Some(parent) = copy.parent() {
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("creating {}", parent.display()))?;
+        }
         if src != copy && !copy.exists() {
             let bytes =
                 std::fs::read(&src).with_context(|| format!("reading {}", src.display()))?;

@@ -332,9 +332,14 @@ pub fn summary_columns(t: &mut Table, rs: &RandomSummary, rows: &[&PointStats]) 
 }
 
 /// The `capacities` table: one row per motion of the design stripe, with the design's axis
-/// values (`grid`), `point` (the design), `case` (the realization or record), `capacity` (g),
-/// `censored`, `resurrected`, `runs`.
-pub fn capacities_table(grid: &crate::reduce::core::Grid, rs: &RandomSummary) -> Table {
+/// values (`grid`), `point` (the design), `case` (the realization or record), with a suite
+/// `record` (the record's file name, from `suite`), `capacity` (g), `censored`, `resurrected`,
+/// `runs`.
+pub fn capacities_table(
+    grid: &crate::reduce::core::Grid,
+    rs: &RandomSummary,
+    suite: &[&str],
+) -> Table {
     let c = &rs.capacities;
     let mut t = Table::default();
     t.push("point", Column::U64(c.iter().map(|x| Some(x.0)).collect()));
@@ -348,6 +353,16 @@ pub fn capacities_table(grid: &crate::reduce::core::Grid, rs: &RandomSummary) ->
         "case",
         Column::U64(c.iter().map(|x| Some(u64::from(x.1))).collect()),
     );
+    if !suite.is_empty() {
+        let name = |case: u32| {
+            suite
+                .get(case as usize)
+                .copied()
+                .unwrap_or_default()
+                .to_string()
+        };
+        t.push("record", Column::Str(c.iter().map(|x| name(x.1)).collect()));
+    }
     t.push("capacity", Column::F64(c.iter().map(|x| x.2.0).collect()));
     let flag =
         |g: &dyn Fn(&MotionCapacity) -> bool| Column::Bool(c.iter().map(|x| g(&x.2)).collect());

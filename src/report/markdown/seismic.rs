@@ -28,6 +28,21 @@ fn load_text(r: &RandomScene) -> String {
             fmt_num(r.dt),
             fmt_num(r.duration)
         ),
+        Excitation::Suite(suite) => {
+            let names: Vec<&str> = suite.records.iter().map(|x| x.name.as_str()).collect();
+            let shown = if names.len() <= 12 {
+                names.join(", ")
+            } else {
+                format!("{}, … {}", names[..10].join(", "), names[names.len() - 1])
+            };
+            format!(
+                "a suite of {} records of {on} ({shown}), each over its own length ({} s at the \
+                 longest) at its own dt (the finest {} s), one record per run",
+                suite.records.len(),
+                fmt_num(r.duration),
+                fmt_num(r.dt)
+            )
+        }
         Excitation::Random(load) => {
             let spectrum = match load.spectrum {
                 Spectrum::White => "band-limited white noise".to_string(),

@@ -97,7 +97,9 @@ impl IntensitySpec {
                 "an intensity measure (pga or sa) is a ground motion's: it needs input = \"base\"",
             ));
         }
-        let lo = (8.0 * scene.dt).max(0.01);
+        // A suite's coarsest record bounds it.
+        let dt = scene.suite().iter().map(|r| r.dt).fold(scene.dt, f64::max);
+        let lo = (8.0 * dt).max(0.01);
         if !(self.period.is_finite() && self.period >= lo && self.period <= 100.0) {
             return Err(RangeError::new(
                 "T",

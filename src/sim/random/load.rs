@@ -289,6 +289,18 @@ impl Plan {
                 values: r.values.clone(),
                 scale: r.scale,
             },
+            // A run takes one record of a suite ([`RandomScene::for_case`]); a suite as a whole
+            // stands for its first.
+            Excitation::Suite(_) => match &scene.for_case(0).excitation {
+                Excitation::Record(r) => Plan::Record {
+                    values: r.values.clone(),
+                    scale: r.scale,
+                },
+                _ => Plan::Record {
+                    values: std::sync::Arc::from(Vec::new()),
+                    scale: 1.0,
+                },
+            },
         }
     }
 

@@ -204,12 +204,44 @@ pub struct Recorded {
     pub scale: f64,
 }
 
+/// One record of a suite ([`Suite`]): its file's name, its samples (m/s^2 or N) at its own `dt`
+/// from `t = 0`, and the run's length.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SuiteRecord {
+    /// The record's file name, as the study's folder or list gives it.
+    pub name: String,
+    /// Its sample interval (s), in `[1e-6, 1]`.
+    pub dt: f64,
+    /// The run's length (s): the record's own, or the study's `duration`.
+    pub duration: f64,
+    #[serde(skip)]
+    pub values: Arc<[f64]>,
+}
+
+/// A suite of records (`[scene] records = [...]` or a folder): realization `c` of a design is
+/// record `c` (in the order the study lists them, a folder's by file name), each run at its own
+/// `dt` and length, all at the same factor `scale` (or, under an intensity measure, each
+/// scaled to the stripe).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Suite {
+    #[serde(serialize_with = "as_slice")]
+    pub records: Arc<[SuiteRecord]>,
+    /// The factor applied to every record's samples, `> 0`.
+    pub scale: f64,
+}
+
+/// Serializes a shared slice as a sequence.
+fn as_slice<S: serde::Serializer>(v: &Arc<[SuiteRecord]>, s: S) -> Result<S::Ok, S::Error> {
+    serde::Serialize::serialize(&v[..], s)
+}
+
 /// What loads the structure.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Excitation {
     Random(RandomLoad),
     Record(Recorded),
+    Suite(Suite),
 }
 
 /// The random or record scene's settings. Every field documents its unit and valid range.
@@ -278,6 +310,36 @@ impl RandomScene {
         matches!(self.excitation, Excitation::Random(_))
     }
 
+    /// The scene realization `case` runs: a suite's record `case` as one record (its samples,
+    /// `dt` and length, at the suite's scale); any other scene as it is. A case past the suite's
+    /// end (never planned) runs its last record.
+    pub fn for_case(&self, case: u32) -> std::borrow::Cow<'_, RandomScene> {
+        let Excitation::Suite(suite) = &self.excitation else {
+            return std::borrow::Cow::Borrowed(self);
+        };
+        let i = (case as usize).min(suite.records.len().saturating_sub(1));
+        let Some(rec) = suite.records.get(i) else {
+            return std::borrow::Cow::Borrowed(self);
+        };
+        std::borrow::Cow::Owned(RandomScene {
+            excitation: Excitation::Record(Recorded {
+                values: rec.values.clone(),
+                scale: suite.scale,
+            }),
+            dt: rec.dt,
+            duration: rec.duration,
+            ..self.clone()
+        })
+    }
+
+    /// The suite's records, empty for a random load or one record.
+    pub fn suite(&self) -> &[SuiteRecord] {
+        match &self.excitation {
+            Excitation::Suite(s) => &s.records,
+            _ => &[],
+        }
+    }
+
     /// The value of a sweepable key ([`RandomScene::AXES`]) if this scene's load has it.
     pub fn get(&self, key: &str) -> Option<f64> {
         if key == "im" {
@@ -286,6 +348,7 @@ impl RandomScene {
         match (&self.excitation, key) {
             (Excitation::Random(r), "S0") => Some(r.S0),
             (Excitation::Record(r), "scale") => Some(r.scale),
+            (Excitation::Suite(s), "scale") => Some(s.scale),
             (Excitation::Random(r), _) => match (r.spectrum, key) {
                 (Spectrum::KanaiTajimi { omega_g, .. }, "omega_g")
                 | (Spectrum::CloughPenzien { omega_g, .. }, "omega_g") => Some(omega_g),
@@ -310,6 +373,7 @@ impl RandomScene {
             (Excitation::Random(r), "S0") => r.S0 = value,
             (Excitation::Random(r), _) => return set_filter(&mut r.spectrum, key, value),
             (Excitation::Record(r), "scale") => r.scale = value,
+            (Excitation::Suite(s), "scale") => s.scale = value,
             _ => return false,
         }
         true
@@ -366,6 +430,7 @@ impl RandomScene {
         match &self.excitation {
             Excitation::Random(r) => r.validate(),
             Excitation::Record(r) => positive("scale", r.scale, "the record's factor"),
+            Excitation::Suite(s) => positive("scale", s.scale, "the records' factor"),
         }
     }
 }
