@@ -197,12 +197,12 @@ def isw_rows(out, name):
 # ---------------------------------------------------------------- OpenSeesPy
 
 
-def ops_run(ag, dt_rec, h, kc=None, design=DESIGN, tmp=None):
-    """One OpenSees run; kc None is the structure alone. Returns observables and the time."""
-    M, K, C, m, d, e = (design[k] for k in ("M", "K", "C", "m", "d", "e"))
-    damper = kc is not None
-    files = {q: os.path.join(tmp, f"ops_{q}.out") for q in ("disp", "vel", "accel")}
-    w0, c0 = time.perf_counter(), time.process_time()
+def ops_build(ag, dt_rec, kc=None, design=DESIGN, tmp=None):
+    """The OpenSees model (module doc) under the record ag (m/s², step dt_rec), its analysis set
+    up; kc None is the structure alone. Returns the contact's damping c (None alone) and the
+    nodes whose displacement is x (2) and y (3)."""
+    M, K, m, e = (design[k] for k in ("M", "K", "m", "e"))
+    C, d = design["C"], design["d"]
     ops.wipe()
     ops.logFile(os.path.join(tmp, "opensees.log"), "-noEcho")  # ViscoelasticGap logs each impact
     ops.model("basic", "-ndm", 1, "-ndf", 1)
@@ -212,8 +212,8 @@ def ops_run(ag, dt_rec, h, kc=None, design=DESIGN, tmp=None):
     ops.mass(2, M)
     ops.uniaxialMaterial("Elastic", 1, K, C)  # stress = K strain + C strain rate
     ops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1)
-    nodes = [2]
-    if damper:
+    nodes, cc = [2], None
+    if kc is not None:
         meff = m * M / (m + M)
         le = math.log(e)
         zeta = -le / math.sqrt(math.pi**2 + le**2)
@@ -226,8 +226,12 @@ def ops_run(ag, dt_rec, h, kc=None, design=DESIGN, tmp=None):
         nodes.append(3)
     ops.timeSeries("Path", 1, "-dt", dt_rec, "-values", *ag.tolist())
     ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
-    for q, f in files.items():
-        ops.recorder("Node", "-file", f, "-time", "-precision", 17, "-node", *nodes, "-dof", 1, q)
+    return cc, nodes
+
+
+def ops_analyze(h, duration=DURATION):
+    """Newmark's average acceleration over [0, duration] at step h (the recorders set up first);
+    a step that does not converge is retried in 10, then 100 substeps. Returns the retries."""
     ops.constraints("Plain")
     ops.numberer("Plain")
     ops.system("BandGeneral")
@@ -235,15 +239,29 @@ def ops_run(ag, dt_rec, h, kc=None, design=DESIGN, tmp=None):
     ops.algorithm("Newton")
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
-    n = int(round(DURATION / h))
+    n = int(round(duration / h))
     done, retries = 0, 0
     while done < n:
         if ops.analyze(n - done, h) != 0:
             retries += 1
             if ops.analyze(10, h / 10) != 0 and ops.analyze(100, h / 100) != 0:
+                t = ops.getTime()
                 ops.wipe()
-                raise RuntimeError(f"OpenSees: no convergence at t = {ops.getTime()}")
+                raise RuntimeError(f"OpenSees: no convergence at t = {t}")
         done = int(round(ops.getTime() / h))
+    return retries
+
+
+def ops_run(ag, dt_rec, h, kc=None, design=DESIGN, tmp=None):
+    """One OpenSees run; kc None is the structure alone. Returns observables and the time."""
+    M, K, C, d = (design[k] for k in ("M", "K", "C", "d"))
+    damper = kc is not None
+    files = {q: os.path.join(tmp, f"ops_{q}.out") for q in ("disp", "vel", "accel")}
+    w0, c0 = time.perf_counter(), time.process_time()
+    cc, nodes = ops_build(ag, dt_rec, kc, design, tmp)
+    for q, f in files.items():
+        ops.recorder("Node", "-file", f, "-time", "-precision", 17, "-node", *nodes, "-dof", 1, q)
+    retries = ops_analyze(h)
     ops.wipe()  # flushes and closes the recorders
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
 
