@@ -81,7 +81,8 @@ fn write_outputs(
         files.extend(store::summary::write_table(dir, TableKind::Capacities, &t)?);
     }
     let mut chart_files = charts::random::charts(summary, rs, dir)?;
-    chart_files.extend(charts::summary_charts(summary, dir)?);
+    chart_files.extend(charts::risk::charts(summary, rs, dir)?);
+    chart_files.extend(charts::load_charts(summary, dir, rs.threshold)?);
     let names: Vec<String> = chart_files
         .iter()
         .filter_map(|f| f.file_name().and_then(|n| n.to_str()).map(String::from))

@@ -24,7 +24,10 @@
 //!
 //! A random or record study sweeping an intensity gets [`random`]'s `fragility` chart: each
 //! design's `p_f` at every intensity and its fitted fragility curve, the structure without
-//! damper beside them.
+//! damper beside them (with capacities, [`seismic`]'s). A random or record study with a threshold
+//! draws its designs by the number they rank by ([`risk`]: `risk_profile_<axis>` and
+//! `risk_map_<a>_<b>`, `lambda_f` or `p_f` on a log scale with intervals) instead of the design
+//! charts and perfectibility maps, and its spread charts carry the limit ([`load_charts`]).
 //!
 //! And [`free`], the free-decay scene's waveforms (the paper's Figures 2 and 5), [`tradeoff`]
 //! (the solver chart of `tradeoff`). [`plumbing`] holds what they share.
@@ -34,10 +37,11 @@ pub mod forced;
 pub mod free;
 pub mod plumbing;
 pub mod random;
+pub mod risk;
 pub mod seismic;
 pub mod tradeoff;
 
-pub use self::core::summary_charts;
+pub use self::core::{load_charts, summary_charts};
 pub use crate::report::text::{axis_unit, fmt_num};
 pub use free::{Trace, waveforms};
 pub use plumbing::{Data, Profile, register_fonts};

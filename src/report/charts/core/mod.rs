@@ -17,6 +17,19 @@ use crate::store::table::axis_column;
 
 /// Draws every summary chart into `dir`; returns the files written (SVG, PNG and CSV of each).
 pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    charts_of(s, dir, None)
+}
+
+/// The core charts of a load study (a random or record study): the spread charts with the limit
+/// of `|x|` drawn (`limit`, m) and the zone maps, without the laboratory's damping chart,
+/// design chart (R against a strength, the safety factor) and perfectibility map, which the
+/// risk charts replace ([`crate::report::charts::risk`]).
+pub fn load_charts(s: &Summary, dir: &Path, limit: Option<f64>) -> anyhow::Result<Vec<PathBuf>> {
+    charts_of(s, dir, Some(limit))
+}
+
+/// [`summary_charts`], or with `load` [`load_charts`] with its limit.
+fn charts_of(s: &Summary, dir: &Path, load: Option<Option<f64>>) -> anyhow::Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let g = &s.grid;
     let Some(anchor) = s.anchor() else {
@@ -25,9 +38,12 @@ pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     if g.n_axes() == 0 {
         return Ok(files);
     }
-    let cols = Columns::of(s);
+    let cols = Columns::of(s, load);
     if g.n_axes() == 1 {
         let pr = Profile::new(s, 0, anchor);
+        if load.is_some() {
+            return profile_charts(s, dir, &pr, &cols, "");
+        }
         let d = s.options.damping.name;
         files.extend(plumbing::render(
             dir,
@@ -47,7 +63,7 @@ pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     }
     for (i, &a) in swept.iter().enumerate() {
         for &b in &swept[i + 1..] {
-            files.extend(maps(s, dir, (a, b), anchor)?);
+            files.extend(maps(s, dir, (a, b), anchor, load.is_none())?);
         }
     }
     if swept.len() == 3 {
@@ -71,12 +87,15 @@ struct Columns {
     spread: String,
     spread_cols: Vec<String>,
     design_cols: [&'static str; 7],
+    /// A load study: no design chart, the limit of `|x|` (m) on the spread chart.
+    load: Option<Option<f64>>,
 }
 
 impl Columns {
-    fn of(s: &Summary) -> Columns {
+    fn of(s: &Summary, load: Option<Option<f64>>) -> Columns {
         let r = s.options.response.name;
         Columns {
+            load,
             spread: format!("{r}_spread"),
             spread_cols: ["min", "q1", "median", "q3", "max", "ideal"]
                 .iter()
@@ -105,29 +124,34 @@ fn profile_charts(
     suffix: &str,
 ) -> anyhow::Result<Vec<PathBuf>> {
     let spread_cols: Vec<&str> = cols.spread_cols.iter().map(String::as_str).collect();
-    let mut files = plumbing::render(
-        dir,
-        &format!("design_chart{suffix}"),
-        design::SIZE,
-        &design::DesignChart(pr),
-        &Data::Rows(s, &pr.points, &cols.design_cols),
-    )?;
+    let mut files = Vec::new();
+    if cols.load.is_none() {
+        files.extend(plumbing::render(
+            dir,
+            &format!("design_chart{suffix}"),
+            design::SIZE,
+            &design::DesignChart(pr),
+            &Data::Rows(s, &pr.points, &cols.design_cols),
+        )?);
+    }
     files.extend(plumbing::render(
         dir,
         &format!("{}{suffix}", cols.spread),
         spread::SIZE,
-        &spread::SpreadChart(pr),
+        &spread::SpreadChart(pr, cols.load.flatten()),
         &Data::Rows(s, &pr.points, &spread_cols),
     )?);
     Ok(files)
 }
 
-/// The perfectibility map and the zone map over the axes `(a, b)`, through `anchor`.
+/// The perfectibility map (with `perfectibility`) and the zone map over the axes `(a, b)`,
+/// through `anchor`.
 fn maps(
     s: &Summary,
     dir: &Path,
     (a, b): (usize, usize),
     anchor: u64,
+    perfectibility: bool,
 ) -> anyhow::Result<Vec<PathBuf>> {
     let g = &s.grid;
     let pair = format!("{}_{}", axis_column(g.key(a)), axis_column(g.key(b)));
@@ -139,7 +163,10 @@ fn maps(
             &["perfectibility", "rank", "robust"][..],
         ),
         ("zone_map", map::MapKind::Zones, &["class", "zone"][..]),
-    ] {
+    ]
+    .into_iter()
+    .filter(|k| perfectibility || k.1 != map::MapKind::Perfectibility)
+    {
         let chart = map::MapChart {
             s,
             a,

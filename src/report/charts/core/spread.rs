@@ -14,7 +14,9 @@ use crate::report::charts::plumbing::{
 use crate::reduce::ResponseStats;
 use crate::report::text::axis_desc;
 
-pub struct SpreadChart<'a>(pub &'a Profile<'a>);
+/// The spread along a profile, and a limit of the response (m) drawn across it (a load study's
+/// threshold), if any.
+pub struct SpreadChart<'a>(pub &'a Profile<'a>, pub Option<f64>);
 
 pub const SIZE: (u32, u32) = (1000, 560);
 
@@ -37,7 +39,8 @@ impl Chart for SpreadChart<'_> {
         let (y0, y1) = minmax(
             pr.points
                 .iter()
-                .flat_map(|p| [p.response.min * cm, p.response.max * cm]),
+                .flat_map(|p| [p.response.min * cm, p.response.max * cm])
+                .chain(self.1.map(|b| b * cm)),
         );
         let (y0, y1) = pad(y0, y1, 0.08);
         let title = format!(
@@ -69,6 +72,21 @@ impl Chart for SpreadChart<'_> {
         };
         let any_ideal = pr.points.iter().any(|p| p.response.ideal.is_finite());
         super::di::jump_lines(&mut chart, pr, (y0, y1))?;
+        if let Some(b) = self.1 {
+            let red = RED;
+            chart
+                .draw_series(DashedLineSeries::new(
+                    [(x0, b * cm), (x1, b * cm)],
+                    8,
+                    5,
+                    red.stroke_width(2).into(),
+                ))
+                .map_err(err)?
+                .label(format!("limit {:.3} cm", b * cm))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], red.stroke_width(2))
+                });
+        }
         let box_color = BLUE;
         if pr.points.len() > MANY {
             return self.bands(&mut chart);

@@ -1,0 +1,513 @@
+//! The design charts of a load study (a random or record study with a threshold), in place of
+//! the laboratory's design chart (reliability R against a strength, the safety factor) and
+//! perfectibility map: the number the designs are ranked by, on a log scale, with its 95 %
+//! interval.
+//!
+//! The number is the annual rate of failure `lambda_f` (per year, with its bootstrap interval)
+//! where the study gives a hazard and capacities, else `p_f` at the design intensity (subset
+//! simulation's where it ranked the design, else Monte Carlo's with its Clopper–Pearson
+//! interval). A `p_f` of 0 (no run passed) is drawn as its interval's upper end, a bound.
+//!
+//! * `risk_profile_<axis>`: along each swept design axis through the best design, `log10` of
+//!   the number with its interval as whiskers, and the structure without a damper (`m = 0`) as
+//!   a dashed line;
+//! * `risk_map_<a>_<b>`: over each pair of swept design axes through the best design, the cells
+//!   coloured by `log10` of the number (the lowest brightest), each labelled with its value, the
+//!   best design ringed.
+//!
+//! Each with its data as CSV (`point`, the axes, `value`, `lo`, `hi`, `bound`).
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::plumbing::{
+    BLUE, Chart, Data, GREY, LABEL, SMALL, TITLE, cell_edges, err, heat, pad, render,
+    series_legend, xy_chart,
+};
+use crate::reduce::Summary;
+use crate::reduce::random::RandomSummary;
+use crate::report::text::{axis_desc, axis_value};
+use crate::store::table::{Column, Table, axis_column};
+
+/// A design's number: its value and 95 % interval; `bound` when no run passed (the value is
+/// then the interval's upper end).
+#[derive(Clone, Copy, Debug)]
+struct Value {
+    v: f64,
+    lo: f64,
+    hi: f64,
+    bound: bool,
+}
+
+impl Value {
+    /// `log10` of what is drawn: the value, or the bound.
+    fn log(&self) -> f64 {
+        self.v.log10()
+    }
+}
+
+/// What the charts draw: the number's name and unit, and each design's value.
+struct Numbers {
+    /// `λ_f (per year)` or `p_f at Sa = 0.2 g`.
+    label: String,
+    /// For titles: `Annual rate of failure λ_f`.
+    what: String,
+    /// For the colour bar: `log10 λ_f`.
+    bar: String,
+    values: Vec<(u64, Value)>,
+}
+
+/// Each design's number (module doc).
+fn numbers(s: &Summary, rs: &RandomSummary) -> Numbers {
+    if rs.hazard.is_some() && !rs.risk.is_empty() {
+        let values = rs
+            .risk
+            .iter()
+            .filter_map(|d| {
+                let r = d.risk.as_ref()?;
+                let (v, lo, hi) = r.lambda_f;
+                (v > 0.0).then_some((
+                    d.design,
+                    Value {
+                        v,
+                        lo,
+                        hi,
+                        bound: false,
+                    },
+                ))
+            })
+            .collect();
+        return Numbers {
+            label: "log10 λ_f (failures per year)".into(),
+            what: "Annual rate of failure λ_f".into(),
+            bar: "log10 λ_f per year".into(),
+            values,
+        };
+    }
+    let lens: Vec<usize> = (0..s.grid.n_axes()).map(|a| s.grid.n(a)).collect();
+    let j = rs.intensity.as_ref().map_or(0, |i| i.design);
+    let at = rs.intensity.as_ref().map_or(String::new(), |i| {
+        format!(" at {}", axis_value(&i.key, i.values[j]))
+    });
+    let values = s
+        .points
+        .iter()
+        .filter_map(|d| {
+            let p = rs.point(rs.grid_point(d.point, j, &lens))?;
+            let value = match rs.subset_of(d.point) {
+                Some(x) if x.p_f > 0.0 => Value {
+                    v: x.p_f,
+                    lo: x.lo,
+                    hi: x.hi,
+                    bound: false,
+                },
+                _ if p.p_f > 0.0 => Value {
+                    v: p.p_f,
+                    lo: p.p_f_lo,
+                    hi: p.p_f_hi,
+                    bound: false,
+                },
+                _ => Value {
+                    v: p.p_f_hi,
+                    lo: f64::NAN,
+                    hi: p.p_f_hi,
+                    bound: true,
+                },
+            };
+            (value.v > 0.0).then_some((d.point, value))
+        })
+        .collect();
+    Numbers {
+        label: format!("log10 p_f{at}"),
+        what: format!("First-passage probability p_f{at}"),
+        bar: "log10 p_f".into(),
+        values,
+    }
+}
+
+impl Numbers {
+    fn of(&self, design: u64) -> Option<Value> {
+        self.values
+            .iter()
+            .find(|(d, _)| *d == design)
+            .map(|(_, v)| *v)
+    }
+
+    /// The chart's data: each listed design's axes and value.
+    fn table(&self, s: &Summary, designs: &[u64]) -> Table {
+        let g = &s.grid;
+        let rows: Vec<(u64, Value)> = designs
+            .iter()
+            .filter_map(|&d| self.of(d).map(|v| (d, v)))
+            .collect();
+        let mut t = Table::default();
+        t.push(
+            "point",
+            Column::U64(rows.iter().map(|r| Some(r.0)).collect()),
+        );
+        for a in 0..g.n_axes() {
+            t.push(
+                axis_column(g.key(a)),
+                Column::F64(rows.iter().map(|r| g.value(r.0, a)).collect()),
+            );
+        }
+        t.push("value", Column::F64(rows.iter().map(|r| r.1.v).collect()));
+        t.push("lo", Column::F64(rows.iter().map(|r| r.1.lo).collect()));
+        t.push("hi", Column::F64(rows.iter().map(|r| r.1.hi).collect()));
+        t.push(
+            "bound",
+            Column::Bool(rows.iter().map(|r| r.1.bound).collect()),
+        );
+        t
+    }
+}
+
+/// The risk profiles and maps of a load study (module doc), through the best design.
+pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let (Some(_), Some(anchor)) = (rs.threshold, s.anchor()) else {
+        return Ok(files);
+    };
+    let n = numbers(s, rs);
+    if n.values.is_empty() {
+        return Ok(files);
+    }
+    let g = &s.grid;
+    let bare = s
+        .points
+        .iter()
+        .find(|p| g.without_damper(p.point))
+        .and_then(|p| n.of(p.point));
+    let swept: Vec<usize> = (0..g.n_axes()).filter(|&a| g.n(a) >= 2).collect();
+    for &a in &swept {
+        let designs = g.slice(anchor, &[a]);
+        let chart = ProfileChart {
+            s,
+            n: &n,
+            axis: a,
+            designs: designs.clone(),
+            through: anchor,
+            bare,
+        };
+        files.extend(render(
+            dir,
+            &format!("risk_profile_{}", axis_column(g.key(a))),
+            (1000, 560),
+            &chart,
+            &Data::Table(n.table(s, &designs)),
+        )?);
+    }
+    for (i, &a) in swept.iter().enumerate() {
+        for &b in &swept[i + 1..] {
+            let designs = g.slice(anchor, &[a, b]);
+            let chart = MapChart {
+                s,
+                n: &n,
+                a,
+                b,
+                designs: designs.clone(),
+                through: anchor,
+            };
+            files.extend(render(
+                dir,
+                &format!(
+                    "risk_map_{}_{}",
+                    axis_column(g.key(a)),
+                    axis_column(g.key(b))
+                ),
+                (1000, 700),
+                &chart,
+                &Data::Table(n.table(s, &designs)),
+            )?);
+        }
+    }
+    Ok(files)
+}
+
+/// The other axes' values of a slice through `through`: `m = 0.2 kg`.
+fn slice_text(s: &Summary, through: u64, shown: &[usize]) -> String {
+    let g = &s.grid;
+    (0..g.n_axes())
+        .filter(|k| !shown.contains(k))
+        .map(|k| axis_value(g.key(k), g.value(through, k)))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// A value as a label, two significant digits: `0.011`, `0.43`, `3.4e-5`.
+fn short(v: f64) -> String {
+    if (1e-3..10.0).contains(&v) {
+        let digits = (1.0 - v.log10().floor()).max(0.0) as usize;
+        format!("{v:.digits$}")
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+struct ProfileChart<'a> {
+    s: &'a Summary,
+    n: &'a Numbers,
+    axis: usize,
+    designs: Vec<u64>,
+    through: u64,
+    bare: Option<Value>,
+}
+
+impl Chart for ProfileChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let g = &self.s.grid;
+        let pts: Vec<(f64, Value)> = self
+            .designs
+            .iter()
+            .filter(|&&d| !g.without_damper(d))
+            .filter_map(|&d| self.n.of(d).map(|v| (g.value(d, self.axis), v)))
+            .collect();
+        let xs: Vec<f64> = self
+            .designs
+            .iter()
+            .map(|&d| g.value(d, self.axis))
+            .collect();
+        let (x0, x1) = xs
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        let step = if xs.len() > 1 {
+            (x1 - x0) / (xs.len() - 1) as f64
+        } else {
+            1.0
+        };
+        let logs = pts
+            .iter()
+            .flat_map(|(_, v)| [v.lo, v.hi, v.v])
+            .chain(self.bare.map(|b| b.v))
+            .filter(|v| *v > 0.0)
+            .map(f64::log10);
+        let (y0, y1) = logs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+            (a.min(y), b.max(y))
+        });
+        let (y0, y1) = pad(y0, y1.max(y0 + 0.2), 0.1);
+        let slice = slice_text(self.s, self.through, &[self.axis]);
+        let title = format!(
+            "{} along {}{}",
+            self.n.what,
+            g.key(self.axis),
+            if slice.is_empty() {
+                String::new()
+            } else {
+                format!(" at {slice}")
+            }
+        );
+        let mut chart = xy_chart(
+            root,
+            (&title, TITLE),
+            ((x0 - 0.5 * step)..(x1 + 0.5 * step), y0..y1),
+            (&axis_desc(g.key(self.axis)), &self.n.label),
+        )?;
+        if let Some(b) = self.bare {
+            let y = b.log();
+            chart
+                .draw_series(DashedLineSeries::new(
+                    [(x0 - 0.5 * step, y), (x1 + 0.5 * step, y)],
+                    8,
+                    5,
+                    GREY.stroke_width(2).into(),
+                ))
+                .map_err(err)?
+                .label(format!(
+                    "no damper: {}{}",
+                    if b.bound { "< " } else { "" },
+                    short(b.v)
+                ))
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], GREY.stroke_width(2)));
+        }
+        let whisker = |&(x, v): &(f64, Value)| {
+            let lo = if v.lo > 0.0 { v.lo.log10() } else { y0 };
+            PathElement::new(vec![(x, lo), (x, v.hi.log10())], BLUE.stroke_width(2))
+        };
+        chart
+            .draw_series(pts.iter().map(whisker))
+            .map_err(err)?
+            .label("95 % interval")
+            .legend(|(x, y)| PathElement::new(vec![(x + 9, y - 6), (x + 9, y + 6)], BLUE));
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter()
+                    .filter(|p| !p.1.bound)
+                    .map(|(x, v)| (*x, v.log())),
+                BLUE.mix(0.6).stroke_width(1),
+            ))
+            .map_err(err)?;
+        chart
+            .draw_series(
+                pts.iter()
+                    .filter(|p| !p.1.bound)
+                    .map(|(x, v)| Circle::new((*x, v.log()), 5, BLUE.filled())),
+            )
+            .map_err(err)?
+            .label("estimate")
+            .legend(|(x, y)| Circle::new((x + 9, y), 5, BLUE.filled()));
+        if pts.iter().any(|p| p.1.bound) {
+            chart
+                .draw_series(
+                    pts.iter()
+                        .filter(|p| p.1.bound)
+                        .map(|(x, v)| EmptyElement::at((*x, v.log())) + down()),
+                )
+                .map_err(err)?
+                .label("no run passed: below this bound")
+                .legend(|(x, y)| EmptyElement::at((x + 9, y)) + down());
+        }
+        series_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+        Ok(())
+    }
+}
+
+/// A downward triangle (an upper bound: the value lies below), in pixels about its point.
+fn down() -> Polygon<(i32, i32)> {
+    Polygon::new(vec![(-7, -6), (7, -6), (0, 7)], RED.filled())
+}
+
+struct MapChart<'a> {
+    s: &'a Summary,
+    n: &'a Numbers,
+    a: usize,
+    b: usize,
+    designs: Vec<u64>,
+    through: u64,
+}
+
+impl Chart for MapChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        use plotters::style::text_anchor::{HPos, Pos, VPos};
+        let g = &self.s.grid;
+        let (va, vb) = (&g.axes[self.a].1, &g.axes[self.b].1);
+        let (ea, eb) = (cell_edges(va), cell_edges(vb));
+        let title = format!(
+            "{} over {} and {}",
+            self.n.what,
+            g.key(self.a),
+            g.key(self.b)
+        );
+        let root = root.titled(&title, TITLE).map_err(err)?;
+        let (sub, rest) = root.split_vertically(26);
+        let slice = slice_text(self.s, self.through, &[self.a, self.b]);
+        sub.draw(&Text::new(
+            format!(
+                "{}ringed: the best design; a value with < is an upper bound (no run passed)",
+                if slice.is_empty() {
+                    String::new()
+                } else {
+                    format!("slice at {slice}; ")
+                }
+            ),
+            (12, 2),
+            SMALL.into_font().color(&BLACK),
+        ))
+        .map_err(err)?;
+        let (area, legend) = rest.split_horizontally(rest.dim_in_pixel().0 as i32 - 190);
+        let mut chart = ChartBuilder::on(&area)
+            .margin(12)
+            .x_label_area_size(48)
+            .y_label_area_size(86)
+            .build_cartesian_2d(eb[0]..eb[eb.len() - 1], ea[0]..ea[ea.len() - 1])
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(axis_desc(g.key(self.b)))
+            .y_desc(axis_desc(g.key(self.a)))
+            .label_style(SMALL)
+            .axis_desc_style(LABEL)
+            .draw()
+            .map_err(err)?;
+        let cells: Vec<(u64, Option<Value>)> =
+            self.designs.iter().map(|&d| (d, self.n.of(d))).collect();
+        let (l0, l1) = cells
+            .iter()
+            .filter_map(|c| c.1.map(|v| v.log()))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+                (a.min(y), b.max(y))
+            });
+        let rect = |d: u64| {
+            let (ia, ib) = (g.index(d, self.a), g.index(d, self.b));
+            [(eb[ib], ea[ia]), (eb[ib + 1], ea[ia + 1])]
+        };
+        // The lowest number brightest.
+        let shade = |v: &Value| heat(1.0 - (v.log() - l0) / (l1 - l0).max(1e-12));
+        chart
+            .draw_series(cells.iter().map(|(d, v)| {
+                let color = v.as_ref().map_or(RGBColor(200, 200, 200), shade);
+                Rectangle::new(rect(*d), color.filled())
+            }))
+            .map_err(err)?;
+        let font = |v: &Value| {
+            let bright = 1.0 - (v.log() - l0) / (l1 - l0).max(1e-12) > 0.55;
+            ("sans-serif", 15)
+                .into_font()
+                .color(if bright { &BLACK } else { &WHITE })
+                .pos(Pos::new(HPos::Center, VPos::Center))
+        };
+        chart
+            .draw_series(cells.iter().filter_map(|(d, v)| {
+                let v = v.as_ref()?;
+                let at = (g.value(*d, self.b), g.value(*d, self.a));
+                let text = if v.bound {
+                    format!("< {}", short(v.v))
+                } else {
+                    short(v.v)
+                };
+                Some(Text::new(text, at, font(v)))
+            }))
+            .map_err(err)?;
+        // The best design's cell, inset.
+        let [(x0, y0), (x1, y1)] = rect(self.through);
+        let (w, h) = ((x1 - x0) * 0.06, (y1 - y0) * 0.06);
+        let ring = [
+            (x0 + w, y0 + h),
+            (x1 - w, y0 + h),
+            (x1 - w, y1 - h),
+            (x0 + w, y1 - h),
+            (x0 + w, y0 + h),
+        ];
+        chart
+            .draw_series([
+                PathElement::new(ring.to_vec(), WHITE.stroke_width(4)),
+                PathElement::new(ring.to_vec(), BLACK.stroke_width(2)),
+            ])
+            .map_err(err)?;
+        let legend = legend.margin(50, 50, 6, 0);
+        let hpx = legend.dim_in_pixel().1 as i32 - 40;
+        for k in 0..hpx {
+            let t = 1.0 - k as f64 / hpx as f64;
+            legend
+                .draw(&Rectangle::new(
+                    [(0, 20 + k), (24, 21 + k)],
+                    heat(t).filled(),
+                ))
+                .map_err(err)?;
+        }
+        legend
+            .draw(&Text::new(self.n.bar.clone(), (0, 0), SMALL.into_font()))
+            .map_err(err)?;
+        legend
+            .draw(&Text::new(format!("{l0:.2}"), (30, 14), SMALL.into_font()))
+            .map_err(err)?;
+        legend
+            .draw(&Text::new(
+                format!("{l1:.2}"),
+                (30, 14 + hpx),
+                SMALL.into_font(),
+            ))
+            .map_err(err)?;
+        Ok(())
+    }
+}
