@@ -314,6 +314,14 @@ fn bad_keys_of_a_realization_name_the_key_the_value_and_what_is_allowed() {
         "--set scene=random: needs --set spectrum=...; allowed: white, kanai-tajimi, \
          clough-penzien",
     );
+    refused(
+        &["S0=0.01"],
+        "--set S0=0.01: a key of the random scene; add --set scene=random",
+    );
+    refused(
+        &["scale=2"],
+        "--set scale=2: a key of the record scene; add --set scene=record",
+    );
     let out = bin()
         .args([
             "simulate",

@@ -131,6 +131,13 @@ impl Setup {
                 || Harmonic::KEYS.contains(&key)
                 || key == "t_end";
             if !known {
+                for kind in realization::KINDS {
+                    if realization::scene_keys(kind).contains(&key) {
+                        return Err(InputError::new(format!(
+                            "--set {key}={raw}: a key of the {kind} scene; add --set scene={kind}"
+                        )));
+                    }
+                }
                 return Err(InputError::new(format!(
                     "--set {key}={raw}: unknown key '{key}'; allowed keys: {}",
                     all_keys()
