@@ -291,12 +291,25 @@ The harmonic scene (steady state under F0 cos(omega t) on the main mass; docs/sc
   n_meas            measured periods (default 20)
   trans_tol period_tol   section convergence (1e-10) and repeat (1e-6) tolerances
 
+One realization of a random or record design (docs/scenes.md; a study's [scene] keys, the
+same defaults: firm soil, 20 s, dt 0.005 s, the structure at rest; the row its sweep stores):
+  scene             random or record
+  spectrum S0       white, kanai-tajimi or clough-penzien; its density ((m/s^2)^2 per rad/s)
+  omega_g zeta_g omega_f zeta_f   the filters (default 5 pi, 0.6, pi/2, 0.6)
+  dt duration input envelope=t1,t2,c   the load's samples (s), length (s), base or force
+  record scale      a record's CSV or Parquet file (t,a or t,F) and its factor
+  threshold drift_ratio storey_height yield_coefficient   the limit of |x|
+  intensity T ida_tol ida_max im   pga or sa (g), its period (s), capacities, a stripe (g)
+  realization seed  the load: realization C (default 0) of study seed S (default 0)
+
 Examples:
   impactsweep simulate --set e=0.45 --json
   impactsweep simulate --set m=0 --set peaks=5
   impactsweep simulate --trace wave.csv --dt 1e-4 --t-end 0.5
   impactsweep simulate --set scene=harmonic --set F0=0.3 --set r=0.98 --json
-  impactsweep simulate --study configs/seismic.toml --point 14 --realization 7 --trace q.csv";
+  impactsweep simulate --study configs/seismic.toml --point 14 --realization 7 --trace q.csv
+  impactsweep simulate --set scene=random --set spectrum=clough-penzien --set S0=0.005 \\
+    --set threshold=0.02 --set intensity=pga --set im=0.3 --set realization=7 --set seed=1";
 
 #[derive(Args, Debug)]
 pub struct SimulateCmd {

@@ -288,7 +288,7 @@ fn harmonic_scene_bad_input_exits_2_with_the_range() {
     );
     refused(
         &["simulate", "--set", "scene=steady"],
-        "--set scene=steady: unknown scene; allowed: free, harmonic",
+        "--set scene=steady: unknown scene; allowed: free, harmonic, random, record",
     );
     refused(
         &["simulate", "--set", "scene=harmonic", "--set", "peaks=3"],

@@ -56,6 +56,8 @@ mod random;
 mod random_study_errors;
 #[path = "random_sweep.rs"]
 mod random_sweep;
+#[path = "realization_at_hand.rs"]
+mod realization_at_hand;
 #[path = "record_suite.rs"]
 mod record_suite;
 #[path = "reduce.rs"]

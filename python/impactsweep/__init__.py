@@ -8,6 +8,7 @@ store and reducer, so a number computed here has the same bits as the command li
 >>> isw.simulate(e=0.9)["xmax"]                      # one run, as `impactsweep simulate --json`
 >>> isw.simulate_batch({"e": es, "m": ms}, d=0.01)   # one run per row, a pyarrow Table
 >>> isw.simulate(scene="random", spectrum="white", S0=0.01, duration=5, realization=3)
+>>> isw.simulate_batch({"realization": range(100)}, scene="random", spectrum="white", S0=0.01)
 
 Keys are those of ``impactsweep simulate --set KEY=VALUE``: the system ``M m K C d e x0 v0 y0
 w0`` (SI units), the solver's (``solver tol h rtol atol chatter_tol max_impacts max_steps
@@ -269,6 +270,28 @@ def _columns(inputs: Any) -> Dict[str, np.ndarray]:
     return cols
 
 
+def _random_sets(fixed: Mapping[str, Any], scene: str) -> List[str]:
+    """The ``--set`` keys of a random or record batch: ``envelope`` as ``t1,t2,c``, ``record``
+    a path, ``realization`` a whole number, the rest as :func:`_sets` writes them."""
+    sets = [f"scene={scene}"]
+    for key, v in fixed.items():
+        if key == "seed":
+            raise ValueError("seed: the study seed of a batch is simulate_batch's seed argument")
+        if key == "envelope":
+            if not isinstance(v, Mapping) or sorted(v) != ["c", "t1", "t2"]:
+                raise ValueError(f"envelope={v!r}: expected a mapping {{'t1': s, 't2': s, 'c': 1/s}}")
+            sets.append("envelope=" + ",".join(_value(f"envelope.{k}", v[k]) for k in ("t1", "t2", "c")))
+        elif key == "record" and isinstance(v, os.PathLike):
+            sets.append(f"record={os.fspath(v)}")
+        elif key == "realization":
+            sets.append(f"realization={_whole('realization', v)}")
+        elif v is None and key == "threshold":
+            continue
+        else:
+            sets.append(f"{key}={_value(key, v)}")
+    return sets
+
+
 def simulate_batch(
     inputs: Any, *, threads: Optional[int] = None, scene: str = "free", seed: int = 0, **fixed: Any
 ) -> pa.Table:
@@ -285,15 +308,33 @@ def simulate_batch(
     ``threads`` threads (default: every core) with the GIL released; the result does not depend
     on the thread count. Every row is validated before the first run. Ctrl-C raises
     ``KeyboardInterrupt`` within a second.
+
+    ``scene="random"`` and ``scene="record"``: each row is one realization of a random or record
+    design, the ``random_points`` table's row (``docs/schema.md``) the sweep of the one-point
+    study of the row's keys stores, bit for bit. ``fixed`` takes a random or record study's
+    ``[scene]`` keys (``spectrum S0 omega_g zeta_g omega_f zeta_f dt duration envelope threshold
+    input``; ``record scale``; ``drift_ratio storey_height yield_coefficient``; ``intensity T
+    ida_tol ida_max`` and a stripe ``im`` in g), the system's and the solver's, and
+    ``realization``; the study defaults apply (firm soil's filters, 20 s, ``dt`` 0.005 s, the
+    structure at rest). The input columns may be system keys, the load's sweepable keys (``S0
+    omega_g zeta_g omega_f zeta_f``, ``scale``, ``im``) and ``realization``: row ``i`` runs the
+    load of realization ``realization[i]`` (without the column, the fixed ``realization``, 0 by
+    default: every row the same load, as a sweep compares designs) under study seed ``seed``;
+    ``np.arange(n)`` as the column gives ``n`` realizations of one design. Its ``case`` is the
+    realization, ``point_id = point = i``. A row with a stripe ``im`` and a ``threshold`` is
+    its own design stripe: it carries the motion's capacity.
     """
+    scene = _scene(scene)
     cols = _columns(inputs)
     lengths = {len(a) for a in cols.values()}
     if len(lengths) > 1:
         raise ValueError(f"inputs: columns of different lengths {sorted(lengths)}")
     n = lengths.pop() if lengths else 1
-    batch = _ext.simulate_batch(
-        _sets(fixed, scene), list(cols), [a.tobytes() for a in cols.values()], n, threads, int(seed)
-    )
+    if scene in _RANDOM_SCENES:
+        sets, seed = _random_sets(fixed, scene), _whole("seed", seed)
+    else:
+        sets, seed = _sets(fixed, scene), int(seed)
+    batch = _ext.simulate_batch(sets, list(cols), [a.tobytes() for a in cols.values()], n, threads, seed)
     return pa.Table.from_batches([batch])
 
 

@@ -19,12 +19,15 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
 use rayon::prelude::*;
 
+use impactsweep::api::random_batch::RandomBatch;
+use impactsweep::api::realization::RandomSetup;
 use impactsweep::api::setup::{Setup, forced_json, record_json, trace_scene};
 use impactsweep::error::{InputError, Interrupted};
 use impactsweep::model::SYSTEM_KEYS;
 use impactsweep::plan::{Plan, RunSpec};
 use impactsweep::sim::random::{
-    Excitation, GivenNormals, Normals, RandomRecord, RandomRun, RandomScene, RealizationStream,
+    Excitation, GivenNormals, Normals, RandomRecord, RandomRun, RandomScene, RealizationRecord,
+    RealizationStream,
 };
 use impactsweep::sim::{
     ForcedRecord, Harmonic, NoProbe, Record, Scene, SceneRecord, SolverSettings,
@@ -103,10 +106,13 @@ fn setup(sets: &[String]) -> PyResult<Setup> {
 #[pyfunction]
 fn simulate<'py>(py: Python<'py>, sets: Vec<String>) -> PyResult<Bound<'py, PyAny>> {
     let s = setup(&sets)?;
+    if let Some(r) = &s.random {
+        let (row, _) = py.detach(|| r.run(None)).map_err(input_err)?;
+        return json_to_py(py, &r.json(&row));
+    }
     let json = match s.run_scene(&mut NoProbe) {
         SceneRecord::Free(rec) => record_json(&s, &rec),
         SceneRecord::Harmonic(rec) => forced_json(&s, &rec),
-        // `--set scene=` names the free and harmonic scenes only.
         SceneRecord::Random(rec) => serde_json::to_value(&rec).unwrap_or_default(),
     };
     json_to_py(py, &json)
@@ -376,7 +382,10 @@ fn interruptible<T: Send>(
 const INLINE_ROWS: usize = 64;
 
 /// One run per row: `names[j]` takes `columns[j][i]` in row `i`, over the setup of `sets`.
-/// Returns a pyarrow RecordBatch with the columns of the scene's points table.
+/// Returns a pyarrow RecordBatch with the columns of the scene's points table. With
+/// `scene=random` or `scene=record` among `sets` a row is one realization (the `realization`
+/// column, else the setup's) of the one-point study of the keys and the row's values, under
+/// study seed `seed` ([`impactsweep::api::random_batch`]): the `random_points` table.
 #[pyfunction]
 #[pyo3(signature = (sets, names, columns, n_rows, threads=None, seed=0))]
 fn simulate_batch<'py>(
@@ -391,7 +400,9 @@ fn simulate_batch<'py>(
     let base = setup(&sets)?;
     let study = batch_study(&base, seed)?;
     let cols: Vec<Vec<f64>> = columns.iter().map(|b| f64s(b.as_bytes())).collect();
-    check_columns(&base, &names, &cols, n_rows)?;
+    if base.random.is_none() {
+        check_columns(&base, &names, &cols, n_rows)?;
+    }
     if threads == Some(0) {
         return Err(PyValueError::new_err("threads=0: must be at least 1"));
     }
@@ -423,16 +434,70 @@ fn simulate_batch<'py>(
                 .map_err(PyValueError::new_err)?;
             impactsweep::store::points::to_batch(&rows, &settings)
         }
-        // `--set scene=` names the free and harmonic scenes only.
         Scene::Random(_) => {
-            return Err(PyValueError::new_err(
-                "simulate_batch runs the free and harmonic scenes; a random study runs with \
-                 `impactsweep run`",
-            ));
+            let Some(r) = base.random.as_deref() else {
+                return Err(PyValueError::new_err(
+                    "scene: a random setup without its study (a bug: please report it)",
+                ));
+            };
+            let rows = random_rows(py, pool.as_ref(), r, seed, &names, &cols, n_rows)?;
+            impactsweep::store::points::to_batch(&rows, &r.study.solver)
         }
     }
     .map_err(py_err)?;
     batch.to_pyarrow(py)
+}
+
+/// The rows of a random or record batch (module doc of [`impactsweep::api::random_batch`]) on
+/// `pool` (or the global one), every row checked before the first runs, stopped by Ctrl-C.
+fn random_rows(
+    py: Python<'_>,
+    pool: Option<&rayon::ThreadPool>,
+    setup: &RandomSetup,
+    seed: u64,
+    names: &[String],
+    cols: &[Vec<f64>],
+    n: usize,
+) -> PyResult<Vec<RunRow<RealizationRecord>>> {
+    if setup.has("seed") {
+        return Err(PyValueError::new_err(format!(
+            "seed={}: the study seed of a batch is its seed argument; leave seed out of the keys",
+            setup.study.seed
+        )));
+    }
+    let mut setup = setup.clone();
+    setup.study.seed = seed;
+    let setup = &setup;
+    let batch = RandomBatch::new(setup, names, cols, n).map_err(PyValueError::new_err)?;
+    let stop = AtomicBool::new(false);
+    let all = || -> Result<Vec<RunRow<RealizationRecord>>, String> {
+        if let Some(msg) = (0..n)
+            .into_par_iter()
+            .find_map_first(|i| batch.row(i).err())
+        {
+            return Err(msg);
+        }
+        Ok((0..n)
+            .into_par_iter()
+            .filter_map(|i| {
+                if stop.load(Ordering::Relaxed) {
+                    return None;
+                }
+                let (study, case) = batch.row(i).ok()?;
+                Some(RandomBatch::run(i, &study, case))
+            })
+            .collect())
+    };
+    let work = || match pool {
+        Some(p) => p.install(all),
+        None => all(),
+    };
+    let rows = if n <= INLINE_ROWS {
+        py.detach(work)
+    } else {
+        interruptible(py, || stop.store(true, Ordering::SeqCst), work)?
+    };
+    rows.map_err(PyValueError::new_err)
 }
 
 /// The batch's rows: `base` with row `i` of the input columns.
@@ -586,6 +651,12 @@ fn trace<'py>(
     t_end: Option<f64>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyBytes>, Bound<'py, PyBytes>)> {
     let mut s = setup(&sets)?;
+    if s.random.is_some() {
+        return Err(PyValueError::new_err(
+            "trace: the free and harmonic scenes; a random or record realization's trace is \
+             `impactsweep simulate --set scene=random ... --trace FILE.csv`",
+        ));
+    }
     if let Some(t) = t_end {
         if matches!(s.scene, Scene::Harmonic(_)) {
             return Err(PyValueError::new_err(format!(

@@ -3,6 +3,7 @@
 //! its record as JSON. Shared by the command line ([`crate::app::simulate`]) and the Python
 //! binding, so both give the same bits and the same errors.
 
+use super::realization::{self, RandomSetup};
 use crate::error::InputError;
 use crate::model::{SYSTEM_KEYS, System};
 use crate::sim::{
@@ -16,8 +17,13 @@ pub struct Setup {
     pub system: System,
     pub solver: SolverSettings,
     pub request: Request,
-    /// Free decay (default) or the harmonic scene (`--set scene=harmonic`).
+    /// Free decay (default), the harmonic scene (`--set scene=harmonic`), or the random or
+    /// record scene (`--set scene=random`, `scene=record`: then [`Setup::random`] holds it).
     pub scene: Scene,
+    /// `--set scene=random` or `scene=record`: the one-point study the keys describe and the
+    /// realization to run ([`RandomSetup`]); `system`, `solver`, `request` and `scene` are
+    /// its design's. `None` in the free and harmonic scenes.
+    pub random: Option<Box<RandomSetup>>,
 }
 
 impl Default for Setup {
@@ -27,6 +33,7 @@ impl Default for Setup {
             solver: SolverSettings::default(),
             request: Request::default(),
             scene: Scene::Free,
+            random: None,
         }
     }
 }
@@ -38,6 +45,24 @@ fn all_keys() -> String {
     keys.push("scene");
     keys.extend(Harmonic::KEYS);
     keys.join(" ")
+}
+
+/// The scenes `--set scene=` names.
+fn scene_names() -> String {
+    let mut names = Scene::NAMES.to_vec();
+    names.extend(realization::KINDS);
+    names.join(", ")
+}
+
+/// The scene the last `scene=` of `sets` names, if it is the random or record scene.
+fn random_kind(sets: &[String]) -> Option<&'static str> {
+    let last = sets
+        .iter()
+        .filter_map(|item| item.split_once('='))
+        .filter(|(k, _)| k.trim() == "scene")
+        .map(|(_, v)| v.trim())
+        .next_back()?;
+    realization::KINDS.into_iter().find(|k| *k == last)
 }
 
 /// The harmonic scene's `--set` keys as given, checked together once all are read.
@@ -55,7 +80,19 @@ struct ForcedKeys {
 
 impl Setup {
     /// Applies `KEY=VALUE` settings; the error names the key, the value and what is allowed.
+    /// With `scene=random` or `scene=record` among them the setup is the one-point study of
+    /// these keys alone ([`RandomSetup::from_sets`]: a study's defaults, not this setup's).
     pub fn apply(&mut self, sets: &[String]) -> Result<(), InputError> {
+        if let Some(kind) = random_kind(sets) {
+            let r = RandomSetup::from_sets(kind, sets)?;
+            self.system = r.system();
+            self.solver = r.study.solver;
+            self.request = r.study.request;
+            self.scene = Scene::Random(r.scene());
+            self.random = Some(Box::new(r));
+            return Ok(());
+        }
+        self.random = None;
         let mut forced = ForcedKeys::default();
         if let Scene::Harmonic(h) = self.scene {
             forced.scene = Some("harmonic".into());
@@ -70,10 +107,10 @@ impl Setup {
             };
             let (key, raw) = (key.trim(), raw.trim());
             if key == "scene" {
-                if !Scene::NAMES.contains(&raw) {
+                if !Scene::NAMES.contains(&raw) && !realization::KINDS.contains(&raw) {
                     return Err(InputError::new(format!(
                         "--set scene={raw}: unknown scene; allowed: {}",
-                        Scene::NAMES.join(", ")
+                        scene_names()
                     )));
                 }
                 forced.scene = Some(raw.to_string());
@@ -94,6 +131,13 @@ impl Setup {
                 || Harmonic::KEYS.contains(&key)
                 || key == "t_end";
             if !known {
+                for kind in realization::KINDS {
+                    if realization::scene_keys(kind).contains(&key) {
+                        return Err(InputError::new(format!(
+                            "--set {key}={raw}: a key of the {kind} scene; add --set scene={kind}"
+                        )));
+                    }
+                }
                 return Err(InputError::new(format!(
                     "--set {key}={raw}: unknown key '{key}'; allowed keys: {}",
                     all_keys()

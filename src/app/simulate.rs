@@ -6,9 +6,11 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
+pub use crate::api::realization::RandomSetup;
 pub use crate::api::setup::{Setup, TraceProbe, forced_json, record_json, trace, trace_scene};
 use crate::error::InputError;
 use crate::model::{System, fmt_value};
+use crate::sim::random::{Excitation, Input, RandomScene, RealizationRecord};
 use crate::sim::{ForcedRecord, NoProbe, Record, Request, Scene, SceneRecord, SolverKind, State};
 
 /// What `simulate` was asked.
@@ -137,13 +139,6 @@ pub fn forced_text(setup: &Setup, rec: &ForcedRecord) -> String {
 /// A short summary for a person, with units.
 pub fn record_text(setup: &Setup, rec: &Record) -> String {
     let s = &setup.system;
-    let sec = |v: f64| {
-        if v.is_nan() {
-            "-".to_string()
-        } else {
-            format!("{v:.5} s")
-        }
-    };
     let mut out = String::new();
     out.push_str(&system_line(s));
     out.push_str(&format!(
@@ -247,10 +242,144 @@ pub fn realization(
     Ok(())
 }
 
+/// `simulate --set scene=random` (or `record`): the realization the keys name, as the sweep
+/// of their one-point study stores it ([`RandomSetup`]), printed for a person or as JSON; with
+/// `--trace` its displacements every `--dt` (and at every impact) at the stripe's scale.
+fn random_run(r: &RandomSetup, args: &SimulateArgs) -> anyhow::Result<()> {
+    if let Some(t_end) = args.t_end {
+        return Err(InputError::new(format!(
+            "--t-end {}: a free-decay option; a random or record run lasts its duration (--set \
+             duration=...)",
+            fmt_value(t_end)
+        ))
+        .into());
+    }
+    let dt = args.dt.unwrap_or(1e-4);
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(
+            InputError::new(format!("--dt {dt}: the trace interval (s) must be > 0")).into(),
+        );
+    }
+    let (row, rows) = r.run(args.trace.as_ref().map(|_| dt))?;
+    if args.json {
+        println!("{}", r.json(&row));
+    } else {
+        print!("{}", realization_text(r, &row));
+    }
+    if let Some(path) = &args.trace {
+        write_trace(path, &rows)?;
+        if !args.json {
+            println!("trace    {}", path.display());
+        }
+    }
+    Ok(())
+}
+
+/// A value in g for a person, `-` when absent.
+fn in_g(v: Option<f64>) -> String {
+    v.map_or("-".to_string(), |v| format!("{v:.5} g"))
+}
+
+/// A realization's row for a person, with units.
+pub fn realization_text(r: &RandomSetup, row: &RealizationRecord) -> String {
+    let scene = r.scene();
+    let mut out = system_line(&r.system());
+    let keys: Vec<String> = RandomScene::AXES
+        .iter()
+        .zip(row.load)
+        .filter_map(|(k, v)| v.map(|v| format!("{k} = {}", fmt_value(v))))
+        .collect();
+    let load = match &scene.excitation {
+        Excitation::Random(l) => format!("random, {} spectrum", l.spectrum.name()),
+        Excitation::Record(_) | Excitation::Suite(_) => "record".to_string(),
+    };
+    out.push_str(&format!(
+        "load     {load} on the {}: {}; dt = {} s, duration = {} s\n",
+        match scene.input {
+            Input::Base => "ground",
+            Input::Force => "main mass",
+        },
+        keys.join(", "),
+        fmt_value(scene.dt),
+        fmt_value(scene.duration)
+    ));
+    out.push_str(&format!(
+        "run      realization {} of seed {}\n",
+        r.realization, r.study.seed
+    ));
+    if let Some(own) = row.own {
+        out.push_str(&format!(
+            "motion   PGA {}, Sa {} (its own, at scale 1)\n",
+            in_g(Some(own.pga)),
+            in_g(Some(own.sa))
+        ));
+    }
+    let rec = &row.record;
+    out.push_str(&format!("outcome  {}\n", rec.outcome));
+    out.push_str(&format!(
+        "amplitude {} at t = {}\n",
+        cm(rec.amplitude),
+        sec(rec.t_peak)
+    ));
+    out.push_str(&format!(
+        "rms      x {}, acceleration {:.5} m/s^2\n",
+        cm(rec.rms_x),
+        rec.rms_acc
+    ));
+    match scene.threshold {
+        Some(b) => out.push_str(&format!(
+            "passage  threshold {}: {}\n",
+            cm(b),
+            rec.first_passage_time
+                .map_or("never passed".to_string(), |t| format!(
+                    "first passed at t = {}",
+                    sec(t)
+                ))
+        )),
+        None => out.push_str("passage  - (no threshold)\n"),
+    }
+    if let Some(c) = row.capacity {
+        out.push_str(&format!(
+            "capacity {} ({} runs{}{})\n",
+            in_g(Some(c.capacity)),
+            c.runs,
+            if c.censored {
+                ", censored at ida_max"
+            } else {
+                ""
+            },
+            if c.resurrected { ", resurrected" } else { "" }
+        ));
+    }
+    out.push_str(&format!(
+        "impacts  {} ({} sticking phases), {:.4e} J lost in impacts\n",
+        rec.impacts, rec.sticks, rec.energy_impact
+    ));
+    out.push_str(&format!(
+        "stopped  at t = {} ({} load samples, {} steps)\n",
+        sec(rec.t_stop),
+        rec.samples,
+        rec.steps
+    ));
+    out
+}
+
+/// A time in s for a person, `-` when unknown.
+fn sec(v: f64) -> String {
+    if v.is_nan() {
+        "-".to_string()
+    } else {
+        format!("{v:.5} s")
+    }
+}
+
 /// The `simulate` command.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let mut setup = Setup::default();
     setup.apply(&args.sets)?;
+    if let Some(r) = &setup.random {
+        return random_run(r, args);
+    }
     if let Some(t_end) = args.t_end {
         setup.request.t_end = Some(t_end);
     }
@@ -285,7 +414,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         (SceneRecord::Free(rec), false) => print!("{}", record_text(&setup, rec)),
         (SceneRecord::Harmonic(rec), true) => println!("{}", forced_json(&setup, rec)),
         (SceneRecord::Harmonic(rec), false) => print!("{}", forced_text(&setup, rec)),
-        // `--set scene=` names the free and harmonic scenes only; a random run's record as JSON.
+        // A random or record setup ran above; a random record as JSON.
         (SceneRecord::Random(rec), _) => {
             println!("{}", serde_json::to_string(rec).unwrap_or_default())
         }
