@@ -232,6 +232,12 @@ impl RandomDesign {
                 m.insert("scale".into(), num(r.scale));
                 m.insert("record_samples".into(), r.values.len().into());
             }
+            Excitation::Suite(s) => {
+                m.insert("scale".into(), num(s.scale));
+                let names: Vec<serde_json::Value> =
+                    s.records.iter().map(|r| r.name.clone().into()).collect();
+                m.insert("records".into(), names.into());
+            }
         }
         m.insert("dt".into(), num(sc.dt));
         m.insert("duration".into(), num(sc.duration));

@@ -316,7 +316,7 @@ impl Chart for ProfileChart<'_> {
                     [(x0 - 0.5 * step, y), (x1 + 0.5 * step, y)],
                     8,
                     5,
-                    GREY.stroke_width(2).into(),
+                    GREY.stroke_width(2),
                 ))
                 .map_err(err)?
                 .label(format!(

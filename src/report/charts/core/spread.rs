@@ -79,7 +79,7 @@ impl Chart for SpreadChart<'_> {
                     [(x0, b * cm), (x1, b * cm)],
                     8,
                     5,
-                    red.stroke_width(2).into(),
+                    red.stroke_width(2),
                 ))
                 .map_err(err)?
                 .label(format!("limit {:.3} cm", b * cm))
