@@ -535,8 +535,32 @@ fn issue_44_subset_simulation_takes_the_designs_monte_carlo_barely_sees() {
     assert!(cov > 0.0 && cov <= upper && upper < 1.0, "{cov} {upper}");
     // Three levels of 500 (the chains of the later levels start from the 50 seeds).
     assert_eq!(column(&summary, "subset_runs"), ["1400"]);
+    assert_eq!(column(&summary, "subset_repeats"), ["1"]);
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(report.contains("(subset simulation, CoV"), "{report}");
+    assert!(
+        report.contains("with the levels fully correlated"),
+        "{report}"
+    );
+    // Issue 67: independent repeats, their mean and an interval from their spread, said so.
+    bin()
+        .arg("reduce")
+        .arg(&dir)
+        .args(["--subset", "500", "--subset-repeats", "4"])
+        .assert()
+        .success();
+    assert_eq!(column(&summary, "subset_repeats"), ["4"]);
+    let mean = num("p_f");
+    assert!(
+        mean > 0.0 && num("p_f_lo") < mean && mean < num("p_f_hi"),
+        "{mean}"
+    );
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(
+        report.contains("the mean of 4 independent subset simulations")
+            && report.contains("from the spread of the 4 runs"),
+        "{report}"
+    );
     bin().arg("reduce").arg(&dir).assert().success();
     assert_eq!(column(&summary, "p_f_method"), ["subset"]);
     assert_eq!(column(&summary, "subset_runs"), ["3700"]);

@@ -431,18 +431,29 @@ def run(
     return _ext.run(path, text, os.fspath(out), resume, reduce, threads, chunk_points, allow_large)
 
 
-def reduce(run_dir: StudyLike, *, subset: int = 1000) -> str:
+def reduce(run_dir: StudyLike, *, subset: int = 1000, subset_repeats: int = 1) -> str:
     """``impactsweep reduce``: writes the summary, zones, report and charts into ``run_dir``;
     returns the reducer's one-line summary. ``subset=N`` is ``--subset N``: a random study's
     designs with fewer than 10 exceedances get ``p_f`` by subset simulation, ``N`` samples a
     level (a multiple of 10 in [100, 10^6]; 1000 by default), which ranks them; ``subset=0``
-    keeps Monte Carlo alone."""
+    keeps Monte Carlo alone. ``subset_repeats=R`` is ``--subset-repeats R``: each such design's
+    ``p_f`` is the mean of ``R`` independent subset simulations (1 to 1000; 1 by default), its
+    interval from their spread."""
     if isinstance(subset, (bool, np.bool_)) or not isinstance(subset, (int, np.integer)) or subset < 0:
         raise ValueError(
             f"subset={subset!r}: expected 0 (Monte Carlo only) or a whole number of samples per level, "
             "a multiple of 10 in [100, 1000000]"
         )
-    return _ext.reduce(os.fspath(run_dir), int(subset))
+    if (
+        isinstance(subset_repeats, (bool, np.bool_))
+        or not isinstance(subset_repeats, (int, np.integer))
+        or not 1 <= subset_repeats <= 1000
+    ):
+        raise ValueError(
+            f"subset_repeats={subset_repeats!r}: expected a whole number of independent subset "
+            "simulations per design in [1, 1000]"
+        )
+    return _ext.reduce(os.fspath(run_dir), int(subset), int(subset_repeats))
 
 
 def status(run_dir: StudyLike) -> Dict[str, Any]:

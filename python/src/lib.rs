@@ -922,16 +922,23 @@ fn run<'py>(
             py,
             &dir,
             Some(impactsweep::reduce::random::subset::DEFAULT_SUBSET_N),
+            1,
         )?;
         d.set_item("reduce", line)?;
     }
     Ok(d)
 }
 
-fn reduce_dir(py: Python<'_>, dir: &Path, subset: Option<usize>) -> PyResult<String> {
+fn reduce_dir(
+    py: Python<'_>,
+    dir: &Path,
+    subset: Option<usize>,
+    subset_repeats: usize,
+) -> PyResult<String> {
     let args = impactsweep::api::reduce::ReduceArgs {
         dir: dir.to_path_buf(),
         subset,
+        subset_repeats,
         ..Default::default()
     };
     py.detach(|| impactsweep::api::reduce::reduce_dir(&args))
@@ -939,11 +946,17 @@ fn reduce_dir(py: Python<'_>, dir: &Path, subset: Option<usize>) -> PyResult<Str
         .map_err(py_err)
 }
 
-/// `impactsweep reduce RUN_DIR` (and `--subset N`, 1000 by default, 0 for Monte Carlo alone):
-/// its summary line.
+/// `impactsweep reduce RUN_DIR` (and `--subset N`, 1000 by default, 0 for Monte Carlo alone;
+/// `--subset-repeats R`, 1 by default): its summary line.
 #[pyfunction]
-#[pyo3(signature = (dir, subset=impactsweep::reduce::random::subset::DEFAULT_SUBSET_N))]
-fn reduce(py: Python<'_>, dir: PathBuf, subset: usize) -> PyResult<String> {
+#[pyo3(signature = (dir, subset=impactsweep::reduce::random::subset::DEFAULT_SUBSET_N, subset_repeats=1))]
+fn reduce(py: Python<'_>, dir: PathBuf, subset: usize, subset_repeats: usize) -> PyResult<String> {
+    if !(1..=1000).contains(&subset_repeats) {
+        return Err(PyValueError::new_err(format!(
+            "subset_repeats={subset_repeats}: expected a whole number of independent subset \
+             simulations per design in [1, 1000]"
+        )));
+    }
     // The command line's `--subset N` check (subset simulation's chains of 10 need 10 seeds).
     if subset != 0 && !((100..=1_000_000).contains(&subset) && subset.is_multiple_of(10)) {
         return Err(PyValueError::new_err(format!(
@@ -951,7 +964,7 @@ fn reduce(py: Python<'_>, dir: PathBuf, subset: usize) -> PyResult<String> {
              level, a multiple of 10 in [100, 1000000]"
         )));
     }
-    reduce_dir(py, &dir, (subset > 0).then_some(subset))
+    reduce_dir(py, &dir, (subset > 0).then_some(subset), subset_repeats)
 }
 
 /// `impactsweep status RUN_DIR`, as a dict (with the command's text).

@@ -226,3 +226,5 @@ def test_other_bad_calls():
         isw.reduce("nowhere", subset=50)
     with pytest.raises(ValueError, match=r"^subset=-5: expected 0 \(Monte Carlo only\) or a whole number of samples per level"):
         isw.reduce("nowhere", subset=-5)
+    with pytest.raises(ValueError, match=r"^subset_repeats=0: expected a whole number of independent subset simulations"):
+        isw.reduce("nowhere", subset_repeats=0)

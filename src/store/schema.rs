@@ -399,8 +399,8 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "amplitude_median" | "amplitude_q3" | "amplitude_max" | "amplitude_ideal"
         | "rms_x_mean" | "threshold" => "m",
         "p_s" | "p_s_ideal" | "p_s_sd" | "p_f" | "p_f_lo" | "p_f_hi" | "beta" | "n_exceed"
-        | "p_f_cov" | "p_f_cov_upper" | "subset_runs" | "fragility_beta" | "fragility_beta_lo"
-        | "fragility_beta_hi" | "capacity_rank" => "1",
+        | "p_f_cov" | "p_f_cov_upper" | "subset_runs" | "subset_repeats" | "fragility_beta"
+        | "fragility_beta_lo" | "fragility_beta_hi" | "capacity_rank" => "1",
         "intensity" | "fragility_outcome" | "p_f_method" => "",
         "theta" | "theta_lo" | "theta_hi" | "deagg_im_10" | "deagg_im_50" | "deagg_im_90" => "g",
         "beta_im"

@@ -668,6 +668,10 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
         Column::U64(ss.iter().map(|s| s.map(|s| s.runs)).collect()),
     );
     t.push(
+        "subset_repeats",
+        Column::U64(ss.iter().map(|s| s.map(|s| s.repeats)).collect()),
+    );
+    t.push(
         "n_exceed",
         Column::U64(pf.iter().map(|p| p.map(|p| p.exceed)).collect()),
     );
