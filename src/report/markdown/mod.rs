@@ -47,6 +47,11 @@ pub struct SceneText {
     /// The scene's own decision in place of the core's recommendation (a random study ranks by
     /// first-passage probability or annual risk, not by the paper's R); `None`: the core's.
     pub decision: Option<String>,
+    /// Whether the laboratory's sections are written: zones by class, the top by
+    /// perfectibility, the Pareto set on (R, p_s), the nominal design's cases, the lognormal
+    /// test of the response and the stress and strength settings. A load study without a
+    /// strength has none of what they rest on, and leaves them out.
+    pub laboratory: bool,
 }
 
 impl Default for SceneText {
@@ -59,6 +64,7 @@ impl Default for SceneText {
             runs: None,
             head: String::new(),
             decision: None,
+            laboratory: true,
         }
     }
 }
@@ -95,15 +101,21 @@ pub fn report_with(
         }
     }
     o += &scene.section;
-    o += &zones::section(s);
+    if scene.laboratory {
+        o += &zones::section(s);
+    }
     o += &jumps::section(s, scene.window_peaks);
     o += &sensitivity::section(s);
-    o += &ranking::top(s);
-    o += &ranking::pareto(s);
-    o += &cases::nominal(s);
+    if scene.laboratory {
+        o += &ranking::top(s);
+        o += &ranking::pareto(s);
+        o += &cases::nominal(s);
+    }
     o += &cases::outcomes(s);
-    o += &cases::normality(study, s);
-    o += &settings::section(study, s);
+    if scene.laboratory {
+        o += &cases::normality(study, s);
+        o += &settings::section(study, s);
+    }
     if let Some(a) = audit {
         o += &audit::section(a);
     }

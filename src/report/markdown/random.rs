@@ -41,6 +41,7 @@ pub fn scene_text(study: &crate::study::Study, s: &Summary, rs: &RandomSummary) 
         runs: Some(every_run(rs, &per_design)),
         head: super::seismic::head(study, rs),
         decision: Some(super::seismic::decision(s, rs)),
+        laboratory: s.computes_r(),
     }
 }
 
