@@ -211,11 +211,13 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         .filter(|c| c.dm != 0.0 || c.dd != 0.0)
         .count();
     let _ = writeln!(w, "design points:  {}", plan.n_points());
-    if let Scene::Random(_) = study.scene {
-        let _ = writeln!(
-            w,
-            "cases/point:    {n_cases} realizations (the same loads at every design point)"
-        );
+    if let Scene::Random(r) = &study.scene {
+        let what = if r.suite().is_empty() {
+            "realizations (the same loads at every design point)"
+        } else {
+            "records of the suite, one per run (the same at every design point)"
+        };
+        let _ = writeln!(w, "cases/point:    {n_cases} {what}");
     } else {
         let _ = writeln!(
             w,
