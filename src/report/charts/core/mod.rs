@@ -21,9 +21,9 @@ pub fn summary_charts(s: &Summary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
 }
 
 /// The core charts of a load study (a random or record study): the spread charts with the limit
-/// of `|x|` drawn (`limit`, m) and the zone maps, without the laboratory's damping chart,
-/// design chart (R against a strength, the safety factor) and perfectibility map, which the
-/// risk charts replace ([`crate::report::charts::risk`]).
+/// of `|x|` drawn (`limit`, m), without the laboratory's damping chart, design chart (R against
+/// a strength, the safety factor), perfectibility and zone maps, which the risk charts replace
+/// ([`crate::report::charts::risk`]).
 pub fn load_charts(s: &Summary, dir: &Path, limit: Option<f64>) -> anyhow::Result<Vec<PathBuf>> {
     charts_of(s, dir, Some(limit))
 }
@@ -61,9 +61,13 @@ fn charts_of(s: &Summary, dir: &Path, load: Option<Option<f64>>) -> anyhow::Resu
         let suffix = format!("_{}", axis_column(g.key(a)));
         files.extend(profile_charts(s, dir, &pr, &cols, &suffix)?);
     }
+    // A load study's maps are its risk maps; the zones rest on the laboratory's classes.
+    if load.is_some() {
+        return Ok(files);
+    }
     for (i, &a) in swept.iter().enumerate() {
         for &b in &swept[i + 1..] {
-            files.extend(maps(s, dir, (a, b), anchor, load.is_none())?);
+            files.extend(maps(s, dir, (a, b), anchor)?);
         }
     }
     if swept.len() == 3 {
@@ -144,14 +148,12 @@ fn profile_charts(
     Ok(files)
 }
 
-/// The perfectibility map (with `perfectibility`) and the zone map over the axes `(a, b)`,
-/// through `anchor`.
+/// The perfectibility map and the zone map over the axes `(a, b)`, through `anchor`.
 fn maps(
     s: &Summary,
     dir: &Path,
     (a, b): (usize, usize),
     anchor: u64,
-    perfectibility: bool,
 ) -> anyhow::Result<Vec<PathBuf>> {
     let g = &s.grid;
     let pair = format!("{}_{}", axis_column(g.key(a)), axis_column(g.key(b)));
@@ -163,10 +165,7 @@ fn maps(
             &["perfectibility", "rank", "robust"][..],
         ),
         ("zone_map", map::MapKind::Zones, &["class", "zone"][..]),
-    ]
-    .into_iter()
-    .filter(|k| perfectibility || k.1 != map::MapKind::Perfectibility)
-    {
+    ] {
         let chart = map::MapChart {
             s,
             a,
