@@ -510,6 +510,61 @@ pub fn heat(t: f64) -> RGBColor {
     )
 }
 
+/// The plot of a map: cells between the edges `eb` (x) and `ea` (y), no mesh, the axes named
+/// `x_desc` and `y_desc`.
+pub fn map_chart<'a, DB: DrawingBackend + 'a>(
+    area: &DrawingArea<DB, Shift>,
+    (eb, ea): (&[f64], &[f64]),
+    (x_desc, y_desc): (&str, &str),
+) -> anyhow::Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>>
+where
+    DB::ErrorType: 'static,
+{
+    let mut chart = ChartBuilder::on(area)
+        .margin(12)
+        .x_label_area_size(48)
+        .y_label_area_size(86)
+        .build_cartesian_2d(eb[0]..eb[eb.len() - 1], ea[0]..ea[ea.len() - 1])
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .label_style(SMALL)
+        .axis_desc_style(LABEL)
+        .draw()
+        .map_err(err)?;
+    Ok(chart)
+}
+
+/// A map's colour bar: [`heat`] from 1 at the top to 0 at the bottom, `label` above it, `top`
+/// and `bottom` beside its ends.
+pub fn colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    label: &str,
+    top: &str,
+    bottom: &str,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let h = area.dim_in_pixel().1 as i32 - 40;
+    for k in 0..h {
+        let t = 1.0 - k as f64 / h as f64;
+        area.draw(&Rectangle::new(
+            [(0, 20 + k), (24, 21 + k)],
+            heat(t).filled(),
+        ))
+        .map_err(err)?;
+    }
+    for (text, at) in [(label, (0, 0)), (top, (30, 14)), (bottom, (30, 14 + h))] {
+        area.draw(&Text::new(text.to_string(), at, SMALL.into_font()))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
 /// Edges of the cells of a map around the values `v` (halfway between neighbours, half a step
 /// beyond the ends).
 pub fn cell_edges(v: &[f64]) -> Vec<f64> {

@@ -23,8 +23,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    BLUE, Chart, Data, GREY, LABEL, SMALL, TITLE, cell_edges, err, heat, pad, render,
-    series_legend, xy_chart,
+    BLUE, Chart, Data, GREY, SMALL, TITLE, cell_edges, colour_bar, err, heat, map_chart, pad,
+    render, series_legend, xy_chart,
 };
 use crate::reduce::Summary;
 use crate::reduce::random::RandomSummary;
@@ -414,21 +414,11 @@ impl Chart for MapChart<'_> {
         ))
         .map_err(err)?;
         let (area, legend) = rest.split_horizontally(rest.dim_in_pixel().0 as i32 - 190);
-        let mut chart = ChartBuilder::on(&area)
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(86)
-            .build_cartesian_2d(eb[0]..eb[eb.len() - 1], ea[0]..ea[ea.len() - 1])
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc(axis_desc(g.key(self.b)))
-            .y_desc(axis_desc(g.key(self.a)))
-            .label_style(SMALL)
-            .axis_desc_style(LABEL)
-            .draw()
-            .map_err(err)?;
+        let mut chart = map_chart(
+            &area,
+            (&eb, &ea),
+            (&axis_desc(g.key(self.b)), &axis_desc(g.key(self.a))),
+        )?;
         let cells: Vec<(u64, Option<Value>)> =
             self.designs.iter().map(|&d| (d, self.n.of(d))).collect();
         let (l0, l1) = cells
@@ -484,30 +474,11 @@ impl Chart for MapChart<'_> {
                 PathElement::new(ring.to_vec(), BLACK.stroke_width(2)),
             ])
             .map_err(err)?;
-        let legend = legend.margin(50, 50, 6, 0);
-        let hpx = legend.dim_in_pixel().1 as i32 - 40;
-        for k in 0..hpx {
-            let t = 1.0 - k as f64 / hpx as f64;
-            legend
-                .draw(&Rectangle::new(
-                    [(0, 20 + k), (24, 21 + k)],
-                    heat(t).filled(),
-                ))
-                .map_err(err)?;
-        }
-        legend
-            .draw(&Text::new(self.n.bar.clone(), (0, 0), SMALL.into_font()))
-            .map_err(err)?;
-        legend
-            .draw(&Text::new(format!("{l0:.2}"), (30, 14), SMALL.into_font()))
-            .map_err(err)?;
-        legend
-            .draw(&Text::new(
-                format!("{l1:.2}"),
-                (30, 14 + hpx),
-                SMALL.into_font(),
-            ))
-            .map_err(err)?;
-        Ok(())
+        colour_bar(
+            &legend.margin(50, 50, 6, 0),
+            &self.n.bar,
+            &format!("{l0:.2}"),
+            &format!("{l1:.2}"),
+        )
     }
 }

@@ -7,7 +7,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::report::charts::plumbing::{
-    Chart, GREY, LABEL, SMALL, TITLE, cell_edges, class_color, err, heat, minmax, zone_color,
+    Chart, GREY, SMALL, TITLE, cell_edges, class_color, colour_bar, err, heat, map_chart, minmax,
+    zone_color,
 };
 
 use crate::reduce::{Class, PointStats, Summary};
@@ -99,21 +100,11 @@ impl Chart for MapChart<'_> {
             150
         };
         let (area, legend_area) = rest.split_horizontally(rest.dim_in_pixel().0 as i32 - legend_w);
-        let mut chart = ChartBuilder::on(&area)
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(86)
-            .build_cartesian_2d(eb[0]..eb[eb.len() - 1], ea[0]..ea[ea.len() - 1])
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc(axis_desc(g.key(self.b)))
-            .y_desc(axis_desc(g.key(self.a)))
-            .label_style(SMALL)
-            .axis_desc_style(LABEL)
-            .draw()
-            .map_err(err)?;
+        let mut chart = map_chart(
+            &area,
+            (&eb, &ea),
+            (&axis_desc(g.key(self.b)), &axis_desc(g.key(self.a))),
+        )?;
         let points = self.points();
         let (p0, p1) = minmax(points.iter().map(|p| p.perfectibility));
         let cell = |p: &PointStats| {
@@ -159,7 +150,9 @@ impl Chart for MapChart<'_> {
         let legend = legend_area.margin(50, 50, 6, 6);
         match self.kind {
             MapKind::Zones => class_legend(&legend, s, &points),
-            MapKind::Perfectibility => colour_bar(&legend, p0, p1),
+            MapKind::Perfectibility => {
+                colour_bar(&legend, "P (%)", &format!("{p1:.1}"), &format!("{p0:.1}"))
+            }
         }
     }
 }
@@ -294,35 +287,5 @@ where
         ))
         .map_err(err)?;
     }
-    Ok(())
-}
-
-fn colour_bar<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    p0: f64,
-    p1: f64,
-) -> anyhow::Result<()>
-where
-    DB::ErrorType: 'static,
-{
-    let h = area.dim_in_pixel().1 as i32 - 40;
-    for k in 0..h {
-        let t = 1.0 - k as f64 / h as f64;
-        area.draw(&Rectangle::new(
-            [(0, 20 + k), (24, 21 + k)],
-            heat(t).filled(),
-        ))
-        .map_err(err)?;
-    }
-    area.draw(&Text::new("P (%)", (0, 0), SMALL.into_font()))
-        .map_err(err)?;
-    area.draw(&Text::new(format!("{p1:.1}"), (30, 14), SMALL.into_font()))
-        .map_err(err)?;
-    area.draw(&Text::new(
-        format!("{p0:.1}"),
-        (30, 14 + h),
-        SMALL.into_font(),
-    ))
-    .map_err(err)?;
     Ok(())
 }
