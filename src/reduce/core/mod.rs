@@ -34,7 +34,6 @@ pub use grid::Grid;
 pub use jumps::{IdealCase, Jump, JumpKind, Quantity};
 pub use options::Options;
 pub use point::{Damping, PointStats, Response, ResponseStats, Run};
-pub use recommend::EdgeWarning;
 pub use reducer::{Reducer, nominal_point, outcome_index};
-pub use summary::{Sensitivity, Summary};
+pub use summary::{EdgeWarning, Sensitivity, Summary};
 pub use zones::{JumpStats, Zone, ZoneParams};
