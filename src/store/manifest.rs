@@ -82,6 +82,7 @@ pub struct ChunkEntry {
 /// renames (the journal's `writing` line, [`crate::store::write_part`]). A part renamed but never
 /// recorded as finished (its writer stopped between the rename and the `chunk` line) is held to
 /// them, so a part damaged since is run again rather than kept ([`crate::sweep::verify`]).
+/// [`crate::store::PartInfo::writing`] makes it.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct WritingEntry {
     pub chunk: u64,
@@ -89,18 +90,6 @@ pub struct WritingEntry {
     pub checksum: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub attractors: Option<String>,
-}
-
-impl WritingEntry {
-    /// The record of chunk `k` about to be renamed into place, as [`crate::store::write_part`]
-    /// wrote it.
-    pub fn of(k: u64, info: &super::PartInfo) -> WritingEntry {
-        WritingEntry {
-            chunk: k,
-            checksum: info.checksum.clone(),
-            attractors: info.attractors.as_ref().map(|a| a.checksum.clone()),
-        }
-    }
 }
 
 /// A chunk's attractors part ([`crate::store::attractors`]): its rows and checksum.

@@ -37,6 +37,7 @@ use arrow::array::{
 };
 use arrow::datatypes::{DataType, Int8Type, Schema, SchemaRef};
 
+use super::manifest::{AttractorsEntry, WritingEntry};
 use super::schema::{META_STUDY, META_TABLE, TableKind, column_name};
 use crate::model::{SYSTEM_KEYS, System};
 use crate::sim::forced::Steady;
@@ -163,7 +164,19 @@ pub struct PartInfo {
     pub checksum: String,
     pub bytes: u64,
     /// The chunk's attractors part, when it has one.
-    pub attractors: Option<super::manifest::AttractorsEntry>,
+    pub attractors: Option<AttractorsEntry>,
+}
+
+impl PartInfo {
+    /// The record of chunk `k`'s part files about to be renamed into place (the journal's
+    /// `writing` line), as [`write_part`] wrote them.
+    pub fn writing(&self, k: u64) -> WritingEntry {
+        WritingEntry {
+            chunk: k,
+            checksum: self.checksum.clone(),
+            attractors: self.attractors.as_ref().map(|a| a.checksum.clone()),
+        }
+    }
 }
 
 /// Encodes rows as one part file (see [`super::encode`]; `outcome` and `solver`
@@ -219,7 +232,7 @@ pub fn write_part<R: StoredRecord>(
                     .with_context(|| format!("creating {}", parent.display()))?;
             }
             let bytes = super::attractors::encode_part(a, study_toml)?;
-            let entry = super::manifest::AttractorsEntry {
+            let entry = AttractorsEntry {
                 rows: a.len() as u64,
                 checksum: checksum.hex(&bytes),
             };

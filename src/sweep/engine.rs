@@ -12,6 +12,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use super::audit::{audit_points, run_audit};
 use super::journal::{self, Entry, Journal};
 use super::lock::LockMode;
+use super::options::{SweepOptions, shard_chunks};
 use super::rundir;
 use super::simulate::{ChunkRows, SceneRun};
 use crate::accuracy::Audit;
@@ -19,42 +20,8 @@ use crate::error::InputError;
 use crate::plan::Plan;
 use crate::sim::random::RealizationRecord;
 use crate::sim::{ForcedRecord, Record, Scene};
-use crate::store::manifest::WritingEntry;
 use crate::store::{self, Checksum, ChunkEntry, Manifest, RunRow, StoredRecord};
 use crate::study::{Study, whole_curves};
-
-/// How to run a study.
-#[derive(Clone, Debug)]
-pub struct SweepOptions {
-    /// Worker threads; `None` means all cores.
-    pub threads: Option<usize>,
-    /// `(i, n)`: run the chunks `k` with `k % n == i`. `(0, 1)` is the whole study.
-    pub shard: (u64, u64),
-    /// Continue an existing run directory.
-    pub resume: bool,
-    /// Show a progress bar (only drawn when stderr is a terminal).
-    pub progress: bool,
-    /// Design points per chunk; `None`: the existing manifest's, else `[run].chunk_points`.
-    pub chunk_points: Option<u64>,
-    /// Points to audit; `None`: `[run].audit`.
-    pub audit: Option<u64>,
-    /// Stop after this many chunks have been written (to test interruptions). `None`: all.
-    pub stop_after: Option<u64>,
-}
-
-impl Default for SweepOptions {
-    fn default() -> Self {
-        SweepOptions {
-            threads: None,
-            shard: (0, 1),
-            resume: false,
-            progress: false,
-            chunk_points: None,
-            audit: None,
-            stop_after: None,
-        }
-    }
-}
 
 /// What one call of [`run_study`] did.
 #[derive(Clone, Debug)]
@@ -160,11 +127,6 @@ fn outcome_counts<R: StoredRecord>(rows: &[RunRow<R>]) -> BTreeMap<String, u64> 
             .or_default() += 1;
     }
     counts
-}
-
-/// The chunks of shard `(i, n)`.
-pub fn shard_chunks(n_chunks: u64, shard: (u64, u64)) -> impl Iterator<Item = u64> {
-    (shard.0..n_chunks).step_by(shard.1.max(1) as usize)
 }
 
 /// The dataset's sizes as the manifest records them, with `chunk_points` the run directory's.
@@ -402,7 +364,7 @@ fn write_chunks<R: SceneRun>(
             &study.source,
             &study.solver,
             algorithm,
-            |info| journal.append(&Entry::Writing(WritingEntry::of(k, info))),
+            |info| journal.append(&Entry::Writing(info.writing(k))),
         )?;
         let counts = outcome_counts(&rows);
         journal.append(&Entry::Chunk(ChunkEntry {

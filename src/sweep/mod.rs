@@ -47,18 +47,19 @@
 //!
 //! # Files
 //!
-//! [`engine`] (options, the pipeline, [`run_study`]), [`simulate`] (what one chunk's runs are:
-//! each run on its own, or a harmonic study's curves as tasks with their census), [`random`]
-//! (a random or record study's realizations, each design point set up once), [`rundir`]
-//! (opening and claiming a run directory, what is already done), [`journal`] (the bookkeeping of
-//! finished chunks), [`verify`] (is a part what the directory says), [`lock`] (the shard's
-//! writer lock), [`audit`] and [`mod@status`] (what a run directory holds).
+//! [`options`] (how to run a study), [`engine`] (the pipeline, [`run_study`]), [`simulate`]
+//! (what one chunk's runs are: each run on its own, or a harmonic study's curves as tasks with
+//! their census), [`random`] (a random or record study's realizations, each design point set up
+//! once), [`rundir`] (opening and claiming a run directory, what is already done), [`journal`]
+//! (the bookkeeping of finished chunks), [`verify`] (is a part what the directory says),
+//! [`lock`] (the shard's writer lock), [`audit`] and [`mod@status`] (what a run directory holds).
 //! The manifest type and its file are [`crate::store::manifest`]'s.
 
 pub mod audit;
 pub mod engine;
 pub mod journal;
 pub mod lock;
+pub mod options;
 pub mod random;
 pub mod rundir;
 pub mod simulate;
@@ -67,9 +68,10 @@ pub mod verify;
 
 pub use audit::{audit_points, run_audit};
 pub use engine::{
-    SYNC_EVERY, SweepOptions, SweepSummary, chunk_rows, clear_stop, request_stop, run_dir,
-    run_study, shard_chunks, stop_requested,
+    SYNC_EVERY, SweepSummary, chunk_rows, clear_stop, request_stop, run_dir, run_study,
+    stop_requested,
 };
 pub use lock::{LockHolder, RunLock, acquire_lock, lock_path, read_lock};
+pub use options::{SweepOptions, shard_chunks};
 pub use simulate::{SceneRun, run_row, simulate_chunk, simulate_forced_run, simulate_run};
 pub use status::{Status, missing_chunks, outcome_names, ranges, status};

@@ -6,9 +6,9 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
-use super::SweepOptions;
 use super::journal::{Entry, Journal, Ledger, ManifestLock};
 use super::lock::{RunLock, acquire_lock, check_other_splits, lock_path};
+use super::options::SweepOptions;
 use super::verify::{check_recorded, check_unrecorded};
 use crate::error::InputError;
 use crate::plan::Plan;

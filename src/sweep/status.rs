@@ -9,6 +9,7 @@ use rayon::prelude::*;
 
 use super::journal;
 use super::lock::{LockHolder, is_lock_name, read_lock};
+use super::options::shard_chunks;
 use super::verify::{check_recorded, check_unrecorded};
 use crate::error::InputError;
 use crate::sim::Outcome;
@@ -111,7 +112,7 @@ impl Status {
             .collect();
         shards.sort();
         for (i, n) in shards {
-            let all: Vec<u64> = super::shard_chunks(m.n_chunks, (i, n)).collect();
+            let all: Vec<u64> = shard_chunks(m.n_chunks, (i, n)).collect();
             let missing: Vec<u64> = all
                 .iter()
                 .copied()

@@ -4,7 +4,7 @@
 //! budget and measuring window, and the stable orbits found in its close returns.
 
 use super::cloud::{Cloud, chaos_probe};
-use super::{CensusSettings, Origin, ProbeResult, Wandering};
+use super::motion::{CensusSettings, Origin, ProbeResult, Wandering};
 use crate::orbits::map::{Forcing, Section, eval};
 use crate::orbits::shoot::{
     Newton, Orbit, Stability, Termination, non_impacting, orbit_at, same_orbit, solve,

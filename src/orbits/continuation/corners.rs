@@ -2,7 +2,12 @@
 //! passed or located from its smooth side, an impact's approach speed vanishing (the orbit
 //! joins the non-impacting family), and the end of a branch at the swept range.
 
-use super::*;
+use super::branch::{BranchPoint, ContSettings, Curve, End, V5, point, tangent};
+use super::located::located_row;
+use crate::orbits::label::Label;
+use crate::orbits::locate::{self, OnBranch};
+use crate::orbits::map::{Forcing, eval};
+use crate::sim::Outcome;
 
 /// The end of a branch whose steps failed down to the smallest: where the map one step past
 /// the last point (at the last predictor `u_pred`) has another impact count than the last

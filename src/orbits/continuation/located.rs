@@ -1,11 +1,16 @@
 //! A label located between two points of a branch (the module doc of [`super`], and
 //! [`crate::orbits::locate`]), and the other branch followed from a located branch point.
 
-use super::*;
+use super::branch::{BranchPoint, ContSettings, Curve, V5, point, tangent};
+use crate::orbits::label::Label;
+use crate::orbits::locate::{self, OnBranch, test_function};
+use crate::orbits::map::Forcing;
+use crate::orbits::shoot::Orbit;
 
 /// `label` located between the points `here` and `next` (the step from `here` along `t` of
-/// length `h` found `next`), as a branch point at the located parameter ([`super::locate`]);
-/// `None` when it cannot be solved there or falls outside the swept range.
+/// length `h` found `next`), as a branch point at the located parameter
+/// ([`crate::orbits::locate`]); `None` when it cannot be solved there or falls outside the swept
+/// range.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn locate_between(
     curve: &mut Curve,
@@ -42,9 +47,9 @@ pub(super) fn locate_between(
     Some((row, p))
 }
 
-/// The row of a located point `p` of `label` ([`locate_between`], [`end_of_steps`]): its orbit
-/// by Newton, kept when it is inside the range and its bifurcation is there to
-/// [`LOCATED_TOL`]. Counts it in `curve.located`.
+/// The row of a located point `p` of `label` ([`locate_between`],
+/// [`super::corners::end_of_steps`]): its orbit by Newton, kept when it is inside the range and
+/// its bifurcation is there to [`LOCATED_TOL`]. Counts it in `curve.located`.
 pub(super) fn located_row(
     curve: &mut Curve,
     f: &Forcing,

@@ -33,19 +33,24 @@
 //! case it is: `chaos` (a motion that is not periodic), `jump` (a periodic attractor, another
 //! branch's or the non-impacting family) or `none` (the run failed).
 
-use super::*;
+use super::branch::{BranchPoint, ContSettings, Curve, GrazingOutcome, V5, point, tangent};
 use crate::orbits::census::{CensusSettings, Landing, settle};
 use crate::orbits::graze::nearest_contact;
+use crate::orbits::label::Label;
+use crate::orbits::locate::OnBranch;
+use crate::orbits::map::{Forcing, Section};
 use crate::orbits::sequence::{ImpactOrbit, solve_at, speed_at, speed_zero};
+use crate::orbits::shoot::{Newton, Orbit, Termination, orbit_at, solve};
 
 /// How far past a grazing (relative to its parameter) the orbit with the changed sequence may
 /// lie: farther is not this branch's continuation.
 pub(super) const REACH: f64 = 0.05;
 
 /// The new contact's approach speeds tried, in units of `omega d/2`: above
-/// [`VANISHING_SPEED`] so that the walk does not take it for an impact vanishing, small enough
-/// to stay near the grazing. The corrector's basin on the section shrinks like the square of
-/// the slowest impact's speed (the map's derivatives grow like its inverse): from `0.1` the
+/// [`super::corners::VANISHING_SPEED`] so that the walk does not take it for an impact
+/// vanishing, small enough to stay near the grazing. The corrector's basin on the section
+/// shrinks like the square of the slowest impact's speed (the map's derivatives grow like its
+/// inverse): from `0.1` the
 /// steps creep away from the grazing (hundreds of points on the design-map showcase), from
 /// `0.3` they do not.
 pub(super) const CONTACT_SPEEDS: [f64; 3] = [0.3, 0.1, 0.05];

@@ -3,7 +3,19 @@
 //! period doubling and a branch point, and the side's end (closed on itself, back the way it
 //! came, past the swept range, out of impacts, at a grazing, out of steps).
 
-use super::*;
+use super::branch::{
+    BranchPoint, ContSettings, Curve, End, GrazingOutcome, V5, below_minus_one, point, tangent,
+};
+use super::corners::{
+    CORNER_REACH, VANISHING_SPEED, at_range_end, clear_approach, end_of_steps, here_speed_scale,
+    past_corner, speed_vanishing,
+};
+use super::located::{locate_between, switch_at_branch_point};
+use super::through::{outcome_beyond, through_grazing};
+use crate::orbits::label::Label;
+use crate::orbits::locate::{OnBranch, complex_outside, ns_value};
+use crate::orbits::map::{Forcing, Section};
+use crate::orbits::shoot::{Newton, Orbit, Termination, multipliers, orbit_at, solve};
 
 /// The points on one side of the start (`dir` = the sign of the first step in `lambda`), how the
 /// side ended and, at a grazing it ends at, what the motion becomes there.

@@ -9,10 +9,12 @@
 //! * [`stats`]: means, lognormals, R and its bootstrap interval, the safety factor,
 //!   Anderson–Darling, perfectibility; [`rank`]: the ranking and the Pareto set;
 //! * [`grid`]: the design grid; [`jumps`]: jumps along its axes, located with the scene's ideal
-//!   case; [`zones`] and [`regions`]: the classes and the zones they make;
+//!   case; [`class`]: the classes of the design points; [`zones`] and [`regions`]: how the
+//!   points get them and the zones they make;
 //! * [`sensitivity`]: the variance decomposition; [`recommend`]: the robust recommendation;
 //! * [`tables`]: the summary, zones, jumps and sensitivity tables the store writes.
 
+pub mod class;
 pub mod grid;
 pub mod jumps;
 pub mod options;
@@ -27,11 +29,11 @@ pub mod summary;
 pub mod tables;
 pub mod zones;
 
+pub use class::Class;
 pub use grid::Grid;
 pub use jumps::{IdealCase, Jump, JumpKind, Quantity};
 pub use options::Options;
 pub use point::{Damping, PointStats, Response, ResponseStats, Run};
-pub use recommend::EdgeWarning;
 pub use reducer::{Reducer, nominal_point, outcome_index};
-pub use summary::{Sensitivity, Summary};
-pub use zones::{Class, JumpStats, Zone, ZoneParams};
+pub use summary::{EdgeWarning, Sensitivity, Summary};
+pub use zones::{JumpStats, Zone, ZoneParams};

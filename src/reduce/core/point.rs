@@ -2,8 +2,8 @@
 //! damping quantity a scene names ([`Response`], [`Damping`]) and the statistics of the point
 //! ([`PointStats`]).
 
+use super::class::Class;
 use super::stats::LogNormal;
-use super::zones::Class;
 use crate::sim::Outcome;
 
 /// The per-point response: the one quantity from which stress, R and the ranking follow. Each

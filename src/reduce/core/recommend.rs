@@ -16,29 +16,14 @@
 //!   beyond the swept range, and the axis should be extended that way (the report says whether
 //!   the model allows it).
 
-use super::PointStats;
+use super::class::Class;
 use super::grid::{End, Grid};
+use super::point::PointStats;
+use super::summary::{EdgeWarning, Summary};
 use super::zones::Zone;
 
 /// How many of the best ranks count as "the best designs" for the edge warning.
 pub const TOP: usize = 10;
-
-/// The best designs on one end of one axis.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EdgeWarning {
-    pub axis: usize,
-    pub end: End,
-    /// The axis value at that end.
-    pub value: f64,
-    /// How many of the top `top` designs sit there.
-    pub n_top: usize,
-    pub top: usize,
-    /// The best design (rank 1) sits there; the recommended one does.
-    pub best: bool,
-    pub recommended: bool,
-    /// One more step beyond that end is a valid design (the model's ranges allow it).
-    pub extendable: bool,
-}
 
 /// Sets `robust` on every point; `pos[p]` is the position of grid point `p` in `points`.
 pub fn mark_robust(grid: &Grid, points: &mut [PointStats], pos: &[u32], zones: &[Zone]) {
@@ -134,11 +119,11 @@ pub enum NotRobust {
     /// A point of its neighbourhood is not in the dataset.
     Missing,
     /// Points of its neighbourhood lie in zones of this class (`None`: declared or no zone).
-    Zone(Option<super::Class>),
+    Zone(Option<Class>),
 }
 
 /// Every reason why `p` is not robust (empty when it is).
-pub fn reasons(s: &super::Summary, p: &PointStats) -> Vec<NotRobust> {
+pub fn reasons(s: &Summary, p: &PointStats) -> Vec<NotRobust> {
     let g = &s.grid;
     let mut out = Vec::new();
     if p.rank.is_none() {

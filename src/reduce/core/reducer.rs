@@ -21,13 +21,14 @@
 
 use rayon::prelude::*;
 
+use super::class::Class;
 use super::grid::Grid;
 use super::jumps::IdealCase;
 use super::options::Options;
 use super::point::{PointStats, ResponseStats, Run};
 use super::stats::{self, LogNormal};
 use super::summary::{Sensitivity, Summary};
-use super::zones::{self, Class};
+use super::zones;
 use super::{rank, recommend, regions, sensitivity};
 use crate::sim::Outcome;
 use crate::sim::noise::mix64;

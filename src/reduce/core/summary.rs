@@ -2,14 +2,30 @@
 //! jumps, the sensitivity and the recommendation, with what the report needs to say how they
 //! were computed.
 
-use super::grid::Grid;
+use super::grid::{End, Grid};
 use super::jumps::Jump;
 use super::options::Options;
 use super::point::{PointStats, Run};
 use super::rank;
-use super::recommend::EdgeWarning;
 use super::stats::LogNormal;
 use super::zones::{JumpStats, Zone};
+
+/// The best designs on one end of one axis ([`super::recommend::edges`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EdgeWarning {
+    pub axis: usize,
+    pub end: End,
+    /// The axis value at that end.
+    pub value: f64,
+    /// How many of the top `top` designs ([`super::recommend::TOP`]) sit there.
+    pub n_top: usize,
+    pub top: usize,
+    /// The best design (rank 1) sits there; the recommended one does.
+    pub best: bool,
+    pub recommended: bool,
+    /// One more step beyond that end is a valid design (the model's ranges allow it).
+    pub extendable: bool,
+}
 
 /// Sensitivity of one quantity to one axis ([`super::sensitivity`]).
 #[derive(Clone, Debug, PartialEq)]

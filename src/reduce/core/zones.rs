@@ -32,66 +32,13 @@
 
 use std::collections::VecDeque;
 
-use super::PointStats;
+use super::class::Class;
 use super::grid::Grid;
 use super::jumps::{self, IdealCase, Jump, JumpSettings, Quantity};
+use super::point::PointStats;
 use super::regions::{self, MISSING, NO_REGION};
 use super::stats::{median, perfectibility};
 use crate::study::{DeclaredZone, Ranking};
-
-/// The class of a design point; see the module doc.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Class {
-    StrongReliable,
-    WeakReliable,
-    StrongNotShown,
-    WeakNotShown,
-    AroundJump,
-    NoData,
-    StrongNotComputed,
-    WeakNotComputed,
-}
-
-impl Class {
-    pub const ALL: [Class; 8] = [
-        Class::StrongReliable,
-        Class::WeakReliable,
-        Class::StrongNotShown,
-        Class::WeakNotShown,
-        Class::AroundJump,
-        Class::NoData,
-        Class::StrongNotComputed,
-        Class::WeakNotComputed,
-    ];
-
-    pub fn label(self) -> &'static str {
-        match self {
-            Class::StrongReliable => "strong damping, reliable",
-            Class::WeakReliable => "reliable, weak damping",
-            Class::StrongNotShown => "strong damping, reliability not shown",
-            Class::WeakNotShown => "weak damping, reliability not shown",
-            Class::AroundJump => "around a jump",
-            Class::NoData => "no data",
-            Class::StrongNotComputed => "strong damping, reliability not computed",
-            Class::WeakNotComputed => "weak damping, reliability not computed",
-        }
-    }
-
-    /// A zone of this class may hold a recommended design: R shown at or above `r_min` and no
-    /// jump nearby.
-    pub fn recommended(self) -> bool {
-        matches!(self, Class::StrongReliable | Class::WeakReliable)
-    }
-
-    /// Never merged away nor merged into (see [`super::regions`]).
-    pub fn sticky(self) -> bool {
-        matches!(self, Class::AroundJump | Class::NoData)
-    }
-
-    fn from_u8(c: u8) -> Class {
-        Class::ALL[c as usize]
-    }
-}
 
 /// The settings of zone finding beyond the study's `r_min`, `di_strong` and declared zones
 /// (`[zones]` of the study, see [`crate::study::Zones`] for their defaults and ranges).

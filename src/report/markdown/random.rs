@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 use crate::reduce::random::{RandomSummary, beta_of, outcome_name};
 use crate::reduce::{PointStats, Summary};
-use crate::report::markdown::{MAX_ROWS, SceneText, cm, design_text, f, prob, ranked};
+use crate::report::markdown::words::{MAX_ROWS, SceneText, cm, design_text, f, prob, ranked};
 use crate::report::text::{axis_value, count, fmt_num, thousands};
 
 /// How the core's sections word a random or record study, and its own section.

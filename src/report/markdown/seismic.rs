@@ -8,7 +8,7 @@ use std::fmt::Write;
 
 use crate::reduce::random::{RandomSummary, beta_of};
 use crate::reduce::{PointStats, Summary};
-use crate::report::markdown::{cm, design_text, f, prob, ranked};
+use crate::report::markdown::words::{cm, design_text, f, prob, ranked};
 use crate::report::text::{fmt_num, thousands};
 use crate::sim::Scene;
 use crate::sim::random::intensity::G;

@@ -2,7 +2,7 @@
 //! threshold, kept for comparison (the module doc of [`super`]).
 
 use super::gpd::{bound, growth, minimise};
-use super::{CHI2_90, Life, LifeEstimate};
+use super::life::{CHI2_90, Life, LifeEstimate};
 use argmin::core::{CostFunction, Error};
 
 /// A generalized extreme value law of block maxima.

@@ -2,7 +2,7 @@
 //! likelihood, and the quantile of the largest value over a life with its profile-likelihood
 //! interval (the module doc of [`super`] gives the equations).
 
-use super::{CHI2_90, Life, LifeEstimate};
+use super::life::{CHI2_90, Life, LifeEstimate};
 use argmin::core::{CostFunction, Error, Executor, State};
 use argmin::solver::brent::{BrentOpt, BrentRoot};
 use argmin::solver::neldermead::NelderMead;

@@ -3,7 +3,29 @@
 //! its trend, and the finest bracket, the ones up to ten tolerances wide and, last, the whole
 //! span cut by its largest changes tell a step, a kink or a smooth stretch.
 
-use super::{JumpKind, UNRESOLVED};
+/// Step or kink.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum JumpKind {
+    /// The value changes abruptly.
+    Step,
+    /// Only the slope does.
+    Kink,
+}
+
+impl JumpKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            JumpKind::Step => "step",
+            JumpKind::Kink => "kink",
+        }
+    }
+}
+
+/// What [`super::IdealCase::at`] returns for a quantity that is not known exactly at that design
+/// but only as a statistical estimate (a forced probe whose peak may be carried by a chaotic
+/// motion whose amplitude over the design life was not measured there): a bisection stops at it
+/// ([`locate()`]).
+pub const UNRESOLVED: f64 = f64::INFINITY;
 
 /// The result of locating one candidate.
 #[derive(Clone, Copy, Debug, PartialEq)]

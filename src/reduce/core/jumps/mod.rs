@@ -47,7 +47,7 @@ use rayon::prelude::*;
 
 mod locate;
 
-pub use locate::{Outcome, locate};
+pub use locate::{JumpKind, Outcome, UNRESOLVED, locate};
 
 use super::grid::Grid;
 use super::stats::median;
@@ -69,24 +69,6 @@ impl Quantity {
     }
 }
 
-/// Step or kink.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum JumpKind {
-    /// The value changes abruptly.
-    Step,
-    /// Only the slope does.
-    Kink,
-}
-
-impl JumpKind {
-    pub fn name(self) -> &'static str {
-        match self {
-            JumpKind::Step => "step",
-            JumpKind::Kink => "kink",
-        }
-    }
-}
-
 /// The settings of jump finding.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JumpSettings {
@@ -97,12 +79,6 @@ pub struct JumpSettings {
     /// Location tolerance as a fraction of the grid step.
     pub locate: f64,
 }
-
-/// What [`IdealCase::at`] returns for a quantity that is not known exactly at that design but
-/// only as a statistical estimate (a forced probe whose peak may be carried by a chaotic motion
-/// whose amplitude over the design life was not measured there): a bisection stops at it
-/// ([`locate()`]).
-pub const UNRESOLVED: f64 = f64::INFINITY;
 
 /// The ideal case simulated anywhere in the design space (not only on the grid).
 pub trait IdealCase: Sync {

@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use crate::report::markdown::{MAX_ROWS, SceneText, cm, design_text, f, reliability_clause};
+use crate::report::markdown::words::{MAX_ROWS, SceneText, cm, design_text, f, reliability_clause};
 
 use crate::reduce::Summary;
 use crate::reduce::core::tables::outcome_text;

@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use crate::report::markdown::{MAX_ROWS, f};
+use crate::report::markdown::words::{MAX_ROWS, f};
 
 use crate::reduce::core::stats::median;
 use crate::reduce::core::tables::{per_axis_unit, quantity_of};

@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use crate::report::markdown::{MAX_ROWS, cm, confidence, design_text, f, interval, ranked};
+use crate::report::markdown::words::{MAX_ROWS, cm, confidence, design_text, f, interval, ranked};
 
 use crate::reduce::{PointStats, Summary};
 use crate::report::text::thousands;

@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use crate::report::markdown::{cm, confidence, design_text, f, ranked, reliability_clause};
+use crate::report::markdown::words::{cm, confidence, design_text, f, ranked, reliability_clause};
 
 use crate::reduce::core::grid::End;
 use crate::reduce::core::recommend::{NotRobust, reasons};

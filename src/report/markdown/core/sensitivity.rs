@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use crate::report::markdown::f;
+use crate::report::markdown::words::f;
 
 use crate::reduce::Summary;
 use crate::report::text::thousands;

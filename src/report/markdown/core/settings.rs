@@ -4,7 +4,7 @@
 use std::fmt::Write;
 
 use crate::reduce::Summary;
-use crate::report::markdown::{confidence, f};
+use crate::report::markdown::words::{confidence, f};
 use crate::report::text::fmt_num;
 use crate::study::{DiSource, SafetyForm, Study};
 

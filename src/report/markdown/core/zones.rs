@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use crate::report::markdown::{MAX_ROWS, f};
+use crate::report::markdown::words::{MAX_ROWS, f};
 
 use crate::reduce::{Class, Summary, Zone};
 use crate::report::text::{count, fmt_num, thousands};

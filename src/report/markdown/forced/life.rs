@@ -9,7 +9,7 @@ use crate::orbits::attractors::AttractorRow;
 use crate::reduce::PointStats;
 use crate::reduce::Summary;
 use crate::reduce::forced::ForcedSummary;
-use crate::report::markdown::{cm, design_text, f};
+use crate::report::markdown::words::{cm, design_text, f};
 use crate::sim::forced::NonPeriodicPeak;
 
 /// `s` seconds as the report says a design life: hours (and years beyond 10,000 h).

@@ -6,7 +6,7 @@ use std::fmt::Write;
 
 mod life;
 
-use crate::report::markdown::{MAX_ROWS, SceneText, cm, design_text, f, ranked};
+use crate::report::markdown::words::{MAX_ROWS, SceneText, cm, design_text, f, ranked};
 
 use crate::reduce::core::tables::outcome_text;
 use crate::reduce::forced::{Curve, ForcedSummary};
