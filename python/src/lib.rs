@@ -21,7 +21,7 @@ use rayon::prelude::*;
 
 use impactsweep::api::random_batch::RandomBatch;
 use impactsweep::api::realization::RandomSetup;
-use impactsweep::api::setup::{Setup, forced_json, record_json, trace_scene};
+use impactsweep::api::setup::{Setup, forced_json, insert_system, record_json, trace_scene};
 use impactsweep::error::{InputError, Interrupted};
 use impactsweep::model::SYSTEM_KEYS;
 use impactsweep::plan::{Plan, RunSpec};
@@ -188,19 +188,7 @@ impl RandomDesign {
         map.insert("seed".into(), seed);
         map.insert("realization".into(), realization);
         map.insert("n_normals".into(), self.run.n_normals().into());
-        let mut system = serde_json::Map::new();
-        for k in SYSTEM_KEYS {
-            let v = self.system.get(k).unwrap_or(f64::NAN);
-            system.insert(
-                k.into(),
-                serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, Into::into),
-            );
-        }
-        map.insert("system".into(), system.into());
-        map.insert(
-            "solver".into(),
-            serde_json::to_value(self.study.solver).unwrap_or_default(),
-        );
+        insert_system(&mut map, &self.system, &self.study.solver);
         map.insert(kind.into(), self.scene_json());
         serde_json::Value::Object(map)
     }

@@ -363,20 +363,7 @@ impl RandomSetup {
         map.insert("scene".into(), self.kind().into());
         map.insert("seed".into(), self.study.seed.into());
         map.insert("realization".into(), self.realization.into());
-        let sys = self.system();
-        let mut system = serde_json::Map::new();
-        for k in SYSTEM_KEYS {
-            let v = sys.get(k).unwrap_or(f64::NAN);
-            system.insert(
-                k.into(),
-                serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, Into::into),
-            );
-        }
-        map.insert("system".into(), system.into());
-        map.insert(
-            "solver".into(),
-            serde_json::to_value(self.study.solver).unwrap_or_default(),
-        );
+        super::setup::insert_system(&mut map, &self.system(), &self.study.solver);
         serde_json::Value::Object(map)
     }
 }

@@ -284,6 +284,20 @@ impl RandomSummary {
             .map(|i| &self.risk[i])
     }
 
+    /// Design `design`'s `p_f` at the design intensity as the ranking takes it, with its 95 %
+    /// interval `(p_f, lo, hi)`: subset simulation's where it estimated one above 0, else Monte
+    /// Carlo's (`lens`: the design grid's axis lengths, as [`RandomSummary::grid_point`]).
+    pub fn design_pf(&self, design: u64, lens: &[usize]) -> Option<(f64, f64, f64)> {
+        match self.subset_of(design) {
+            Some(x) if x.p_f > 0.0 => Some((x.p_f, x.lo, x.hi)),
+            _ => {
+                let j = self.intensity.as_ref().map_or(0, |i| i.design);
+                let p = self.point(self.grid_point(design, j, lens))?;
+                Some((p.p_f, p.p_f_lo, p.p_f_hi))
+            }
+        }
+    }
+
     /// The fragility fit of design `design`, if any.
     pub fn fragility_of(&self, design: u64) -> Option<&Fragility> {
         self.fragility

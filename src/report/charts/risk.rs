@@ -87,34 +87,29 @@ fn numbers(s: &Summary, rs: &RandomSummary) -> Numbers {
         };
     }
     let lens: Vec<usize> = (0..s.grid.n_axes()).map(|a| s.grid.n(a)).collect();
-    let j = rs.intensity.as_ref().map_or(0, |i| i.design);
     let at = rs.intensity.as_ref().map_or(String::new(), |i| {
-        format!(" at {}", axis_value(&i.key, i.values[j]))
+        format!(" at {}", axis_value(&i.key, i.values[i.design]))
     });
     let values = s
         .points
         .iter()
         .filter_map(|d| {
-            let p = rs.point(rs.grid_point(d.point, j, &lens))?;
-            let value = match rs.subset_of(d.point) {
-                Some(x) if x.p_f > 0.0 => Value {
-                    v: x.p_f,
-                    lo: x.lo,
-                    hi: x.hi,
+            let (v, lo, hi) = rs.design_pf(d.point, &lens)?;
+            // No run passed: the interval's upper end, a bound.
+            let value = if v > 0.0 {
+                Value {
+                    v,
+                    lo,
+                    hi,
                     bound: false,
-                },
-                _ if p.p_f > 0.0 => Value {
-                    v: p.p_f,
-                    lo: p.p_f_lo,
-                    hi: p.p_f_hi,
-                    bound: false,
-                },
-                _ => Value {
-                    v: p.p_f_hi,
+                }
+            } else {
+                Value {
+                    v: hi,
                     lo: f64::NAN,
-                    hi: p.p_f_hi,
+                    hi,
                     bound: true,
-                },
+                }
             };
             (value.v > 0.0).then_some((d.point, value))
         })

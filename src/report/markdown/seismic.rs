@@ -261,18 +261,10 @@ pub fn decision(s: &Summary, rs: &RandomSummary) -> String {
     let Some(best) = order.first() else {
         return o;
     };
+    let lens: Vec<usize> = (0..s.grid.n_axes()).map(|a| s.grid.n(a)).collect();
     let pf = |d: &PointStats| -> (f64, f64, f64) {
-        match rs.subset_of(d.point) {
-            Some(x) if x.p_f > 0.0 => (x.p_f, x.lo, x.hi),
-            _ => {
-                let lens: Vec<usize> = (0..s.grid.n_axes()).map(|a| s.grid.n(a)).collect();
-                let j = rs.intensity.as_ref().map_or(0, |i| i.design);
-                rs.point(rs.grid_point(d.point, j, &lens))
-                    .map_or((f64::NAN, f64::NAN, f64::NAN), |p| {
-                        (p.p_f, p.p_f_lo, p.p_f_hi)
-                    })
-            }
-        }
+        rs.design_pf(d.point, &lens)
+            .unwrap_or((f64::NAN, f64::NAN, f64::NAN))
     };
     let (p, lo, hi) = pf(best);
     let at = rs.intensity.as_ref().map_or(String::new(), |i| {
