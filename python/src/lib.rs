@@ -19,9 +19,10 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
 use rayon::prelude::*;
 
+use impactsweep::api::json::insert_system;
 use impactsweep::api::random_batch::RandomBatch;
 use impactsweep::api::realization::RandomSetup;
-use impactsweep::api::setup::{Setup, forced_json, insert_system, record_json, trace_scene};
+use impactsweep::api::setup::{Setup, forced_json, record_json, trace_scene};
 use impactsweep::error::{InputError, Interrupted};
 use impactsweep::model::SYSTEM_KEYS;
 use impactsweep::plan::{Plan, RunSpec};

@@ -4,6 +4,7 @@
 //! ([`reduce`]; a random or record study's in [`random`]). The binding imports these, never [`crate::app`], which is only the command
 //! line (arguments in, printing out).
 
+pub mod json;
 pub mod plan;
 pub mod random;
 pub mod random_batch;

@@ -363,7 +363,7 @@ impl RandomSetup {
         map.insert("scene".into(), self.kind().into());
         map.insert("seed".into(), self.study.seed.into());
         map.insert("realization".into(), self.realization.into());
-        super::setup::insert_system(&mut map, &self.system(), &self.study.solver);
+        super::json::insert_system(&mut map, &self.system(), &self.study.solver);
         serde_json::Value::Object(map)
     }
 }

@@ -320,25 +320,7 @@ fn num(v: f64) -> serde_json::Value {
 
 /// The system and the solver settings, as every record's JSON carries them.
 fn insert_setup(map: &mut serde_json::Map<String, serde_json::Value>, setup: &Setup) {
-    insert_system(map, &setup.system, &setup.solver);
-}
-
-/// `system` (its keys, SI units, NaN as null) and `solver` into a record's JSON `map`: the
-/// fields every scene's record JSON carries.
-pub fn insert_system(
-    map: &mut serde_json::Map<String, serde_json::Value>,
-    sys: &System,
-    solver: &SolverSettings,
-) {
-    let mut system = serde_json::Map::new();
-    for k in SYSTEM_KEYS {
-        system.insert(k.into(), num(sys.get(k).unwrap_or(f64::NAN)));
-    }
-    map.insert("system".into(), system.into());
-    map.insert(
-        "solver".into(),
-        serde_json::to_value(solver).unwrap_or_default(),
-    );
+    super::json::insert_system(map, &setup.system, &setup.solver);
 }
 
 /// The record as one JSON object (SI units; NaN becomes null).
