@@ -233,7 +233,10 @@ fn issue_12_each_design_reduces_to_its_peak_over_the_band() {
             "attenuation",
             "impacts_per_period",
             "period",
-            "converged"
+            "converged",
+            "life_lo",
+            "life_hi",
+            "known"
         ]
     );
     assert_eq!(text.lines().count(), 1 + 2 * 11);

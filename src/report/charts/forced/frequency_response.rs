@@ -8,7 +8,12 @@
 //! unperturbed). The amplitude drawn is the design quantity (the worst steady state of the
 //! census, or the one from rest with `design_peak = "from_rest"`). Filled markers are periodic
 //! steady states (period 1 to 8), hollow ones are not (quasi-periodic, chaotic or not
-//! converged). The amplitude axis is linear
+//! converged). Where the design amplitude is a design-life estimate of a motion that is not
+//! periodic, its 90 % interval is drawn as a shaded band (a whisker where the band has a single
+//! frequency), and the curve's line joins only the values known to within [`KNOWN`] (periodic
+//! steady states, exact; life estimates whose whole interval lies within ±5 % of the value): an
+//! uncertain value is a hollow marker inside its band, so that the line shows the physics and
+//! the band what the estimator leaves open. The amplitude axis is linear
 //! from 0, or logarithmic when the linear system's resonance peak is more than [`LOG_RATIO`]
 //! times the smallest damped peak (lightly damped systems with an effective damper).
 
@@ -30,6 +35,11 @@ pub const MAX_CURVES: usize = 8;
 /// A logarithmic amplitude axis above this ratio of the largest amplitude to the smallest
 /// design peak ([`Row::log_scale`]).
 pub const LOG_RATIO: f64 = 20.0;
+/// A value is drawn on the curve's line when its 90 % interval lies within this relative
+/// distance of it: `lo >= (1 - KNOWN) a` and `hi <= (1 + KNOWN) a` ([`known`]).
+pub const KNOWN: f64 = 0.05;
+/// Opacity of a curve's interval band.
+const BAND_ALPHA: f64 = 0.22;
 /// Above this many frequencies per curve, no markers.
 const MAX_MARKERS: usize = 200;
 
@@ -208,6 +218,30 @@ impl<'a> Row<'a> {
             "converged",
             Column::Bool(rows.iter().map(|(_, p)| p.converged).collect()),
         );
+        // The design amplitude's 90 % life interval (NaN where it is no life estimate) and
+        // whether the value is on the drawn line ([`known`]).
+        let life: Vec<Option<(f64, f64)>> = self
+            .curves
+            .iter()
+            .flat_map(|c| (0..c.points.len()).map(move |i| life_interval(c, i)))
+            .collect();
+        t.push(
+            "life_lo",
+            Column::F64(life.iter().map(|l| l.map_or(f64::NAN, |l| l.0)).collect()),
+        );
+        t.push(
+            "life_hi",
+            Column::F64(life.iter().map(|l| l.map_or(f64::NAN, |l| l.1)).collect()),
+        );
+        t.push(
+            "known",
+            Column::Bool(
+                self.curves
+                    .iter()
+                    .flat_map(|c| (0..c.points.len()).map(move |i| known(c, i)))
+                    .collect(),
+            ),
+        );
         t
     }
 }
@@ -253,8 +287,12 @@ fn legend_items(row: &Row, linear: bool) -> Vec<(Key, String)> {
         .collect();
     if linear && row.curves.iter().any(|c| !intervals(c).is_empty()) {
         items.push((
-            Key::Whisker(BLACK),
-            "90 % interval of a motion that is not periodic, over the design life".to_string(),
+            Key::Swatch(BLACK.mix(BAND_ALPHA)),
+            format!(
+                "90 % interval over the design life of a motion that is not periodic; \
+                 the line joins values known to ±{} %",
+                fmt_num(KNOWN * 100.0)
+            ),
         ));
     }
     if linear {
@@ -389,20 +427,21 @@ where
                 .draw_series(DashedLineSeries::new(lin, 6, 4, lc.stroke_width(2)))
                 .map_err(err)?;
         }
-        let pts: Vec<(f64, f64, bool)> = xs
+        bands(chart, &xs, c, color(i))?;
+        let drawn: Vec<(usize, f64, f64, bool)> = xs
             .iter()
             .zip(&c.points)
-            .filter(|(_, p)| p.design > 0.0 && p.design.is_finite())
-            .map(|(&x, p)| (x, p.design * CM, p.design_period >= 1))
+            .enumerate()
+            .filter(|(_, (_, p))| p.design > 0.0 && p.design.is_finite())
+            .map(|(j, (&x, p))| (j, x, p.design * CM, p.design_period >= 1))
             .collect();
-        chart
-            .draw_series(LineSeries::new(
-                pts.iter().map(|&(x, y, _)| (x, y)),
-                color(i).stroke_width(2),
-            ))
-            .map_err(err)?;
+        for run in known_runs(c, &drawn) {
+            chart
+                .draw_series(LineSeries::new(run, color(i).stroke_width(2)))
+                .map_err(err)?;
+        }
+        let pts: Vec<(f64, f64, bool)> = drawn.iter().map(|&(_, x, y, p)| (x, y, p)).collect();
         markers(chart, &pts, color(i))?;
-        whiskers(chart, &xs, c, color(i))?;
         for (j, p) in c.points.iter().enumerate() {
             if p.design > 0.0 && p.design.is_finite() {
                 let at = chart.backend_coord(&(xs[j], p.design * CM));
@@ -470,24 +509,54 @@ fn linear_line(row: &Row, c: &Curve, xs: &[f64]) -> Vec<(f64, f64)> {
     }
 }
 
-/// The points of `c` whose design amplitude is carried by a motion that is not periodic with a
-/// measured life interval: `(index, lo, hi)` in metres.
+/// The 90 % design-life interval `(lo, hi)` (m) of point `i` of `c` when its design amplitude
+/// is carried by a motion that is not periodic with a measured life interval.
+fn life_interval(c: &Curve, i: usize) -> Option<(f64, f64)> {
+    let a = c.design_attractor(i)?;
+    (!a.kind.periodic() && a.life_lo.is_finite() && a.life_hi.is_finite())
+        .then_some((a.life_lo.min(a.amplitude), a.life_hi))
+}
+
+/// The points of `c` with a life interval ([`life_interval`]): `(index, lo, hi)` in metres.
 fn intervals(c: &Curve) -> Vec<(usize, f64, f64)> {
     (0..c.points.len())
-        .filter_map(|i| {
-            let a = c.design_attractor(i)?;
-            (!a.kind.periodic() && a.life_lo.is_finite() && a.life_hi.is_finite()).then_some((
-                i,
-                a.life_lo.min(a.amplitude),
-                a.life_hi,
-            ))
-        })
+        .filter_map(|i| life_interval(c, i).map(|(lo, hi)| (i, lo, hi)))
         .collect()
 }
 
-/// Draws the 90 % interval of every design amplitude of `c` that is a life estimate: a bar
-/// from its lower to its upper end, with caps.
-fn whiskers<DB: DrawingBackend, Y>(
+/// Whether point `i` of `c` is known to within [`KNOWN`]: a value without a life interval (a
+/// periodic steady state is exact; a motion without a census has no interval to weigh), or one
+/// whose whole interval lies within `±KNOWN` of it.
+pub fn known(c: &Curve, i: usize) -> bool {
+    let v = c.points[i].design;
+    life_interval(c, i).is_none_or(|(lo, hi)| lo >= (1.0 - KNOWN) * v && hi <= (1.0 + KNOWN) * v)
+}
+
+/// The stretches of the curve's line: the runs of consecutive drawn points (`drawn`: index in
+/// the curve, x, y, periodic) that are known ([`known`]); a stretch of one point is left to its
+/// marker.
+fn known_runs(c: &Curve, drawn: &[(usize, f64, f64, bool)]) -> Vec<Vec<(f64, f64)>> {
+    let mut runs: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut last: Option<usize> = None;
+    for &(j, x, y, _) in drawn {
+        if !known(c, j) {
+            last = None;
+            continue;
+        }
+        match (last, runs.last_mut()) {
+            (Some(k), Some(run)) if k + 1 == j => run.push((x, y)),
+            _ => runs.push(vec![(x, y)]),
+        }
+        last = Some(j);
+    }
+    runs.retain(|r| r.len() >= 2);
+    runs
+}
+
+/// Draws the 90 % intervals of the design amplitudes of `c` that are life estimates: a shaded
+/// band over every run of neighbouring frequencies that have one, its edges in the curve's
+/// colour; a single frequency, a bar with caps.
+fn bands<DB: DrawingBackend, Y>(
     chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, Y>>,
     xs: &[f64],
     c: &Curve,
@@ -497,24 +566,77 @@ where
     DB::ErrorType: 'static,
     Y: plotters::coord::ranged1d::Ranged<ValueType = f64>,
 {
-    let style = colour.stroke_width(1);
-    for (i, lo, hi) in intervals(c) {
-        let x = xs[i];
-        let (lo, hi) = (lo * CM, hi * CM);
+    let all = intervals(c);
+    let mut runs: Vec<Vec<(usize, f64, f64)>> = Vec::new();
+    for &(i, lo, hi) in &all {
+        match runs.last_mut() {
+            Some(run) if run.last().is_some_and(|l| l.0 + 1 == i) => run.push((i, lo, hi)),
+            _ => runs.push(vec![(i, lo, hi)]),
+        }
+    }
+    let edge = colour.mix(0.6).stroke_width(1);
+    for run in runs {
+        let (x, lo, hi): (Vec<f64>, Vec<f64>, Vec<f64>) = run
+            .iter()
+            .map(|&(i, lo, hi)| (xs[i], lo * CM, hi * CM))
+            .fold((vec![], vec![], vec![]), |mut v, (x, l, h)| {
+                v.0.push(x);
+                v.1.push(l);
+                v.2.push(h);
+                v
+            });
+        if run.len() == 1 {
+            whisker(chart, x[0], lo[0], hi[0], colour.stroke_width(1))?;
+            continue;
+        }
+        let outline: Vec<(f64, f64)> = x
+            .iter()
+            .zip(&hi)
+            .map(|(&x, &h)| (x, h))
+            .chain(x.iter().zip(&lo).rev().map(|(&x, &l)| (x, l)))
+            .collect();
         chart
-            .draw_series(std::iter::once(PathElement::new(
-                vec![(x, lo), (x, hi)],
-                style,
+            .draw_series(std::iter::once(Polygon::new(
+                outline,
+                colour.mix(BAND_ALPHA).filled(),
             )))
             .map_err(err)?;
-        chart
-            .draw_series(
-                [lo, hi].map(|y| {
-                    EmptyElement::at((x, y)) + PathElement::new(vec![(-4, 0), (4, 0)], style)
-                }),
-            )
-            .map_err(err)?;
+        for edge_line in [&hi, &lo] {
+            chart
+                .draw_series(LineSeries::new(
+                    x.iter().copied().zip(edge_line.iter().copied()),
+                    edge,
+                ))
+                .map_err(err)?;
+        }
     }
+    Ok(())
+}
+
+/// A bar from `lo` to `hi` at `x`, with caps.
+fn whisker<DB: DrawingBackend, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, Y>>,
+    x: f64,
+    lo: f64,
+    hi: f64,
+    style: ShapeStyle,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+    Y: plotters::coord::ranged1d::Ranged<ValueType = f64>,
+{
+    chart
+        .draw_series(std::iter::once(PathElement::new(
+            vec![(x, lo), (x, hi)],
+            style,
+        )))
+        .map_err(err)?;
+    chart
+        .draw_series(
+            [lo, hi]
+                .map(|y| EmptyElement::at((x, y)) + PathElement::new(vec![(-4, 0), (4, 0)], style)),
+        )
+        .map_err(err)?;
     Ok(())
 }
 
