@@ -6,19 +6,27 @@
 # (`pip install ./python`) and its pytest suite, compared against the binary just tested.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup-python.sh
+# The Python packages and the browser install only download and unpack: they run in the
+# background while the Rust build below keeps both cores busy, and the script waits for them
+# before the first test that needs them (BENCHMARKS.md, "CI time").
+scripts/setup-python.sh &
+python_setup=$!
 # The browser test of the HTML pages (tests/html.rs) drives the system Chromium. Installed as
 # root with apt-get when missing; elsewhere that test says loudly that it skipped.
-if ! { command -v chromium >/dev/null && command -v chromedriver >/dev/null; }; then
-  if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
-    echo "test.sh: installing chromium and chromium-driver with apt-get" >&2
-    export DEBIAN_FRONTEND=noninteractive
-    apt-get -o DPkg::Lock::Timeout=300 update -qq >&2
-    apt-get -o DPkg::Lock::Timeout=300 install -y -qq --no-install-recommends chromium chromium-driver >/dev/null
-  else
-    echo "test.sh: WARNING: chromium/chromium-driver missing and not installable here (not root or no apt-get): the browser test will skip" >&2
+install_chromium() {
+  if ! { command -v chromium >/dev/null && command -v chromedriver >/dev/null; }; then
+    if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
+      echo "test.sh: installing chromium and chromium-driver with apt-get" >&2
+      export DEBIAN_FRONTEND=noninteractive
+      apt-get -o DPkg::Lock::Timeout=300 update -qq >&2
+      apt-get -o DPkg::Lock::Timeout=300 install -y -qq --no-install-recommends chromium chromium-driver >/dev/null
+    else
+      echo "test.sh: WARNING: chromium/chromium-driver missing and not installable here (not root or no apt-get): the browser test will skip" >&2
+    fi
   fi
-fi
+}
+install_chromium &
+chromium_setup=$!
 export IMPACTSWEEP_PYTHON="$PWD/.venv/bin/python"
 # A build from cold (CI's) gains nothing from incremental compilation's caches and pays for
 # writing them (about 1 GB; the crate's cold test build 336 s -> 314 s without): off for every
@@ -33,6 +41,9 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib --document-private-items
 # Every test: the library's, the binary's, the integration tests and the benchmarks (each run
 # once as a smoke test). The examples hold no tests; clippy above has compiled them, and
 # building each at the test profile's opt-level would cost minutes (BENCHMARKS.md, "CI time").
+cargo test --lib --bins --tests --benches --no-run
+wait "$python_setup"
+wait "$chromium_setup"
 cargo test --lib --bins --tests --benches
 # The committed validation of the design life (results/life_validation.md): its report
 # regenerates from the committed estimates, and a slice of them (point P2, seeds 1 and 2) is
@@ -57,4 +68,4 @@ cargo clippy -p impactsweep-py --all-targets --features share-test-build -- -D w
 # release).
 PATH="$PWD/.venv/bin:$PATH" MATURIN_PEP517_ARGS="--profile dev --features share-test-build" \
   .venv/bin/pip install --quiet --disable-pip-version-check --no-build-isolation ./python
-IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" .venv/bin/python -m pytest python/tests -q
+IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" .venv/bin/python -m pytest python/tests -q -n 2
