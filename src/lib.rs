@@ -8,8 +8,9 @@
 //! [`accuracy`] measures a solver setting against the reference (for `tradeoff`, `run --audit`
 //! and `plan`); [`store`] is the only module that knows arrow/parquet, and its
 //! [`store::schema`] is the data contract (column names, units, version; `docs/schema.md`).
-//! [`app`] holds the commands (arguments in, library calls, printing out) and [`cli`] the
-//! argument parsing; [`numeric`] the one median, quantile and linspace.
+//! [`api`] holds what the command line and the Python binding share; the command line itself
+//! (`app`, one file per command, and `cli.rs`, the argument parsing) is the binary's, not the
+//! library's. [`numeric`] holds the one median, quantile and linspace.
 //! [`orbits`] holds steady states of the forced scene known in closed form (Masri and
 //! Caughey's symmetric orbit), against which the simulator is checked.
 //!
@@ -29,8 +30,6 @@
 
 pub mod accuracy;
 pub mod api;
-pub mod app;
-pub mod cli;
 pub mod error;
 pub mod model;
 pub mod numeric;

@@ -1,5 +1,15 @@
 //! Thin binary: parse, run, print the error chain once, map it to an exit status
-//! (0 ok, 1 failure, 2 bad input).
+//! (0 ok, 1 failure, 2 bad input). The command line is the binary's own: [`cli`] parses the
+//! arguments (the only module that knows clap) and [`app`] runs each command over the library
+//! (arguments in, library calls, printing out).
+
+mod app;
+mod cli;
+
+// The library's modules, by the paths the command line names them (`crate::api`, ...).
+use impactsweep::{
+    accuracy, api, error, model, plan, reduce, report, sim, slurm, store, study, sweep,
+};
 
 fn main() {
     // Output piped into a reader that stops early (`impactsweep reduce DIR | head -1`) ends the
@@ -8,8 +18,8 @@ fn main() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    if let Err(err) = impactsweep::cli::main() {
+    if let Err(err) = cli::main() {
         eprintln!("error: {err:#}");
-        std::process::exit(impactsweep::error::exit_code(&err));
+        std::process::exit(error::exit_code(&err));
     }
 }

@@ -1,5 +1,5 @@
 //! Slurm job arrays: the sbatch scripts for a sharded sweep and its dependent reduce, as a pure
-//! function of the settings (no I/O; [`crate::app::slurm`] writes and submits them).
+//! function of the settings (no I/O; the command line's `app/slurm.rs` writes and submits them).
 //!
 //! A sweep of `N` tasks is one job array `--array=0-(N-1)`; task `i` runs
 //! `impactsweep run STUDY --shard i/N --out OUT --resume --quiet --threads $SLURM_CPUS_PER_TASK`,

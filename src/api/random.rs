@@ -7,27 +7,29 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
+use crate::api::outputs::Reduced;
+use crate::api::reduce_options::{ReduceArgs, options_over};
 use crate::reduce::core::tables;
+use crate::reduce::random::subset::SubsetAsk;
 use crate::reduce::random::{self, RandomReducer, RandomSummary};
-use crate::reduce::{Options, PointStats, Summary};
+use crate::reduce::{PointStats, Summary};
 use crate::report::{charts, html, markdown};
 use crate::sim::random::RealizationRecord;
 use crate::store::{self, TableKind};
 use crate::study::Study;
 
-/// Reduces the done parts `parts` of a random or record study into `dir`; `over` applies the
-/// command line's overrides to the scene's options, `subset` asks for subset simulation (samples
-/// per level, independent repeats) where Monte Carlo saw few exceedances
-/// ([`crate::reduce::random::subset`]). Returns the core's summary and the files written.
-pub fn reduce_random(
+/// Reduces the done parts `parts` of a random or record study into `dir`, with the command
+/// line's overrides of the scene's options (`args`) and, where Monte Carlo saw few exceedances,
+/// subset simulation as `args.subset` and `args.subset_repeats` ask
+/// ([`crate::reduce::random::subset`]).
+pub(crate) fn reduce_random(
     study: &Study,
     dir: &Path,
     parts: &[PathBuf],
-    over: impl Fn(Options) -> Options,
-    subset: Option<random::subset::SubsetAsk>,
-) -> anyhow::Result<(Summary, Vec<PathBuf>)> {
+    args: &ReduceArgs,
+) -> anyhow::Result<Reduced> {
     let design = random::design_study(study);
-    let opts = over(random::options(&design));
+    let opts = options_over(random::options(&design), args);
     let mut r = RandomReducer::new(study, &design, opts);
     for p in parts {
         r.push(
@@ -35,9 +37,17 @@ pub fn reduce_random(
                 .with_context(|| format!("reading {}", p.display()))?,
         );
     }
+    let subset = args.subset.map(|n| SubsetAsk {
+        n,
+        repeats: args.subset_repeats.max(1),
+    });
     let (summary, rs) = r.finish(subset);
     let files = write_outputs(study, &summary, &rs, dir)?;
-    Ok((summary, files))
+    Ok(Reduced::Whole {
+        summary: Box::new(summary),
+        files,
+        from_shards: 0,
+    })
 }
 
 /// Writes every output of a random study's reduction into `dir`; returns the files written.

@@ -1,6 +1,6 @@
 //! One run of one system given as `KEY=VALUE` settings (the `impactsweep simulate --set` keys,
 //! the Python binding's keyword arguments): the setup, its run with or without a trace, and
-//! its record as JSON. Shared by the command line ([`crate::app::simulate`]) and the Python
+//! its record as JSON. Shared by the command line (`app/simulate.rs`) and the Python
 //! binding, so both give the same bits and the same errors.
 
 use super::realization::{self, RandomSetup};

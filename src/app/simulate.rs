@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 pub use crate::api::realization::RandomSetup;
-pub use crate::api::setup::{Setup, TraceProbe, forced_json, record_json, trace, trace_scene};
+pub use crate::api::setup::{Setup, forced_json, record_json, trace_scene};
 use crate::error::InputError;
 use crate::model::{System, fmt_value};
 use crate::sim::random::{Excitation, Input, RandomScene, RealizationRecord};

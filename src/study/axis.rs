@@ -1,5 +1,5 @@
 //! A swept axis, as `[sweep]` gives it (`RawAxis`) and validated (`Axis`), and the extent of a
-//! key over the design points. Below `sweep.rs`, `scene.rs` and `perturb.rs`, which all use it,
+//! key over the design points. Below `sweep.rs`, `scene/` and `perturb.rs`, which all use it,
 //! so that none of them imports another that imports it back.
 
 use serde::Deserialize;

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use super::{Cx, num};
+use super::context::{Cx, num};
 use crate::error::InputError;
 use crate::stats::hazard::{Hazard, SiteHazard};
 

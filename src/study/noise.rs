@@ -2,7 +2,7 @@
 
 use serde::Deserialize;
 
-use super::{Cx, range_value};
+use super::context::{Cx, range_value};
 use crate::error::InputError;
 use crate::sim::NoiseSettings;
 

@@ -5,7 +5,7 @@
 use serde::Deserialize;
 
 use super::axis::{Axis, extent};
-use super::{Cx, num};
+use super::context::{Cx, num};
 use crate::error::InputError;
 use crate::model::System;
 use crate::sim::NoiseSettings;

@@ -2,7 +2,7 @@
 
 use serde::Deserialize;
 
-use super::{Cx, num};
+use super::context::{Cx, num};
 use crate::error::InputError;
 
 /// Where a design point's DI comes from.

@@ -17,7 +17,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use super::{Cx, num};
+use super::context::{Cx, num};
 use crate::error::InputError;
 use crate::sim::random::Input;
 

@@ -3,7 +3,7 @@
 
 use serde::Deserialize;
 
-use super::{Cx, num};
+use super::context::{Cx, num};
 use crate::error::InputError;
 
 /// Which relation turns reliability into a safety factor (model.md §5).

@@ -2,10 +2,9 @@
 
 use serde::Deserialize;
 
-use super::Cx;
 use super::axis::Axis;
+use super::context::Cx;
 use crate::error::InputError;
-use crate::sim::Scene;
 
 /// `[run]`: engine settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,6 +32,19 @@ pub const DEFAULT_CHUNK_RUNS: u64 = 65_536;
 /// core busy.
 pub const DEFAULT_CHUNK_RUNS_CENSUS: u64 = 4_096;
 
+/// What a scene asks of `[run]`: each scene's parser states it.
+pub(super) struct RunRules<'a> {
+    /// Runs per chunk aimed at when `[run].chunk_points` is absent ([`DEFAULT_CHUNK_RUNS`], or
+    /// [`DEFAULT_CHUNK_RUNS_CENSUS`] for a harmonic study with an attractor census).
+    pub aim: u64,
+    /// Whether the scene's runs are realizations that `[run].chunk_realizations` may split.
+    pub realizations: bool,
+    /// Why `[run].audit > 0` is refused in the scene, if it is.
+    pub no_audit: Option<&'static str>,
+    /// The axis each chunk holds whole (a harmonic study's swept frequency).
+    pub curve: Option<&'a Axis>,
+}
+
 #[derive(Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawRun {
@@ -57,22 +69,18 @@ pub(super) fn run(
     cx: &Cx,
     raw: &RawRun,
     n_cases: u64,
-    scene: &Scene,
-    curve: Option<&Axis>,
+    rules: &RunRules,
 ) -> Result<RunSettings, InputError> {
+    let curve = rules.curve;
     let per_curve = curve.map_or(1, |a| a.values.len() as u64);
-    let aim = match scene {
-        Scene::Harmonic(h) if h.starts > 0 => DEFAULT_CHUNK_RUNS_CENSUS,
-        _ => DEFAULT_CHUNK_RUNS,
-    };
-    let default = (aim / n_cases).max(1);
+    let default = (rules.aim / n_cases).max(1);
     let mut run = RunSettings {
         chunk_points: (default / per_curve).max(1) * per_curve,
         chunk_realizations: DEFAULT_CHUNK_RUNS,
         audit: 0,
     };
     if let Some(c) = raw.chunk_realizations {
-        if !matches!(scene, Scene::Random(_)) {
+        if !rules.realizations {
             return Err(cx.err(
                 "[run].chunk_realizations",
                 c,
@@ -97,13 +105,10 @@ pub(super) fn run(
         run.chunk_points = c;
     }
     if let Some(a) = raw.audit {
-        if a > 0 && matches!(scene, Scene::Harmonic(_)) {
-            return Err(cx.err(
-                "[run].audit",
-                a,
-                "the accuracy audit re-runs free-decay runs; a harmonic study has none (its \
-                 accuracy is shown in tests/forced.rs, docs/scenes.md)",
-            ));
+        if a > 0
+            && let Some(why) = rules.no_audit
+        {
+            return Err(cx.err("[run].audit", a, why));
         }
         run.audit = a;
     }

@@ -5,13 +5,12 @@
 use std::collections::BTreeMap;
 
 use super::axis::{Axis, RawAxis};
-use super::scene::is_scene_axis;
-use super::system::RawSystem;
-use super::{Cx, MAX_AXIS_VALUES, num};
+use super::context::{Cx, num};
+use super::system::{self, RawSystem};
 use crate::error::InputError;
 use crate::model::{RangeError, SYSTEM_KEYS};
 use crate::numeric::{linspace, round15};
-use crate::sim::Scene;
+use crate::sim::Harmonic;
 use crate::sim::random::RandomScene;
 
 /// The scene keys a study may sweep besides the system's, how one value of them is checked,
@@ -22,29 +21,29 @@ pub(super) struct SceneAxes<'k> {
     pub listed: bool,
 }
 
-/// The validated `[sweep]`: the axes in file order. A key is either fixed in `[system]` or
-/// swept, not both. A harmonic study may also sweep `F0`, `omega` or `r` (their cross-checks
-/// with `[scene]` are `scene.rs`'s).
-pub(super) fn axes(
-    cx: &Cx,
-    raw: &BTreeMap<String, RawAxis>,
-    system: &RawSystem,
-    scene: &Scene,
-) -> Result<Vec<Axis>, InputError> {
-    let keys: &[&'static str] = match scene {
-        Scene::Harmonic(_) => &crate::sim::Harmonic::AXES,
-        Scene::Free | Scene::Random(_) => &[],
-    };
-    let scene_axes = SceneAxes {
-        keys,
-        check: super::scene::check_key,
+impl SceneAxes<'static> {
+    /// A scene that sweeps no key of its own (free decay).
+    pub(super) const NONE: SceneAxes<'static> = SceneAxes {
+        keys: &[],
+        check: no_scene_key,
         listed: false,
     };
-    axes_with(cx, raw, system, &scene_axes)
 }
 
-/// [`axes`] for a scene whose sweepable keys are `scene.keys`.
-pub(super) fn axes_with(
+/// The check of [`SceneAxes::NONE`], never reached: a key outside `keys` is refused first.
+fn no_scene_key(key: &str, v: f64) -> Result<(), RangeError> {
+    Err(RangeError::new(key, v, "not a key of this scene"))
+}
+
+/// Hard limit on the length of one axis (its values are held in memory: 80 MB at this size).
+/// Not lifted by `allow_large`.
+pub const MAX_AXIS_VALUES: u64 = 10_000_000;
+
+/// The validated `[sweep]`: the axes in file order, each a system key or one of the scene's
+/// sweepable keys `scene.keys` (a harmonic study's `F0`, `omega` or `r`, whose cross-checks
+/// with `[scene]` are the harmonic parser's; a random study's load keys). A key is either fixed
+/// in `[system]` or swept, not both.
+pub(super) fn axes(
     cx: &Cx,
     raw: &BTreeMap<String, RawAxis>,
     system: &RawSystem,
@@ -57,7 +56,7 @@ pub(super) fn axes_with(
         let at = format!("[sweep].{key}");
         let system_key = SYSTEM_KEYS.contains(&key.as_str());
         if !system_key && !scene.keys.contains(&key.as_str()) {
-            let hint = if is_scene_axis(key) {
+            let hint = if Harmonic::AXES.contains(&key.as_str()) {
                 " (F0, omega and r are axes of the harmonic scene: [scene] kind = \"harmonic\")"
             } else if RandomScene::AXES.contains(&key.as_str()) {
                 " (S0, omega_g, zeta_g, omega_f and zeta_f are axes of the random scene as its \
@@ -86,7 +85,7 @@ pub(super) fn axes_with(
             ));
         }
         let check = if system_key {
-            super::system::check_key
+            system::check_key
         } else {
             scene.check
         };

@@ -3,7 +3,7 @@
 
 use serde::Deserialize;
 
-use super::{Cx, num};
+use super::context::{Cx, num};
 use crate::error::InputError;
 use crate::model::{RangeError, SYSTEM_KEYS, System};
 

@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use super::axis::Axis;
-use super::{Cx, num};
+use super::context::{Cx, num};
 use crate::error::InputError;
 
 /// `[zones]`: automatic zone finding and declared overrides.

@@ -1,15 +1,11 @@
-//! `[scene]`: what every run simulates (model.md §8, docs/scenes.md). `kind = "free"` (the
-//! default, the paper's free decay) or `kind = "harmonic"`: a force `F0 cos(omega t)` on the main
-//! mass, run to its steady state. `F0` and the frequency (`omega`, or `r = omega / sqrt(K/M)`) are
-//! fixed here or swept in `[sweep]`, so a harmonic study is a family of frequency-response
-//! curves; the transient and measurement settings are phase 1's [`Harmonic`] settings.
-//!
-//! `kind = "random"` and `kind = "record"` (a random load per realization, a recorded one) have
-//! their keys in the same table; [`super::random`] validates them into a
-//! [`crate::sim::random::RandomScene`] for [`super::RandomStudy`], which
-//! [`Study::load`](super::Study::load) turns into a study of
-//! [`Scene::Random`]; [`scene`] validates the free and harmonic
-//! scenes only.
+//! `[scene] kind = "harmonic"`: a force `F0 cos(omega t)` on the main mass, run to its steady
+//! state (model.md §8, docs/scenes.md). `F0` and the frequency (`omega`, or
+//! `r = omega / sqrt(K/M)`) are fixed here or swept in `[sweep]`, so a harmonic study is a family
+//! of frequency-response curves; the transient and measurement settings are phase 1's
+//! [`Harmonic`] settings. The scene shares every other table with free decay
+//! ([`super::cased`]) and adds its checks at their places: no free-decay `[study]` keys, the
+//! frequency axis last (consecutive design points form one curve), `exact` only, chunks of
+//! whole curves, no accuracy audit.
 //!
 //! Resonance without damping is refused for every run of the plan (each design point, each
 //! case's perturbed `m`) at load, not discovered in the night: [`check_runs`] bounds the dynamic
@@ -17,263 +13,129 @@
 //! enumerates the combinations of the keys it depends on (`M`, `m + dm`, `K`, `C`, the frequency).
 
 use std::collections::BTreeMap;
+use std::path::Path;
 
-use serde::Deserialize;
-
-use super::axis::{Axis, RawAxis};
-use super::perturb::Case;
-use super::{Cx, num, range_value};
+use super::cased::{self, CasedScene};
+use super::raw::{RawScene, RawStudy};
 use crate::error::InputError;
 use crate::model::{RangeError, System};
 use crate::sim::forced::motion::RESONANCE_FLOOR;
 use crate::sim::forced::{DesignPeak, NonPeriodicPeak};
 use crate::sim::{Drive, Harmonic, Scene, SolverKind, SolverSettings};
+use crate::study::axis::{Axis, RawAxis};
+use crate::study::context::{Cx, num, range_value};
+use crate::study::header::RawHeader;
+use crate::study::perturb::Case;
+use crate::study::run::{DEFAULT_CHUNK_RUNS, DEFAULT_CHUNK_RUNS_CENSUS, RunRules};
+use crate::study::sweep::SceneAxes;
+use crate::study::validated::Study;
 
-#[derive(Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-pub(super) struct RawScene {
-    kind: Option<String>,
-    F0: Option<f64>,
-    omega: Option<f64>,
-    r: Option<f64>,
-    n_trans: Option<u64>,
-    n_trans_max: Option<u64>,
-    n_meas: Option<u64>,
-    trans_tol: Option<f64>,
-    period_tol: Option<f64>,
-    starts: Option<u32>,
-    design_peak: Option<String>,
-    nonperiodic_peak: Option<String>,
-    design_life: Option<f64>,
-    life_quantile: Option<f64>,
-    life_tol: Option<f64>,
-    life_max_periods: Option<u64>,
-    // The random and record scenes ([`super::random`]).
-    pub(super) input: Option<String>,
-    pub(super) spectrum: Option<String>,
-    S0: Option<f64>,
-    omega_g: Option<f64>,
-    zeta_g: Option<f64>,
-    omega_f: Option<f64>,
-    zeta_f: Option<f64>,
-    pub(super) dt: Option<f64>,
-    duration: Option<f64>,
-    pub(super) envelope: Option<RawEnvelope>,
-    pub(super) realizations: Option<u64>,
-    pub(super) threshold: Option<f64>,
-    pub(super) record: Option<String>,
-    /// A suite: a list of files or a folder ([`super::random`] reads it).
-    pub(super) records: Option<toml::Value>,
-    scale: Option<f64>,
-    pub(super) design_intensity: Option<f64>,
-    pub(super) intensity: Option<String>,
-    T: Option<f64>,
-    ida_tol: Option<f64>,
-    ida_max: Option<f64>,
-    drift_ratio: Option<f64>,
-    storey_height: Option<f64>,
-    yield_coefficient: Option<f64>,
-}
-
-/// The scene kinds of [`super::random`].
-pub(super) const RANDOM_KINDS: [&str; 2] = ["random", "record"];
-
-/// The keys of `[scene]` that belong to the random scene only, to the record scene only, and to
-/// both.
-pub(super) const RANDOM_ONLY: [&str; 8] = [
-    "spectrum", "S0", "omega_g", "zeta_g", "omega_f", "zeta_f", "dt", "envelope",
-];
-pub(super) const RECORD_ONLY: [&str; 3] = ["record", "records", "scale"];
-pub(super) const RANDOM_SHARED: [&str; 12] = [
-    "input",
-    "duration",
-    "realizations",
-    "threshold",
-    "design_intensity",
-    "intensity",
-    "T",
-    "ida_tol",
-    "ida_max",
-    "drift_ratio",
-    "storey_height",
-    "yield_coefficient",
-];
-
-/// `[scene] envelope = { t1, t2, c }` (s, s, 1/s).
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct RawEnvelope {
-    pub(super) t1: f64,
-    pub(super) t2: f64,
-    pub(super) c: f64,
-}
-
-impl RawScene {
-    /// The keys given besides `kind`, in the order of [`Harmonic::KEYS`].
-    pub(super) fn given(&self) -> Vec<&'static str> {
-        let present = [
-            self.F0.is_some(),
-            self.omega.is_some(),
-            self.r.is_some(),
-            self.n_trans.is_some(),
-            self.n_trans_max.is_some(),
-            self.n_meas.is_some(),
-            self.trans_tol.is_some(),
-            self.period_tol.is_some(),
-            self.starts.is_some(),
-            self.design_life.is_some(),
-            self.life_quantile.is_some(),
-            self.life_tol.is_some(),
-            self.life_max_periods.is_some(),
-        ];
-        let mut keys: Vec<&'static str> = Harmonic::KEYS
-            .into_iter()
-            .zip(present)
-            .filter_map(|(k, p)| p.then_some(k))
-            .collect();
-        if self.design_peak.is_some() {
-            keys.push("design_peak");
-        }
-        if self.nonperiodic_peak.is_some() {
-            keys.push("nonperiodic_peak");
-        }
-        keys
-    }
-
-    fn get(&self, key: &str) -> Option<f64> {
-        match key {
-            "F0" => self.F0,
-            "omega" => self.omega,
-            "r" => self.r,
-            _ => None,
-        }
-    }
-
-    /// A number-valued key of the random and record scenes.
-    pub(super) fn number(&self, key: &str) -> Option<f64> {
-        match key {
-            "S0" => self.S0,
-            "omega_g" => self.omega_g,
-            "zeta_g" => self.zeta_g,
-            "omega_f" => self.omega_f,
-            "zeta_f" => self.zeta_f,
-            "dt" => self.dt,
-            "duration" => self.duration,
-            "threshold" => self.threshold,
-            "scale" => self.scale,
-            "design_intensity" => self.design_intensity,
-            "T" => self.T,
-            "ida_tol" => self.ida_tol,
-            "ida_max" => self.ida_max,
-            "drift_ratio" => self.drift_ratio,
-            "storey_height" => self.storey_height,
-            "yield_coefficient" => self.yield_coefficient,
-            _ => None,
-        }
-    }
-
-    /// The keys of the random and record scenes given, in the order of [`RANDOM_ONLY`],
-    /// [`RECORD_ONLY`], [`RANDOM_SHARED`].
-    pub(super) fn random_given(&self) -> Vec<&'static str> {
-        RANDOM_ONLY
-            .into_iter()
-            .chain(RECORD_ONLY)
-            .chain(RANDOM_SHARED)
-            .filter(|k| self.has(k))
-            .collect()
-    }
-
-    /// Whether a key of the random and record scenes is given.
-    pub(super) fn has(&self, key: &str) -> bool {
-        match key {
-            "input" => self.input.is_some(),
-            "spectrum" => self.spectrum.is_some(),
-            "envelope" => self.envelope.is_some(),
-            "realizations" => self.realizations.is_some(),
-            "record" => self.record.is_some(),
-            "records" => self.records.is_some(),
-            "intensity" => self.intensity.is_some(),
-            _ => self.number(key).is_some(),
-        }
-    }
-
-    /// The kind as written (`free` when absent), checked against every scene's name.
-    pub(super) fn kind(&self, cx: &Cx) -> Result<&str, InputError> {
-        let kind = self.kind.as_deref().unwrap_or("free");
-        let known = Scene::NAMES.iter().chain(RANDOM_KINDS.iter());
-        if !known.clone().any(|k| *k == kind) {
-            let names: Vec<&str> = known.copied().collect();
-            return Err(cx.err(
-                "[scene].kind",
-                format!("{kind:?}"),
-                format!("unknown scene; allowed: {}", names.join(", ")),
-            ));
-        }
-        Ok(kind)
-    }
-}
-
-/// Whether `key` is a sweepable key of the harmonic scene (`F0`, `omega`, `r`).
-pub(super) fn is_scene_axis(key: &str) -> bool {
-    Harmonic::AXES.contains(&key)
-}
-
-/// Checks the range of one sweepable scene key on its own (`F0 > 0`, `omega > 0`, `r > 0`).
-pub(super) fn check_key(key: &str, v: f64) -> Result<(), RangeError> {
-    let mut h = Harmonic::default();
-    h.set(key, v);
-    h.check_ranges()
-}
-
-/// The validated `[scene]` (before its axes are known): the kind and, for the harmonic scene,
-/// its fixed settings. The keys swept in `[sweep]` are cross-checked here (a key is fixed or
-/// swept, not both; `omega` or `r`, not both; scene axes need the harmonic scene).
-pub(super) fn scene(
+/// A harmonic study: `[scene]` validated into the scene's fixed settings, then the tables it
+/// shares with free decay.
+pub(super) fn study(
     cx: &Cx,
-    raw: Option<&RawScene>,
+    raw: &RawStudy,
+    scene: &RawScene,
+    path: &Path,
+    text: &str,
+) -> Result<Study, InputError> {
+    scene.refuse_random_keys(cx)?;
+    let h = settings(cx, scene, &raw.sweep)?;
+    cased::study(cx, raw, path, text, &HarmonicScene(h))
+}
+
+/// The validated `[scene]` of a harmonic study (before its axes are known): its fixed settings.
+/// The keys swept in `[sweep]` are cross-checked here (a key is fixed or swept, not both;
+/// `omega` or `r`, not both).
+fn settings(
+    cx: &Cx,
+    raw: &RawScene,
     sweep: &BTreeMap<String, RawAxis>,
-) -> Result<Scene, InputError> {
-    let default = RawScene::default();
-    let raw = raw.unwrap_or(&default);
-    let kind = raw.kind(cx)?;
-    if RANDOM_KINDS.contains(&kind) {
-        return Err(cx.err(
-            "[scene].kind",
-            format!("{kind:?}"),
-            "a random or record study is validated by impactsweep::study::RandomStudy (the \
-             free and harmonic scenes here)",
-        ));
-    }
-    if let Some(key) = raw.random_given().first() {
-        return Err(cx.err(
-            &format!("[scene].{key}"),
-            cx.source("scene", key),
-            format!(
-                "{key} belongs to the random and record scenes; set [scene] kind = \"random\" \
-                 or \"record\""
-            ),
-        ));
-    }
-    if kind == "free" {
-        if let Some(key) = raw.given().first() {
-            return Err(cx.err(
-                &format!("[scene].{key}"),
-                cx.source("scene", key),
-                format!(
-                    "{key} belongs to the harmonic scene; set [scene] kind = \"harmonic\" \
-                     (the free-decay scene has no forcing)"
-                ),
-            ));
-        }
-        return Ok(Scene::Free);
-    }
+) -> Result<Harmonic, InputError> {
     check_swept_keys(cx, raw, sweep)?;
     let mut h = fixed_settings(raw, sweep);
     parse_peaks(cx, raw, &mut h)?;
     h.check_ranges()
         .map_err(|e| cx.err(&format!("[scene].{}", e.key), range_value(&e), e.allowed))?;
-    Ok(Scene::Harmonic(h))
+    Ok(h)
+}
+
+/// The harmonic scene's rules over the shared tables.
+struct HarmonicScene(Harmonic);
+
+impl CasedScene for HarmonicScene {
+    fn scene(&self) -> Scene {
+        Scene::Harmonic(self.0)
+    }
+
+    /// The free-decay scene's `[study]` keys are refused ([`FREE_ONLY`]).
+    fn check_header(&self, cx: &Cx, h: &RawHeader) -> Result<(), InputError> {
+        h.refuse_free_keys(cx, FREE_ONLY)
+    }
+
+    /// `F0`, `omega` and `r`, each checked on its own by [`check_key`].
+    fn sweep_keys(&self) -> SceneAxes<'static> {
+        SceneAxes {
+            keys: &Harmonic::AXES,
+            check: check_key,
+            listed: false,
+        }
+    }
+
+    /// The frequency axis last, wherever the file has it.
+    fn order_axes(&self, axes: &mut Vec<Axis>) {
+        if let Some(i) = frequency_axis(axes) {
+            let f = axes.remove(i);
+            axes.push(f);
+        }
+    }
+
+    /// The harmonic scene is solved by `exact` only (closed form with the forcing term).
+    fn check_solver(&self, cx: &Cx, solver: &SolverSettings) -> Result<(), InputError> {
+        if solver.kind != SolverKind::Exact {
+            return Err(cx.err(
+                "[solver].kind",
+                format!("{:?}", solver.kind.name()),
+                "the harmonic scene is solved by exact only",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Chunks of whole frequency-response curves, smaller with an attractor census, and no
+    /// accuracy audit.
+    fn run_rules<'a>(&self, axes: &'a [Axis]) -> RunRules<'a> {
+        RunRules {
+            aim: if self.0.starts > 0 {
+                DEFAULT_CHUNK_RUNS_CENSUS
+            } else {
+                DEFAULT_CHUNK_RUNS
+            },
+            realizations: false,
+            no_audit: Some(
+                "the accuracy audit re-runs free-decay runs; a harmonic study has none (its \
+                 accuracy is shown in tests/forced.rs, docs/scenes.md)",
+            ),
+            curve: frequency_axis(axes).map(|i| &axes[i]),
+        }
+    }
+
+    fn check_runs(
+        &self,
+        cx: &Cx,
+        system: &System,
+        axes: &[Axis],
+        cases: &[Case],
+    ) -> Result<(), InputError> {
+        check_runs(cx, &self.0, system, axes, cases)
+    }
+}
+
+/// Checks the range of one sweepable scene key on its own (`F0 > 0`, `omega > 0`, `r > 0`).
+fn check_key(key: &str, v: f64) -> Result<(), RangeError> {
+    let mut h = Harmonic::default();
+    h.set(key, v);
+    h.check_ranges()
 }
 
 /// The keys of the harmonic scene that `[sweep]` also sets: none fixed and swept, and the
@@ -284,7 +146,7 @@ fn check_swept_keys(
     sweep: &BTreeMap<String, RawAxis>,
 ) -> Result<(), InputError> {
     for key in Harmonic::AXES {
-        if let (Some(v), true) = (raw.get(key), sweep.contains_key(key)) {
+        if let (Some(v), true) = (raw.harmonic(key), sweep.contains_key(key)) {
             return Err(cx.err(
                 &format!("[scene].{key}"),
                 num(v),
@@ -392,7 +254,7 @@ fn parse_peaks(cx: &Cx, raw: &RawScene, h: &mut Harmonic) -> Result<(), InputErr
 
 /// Where a frequency key is set (`[scene].r` or `[sweep].r`), if anywhere.
 fn scene_key_at(raw: &RawScene, sweep: &BTreeMap<String, RawAxis>, key: &str) -> Option<String> {
-    if raw.get(key).is_some() {
+    if raw.harmonic(key).is_some() {
         Some(format!("[scene].{key}"))
     } else if sweep.contains_key(key) {
         Some(format!("[sweep].{key}"))
@@ -411,16 +273,13 @@ pub fn frequency_axis(axes: &[Axis]) -> Option<usize> {
 /// `|K - mass omega^2 + i C omega| >= C omega >= C_min omega_min`; only when it does not clear
 /// `1e-6 K_max` are the combinations of `M`, `m + dm`, `K`, `C` and the frequency enumerated
 /// (at most the number of runs; usually only `C = 0` studies get there).
-pub(super) fn check_runs(
+fn check_runs(
     cx: &Cx,
-    scene: &Scene,
+    h: &Harmonic,
     system: &System,
     axes: &[Axis],
     cases: &[Case],
 ) -> Result<(), InputError> {
-    let Scene::Harmonic(h) = scene else {
-        return Ok(());
-    };
     let values = |key: &str| -> Vec<f64> {
         match axes.iter().find(|a| a.key == key) {
             Some(a) => a.values.clone(),
@@ -501,21 +360,9 @@ fn axes_or(axes: &[Axis], key: &str, fixed: f64) -> Vec<f64> {
     }
 }
 
-/// The harmonic scene is solved by `exact` only (closed form with the forcing term).
-pub(super) fn check_solver(cx: &Cx, solver: &SolverSettings) -> Result<(), InputError> {
-    if solver.kind != SolverKind::Exact {
-        return Err(cx.err(
-            "[solver].kind",
-            format!("{:?}", solver.kind.name()),
-            "the harmonic scene is solved by exact only",
-        ));
-    }
-    Ok(())
-}
-
 /// Study keys that belong to the free-decay scene and are refused in a harmonic study, with
 /// what to do instead.
-pub(super) const FREE_ONLY: [(&str, &str); 3] = [
+const FREE_ONLY: [(&str, &str); 3] = [
     (
         "outputs",
         "the harmonic scene records all its outputs (docs/scenes.md); leave [study].outputs out",

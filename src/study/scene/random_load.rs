@@ -1,9 +1,9 @@
-//! `[scene] kind = "random"` and `kind = "record"` (docs/scenes.md, docs/model.md §13): the
-//! structure under a random load generated per realization, or under a recorded accelerogram
-//! or force history. The keys live in `[scene]` beside the harmonic scene's
-//! ([`super::scene::RawScene`]); this module validates them into a [`RandomScene`] and the
-//! number of realizations, reads the record ([`super::record`]) and checks one swept value of a
-//! scene key ([`check_key`]).
+//! The load of `[scene] kind = "random"` and `kind = "record"` (docs/scenes.md, docs/model.md
+//! §13): the structure under a random load generated per realization, or under a recorded
+//! accelerogram or force history. The keys live in `[scene]` beside the harmonic scene's
+//! ([`RawScene`]); this module validates them into a [`RandomScene`] and the number of
+//! realizations, reads the record ([`crate::study::record`]) and checks one swept value of a
+//! scene key ([`check_key`]). The study around the load is [`super::random`]'s.
 //!
 //! | key | scene | unit | default | range |
 //! |---|---|---|---|---|
@@ -29,10 +29,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use super::axis::RawAxis;
-use super::record;
-use super::scene::{RANDOM_ONLY, RECORD_ONLY, RawScene};
-use super::{Cx, num, range_value};
+use super::raw::{RANDOM_ONLY, RECORD_ONLY, RawScene};
 use crate::error::InputError;
 use crate::model::RangeError;
 use crate::sim::random::intensity::{DEFAULT_IDA_MAX, DEFAULT_IDA_TOL};
@@ -40,6 +37,9 @@ use crate::sim::random::{
     Envelope, Excitation, Input, IntensitySpec, Measure, RandomLoad, RandomScene, Recorded,
     Spectrum, Suite, SuiteRecord,
 };
+use crate::study::axis::{Axis, RawAxis};
+use crate::study::context::{Cx, num, range_value};
+use crate::study::record;
 
 /// Default realizations per design point.
 pub const DEFAULT_REALIZATIONS: u64 = 1000;
@@ -59,7 +59,7 @@ pub const INTENSITY_KEYS: [&str; 3] = ["S0", "scale", "im"];
 pub(super) fn design_intensity(
     cx: &Cx,
     given: Option<f64>,
-    axes: &[super::Axis],
+    axes: &[Axis],
 ) -> Result<Option<f64>, InputError> {
     let Some(v) = given else {
         return Ok(None);
@@ -688,66 +688,4 @@ pub(super) fn intensity(
         let value = cx.source("scene", &e.key);
         cx.err(&format!("[scene].{}", e.key), value, e.allowed)
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use std::path::Path;
-
-    use crate::sim::random::{Excitation, Input, Spectrum};
-    use crate::study::RandomStudy;
-
-    fn parse(body: &str) -> Result<RandomStudy, String> {
-        RandomStudy::parse(
-            Path::new("r.toml"),
-            &format!("[study]\nname = \"r\"\n{body}"),
-        )
-        .map_err(|e| e.to_string())
-    }
-
-    #[test]
-    fn a_kanai_tajimi_study_is_validated_with_its_defaults() {
-        let s = parse(
-            "[scene]\nkind = \"random\"\nspectrum = \"kanai-tajimi\"\nS0 = 0.01\nomega_g = 15.6\n\
-             zeta_g = 0.6\nduration = 20\nthreshold = 0.02\nenvelope = { t1 = 2, t2 = 10, c = 0.3 }\n\
-             [sweep]\nm = [0.01, 0.02]\n",
-        )
-        .unwrap();
-        assert_eq!(s.realizations, 1000);
-        assert_eq!(s.scene.dt, 0.005);
-        assert_eq!(s.scene.input, Input::Base);
-        assert_eq!(s.n_points(), 2);
-        // The structure starts at rest.
-        assert_eq!(
-            (s.system.x0, s.system.v0, s.system.y0, s.system.w0),
-            (0.0, 0.0, 0.0, 0.0)
-        );
-        let Excitation::Random(r) = &s.scene.excitation else {
-            panic!()
-        };
-        assert_eq!(
-            r.spectrum,
-            Spectrum::KanaiTajimi {
-                omega_g: 15.6,
-                zeta_g: 0.6
-            }
-        );
-        assert!(r.envelope.is_some());
-    }
-
-    #[test]
-    fn a_swept_intensity_lands_on_each_point() {
-        let s = parse(
-            "[scene]\nkind = \"random\"\nspectrum = \"white\"\nduration = 5\n[sweep]\n\
-             S0 = [0.001, 0.01, 0.1]\nd = [0.01, 0.02]\n",
-        )
-        .unwrap();
-        assert_eq!(s.n_points(), 6);
-        let (sys, scene) = s.point(3);
-        assert_eq!(sys.d, 0.02);
-        let Excitation::Random(r) = &scene.excitation else {
-            panic!()
-        };
-        assert_eq!(r.S0, 0.01);
-    }
 }
