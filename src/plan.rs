@@ -132,7 +132,13 @@ impl<'a> Plan<'a> {
     pub fn point(&self, p: u64) -> (System, Scene) {
         let mut sys = self.study.system;
         let mut scene = self.study.scene.clone();
-        for (axis, v) in self.study.axes.iter().zip(self.point_values(p)) {
+        // The values of `point_values`, last axis first, without its vector (a run's only
+        // allocation in planning); each axis sets its own key, so the order does not matter.
+        let mut rest = p;
+        for axis in self.study.axes.iter().rev() {
+            let n = axis.values.len() as u64;
+            let v = axis.values[(rest % n) as usize];
+            rest /= n;
             if !sys.set(&axis.key, v) {
                 scene.set(&axis.key, v);
             }

@@ -251,15 +251,24 @@ pub(crate) struct ExactPhase {
     tol_t: f64,
     steps: u64,
     max_steps: u64,
+    /// The oscillator of the phase before the current one, with its shape and `taylor_h`: a
+    /// run alternates between the free main mass and the stuck pair, and switching back then
+    /// costs no `atan2`.
+    spare: Option<(Oscillator, Shape, f64)>,
 }
 
 impl ExactPhase {
     /// `tol_t` is the absolute event-time tolerance (s).
     pub(crate) fn new(tol_t: f64, max_steps: u64) -> Self {
-        let osc = Oscillator::new(1.0, 1.0, 0.0);
+        // No phase yet: an oscillator equal to none (NaN fields), whose shape is never read
+        // (`begin` replaces both).
+        let osc = Oscillator::new(f64::NAN, f64::NAN, f64::NAN);
         ExactPhase {
             osc,
-            shape: Shape::of(&osc),
+            shape: Shape::Over {
+                beta: f64::NAN,
+                ab: f64::NAN,
+            },
             t0: 0.0,
             x0: 0.0,
             v0: 0.0,
@@ -285,6 +294,7 @@ impl ExactPhase {
             tol_t,
             steps: 0,
             max_steps,
+            spare: None,
         }
     }
 
@@ -841,9 +851,16 @@ impl PhaseSolver for ExactPhase {
 
     fn begin(&mut self, osc: &Oscillator, t: f64, x: f64, v: f64) {
         if *osc != self.osc {
+            let before = (self.osc, self.shape, self.taylor_h);
+            (self.shape, self.taylor_h) = match self.spare {
+                Some((o, shape, h)) if o == *osc => (shape, h),
+                _ => (Shape::of(osc), 0.02 / (osc.alpha + osc.root)),
+            };
             self.osc = *osc;
-            self.shape = Shape::of(osc);
-            self.taylor_h = 0.02 / (osc.alpha + osc.root);
+            // The dummy of `new` is not kept.
+            if !before.0.mass.is_nan() {
+                self.spare = Some(before);
+            }
         }
         let a = osc.accel(x, v);
         self.t0 = t;

@@ -68,7 +68,8 @@ impl Default for NoisyPeak {
 }
 
 impl NoisyPeak {
-    /// Samples held before a flush (a positive half-cycle of the paper's study has about 50).
+    /// Samples held before a flush (a positive half-cycle of the paper's study has about 50);
+    /// at most 64, the bits of [`NoisyPeak::flush`]'s mask.
     const BLOCK: usize = 64;
 
     /// Adds sample `k` with clean displacement `x` (its stream output is drawn now); flushes a
@@ -129,14 +130,25 @@ impl NoisyPeak {
         } else {
             f64::NEG_INFINITY
         };
-        for i in 0..n {
+        // The samples past the block's bound, as a bit mask (a loop without branches over the
+        // whole array, the stale entries past `n` masked off), then those alone in increasing
+        // `i`: the same samples in the same order as testing each in turn.
+        let mut mask = 0u64;
+        for (i, u) in us.iter().enumerate() {
+            mask |= u64::from(*u > block) << i;
+        }
+        if n < Self::BLOCK {
+            mask &= (1u64 << n) - 1;
+        }
+        mask |= (1u64 << ix) | (1u64 << iu);
+        while mask != 0 {
+            let i = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
             let c = if i == ix {
                 cx
             } else if i == iu {
                 cu
-            } else if us[i] > block
-                && (!bounded || us[i] > table.below((c0 - xs[i] - margin) * inv_sd))
-            {
+            } else if !bounded || us[i] > table.below((c0 - xs[i] - margin) * inv_sd) {
                 noisy(i)
             } else {
                 continue;

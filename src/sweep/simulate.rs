@@ -253,7 +253,7 @@ pub(super) fn row_of<R>(plan: &Plan, run: &RunSpec, record: R) -> RunRow<R> {
         dd: run.spec.dd,
         noise_seed: run.spec.noise_seed,
         system: run.system,
-        solver: plan.study.solver.kind.name().to_string(),
+        solver: plan.study.solver.kind.name().into(),
         tol: plan.study.solver.tol,
         record,
     }
