@@ -12,11 +12,18 @@
 //! the thread waited for a core. So each case also prints the thread's CPU time per realization
 //! over 2,000 realizations (`CLOCK_THREAD_CPUTIME_ID`), which is what one core costs whatever
 //! else runs beside it.
+//!
+//! First, where a realization of the seismic showcase's structure spends its CPU (issue 69,
+//! BENCHMARKS.md "Random realizations at half the cost"): its samples drawn once, its own Sa
+//! from them, its run at the 0.2-g stripe drawing its load and from the samples, and a stripe's
+//! whole realization, for the structure alone and four dampers. `SEISMIC_ONLY=1` stops there;
+//! `cargo bench --profile dev --bench random` builds it without the release profile's LTO.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use impactsweep::model::System;
 use impactsweep::sim::random::{
-    Excitation, Input, RandomLoad, RandomRun, RandomScene, RealizationStream, Spectrum,
+    Envelope, Excitation, Input, IntensitySpec, LoadBlock, Measure, RandomLoad, RandomRun,
+    RandomScene, RealizationStream, Spectrum, own_intensity,
 };
 use impactsweep::sim::{NoProbe, Request, SolverSettings};
 use std::hint::black_box;
@@ -120,5 +127,146 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// The seismic showcase's scene (`configs/seismic.toml`): 20 s of enveloped Clough–Penzien
+/// ground acceleration at `dt = 0.005`, the first yield's drift as the threshold, Sa(T1, 5 %)
+/// as the intensity measure.
+fn seismic_scene() -> RandomScene {
+    let k = 246.7;
+    let yield_drift = 0.25 * 9.80665 / k;
+    RandomScene {
+        input: Input::Base,
+        excitation: Excitation::Random(RandomLoad {
+            spectrum: Spectrum::CloughPenzien {
+                omega_g: 15.708,
+                zeta_g: 0.6,
+                // The showcase's, a tenth of omega_g (not pi / 2).
+                #[allow(clippy::approx_constant)]
+                omega_f: 1.5708,
+                zeta_f: 0.6,
+            },
+            S0: 0.005,
+            envelope: Some(Envelope {
+                t1: 2.0,
+                t2: 12.0,
+                c: 0.3,
+            }),
+        }),
+        dt: 0.005,
+        duration: 20.0,
+        threshold: Some(yield_drift),
+        intensity: Some(IntensitySpec {
+            measure: Measure::Sa,
+            period: std::f64::consts::TAU * (1.0 / k).sqrt(),
+            ida_tol: 0.01,
+            ida_max: 10.0,
+        }),
+        im: Some(0.2),
+    }
+}
+
+/// The showcase's structure with a damper of mass `m` and clearance `d`.
+fn seismic_structure(m: f64, d: f64) -> System {
+    System {
+        M: 1.0,
+        m,
+        K: 246.7,
+        C: 0.628,
+        d,
+        e: 0.6,
+        x0: 0.0,
+        v0: 0.0,
+        y0: 0.0,
+        w0: 0.0,
+    }
+}
+
+/// The median of `rounds` measurements of `f`'s thread CPU per call over `n` calls (us).
+fn cpu_us(rounds: usize, n: u64, mut f: impl FnMut(u64)) -> f64 {
+    let mut v: Vec<f64> = (0..rounds)
+        .map(|_| {
+            let t = thread_cpu();
+            for r in 0..n {
+                f(r);
+            }
+            (thread_cpu() - t) / n as f64 * 1e6
+        })
+        .collect();
+    v.sort_by(f64::total_cmp);
+    v[rounds / 2]
+}
+
+/// Where a realization of the seismic showcase's structure spends its CPU (issue 69): the
+/// motion's own Sa (one pass over its load through the 5 % oscillator), the run at the
+/// 0.2-g stripe without a damper and with the showcase's dampers. Prints medians of 5 rounds of
+/// 2,000 realizations of thread CPU; `SEISMIC_ONLY=1` skips criterion.
+fn seismic() {
+    let scene = seismic_scene();
+    let spec = scene.intensity.expect("an intensity measure");
+    let settings = SolverSettings::default();
+    let req = Request::default();
+    let n = 2000u64;
+    let stream = |r: u64| RealizationStream::new(2026, 0, r);
+    let gains: Vec<f64> = (0..n)
+        .map(|r| 0.2 / own_intensity(&scene, spec.period, stream(r)).sa)
+        .collect();
+    let own = cpu_us(5, n, |r| {
+        black_box(own_intensity(&scene, spec.period, stream(r)));
+    });
+    eprintln!("seismic own Sa pass: {own:.1} us of thread CPU per realization");
+    // The motion drawn once (issue 69): its samples, its own Sa from them.
+    let setup = RandomRun::new(&seismic_structure(0.1, 0.01), &settings, &scene);
+    let mut block = LoadBlock::default();
+    let load = cpu_us(5, n, |r| setup.load_into(stream(r), &mut block));
+    let blocks: Vec<LoadBlock> = (0..n).map(|r| setup.load(stream(r))).collect();
+    let own_block = cpu_us(5, n, |r| {
+        black_box(setup.own_intensity(spec.period, &blocks[r as usize]));
+    });
+    eprintln!(
+        "seismic samples (noise, filter, envelope) drawn once: {load:.1} us; own Sa from them: \
+         {own_block:.1} us of thread CPU per realization"
+    );
+    for (m, d) in [
+        (0.0, 0.01),
+        (0.05, 0.02),
+        (0.1, 0.01),
+        (0.2, 0.005),
+        (0.2, 0.04),
+    ] {
+        let run = RandomRun::new(&seismic_structure(m, d), &settings, &scene);
+        let recs: Vec<_> = (0..200u64)
+            .map(|r| run.run_scaled(&req, stream(r), gains[r as usize], &mut NoProbe))
+            .collect();
+        let mean = |f: &dyn Fn(&impactsweep::sim::random::RandomRecord) -> f64| {
+            recs.iter().map(f).sum::<f64>() / recs.len() as f64
+        };
+        let (impacts, steps) = (mean(&|r| r.impacts as f64), mean(&|r| r.steps as f64));
+        let us = cpu_us(5, n, |r| {
+            black_box(run.run_scaled(&req, stream(r), gains[r as usize], &mut NoProbe));
+        });
+        let from_block = cpu_us(5, n, |r| {
+            let i = r as usize;
+            black_box(run.run_block(&req, &blocks[i], gains[i], &mut NoProbe));
+        });
+        let whole = cpu_us(5, n, |r| {
+            run.load_into(stream(r), &mut block);
+            let own = run.own_intensity(spec.period, &block);
+            black_box(run.run_block(&req, &block, 0.2 / own.sa, &mut NoProbe));
+        });
+        eprintln!(
+            "seismic run m = {m}, d = {d}: {us:.1} us of thread CPU per realization at the 0.2-g \
+             stripe drawing its load, {from_block:.1} us from its samples drawn before; a \
+             stripe's realization (samples, own Sa, run) {whole:.1} us; {impacts:.1} impacts, \
+             {steps:.0} solver steps (mean of 200)"
+        );
+    }
+}
+
+fn all(c: &mut Criterion) {
+    seismic();
+    if std::env::var_os("SEISMIC_ONLY").is_none() {
+        bench(c);
+    }
+}
+
+criterion_group!(benches, all);
 criterion_main!(benches);

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 use super::simulate::{ChunkRows, SceneRun, row_of};
 use crate::plan::{Plan, RunSpec};
-use crate::sim::random::{RandomRun, RandomScene, RealizationRecord, ida, own_intensity};
+use crate::sim::random::{RandomRun, RandomScene, RealizationRecord, ida};
 use crate::sim::{NoProbe, Outcome, Scene};
 use crate::store::RunRow;
 
@@ -115,7 +115,8 @@ pub fn one_realization(
 }
 
 /// Realization `run.case` of `run.point` on its design point's `setup`. Under an intensity
-/// measure: the motion's own PGA and Sa first (one pass over its load), the run at the stripe's
+/// measure: the motion's samples drawn once ([`RandomRun::load`]), its own PGA and Sa first (one
+/// pass over them), the run at the stripe's
 /// gain `im / own` (1 without stripes), and at the design stripe (every point without stripes)
 /// with a threshold, the motion's capacity by incremental dynamic analysis
 /// ([`crate::sim::random::ida`]), each trial a run of the same motion at another gain.
@@ -130,13 +131,15 @@ fn realization(
         let record = setup.run(req, plan.load_stream(run), &mut NoProbe);
         return RealizationRecord::new(scene, record);
     };
-    let own = own_intensity(scene, spec.period, plan.load_stream(run));
+    // The motion's samples drawn once for its intensity, its run and its capacity search.
+    let block = setup.load(plan.load_stream(run));
+    let own = setup.own_intensity(spec.period, &block);
     let i0 = own.of(spec.measure);
     let gain = match scene.im {
         Some(x) if i0 > 0.0 => x / i0,
         _ => 1.0,
     };
-    let record = setup.run_scaled(req, plan.load_stream(run), gain, &mut NoProbe);
+    let record = setup.run_block(req, &block, gain, &mut NoProbe);
     let amplitude = |r: &crate::sim::random::RandomRecord| {
         if r.outcome == Outcome::Ok {
             r.amplitude
@@ -152,7 +155,7 @@ fn realization(
             (gain, amplitude(&record)),
             spec.ida_tol,
             spec.ida_max,
-            |s| amplitude(&setup.run_scaled(req, plan.load_stream(run), s, &mut NoProbe)),
+            |s| amplitude(&setup.run_block(req, &block, s, &mut NoProbe)),
         )),
         _ => None,
     };

@@ -146,14 +146,25 @@ impl OwnIntensity {
 }
 
 /// PGA and `Sa(period, 5 %)` (g) of the load of `scene` drawn from `normals` (a record draws
-/// none) at scale 1 over the scene's duration (module doc). Pure.
+/// none) at scale 1 over the scene's duration (module doc). Pure. A design's runs share one
+/// motion's samples through [`super::RandomRun::own_intensity`] instead (the same bits).
 pub fn own_intensity<N: Normals>(scene: &RandomScene, period: f64, normals: N) -> OwnIntensity {
     let plan = Plan::new(scene);
+    of_samples(scene, period, Samples::new(&plan, scene.dt, normals, 1.0))
+}
+
+/// [`own_intensity`] of the load `samples` gives, interval by interval.
+pub(crate) fn of_samples<N: Normals>(
+    scene: &RandomScene,
+    period: f64,
+    mut samples: Samples<'_, N>,
+) -> OwnIntensity {
     let dt = scene.dt;
-    let mut samples = Samples::new(&plan, dt, normals, 1.0);
     let omega = std::f64::consts::TAU / period;
     let osc = Oscillator::new(1.0, omega * omega, 2.0 * SA_ZETA * omega);
     let prop = osc.propagator(dt);
+    // The cubic Hermite interpolant's error per unit B0 of the free part ([`may_exceed`]).
+    let err4 = osc.derivative_bounds(1.0, 0.0)[4] * dt.powi(4) / 384.0;
     let segments = scene.segments();
     let (mut u, mut v) = (0.0f64, 0.0f64);
     let (mut pga, mut umax) = (0.0f64, 0.0f64);
@@ -177,23 +188,10 @@ pub fn own_intensity<N: Normals>(scene: &RandomScene, period: f64, normals: N) -
             (e.x, e.v)
         };
         let (u1, v1) = (hx1 + p0 + p1 * len, hv1 + p1);
-        if v * v1 < 0.0 {
-            // An extremum inside: bisection on u'(t) = h_v(t) + p1.
-            let (mut a, mut b) = (0.0, len);
-            let va = v;
-            for _ in 0..60 {
-                let m = 0.5 * (a + b);
-                let vm = osc.eval(hx, hv, m).v + p1;
-                if (vm < 0.0) == (va < 0.0) {
-                    a = m;
-                } else {
-                    b = m;
-                }
-                if b - a <= 1e-12 * len {
-                    break;
-                }
-            }
-            let m = 0.5 * (a + b);
+        if v * v1 < 0.0
+            && (len < dt || may_exceed(umax, (u, v), (u1, v1), (hx, hv, p0, p1), &osc, dt, err4))
+        {
+            let m = extremum_time(&osc, (hx, hv), p1, len, v, v1);
             umax = umax.max((osc.eval(hx, hv, m).x + p0 + p1 * m).abs());
         }
         umax = umax.max(u1.abs());
@@ -204,6 +202,112 @@ pub fn own_intensity<N: Normals>(scene: &RandomScene, period: f64, normals: N) -
         pga: pga / G,
         sa: omega * omega * umax / G,
     }
+}
+
+/// Whether `|u|` may exceed `umax` inside a whole interval of `dt` from `(u0, v0)` to
+/// `(u1, v1)` (the free part from `(hx, hv)`, the particular `p0 + p1 t`): `false` only when it
+/// cannot, nor can the closed form evaluated anywhere in it. `u` is within
+/// `max |u''''| dt^4 / 384` of its cubic Hermite interpolant (`u'''' = h_x''''`, at most
+/// `err4 B0`, [`Oscillator::derivative_bounds`]), which lies in the convex hull of its Bézier
+/// points `u0, u0 + dt v0 / 3, u1 - dt v1 / 3, u1`; a margin of `1e-12` of the sizes covers the
+/// rounding. An extremum that cannot exceed `umax` leaves `max(umax, |u(t_m)|)` as it is, so
+/// its location (a bisection) is skipped with the same result, bit for bit.
+fn may_exceed(
+    umax: f64,
+    (u0, v0): (f64, f64),
+    (u1, v1): (f64, f64),
+    (hx, hv, p0, p1): (f64, f64, f64, f64),
+    osc: &Oscillator,
+    dt: f64,
+    err4: f64,
+) -> bool {
+    let third = dt / 3.0;
+    let (p, q) = (u0 + third * v0, u1 - third * v1);
+    let hi = u0.max(p).max(q).max(u1);
+    let lo = u0.min(p).min(q).min(u1);
+    let b0 = hx.mul_add(hx, hv * hv * osc.inv_w2).sqrt();
+    let bound = hi.max(-lo) + err4 * b0;
+    let margin = 1e-12 * (bound + b0 + p0.abs() + p1.abs() * dt);
+    // (NaN: it may.)
+    let below = bound + margin < umax;
+    !below
+}
+
+/// The time in `(0, len)` of the sign change of `u'(t) = h_v(t) + p1` (the free part from `h`,
+/// `u'(0) = va`, `u'(len) = vb` of opposite signs): bisection on the closed form to a relative
+/// `1e-12` of the interval, its midpoint.
+///
+/// The bisection's halvings are decided without evaluating the closed form where the answer is
+/// certain: Newton's method first finds the root `t*`, and a midpoint farther than `delta` from
+/// it lies on the side of `0` or of `len` that its position says, where `delta` is a thousand
+/// times the rounding of `u'` (eight ulps of its terms) over half the slope `|u''(t*)|`, and at
+/// least `1e-11 len`. Only the few midpoints within `delta` of the root are evaluated, so the
+/// bisection takes the same halvings as with every midpoint evaluated (the same bits) at about
+/// a quarter of the evaluations. When Newton's method does not settle inside the interval, or
+/// the slope at its root is too small for the margin, every midpoint is evaluated.
+fn extremum_time(
+    osc: &Oscillator,
+    (hx, hv): (f64, f64),
+    p1: f64,
+    len: f64,
+    va: f64,
+    vb: f64,
+) -> f64 {
+    let vel = |t: f64| osc.eval(hx, hv, t).v + p1;
+    let root = newton_root(osc, (hx, hv), p1, len, va, vb);
+    let (mut a, mut b) = (0.0, len);
+    let a_neg = va < 0.0;
+    for _ in 0..60 {
+        let m = 0.5 * (a + b);
+        let neg = match root {
+            Some((t, delta)) if m < t - delta => a_neg,
+            Some((t, delta)) if m > t + delta => !a_neg,
+            _ => vel(m) < 0.0,
+        };
+        if neg == a_neg {
+            a = m;
+        } else {
+            b = m;
+        }
+        if b - a <= 1e-12 * len {
+            break;
+        }
+    }
+    0.5 * (a + b)
+}
+
+/// The root `t*` of `u'` in `(0, len)` by Newton's method from the secant's, and the margin
+/// `delta` beyond which the sign of the evaluated `u'` is certain ([`extremum_time`]); `None`
+/// when the method leaves the interval, does not settle in 8 steps, or the margin is wider than
+/// a hundredth of the interval.
+fn newton_root(
+    osc: &Oscillator,
+    (hx, hv): (f64, f64),
+    p1: f64,
+    len: f64,
+    va: f64,
+    vb: f64,
+) -> Option<(f64, f64)> {
+    let mut t = len * va / (va - vb);
+    for _ in 0..8 {
+        let e = osc.eval(hx, hv, t);
+        let step = (e.v + p1) / e.a;
+        let next = t - step;
+        if !(next > 0.0 && next < len) {
+            return None;
+        }
+        t = next;
+        if step.abs() <= 1e-13 * len {
+            // The rounding of u' = h_v + p1: eight ulps of the sizes of its terms (the closed
+            // form's, bounded by the free part's energy, and p1), over half the slope (the last
+            // step's, the same at t* to a relative 1e-13 and more).
+            let size = (hv * hv + osc.w2 * hx * hx).sqrt() + p1.abs();
+            let slope = 0.5 * e.a.abs();
+            let delta = (1e3 * 8.0 * f64::EPSILON * size / slope).max(1e-11 * len) + step.abs();
+            return (delta.is_finite() && delta < 0.01 * len).then_some((t, delta));
+        }
+    }
+    None
 }
 
 #[cfg(test)]
@@ -271,6 +375,124 @@ mod tests {
             own.sa,
             sa_rk
         );
+    }
+
+    /// The bisection as it was before the Newton root decided its halvings (issue 69): every
+    /// midpoint evaluated.
+    fn plain_bisection(osc: &Oscillator, (hx, hv): (f64, f64), p1: f64, len: f64, va: f64) -> f64 {
+        let (mut a, mut b) = (0.0, len);
+        for _ in 0..60 {
+            let m = 0.5 * (a + b);
+            let vm = osc.eval(hx, hv, m).v + p1;
+            if (vm < 0.0) == (va < 0.0) {
+                a = m;
+            } else {
+                b = m;
+            }
+            if b - a <= 1e-12 * len {
+                break;
+            }
+        }
+        0.5 * (a + b)
+    }
+
+    #[test]
+    fn the_extremum_time_is_the_plain_bisections_bit_for_bit() {
+        // Issue 69: intervals of 5 ms and 20 ms on oscillators of 0.05 to 2 s under random
+        // states and ramps, every one with a sign change of u' inside: the same time to the bit
+        // as the bisection that evaluates every midpoint, and the shortcut taken in most.
+        let mut rng = crate::sim::random::RealizationStream::new(69, 5, 0);
+        let (mut n, mut fast) = (0, 0);
+        for period in [0.05, 0.1, 0.4, 1.0, 2.0] {
+            let omega = std::f64::consts::TAU / period;
+            let osc = Oscillator::new(1.0, omega * omega, 2.0 * SA_ZETA * omega);
+            for len in [0.005, 0.02] {
+                for _ in 0..4000 {
+                    let hx = 1e-2 * rng.next_normal();
+                    let hv = 1e-2 * omega * rng.next_normal();
+                    let p1 = 1e-3 * omega * rng.next_normal();
+                    let va = hv + p1;
+                    let vb = osc.eval(hx, hv, len).v + p1;
+                    if va * vb >= 0.0 {
+                        continue;
+                    }
+                    n += 1;
+                    if newton_root(&osc, (hx, hv), p1, len, va, vb).is_some() {
+                        fast += 1;
+                    }
+                    let t = extremum_time(&osc, (hx, hv), p1, len, va, vb);
+                    let r = plain_bisection(&osc, (hx, hv), p1, len, va);
+                    assert_eq!(
+                        t.to_bits(),
+                        r.to_bits(),
+                        "T {period}, len {len}: {t} vs {r}"
+                    );
+                }
+            }
+        }
+        assert!(n > 1000 && fast * 10 > 9 * n, "{fast} of {n}");
+    }
+
+    /// The Sa pass as it was before issue 69: every extremum located by the plain bisection.
+    fn plain_sa(scene: &RandomScene, period: f64, normals: impl Normals) -> f64 {
+        let plan = Plan::new(scene);
+        let dt = scene.dt;
+        let mut samples = Samples::new(&plan, dt, normals, 1.0);
+        let omega = std::f64::consts::TAU / period;
+        let osc = Oscillator::new(1.0, omega * omega, 2.0 * SA_ZETA * omega);
+        let prop = osc.propagator(dt);
+        let (mut u, mut v, mut umax) = (0.0f64, 0.0f64, 0.0f64);
+        for _ in 0..scene.segments() {
+            let (q0, slope) = samples.next();
+            let p1 = -slope * osc.inv_w2;
+            let p0 = (-q0 - osc.c * p1) * osc.inv_w2;
+            let (hx, hv) = (u - p0, v - p1);
+            let (hx1, hv1) = prop.apply(hx, hv);
+            let (u1, v1) = (hx1 + p0 + p1 * dt, hv1 + p1);
+            if v * v1 < 0.0 {
+                let m = plain_bisection(&osc, (hx, hv), p1, dt, v);
+                umax = umax.max((osc.eval(hx, hv, m).x + p0 + p1 * m).abs());
+            }
+            umax = umax.max(u1.abs());
+            u = u1;
+            v = v1;
+        }
+        omega * omega * umax / G
+    }
+
+    #[test]
+    fn the_sa_pass_is_the_plain_passes_bit_for_bit() {
+        // Issue 69: the seismic showcase's motions (enveloped Clough-Penzien, 20 s at 5 ms)
+        // at three periods: the same Sa to the bit with the extrema that cannot raise the
+        // maximum skipped and the others located by the Newton-guided bisection.
+        use crate::sim::random::{Envelope, RandomLoad, RealizationStream, Spectrum};
+        let scene = RandomScene {
+            excitation: Excitation::Random(RandomLoad {
+                spectrum: Spectrum::CloughPenzien {
+                    omega_g: 15.708,
+                    zeta_g: 0.6,
+                    // The showcase's, a tenth of omega_g (not pi / 2).
+                    #[allow(clippy::approx_constant)]
+                    omega_f: 1.5708,
+                    zeta_f: 0.6,
+                },
+                S0: 0.005,
+                envelope: Some(Envelope {
+                    t1: 2.0,
+                    t2: 12.0,
+                    c: 0.3,
+                }),
+            }),
+            duration: 20.0,
+            ..RandomScene::placeholder()
+        };
+        for period in [0.1, 0.4, 1.5] {
+            for r in 0..100 {
+                let a = own_intensity(&scene, period, RealizationStream::new(2026, 0, r)).sa;
+                let b = plain_sa(&scene, period, RealizationStream::new(2026, 0, r));
+                assert_eq!(a.to_bits(), b.to_bits(), "T {period}, realization {r}");
+            }
+        }
     }
 
     #[test]

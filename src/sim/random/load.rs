@@ -1,6 +1,7 @@
 //! The load of one run, sample by sample: white noise through the spectrum's filter and the
 //! envelope (a random load), or a record times its scale. Samples are made as the run asks for
-//! them and never stored.
+//! them, or once per realization into a [`LoadBlock`] its runs share (the same bits); the
+//! envelope's values at the samples are a table made once per design.
 //!
 //! # White noise and its filters
 //! Sample `k` of the white noise is `sigma N_k`, `sigma = sqrt(2 pi S0 / dt)`, with `N_k` a
@@ -266,6 +267,10 @@ pub(crate) enum Plan {
         filter: Filter,
         sigma: f64,
         envelope: Option<Envelope>,
+        /// The envelope at every sample `k dt` of a run, `envelope.at(k dt)` as computed at the
+        /// sample (the same bits), made once per design instead of one exponential per sample;
+        /// empty without an envelope or past [`ENVELOPE_TABLE_MAX`] samples (then computed).
+        table: std::sync::Arc<[f64]>,
     },
     Record {
         values: std::sync::Arc<[f64]>,
@@ -284,6 +289,7 @@ impl Plan {
                 filter: Filter::new(spectrum, scene.dt),
                 sigma: (std::f64::consts::TAU * S0 / scene.dt).sqrt(),
                 envelope: *envelope,
+                table: envelope_table(envelope.as_ref(), scene.dt, scene.segments()),
             },
             Excitation::Record(r) => Plan::Record {
                 values: r.values.clone(),
@@ -313,6 +319,37 @@ impl Plan {
     }
 }
 
+/// Most samples an envelope table holds (8 MB): a longer run computes its envelope per sample.
+pub(crate) const ENVELOPE_TABLE_MAX: u64 = 1 << 20;
+
+/// The envelope at samples `0..=segments` of `dt` (empty without an envelope or past
+/// [`ENVELOPE_TABLE_MAX`]): `e.at(k dt)` with `k dt` formed as [`Samples`] forms it.
+fn envelope_table(envelope: Option<&Envelope>, dt: f64, segments: u64) -> std::sync::Arc<[f64]> {
+    match envelope {
+        Some(e) if segments < ENVELOPE_TABLE_MAX => {
+            (0..=segments).map(|k| e.at(k as f64 * dt)).collect()
+        }
+        _ => std::sync::Arc::from(Vec::new()),
+    }
+}
+
+/// One realization's load samples at scale 1, made once and read by every run of the same
+/// motion ([`super::RandomRun::load`]): its own intensity measures, its run at a stripe and the
+/// runs of its capacity search, instead of drawing and filtering the noise again for each. Sample
+/// `k` is the load at `t_k = k dt` (m/s^2 or N), the same bits as a run draws it; past the last
+/// sample the load is zero, as past a record's end.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LoadBlock {
+    pub(crate) values: Vec<f64>,
+}
+
+impl LoadBlock {
+    /// The samples (m/s^2 or N).
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+}
+
 /// The load of one run, interval by interval: [`Samples::next`] gives the load over interval `k`
 /// (from `t_k` to `t_{k+1}`) as its value at `t_k` and its slope.
 pub(crate) struct Samples<'a, N: Normals> {
@@ -328,6 +365,8 @@ pub(crate) struct Samples<'a, N: Normals> {
     /// The factor on every load value (a stripe's or a capacity search's scale; 1 leaves the
     /// bits as they are).
     gain: f64,
+    /// The samples made beforehand ([`LoadBlock`]), read in place of the plan's.
+    block: Option<&'a [f64]>,
 }
 
 impl<'a, N: Normals> Samples<'a, N> {
@@ -340,11 +379,53 @@ impl<'a, N: Normals> Samples<'a, N> {
             q: 0.0,
             k: 0,
             gain,
+            block: None,
         };
         if let Plan::Random { .. } = plan {
             s.q = s.random_sample(0);
         }
         s
+    }
+
+    /// The samples `block` (at scale 1) times `gain`: the same pairs as the run that made them
+    /// ([`Samples::fill`]) would draw, bit for bit.
+    pub fn from_block(
+        plan: &'a Plan,
+        dt: f64,
+        block: &'a LoadBlock,
+        normals: N,
+        gain: f64,
+    ) -> Self {
+        Samples {
+            plan,
+            dt,
+            normals,
+            state: [0.0; 4],
+            q: 0.0,
+            k: 0,
+            gain,
+            block: Some(&block.values),
+        }
+    }
+
+    /// Writes the samples `t_0 .. t_segments` at scale 1 into `out` (emptied first): a record's
+    /// up to its end, a random load's all of them, drawn as [`Samples::next`] draws them.
+    pub fn fill(mut self, segments: u64, out: &mut Vec<f64>) {
+        out.clear();
+        match self.plan {
+            Plan::Record { values, scale } => {
+                let n = values.len().min(segments.saturating_add(1) as usize);
+                out.extend(values[..n].iter().map(|a| a * scale));
+            }
+            Plan::Random { .. } => {
+                out.reserve(segments as usize + 1);
+                out.push(self.q);
+                for k in 1..=segments {
+                    let q = self.random_sample(k);
+                    out.push(q);
+                }
+            }
+        }
     }
 
     /// The random load's sample at `t_k`, `k` in increasing order from 0 (it draws the normal
@@ -355,6 +436,7 @@ impl<'a, N: Normals> Samples<'a, N> {
             filter,
             sigma,
             envelope,
+            table,
         } = self.plan
         else {
             return 0.0;
@@ -369,7 +451,12 @@ impl<'a, N: Normals> Samples<'a, N> {
             filter.output(&self.state)
         };
         match envelope {
-            Some(e) => raw * e.at(k as f64 * self.dt),
+            Some(e) => {
+                raw * table
+                    .get(k as usize)
+                    .copied()
+                    .unwrap_or_else(|| e.at(k as f64 * self.dt))
+            }
             None => raw,
         }
     }
@@ -391,6 +478,14 @@ impl<'a, N: Normals> Samples<'a, N> {
     fn next_unscaled(&mut self) -> (f64, f64) {
         let k = self.k;
         self.k += 1;
+        if let Some(values) = self.block {
+            // As a record's interval k at scale 1: the same pair as when the samples were drawn.
+            let i = k as usize;
+            return match (values.get(i), values.get(i + 1)) {
+                (Some(&q0), Some(&q1)) => (q0, (q1 - q0) / self.dt),
+                _ => (0.0, 0.0),
+            };
+        }
         match self.plan {
             Plan::Record { values, scale } => {
                 let i = k as usize;

@@ -39,8 +39,9 @@
 //!   exactly per sample by its state-transition matrix. An optional envelope (Jennings et al.
 //!   1968) multiplies the load: `(t / t1)^2` before `t1`, 1 to `t2`, `exp(-c (t - t2))` after.
 //!   The normals of a realization come from a stream derived from (study seed, design point,
-//!   realization) ([`load::RealizationStream`]), drawn as the run goes: a realization's load is
-//!   never stored, and it is the same bits on any thread.
+//!   realization) ([`load::RealizationStream`]), drawn as the run goes, or once into a
+//!   [`LoadBlock`] that the runs of one motion share (its intensity, its stripe, its capacity
+//!   search): the same bits either way, on any thread; no load outlives its realization.
 //! * **Record** (`kind = "record"`): the samples of a given accelerogram or force history times
 //!   `scale`; past the record's end (a `duration` longer than it) the load is zero and the
 //!   motion free.
@@ -72,7 +73,7 @@ use crate::model::{RangeError, fmt_value};
 
 pub use ida::Capacity;
 pub use intensity::{IntensitySpec, Measure, OwnIntensity, own_intensity};
-pub use load::{GivenNormals, Normals, RealizationStream};
+pub use load::{GivenNormals, LoadBlock, Normals, RealizationStream};
 pub use run::{RandomRun, simulate_random};
 
 /// Where the load acts.

@@ -28,7 +28,8 @@
 //! integrated by 8-point Gauss–Legendre on the phase's closed form, in pieces at most 1/16 of
 //! the fastest period: both to rounding.
 
-use super::load::{Normals, Plan, Samples};
+use super::intensity::{self, OwnIntensity};
+use super::load::{GivenNormals, LoadBlock, Normals, Plan, Samples};
 use super::motion::Ramp;
 use super::{Input, RandomRecord, RandomScene};
 use crate::model::System;
@@ -163,9 +164,65 @@ impl RandomRun {
         gain: f64,
         probe: &mut P,
     ) -> RandomRecord {
+        let samples = Samples::new(&self.plan, self.scene.dt, normals, gain);
+        self.run_samples(req, samples, probe)
+    }
+
+    /// One realization's load samples at scale 1 ([`LoadBlock`]), drawn from `normals` as a run
+    /// draws them, for [`RandomRun::run_block`] and [`RandomRun::own_intensity`] to share.
+    pub fn load<N: Normals>(&self, normals: N) -> LoadBlock {
+        let mut block = LoadBlock::default();
+        self.load_into(normals, &mut block);
+        block
+    }
+
+    /// [`RandomRun::load`] into `block`, reusing its storage.
+    pub fn load_into<N: Normals>(&self, normals: N, block: &mut LoadBlock) {
+        Samples::new(&self.plan, self.scene.dt, normals, 1.0)
+            .fill(self.segments, &mut block.values);
+    }
+
+    /// [`RandomRun::run_scaled`] on the samples of `block` (made by [`RandomRun::load`] from
+    /// the same normals): the same record, bit for bit, without drawing the load again.
+    pub fn run_block<P: Probe>(
+        &self,
+        req: &Request,
+        block: &LoadBlock,
+        gain: f64,
+        probe: &mut P,
+    ) -> RandomRecord {
+        let samples = Samples::from_block(
+            &self.plan,
+            self.scene.dt,
+            block,
+            GivenNormals::new(&[]),
+            gain,
+        );
+        self.run_samples(req, samples, probe)
+    }
+
+    /// PGA and `Sa(period, 5 %)` (g) of the motion `block` at scale 1: the same bits as
+    /// [`super::own_intensity`] of the normals that made it.
+    pub fn own_intensity(&self, period: f64, block: &LoadBlock) -> OwnIntensity {
+        let samples = Samples::from_block(
+            &self.plan,
+            self.scene.dt,
+            block,
+            GivenNormals::new(&[]),
+            1.0,
+        );
+        intensity::of_samples(&self.scene, period, samples)
+    }
+
+    fn run_samples<N: Normals, P: Probe>(
+        &self,
+        req: &Request,
+        samples: Samples<'_, N>,
+        probe: &mut P,
+    ) -> RandomRecord {
         let free = Ramp::new(self.free, 0.0, 0.0, self.scene.dt, (0.0, 0.0), false);
         let mut solver = DrivenPhase::new(&free, self.tol_t, self.settings.max_steps);
-        let mut scene = Realization::new(self, req, normals, gain, probe, free);
+        let mut scene = Realization::new(self, req, samples, probe, free);
         let load = scene.cross();
         scene.begin_interval(&mut solver, load);
         let outcome = phase::run(&mut scene, &mut solver);
@@ -284,8 +341,7 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
     fn new(
         run: &'a RandomRun,
         req: &'a Request,
-        normals: N,
-        gain: f64,
+        samples: Samples<'a, N>,
         probe: &'a mut P,
         free: Ramp,
     ) -> Self {
@@ -299,7 +355,7 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
             map,
             run,
             req,
-            samples: Samples::new(&run.plan, run.scene.dt, normals, gain),
+            samples,
             probe,
             k: 0,
             len: run.scene.dt,
@@ -610,5 +666,105 @@ impl<'a, N: Normals, P: Probe> SceneEvents<'a, DrivenPhase<Ramp>> for Realizatio
             self.begin_interval(solver, load);
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::NoProbe;
+    use crate::sim::random::{
+        Envelope, Excitation, IntensitySpec, Measure, RandomLoad, RealizationStream, Recorded,
+        Spectrum, own_intensity,
+    };
+
+    fn seismic() -> RandomScene {
+        RandomScene {
+            input: Input::Base,
+            excitation: Excitation::Random(RandomLoad {
+                spectrum: Spectrum::CloughPenzien {
+                    omega_g: 15.708,
+                    zeta_g: 0.6,
+                    // The showcase's, a tenth of omega_g (not pi / 2).
+                    #[allow(clippy::approx_constant)]
+                    omega_f: 1.5708,
+                    zeta_f: 0.6,
+                },
+                S0: 0.005,
+                envelope: Some(Envelope {
+                    t1: 2.0,
+                    t2: 12.0,
+                    c: 0.3,
+                }),
+            }),
+            dt: 0.005,
+            duration: 5.0,
+            threshold: Some(0.01),
+            intensity: Some(IntensitySpec {
+                measure: Measure::Sa,
+                period: 0.4,
+                ida_tol: 0.01,
+                ida_max: 10.0,
+            }),
+            im: Some(0.2),
+        }
+    }
+
+    fn damped() -> System {
+        System {
+            M: 1.0,
+            m: 0.1,
+            K: 246.7,
+            C: 0.628,
+            d: 0.005,
+            e: 0.6,
+            x0: 0.0,
+            v0: 0.0,
+            y0: 0.0,
+            w0: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_motion_drawn_once_runs_as_if_drawn_for_each_run() {
+        // Issue 69: the intensity and every run of one motion from its samples drawn once are
+        // the bits of drawing them again for each, at scale 1 and at a stripe's and a capacity
+        // search's gains, with an envelope (its table) and without, for a random load and a
+        // record (its end inside the run).
+        let mut flat = seismic();
+        if let Excitation::Random(r) = &mut flat.excitation {
+            r.envelope = None;
+        }
+        let record = RandomScene {
+            excitation: Excitation::Record(Recorded {
+                values: (0..700)
+                    .map(|k| ((k * 7919) % 101) as f64 * 0.01 - 0.5)
+                    .collect(),
+                scale: 1.3,
+            }),
+            ..seismic()
+        };
+        let settings = SolverSettings::default();
+        let req = Request::default();
+        for scene in [seismic(), flat, record] {
+            let run = RandomRun::new(&damped(), &settings, &scene);
+            for r in 0..6 {
+                let stream = || RealizationStream::new(3, 0, r);
+                let block = run.load(stream());
+                let a = run.own_intensity(0.4, &block);
+                let b = own_intensity(&scene, 0.4, stream());
+                assert_eq!(
+                    (a.pga.to_bits(), a.sa.to_bits()),
+                    (b.pga.to_bits(), b.sa.to_bits())
+                );
+                for gain in [1.0, 0.2 / a.sa, 3.7] {
+                    let x = run.run_block(&req, &block, gain, &mut NoProbe);
+                    let y = run.run_scaled(&req, stream(), gain, &mut NoProbe);
+                    assert_eq!(format!("{x:?}"), format!("{y:?}"));
+                    assert_eq!(x.rms_x.to_bits(), y.rms_x.to_bits());
+                    assert_eq!(x.amplitude.to_bits(), y.amplitude.to_bits());
+                }
+            }
+        }
     }
 }
