@@ -22,16 +22,24 @@
 //!   limit reach past it, and the velocity's sign is the same there.
 //!
 //! Otherwise the evaluation is dropped and the ordinary safe step taken. Inside a bracket the
-//! root is polished by Newton steps on the same quartic model taken at the last point, each
-//! step's model error `B5 s^5 / 120` over `|m'|` bounding its distance to the root; it stops
+//! root is polished by Newton steps on the same quartic model taken at the last point (a halving
+//! of the bracket where Newton would leave it), the model's residual and error `B5 s^5 / 120`
+//! over `|m'|` bounding each new point's distance to the root; it stops
 //! when that is below two rounding units of the time ([`POLISH_EPS`]), and the event is declared
 //! there, at the root to rounding (the safe steps of [`crate::sim::driven`] declare it up to
-//! `tol_t` before the root). An impact then costs about two evaluations once the model reaches
-//! it (a fifth of a period away on the slowest tail) against five steps (issue 69's count).
+//! `tol_t` before the root). An impact then costs two evaluations once the model reaches it,
+//! against the two or three quadratic steps of the safe steps' last approach.
 //!
 //! An impact the safe steps close in on to `tol_t` is polished to its root the same way, so
 //! every impact is located at its root; extrema, separations and the time limit are located
 //! as [`crate::sim::driven::DrivenPhase`] locates them.
+//!
+//! # Cost (BENCHMARKS.md, "A cheaper simulated period (issue 69)")
+//! Where impacts dominate the steps (5.4 a period at m = 5 g, d = 5 mm, r = 0.975) a quarter
+//! fewer steps and 0.8 of the time a period; on the slow tails, where the safe steps across the
+//! cavity dominate, about today's cost: the model's Newton at those steps costs what the bracket
+//! saves. Not the default ([`super::Finder::DEFAULT`]): every impact moves to its root, so every
+//! record changes its bits.
 
 // Every test `!(a < b)` here also rejects a NaN: a bracket is kept only on numbers that prove it.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
