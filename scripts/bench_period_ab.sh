@@ -19,6 +19,10 @@
 #
 #   scripts/bench_period_ab.sh A_BIN B_BIN [ROUNDS] [N]     (ROUNDS default 4, N default 20000)
 #
+# `A_ARGS` and `B_ARGS` (environment) are passed after N to each side: one binary then runs both
+# of the harmonic scene's event finders (issue 69), e.g.
+# `A_ARGS=safe_steps B_ARGS=bracketed scripts/bench_period_ab.sh BIN BIN`.
+#
 # A_BIN and B_BIN are `period_cost` binaries, e.g. target/release/examples/period_cost of two
 # worktrees (`cargo build --release --example period_cost` in each). The instruction counts run
 # N / 4 periods under valgrind (about 30 s per build at N = 20000); without valgrind they are
@@ -31,7 +35,7 @@ n=${4:-20000}
 [ "$(nproc)" -ge 2 ] || { echo "needs two cores" >&2; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-strip() { sed -n 's/^\([A-Z0-9]* floor [0-9.]*\): [0-9.]* us\/period, \(.*\)$/\1 \2/p' "$1"; }
+strip() { sed -n 's/^\([A-Z0-9]* floor [0-9.]*\): [0-9.]* us\/period, \(.*\), [0-9.]* steps\/period$/\1 \2/p' "$1"; }
 echo "A: $a"
 echo "B: $b"
 echo
@@ -43,7 +47,7 @@ if command -v valgrind > /dev/null; then
     bin=$a
     [ "$x" = b ] && bin=$b
     valgrind --tool=cachegrind --cache-sim=no --cachegrind-out-file="$work/cg.$x" \
-      "$bin" "$ni" > "$work/ir.$x" 2> "$work/vg.$x"
+      "$bin" "$ni" $([ "$x" = a ] && echo "${A_ARGS:-}" || echo "${B_ARGS:-}") > "$work/ir.$x" 2> "$work/vg.$x"
   done
   ir() { sed -n 's/.*I *refs: *\([0-9,]*\).*/\1/p' "$work/vg.$1" | tr -d ,; }
   ia=$(ir a)
@@ -70,8 +74,10 @@ echo "|---|---|---|---|---|"
 per() { sed -n 's/^all: \([0-9.]*\) us\/period$/\1/p' "$1"; }
 for i in $(seq "$rounds"); do
   if [ $((i % 2)) = 1 ]; then ca=0; cb=1; else ca=1; cb=0; fi
-  taskset -c "$ca" "$a" "$n" > "$work/a$i" 2> /dev/null &
-  taskset -c "$cb" "$b" "$n" > "$work/b$i" 2> /dev/null
+  # shellcheck disable=SC2086
+  taskset -c "$ca" "$a" "$n" ${A_ARGS:-} > "$work/a$i" 2> /dev/null &
+  # shellcheck disable=SC2086
+  taskset -c "$cb" "$b" "$n" ${B_ARGS:-} > "$work/b$i" 2> /dev/null
   wait
   ta=$(per "$work/a$i")
   tb=$(per "$work/b$i")

@@ -307,7 +307,7 @@ impl<F: Driven> PhaseSolver for DrivenPhase<F> {
 /// The longest of `h`, `h/2`, `h/4`, `h/8` that is longer than `shortest` and over which `|x|`
 /// surely stays below `floor` ([`below_floor`]).
 #[inline]
-fn skip_step(floor: f64, jet: [f64; 4], b4: f64, h: f64, shortest: f64) -> Option<f64> {
+pub(crate) fn skip_step(floor: f64, jet: [f64; 4], b4: f64, h: f64, shortest: f64) -> Option<f64> {
     let mut tau = h;
     for _ in 0..4 {
         if tau <= shortest {
@@ -326,7 +326,7 @@ fn skip_step(floor: f64, jet: [f64; 4], b4: f64, h: f64, shortest: f64) -> Optio
 /// `[0, h]` (its ends and its stationary points) plus the model's error `b4 h^4 / 24`
 /// (`b4 >= |x''''|` for the rest of the phase) is below it.
 #[inline]
-fn below_floor(floor: f64, [x, v, a, j]: [f64; 4], b4: f64, h: f64) -> bool {
+pub(crate) fn below_floor(floor: f64, [x, v, a, j]: [f64; 4], b4: f64, h: f64) -> bool {
     if floor <= 0.0 || !h.is_finite() {
         return false;
     }
@@ -375,7 +375,12 @@ fn below_floor(floor: f64, [x, v, a, j]: [f64; 4], b4: f64, h: f64) -> bool {
 /// The model's error is at most `b4 tau^4 / 24` (`b4 >= |g''''| = |x^(5)|` for the rest of the
 /// phase), which moves the root by `delta <= b4 tau^4 / (24 |m'(tau)|)`; `x' = 0` there, so `x`
 /// differs by at most `b2 delta^2 / 2` (`b2 >= |x''|`), asked to be below `EPSILON |x|`.
-fn polished_extremum([g, g1, g2, g3]: [f64; 4], b4: f64, b2: f64, x: f64) -> Option<f64> {
+pub(crate) fn polished_extremum(
+    [g, g1, g2, g3]: [f64; 4],
+    b4: f64,
+    b2: f64,
+    x: f64,
+) -> Option<f64> {
     if !(g > 0.0 && g1 < 0.0) {
         return None;
     }

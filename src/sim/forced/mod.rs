@@ -72,6 +72,7 @@
 //!   `(M x'^2 + m y'^2 + K x^2) / 2` at each impact and plastic closing). On a periodic orbit
 //!   the work equals the two losses.
 
+mod finder;
 pub mod motion;
 mod steady;
 
@@ -80,6 +81,8 @@ use serde::Serialize;
 use crate::model::{RangeError, System, fmt_value};
 
 pub use steady::simulate_harmonic;
+#[cfg(test)]
+pub(crate) use steady::{Stepper, simulate_with};
 
 /// The forcing frequency, given directly or as a ratio to `sqrt(K/M)`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -145,6 +148,32 @@ pub struct Harmonic {
     /// uses: watching `v` costs about half of a chaotic motion's steps.
     #[serde(skip)]
     pub x_floor: f64,
+    /// The event finder (no study key; default [`Finder::DEFAULT`]).
+    #[serde(skip)]
+    pub finder: Finder,
+}
+
+/// Which event finder moves the harmonic scene's phases (issue 69). Both locate every event
+/// of the same motion with the same guarantee (no missed or grazing impact); they differ in
+/// where an impact is declared and in cost.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Finder {
+    /// Safe steps to within the event tolerance of every event (`crate::sim::driven`): an
+    /// impact is declared where the wall's safe step falls below `tol * period`, up to that
+    /// before its root. The reference: every committed record was made with it.
+    SafeSteps,
+    /// Safe steps in the far field, each impact then bracketed once by the quartic model of its
+    /// gap and polished to its root to rounding (`finder` module doc): about half the
+    /// evaluations a period on the design life's slow tails.
+    Bracketed,
+}
+
+impl Finder {
+    /// The finder [`Harmonic::default`] takes. The lead's switch: `Bracketed` changes the bits
+    /// of every record (each impact moves from up to `tol * period` before its root to the
+    /// root), so the committed showcases would be regenerated with it.
+    pub const DEFAULT: Finder = Finder::SafeSteps;
 }
 
 /// Which steady state carries a design's peak.
@@ -220,6 +249,7 @@ impl Default for Harmonic {
             life_max_periods: 1_024_000,
             energies: true,
             x_floor: 0.0,
+            finder: Finder::DEFAULT,
         }
     }
 }

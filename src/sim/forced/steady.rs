@@ -1,11 +1,13 @@
 //! The forced scene on the event map of [`crate::sim::phase`] (impact law, chatter and sticking,
 //! separation): transient, measurement window, Poincaré sections, outcome.
 
+use super::Finder;
+use super::finder::Bracketed;
 use super::motion::Forced;
 use super::{ForcedRecord, Harmonic};
 use crate::model::System;
 use crate::numeric::gauss_legendre;
-use crate::sim::driven::DrivenPhase;
+use crate::sim::driven::{DrivenPhase, Jet};
 use crate::sim::noise::NoiseStream;
 use crate::sim::phase::{self, EventMap, Hit, Phase, PhaseSolver, SceneEvents, Wall, Watch};
 use crate::sim::{NoiseSettings, Outcome, Probe, Request, SolverSettings};
@@ -30,12 +32,32 @@ pub fn simulate_harmonic<P: Probe>(
     noise: Option<(&NoiseSettings, &mut NoiseStream)>,
     probe: &mut P,
 ) -> ForcedRecord {
+    match scene.finder {
+        Finder::SafeSteps => {
+            simulate_with(sys, settings, req, scene, noise, probe, DrivenPhase::new).0
+        }
+        Finder::Bracketed => {
+            simulate_with(sys, settings, req, scene, noise, probe, Bracketed::new).0
+        }
+    }
+}
+
+/// [`simulate_harmonic`] with the event finder `make(free, tol_t, max_steps)` builds, and the
+/// finder at the end (a test compares two finders on one run through it).
+pub(crate) fn simulate_with<P: Probe, S: Stepper>(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    scene: &Harmonic,
+    noise: Option<(&NoiseSettings, &mut NoiseStream)>,
+    probe: &mut P,
+    make: impl FnOnce(&Forced, f64, u64) -> S,
+) -> (ForcedRecord, S) {
     let omega = scene.omega(sys);
     let (free, pair) = oscillators(sys, scene.F0, omega);
     let tol_t = settings.tol * sys.period();
     let settings = &scaled_caps(settings, scene);
-    let mut solver = DrivenPhase::new(&free, tol_t, settings.max_steps);
-    let mut run = Run {
+    let run = Run {
         map: EventMap::new(sys, settings, free, pair),
         req,
         scene,
@@ -52,8 +74,32 @@ pub fn simulate_harmonic<P: Probe>(
         next_trace: 0,
         next_noise: 0,
     };
+    let mut run = run;
+    let mut solver = make(&free, tol_t, settings.max_steps);
     let outcome = phase::run(&mut run, &mut solver);
-    run.finish(outcome, solver.steps())
+    let steps = solver.steps();
+    (run.finish(outcome, steps), solver)
+}
+
+/// An event finder of the forced phases ([`Finder`]): today's safe steps
+/// ([`DrivenPhase`]) or the brackets of [`super::finder`].
+pub(crate) trait Stepper: PhaseSolver<Motion = Forced> {
+    /// The phase's motion at `t`, without moving (for quadrature).
+    fn at(&self, t: f64) -> Jet;
+}
+
+impl Stepper for DrivenPhase<Forced> {
+    #[inline]
+    fn at(&self, t: f64) -> Jet {
+        DrivenPhase::at(self, t)
+    }
+}
+
+impl Stepper for Bracketed<Forced> {
+    #[inline]
+    fn at(&self, t: f64) -> Jet {
+        Bracketed::at(self, t)
+    }
 }
 
 /// The forced oscillators of the free main mass and of the stuck pair. A life measurement or a
@@ -318,7 +364,7 @@ impl<P: Probe> Run<'_, P> {
 
 /// The harmonic scene on the event map: extrema in the window, samples, sections, the window's
 /// energies.
-impl<'a, P: Probe> SceneEvents<'a, DrivenPhase<Forced>> for Run<'a, P> {
+impl<'a, P: Probe, S: Stepper> SceneEvents<'a, S> for Run<'a, P> {
     fn map(&self) -> &EventMap<'a, Forced> {
         &self.map
     }
@@ -356,7 +402,7 @@ impl<'a, P: Probe> SceneEvents<'a, DrivenPhase<Forced>> for Run<'a, P> {
     }
 
     /// Integrates the window's energies over the smooth piece just travelled.
-    fn synced(&mut self, solver: &DrivenPhase<Forced>) {
+    fn synced(&mut self, solver: &S) {
         let t = self.map.t;
         let (f0, c) = (self.scene.F0, self.map.sys.C);
         let omega = self.omega;
@@ -410,7 +456,7 @@ impl<'a, P: Probe> SceneEvents<'a, DrivenPhase<Forced>> for Run<'a, P> {
         self.candidate(self.map.s.x);
     }
 
-    fn limit(&mut self, solver: &mut DrivenPhase<Forced>) -> Option<Outcome> {
+    fn limit(&mut self, solver: &mut S) -> Option<Outcome> {
         self.samples();
         if self.map.t >= self.section_time(self.k_next) {
             if self.at_section(self.k_next) {
