@@ -52,6 +52,8 @@ mod properties;
 mod queue_reduce;
 #[path = "random.rs"]
 mod random;
+#[path = "random_stream.rs"]
+mod random_stream;
 #[path = "random_study_errors.rs"]
 mod random_study_errors;
 #[path = "random_sweep.rs"]

@@ -89,6 +89,32 @@ impl<'a> Reducer<'a> {
         self.points.extend(stats);
     }
 
+    /// Takes a design point whose statistics a scene made itself (a random study's point
+    /// beyond its exact budget, streamed: [`crate::reduce::random::stream`]), its runs counted
+    /// by outcome as [`Reducer::push`] counts them; `nominal`: the runs the report lists when
+    /// it is the nominal point.
+    pub fn push_stats(&mut self, stats: PointStats, nominal: Option<Vec<Run>>) {
+        for (t, &c) in self.outcome_totals.iter_mut().zip(&stats.outcomes) {
+            *t += u64::from(c);
+        }
+        if stats.point == self.nominal_point
+            && let Some(runs) = nominal
+        {
+            self.nominal = Some((stats.point, runs));
+        }
+        self.points.push(stats);
+    }
+
+    /// The strength (Pa) as a lognormal variable, and the stress per metre of response
+    /// (`3 E r / L^2`, Pa/m; eq. 10): what [`Reducer::point_stats`] takes from the study.
+    pub fn strength(&self) -> LogNormal {
+        self.strength
+    }
+
+    pub fn stress_per_m(&self) -> f64 {
+        self.stress_per_m
+    }
+
     /// The statistics of one design point from its runs.
     pub fn point_stats(&self, runs: &[Run]) -> PointStats {
         let rel = &self.study.reliability;

@@ -40,8 +40,17 @@
 //! ([`subset`]): its `p_f`, interval and `beta` are then subset simulation's
 //! (`p_f_method = subset`, `p_f_cov` its coefficient of variation); `n_exceed` stays the Monte
 //! Carlo count, and the ranking stays on the Monte Carlo `p_s`.
+//!
+//! # Memory
+//! The realizations are read one at a time, in case order ([`RandomReducer::push`]): `p_f`
+//! from exact counts at any size; the core's statistics exact while a design point's
+//! realizations fit [`stream::EXACT_BUDGET`], from running moments and a quantile sketch
+//! ([`sketch`]) beyond it ([`stream`]). Memory is then one part file, the budget and a fixed
+//! size per design point, whatever the realizations per design.
 
 pub mod risk;
+pub mod sketch;
+pub mod stream;
 pub mod subset;
 
 use rayon::prelude::*;
@@ -59,6 +68,7 @@ use crate::store::RunRow;
 use crate::store::table::{Column, Table};
 use crate::study::{DiSource, Study};
 use risk::{DesignRisk, MotionCapacity, design_risk, rank_by_risk};
+use stream::{EXACT_BUDGET, PfAcc, PointRuns};
 use subset::{SUBSET_BELOW, SubsetAsk, SubsetPf, subset_pf};
 
 /// The random scene's response: the largest `|x|` of a realization over the duration.
@@ -158,13 +168,17 @@ impl PointPf {
     /// The reliability of one design point from its realizations' rows; `threshold` (m) as the
     /// study sets it.
     pub fn of(point: u64, rows: &[RunRow<RealizationRecord>], threshold: Option<f64>) -> Self {
-        let ok: Vec<&RunRow<RealizationRecord>> = rows
-            .iter()
-            .filter(|r| r.record.record.outcome == Outcome::Ok)
-            .collect();
-        let n = ok.len() as u64;
-        let rms_x_mean = ok.iter().map(|r| r.record.record.rms_x).sum::<f64>() / n as f64;
-        let Some(b) = threshold else {
+        let mut acc = PfAcc::default();
+        for r in rows {
+            acc.add(&r.record.record, threshold);
+        }
+        PointPf::of_counts(point, &acc, threshold)
+    }
+
+    /// The reliability of one design point from its realizations' counts.
+    pub fn of_counts(point: u64, acc: &PfAcc, threshold: Option<f64>) -> Self {
+        let (n, exceed, rms_x_mean) = acc.counts();
+        if threshold.is_none() {
             return PointPf {
                 point,
                 n,
@@ -175,8 +189,7 @@ impl PointPf {
                 beta: f64::NAN,
                 rms_x_mean,
             };
-        };
-        let exceed = ok.iter().filter(|r| r.record.record.amplitude > b).count() as u64;
+        }
         let ci = clopper_pearson(exceed, n, CONFIDENCE);
         PointPf {
             point,
@@ -309,18 +322,23 @@ impl RandomSummary {
 
 /// The streaming reduction of a random or record study: the part files' rows in, one
 /// [`PointPf`] per design point and the core's statistics per design at the design intensity
-/// out. Memory: a chunk's rows and a fixed size per design point.
+/// out. Memory: a chunk's rows, the runs of one design point up to a fixed budget
+/// ([`stream::EXACT_BUDGET`]; beyond it the point streams, [`stream`]) and a fixed size per
+/// design point; with capacities, a few numbers per realization of the stripes.
 pub struct RandomReducer<'a> {
     study: &'a Study,
     core: Reducer<'a>,
+    options: Options,
     threshold: Option<f64>,
     intensity: Option<Intensity>,
     /// The length of each axis of the study.
     lens: Vec<usize>,
     points: Vec<PointPf>,
-    /// The last design point's rows seen so far: a point split into blocks of realizations
+    /// The design point being read: a point split into blocks of realizations
     /// ([`crate::plan::Plan::chunk_runs`]) spans several part files, read in order.
-    pending: Vec<RunRow<RealizationRecord>>,
+    pending: Option<Pending>,
+    /// Realizations of a design point held to reduce it exactly.
+    budget: usize,
     /// The design stripe's capacities: `(design, case, capacity)`.
     capacities: Vec<(u64, u32, MotionCapacity)>,
     /// Every stripe's run of every motion: `(design, case, im, passed)`, to find the motions
@@ -338,11 +356,13 @@ impl<'a> RandomReducer<'a> {
         RandomReducer {
             study,
             core: Reducer::new(design, options),
+            options,
             threshold,
             intensity: intensity(study),
             lens: study.axes.iter().map(|a| a.values.len()).collect(),
             points: Vec::new(),
-            pending: Vec::new(),
+            pending: None,
+            budget: EXACT_BUDGET,
             capacities: Vec::new(),
             stripe_runs: Vec::new(),
         }
@@ -368,71 +388,75 @@ impl<'a> RandomReducer<'a> {
         (design, digits[i.axis] as usize)
     }
 
-    /// Takes one part file's rows (in point order; part files in chunk order): every design
-    /// point they complete is reduced, the last one kept until the next point starts or
-    /// [`RandomReducer::finish`].
-    pub fn push(&mut self, rows: Vec<RunRow<RealizationRecord>>) {
-        let mut rows = rows;
-        if self.pending.first().map(|r| r.point) == rows.first().map(|r| r.point) {
-            let mut joined = std::mem::take(&mut self.pending);
-            joined.append(&mut rows);
-            rows = joined;
-        } else {
-            let done = std::mem::take(&mut self.pending);
-            self.reduce_points(done);
-        }
-        let last = rows.last().map(|r| r.point);
-        let split = rows.partition_point(|r| Some(r.point) != last);
-        self.pending = rows.split_off(split);
-        self.reduce_points(rows);
+    /// The realizations of a design point reduced exactly, beyond which it streams
+    /// ([`stream::EXACT_BUDGET`] unless set here; a test's hook to cross it on a small study).
+    pub fn with_budget(mut self, budget: usize) -> Self {
+        self.budget = budget;
+        self
     }
 
-    /// Reduces whole design points' rows.
-    fn reduce_points(&mut self, rows: Vec<RunRow<RealizationRecord>>) {
-        if rows.is_empty() {
-            return;
-        }
-        let groups: Vec<&[RunRow<RealizationRecord>]> =
-            rows.chunk_by(|a, b| a.point == b.point).collect();
-        let threshold = self.threshold;
-        let pfs: Vec<PointPf> = groups
-            .par_iter()
-            .map(|g| PointPf::of(g[0].point, g, threshold))
-            .collect();
-        self.points.extend(pfs);
+    /// Takes one part file's rows (in point order; part files in chunk order), one at a time:
+    /// every design point they complete is reduced, the last one kept until the next point
+    /// starts or [`RandomReducer::finish`].
+    pub fn push(&mut self, rows: Vec<RunRow<RealizationRecord>>) {
+        let mut ready = Vec::new();
         let design_j = self.intensity.as_ref().map_or(0, |i| i.design);
-        for r in &rows {
+        let threshold = self.threshold;
+        for r in rows {
+            if let Some(p) = self.pending.take_if(|p| p.point != r.point) {
+                self.close(p, &mut ready);
+            }
+            let (design, j) = self.split(r.point);
+            let p = self.pending.get_or_insert_with(|| Pending {
+                point: r.point,
+                pf: PfAcc::default(),
+                runs: (j == design_j).then(|| PointRuns::Exact(Vec::new())),
+            });
+            p.pf.add(&r.record.record, threshold);
             if let (Some(im), Some(b), Outcome::Ok) =
                 (r.record.load[6], threshold, r.record.record.outcome)
             {
-                let (design, _) = self.split(r.point);
                 let passed = r.record.record.amplitude > b;
                 self.stripe_runs.push((design, r.case, im, passed));
             }
-            if let Some(c) = &r.record.capacity {
-                let (design, j) = self.split(r.point);
-                if j == design_j {
-                    let m = (c.capacity, c.censored, c.resurrected, c.runs);
-                    self.capacities.push((design, r.case, m));
-                }
+            if let Some(c) = &r.record.capacity
+                && j == design_j
+            {
+                let m = (c.capacity, c.censored, c.resurrected, c.runs);
+                self.capacities.push((design, r.case, m));
+            }
+            if let Some(runs) = &mut p.runs {
+                runs.add(run_of(&r, design, threshold), self.budget);
             }
         }
-        let runs: Vec<Run> = rows
-            .iter()
-            .filter_map(|r| {
-                let (design, j) = self.split(r.point);
-                (j == design_j).then(|| run_of(r, design, threshold))
-            })
-            .collect();
-        self.core.push(runs);
+        self.core.push(ready);
+    }
+
+    /// Reduces a design point read whole: its reliability, and its runs for the core (added to
+    /// `ready` when held, reduced here when streamed).
+    fn close(&mut self, p: Pending, ready: &mut Vec<Run>) {
+        self.points
+            .push(PointPf::of_counts(p.point, &p.pf, self.threshold));
+        match p.runs {
+            Some(PointRuns::Exact(runs)) => ready.extend(runs),
+            Some(PointRuns::Streamed(s)) => {
+                let (design, _) = self.split(p.point);
+                let (stats, first) = stream::point_stats(&self.core, &self.options, design, *s);
+                self.core.push_stats(stats, Some(first));
+            }
+            None => {}
+        }
     }
 
     /// The core's summary over the designs, and the scene's own; with `subset = Some(ask)`
     /// subset simulation as asked (samples per level, repeats) for the designs with few exceedances
     /// ([`subset`]), whose estimate then ranks them (`p_s = 1 - p_f`).
     pub fn finish(mut self, subset: Option<SubsetAsk>) -> (Summary, RandomSummary) {
-        let last = std::mem::take(&mut self.pending);
-        self.reduce_points(last);
+        if let Some(p) = self.pending.take() {
+            let mut ready = Vec::new();
+            self.close(p, &mut ready);
+            self.core.push(ready);
+        }
         self.points.sort_by_key(|p| p.point);
         self.points.dedup_by_key(|p| p.point);
         let design_lens: Vec<usize> = self
@@ -577,6 +601,14 @@ impl RandomReducer<'_> {
         rank_by_risk(&mut out);
         out
     }
+}
+
+/// The design point being read (module doc of [`stream`]).
+struct Pending {
+    point: u64,
+    pf: PfAcc,
+    /// The core's runs of the point, when it is at the design intensity.
+    runs: Option<PointRuns>,
 }
 
 /// The designs ranked by median capacity (model.md §13): those whose fragility fit ended ok,

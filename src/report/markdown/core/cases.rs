@@ -100,11 +100,13 @@ pub fn nominal(s: &Summary) -> String {
             f(r.di, 5)
         );
     }
-    if rows.len() > MAX_ROWS {
+    // The point's count: a random design streamed beyond its budget keeps its first runs only.
+    let total = point.map_or(rows.len(), |p| p.n_cases as usize);
+    if total > MAX_ROWS {
         let _ = writeln!(
             o,
             "\n… and {} more cases (the runs of point {np} in `points/`).",
-            rows.len() - MAX_ROWS
+            total - MAX_ROWS
         );
     }
     if let Some(p) = point {
