@@ -16,7 +16,7 @@ pub mod validation;
 
 use impactsweep::model::System;
 use impactsweep::orbits::map::{Forcing, Section};
-use impactsweep::sim::forced::Finder;
+use impactsweep::sim::harmonic::Finder;
 use impactsweep::sim::{Drive, Harmonic, NoProbe, Request, simulate_harmonic};
 use std::time::Instant;
 use validation::{POINTS, forcing_of};

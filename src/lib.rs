@@ -16,8 +16,8 @@
 //!
 //! A study states its scene (`sim::Scene`): the paper's free decay (`sim::Record`, the `points`
 //! table, the reducer's design points) or harmonic forcing to a steady state
-//! (`sim::ForcedRecord`, the `forced_points` table, reduced per design over its frequency band
-//! by [`reduce::forced`]); the reducer's scene-independent core is [`reduce::core`] and the
+//! (`sim::HarmonicRecord`, the `forced_points` table, reduced per design over its frequency band
+//! by [`reduce::harmonic`]); the reducer's scene-independent core is [`reduce::common`] and the
 //! free-decay scene's part [`reduce::free`].
 //!
 //! The physics and every equation are in `docs/model.md`; module docs repeat what

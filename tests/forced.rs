@@ -12,14 +12,14 @@ use common::python;
 use impactsweep::model::System;
 use impactsweep::sim::noise::NoiseStream;
 use impactsweep::sim::{
-    Drive, ForcedRecord, Harmonic, NoProbe, NoiseSettings, Outcome, Probe, Request, SolverSettings,
-    State, Wall, simulate_harmonic,
+    Drive, Harmonic, HarmonicRecord, NoProbe, NoiseSettings, Outcome, Probe, Request,
+    SolverSettings, State, Wall, simulate_harmonic,
 };
 use proptest::prelude::*;
 
 const T1: System = System::TABLE_I;
 
-fn run_with<P: Probe>(sys: &System, h: &Harmonic, probe: &mut P) -> ForcedRecord {
+fn run_with<P: Probe>(sys: &System, h: &Harmonic, probe: &mut P) -> HarmonicRecord {
     h.validate(sys).unwrap();
     simulate_harmonic(
         sys,
@@ -31,7 +31,7 @@ fn run_with<P: Probe>(sys: &System, h: &Harmonic, probe: &mut P) -> ForcedRecord
     )
 }
 
-fn run(sys: &System, h: &Harmonic) -> ForcedRecord {
+fn run(sys: &System, h: &Harmonic) -> HarmonicRecord {
     run_with(sys, h, &mut NoProbe)
 }
 
@@ -360,7 +360,7 @@ fn linear_steady(f0: f64, r: f64) -> [f64; 5] {
 /// The main mass on [`linear_steady`]'s orbit (the free part zero, so it moves on it exactly),
 /// in a cavity of clearance `d` with the inner mass at rest `eps` beyond where the left wall
 /// reaches it at the first maximum of `x`: the run over 20 + 20 periods and the impacts it made.
-fn at_the_left_walls_reach(f0: f64, r: f64, d: f64, eps: f64) -> (ForcedRecord, Watch) {
+fn at_the_left_walls_reach(f0: f64, r: f64, d: f64, eps: f64) -> (HarmonicRecord, Watch) {
     let [p, q, w, a, _] = linear_steady(f0, r);
     let sys = System {
         x0: p,

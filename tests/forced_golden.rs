@@ -16,7 +16,7 @@
 use impactsweep::model::System;
 use impactsweep::sim::noise::NoiseStream;
 use impactsweep::sim::{
-    Drive, ForcedRecord, Harmonic, NoProbe, NoiseSettings, Probe, Request, SolverSettings, State,
+    Drive, Harmonic, HarmonicRecord, NoProbe, NoiseSettings, Probe, Request, SolverSettings, State,
     Wall, simulate_harmonic,
 };
 
@@ -64,7 +64,7 @@ impl Probe for Hashing<'_> {
     }
 }
 
-fn hash_record(h: &mut Fnv, r: &ForcedRecord) {
+fn hash_record(h: &mut Fnv, r: &HarmonicRecord) {
     for b in r.outcome.name().bytes() {
         h.word(u64::from(b));
     }

@@ -11,8 +11,8 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
-use impactsweep::reduce::forced::{self, ForcedReducer};
-use impactsweep::sim::ForcedRecord;
+use impactsweep::reduce::harmonic::{self, HarmonicReducer};
+use impactsweep::sim::HarmonicRecord;
 use impactsweep::store::{self, RunRow};
 use impactsweep::study::Study;
 use impactsweep::sweep::{self, SweepOptions};
@@ -80,11 +80,11 @@ fn run_text(tmp: &Path, name: &str, text: &str) -> (PathBuf, String) {
     (dir, md)
 }
 
-fn rows(dir: &Path) -> Vec<RunRow<ForcedRecord>> {
+fn rows(dir: &Path) -> Vec<RunRow<HarmonicRecord>> {
     store::part_files(dir)
         .unwrap()
         .iter()
-        .flat_map(|p| store::read_rows::<ForcedRecord>(p).unwrap())
+        .flat_map(|p| store::read_rows::<HarmonicRecord>(p).unwrap())
         .collect()
 }
 
@@ -287,9 +287,9 @@ fn issue_12_the_reduction_streams_whole_curves() {
     let study = Study::parse(Path::new("s.toml"), &study_text("lib", 22)).unwrap();
     sweep::run_study(&study, tmp.path(), &SweepOptions::default()).unwrap();
     let all = rows(&tmp.path().join("lib"));
-    let design = forced::design_study(&study);
+    let design = harmonic::design_study(&study);
     let reduce = |cuts: &[usize]| {
-        let mut r = ForcedReducer::new(&study, &design, forced::options(&design));
+        let mut r = HarmonicReducer::new(&study, &design, harmonic::options(&design));
         let mut start = 0;
         for &c in cuts.iter().chain(std::iter::once(&all.len())) {
             r.push(all[start..c].to_vec(), None);
@@ -407,13 +407,16 @@ fn issue_23_reduce_runs_no_census_and_every_peak_is_an_attractor() {
     let study = tmp.path().join("nocensus.toml");
     std::fs::write(&study, study_text("nocensus", 22)).unwrap();
     let dir = common::run_study_file(&study, &tmp.path().join("out"), "nocensus");
-    let before = impactsweep::reduce::forced::steady::census_starts();
+    let before = impactsweep::reduce::harmonic::steady::census_starts();
     impactsweep::api::reduce::reduce_dir(&impactsweep::api::reduce::ReduceArgs {
         dir: dir.clone(),
         ..Default::default()
     })
     .unwrap();
-    assert_eq!(impactsweep::reduce::forced::steady::census_starts(), before);
+    assert_eq!(
+        impactsweep::reduce::harmonic::steady::census_starts(),
+        before
+    );
     let (_, summary) = common::csv_by_point(&dir.join("summary.csv"));
     let text = std::fs::read_to_string(dir.join("attractors.csv")).unwrap();
     let mut lines = text.lines();

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 use impactsweep::model::System;
-use impactsweep::sim::{Drive, ForcedRecord, Harmonic, NoProbe, NoiseSettings, Request, Scene};
+use impactsweep::sim::{Drive, Harmonic, HarmonicRecord, NoProbe, NoiseSettings, Request, Scene};
 use impactsweep::sim::{SolverSettings, noise::NoiseStream, simulate_harmonic};
 use impactsweep::store::{self, RunRow, TableKind, schema};
 use impactsweep::study::Study;
@@ -68,16 +68,16 @@ fn load(dir: &Path, name: &str) -> Study {
     Study::load(&write_study(dir, name)).unwrap()
 }
 
-fn read_all(dir: &Path) -> Vec<RunRow<ForcedRecord>> {
+fn read_all(dir: &Path) -> Vec<RunRow<HarmonicRecord>> {
     store::part_files(dir)
         .unwrap()
         .iter()
-        .flat_map(|p| store::read_rows::<ForcedRecord>(p).unwrap())
+        .flat_map(|p| store::read_rows::<HarmonicRecord>(p).unwrap())
         .collect()
 }
 
 /// Every stored column of every row as bits.
-fn bits(rows: &[RunRow<ForcedRecord>]) -> Vec<Vec<u64>> {
+fn bits(rows: &[RunRow<HarmonicRecord>]) -> Vec<Vec<u64>> {
     rows.iter()
         .map(|r| {
             let c = &r.record;
@@ -221,8 +221,8 @@ fn issue_12_a_harmonic_study_records_the_forced_outputs_of_every_run() {
     // Noise is drawn only in the noisy cases, and moves the measured amplitude, not the motion:
     // on periodic orbits the noisy run has the same impacts per period. (The samples split the
     // motion into more pieces, so a chaotic orbit drifts apart at rounding level.)
-    let ideal: Vec<&RunRow<ForcedRecord>> = rows.iter().filter(|r| r.case == 0).collect();
-    let noisy: Vec<&RunRow<ForcedRecord>> = rows.iter().filter(|r| r.case == 2).collect();
+    let ideal: Vec<&RunRow<HarmonicRecord>> = rows.iter().filter(|r| r.case == 0).collect();
+    let noisy: Vec<&RunRow<HarmonicRecord>> = rows.iter().filter(|r| r.case == 2).collect();
     for (a, b) in ideal.iter().zip(&noisy) {
         assert_ne!(a.record.amplitude, b.record.amplitude, "point {}", a.point);
         if a.record.period > 0 {
@@ -238,7 +238,7 @@ fn issue_12_a_harmonic_study_records_the_forced_outputs_of_every_run() {
     for field in builder.schema().fields() {
         assert_eq!(
             field.metadata().get(schema::FIELD_UNIT).map(String::as_str),
-            schema::unit(TableKind::ForcedPoints, field.name()),
+            schema::unit(TableKind::HarmonicPoints, field.name()),
             "{}",
             field.name()
         );

@@ -102,7 +102,7 @@ fn num(cell: &str) -> f64 {
 fn branch_rows(dir: &Path) -> Vec<BranchRow> {
     let path = dir.join("analysis").join("branches-0-of-1.parquet");
     let t = impactsweep::store::summary::read_table(&path).unwrap();
-    impactsweep::reduce::forced::shard::branches_from_part(&t)
+    impactsweep::reduce::harmonic::shard::branches_from_part(&t)
         .expect("the shard's branches")
         .into_values()
         .flatten()

@@ -16,8 +16,6 @@ mod cli_simulate;
 mod determinism;
 #[path = "faults.rs"]
 mod faults;
-#[path = "forced.rs"]
-mod forced;
 #[path = "forced_golden.rs"]
 mod forced_golden;
 #[path = "forced_reduce.rs"]
@@ -30,6 +28,8 @@ mod fragility;
 mod free_decay_golden;
 #[path = "grazing.rs"]
 mod grazing;
+#[path = "forced.rs"]
+mod harmonic;
 #[path = "html.rs"]
 mod html;
 #[path = "interop.rs"]

@@ -5,16 +5,16 @@
 //! every path written in the code that starts with `crate::`, `super::`, `self::` or the name of
 //! one of the module's own child modules. Comments and the unit tests (from the first
 //! `#[cfg(test)]` on) are left out: a doc link is no import, and a test may use anything. A path
-//! that starts with a name a `use` brought in (`forced::design_study` after `use
-//! crate::reduce::forced`) is covered by that `use`.
+//! that starts with a name a `use` brought in (`harmonic::design_study` after `use
+//! crate::reduce::harmonic`) is covered by that `use`.
 //!
 //! Each path is resolved twice, against the crate's modules and their `use` declarations:
 //! * to the module it **names**: the longest module prefix of the path as written
-//!   (`crate::reduce::core::tables::outcome_text` names `reduce::core::tables`; `super::PointStats`
-//!   in `reduce/core/zones.rs`, an item and not a module, names the parent `reduce::core`);
+//!   (`crate::reduce::common::tables::outcome_text` names `reduce::common::tables`; `super::PointStats`
+//!   in `reduce/common/zones.rs`, an item and not a module, names the parent `reduce::common`);
 //! * to the module that **defines** what it names, following `use` declarations (re-exports)
-//!   wherever they lead: `super::PointStats` is defined in `reduce::core::point`, which
-//!   `reduce/core/mod.rs` re-exports; a glob (`use super::*`) is followed for the names the glob's
+//!   wherever they lead: `super::PointStats` is defined in `reduce::common::point`, which
+//!   `reduce/common/mod.rs` re-exports; a glob (`use super::*`) is followed for the names the glob's
 //!   module has.
 //!
 //! The importer depends on both. A re-export itself (`pub use child::X` whose `X` the file's own
@@ -30,14 +30,14 @@
 //!   code uses a child never has a child that uses the parent's own items (`super::X`,
 //!   `super::*`); the types they share live in a child below both. In particular
 //!   `orbits::continuation` and `orbits::locate`, and the forced scene's modules in
-//!   `reduce/forced/`, form no circle;
+//!   `reduce/harmonic/`, form no circle;
 //! * the store never imports the reducer, the report, the sweep or the command line's layers;
 //! * the reducer never imports the report, the sweep, the API or the command line;
-//! * `reduce/core/` knows no scene: it imports neither `reduce::free`, `reduce::forced` nor
-//!   `reduce::random`, nor the scenes' layers below it (`orbits`, `sim::forced`, `sim::random`);
+//! * `reduce/common/` knows no scene: it imports neither `reduce::free`, `reduce::harmonic` nor
+//!   `reduce::random`, nor the scenes' layers below it (`orbits`, `sim::harmonic`, `sim::random`);
 //! * a scene module of `reduce/` never imports another scene's;
 //! * the report's scene-independent modules (`report/text.rs`, `charts/plumbing.rs`,
-//!   `charts/core/`, `markdown/core/`, `html/`) import no scene module, of the report or of the
+//!   `charts/common/`, `markdown/common/`, `html/`) import no scene module, of the report or of the
 //!   reducer, and a scene module of the report never imports another scene's;
 //! * the library never imports the command line's layer (`app`; `cli.rs` and `main.rs` are the
 //!   command line), and the Python binding (`python/src`) never does either;
@@ -53,7 +53,7 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// One source file of the library: its module path (`reduce::core::tables`; `""` for `lib.rs`)
+/// One source file of the library: its module path (`reduce::common::tables`; `""` for `lib.rs`)
 /// and its code.
 struct Source {
     file: PathBuf,
@@ -796,12 +796,12 @@ fn the_import_reader_sees_what_the_code_imports() {
     assert!(named.contains(&("kid".into(), "*".into(), true)));
     let m = |s: &str| s.split("::").map(String::from).collect::<Vec<_>>();
     assert_eq!(
-        resolve(&m("reduce::forced"), "super::core"),
-        Some(m("reduce::core"))
+        resolve(&m("reduce::harmonic"), "super::common"),
+        Some(m("reduce::common"))
     );
     assert_eq!(
-        resolve(&m("reduce::forced::probe"), "super::analysis::Plan"),
-        Some(m("reduce::forced::analysis::Plan"))
+        resolve(&m("reduce::harmonic::probe"), "super::analysis::Plan"),
+        Some(m("reduce::harmonic::analysis::Plan"))
     );
     assert_eq!(resolve(&m("a"), "arrow::array"), None);
 }
@@ -828,7 +828,7 @@ fn the_import_reader_follows_re_exports_and_sees_circles_through_super() {
     // `point` defines) and `point` names `super::zones::Class`: a circle, though no path names
     // the other module in full.
     let sources = made_up(&[
-        ("", "pub mod core;"),
+        ("", "pub mod common;"),
         (
             "core",
             "pub mod point; pub mod zones; pub mod rank;\n\
@@ -931,7 +931,7 @@ fn issue_25_no_import_circles_in_app_and_study() {
 /// a circle not listed here, and on a listed one that is gone (take it off the list).
 const KNOWN_CIRCLES: &[&str] = &[
     "src/reduce/random: mod.rs, risk",
-    "src/sim: dense, dopri5, driven, driver, exact, forced, mod.rs, noise, phase, random, rk4",
+    "src/sim: dense, dopri5, driven, exact, free, harmonic, mod.rs, noise, phase, random, rk4",
     "src/sim/random: intensity, load, mod.rs",
 ];
 
@@ -951,8 +951,8 @@ fn issue_45_no_import_circles_in_any_folder() {
         "orbits::census",
         "orbits::continuation",
         "reduce",
-        "reduce::core",
-        "reduce::forced",
+        "reduce::common",
+        "reduce::harmonic",
         "report",
         "report::markdown",
         "store",
@@ -1016,18 +1016,18 @@ fn issue_45_the_reducer_never_imports_the_layers_above_it() {
 #[test]
 fn issue_45_the_reducers_core_knows_no_scene() {
     let sources = sources();
-    assert!(under(&sources, "reduce::core").count() >= 10);
+    assert!(under(&sources, "reduce::common").count() >= 10);
     assert_none(
-        "reduce/core imports a scene",
+        "reduce/common imports a scene",
         violations(
             &sources,
-            &["reduce::core"],
+            &["reduce::common"],
             &[
                 "reduce::free",
-                "reduce::forced",
+                "reduce::harmonic",
                 "reduce::random",
                 "orbits",
-                "sim::forced",
+                "sim::harmonic",
                 "sim::random",
             ],
         ),
@@ -1038,15 +1038,15 @@ fn issue_45_the_reducers_core_knows_no_scene() {
 fn issue_45_no_scene_imports_another() {
     let sources = sources();
     for (layer, scenes) in [
-        ("reduce", &["free", "forced", "random"][..]),
-        ("report::charts", &["free", "forced", "random"][..]),
-        ("report::markdown", &["forced", "random"][..]),
+        ("reduce", &["free", "harmonic", "random"][..]),
+        ("report::charts", &["free", "harmonic", "random"][..]),
+        ("report::markdown", &["harmonic", "random"][..]),
     ] {
         for scene in scenes {
             let from = format!("{layer}::{scene}");
             assert!(under(&sources, &from).count() >= 1, "no module {from}");
             // Another scene's module of this layer, or of the reducer below it.
-            let others: Vec<String> = ["free", "forced", "random"]
+            let others: Vec<String> = ["free", "harmonic", "random"]
                 .iter()
                 .filter(|o| *o != scene)
                 .flat_map(|o| [format!("{layer}::{o}"), format!("reduce::{o}")])
@@ -1065,8 +1065,8 @@ fn issue_45_the_reports_core_knows_no_scene() {
     let core = [
         "report::text",
         "report::charts::plumbing",
-        "report::charts::core",
-        "report::markdown::core",
+        "report::charts::common",
+        "report::markdown::common",
         "report::html",
     ];
     let sources = sources();
@@ -1080,15 +1080,15 @@ fn issue_45_the_reports_core_knows_no_scene() {
             &core,
             &[
                 "report::charts::free",
-                "report::charts::forced",
+                "report::charts::harmonic",
                 "report::charts::random",
-                "report::markdown::forced",
+                "report::markdown::harmonic",
                 "report::markdown::random",
                 "reduce::free",
-                "reduce::forced",
+                "reduce::harmonic",
                 "reduce::random",
                 "orbits",
-                "sim::forced",
+                "sim::harmonic",
                 "sim::random",
             ],
         ),

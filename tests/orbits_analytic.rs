@@ -5,7 +5,7 @@
 use impactsweep::model::System;
 use impactsweep::orbits::analytic::{SymmetricOrbit, symmetric_period1};
 use impactsweep::sim::{
-    self, Drive, ForcedRecord, Harmonic, Probe, Request, SolverSettings, State, Wall,
+    self, Drive, Harmonic, HarmonicRecord, Probe, Request, SolverSettings, State, Wall,
 };
 
 /// Impacts seen by the simulator: time, wall, state just before and just after.
@@ -49,7 +49,7 @@ fn run(
     n_trans: Option<u64>,
     n_meas: u64,
     probe: &mut impl Probe,
-) -> ForcedRecord {
+) -> HarmonicRecord {
     run_with(
         sys,
         f0,
@@ -73,7 +73,7 @@ fn run_with(
     n_meas: u64,
     req: &Request,
     probe: &mut impl Probe,
-) -> ForcedRecord {
+) -> HarmonicRecord {
     let mut s = *sys;
     s.x0 = start[0];
     s.v0 = start[1];
@@ -95,7 +95,7 @@ fn run_with(
     sim::simulate_harmonic(&s, &SolverSettings::default(), req, &scene, None, probe)
 }
 
-fn section(r: &ForcedRecord) -> [f64; 4] {
+fn section(r: &HarmonicRecord) -> [f64; 4] {
     [r.end.x, r.end.v, r.end.y - r.end.x, r.end.w]
 }
 

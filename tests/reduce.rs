@@ -6,7 +6,7 @@ use std::path::Path;
 use crate::common;
 
 use impactsweep::api::reduce::{WaveformArgs, waveform_files, write_outputs};
-use impactsweep::reduce::core::regions::NO_REGION;
+use impactsweep::reduce::common::regions::NO_REGION;
 use impactsweep::reduce::free::{self, reduce};
 use impactsweep::reduce::testing::{FnIdeal, paper_study, row, simulate_chunks, study};
 use impactsweep::reduce::{Class, JumpKind, Options, Quantity, Reducer, Run, Summary};
@@ -529,7 +529,7 @@ fn cli_reduce_names_the_missing_study_file() {
 
 #[test]
 fn paper_safety_form_and_mean_di_are_options() {
-    use impactsweep::reduce::core::stats;
+    use impactsweep::reduce::common::stats;
     use impactsweep::study::{DiSource, SafetyForm};
     let s = paper();
     let chunks = simulate_chunks(&s);

@@ -90,7 +90,7 @@ fn frequency_response_regenerates_the_committed_showcase() {
 /// the design-map showcase.
 #[test]
 fn frequency_response_slice_reproduces_the_committed_attractors() {
-    use impactsweep::reduce::forced::steady::attractor_rows_table;
+    use impactsweep::reduce::harmonic::steady::attractor_rows_table;
     use impactsweep::store::attractors::{attractors_part_path, read_part};
     use impactsweep::store::summary::TableWriter;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));

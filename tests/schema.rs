@@ -292,7 +292,7 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
             vec![impactsweep::store::part_path(&dir, 0)],
         ),
         (
-            TableKind::ForcedPoints,
+            TableKind::HarmonicPoints,
             vec![impactsweep::store::part_path(&forced, 0)],
         ),
         (

@@ -31,7 +31,7 @@ use impactsweep::sim::random::{
     RealizationStream,
 };
 use impactsweep::sim::{
-    ForcedRecord, Harmonic, NoProbe, Record, Scene, SceneRecord, SolverSettings,
+    Harmonic, HarmonicRecord, NoProbe, Record, Scene, SceneRecord, SolverSettings,
 };
 use impactsweep::store::RunRow;
 use impactsweep::study::{LoadOptions, Study};
@@ -425,7 +425,7 @@ fn simulate_batch<'py>(
             impactsweep::store::points::to_batch(&rows, &settings)
         }
         Scene::Harmonic(_) => {
-            let rows = run_rows::<ForcedRecord>(py, pool.as_ref(), &inputs, &study)?
+            let rows = run_rows::<HarmonicRecord>(py, pool.as_ref(), &inputs, &study)?
                 .map_err(PyValueError::new_err)?;
             impactsweep::store::points::to_batch(&rows, &settings)
         }

@@ -1,6 +1,6 @@
 //! The reduction of a harmonic study's run directory ([`reduce`]): its part files and their
-//! attractors streamed through [`forced::ForcedReducer`] (a design is a design point without
-//! its frequency, `reduce/forced/design.rs`), the per-design analysis whole or as one shard of
+//! attractors streamed through [`harmonic::HarmonicReducer`] (a design is a design point without
+//! its frequency, `reduce/harmonic/design.rs`), the per-design analysis whole or as one shard of
 //! it (`--shard`, written to `RUN_DIR/analysis/`), then the outputs every scene writes with the
 //! harmonic scene's added ([`HarmonicOutputs`]): the steady states (`attractors.csv`,
 //! `branches`), the bifurcation curves, the verification table, the frequency-response and
@@ -12,11 +12,11 @@ use anyhow::Context;
 
 use crate::api::outputs::{Reduced, SceneOutputs, write_outputs_with};
 use crate::api::reduce_options::{ReduceArgs, options_over};
-use crate::reduce::forced::{self, analysis, bifurcations};
+use crate::reduce::harmonic::{self, analysis, bifurcations};
 use crate::reduce::{PointStats, Summary};
 use crate::report::charts;
 use crate::report::markdown::{self, SceneText};
-use crate::sim::ForcedRecord;
+use crate::sim::HarmonicRecord;
 use crate::store::table::Table;
 use crate::store::{self, TableKind};
 use crate::study::Study;
@@ -32,9 +32,9 @@ pub(crate) fn reduce(
     args: &ReduceArgs,
     audit: Option<&crate::accuracy::Audit>,
 ) -> anyhow::Result<Reduced> {
-    let design = forced::design_study(study);
-    let opts = options_over(forced::options(&design), args);
-    let mut r = forced::ForcedReducer::new(study, &design, opts);
+    let design = harmonic::design_study(study);
+    let opts = options_over(harmonic::options(&design), args);
+    let mut r = harmonic::HarmonicReducer::new(study, &design, opts);
     for (&k, p) in st.done.iter().zip(parts) {
         let side = store::attractors::attractors_part_path(dir, k);
         let recorded = st.manifest.chunk(k).is_some_and(|c| c.attractors.is_some());
@@ -44,7 +44,7 @@ pub(crate) fn reduce(
             None
         };
         r.push(
-            store::read_rows::<ForcedRecord>(p)
+            store::read_rows::<HarmonicRecord>(p)
                 .with_context(|| format!("reading {}", p.display()))?,
             attractors,
         );
@@ -74,11 +74,11 @@ pub(crate) fn reduce(
 /// The harmonic scene's additions to the outputs: its band columns in the summary, its steady
 /// states, bifurcations and verification tables, its frequency-response and design-map charts
 /// and its report section.
-struct HarmonicOutputs<'a>(&'a forced::ForcedSummary);
+struct HarmonicOutputs<'a>(&'a harmonic::HarmonicSummary);
 
 impl SceneOutputs for HarmonicOutputs<'_> {
     fn summary_columns(&self, t: &mut Table, rows: &[&PointStats]) {
-        forced::summary_columns(t, self.0, rows);
+        harmonic::summary_columns(t, self.0, rows);
     }
 
     fn write(
@@ -135,7 +135,7 @@ impl SceneOutputs for HarmonicOutputs<'_> {
                     .find(|p| p.point == d)
                     .and_then(|p| p.rank)
             };
-            let t = forced::verify::table(&fs.verification, rank);
+            let t = harmonic::verify::table(&fs.verification, rank);
             files.extend(store::summary::write_table(
                 dir,
                 TableKind::Verification,
@@ -147,13 +147,13 @@ impl SceneOutputs for HarmonicOutputs<'_> {
             .anchor()
             .filter(|_| fs.frequency.is_some() && !steady.is_empty())
             .and_then(|a| fs.curve(a))
-            .map(|c| forced::steady::section_samples(study, c))
+            .map(|c| harmonic::steady::section_samples(study, c))
             .unwrap_or_default();
-        chart_files.extend(charts::forced::frequency_response::charts(
+        chart_files.extend(charts::harmonic::frequency_response::charts(
             summary, fs, &steady, &samples, dir,
         )?);
         if let Some(anchor) = summary.anchor() {
-            chart_files.extend(charts::forced::design_map::charts(
+            chart_files.extend(charts::harmonic::design_map::charts(
                 summary, fs, &curves, anchor, dir,
             )?);
         }
@@ -161,7 +161,7 @@ impl SceneOutputs for HarmonicOutputs<'_> {
     }
 
     fn scene_text(&self, study: &Study, summary: &Summary) -> SceneText {
-        markdown::forced::scene_text(study, summary, self.0)
+        markdown::harmonic::scene_text(study, summary, self.0)
     }
 }
 
@@ -173,7 +173,7 @@ fn analysis_plan(
     shard: Option<(u64, u64)>,
 ) -> anyhow::Result<analysis::Plan> {
     use analysis::{Plan, Prior, Shard};
-    use forced::shard::{branches_from_part, probes_from_table, verification_from_part};
+    use harmonic::shard::{branches_from_part, probes_from_table, verification_from_part};
     if let Some((index, count)) = shard {
         return Ok(Plan {
             shard: Some(Shard { index, count }),
@@ -183,7 +183,7 @@ fn analysis_plan(
     let Some(set) = store::analysis::read_complete(dir, &study.source)? else {
         return Ok(Plan::default());
     };
-    let keys: Vec<String> = forced::design_study(study)
+    let keys: Vec<String> = harmonic::design_study(study)
         .axes
         .iter()
         .map(|a| a.key.clone())
@@ -223,14 +223,14 @@ fn analysis_plan(
 /// study has no steady states to follow).
 fn write_steady_states(
     study: &Study,
-    fs: &forced::ForcedSummary,
+    fs: &harmonic::HarmonicSummary,
     anchor: Option<u64>,
     dir: &Path,
 ) -> anyhow::Result<(Vec<crate::orbits::response::Response>, Vec<PathBuf>)> {
     use store::summary::TableWriter;
     let mut writers: Option<(TableWriter, TableWriter)> = None;
     let mut kept = Vec::new();
-    forced::steady::steady_states_in_batches(study, fs, |batch| -> anyhow::Result<()> {
+    harmonic::steady::steady_states_in_batches(study, fs, |batch| -> anyhow::Result<()> {
         if batch.is_empty() {
             return Ok(());
         }
@@ -241,13 +241,13 @@ fn write_steady_states(
                 TableWriter::create(dir, TableKind::Branches)?,
             )),
         };
-        attractors.append(forced::steady::attractors_table(&batch))?;
-        branches.append(forced::steady::branches_table(&batch))?;
+        attractors.append(harmonic::steady::attractors_table(&batch))?;
+        branches.append(harmonic::steady::branches_table(&batch))?;
         kept.extend(batch.into_iter().map(|r| {
-            if anchor.is_some_and(|a| forced::steady::draws_anchor(fs, a, &r)) {
+            if anchor.is_some_and(|a| harmonic::steady::draws_anchor(fs, a, &r)) {
                 r
             } else {
-                forced::steady::located_only(r)
+                harmonic::steady::located_only(r)
             }
         }));
         Ok(())
@@ -266,15 +266,15 @@ fn write_analysis_shard(
     study: &Study,
     dir: &Path,
     shard: (u64, u64),
-    fs: &forced::ForcedSummary,
+    fs: &harmonic::HarmonicSummary,
     probes: &[(Vec<u64>, Option<[f64; 2]>)],
 ) -> anyhow::Result<(String, Vec<PathBuf>)> {
-    let keys: Vec<String> = forced::design_study(study)
+    let keys: Vec<String> = harmonic::design_study(study)
         .axes
         .iter()
         .map(|a| a.key.clone())
         .collect();
-    let steady = forced::steady::steady_states(study, fs);
+    let steady = harmonic::steady::steady_states(study, fs);
     let branches: usize = steady.iter().map(|r| r.branches.len()).sum();
     let files = store::analysis::write_shard(
         dir,
@@ -283,12 +283,12 @@ fn write_analysis_shard(
         vec![
             (
                 TableKind::Probes,
-                forced::shard::probes_table(&keys, probes),
+                harmonic::shard::probes_table(&keys, probes),
             ),
-            (TableKind::Branches, forced::shard::branches_part(&steady)),
+            (TableKind::Branches, harmonic::shard::branches_part(&steady)),
             (
                 TableKind::Verification,
-                forced::shard::verification_part(&fs.verification),
+                harmonic::shard::verification_part(&fs.verification),
             ),
         ],
     )?;

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
-use crate::reduce::core::tables;
+use crate::reduce::common::tables;
 use crate::reduce::{self, Summary};
 use crate::report::markdown::SceneText;
 use crate::report::{charts, html, markdown};

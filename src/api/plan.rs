@@ -17,7 +17,7 @@ use crate::orbits::census::Kind;
 use crate::orbits::curve;
 use crate::orbits::race::{Serves, race};
 use crate::plan::Plan;
-use crate::reduce::forced::verify::MOST;
+use crate::reduce::harmonic::verify::MOST;
 use crate::report::text::{count, thousands};
 use crate::sim::{self, Drive, NoProbe, Scene};
 use crate::study::{Study, num as fmt_value};

@@ -9,7 +9,7 @@ use anyhow::Context;
 
 use crate::api::outputs::Reduced;
 use crate::api::reduce_options::{ReduceArgs, options_over};
-use crate::reduce::core::tables;
+use crate::reduce::common::tables;
 use crate::reduce::random::subset::SubsetAsk;
 use crate::reduce::random::{self, RandomReducer, RandomSummary};
 use crate::reduce::{PointStats, Summary};

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crate::reduce::forced::analysis;
+use crate::reduce::harmonic::analysis;
 use crate::reduce::random::subset::DEFAULT_SUBSET_N;
 use crate::reduce::{Options, free};
 use crate::study::{DiSource, SafetyForm, Study};
@@ -21,7 +21,7 @@ pub struct ReduceArgs {
     /// Overrides `[reliability].bootstrap`.
     pub bootstrap: Option<usize>,
     /// `(I, N)`: only shard `I` of `N` of a harmonic study's per-design analysis
-    /// ([`crate::reduce::forced::analysis`]), written to `RUN_DIR/analysis/`; no report.
+    /// ([`crate::reduce::harmonic::analysis`]), written to `RUN_DIR/analysis/`; no report.
     pub shard: Option<(u64, u64)>,
     /// A harmonic study: the lines of the design grid its bifurcation curves are followed along.
     pub bifurcation_curves: analysis::CurveLines,

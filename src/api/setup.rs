@@ -7,7 +7,7 @@ use super::realization::{self, RandomSetup};
 use crate::error::InputError;
 use crate::model::{SYSTEM_KEYS, System};
 use crate::sim::{
-    self, Drive, ForcedRecord, Harmonic, Probe, Record, Request, Scene, SceneRecord, SolverKind,
+    self, Drive, Harmonic, HarmonicRecord, Probe, Record, Request, Scene, SceneRecord, SolverKind,
     SolverSettings, State,
 };
 
@@ -67,7 +67,7 @@ fn random_kind(sets: &[String]) -> Option<&'static str> {
 
 /// The harmonic scene's `--set` keys as given, checked together once all are read.
 #[derive(Default)]
-struct ForcedKeys {
+struct HarmonicKeys {
     scene: Option<String>,
     harmonic: Harmonic,
     /// Every forced key given, as `KEY=VALUE`, in order.
@@ -93,7 +93,7 @@ impl Setup {
             return Ok(());
         }
         self.random = None;
-        let mut forced = ForcedKeys::default();
+        let mut forced = HarmonicKeys::default();
         if let Scene::Harmonic(h) = self.scene {
             forced.scene = Some("harmonic".into());
             forced.harmonic = h;
@@ -210,7 +210,7 @@ impl Setup {
 
     /// Decides the scene from the keys given: the forced keys need `scene=harmonic`, `omega`
     /// and `r` exclude each other, and the free-decay horizon keys do not apply to it.
-    fn settle_scene(&mut self, forced: ForcedKeys) -> Result<(), InputError> {
+    fn settle_scene(&mut self, forced: HarmonicKeys) -> Result<(), InputError> {
         if let (Some(w), Some(r)) = (&forced.omega, &forced.r) {
             return Err(InputError::new(format!(
                 "--set omega={w} and --set r={r}: give the forcing frequency once, as omega \
@@ -357,7 +357,7 @@ pub fn record_json(setup: &Setup, rec: &Record) -> serde_json::Value {
 
 /// A forced record as one JSON object: the forced keys, the usual counts, `outcome`, the
 /// system, the solver and the scene (SI units; NaN becomes null).
-pub fn forced_json(setup: &Setup, rec: &ForcedRecord) -> serde_json::Value {
+pub fn forced_json(setup: &Setup, rec: &HarmonicRecord) -> serde_json::Value {
     let mut map = serde_json::Map::new();
     map.insert("outcome".into(), rec.outcome.name().into());
     map.insert("scene".into(), "harmonic".into());

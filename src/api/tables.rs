@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::reduce::Summary;
-use crate::reduce::core::tables;
+use crate::reduce::common::tables;
 use crate::store::{self, TableKind};
 
 /// The core's tables every scene writes beside its summary: zones, jumps and sensitivity

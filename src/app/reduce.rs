@@ -2,7 +2,7 @@
 //! [`crate::api::reduce`] writes.
 
 pub use crate::api::reduce::{ReduceArgs, WaveformArgs, reduce_dir, waveform_files};
-pub use crate::reduce::forced::analysis::CurveLines;
+pub use crate::reduce::harmonic::analysis::CurveLines;
 
 pub fn reduce(args: &ReduceArgs) -> anyhow::Result<()> {
     let (line, files) = reduce_dir(args)?;

@@ -11,7 +11,7 @@ pub use crate::api::setup::{Setup, forced_json, record_json, trace_scene};
 use crate::error::InputError;
 use crate::model::{System, fmt_value};
 use crate::sim::random::{Excitation, Input, RandomScene, RealizationRecord};
-use crate::sim::{ForcedRecord, NoProbe, Record, Request, Scene, SceneRecord, SolverKind, State};
+use crate::sim::{HarmonicRecord, NoProbe, Record, Request, Scene, SceneRecord, SolverKind, State};
 
 /// What `simulate` was asked.
 #[derive(Clone, Debug, Default)]
@@ -60,7 +60,7 @@ fn system_line(s: &System) -> String {
 }
 
 /// A short summary of a forced run for a person, with units.
-pub fn forced_text(setup: &Setup, rec: &ForcedRecord) -> String {
+pub fn forced_text(setup: &Setup, rec: &HarmonicRecord) -> String {
     let s = &setup.system;
     let mut out = String::new();
     out.push_str(&system_line(s));

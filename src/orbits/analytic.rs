@@ -57,7 +57,7 @@
 use std::f64::consts::{PI, TAU};
 
 use crate::model::System;
-use crate::sim::forced::motion::{Forced, RESONANCE_FLOOR, dynamic_stiffness};
+use crate::sim::harmonic::motion::{Forced, RESONANCE_FLOOR, dynamic_stiffness};
 
 /// `|det(Phi + I)|` below this is singular (dimensionless; `det(Phi + I) >= (1 - e^{-C tau / (2M)})^2`
 /// when damped, `2 + 2 cos(pi sqrt(K/M) / omega)` when `C = 0`).

@@ -31,7 +31,7 @@ use super::{CENSUS_WINDOW, HANDOVER, steady_of};
 use crate::model::System;
 use crate::sim::noise::NoiseStream;
 use crate::sim::{
-    ForcedRecord, Harmonic, NoProbe, NoiseSettings, Outcome, Request, SolverSettings,
+    Harmonic, HarmonicRecord, NoProbe, NoiseSettings, Outcome, Request, SolverSettings,
     simulate_harmonic,
 };
 
@@ -47,7 +47,7 @@ pub struct CurveFrequency {
 /// the initial state (its `steady` summary filled from the census) and the census.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CurveRun {
-    pub records: Vec<ForcedRecord>,
+    pub records: Vec<HarmonicRecord>,
     pub censuses: Vec<Option<Census>>,
 }
 
@@ -77,7 +77,7 @@ pub fn from_rest(
     req: &Request,
     noise: Option<&NoiseSettings>,
     freqs: Vec<CurveFrequency>,
-) -> Vec<ForcedRecord> {
+) -> Vec<HarmonicRecord> {
     freqs
         .into_iter()
         .map(|fq| {
@@ -104,7 +104,7 @@ pub fn curve_census(
     settings: &SolverSettings,
     seed: u64,
     targets: &[(Harmonic, u64)],
-    records: &[ForcedRecord],
+    records: &[HarmonicRecord],
     serves: Serves,
 ) -> Vec<Option<Census>> {
     let points = curve_points(sys, settings, seed, targets, records);
@@ -120,7 +120,7 @@ pub fn curve_points(
     settings: &SolverSettings,
     seed: u64,
     targets: &[(Harmonic, u64)],
-    records: &[ForcedRecord],
+    records: &[HarmonicRecord],
 ) -> Vec<Option<(Forcing, CensusSettings, Section)>> {
     targets
         .iter()
@@ -165,7 +165,7 @@ pub fn race_points(
 }
 
 /// Each record's census summary ([`steady_of`]) from its census.
-pub fn fill_steady(records: &mut [ForcedRecord], censuses: &[Option<Census>]) {
+pub fn fill_steady(records: &mut [HarmonicRecord], censuses: &[Option<Census>]) {
     for (rec, c) in records.iter_mut().zip(censuses) {
         if let Some(c) = c {
             rec.steady = steady_of(c);

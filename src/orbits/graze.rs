@@ -15,15 +15,15 @@
 //! derivatives like its inverse), which is why the corrector converges on the smooth side. A
 //! located grazing is the orbit on the smooth side whose gap is within `1e-8 d/2` of zero.
 //!
-//! Between events the main mass moves in closed form ([`crate::sim::forced`]) and the inner
+//! Between events the main mass moves in closed form ([`crate::sim::harmonic`]) and the inner
 //! mass at constant velocity, so each flight is scanned like the closed-form orbit's
 //! ([`super::analytic`]): a grid of 8 points per radian of the fastest rate, each local extremum
 //! refined by golden-section search.
 
 use super::analytic::local_extremes_at;
 use super::map::{Forcing, Section};
-use crate::sim::forced::motion::Forced;
-use crate::sim::forced::simulate_harmonic;
+use crate::sim::harmonic::motion::Forced;
+use crate::sim::harmonic::simulate_harmonic;
 use crate::sim::{Outcome, Probe, Request, State, Wall};
 
 /// Grid points per radian of the fastest rate of the motion when scanning a flight: extrema of

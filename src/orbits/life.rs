@@ -393,7 +393,7 @@ pub fn topped_up(f: &Forcing, states: Vec<Section>) -> Vec<Section> {
 /// `periods` periods in all (the window doubling from `periods / 64` as in [`LifeRun::grow`], so
 /// its floor applies), and the design-life estimate of `s` from all of them. What the
 /// harmonic reduction's verification runs on the motions that decide a ranking
-/// (`crate::reduce::forced::verify`); `None` when a chain's simulator stopped.
+/// (`crate::reduce::harmonic::verify`); `None` when a chain's simulator stopped.
 pub fn measure_directly(
     f: &Forcing,
     section: &Section,

@@ -5,7 +5,7 @@
 //! `T_f = 2 pi / omega`. Because the force `F0 cos(omega t)` is `T_f`-periodic, the state one
 //! forcing period later is a function of `s` alone, `P(s)`, and a period-`p` steady state is a
 //! fixed point of `P^p`. [`eval`] computes `P^p(s)` with the exact event-driven simulator of the
-//! forced scene ([`crate::sim::forced::simulate_harmonic`], the same code a sweep runs), so every
+//! forced scene ([`crate::sim::harmonic::simulate_harmonic`], the same code a sweep runs), so every
 //! impact is found, grazing contacts included, and an orbit found this way cannot pass through a
 //! wall: the impact sequence is not imposed, it is what the simulator finds.
 //!
@@ -34,7 +34,7 @@
 //! against central differences of the map.
 
 use crate::model::System;
-use crate::sim::forced::{Drive, Harmonic, simulate_harmonic};
+use crate::sim::harmonic::{Drive, Harmonic, simulate_harmonic};
 use crate::sim::linear::Oscillator;
 use crate::sim::{Outcome, Probe, Request, SolverSettings, State, Wall};
 
@@ -395,7 +395,7 @@ fn particular_derivatives(f: &Forcing, mode: Mode, t: f64) -> [[f64; 4]; 2] {
         Mode::Stuck => sys.M + sys.m,
     };
     let w = f.omega;
-    let (p, q) = crate::sim::forced::motion::particular(mass, sys.K, sys.C, f.F0, w);
+    let (p, q) = crate::sim::harmonic::motion::particular(mass, sys.K, sys.C, f.F0, w);
     // X = P - iQ, Z = re + i im.
     let (zr, zi) = ((-mass * w).mul_add(w, sys.K), sys.C * w);
     let (dzr, dzi) = (-2.0 * mass * w, sys.C);

@@ -22,10 +22,10 @@ pub mod shoot;
 pub mod twopar;
 
 use crate::model::System;
-use crate::sim::forced::Steady;
+use crate::sim::harmonic::Steady;
 use crate::sim::noise::NoiseStream;
 use crate::sim::{
-    ForcedRecord, Harmonic, NoiseSettings, Outcome, Probe, Request, SolverSettings,
+    Harmonic, HarmonicRecord, NoiseSettings, Outcome, Probe, Request, SolverSettings,
     simulate_harmonic,
 };
 
@@ -52,7 +52,7 @@ pub fn forced_run<P: Probe>(
     probe: &mut P,
     seed: u64,
     point: u64,
-) -> ForcedRecord {
+) -> HarmonicRecord {
     let mut rec = simulate_harmonic(sys, settings, req, scene, noise, probe);
     if rec.outcome != Outcome::Ok || scene.starts == 0 {
         return rec;

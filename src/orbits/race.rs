@@ -55,7 +55,7 @@ use super::census::{Census, Kind};
 use super::life::{LifeRun, LifeSettings, MIN_CHAINS, topped_up};
 use super::map::Forcing;
 use crate::sim::Harmonic;
-use crate::sim::forced::NonPeriodicPeak;
+use crate::sim::harmonic::NonPeriodicPeak;
 use crate::stats::extremes::LifeEstimate;
 use rayon::prelude::*;
 

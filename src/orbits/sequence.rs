@@ -18,7 +18,7 @@
 //! in `[0, 2 pi p)`) on the walls `s_k = +-1` (`z = y - x = s_k d/2`), and the state
 //! `(x_1, x'_1, y'_1)` just after the first (`y_1 = x_1 + s_1 d/2`). Flight `k` runs from `phi_k`
 //! to `phi_{k+1}` (`phi_{n+1} = phi_1 + 2 pi p`): the main mass in closed form
-//! ([`crate::sim::forced::motion::Forced`]), the inner mass at constant velocity; each flight
+//! ([`crate::sim::harmonic::motion::Forced`]), the inner mass at constant velocity; each flight
 //! ends on its wall and the impact law (eq. 3–4) gives the next start:
 //!
 //! ```text
@@ -43,8 +43,8 @@ use nalgebra::{DMatrix, DVector};
 
 use super::analytic::local_extremes;
 use super::map::{Forcing, Section};
-use crate::sim::forced::motion::Forced;
-use crate::sim::forced::simulate_harmonic;
+use crate::sim::harmonic::motion::Forced;
+use crate::sim::harmonic::simulate_harmonic;
 use crate::sim::phase::impact;
 use crate::sim::{Outcome, Probe, Request, State, Wall};
 

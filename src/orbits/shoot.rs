@@ -295,7 +295,7 @@ pub fn orbit_at(f: &Forcing, p: u64, state: &NewtonState, newton: &Newton) -> Op
 /// nearest to `y_hint`. `None` when `A > d/2` (every placement is hit).
 pub fn non_impacting(f: &Forcing, y_hint: f64) -> Option<Orbit> {
     let sys = &f.sys;
-    let (p, q) = crate::sim::forced::motion::particular(sys.M, sys.K, sys.C, f.F0, f.omega);
+    let (p, q) = crate::sim::harmonic::motion::particular(sys.M, sys.K, sys.C, f.F0, f.omega);
     let amp = p.hypot(q);
     let hd = f.half_gap();
     if sys.m > 0.0 && amp > hd {

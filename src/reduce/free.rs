@@ -1,10 +1,10 @@
 //! The free-decay scene's reduction (model.md §3–6): each run's largest positive peak `xmax` is
 //! the response ([`XMAX`]) and its damping inclination `DI` the damping quantity ([`DI`]); the
-//! core ([`crate::reduce::core`]) does the rest over the design points, its jumps located with
+//! core ([`crate::reduce::common`]) does the rest over the design points, its jumps located with
 //! extra simulations of the study's ideal case at the bisection's midpoints
 //! ([`SimulatedIdeal`]).
 
-use crate::reduce::core::{Damping, IdealCase, Options, Reducer, Response, Run, Summary};
+use crate::reduce::common::{Damping, IdealCase, Options, Reducer, Response, Run, Summary};
 use crate::sim::Outcome;
 use crate::store::RunRow;
 use crate::study::Study;

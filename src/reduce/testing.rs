@@ -1,7 +1,7 @@
 //! Helpers for tests: a study with the paper's defaults, synthetic runs, an ideal case given as a
 //! function, and a free-decay study simulated and reduced (not part of the tool's interface).
 
-use super::core::{IdealCase, Reducer, Run, Summary};
+use super::common::{IdealCase, Reducer, Run, Summary};
 use super::free;
 use crate::model::System;
 use crate::sim::{Outcome, Request, SolverSettings};

@@ -1,5 +1,5 @@
 //! Closed-form phases of a driven oscillator and their event finder, shared by the scenes whose
-//! load is a known function of time: the harmonic scene ([`super::forced`], a force
+//! load is a known function of time: the harmonic scene ([`super::harmonic`], a force
 //! `F0 cos(omega t)` on the main mass) and the random and record scenes ([`super::random`], a
 //! load linear between samples). A [`Driven`] motion is the free motion of [`super::linear`]
 //! plus a particular solution of the load; [`DrivenPhase`] moves it through one phase and
@@ -414,7 +414,7 @@ pub(crate) fn polished_extremum(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::forced::motion::Forced;
+    use crate::sim::harmonic::motion::Forced;
 
     /// The root of `v` in `[lo, hi]` (where it changes sign) by bisection on the closed form.
     fn v_root(p: &DrivenPhase<Forced>, mut lo: f64, mut hi: f64) -> f64 {

@@ -19,7 +19,7 @@
 //!   impacts and in the damper.
 //!
 //! That is the free-decay scene. The forced scene (model.md §8, a harmonic force on the main
-//! mass, run to its steady state) lives in [`forced`]; [`Scene`] and [`simulate_scene`] pick
+//! mass, run to its steady state) lives in [`harmonic`]; [`Scene`] and [`simulate_scene`] pick
 //! one, and [`simulate`] is free decay exactly as it always was. The random and record scenes
 //! (model.md §13, a random load per realization or a recorded one) live in [`random`]; the
 //! sweep does not run them yet, so [`Scene`] does not name them.
@@ -33,9 +33,9 @@
 pub(crate) mod dense;
 pub mod dopri5;
 pub(crate) mod driven;
-pub mod driver;
 pub mod exact;
-pub mod forced;
+pub mod free;
+pub mod harmonic;
 pub mod linear;
 pub mod noise;
 pub mod phase;
@@ -46,8 +46,8 @@ use serde::Serialize;
 
 use crate::model::{RangeError, fmt_value};
 
-pub use driver::simulate;
-pub use forced::{Drive, ForcedRecord, Harmonic, simulate_harmonic};
+pub use free::simulate;
+pub use harmonic::{Drive, Harmonic, HarmonicRecord, simulate_harmonic};
 pub use phase::{State, Wall, impact};
 
 /// What a run simulates: the paper's free decay, or steady-state forced vibration (model.md §8).
@@ -57,7 +57,7 @@ pub use phase::{State, Wall, impact};
 pub enum Scene {
     /// Free decay from the initial state (model.md §1–3): [`Record`].
     Free,
-    /// Harmonic force `F0 cos(omega t)` on the main mass, steady state: [`ForcedRecord`].
+    /// Harmonic force `F0 cos(omega t)` on the main mass, steady state: [`HarmonicRecord`].
     Harmonic(Harmonic),
     /// A random or recorded load (model.md §13): [`random::RandomRecord`]. A record's samples
     /// are shared ([`random::Recorded`]), so a clone is cheap.
@@ -92,7 +92,7 @@ impl Scene {
 #[serde(untagged)]
 pub enum SceneRecord {
     Free(Record),
-    Harmonic(ForcedRecord),
+    Harmonic(HarmonicRecord),
     Random(random::RandomRecord),
 }
 

@@ -1,5 +1,5 @@
-//! The one event map every scene uses (free decay, [`super::driver`]; the forced scene,
-//! [`super::forced`]; the random and record scenes, [`super::random`]), and the types the solvers
+//! The one event map every scene uses (free decay, [`super::free`]; the forced scene,
+//! [`super::harmonic`]; the random and record scenes, [`super::random`]), and the types the solvers
 //! share, so that nothing in `sim/` imports in a circle: the solvers ([`super::exact`],
 //! [`super::dense`] with [`super::rk4`] and [`super::dopri5`], [`super::driven`]) import this
 //! module and [`super::linear`] only; the scenes import the solvers.
@@ -56,8 +56,8 @@
 //! frees the pair ([`EventMap::separate`]), at `v = 0` flips the sign of `v`; the scene books
 //! its observables, energies and probes at each step and decides at `x = 0` and at its time
 //! limits when the run ends. The free scene's noise, peaks and horizon
-//! ([`super::driver`]) and the forced scene's sections, window and transient
-//! ([`super::forced`]) stay in their modules.
+//! ([`super::free`]) and the forced scene's sections, window and transient
+//! ([`super::harmonic`]) stay in their modules.
 
 use serde::Serialize;
 
@@ -193,7 +193,7 @@ pub(crate) trait PhaseSolver {
 }
 
 /// The motion of one phase's main mass, as the event map needs it: the free oscillator of free
-/// decay ([`Oscillator`]), the forced one ([`super::forced::motion::Forced`]) or the random
+/// decay ([`Oscillator`]), the forced one ([`super::harmonic::motion::Forced`]) or the random
 /// scene's ([`super::random`]).
 pub(crate) trait Motion: Copy {
     /// The acceleration `x''` at time `t` in state `(x, v)` (m/s^2).

@@ -1,5 +1,5 @@
 //! `RUN_DIR/analysis/`: what each shard of a harmonic study's analysis computed
-//! ([`crate::reduce::forced::analysis`]): `probes-I-of-N.parquet`, `branches-I-of-N.parquet`
+//! ([`crate::reduce::harmonic::analysis`]): `probes-I-of-N.parquet`, `branches-I-of-N.parquet`
 //! and `verification-I-of-N.parquet`, each carrying the study text it was computed for. Intermediate
 //! files: the final `reduce` reads a complete set of them and writes the study's tables.
 

@@ -10,7 +10,7 @@
 //! * free decay ([`Record`], table `points`): `h rtol atol`, `outcome`, the observables
 //!   `x1 t1 x2 t2 xmax di`, the counts `impacts sticks steps` and
 //!   `energy_impact energy_viscous t_stop`;
-//! * the harmonic scene ([`ForcedRecord`], table `forced_points`): the inputs `F0 omega r`,
+//! * the harmonic scene ([`HarmonicRecord`], table `forced_points`): the inputs `F0 omega r`,
 //!   `outcome`, `amplitude impacts_per_period period amplitude_linear attenuation`, the
 //!   transient and window `n_trans converged n_meas`, the window's energies
 //!   `energy_force energy_viscous energy_impact`, the whole run's `impacts sticks steps t_stop`,
@@ -41,9 +41,9 @@ use arrow::datatypes::{DataType, Int8Type, Schema, SchemaRef};
 use super::manifest::{AttractorsEntry, WritingEntry};
 use super::schema::{META_STUDY, META_TABLE, TableKind, column_name};
 use crate::model::{SYSTEM_KEYS, System};
-use crate::sim::forced::Steady;
+use crate::sim::harmonic::Steady;
 use crate::sim::random::RealizationRecord;
-use crate::sim::{ForcedRecord, Outcome, Record, SolverSettings, State};
+use crate::sim::{HarmonicRecord, Outcome, Record, SolverSettings, State};
 
 /// The `f64` observable columns of a [`Record`], in schema order.
 const OBSERVABLES: [&str; 6] = ["x1", "t1", "x2", "t2", "xmax", "di"];
@@ -53,7 +53,7 @@ const ENERGIES: [&str; 3] = ["energy_impact", "energy_viscous", "t_stop"];
 const DICTIONARY: [&str; 2] = ["outcome", "solver"];
 
 /// One stored run, as the reducer reads it back: its identity, its system and its scene's record
-/// (`R` = [`Record`] for free decay, [`ForcedRecord`] for the harmonic scene).
+/// (`R` = [`Record`] for free decay, [`HarmonicRecord`] for the harmonic scene).
 #[derive(Clone, Debug, PartialEq)]
 pub struct RunRow<R = Record> {
     pub point_id: u64,
@@ -434,13 +434,13 @@ impl StoredRecord for Record {
     }
 }
 
-/// The `f64` outputs of a [`ForcedRecord`] after `outcome`, in schema order (then `period`).
+/// The `f64` outputs of a [`HarmonicRecord`] after `outcome`, in schema order (then `period`).
 const FORCED_OUTPUTS: [&str; 2] = ["amplitude", "impacts_per_period"];
-/// The window's energies of a [`ForcedRecord`].
+/// The window's energies of a [`HarmonicRecord`].
 const FORCED_ENERGIES: [&str; 3] = ["energy_force", "energy_viscous", "energy_impact"];
 
-impl StoredRecord for ForcedRecord {
-    const TABLE: TableKind = TableKind::ForcedPoints;
+impl StoredRecord for HarmonicRecord {
+    const TABLE: TableKind = TableKind::HarmonicPoints;
 
     fn outcome(&self) -> Outcome {
         self.outcome
@@ -544,7 +544,7 @@ impl StoredRecord for ForcedRecord {
         let nan = f64::NAN;
         let mut out = Vec::with_capacity(batch.num_rows());
         for (i, outcome) in outcome.into_iter().enumerate() {
-            out.push(ForcedRecord {
+            out.push(HarmonicRecord {
                 steady: steady.as_ref().map_or(Steady::NONE, |st| st(i)),
                 outcome,
                 F0: f0.value(i),
@@ -671,8 +671,8 @@ pub fn read_ids_outcomes(path: &Path) -> Result<(Vec<u64>, BTreeMap<String, u64>
     }
     let meta = part_metadata(path)?;
     let table = meta.get(META_TABLE).map(String::as_str);
-    Ok(if table == Some(TableKind::ForcedPoints.name()) {
-        of(read_rows::<ForcedRecord>(path)?)
+    Ok(if table == Some(TableKind::HarmonicPoints.name()) {
+        of(read_rows::<HarmonicRecord>(path)?)
     } else if table == Some(TableKind::RandomPoints.name()) {
         of(read_rows::<RealizationRecord>(path)?)
     } else {

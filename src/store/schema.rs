@@ -93,7 +93,7 @@ pub enum TableKind {
     /// `points/part-NNNNNN.parquet`: one row per run of a free-decay study.
     Points,
     /// `points/part-NNNNNN.parquet`: one row per run of a harmonic (forced) study.
-    ForcedPoints,
+    HarmonicPoints,
     /// `points/part-NNNNNN.parquet`: one row per realization of a random or record study.
     RandomPoints,
     /// `summary.parquet`, `summary.csv`: one row per design point.
@@ -130,7 +130,7 @@ pub enum TableKind {
 impl TableKind {
     pub const ALL: [TableKind; 14] = [
         TableKind::Points,
-        TableKind::ForcedPoints,
+        TableKind::HarmonicPoints,
         TableKind::RandomPoints,
         TableKind::Summary,
         TableKind::Zones,
@@ -149,7 +149,7 @@ impl TableKind {
     pub fn name(self) -> &'static str {
         match self {
             TableKind::Points => "points",
-            TableKind::ForcedPoints => "forced_points",
+            TableKind::HarmonicPoints => "forced_points",
             TableKind::RandomPoints => "random_points",
             TableKind::Summary => "summary",
             TableKind::Zones => "zones",
@@ -182,7 +182,7 @@ pub const UNIT_OF_SIZE: &str = "[size_unit]";
 pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
     if matches!(
         table,
-        TableKind::Points | TableKind::ForcedPoints | TableKind::RandomPoints
+        TableKind::Points | TableKind::HarmonicPoints | TableKind::RandomPoints
     ) && let Some(key) = system_key(column)
     {
         return system_unit(key);
@@ -197,7 +197,7 @@ pub fn unit(table: TableKind, column: &str) -> Option<&'static str> {
     }
     match table {
         TableKind::Points => points_unit(column),
-        TableKind::ForcedPoints => forced_points_unit(column),
+        TableKind::HarmonicPoints => forced_points_unit(column),
         TableKind::RandomPoints => random_points_unit(column),
         TableKind::Summary => summary_unit(column),
         TableKind::Zones => {
@@ -326,7 +326,7 @@ fn random_points_unit(column: &str) -> Option<&'static str> {
 }
 
 /// The attractors table (the sweep's parts, store/attractors.rs) and the branches table of a
-/// harmonic study (reduce/forced/steady.rs).
+/// harmonic study (reduce/harmonic/steady.rs).
 fn orbits_unit(column: &str) -> Option<&'static str> {
     Some(match column {
         "point_id" | "point" | "case" | "ideal" | "branch" | "attractor" | "kind" | "stable"
@@ -362,7 +362,7 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "safety_factor" | "ad_stat" | "ad_p" => "1",
         "di" | "di_ideal" | "di_sd" => "m/s",
         "perfectibility" => "%",
-        // A harmonic study (reduce/forced/design.rs): the peak amplitude over the band is the
+        // A harmonic study (reduce/harmonic/design.rs): the peak amplitude over the band is the
         // response, the peak reduction the damping quantity; the band of the ideal case.
         "peak_amplitude_mean"
         | "peak_amplitude_sd"

@@ -300,7 +300,7 @@ pub fn write_csv_in_batches(
 
 /// Reads a Parquet file of the reducer's kind of table back into a [`Table`] (Float64, UInt64,
 /// Boolean and Utf8 columns, in file order): what an analysis shard wrote
-/// ([`crate::reduce::forced::analysis`]).
+/// ([`crate::reduce::harmonic::analysis`]).
 pub fn read_table(path: &Path) -> Result<Table> {
     use arrow::array::Array;
     let builder = super::open(path)?;

@@ -19,7 +19,7 @@ use crate::accuracy::Audit;
 use crate::error::InputError;
 use crate::plan::Plan;
 use crate::sim::random::RealizationRecord;
-use crate::sim::{ForcedRecord, Record, Scene};
+use crate::sim::{HarmonicRecord, Record, Scene};
 use crate::store::{self, Checksum, ChunkEntry, Manifest, RunRow, StoredRecord};
 use crate::study::{Study, whole_curves};
 
@@ -210,7 +210,7 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
                 write_chunks::<Record>(&plan, &dir, &pending, opts, algorithm, &mut journal)
             }
             Scene::Harmonic(_) => {
-                write_chunks::<ForcedRecord>(&plan, &dir, &pending, opts, algorithm, &mut journal)
+                write_chunks::<HarmonicRecord>(&plan, &dir, &pending, opts, algorithm, &mut journal)
             }
             Scene::Random(_) => write_chunks::<RealizationRecord>(
                 &plan,

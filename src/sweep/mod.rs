@@ -15,7 +15,7 @@
 //!   depend on the thread count, the shard split, or an interruption.
 //!
 //! The records are the study's scene's ([`SceneRun`]): free-decay [`crate::sim::Record`]s,
-//! harmonic [`crate::sim::ForcedRecord`]s or a random study's
+//! harmonic [`crate::sim::HarmonicRecord`]s or a random study's
 //! [`crate::sim::random::RealizationRecord`]s, each scene with its own points table.
 //!
 //! # The run directory `OUT/<name>/`

@@ -13,11 +13,11 @@ use crate::orbits::curve::{CurveFrequency, curve_census, fill_steady, from_rest}
 use crate::orbits::forced_run;
 use crate::orbits::race::Serves;
 use crate::plan::{Plan, RunSpec};
-use crate::sim::{ForcedRecord, Harmonic, NoProbe, Record, Scene, simulate};
+use crate::sim::{Harmonic, HarmonicRecord, NoProbe, Record, Scene, simulate};
 use crate::store::{RunRow, StoredRecord};
 
 /// A scene's record as the engine simulates and stores it: [`Record`] for free decay,
-/// [`ForcedRecord`] for the harmonic scene. The engine picks it from the study's scene.
+/// [`HarmonicRecord`] for the harmonic scene. The engine picks it from the study's scene.
 pub trait SceneRun: StoredRecord + Send + Sync {
     /// Simulates one run of the plan.
     fn simulate(plan: &Plan, run: &RunSpec) -> Self;
@@ -45,7 +45,7 @@ impl SceneRun for Record {
     }
 }
 
-impl SceneRun for ForcedRecord {
+impl SceneRun for HarmonicRecord {
     fn simulate(plan: &Plan, run: &RunSpec) -> Self {
         simulate_forced_run(plan, run)
     }
@@ -71,7 +71,7 @@ impl SceneRun for ForcedRecord {
                     .map(move |cases| (design, cases))
             })
             .collect();
-        let done: Vec<(Vec<RunRow<ForcedRecord>>, Vec<AttractorRow>)> = tasks
+        let done: Vec<(Vec<RunRow<HarmonicRecord>>, Vec<AttractorRow>)> = tasks
             .into_par_iter()
             .map(|(design, cases)| {
                 let out = simulate_curve(plan, design, &cases);
@@ -125,7 +125,7 @@ pub fn simulate_curve(
     plan: &Plan,
     design: u64,
     cases: &[u32],
-) -> (Vec<RunRow<ForcedRecord>>, Vec<AttractorRow>) {
+) -> (Vec<RunRow<HarmonicRecord>>, Vec<AttractorRow>) {
     let study = plan.study;
     let n_f = study.curve_points();
     let mut censuses = None;
@@ -206,7 +206,7 @@ pub fn simulate_run(plan: &Plan, run: &RunSpec) -> Record {
 /// `F0`, `omega` or `r`; the default harmonic scene if the study is a free-decay one), the study's
 /// solver, the run's noise stream when its case has noise. The study has validated the scene
 /// for every run ([`Harmonic::validate`]).
-pub fn simulate_forced_run(plan: &Plan, run: &RunSpec) -> ForcedRecord {
+pub fn simulate_forced_run(plan: &Plan, run: &RunSpec) -> HarmonicRecord {
     let study = plan.study;
     let scene = match run.scene {
         Scene::Harmonic(h) => h,

@@ -11,7 +11,7 @@ use crate::orbits::shoot::{
 };
 use crate::sim::Outcome;
 use crate::sim::noise::mix64;
-use crate::sim::{Drive, ForcedRecord, Harmonic, NoProbe, Request, simulate_harmonic};
+use crate::sim::{Drive, Harmonic, HarmonicRecord, NoProbe, Request, simulate_harmonic};
 
 /// Longest period looked for.
 pub(super) const MAX_PERIOD: usize = 8;
@@ -171,7 +171,7 @@ pub(super) fn conclude(
 /// life measured for it.)
 pub(super) fn land(
     f: &Forcing,
-    rec: &ForcedRecord,
+    rec: &HarmonicRecord,
     s: &Section,
     c: &CensusSettings,
     newton: &Newton,
@@ -348,7 +348,7 @@ pub(super) fn transient(
     s: &Section,
     c: &CensusSettings,
     max: u64,
-) -> (ForcedRecord, u64) {
+) -> (HarmonicRecord, u64) {
     let scene = Harmonic {
         F0: f.F0,
         drive: Drive::Omega(f.omega),
@@ -373,6 +373,6 @@ pub(super) fn transient(
     (rec, periods)
 }
 
-pub(super) fn section_of(rec: &ForcedRecord) -> Section {
+pub(super) fn section_of(rec: &HarmonicRecord) -> Section {
     [rec.end.x, rec.end.v, rec.end.y - rec.end.x, rec.end.w]
 }

@@ -55,7 +55,7 @@ pub mod subset;
 
 use rayon::prelude::*;
 
-use crate::reduce::core::{
+use crate::reduce::common::{
     Damping, IdealCase, Options, PointStats, Reducer, Response, Run, Summary,
 };
 use crate::sim::random::IntensitySpec;
@@ -762,7 +762,7 @@ pub fn beta_of(p: f64) -> f64 {
     if p.is_nan() {
         f64::NAN
     } else {
-        -crate::reduce::core::stats::phi_inv(p)
+        -crate::reduce::common::stats::phi_inv(p)
     }
 }
 
@@ -772,7 +772,7 @@ fn mc_cov(p: f64, n: u64) -> f64 {
 }
 
 /// The length of each axis of a grid.
-fn lens(grid: &crate::reduce::core::Grid) -> Vec<usize> {
+fn lens(grid: &crate::reduce::common::Grid) -> Vec<usize> {
     (0..grid.n_axes()).map(|a| grid.n(a)).collect()
 }
 

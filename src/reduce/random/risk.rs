@@ -27,7 +27,7 @@ use crate::stats::hazard::{
 };
 
 use super::{PointPf, RandomSummary};
-use crate::reduce::core::PointStats;
+use crate::reduce::common::PointStats;
 use crate::store::table::{Column, Table};
 
 /// One stripe of a design: its intensity (g), the Monte Carlo estimate at it, and both curves
@@ -336,7 +336,7 @@ pub fn summary_columns(t: &mut Table, rs: &RandomSummary, rows: &[&PointStats]) 
 /// `record` (the record's file name, from `suite`), `capacity` (g), `censored`, `resurrected`,
 /// `runs`.
 pub fn capacities_table(
-    grid: &crate::reduce::core::Grid,
+    grid: &crate::reduce::common::Grid,
     rs: &RandomSummary,
     suite: &[&str],
 ) -> Table {

@@ -5,7 +5,7 @@
 //!   running sum, in case order: the same bits as over the point's rows held together.
 //! * The core's statistics of the point at the design intensity ([`PointRuns`]): while the
 //!   point's realizations fit the budget ([`EXACT_BUDGET`], 131,072) their [`Run`]s are kept
-//!   and the core reduces them exactly ([`crate::reduce::core::Reducer::point_stats`]); beyond
+//!   and the core reduces them exactly ([`crate::reduce::common::Reducer::point_stats`]); beyond
 //!   it they stream ([`Streamed`]):
 //!   - the response's mean as the running sum over `n` (the same bits as exact), its SD (and
 //!     the third and fourth central moments) by the one-pass update of Pébay (2008, *Formulas
@@ -26,8 +26,8 @@
 //! chunked, sharded or resumed, nor on the thread count.
 
 use super::sketch::Sketch;
-use crate::reduce::core::stats::{self, LogNormal};
-use crate::reduce::core::{
+use crate::reduce::common::stats::{self, LogNormal};
+use crate::reduce::common::{
     Class, Options, PointStats, Reducer, ResponseStats, Run, outcome_index, regions,
 };
 use crate::sim::Outcome;

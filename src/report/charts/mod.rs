@@ -4,21 +4,21 @@
 //! Sans, embedded in the binary and registered once as `sans-serif`.
 //!
 //! One axis (the paper's figures):
-//! * `di` — DI against the axis (Figure 4), the located jumps marked ([`self::core::di`]);
-//! * `design_chart` — R with its interval, μn and DI by zone (Figure 6, [`self::core::design`]);
-//! * `xmax_spread` — the response over the cases of each design point ([`self::core::spread`]).
+//! * `di` — DI against the axis (Figure 4), the located jumps marked ([`self::common::di`]);
+//! * `design_chart` — R with its interval, μn and DI by zone (Figure 6, [`self::common::design`]);
+//! * `xmax_spread` — the response over the cases of each design point ([`self::common::spread`]).
 //!
 //! Two or more axes, through the recommended design (the best design when none is robust):
 //! * `design_chart_<axis>` and `xmax_spread_<axis>` along every axis, the others fixed;
 //! * `perfectibility_map_<a>_<b>` and `zone_map_<a>_<b>` over every pair of axes, the others
-//!   fixed ([`self::core::map`]);
+//!   fixed ([`self::common::map`]);
 //! * with three axes, `zone_maps_<c>`: zone maps of the last two axes at several values of the
-//!   first, as small multiples ([`self::core::multiples`]).
+//!   first, as small multiples ([`self::common::multiples`]).
 //!
-//! Those are the [`self::core`]'s summary charts ([`summary_charts`]), drawn for every scene. In a
+//! Those are the [`self::common`]'s summary charts ([`summary_charts`]), drawn for every scene. In a
 //! harmonic study the design points are designs (a design point without its frequency), the
 //! response is the peak amplitude over the band (`peak_amplitude_spread`) and DI's place is
-//! taken by the peak reduction (`peak_reduction`); the scene's own charts are in [`forced`]
+//! taken by the peak reduction (`peak_reduction`); the scene's own charts are in [`harmonic`]
 //! (the frequency-response curves, the impacts per period and period against the frequency,
 //! the steady states, the bifurcation diagram and the design maps).
 //!
@@ -32,16 +32,16 @@
 //! And [`free`], the free-decay scene's waveforms (the paper's Figures 2 and 5), [`tradeoff`]
 //! (the solver chart of `tradeoff`). [`plumbing`] holds what they share.
 
-pub mod core;
-pub mod forced;
+pub mod common;
 pub mod free;
+pub mod harmonic;
 pub mod plumbing;
 pub mod random;
 pub mod risk;
 pub mod seismic;
 pub mod tradeoff;
 
-pub use self::core::{load_charts, summary_charts};
+pub use self::common::{load_charts, summary_charts};
 pub use crate::report::text::{axis_unit, fmt_num};
 pub use free::{Trace, waveforms};
 pub use plumbing::{Data, Profile, register_fonts};

@@ -138,7 +138,7 @@ pub enum Data<'a> {
 impl Data<'_> {
     /// Writes the data as CSV, a batch of rows at a time.
     fn write(&self, path: &Path) -> anyhow::Result<()> {
-        use crate::reduce::core::tables::summary_rows;
+        use crate::reduce::common::tables::summary_rows;
         use crate::store::summary::write_csv_in_batches;
         use crate::store::table::axis_column;
         match self {

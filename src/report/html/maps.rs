@@ -10,7 +10,7 @@ use std::fmt::Write;
 use super::hover::{data, hex, title_element};
 use super::markdown::esc;
 use crate::reduce::PointStats;
-use crate::report::charts::core::map::{MapChart, MapKind};
+use crate::report::charts::common::map::{MapChart, MapKind};
 use crate::report::charts::plumbing::{heat, minmax, zone_color};
 use crate::report::markdown::f;
 use crate::report::text::{axis_desc, fmt_num};

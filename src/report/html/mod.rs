@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 use crate::reduce::Summary;
-use crate::report::charts::core::map::{MapChart, MapKind};
+use crate::report::charts::common::map::{MapChart, MapKind};
 use crate::report::charts::plumbing::Profile;
 use crate::store::table::axis_column;
 use markdown::esc;

@@ -7,8 +7,8 @@
 //! enough), then the zones, the jumps, the sensitivity, the ranking, the nominal design's
 //! cases, the outcomes, normality, how it was computed, the accuracy audit and the charts.
 
-mod core;
-pub mod forced;
+mod common;
+pub mod harmonic;
 pub mod random;
 pub mod seismic;
 mod words;
@@ -33,7 +33,7 @@ pub fn report(
 }
 
 /// [`report`] with what the study's scene adds ([`SceneText`]: the harmonic scene's frequency
-/// response after the recommendation, [`forced::scene_text`]).
+/// response after the recommendation, [`harmonic::scene_text`]).
 pub fn report_with(
     study: &Study,
     s: &Summary,
@@ -41,7 +41,9 @@ pub fn report_with(
     audit: Option<&crate::accuracy::Audit>,
     scene: &SceneText,
 ) -> String {
-    use self::core::{audit, cases, jumps, ranking, recommendation, sensitivity, settings, zones};
+    use self::common::{
+        audit, cases, jumps, ranking, recommendation, sensitivity, settings, zones,
+    };
     let mut o = format!("# impactsweep report: {}\n\n", study.name);
     o += &cases::overview(study, s, scene);
     o += &scene.head;

@@ -10,7 +10,7 @@ pub const MAX_ROWS: usize = 30;
 
 /// What a scene adds to the report, and how the core's sections word it for that scene. The
 /// default is the free-decay scene's: no section of its own, design points, cases per point,
-/// no motion that is not periodic. The harmonic scene's is [`super::forced::scene_text`].
+/// no motion that is not periodic. The harmonic scene's is [`super::harmonic::scene_text`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneText {
     /// The scene's own section, after the recommendation.
