@@ -60,6 +60,8 @@ fn structure(m: f64) -> System {
         v0: 0.0,
         y0: 0.0,
         w0: 0.0,
+        units: 1.0,
+        d_spread: 0.0,
     }
 }
 
@@ -177,6 +179,8 @@ fn seismic_structure(m: f64, d: f64) -> System {
         v0: 0.0,
         y0: 0.0,
         w0: 0.0,
+        units: 1.0,
+        d_spread: 0.0,
     }
 }
 

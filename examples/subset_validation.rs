@@ -235,6 +235,8 @@ fn simulator() -> RandomRun {
         v0: 0.0,
         y0: 0.0,
         w0: 0.0,
+        units: 1.0,
+        d_spread: 0.0,
     };
     let scene = RandomScene {
         input: Input::Base,

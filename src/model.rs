@@ -31,10 +31,56 @@ pub struct System {
     pub y0: f64,
     /// Initial velocity of the inner mass `w0` (m/s). Table I: 0.
     pub w0: f64,
+    /// Number of damper units `units` (model.md §14), a whole number in `[1, 64]`; default 1,
+    /// the paper's single unit. `N` units share the inner mass `m` equally (`m / N` each), all
+    /// with restitution `e`, the initial state `(y0, w0)` and the clearances of
+    /// [`System::unit_list`]; each sits in its own cavity and they meet only through the main
+    /// mass. A float so that it sweeps like every other key.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub units: f64,
+    /// Spread of the units' clearances `d_spread`, in `[0, 1)`; default 0 (all equal to `d`).
+    /// With `N > 1` units, unit `i` has `d_i = d (1 + d_spread (2 i / (N - 1) - 1))`: evenly
+    /// spaced over `d (1 ± d_spread)`, so that the units engage at different amplitudes.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub d_spread: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn is_one(v: &f64) -> bool {
+    *v == 1.0
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
+/// One damper unit of a [`System`] (model.md §14): a loose mass in its own cavity.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Unit {
+    /// Its mass (kg), `>= 0`.
+    pub m: f64,
+    /// Its cavity's total clearance (m), `> 0`; walls at `y - x = ±d/2`.
+    pub d: f64,
+    /// Its coefficient of restitution, in `[0, 1]`.
+    pub e: f64,
+    /// Its initial displacement (m) and velocity (m/s).
+    pub y0: f64,
+    pub w0: f64,
 }
 
 /// The names of the system keys, in the order used by tables and Parquet columns.
 pub const SYSTEM_KEYS: [&str; 10] = ["M", "m", "K", "C", "d", "e", "x0", "v0", "y0", "w0"];
+
+/// The keys that split the inner mass over several units (model.md §14), beside
+/// [`SYSTEM_KEYS`]: a study that leaves them at their defaults (one unit) has exactly the
+/// columns and records of a study written before they existed.
+pub const UNIT_KEYS: [&str; 2] = ["units", "d_spread"];
+
+/// The most units a system may carry.
+pub const MAX_UNITS: f64 = 64.0;
 
 /// A value outside its allowed range: names the key, the value and what is allowed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -85,6 +131,8 @@ impl System {
         v0: 2.0,
         y0: 0.0,
         w0: 0.0,
+        units: 1.0,
+        d_spread: 0.0,
     };
 
     /// Reads a key by its model.md name.
@@ -100,6 +148,8 @@ impl System {
             "v0" => self.v0,
             "y0" => self.y0,
             "w0" => self.w0,
+            "units" => self.units,
+            "d_spread" => self.d_spread,
             _ => return None,
         })
     }
@@ -118,6 +168,8 @@ impl System {
             "v0" => &mut self.v0,
             "y0" => &mut self.y0,
             "w0" => &mut self.w0,
+            "units" => &mut self.units,
+            "d_spread" => &mut self.d_spread,
             _ => return false,
         };
         *slot = value;
@@ -146,6 +198,8 @@ impl System {
             "d" => "the clearance must be a finite number > 0 (m)",
             "e" => "the coefficient of restitution must be in [0, 1]",
             "x0" | "v0" | "y0" | "w0" => "the initial state must be finite (SI units)",
+            "units" => "the number of units must be a whole number in [1, 64]",
+            "d_spread" => "the clearance spread must be in [0, 1)",
             _ => "unknown key",
         }
     }
@@ -196,7 +250,32 @@ impl System {
                 return Err(RangeError::new(key, v, what));
             }
         }
+        let n = self.units;
+        if !(n.is_finite() && n.fract() == 0.0 && (1.0..=MAX_UNITS).contains(&n)) {
+            return Err(RangeError::new("units", n, Self::allowed("units")));
+        }
+        if !(0.0..1.0).contains(&self.d_spread) {
+            return Err(RangeError::new(
+                "d_spread",
+                self.d_spread,
+                Self::allowed("d_spread"),
+            ));
+        }
         let gap = (self.y0 - self.x0).abs();
+        let d_min = self.unit_list().iter().map(|u| u.d).fold(self.d, f64::min);
+        if gap > 0.5 * d_min && d_min < self.d {
+            return Err(RangeError::new(
+                "y0",
+                self.y0,
+                format!(
+                    "every unit must start inside its cavity: |y0 - x0| = {} exceeds the \
+                     smallest unit's d/2 = {} (d_spread = {})",
+                    fmt_value(gap),
+                    fmt_value(0.5 * d_min),
+                    fmt_value(self.d_spread)
+                ),
+            ));
+        }
         if gap > 0.5 * self.d {
             return Err(RangeError::new(
                 "y0",
@@ -209,6 +288,34 @@ impl System {
             ));
         }
         Ok(())
+    }
+
+    /// The number of units, `units` as a count.
+    pub fn unit_count(&self) -> usize {
+        self.units as usize
+    }
+
+    /// The units (model.md §14): `N = units` equal shares `m / N` of the inner mass, each with
+    /// `e`, `(y0, w0)` and the clearance `d_i = d (1 + d_spread (2 i / (N - 1) - 1))` (`d` for
+    /// one unit). One unit is the paper's system: `m`, `d`, `e`, `y0`, `w0` as given.
+    pub fn unit_list(&self) -> Vec<Unit> {
+        let n = self.unit_count().max(1);
+        (0..n)
+            .map(|i| {
+                let d = if n == 1 || self.d_spread == 0.0 {
+                    self.d
+                } else {
+                    self.d * (1.0 + self.d_spread * (2.0 * i as f64 / (n - 1) as f64 - 1.0))
+                };
+                Unit {
+                    m: if n == 1 { self.m } else { self.m / n as f64 },
+                    d,
+                    e: self.e,
+                    y0: self.y0,
+                    w0: self.w0,
+                }
+            })
+            .collect()
     }
 
     /// Undamped natural angular frequency of the main mass alone, `sqrt(K/M)` (rad/s).

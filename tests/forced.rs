@@ -536,6 +536,8 @@ fn forced_case() -> impl Strategy<Value = (System, Harmonic)> {
                 v0,
                 y0: 0.0,
                 w0: 0.0,
+                units: 1.0,
+                d_spread: 0.0,
             };
             let h = Harmonic {
                 n_trans: Some(30),

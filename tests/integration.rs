@@ -90,3 +90,5 @@ mod study_fuzz;
 mod subset;
 #[path = "sweep.rs"]
 mod sweep;
+#[path = "units.rs"]
+mod units;

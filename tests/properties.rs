@@ -61,6 +61,8 @@ fn system() -> impl Strategy<Value = System> {
                 v0,
                 y0: x0 + z0 * d,
                 w0,
+                units: 1.0,
+                d_spread: 0.0,
             }
         })
 }

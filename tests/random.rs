@@ -29,6 +29,8 @@ fn structure(m: f64, d: f64) -> System {
         v0: 0.0,
         y0: 0.0,
         w0: 0.0,
+        units: 1.0,
+        d_spread: 0.0,
     }
 }
 

@@ -150,7 +150,15 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "unknown_key.toml",
-        "unknown_key.toml: [system].mass = 0.1: unknown key 'mass'; allowed keys: M, m, K, C, d, e, x0, v0, y0, w0",
+        "unknown_key.toml: [system].mass = 0.1: unknown key 'mass'; allowed keys: M, m, K, C, d, e, x0, v0, y0, w0, units, d_spread",
+    ),
+    (
+        "units_in_study.toml",
+        "units_in_study.toml: [system].units = 3: several units run in `impactsweep simulate --set units=N` and in the library; a study's tables have no column for them yet, so a study allows only units = 1 and d_spread = 0",
+    ),
+    (
+        "units_swept.toml",
+        "units_swept.toml: [sweep].d_spread = [0.1, 0.2]: several units run in `impactsweep simulate --set units=N` and in the library; a study's tables have no column for them yet, so a study allows only units = 1 and d_spread = 0",
     ),
     (
         "unknown_key_in_case.toml",

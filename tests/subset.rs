@@ -135,6 +135,8 @@ fn first_passage_of_the_linear_structure_against_monte_carlo() {
         v0: 0.0,
         y0: 0.0,
         w0: 0.0,
+        units: 1.0,
+        d_spread: 0.0,
     };
     let scene = RandomScene {
         input: Input::Base,

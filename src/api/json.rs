@@ -1,7 +1,7 @@
 //! What every record's JSON carries besides its scene's fields (`simulate --json`, the Python
 //! binding): the system and the solver settings.
 
-use crate::model::{SYSTEM_KEYS, System};
+use crate::model::{SYSTEM_KEYS, System, UNIT_KEYS};
 use crate::sim::SolverSettings;
 
 /// `system` (its keys, SI units, NaN as null) and `solver` into a record's JSON `map`.
@@ -14,6 +14,12 @@ pub fn insert_system(
     let mut system = serde_json::Map::new();
     for k in SYSTEM_KEYS {
         system.insert(k.into(), num(sys.get(k).unwrap_or(f64::NAN)));
+    }
+    // Several units only when there are (one unit's JSON is as it always was).
+    if sys.unit_count() > 1 {
+        for k in UNIT_KEYS {
+            system.insert(k.into(), num(sys.get(k).unwrap_or(f64::NAN)));
+        }
     }
     map.insert("system".into(), system.into());
     map.insert(

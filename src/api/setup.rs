@@ -5,7 +5,7 @@
 
 use super::realization::{self, RandomSetup};
 use crate::error::InputError;
-use crate::model::{SYSTEM_KEYS, System};
+use crate::model::{SYSTEM_KEYS, System, UNIT_KEYS};
 use crate::sim::{
     self, Drive, Harmonic, HarmonicRecord, Probe, Record, Request, Scene, SceneRecord, SolverKind,
     SolverSettings, State,
@@ -40,6 +40,7 @@ impl Default for Setup {
 
 fn all_keys() -> String {
     let mut keys: Vec<&str> = SYSTEM_KEYS.to_vec();
+    keys.extend(UNIT_KEYS);
     keys.extend(SolverSettings::KEYS);
     keys.push("t_end");
     keys.push("scene");
@@ -127,6 +128,7 @@ impl Setup {
                 continue;
             }
             let known = SYSTEM_KEYS.contains(&key)
+                || UNIT_KEYS.contains(&key)
                 || SolverSettings::KEYS.contains(&key)
                 || Harmonic::KEYS.contains(&key)
                 || key == "t_end";
@@ -244,6 +246,13 @@ impl Setup {
         self.system.validate().map_err(wrap)?;
         self.solver.validate().map_err(wrap)?;
         self.request.validate().map_err(wrap)?;
+        if self.system.unit_count() > 1 && matches!(self.scene, Scene::Random(_)) {
+            return Err(InputError::new(format!(
+                "--set units={}: several units run in the free and harmonic scenes; the random \
+                 and record scenes take one unit (units = 1) for now",
+                crate::model::fmt_value(self.system.units)
+            )));
+        }
         if let Scene::Harmonic(h) = &self.scene {
             h.validate(&self.system).map_err(wrap)?;
             if self.solver.kind != SolverKind::Exact {

@@ -56,6 +56,22 @@ fn system_line(s: &System) -> String {
         fmt_value(s.C),
         fmt_value(s.d),
         fmt_value(s.e)
+    ) + &units_line(s)
+}
+
+/// With several units: how the inner mass is split and each unit's clearance.
+fn units_line(s: &System) -> String {
+    if s.unit_count() < 2 {
+        return String::new();
+    }
+    let d: Vec<String> = s.unit_list().iter().map(|u| fmt_value(u.d)).collect();
+    format!(
+        "units    {} of m/{} = {} kg each, d_spread = {}: d = {} m\n",
+        s.unit_count(),
+        s.unit_count(),
+        fmt_value(s.m / s.units),
+        fmt_value(s.d_spread),
+        d.join(", ")
     )
 }
 
@@ -180,8 +196,15 @@ pub fn record_text(setup: &Setup, rec: &Record) -> String {
         }
     ));
     out.push_str(&format!(
-        "impacts  {} ({} sticking phases)\n",
-        rec.impacts, rec.sticks
+        "impacts  {} ({} sticking phases){}\n",
+        rec.impacts,
+        rec.sticks,
+        if rec.unit_impacts.is_empty() {
+            String::new()
+        } else {
+            let each: Vec<String> = rec.unit_impacts.iter().map(u64::to_string).collect();
+            format!("; by unit {}", each.join(", "))
+        }
     ));
     out.push_str(&format!(
         "energy   {:.4e} J lost in impacts, {:.4e} J in the damper (of {:.4e} J)\n",

@@ -272,7 +272,7 @@ fn interpolants(o: &Oscillator, x: f64, v: f64, st: &Step) -> (Poly, Poly) {
 }
 
 /// A one-step integrator of the oscillator's `(x, v)` ODE.
-pub(crate) trait Integrator {
+pub(crate) trait Integrator: Clone {
     /// A new phase starts (the oscillator or the state changed discontinuously).
     fn reset(&mut self, osc: &Oscillator);
     /// One accepted step from `(x, v)` of length at most `h_max`. Every attempted step counts
@@ -295,6 +295,7 @@ pub(crate) trait Integrator {
 
 /// A [`PhaseSolver`] from any [`Integrator`]: steps, then looks for the first watched event on
 /// each step's interpolant.
+#[derive(Clone)]
 pub(crate) struct Stepping<I: Integrator> {
     pub(crate) inner: I,
     osc: Oscillator,
@@ -388,6 +389,10 @@ impl<I: Integrator> PhaseSolver for Stepping<I> {
 
     fn steps(&self) -> u64 {
         self.steps
+    }
+
+    fn add_steps(&mut self, n: u64) {
+        self.steps += n;
     }
 
     fn next_event(&mut self, w: &Watch) -> Result<Event, StepCap> {

@@ -102,6 +102,7 @@ fn stages(o: &Oscillator, y: Y, k1: Y, h: f64) -> (Y, [Y; 7]) {
 }
 
 /// The adaptive Dormand–Prince 5(4) integrator.
+#[derive(Clone)]
 pub(crate) struct Dopri5 {
     rtol: f64,
     atol: f64,

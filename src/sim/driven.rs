@@ -77,6 +77,7 @@ pub(crate) trait Driven: Motion {
 }
 
 /// One smooth phase of a driven main mass (free, or the stuck pair), in closed form.
+#[derive(Clone)]
 pub(crate) struct DrivenPhase<F: Driven> {
     f: F,
     t0: f64,
@@ -160,6 +161,10 @@ impl<F: Driven> PhaseSolver for DrivenPhase<F> {
 
     fn steps(&self) -> u64 {
         self.steps
+    }
+
+    fn add_steps(&mut self, n: u64) {
+        self.steps += n;
     }
 
     fn next_event(&mut self, w: &Watch) -> Result<Event, StepCap> {

@@ -223,6 +223,7 @@ struct Base {
 }
 
 /// One smooth phase of the main mass (free, or the stuck pair) solved in closed form.
+#[derive(Clone)]
 pub(crate) struct ExactPhase {
     osc: Oscillator,
     shape: Shape,
@@ -887,6 +888,10 @@ impl PhaseSolver for ExactPhase {
 
     fn steps(&self) -> u64 {
         self.steps
+    }
+
+    fn add_steps(&mut self, n: u64) {
+        self.steps += n;
     }
 
     fn closed_form(&self) -> Option<(Oscillator, f64, f64, f64)> {

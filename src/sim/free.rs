@@ -87,6 +87,7 @@ impl<'a, P: Probe> Run<'a, P> {
         // The sign x has, or is about to have, at t = 0.
         let x_side = side_of(sys.x0, sys.v0, free.accel(sys.x0, sys.v0));
         map.v_side = side_of(sys.v0, free.accel(sys.x0, sys.v0), 0.0);
+        let energy = map.energy();
         Run {
             map,
             req,
@@ -96,7 +97,7 @@ impl<'a, P: Probe> Run<'a, P> {
             peaks: Vec::with_capacity(req.peaks),
             running: (x_side > 0.0).then_some((sys.x0, 0.0)),
             x_side,
-            energy: sys.energy(sys.x0, sys.v0, sys.w0),
+            energy,
             energy_impact: 0.0,
             energy_viscous: 0.0,
             next_trace: 0,
@@ -196,8 +197,13 @@ impl<'a, P: Probe> Run<'a, P> {
         if !due(k) {
             return;
         }
-        let slot = usize::from(matches!(self.map.phase, Phase::Stuck(_)));
-        let prop = *self.prop[slot].get_or_insert_with(|| osc.propagator(ts));
+        // With several units the mass carried varies: the propagator is the phase's own.
+        let prop = if self.map.several() {
+            osc.propagator(ts)
+        } else {
+            let slot = usize::from(matches!(self.map.phase, Phase::Stuck(_)));
+            *self.prop[slot].get_or_insert_with(|| osc.propagator(ts))
+        };
         let (mut x, mut v) = (0.0, 0.0);
         let mut i = 0u32;
         while due(k) {
@@ -224,7 +230,12 @@ impl<'a, P: Probe> Run<'a, P> {
 
     /// Books the drop of energy to the state `s` as impact loss (never a gain).
     fn book_impact_loss(&mut self, s: &State) {
-        let e = self.map.sys.energy(s.x, s.v, s.w);
+        let e = if self.map.several() {
+            // The map is at `s` already; every unit's kinetic energy counts.
+            self.map.energy()
+        } else {
+            self.map.sys.energy(s.x, s.v, s.w)
+        };
         self.energy_impact += (self.energy - e).max(0.0);
         self.energy = e.min(self.energy);
     }
@@ -249,6 +260,7 @@ impl<'a, P: Probe> Run<'a, P> {
             peaks: self.peaks,
             impacts: self.map.impacts,
             sticks: self.map.sticks,
+            unit_impacts: self.map.units.iter().map(|u| u.impacts).collect(),
             energy_impact: self.energy_impact,
             energy_viscous: self.energy_viscous,
             t_stop: self.map.t,
@@ -289,8 +301,7 @@ impl<'a, P: Probe, S: PhaseSolver<Motion = Oscillator>> SceneEvents<'a, S> for R
 
     /// Books the viscous loss of the piece just travelled.
     fn synced(&mut self, _solver: &S) {
-        let s = self.map.s;
-        let e = self.map.sys.energy(s.x, s.v, s.w);
+        let e = self.map.energy();
         // The closed form keeps energy non-increasing up to rounding; never book a gain.
         self.energy_viscous += (self.energy - e).max(0.0);
         self.energy = e.min(self.energy);
@@ -306,7 +317,8 @@ impl<'a, P: Probe, S: PhaseSolver<Motion = Oscillator>> SceneEvents<'a, S> for R
     fn impacted(&mut self, hit: &Hit) {
         let t = self.map.t;
         self.book_impact_loss(&hit.after);
-        self.probe.impact(t, hit.wall, &hit.before, &hit.after);
+        self.probe
+            .impact_of(t, hit.unit, hit.wall, &hit.before, &hit.after);
         if hit.stuck {
             let s = self.map.s;
             self.book_impact_loss(&s);

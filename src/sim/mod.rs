@@ -409,6 +409,10 @@ pub struct Record {
     pub impacts: u64,
     /// Sticking phases entered.
     pub sticks: u64,
+    /// With several units (model.md §14): each unit's impacts, in unit order (a simultaneous
+    /// impact counts once in `impacts` and once for each unit here); empty with one unit.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub unit_impacts: Vec<u64>,
     /// Energy dissipated by impacts (J).
     pub energy_impact: f64,
     /// Energy dissipated by the viscous damper (J).
@@ -426,6 +430,11 @@ pub trait Probe {
     /// An impact at `t` on `wall`: the state just before, as located (its `y - x` is within the
     /// event tolerance of the wall), and just after (inner mass exactly on the wall).
     fn impact(&mut self, _t: f64, _wall: Wall, _before: &State, _after: &State) {}
+    /// The same for unit `unit` of several (model.md §14): `before` and `after` hold the main
+    /// mass's state and that unit's. By default [`Probe::impact`].
+    fn impact_of(&mut self, t: f64, _unit: usize, wall: Wall, before: &State, after: &State) {
+        self.impact(t, wall, before, after);
+    }
     /// A sticking phase begins at `t` on `wall` (after the plastic closing of a chatter).
     fn stick(&mut self, _t: f64, _wall: Wall, _state: &State) {}
     /// The inner mass leaves `wall` at `t`.

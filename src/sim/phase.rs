@@ -172,8 +172,10 @@ pub(crate) enum Event {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct StepCap;
 
-/// Moves the main mass through one smooth phase (free, or the stuck pair).
-pub(crate) trait PhaseSolver {
+/// Moves the main mass through one smooth phase (free, or the stuck pair). A clone searches
+/// from the same point on its own: with several units, one clone per unit looks for that
+/// unit's walls ([`run`]).
+pub(crate) trait PhaseSolver: Clone {
     /// The motion of a phase this solver follows ([`Oscillator`], or the forced one).
     type Motion: Motion;
     /// Starts a phase of `motion` at time `t` in state `(x, v)`.
@@ -184,6 +186,8 @@ pub(crate) trait PhaseSolver {
     fn state(&self) -> (f64, f64, f64);
     /// Steps taken so far.
     fn steps(&self) -> u64;
+    /// Counts `n` more steps (the searches of the other units' clones) toward the step cap.
+    fn add_steps(&mut self, n: u64);
     /// The current phase in closed form, when the solver has it: the motion, the phase's
     /// start time and its state there. The free scene then evaluates noise samples itself, by a
     /// constant propagator, instead of stopping the solver at each.
@@ -198,6 +202,9 @@ pub(crate) trait PhaseSolver {
 pub(crate) trait Motion: Copy {
     /// The acceleration `x''` at time `t` in state `(x, v)` (m/s^2).
     fn accel_at(&self, t: f64, x: f64, v: f64) -> f64;
+
+    /// The same motion for a main mass of `mass` (kg): the stuck units ride with it.
+    fn with_mass(&self, mass: f64) -> Self;
 
     /// The free inner mass's acceleration `y''` at `t`, its derivative `y'''` and a bound of
     /// `|y''|` until the phase ends (m/s^2, m/s^3, m/s^2): zero unless the ground accelerates
@@ -214,6 +221,10 @@ impl Motion for Oscillator {
     fn accel_at(&self, _t: f64, x: f64, v: f64) -> f64 {
         self.accel(x, v)
     }
+
+    fn with_mass(&self, mass: f64) -> Self {
+        Oscillator::new(mass, self.k, self.c)
+    }
 }
 
 /// A phase of the event map: free flight, or the pair stuck on a wall.
@@ -226,6 +237,11 @@ pub(crate) enum Phase {
 /// What one impact did ([`EventMap::collide`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Hit {
+    /// The unit that hit (0 with one unit; model.md §14).
+    pub unit: usize,
+    /// With several units, at the first unit of one impact: the total energy just before it
+    /// (J); `None` at the others and with one unit.
+    pub lead: Option<f64>,
     pub wall: Wall,
     /// The state just before, as located (its `y - x` is within the event tolerance of the
     /// wall).
@@ -259,11 +275,61 @@ pub(crate) struct EventMap<'a, M> {
     pub impacts: u64,
     /// Sticking phases entered.
     pub sticks: u64,
+    /// Several units (model.md §14): each unit's state; empty with one unit, whose state is
+    /// `s.y`, `s.w` and `phase` (then nothing below is read). With several, `s.y`, `s.w`
+    /// mirror unit 0, and `phase` is `Stuck` while any unit is.
+    pub units: Vec<UnitState>,
+    /// With several units: the mass the main mass carries (kg), its own and the stuck units',
+    /// and the motion of that mass.
+    pub carried: f64,
+    pub carrying: M,
+    /// With several units: each unit's line during the current search (`None` while stuck).
+    lines: Vec<Option<Line>>,
+}
+
+/// One unit's state in a system of several (model.md §14).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct UnitState {
+    /// Mass (kg), half clearance (m), restitution.
+    pub m: f64,
+    pub half_d: f64,
+    pub e: f64,
+    /// Position (m) and velocity (m/s).
+    pub y: f64,
+    pub w: f64,
+    /// The wall it is stuck on, riding with the main mass.
+    pub stuck: Option<Wall>,
+    /// Its impacts so far.
+    pub impacts: u64,
+}
+
+/// A free unit's line during one search and where its own search stopped: at its wall
+/// (`hit`), or at the search's other first event.
+#[derive(Clone, Copy, Debug)]
+struct Line {
+    walls: Walls,
+    hit: Option<Wall>,
 }
 
 impl<'a, M: Motion> EventMap<'a, M> {
     /// At `t = 0` in the system's initial state, free, with `v_side = +1`.
     pub fn new(sys: &'a System, settings: &'a SolverSettings, free: M, pair: M) -> Self {
+        let units: Vec<UnitState> = if sys.unit_count() > 1 {
+            sys.unit_list()
+                .iter()
+                .map(|u| UnitState {
+                    m: u.m,
+                    half_d: 0.5 * u.d,
+                    e: u.e,
+                    y: u.y0,
+                    w: u.w0,
+                    stuck: None,
+                    impacts: 0,
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         EventMap {
             sys,
             settings,
@@ -281,11 +347,35 @@ impl<'a, M: Motion> EventMap<'a, M> {
             v_side: 1.0,
             impacts: 0,
             sticks: 0,
+            lines: Vec::with_capacity(units.len()),
+            units,
+            carried: sys.M,
+            carrying: free,
         }
+    }
+
+    /// Several units (model.md §14), not the paper's one.
+    #[inline]
+    pub fn several(&self) -> bool {
+        !self.units.is_empty()
+    }
+
+    /// The total mechanical energy (J) of the map's state: both kinetic energies (every
+    /// unit's) and the spring's potential energy.
+    pub fn energy(&self) -> f64 {
+        let s = &self.s;
+        if !self.several() {
+            return self.sys.energy(s.x, s.v, s.w);
+        }
+        let units: f64 = self.units.iter().map(|u| u.m * u.w * u.w).sum();
+        0.5 * (self.sys.M * s.v * s.v + units + self.sys.K * s.x * s.x)
     }
 
     /// The motion of the current phase.
     pub fn motion(&self) -> &M {
+        if self.several() {
+            return &self.carrying;
+        }
         match self.phase {
             Phase::Free => &self.free,
             Phase::Stuck(_) => &self.pair,
@@ -306,6 +396,11 @@ impl<'a, M: Motion> EventMap<'a, M> {
     /// What the current phase watches: the walls during free flight (the inner mass's line from
     /// now), the wall's sign for the separation while stuck.
     pub fn contact(&self) -> (Option<Walls>, Option<f64>) {
+        if self.several() {
+            // Every free unit's walls are searched by a clone of its own ([`run`]).
+            let stuck = self.units.iter().find_map(|u| u.stuck);
+            return (None, stuck.map(Wall::sign));
+        }
         match self.phase {
             Phase::Free => {
                 let (ya, yj, ya_max) = self.free.inner_accel(self.t);
@@ -380,6 +475,8 @@ impl<'a, M: Motion> EventMap<'a, M> {
             self.phase = Phase::Free;
         }
         Hit {
+            unit: 0,
+            lead: None,
             wall,
             before,
             after,
@@ -397,6 +494,270 @@ impl<'a, M: Motion> EventMap<'a, M> {
         left
     }
 }
+
+/// Several units (model.md §14): each free unit's walls searched by a clone of the solver, the
+/// simultaneous impact law, sticking per unit.
+impl<'a, M: Motion> EventMap<'a, M> {
+    /// A free unit's line from now.
+    fn line_of(&self, u: &UnitState) -> Walls {
+        let (ya, yj, ya_max) = self.carrying.inner_accel(self.t);
+        Walls {
+            t0: self.t,
+            y0: u.y,
+            w: u.w,
+            half_d: u.half_d,
+            ya,
+            yj,
+            ya_max,
+        }
+    }
+
+    /// The first watched event with every free unit's walls: one clone of `solver` per free
+    /// unit searches that unit's walls and the scene's other events; the earliest stop wins
+    /// and `solver` becomes that clone. Every unit whose own search stopped at a wall at that
+    /// same instant (identical units in step do, bit for bit) takes part in the impact. The
+    /// other clones' steps count toward the cap: `N` units cost at most `N` searches.
+    fn find<S: PhaseSolver<Motion = M>>(
+        &mut self,
+        solver: &mut S,
+        watch: &Watch,
+    ) -> Result<Event, StepCap> {
+        self.lines.clear();
+        let start = solver.steps();
+        let mut best: Option<(S, Event, f64)> = None;
+        let mut spent = 0;
+        let mut stops = [f64::NAN; MAX_SEVERAL];
+        for (i, stop) in stops.iter_mut().enumerate().take(self.units.len()) {
+            let u = self.units[i];
+            if u.stuck.is_some() {
+                self.lines.push(None);
+                continue;
+            }
+            let walls = self.line_of(&u);
+            let mut clone = solver.clone();
+            let found = clone.next_event(&Watch {
+                walls: Some(walls),
+                ..*watch
+            });
+            spent += clone.steps() - start;
+            let ev = match found {
+                Ok(ev) => ev,
+                Err(cap) => {
+                    *solver = clone;
+                    return Err(cap);
+                }
+            };
+            let t = clone.state().0;
+            *stop = t;
+            let hit = match ev {
+                Event::Wall(wall) => Some(wall),
+                _ => None,
+            };
+            self.lines.push(Some(Line { walls, hit }));
+            if best.as_ref().is_none_or(|b| t < b.2) {
+                best = Some((clone, ev, t));
+            }
+        }
+        let Some((winner, ev, t)) = best else {
+            // Every unit is stuck: the main mass carries them all, only separation is watched.
+            return solver.next_event(watch);
+        };
+        let own = winner.steps() - start;
+        *solver = winner;
+        solver.add_steps(spent - own);
+        for (line, stop) in self.lines.iter_mut().zip(stops) {
+            if let Some(l) = line
+                && stop != t
+            {
+                l.hit = None;
+            }
+        }
+        Ok(ev)
+    }
+
+    /// Brings the map to the solver's point: free units on their lines, stuck ones on their
+    /// walls with the main mass's velocity.
+    fn follow_units(&mut self, (t, x, v): (f64, f64, f64)) {
+        self.t = t;
+        self.s.x = x;
+        self.s.v = v;
+        for (u, line) in self.units.iter_mut().zip(&self.lines) {
+            match (u.stuck, line) {
+                (Some(wall), _) => {
+                    u.y = x + wall.sign() * u.half_d;
+                    u.w = v;
+                }
+                (None, Some(l)) => (u.y, u.w, _, _) = l.walls.at(t),
+                (None, None) => {}
+            }
+        }
+        self.mirror();
+    }
+
+    /// `s.y`, `s.w` and `phase` from the units: unit 0's state, stuck while any unit is.
+    fn mirror(&mut self) {
+        self.s.y = self.units[0].y;
+        self.s.w = self.units[0].w;
+        self.phase = match self.units.iter().find_map(|u| u.stuck) {
+            Some(wall) => Phase::Stuck(wall),
+            None => Phase::Free,
+        };
+    }
+
+    /// The main mass now carries `mass`.
+    fn carry(&mut self, mass: f64) {
+        if mass != self.carried {
+            self.carried = mass;
+            self.carrying = self.free.with_mass(mass);
+        }
+    }
+
+    /// The impact of every unit the search found at its wall, at once (model.md §14): with
+    /// `r_i = w_i - v` and `b_i = (1 + e_i) r_i`, Newton's law at each contact gives
+    /// `v' = v + S / M_t` and `w_i' = v' - e_i r_i`, `S = sum m_i b_i`,
+    /// `M_t = M_c + sum m_i`, `M_c` the mass the main mass carries (its own and the stuck
+    /// units', which ride with it unless the impulse moves the main mass away from them: then
+    /// they are released first, with the velocity they had). One unit: eq. 3-4. Then the
+    /// chatter rule per unit; the units that stick close plastically onto the main mass.
+    /// Returns one [`Hit`] per unit that hit, in unit order.
+    fn collide_units(&mut self) -> Vec<Hit> {
+        let (t, x, v) = (self.t, self.s.x, self.s.v);
+        let energy = self.energy();
+        let hits: Vec<(usize, Wall)> = self
+            .lines
+            .iter()
+            .enumerate()
+            .filter_map(|(i, l)| l.and_then(|l| l.hit).map(|w| (i, w)))
+            .collect();
+        let befores: Vec<State> = hits
+            .iter()
+            .map(|&(i, _)| State {
+                x,
+                v,
+                y: self.units[i].y,
+                w: self.units[i].w,
+            })
+            .collect();
+        let law = |units: &[UnitState], carried: f64| {
+            let (mut sum, mut mt) = (0.0, carried);
+            for &(i, _) in &hits {
+                let u = &units[i];
+                sum += u.m * ((1.0 + u.e) * (u.w - v));
+                mt += u.m;
+            }
+            sum / mt
+        };
+        let mut dv = law(&self.units, self.carried);
+        let stuck_side = self.units.iter().find_map(|u| u.stuck).map(Wall::sign);
+        if let Some(side) = stuck_side
+            && side * dv > 0.0
+        {
+            // The impulse moves the main mass off the stuck units: they stay behind.
+            for u in &mut self.units {
+                u.stuck = None;
+            }
+            self.carry(self.sys.M);
+            dv = law(&self.units, self.carried);
+        }
+        let va = v + dv;
+        self.s.v = va;
+        self.impacts += 1;
+        for &(i, wall) in &hits {
+            let u = &mut self.units[i];
+            // The relative velocity reversed and scaled: `w_i' - v' = -e_i (w_i - v)`.
+            u.w = va - u.e * (u.w - v);
+            u.y = x + wall.sign() * u.half_d;
+            u.impacts += 1;
+        }
+        for u in &mut self.units {
+            if u.stuck.is_some() {
+                u.w = va;
+            }
+        }
+        // The chatter rule per unit, with the acceleration of the main mass as it carries now.
+        let relative = self.carrying.accel_at(t, x, va) - self.carrying.inner_accel(t).0;
+        let settings = self.settings;
+        let period = self.period;
+        let mut out = Vec::with_capacity(hits.len());
+        let mut closing: Option<Wall> = None;
+        for (&(i, wall), before) in hits.iter().zip(befores) {
+            let u = self.units[i];
+            let sign = wall.sign();
+            let after = State {
+                x,
+                v: va,
+                y: u.y,
+                w: u.w,
+            };
+            let speed = (sign * (va - u.w)).max(0.0);
+            let stuck = chatter_ends(speed, -sign * relative, u.e, settings, period);
+            if stuck {
+                closing = Some(wall);
+                self.units[i].stuck = Some(wall);
+            }
+            out.push(Hit {
+                unit: i,
+                lead: out.is_empty().then_some(energy),
+                wall,
+                before,
+                after,
+                stuck,
+            });
+        }
+        if let Some(wall) = closing {
+            // Units stuck on the other wall cannot stay: the main mass accelerates off them.
+            for u in &mut self.units {
+                if u.stuck.is_some_and(|w| w != wall) {
+                    u.stuck = None;
+                }
+            }
+            // The plastic closing: the new stuck units and the main mass (with what it
+            // carried) at their common velocity, momentum conserved.
+            let (mut p, mut mass) = (self.carried * va, self.carried);
+            for h in out.iter().filter(|h| h.stuck) {
+                let u = &self.units[h.unit];
+                p += u.m * u.w;
+                mass += u.m;
+            }
+            let common = p / mass;
+            self.s.v = common;
+            for u in &mut self.units {
+                if u.stuck.is_some() {
+                    u.w = common;
+                }
+            }
+            self.sticks += 1;
+        }
+        let carried = self.sys.M
+            + self
+                .units
+                .iter()
+                .filter(|u| u.stuck.is_some())
+                .map(|u| u.m)
+                .sum::<f64>();
+        self.carry(carried);
+        self.mirror();
+        out
+    }
+
+    /// Ends a sticking phase: every stuck unit leaves the main mass (the contact force's zero
+    /// does not depend on the mass carried, so all on one wall leave together). Returns how
+    /// many left and from which wall.
+    fn separate_units(&mut self) -> (usize, Option<Wall>) {
+        let mut left = (0, None);
+        for u in &mut self.units {
+            if let Some(wall) = u.stuck.take() {
+                left = (left.0 + 1, Some(wall));
+            }
+        }
+        self.carry(self.sys.M);
+        self.mirror();
+        left
+    }
+}
+
+/// The most units a system carries ([`crate::model::MAX_UNITS`]).
+const MAX_SEVERAL: usize = 64;
 
 /// A scene on the event map: what it watches and what it makes of the events. `run` calls it;
 /// the optional hooks ([`SceneEvents::arrived`], [`SceneEvents::at_wall`],
@@ -437,7 +798,13 @@ pub(crate) fn run<'a, S: PhaseSolver, C: SceneEvents<'a, S>>(
     scene.map().begin(solver);
     loop {
         let watch = scene.watch();
-        let ev = match solver.next_event(&watch) {
+        let several = scene.map().several();
+        let found = if several {
+            scene.map_mut().find(solver, &watch)
+        } else {
+            solver.next_event(&watch)
+        };
+        let ev = match found {
             Ok(ev) => ev,
             Err(StepCap) => {
                 sync(scene, solver, &watch.walls);
@@ -454,8 +821,14 @@ pub(crate) fn run<'a, S: PhaseSolver, C: SceneEvents<'a, S>>(
                 if map.impacts >= map.settings.max_impacts {
                     return Outcome::EventCap;
                 }
-                let hit = map.collide(wall);
-                scene.impacted(&hit);
+                if several {
+                    for hit in map.collide_units() {
+                        scene.impacted(&hit);
+                    }
+                } else {
+                    let hit = map.collide(wall);
+                    scene.impacted(&hit);
+                }
                 // The impact changed v discontinuously; re-read its sign, or a maximum that
                 // follows an impact reversing v inside a positive half-cycle goes unwatched
                 // (found at e = 0.80..0.83 by a dense-trace test and by the SciPy peer;
@@ -465,7 +838,13 @@ pub(crate) fn run<'a, S: PhaseSolver, C: SceneEvents<'a, S>>(
                 map.begin(solver);
             }
             Event::Separation => {
-                if let Some(wall) = scene.map_mut().separate() {
+                if several {
+                    if let (n, Some(wall)) = scene.map_mut().separate_units() {
+                        for _ in 0..n {
+                            scene.separated(wall);
+                        }
+                    }
+                } else if let Some(wall) = scene.map_mut().separate() {
                     scene.separated(wall);
                 }
                 scene.map().begin(solver);
@@ -495,7 +874,12 @@ fn sync<'a, S: PhaseSolver, C: SceneEvents<'a, S>>(
     solver: &S,
     walls: &Option<Walls>,
 ) {
-    scene.map_mut().follow(solver.state(), walls);
+    let map = scene.map_mut();
+    if map.several() {
+        map.follow_units(solver.state());
+    } else {
+        map.follow(solver.state(), walls);
+    }
     scene.synced(solver);
 }
 

@@ -42,6 +42,7 @@ pub(crate) fn rk4_step(o: &Oscillator, x: f64, v: f64, h: f64) -> (f64, f64) {
 }
 
 /// The fixed-step RK4 integrator; `h` in seconds.
+#[derive(Clone)]
 pub(crate) struct Rk4 {
     pub(crate) h: f64,
 }

@@ -424,6 +424,8 @@ impl StoredRecord for Record {
                 di: obs[5].value(i),
                 impacts: counts[0].value(i),
                 sticks: counts[1].value(i),
+                // Not stored: the runs table keeps the total (a simultaneous impact once).
+                unit_impacts: Vec::new(),
                 steps: counts[2].value(i),
                 energy_impact: en[0].value(i),
                 energy_viscous: en[1].value(i),

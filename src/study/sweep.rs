@@ -8,7 +8,7 @@ use super::axis::{Axis, RawAxis};
 use super::context::{Cx, num};
 use super::system::{self, RawSystem};
 use crate::error::InputError;
-use crate::model::{RangeError, SYSTEM_KEYS};
+use crate::model::{RangeError, SYSTEM_KEYS, UNIT_KEYS};
 use crate::numeric::{linspace, round15};
 use crate::sim::Harmonic;
 use crate::sim::random::RandomScene;
@@ -54,6 +54,13 @@ pub(super) fn axes(
     let mut axes = Vec::new();
     for key in keys {
         let at = format!("[sweep].{key}");
+        if UNIT_KEYS.contains(&key.as_str()) {
+            return Err(cx.err(
+                &at,
+                cx.source("sweep", key),
+                super::system::UNITS_NOT_IN_STUDIES,
+            ));
+        }
         let system_key = SYSTEM_KEYS.contains(&key.as_str());
         if !system_key && !scene.keys.contains(&key.as_str()) {
             let hint = if Harmonic::AXES.contains(&key.as_str()) {

@@ -60,6 +60,7 @@ const POLISH_STEPS: u32 = 24;
 
 /// One smooth phase of a driven main mass in closed form, events located by brackets (module
 /// doc). The same fields as [`crate::sim::driven::DrivenPhase`].
+#[derive(Clone)]
 pub(crate) struct Bracketed<F: Driven> {
     f: F,
     t0: f64,
@@ -382,6 +383,10 @@ impl<F: Driven> PhaseSolver for Bracketed<F> {
         self.steps
     }
 
+    fn add_steps(&mut self, n: u64) {
+        self.steps += n;
+    }
+
     /// [`crate::sim::driven::DrivenPhase`]'s event finder with the bracket of the module doc at
     /// each step a wall limits, and every impact polished to its root.
     fn next_event(&mut self, w: &Watch) -> Result<Event, StepCap> {
@@ -581,7 +586,7 @@ mod tests {
     }
 
     /// What the comparison found.
-    #[derive(Default, Debug)]
+    #[derive(Clone, Default, Debug)]
     struct Compared {
         impacts: u64,
         /// Largest distance of the bracketed finder's impact time from the true root, in units
@@ -601,6 +606,7 @@ mod tests {
 
     /// Today's finder moves the run; at each call the bracketed finder starts where it stands,
     /// finds its own next event, and the two are compared.
+    #[derive(Clone)]
     struct Shadow {
         r: DrivenPhase<Forced>,
         n: Bracketed<Forced>,
@@ -618,6 +624,9 @@ mod tests {
         }
         fn steps(&self) -> u64 {
             self.r.steps()
+        }
+        fn add_steps(&mut self, n: u64) {
+            self.r.add_steps(n);
         }
         fn next_event(&mut self, w: &Watch) -> Result<Event, StepCap> {
             let (f, t0, h0, g0) = self.r.phase();

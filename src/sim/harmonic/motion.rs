@@ -225,6 +225,10 @@ impl Motion for Forced {
     fn accel_at(&self, t: f64, x: f64, v: f64) -> f64 {
         self.accel(t, x, v)
     }
+
+    fn with_mass(&self, mass: f64) -> Self {
+        Forced::new(mass, self.osc.k, self.osc.c, self.f0, self.omega)
+    }
 }
 
 /// The harmonic force in the event finder of [`crate::sim::driven`]: the contact function of a

@@ -224,8 +224,7 @@ impl<P: Probe> Run<'_, P> {
     }
 
     fn energy(&self) -> f64 {
-        let s = &self.map.s;
-        self.map.sys.energy(s.x, s.v, s.w)
+        self.map.energy()
     }
 
     /// Longest quadrature piece: 1/16 of the fastest period of the motion (forcing, natural,
@@ -433,14 +432,22 @@ impl<'a, P: Probe, S: Stepper> SceneEvents<'a, S> for Run<'a, P> {
     /// `(M x'^2 + m y'^2 + K x^2) / 2` over the impact and any plastic closing.
     fn impacted(&mut self, hit: &Hit) {
         let sys = self.map.sys;
-        let e_before = sys.energy(hit.before.x, hit.before.v, hit.before.w);
+        let e_before = if self.map.several() {
+            // One impact of several units: booked once, at its first unit.
+            hit.lead.unwrap_or(f64::NAN)
+        } else {
+            sys.energy(hit.before.x, hit.before.v, hit.before.w)
+        };
         let now = self.now();
-        self.probe.impact(now, hit.wall, &hit.before, &hit.after);
+        self.probe
+            .impact_of(now, hit.unit, hit.wall, &hit.before, &hit.after);
         if hit.stuck {
             self.probe.stick(now, hit.wall, &self.map.s);
         }
         let e_after = self.energy();
-        if let Some(win) = &mut self.window {
+        if let Some(win) = &mut self.window
+            && !e_before.is_nan()
+        {
             win.impacts += 1;
             win.energy_impact += e_before - e_after;
         }

@@ -111,6 +111,25 @@ impl Motion for Ramp {
         (self.load(t) - self.osc.c * v - self.osc.k * x) / self.osc.mass
     }
 
+    /// A force on the main mass stays; a ground acceleration's load `-mass a_g` scales with
+    /// the mass.
+    fn with_mass(&self, mass: f64) -> Self {
+        let scale = if self.contact {
+            1.0
+        } else {
+            mass / self.osc.mass
+        };
+        let osc = Oscillator::new(mass, self.osc.k, self.osc.c);
+        Ramp::new(
+            osc,
+            self.f0 * scale,
+            self.s * scale,
+            self.len,
+            (self.ya, self.yj),
+            self.contact,
+        )
+    }
+
     #[inline]
     fn inner_accel(&self, t: f64) -> (f64, f64, f64) {
         (self.ya + self.yj * t, self.yj, self.ya_max)

@@ -722,6 +722,8 @@ mod tests {
             v0: 0.0,
             y0: 0.0,
             w0: 0.0,
+            units: 1.0,
+            d_spread: 0.0,
         }
     }
 
