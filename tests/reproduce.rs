@@ -145,6 +145,14 @@ fn design_map_regenerates_the_committed_showcase() {
     regenerates("design_map.sh", "design-map");
 }
 
+/// Issue 68: `scripts/multi_unit.sh` regenerates `results/multi-unit/` (the same added mass
+/// over 1, 2, 4 and 8 units, equal and spread clearances, under the harmonic force) the same way:
+/// about a minute of the test build on 2 cores.
+#[test]
+fn multi_unit_regenerates_the_committed_showcase() {
+    regenerates("multi_unit.sh", "multi-unit");
+}
+
 /// Reads a CSV file into its header and rows of fields (a quoted field may hold commas).
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).unwrap();

@@ -98,7 +98,7 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "scene_axis_in_free_study.toml",
-        "scene_axis_in_free_study.toml: [sweep].r = [0.9, 1.0, 1.1]: unknown axis 'r'; allowed: M, m, K, C, d, e, x0, v0, y0, w0 (F0, omega and r are axes of the harmonic scene: [scene] kind = \"harmonic\")",
+        "scene_axis_in_free_study.toml: [sweep].r = [0.9, 1.0, 1.1]: unknown axis 'r'; allowed: M, m, K, C, d, e, x0, v0, y0, w0, units, d_spread (F0, omega and r are axes of the harmonic scene: [scene] kind = \"harmonic\")",
     ),
     (
         "solver_tol.toml",
@@ -146,7 +146,7 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "unknown_axis.toml",
-        "unknown_axis.toml: [sweep].mu = [0.1, 0.2]: unknown axis 'mu'; allowed: M, m, K, C, d, e, x0, v0, y0, w0",
+        "unknown_axis.toml: [sweep].mu = [0.1, 0.2]: unknown axis 'mu'; allowed: M, m, K, C, d, e, x0, v0, y0, w0, units, d_spread",
     ),
     (
         "unknown_key.toml",
@@ -154,11 +154,11 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "units_in_study.toml",
-        "units_in_study.toml: [system].units = 3: several units run in `impactsweep simulate --set units=N` and in the library; a study's tables have no column for them yet, so a study allows only units = 1 and d_spread = 0",
+        "units_in_study.toml: [system].units = 2.5: the number of units must be a whole number in [1, 64]",
     ),
     (
-        "units_swept.toml",
-        "units_swept.toml: [sweep].d_spread = [0.1, 0.2]: several units run in `impactsweep simulate --set units=N` and in the library; a study's tables have no column for them yet, so a study allows only units = 1 and d_spread = 0",
+        "units_census.toml",
+        "units_census.toml: [scene].starts = 8: the census of periodic orbits (docs/model.md §10) covers one damper unit; with several units set starts = 1: each frequency's steady state is then the one the run from the study's initial state settles on",
     ),
     (
         "unknown_key_in_case.toml",
@@ -205,7 +205,7 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "random_axis_in_free_study.toml",
-        "random_axis_in_free_study.toml: [sweep].S0 = [0.01, 0.1]: unknown axis 'S0'; allowed: M, m, K, C, d, e, x0, v0, y0, w0 (S0, omega_g, zeta_g, omega_f and zeta_f are axes of the random scene as its spectrum has them, scale of the record scene)",
+        "random_axis_in_free_study.toml: [sweep].S0 = [0.01, 0.1]: unknown axis 'S0'; allowed: M, m, K, C, d, e, x0, v0, y0, w0, units, d_spread (S0, omega_g, zeta_g, omega_f and zeta_f are axes of the random scene as its spectrum has them, scale of the record scene)",
     ),
     // Issue 10: the jump and zone keys.
     (

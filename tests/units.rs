@@ -519,3 +519,60 @@ fn an_independent_reference_agrees_on_every_impact_of_different_units() {
     }
     assert!(compared > 100, "{compared} impacts compared");
 }
+
+/// A free-decay study sweeps `units` and `d_spread`: its parts carry both columns and read back
+/// to the systems that ran, the runs equal `simulate`'s of the same system, and the reduce reads
+/// it end to end (a study of one unit has neither column: the golden and schema tests).
+#[test]
+fn a_study_sweeps_units_and_its_tables_carry_them() {
+    use impactsweep::store::{part_files, read_rows};
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("units.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"units\"\nseed = 3\n[system]\ne = 0.7\n[sweep]\nunits = [1, 3, 8]\n\
+         d_spread = [0.0, 0.5]\n[perturb]\ndd = [0.001]\n[reliability]\nstrength_mean = 285e6\n\
+         strength_sd = 20e6\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(assert_cmd::cargo::cargo_bin("impactsweep"))
+        .args(["run", "--quiet", "--reduce", "--out"])
+        .arg(tmp.path())
+        .arg(&study)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let run = tmp.path().join("units");
+    let mut seen = vec![];
+    for part in part_files(&run).unwrap() {
+        for row in read_rows::<Record>(&part).unwrap() {
+            let sys = row.system;
+            sys.validate().unwrap();
+            let again = simulate(
+                &sys,
+                &SolverSettings::default(),
+                &Request::default(),
+                None,
+                &mut NoProbe,
+            );
+            assert_eq!(again.x1.to_bits(), row.record.x1.to_bits(), "{sys:?}");
+            assert_eq!(again.impacts, row.record.impacts);
+            seen.push((sys.units, sys.d_spread, sys.d));
+        }
+    }
+    assert_eq!(seen.len(), 12);
+    for units in [1.0, 3.0, 8.0] {
+        for spread in [0.0, 0.5] {
+            assert!(
+                seen.iter().any(|s| s.0 == units && s.1 == spread),
+                "{units} {spread}"
+            );
+        }
+    }
+    let report = std::fs::read_to_string(run.join("report.md")).unwrap();
+    assert!(report.contains("`units` from 1 to 8"), "{report}");
+}

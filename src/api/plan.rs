@@ -83,9 +83,7 @@ pub const SAMPLE_FREQUENCIES: u64 = 9;
 /// less from its neighbour: rather an overestimate.
 pub fn time_sample(study: &Study) -> Sample {
     let plan = Plan::new(study);
-    if let Scene::Harmonic(h) = study.scene
-        && h.starts > 0
-    {
+    if study.census() {
         return time_curve(study, &plan);
     }
     let total = plan.n_runs();
@@ -310,7 +308,7 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
         }
     }
     let what = match study.scene {
-        Scene::Harmonic(h) if h.starts > 0 => format!(
+        Scene::Harmonic(_) if study.census() => format!(
             "census {:.1} ms a frequency over a sample of {} of one design's curve, its race \
              of the design lives {} over {} periods, counted once a curve",
             per_run * 1e3,
@@ -332,12 +330,7 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
     );
     // Verified when two designs or more rank (a design is a curve's frequencies).
     let designs = plan.n_points() / curve.max(1);
-    if let Scene::Harmonic(h) = study.scene
-        && h.starts > 0
-        && sm.race_periods > 0
-        && study.ranking.verify_periods > 0
-        && designs > 1
-    {
+    if study.census() && sm.race_periods > 0 && study.ranking.verify_periods > 0 && designs > 1 {
         let per_case = sm.race_seconds / sm.race_periods as f64
             * study.ranking.verify_periods as f64
             * MOST as f64;
@@ -361,7 +354,7 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
 fn describe_disk(w: &mut String, study: &Study, plan: &Plan, sample: Option<Sample>) {
     let runs = plan.n_runs();
     let parts = plan.n_chunks().saturating_mul(PART_OVERHEAD_BYTES);
-    let census = matches!(study.scene, Scene::Harmonic(h) if h.starts > 0);
+    let census = study.census();
     let per_run = match study.scene {
         Scene::Free => BYTES_PER_RUN,
         Scene::Harmonic(_) => BYTES_PER_FORCED_RUN,

@@ -83,8 +83,7 @@ fn array_job(args: &SlurmArgs, study: &Study) -> anyhow::Result<ArrayJob> {
         time: args.time.clone(),
         cpus_per_task: args.cpus_per_task,
         // A harmonic study with a census: its per-design analysis is an array of its own.
-        analysis_tasks: matches!(study.scene, crate::sim::Scene::Harmonic(h) if h.starts > 0)
-            .then_some(args.tasks),
+        analysis_tasks: study.census().then_some(args.tasks),
     })
 }
 

@@ -40,7 +40,7 @@ use arrow::datatypes::{DataType, Int8Type, Schema, SchemaRef};
 
 use super::manifest::{AttractorsEntry, WritingEntry};
 use super::schema::{META_STUDY, META_TABLE, TableKind, column_name};
-use crate::model::{SYSTEM_KEYS, System};
+use crate::model::{SYSTEM_KEYS, System, UNIT_KEYS};
 use crate::sim::harmonic::Steady;
 use crate::sim::random::RealizationRecord;
 use crate::sim::{HarmonicRecord, Outcome, Record, SolverSettings, State};
@@ -94,11 +94,13 @@ pub(super) fn dict_type() -> DataType {
 /// The Arrow schema of a free-decay part file (the columns above, in that order, with their
 /// units).
 pub fn schema() -> SchemaRef {
-    schema_of::<Record>()
+    schema_of::<Record>(false)
 }
 
-/// The Arrow schema of the parts of `R`'s table.
-pub fn schema_of<R: StoredRecord>() -> SchemaRef {
+/// The Arrow schema of the parts of `R`'s table; `units`: a study of several damper units,
+/// whose parts carry the [`UNIT_KEYS`] columns after the system's (a study of one unit has
+/// exactly the columns it had before they existed).
+pub fn schema_of<R: StoredRecord>(units: bool) -> SchemaRef {
     let t = R::TABLE;
     let mut cols: Vec<(&str, DataType, bool)> = vec![
         ("point_id", DataType::UInt64, false),
@@ -111,6 +113,11 @@ pub fn schema_of<R: StoredRecord>() -> SchemaRef {
     ];
     for key in SYSTEM_KEYS {
         cols.push((column_name(key), DataType::Float64, false));
+    }
+    if units {
+        for key in UNIT_KEYS {
+            cols.push((column_name(key), DataType::Float64, false));
+        }
     }
     cols.push(("solver", dict_type(), false));
     cols.push(("tol", DataType::Float64, false));
@@ -190,9 +197,10 @@ pub fn encode_part<R: StoredRecord>(
     rows: &[RunRow<R>],
     study_toml: &str,
     settings: &SolverSettings,
+    units: bool,
     extra: &[(&str, &str)],
 ) -> Result<Vec<u8>> {
-    let batch = to_batch(rows, settings)?;
+    let batch = to_batch(rows, settings, units)?;
     let mut meta = vec![(META_STUDY.to_string(), study_toml.to_string())];
     meta.extend(extra.iter().map(|(k, v)| (k.to_string(), v.to_string())));
     super::encode(
@@ -223,6 +231,7 @@ pub fn write_part<R: StoredRecord>(
     attractors: Option<&[crate::orbits::attractors::AttractorRow]>,
     study_toml: &str,
     settings: &SolverSettings,
+    units: bool,
     checksum: super::Checksum,
     record: impl FnOnce(&PartInfo) -> Result<()>,
 ) -> Result<PartInfo> {
@@ -245,7 +254,7 @@ pub fn write_part<R: StoredRecord>(
     };
     let marker = [(super::attractors::META_ATTRACTORS, "1")];
     let extra: &[(&str, &str)] = if side.is_some() { &marker } else { &[] };
-    let bytes = encode_part(rows, study_toml, settings, extra)?;
+    let bytes = encode_part(rows, study_toml, settings, units, extra)?;
     let path = part_path(dir, k);
     let tmp = super::write_tmp(&path, &bytes, super::Durability::Later)?;
     let info = PartInfo {
@@ -316,6 +325,7 @@ fn system_field(key: &str) -> fn(&System) -> f64 {
 pub fn to_batch<R: StoredRecord>(
     rows: &[RunRow<R>],
     settings: &SolverSettings,
+    units: bool,
 ) -> Result<RecordBatch> {
     let mut cols: Vec<ArrayRef> = vec![
         u64col(rows, |r| r.point_id),
@@ -329,6 +339,10 @@ pub fn to_batch<R: StoredRecord>(
     for key in SYSTEM_KEYS {
         let field = system_field(key);
         cols.push(f64col(rows, |r| field(&r.system)));
+    }
+    if units {
+        cols.push(f64col(rows, |r| r.system.units));
+        cols.push(f64col(rows, |r| r.system.d_spread));
     }
     // The dictionary of solver names: those present, in first-seen order (deterministic).
     let mut solvers: Vec<&str> = Vec::new();
@@ -345,7 +359,7 @@ pub fn to_batch<R: StoredRecord>(
     })?);
     cols.push(f64col(rows, |r| r.tol));
     cols.extend(R::arrays(rows, settings)?);
-    Ok(RecordBatch::try_new(schema_of::<R>(), cols)?)
+    Ok(RecordBatch::try_new(schema_of::<R>(units), cols)?)
 }
 
 impl StoredRecord for Record {
@@ -764,11 +778,20 @@ fn read_batch<R: StoredRecord>(batch: &RecordBatch, rows: &mut Vec<RunRow<R>>) -
         .iter()
         .map(|k| f64s(column_name(k)))
         .collect::<Result<_>>()?;
+    // A study of several units has their columns; one of one unit does not.
+    let units: Vec<(&str, &Float64Array)> = UNIT_KEYS
+        .iter()
+        .filter(|k| batch.schema().column_with_name(column_name(k)).is_some())
+        .map(|k| Ok((*k, f64s(column_name(k))?)))
+        .collect::<Result<_>>()?;
     let solver = dict_strings(batch, "solver")?;
     let tol = f64s("tol")?;
     for (i, record) in R::read(batch)?.into_iter().enumerate() {
         let mut system = System::TABLE_I;
         for (key, col) in SYSTEM_KEYS.iter().zip(&sys) {
+            system.set(key, col.value(i));
+        }
+        for (key, col) in &units {
             system.set(key, col.value(i));
         }
         rows.push(RunRow {
@@ -850,6 +873,7 @@ mod tests {
             None,
             "name = 'x'",
             &SolverSettings::default(),
+            false,
             super::super::Checksum::DEFAULT,
             |info| {
                 // Issue 45: the checksum is known while the part still has its temporary name.
@@ -882,7 +906,7 @@ mod tests {
         assert_eq!(meta[META_SCHEMA_VERSION], SCHEMA_VERSION.to_string());
         assert_eq!(meta[super::super::META_TABLE], "points");
         assert_eq!(
-            encode_part(&want, "name = 'x'", &SolverSettings::default(), &[]).unwrap(),
+            encode_part(&want, "name = 'x'", &SolverSettings::default(), false, &[]).unwrap(),
             std::fs::read(&path).unwrap()
         );
         assert_eq!(part_files(dir.path()).unwrap(), vec![path]);

@@ -40,6 +40,7 @@ pub fn column_name(key: &str) -> &str {
 pub fn system_key(column: &str) -> Option<&'static str> {
     crate::model::SYSTEM_KEYS
         .into_iter()
+        .chain(crate::model::UNIT_KEYS)
         .find(|k| column_name(k) == column)
 }
 
@@ -50,7 +51,7 @@ pub fn system_unit(key: &str) -> Option<&'static str> {
         "K" => "N/m",
         "C" => "N s/m",
         "d" | "x0" | "y0" => "m",
-        "e" => "1",
+        "e" | "units" | "d_spread" => "1",
         "v0" | "w0" => "m/s",
         _ => return None,
     })

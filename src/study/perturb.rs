@@ -173,15 +173,26 @@ pub(super) fn cases(
     } else {
         ((y_lo - x_hi).abs(), y_lo)
     };
-    if gap > 0.5 * d_lo {
+    // With several units the smallest cavity is the first unit's, d (1 - d_spread).
+    let (_, n_hi, _) = extent(axes, system, "units");
+    let (_, s_hi, s_at) = extent(axes, system, "d_spread");
+    let (d_min, spread) = if n_hi > 1.0 && s_hi > 0.0 {
+        (
+            d_lo * (1.0 - s_hi),
+            format!(" x (1 - d_spread), d_spread up to {} ({s_at})", num(s_hi)),
+        )
+    } else {
+        (d_lo, String::new())
+    };
+    if gap > 0.5 * d_min {
         return Err(cx.err(
             &y_at,
             num(y_worst),
             format!(
                 "the inner mass must start inside the cavity: |y0 - x0| reaches {}, more than \
-                 d/2 = {} ({d_at})",
+                 d/2 = {} ({d_at}{spread})",
                 num(gap),
-                num(0.5 * d_lo)
+                num(0.5 * d_min)
             ),
         ));
     }

@@ -19,6 +19,8 @@ pub(super) struct SceneAxes<'k> {
     pub keys: &'k [&'static str],
     pub check: fn(&str, f64) -> Result<(), RangeError>,
     pub listed: bool,
+    /// Whether the scene takes several damper units, so that `units` and `d_spread` are axes.
+    pub units: bool,
 }
 
 impl SceneAxes<'static> {
@@ -27,6 +29,7 @@ impl SceneAxes<'static> {
         keys: &[],
         check: no_scene_key,
         listed: false,
+        units: true,
     };
 }
 
@@ -54,14 +57,8 @@ pub(super) fn axes(
     let mut axes = Vec::new();
     for key in keys {
         let at = format!("[sweep].{key}");
-        if UNIT_KEYS.contains(&key.as_str()) {
-            return Err(cx.err(
-                &at,
-                cx.source("sweep", key),
-                super::system::UNITS_NOT_IN_STUDIES,
-            ));
-        }
-        let system_key = SYSTEM_KEYS.contains(&key.as_str());
+        let system_key = SYSTEM_KEYS.contains(&key.as_str())
+            || (scene.units && UNIT_KEYS.contains(&key.as_str()));
         if !system_key && !scene.keys.contains(&key.as_str()) {
             let hint = if Harmonic::AXES.contains(&key.as_str()) {
                 " (F0, omega and r are axes of the harmonic scene: [scene] kind = \"harmonic\")"
@@ -72,6 +69,9 @@ pub(super) fn axes(
                 ""
             };
             let mut allowed: Vec<&str> = SYSTEM_KEYS.to_vec();
+            if scene.units {
+                allowed.extend(UNIT_KEYS);
+            }
             if scene.listed {
                 allowed.extend(scene.keys);
             }

@@ -56,22 +56,12 @@ pub(super) fn check_key(key: &str, v: f64) -> Result<(), RangeError> {
     s.validate()
 }
 
-/// Why a study cannot carry several units yet: the simulator runs them (`simulate --set
-/// units=N`, the library), but the points table has no column for them, so a sweep would lose
-/// them.
-pub(super) const UNITS_NOT_IN_STUDIES: &str = "several units run in `impactsweep simulate --set \
-     units=N` and in the library; a study's tables have no column for them yet, so a study \
-     allows only units = 1 and d_spread = 0";
-
 /// The validated `[system]`.
 pub(super) fn system(cx: &Cx, raw: &RawSystem) -> Result<System, InputError> {
     let mut system = System::TABLE_I;
     for key in SYSTEM_KEYS.into_iter().chain(UNIT_KEYS) {
         if let Some(v) = raw.get(key) {
             check_key(key, v).map_err(|e| cx.err(&format!("[system].{key}"), num(v), e.allowed))?;
-            if UNIT_KEYS.contains(&key) && v != System::TABLE_I.get(key).unwrap_or(v) {
-                return Err(cx.err(&format!("[system].{key}"), num(v), UNITS_NOT_IN_STUDIES));
-            }
             system.set(key, v);
         }
     }

@@ -70,6 +70,24 @@ pub struct Study {
 }
 
 impl Study {
+    /// A harmonic study whose runs take a census of their steady states (model.md §10): `starts`
+    /// given, and one damper unit (the census covers one).
+    pub fn census(&self) -> bool {
+        matches!(self.scene, crate::sim::Scene::Harmonic(h) if h.starts > 0)
+            && !self.several_units()
+    }
+
+    /// Several damper units anywhere in the study (model.md §14): `[system]` or `[sweep]` sets
+    /// `units` or `d_spread`. Its tables then carry those columns.
+    pub fn several_units(&self) -> bool {
+        self.system.units != 1.0
+            || self.system.d_spread != 0.0
+            || self
+                .axes
+                .iter()
+                .any(|a| crate::model::UNIT_KEYS.contains(&a.key.as_str()))
+    }
+
     /// The size guard: more than [`MAX_RUNS`] runs is refused unless `allow_large`.
     pub fn check_size(&self, allow_large: bool) -> Result<(), InputError> {
         let runs = self.n_runs();

@@ -363,6 +363,7 @@ fn write_chunks<R: SceneRun>(
             chunk.attractors.as_deref(),
             &study.source,
             &study.solver,
+            study.several_units(),
             algorithm,
             |info| journal.append(&Entry::Writing(info.writing(k))),
         )?;

@@ -53,7 +53,7 @@ impl SceneRun for HarmonicRecord {
     /// With a census, each frequency-response curve (a design and a case) is one task
     /// ([`simulate_curve`]); without one, each run on its own.
     fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> ChunkRows<Self> {
-        let census = matches!(plan.study.scene, Scene::Harmonic(h) if h.starts > 0);
+        let census = plan.study.census();
         if !census {
             return ChunkRows {
                 rows: simulate_chunk(plan, k, progress),
@@ -208,10 +208,15 @@ pub fn simulate_run(plan: &Plan, run: &RunSpec) -> Record {
 /// for every run ([`Harmonic::validate`]).
 pub fn simulate_forced_run(plan: &Plan, run: &RunSpec) -> HarmonicRecord {
     let study = plan.study;
-    let scene = match run.scene {
+    let mut scene = match run.scene {
         Scene::Harmonic(h) => h,
         Scene::Free | Scene::Random(_) => Harmonic::default(),
     };
+    if !study.census() {
+        // A study of several units takes no census, for its one-unit designs either: every
+        // design's steady state comes from its run alike.
+        scene.starts = 0;
+    }
     let (seed, point) = (study.seed, run.point);
     match (study.noise.as_ref(), plan.noise_stream(run)) {
         (Some(ns), Some(mut stream)) => forced_run(

@@ -61,7 +61,9 @@ pub fn steady_states_in_batches<E>(
     let Scene::Harmonic(h) = study.scene else {
         return Ok(());
     };
-    if h.starts == 0 {
+    // The census and the orbits' analysis (model.md §10-12) cover one damper unit: a study
+    // of several units reads each frequency's steady state from its run.
+    if !study.census() {
         return Ok(());
     }
     if fs.frequency.is_none() {

@@ -79,6 +79,7 @@ impl CasedScene for HarmonicScene {
             keys: &Harmonic::AXES,
             check: check_key,
             listed: false,
+            units: true,
         }
     }
 
@@ -286,6 +287,16 @@ fn check_runs(
             None => vec![system.get(key).unwrap_or(f64::NAN)],
         }
     };
+    let several = values("units").iter().any(|&n| n != 1.0);
+    if several && h.starts > 1 {
+        return Err(cx.err(
+            "[scene].starts",
+            h.starts,
+            "the census of periodic orbits (docs/model.md §10) covers one damper unit; with \
+             several units set starts = 1: each frequency's steady state is then the one the \
+             run from the study's initial state settles on",
+        ));
+    }
     let (freq_key, freqs) = match h.drive {
         Drive::Omega(w) => ("omega", axes_or(axes, "omega", w)),
         Drive::Ratio(r) => ("r", axes_or(axes, "r", r)),

@@ -208,7 +208,9 @@ fn candidates(
     for a in 0..grid.n_axes() {
         let xs = &grid.axes[a].1;
         let n = xs.len();
-        if n < 2 {
+        // The number of damper units is a count: no design lies between two of them and it
+        // has no small error, so a jump along it means nothing (model.md §14).
+        if n < 2 || grid.axes[a].0 == "units" {
             typicals.push(f64::NAN);
             continue;
         }

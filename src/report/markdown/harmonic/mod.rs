@@ -5,6 +5,7 @@
 use std::fmt::Write;
 
 mod life;
+mod units;
 
 use crate::report::markdown::words::{MAX_ROWS, SceneText, cm, design_text, f, ranked};
 
@@ -17,7 +18,9 @@ use crate::study::Study;
 
 /// Why a dataset's peaks carried by motions that are not periodic have no design-life estimate.
 fn unmeasured_reason(fs: &HarmonicSummary) -> &'static str {
-    if fs.design_peak == DesignPeak::FromRest {
+    if units::several(fs) {
+        "several damper units: no census, whose design lives cover one unit"
+    } else if fs.design_peak == DesignPeak::FromRest {
         "`design_peak = \"from_rest\"`: no census"
     } else if fs.nonperiodic_peak == NonPeriodicPeak::Window {
         "`nonperiodic_peak = \"window\"`"
@@ -99,6 +102,7 @@ pub fn section(s: &Summary, fs: &HarmonicSummary) -> String {
         );
     }
     o.push_str(&reading(fs));
+    o.push_str(&units::section(fs));
     o
 }
 
@@ -278,6 +282,16 @@ fn reading(fs: &HarmonicSummary) -> String {
         frequencies += c.points.len();
         not_converged += c.points.iter().filter(|p| !p.converged).count();
         not_periodic += c.points.iter().filter(|p| p.period == 0).count();
+    }
+    if units::several(fs) {
+        let _ = writeln!(
+            o,
+            "\n**The design peak.** The study has several damper units (docs/model.md §14). The attractor census and the design lives of motions that are not periodic cover one unit, so none is taken: each frequency's steady state is the one the run from the study's initial state settles on (*from rest* above), for every design alike, one unit included. A point is *periodic* when the motion repeats after 1 to 8 forcing periods; the others ({} of {} frequencies over the ideal curves) are quasi-periodic or chaotic, or still in their transient ({} runs reached `n_trans_max`), and carry their largest amplitude over the measuring window, a lower bound. The band where the damper helps is the stretch around the linear system's resonance where the steady amplitude is below the linear system's, its ends interpolated where the attenuation crosses 1; \"band edge\" means it still helps at the end of the swept band.",
+            thousands(not_periodic as u64),
+            thousands(frequencies as u64),
+            thousands(not_converged as u64)
+        );
+        return o;
     }
     let _ = writeln!(
         o,

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# Regenerates results/multi-unit/: configs/multi-unit.toml (harmonic forcing; the same added
+# mass over 1, 2, 4 and 8 units with equal and spread clearances, 31 frequency ratios, 5 cases:
+# 2,480 runs) run and reduced by scripts/showcase.sh. tests/reproduce.rs checks the committed
+# files byte for byte.
+#
+#   scripts/multi_unit.sh [WORK_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+exec scripts/showcase.sh configs/multi-unit.toml results/multi-unit "$@"

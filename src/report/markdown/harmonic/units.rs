@@ -1,0 +1,163 @@
+//! The harmonic section of a study of several damper units (model.md §14): for each number of
+//! units, its best design over the other axes against one unit of the same added mass: the
+//! peak, the band where the damper helps, and how much of the band is periodic.
+
+use std::fmt::Write;
+
+use crate::reduce::harmonic::{Curve, HarmonicSummary};
+use crate::report::markdown::words::{cm, f};
+
+/// Whether the study's designs carry several units.
+pub(super) fn several(fs: &HarmonicSummary) -> bool {
+    fs.curves.iter().any(|c| c.system.units > 1.0)
+}
+
+/// One design's figures: units, spread, ideal peak (m), PR, the help band and its width, the
+/// periodic share.
+struct Figures {
+    units: f64,
+    spread: f64,
+    peak: f64,
+    pr: f64,
+    band: Option<(f64, f64, bool)>,
+    periodic: f64,
+}
+
+impl Figures {
+    fn of(c: &Curve) -> Figures {
+        let peak = c.peak().0;
+        Figures {
+            units: c.system.units,
+            spread: c.system.d_spread,
+            peak,
+            pr: 1.0 - peak / c.linear_peak().0,
+            band: c.help_band().map(|b| (b.from, b.to, b.to_edge)),
+            periodic: c.periodic_share(),
+        }
+    }
+
+    fn width(&self) -> f64 {
+        self.band.map_or(0.0, |(a, b, _)| b - a)
+    }
+
+    fn band_text(&self) -> String {
+        match self.band {
+            Some((a, b, edge)) => format!(
+                "{} – {}{} (width {})",
+                f(a, 3),
+                f(b, 3),
+                if edge { ", band edge" } else { "" },
+                f(b - a, 3)
+            ),
+            None => "none".to_string(),
+        }
+    }
+}
+
+/// The section: one row per number of units (its design with the lowest peak, and its design
+/// with the widest band where the damper helps), then what splitting did, with numbers.
+pub(super) fn section(fs: &HarmonicSummary) -> String {
+    if !several(fs) {
+        return String::new();
+    }
+    // Every design's ideal curve.
+    let all: Vec<Figures> = fs
+        .curves
+        .iter()
+        .map(Figures::of)
+        .filter(|g| g.peak.is_finite())
+        .collect();
+    let mut counts: Vec<f64> = all.iter().map(|g| g.units).collect();
+    counts.sort_by(f64::total_cmp);
+    counts.dedup();
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "\n## Several units\n\nThe same added mass split over several units, each in its own cavity (docs/model.md §14). For each number of units: its design with the lowest peak, and its design with the widest band where the damper helps, over the other axes. Equal clearances (`d_spread = 0`) with the units started together keep them in step: they are one unit of the same mass, and their curves differ from one unit's only where the motion is not periodic (there rounding grows to the size of the motion).\n"
+    );
+    let _ = writeln!(
+        o,
+        "| units | lowest peak (cm) | at d_spread | PR | its band where the damper helps | widest band | at d_spread | its peak (cm) | periodic share of the band |\n|---|---|---|---|---|---|---|---|---|"
+    );
+    let mut best = Vec::new();
+    for n in &counts {
+        let of_n: Vec<&Figures> = all.iter().filter(|g| g.units == *n).collect();
+        let low = of_n
+            .iter()
+            .min_by(|a, b| a.peak.total_cmp(&b.peak))
+            .copied();
+        let wide = of_n
+            .iter()
+            .max_by(|a, b| {
+                a.width()
+                    .total_cmp(&b.width())
+                    .then(b.peak.total_cmp(&a.peak))
+            })
+            .copied();
+        let (Some(low), Some(wide)) = (low, wide) else {
+            continue;
+        };
+        let _ = writeln!(
+            o,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} % |",
+            f(*n, 0),
+            cm(low.peak),
+            f(low.spread, 2),
+            f(low.pr, 3),
+            low.band_text(),
+            f(wide.width(), 3),
+            f(wide.spread, 2),
+            cm(wide.peak),
+            f(100.0 * wide.periodic, 0)
+        );
+        best.push((*n, low, wide));
+    }
+    // Equal clearances are one unit whatever their number: how far their peaks scatter is the
+    // estimator's noise (window maxima of motions that are not periodic), not physics.
+    let same: Vec<f64> = all
+        .iter()
+        .filter(|g| g.spread == 0.0 || g.units == 1.0)
+        .map(|g| g.peak)
+        .collect();
+    if same.len() > 1 {
+        let lo = same.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = same.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let _ = writeln!(
+            o,
+            "\nThe {} designs that are one unit in effect (one unit, or equal clearances) peak between {} and {} cm: a scatter of {} % that is the estimator's (window maxima of motions that are not periodic), not physics. A difference within it says nothing.",
+            same.len(),
+            cm(lo),
+            cm(hi),
+            f((hi / lo - 1.0) * 100.0, 1)
+        );
+    }
+    if let Some((_, one_low, one_wide)) = best.iter().find(|b| b.0 == 1.0) {
+        o.push('\n');
+        for (n, low, wide) in best.iter().filter(|b| b.0 > 1.0) {
+            let peak = (low.peak / one_low.peak - 1.0) * 100.0;
+            let width = if one_wide.width() > 0.0 {
+                (wide.width() / one_wide.width() - 1.0) * 100.0
+            } else {
+                f64::NAN
+            };
+            let _ = writeln!(
+                o,
+                "- **{} units** against one: the lowest peak {} cm (d_spread = {}) against {} cm, {}{} %; the widest band where the damper helps {} (d_spread = {}, its peak {} cm) against {}, {}{} % wider.",
+                f(*n, 0),
+                cm(low.peak),
+                f(low.spread, 2),
+                cm(one_low.peak),
+                if peak >= 0.0 { "+" } else { "" },
+                f(peak, 1),
+                f(wide.width(), 3),
+                f(wide.spread, 2),
+                cm(wide.peak),
+                f(one_wide.width(), 3),
+                if width >= 0.0 { "+" } else { "" },
+                f(width, 0)
+            );
+        }
+    }
+    o.push('\n');
+    o
+}
