@@ -41,6 +41,13 @@ use impactsweep::sweep::{self, SceneRun, SweepOptions};
 const POLL: Duration = Duration::from_millis(20);
 
 /// An error of the library as a Python exception (see the module doc).
+/// Whether a batch's rows carry several damper units anywhere: its table then has the `units`
+/// and `d_spread` columns, as a study's does.
+fn several<R>(rows: &[impactsweep::store::RunRow<R>]) -> bool {
+    rows.iter()
+        .any(|r| r.system.units != 1.0 || r.system.d_spread != 0.0)
+}
+
 fn py_err(err: anyhow::Error) -> PyErr {
     let msg = format!("{err:#}");
     if err
@@ -422,12 +429,12 @@ fn simulate_batch<'py>(
         Scene::Free => {
             let rows = run_rows::<Record>(py, pool.as_ref(), &inputs, &study)?
                 .map_err(PyValueError::new_err)?;
-            impactsweep::store::points::to_batch(&rows, &settings)
+            impactsweep::store::points::to_batch(&rows, &settings, several(&rows))
         }
         Scene::Harmonic(_) => {
             let rows = run_rows::<HarmonicRecord>(py, pool.as_ref(), &inputs, &study)?
                 .map_err(PyValueError::new_err)?;
-            impactsweep::store::points::to_batch(&rows, &settings)
+            impactsweep::store::points::to_batch(&rows, &settings, several(&rows))
         }
         Scene::Random(_) => {
             let Some(r) = base.random.as_deref() else {
@@ -436,7 +443,7 @@ fn simulate_batch<'py>(
                 ));
             };
             let rows = random_rows(py, pool.as_ref(), r, seed, &names, &cols, n_rows)?;
-            impactsweep::store::points::to_batch(&rows, &r.study.solver)
+            impactsweep::store::points::to_batch(&rows, &r.study.solver, false)
         }
     }
     .map_err(py_err)?;

@@ -498,7 +498,7 @@ mod tests {
             (
                 "[sweep]\nr = [0.5, 1]\n",
                 "h.toml: [sweep].r = [0.5, 1]: unknown axis 'r'; allowed: M, m, K, C, d, e, x0, \
-                 v0, y0, w0 (F0, omega and r are axes of the harmonic scene: [scene] kind = \
+                 v0, y0, w0, units, d_spread (F0, omega and r are axes of the harmonic scene: [scene] kind = \
                  \"harmonic\")",
             ),
             (
