@@ -20,11 +20,11 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "random_axis_of_the_other_spectrum.toml",
-        "{dir}/random_axis_of_the_other_spectrum.toml: [sweep].omega_f = [1, 2]: unknown axis 'omega_f'; allowed: M, m, K, C, d, e, x0, v0, y0, w0, S0, omega_g, zeta_g (S0, omega_g, zeta_g, omega_f and zeta_f are axes of the random scene as its spectrum has them, scale of the record scene)",
+        "{dir}/random_axis_of_the_other_spectrum.toml: [sweep].omega_f = [1, 2]: unknown axis 'omega_f'; allowed: M, m, K, C, d, e, x0, v0, y0, w0, units, d_spread, S0, omega_g, zeta_g (S0, omega_g, zeta_g, omega_f and zeta_f are axes of the random scene as its spectrum has them, scale of the record scene)",
     ),
     (
         "random_units.toml",
-        "{dir}/random_units.toml: [system].units = 2: the random and record scenes take one damper unit for now (units = 1, d_spread = 0); several units run in the free and harmonic scenes",
+        "{dir}/random_units.toml: [system].d_spread = 1: the clearance spread must be in [0, 1)",
     ),
     (
         "random_axis_out_of_range.toml",

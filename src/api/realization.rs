@@ -16,7 +16,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::error::InputError;
-use crate::model::{SYSTEM_KEYS, System};
+use crate::model::{SYSTEM_KEYS, System, UNIT_KEYS};
 use crate::plan::Plan;
 use crate::sim::random::{Excitation, RandomScene, RealizationRecord};
 use crate::sim::{Harmonic, Scene, SolverSettings, State};
@@ -112,6 +112,7 @@ fn allowed(kind: &str) -> String {
     let mut keys = vec!["scene"];
     keys.extend(scene_keys(kind));
     keys.extend(SYSTEM_KEYS);
+    keys.extend(UNIT_KEYS);
     keys.extend(solver_keys());
     keys.join(" ")
 }
@@ -243,6 +244,7 @@ impl RandomSetup {
             }
             let known = scene_keys(kind).contains(&key)
                 || SYSTEM_KEYS.contains(&key)
+                || UNIT_KEYS.contains(&key)
                 || solver_keys().any(|k| k == key);
             if !known {
                 return Err(InputError::new(format!(
@@ -388,7 +390,7 @@ fn study_text(
         let v = toml_value(key, raw)?;
         if key == "im" {
             sweep.push_str(&format!("im = [{v}]\n"));
-        } else if SYSTEM_KEYS.contains(&key.as_str()) {
+        } else if SYSTEM_KEYS.contains(&key.as_str()) || UNIT_KEYS.contains(&key.as_str()) {
             system.push_str(&format!("{key} = {v}\n"));
         } else if key == "solver" {
             solver.push_str(&format!("kind = {v}\n"));

@@ -246,13 +246,6 @@ impl Setup {
         self.system.validate().map_err(wrap)?;
         self.solver.validate().map_err(wrap)?;
         self.request.validate().map_err(wrap)?;
-        if self.system.unit_count() > 1 && matches!(self.scene, Scene::Random(_)) {
-            return Err(InputError::new(format!(
-                "--set units={}: several units run in the free and harmonic scenes; the random \
-                 and record scenes take one unit (units = 1) for now",
-                crate::model::fmt_value(self.system.units)
-            )));
-        }
         if let Scene::Harmonic(h) = &self.scene {
             h.validate(&self.system).map_err(wrap)?;
             if self.solver.kind != SolverKind::Exact {

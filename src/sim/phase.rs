@@ -604,11 +604,23 @@ impl<'a, M: Motion> EventMap<'a, M> {
         };
     }
 
+    /// With several units: the motion of the mass carried, anew from `free` (a scene whose
+    /// free motion changes, the random scene's at each load interval, calls it after).
+    pub fn carry_anew(&mut self) {
+        if self.several() {
+            self.carrying = if self.carried == self.sys.M {
+                self.free
+            } else {
+                self.free.with_mass(self.carried)
+            };
+        }
+    }
+
     /// The main mass now carries `mass`.
     fn carry(&mut self, mass: f64) {
         if mass != self.carried {
             self.carried = mass;
-            self.carrying = self.free.with_mass(mass);
+            self.carry_anew();
         }
     }
 

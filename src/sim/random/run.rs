@@ -387,8 +387,10 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
     fn cross(&mut self) -> (f64, f64) {
         loop {
             let load = self.samples.next();
+            // Several units (model.md §14) go through the event loop in every interval.
             let eligible = self.k + 1 < self.run.segments
                 && self.map.phase == Phase::Free
+                && !self.map.several()
                 && self.req.trace_dt.is_none();
             if !(eligible && self.whole(load)) {
                 return load;
@@ -483,11 +485,14 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
             |osc, scale: f64| Ramp::new(osc, scale * q0, scale * qs, self.len, inner, contact);
         self.map.free = motion(run.free, free_scale);
         self.map.pair = motion(run.pair, pair_scale);
+        // With several units the main mass carries its own and the stuck units' mass under the
+        // interval's load.
+        self.map.carry_anew();
         self.map.t = 0.0;
         self.piece = 0.0;
         self.phase_start = 0.0;
         self.start = (self.map.s.x, self.map.s.v);
-        self.clean = self.map.phase == Phase::Free && self.len == dt;
+        self.clean = self.map.phase == Phase::Free && self.len == dt && !self.map.several();
         self.map.v_side = self.map.v_sign();
         self.map.begin(solver);
     }
@@ -623,12 +628,21 @@ impl<'a, N: Normals, P: Probe> SceneEvents<'a, DrivenPhase<Ramp>> for Realizatio
 
     fn impacted(&mut self, hit: &Hit) {
         let sys = self.map.sys;
-        let e_before = sys.energy(hit.before.x, hit.before.v, hit.before.w);
         let s = &self.map.s;
-        let e_after = sys.energy(s.x, s.v, s.w);
+        let (e_before, e_after) = if self.map.several() {
+            // One impact of several units: booked once, at its first unit.
+            let after = self.map.energy();
+            (hit.lead.unwrap_or(after), after)
+        } else {
+            (
+                sys.energy(hit.before.x, hit.before.v, hit.before.w),
+                sys.energy(s.x, s.v, s.w),
+            )
+        };
         self.energy_impact += e_before - e_after;
         let now = self.abs(self.map.t);
-        self.probe.impact(now, hit.wall, &hit.before, &hit.after);
+        self.probe
+            .impact_of(now, hit.unit, hit.wall, &hit.before, &hit.after);
         if hit.stuck {
             self.probe.stick(now, hit.wall, &self.map.s);
         }

@@ -231,21 +231,6 @@ pub(super) fn study(
     let dir = path.parent().unwrap_or(Path::new("."));
     let (mut scene, realizations) = random_load::scene(cx, kind, raw_scene, &raw.sweep, dir)?;
     let mut system = system::system(cx, &raw.system)?;
-    for key in crate::model::UNIT_KEYS {
-        let several = raw
-            .system
-            .get(key)
-            .filter(|&v| v != System::TABLE_I.get(key).unwrap_or(v));
-        if let Some(v) = several.or_else(|| raw.sweep.contains_key(key).then_some(f64::NAN)) {
-            let at = if v.is_nan() { "sweep" } else { "system" };
-            return Err(cx.err(
-                &format!("[{at}].{key}"),
-                cx.source(at, key),
-                "the random and record scenes take one damper unit for now (units = 1, \
-                 d_spread = 0); several units run in the free and harmonic scenes",
-            ));
-        }
-    }
     for key in ["x0", "v0", "y0", "w0"] {
         if raw.system.get(key).is_none() {
             system.set(key, 0.0);
@@ -270,7 +255,7 @@ pub(super) fn study(
         keys: &keys,
         check: random_load::check_key,
         listed: true,
-        units: false,
+        units: true,
     };
     let axes = sweep::axes(cx, &raw.sweep, &raw.system, &scene_axes)?;
     let solver = solver::solver(cx, &raw.solver)?;
