@@ -629,3 +629,59 @@ fn identical_units_in_step_are_one_unit_under_a_random_ground_motion() {
     let spread = run(&["units=3", "d_spread=0.5"]);
     assert_ne!(spread.impacts, one.impacts);
 }
+
+/// Regression (found on a seismic study of several units): two units pressed on their right
+/// walls while a third impact's impulse moved the main mass off the one stuck there traded
+/// impulses of rounding size without end (400,000 impacts in 4e-7 s, the event cap). An impact
+/// whose units all close onto the main mass is a plastic joining and keeps the stuck ones.
+#[test]
+fn units_pressed_on_their_walls_do_not_trade_impulses_without_end() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("s.toml");
+    std::fs::write(&study, STUCK_STUDY).unwrap();
+    let out = std::process::Command::new(assert_cmd::cargo::cargo_bin("impactsweep"))
+        .args(["simulate", "--study"])
+        .arg(&study)
+        .args(["--point", "30", "--realization", "20"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let row: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(row["record"]["outcome"], "ok", "{row}");
+    assert!(row["record"]["impacts"].as_u64().unwrap() < 2_000, "{row}");
+}
+
+const STUCK_STUDY: &str = r#"[study]
+name = "multi-unit-seismic"
+seed = 2026
+[system]
+M = 1.0
+K = 246.7
+C = 0.628
+e = 0.6
+m = 0.1
+d = 0.02
+[scene]
+kind = "random"
+input = "base"
+spectrum = "clough-penzien"
+omega_g = 15.708
+zeta_g = 0.6
+omega_f = 1.5708
+zeta_f = 0.6
+S0 = 0.005
+duration = 20
+envelope = { t1 = 2, t2 = 12, c = 0.3 }
+yield_coefficient = 0.25
+realizations = 200
+intensity = "sa"
+design_intensity = 0.2
+[sweep]
+units = [1, 2, 4, 8]
+d_spread = [0.0, 0.5]
+im = [0.1, 0.15, 0.2, 0.25, 0.3, 0.4]
+"#;

@@ -663,8 +663,12 @@ impl<'a, M: Motion> EventMap<'a, M> {
         let stuck_side = self.units.iter().find_map(|u| u.stuck).map(Wall::sign);
         if let Some(side) = stuck_side
             && side * dv > 0.0
+            && !self.all_close(&hits, v, dv)
         {
-            // The impulse moves the main mass off the stuck units: they stay behind.
+            // The impulse moves the main mass off the stuck units: they stay behind. (Not when
+            // every unit that hit closes onto the main mass by the chatter rule: that is a
+            // plastic joining, and releasing the stuck ones would only have them come back at
+            // zero speed, an endless exchange of impulses of rounding size.)
             for u in &mut self.units {
                 u.stuck = None;
             }
@@ -750,6 +754,20 @@ impl<'a, M: Motion> EventMap<'a, M> {
         self.carry(carried);
         self.mirror();
         out
+    }
+
+    /// Whether every unit of `hits` would stick by the chatter rule after an impact that
+    /// changes the main mass's velocity `v` by `dv` while it carries what it carries now.
+    fn all_close(&self, hits: &[(usize, Wall)], v: f64, dv: f64) -> bool {
+        let (t, x, va) = (self.t, self.s.x, v + dv);
+        let relative = self.carrying.accel_at(t, x, va) - self.carrying.inner_accel(t).0;
+        hits.iter().all(|&(i, wall)| {
+            let u = &self.units[i];
+            let sign = wall.sign();
+            let w = va - u.e * (u.w - v);
+            let speed = (sign * (va - w)).max(0.0);
+            chatter_ends(speed, -sign * relative, u.e, self.settings, self.period)
+        })
     }
 
     /// Ends a sticking phase: every stuck unit leaves the main mass (the contact force's zero
