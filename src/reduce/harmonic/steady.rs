@@ -10,7 +10,8 @@
 //!
 //! The designs are analysed in parallel, by as many threads as the current rayon pool has, and
 //! handed over in design order, a batch at a time ([`steady_states_in_batches`]), so the tables
-//! are the same for any thread count.
+//! are the same for any thread count; no thread runs a batch or more ahead of the design
+//! awaited, so what waits for a slow design is bounded.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
