@@ -10,7 +10,7 @@
 //!
 //! The designs are analysed in parallel, by as many threads as the current rayon pool has, and
 //! handed over in design order, a batch at a time ([`steady_states_in_batches`]), so the tables
-//! are the same for any thread count; no thread runs a batch or more ahead of the design
+//! are the same for any thread count; no thread runs more than a window ahead of the design
 //! awaited, so what waits for a slow design is bounded.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -45,9 +45,14 @@ pub fn steady_states(study: &Study, fs: &HarmonicSummary) -> Vec<Response> {
 
 /// Designs whose steady states [`steady_states_in_batches`] hands over at a time, per thread
 /// of the pool (a design's branches take 0.4 MB on average on the 41-frequency curves of the
-/// 1,000-design study of BENCHMARKS.md, 3.5 MB at most). It is also how far past the design
-/// awaited a thread may start one ([`in_design_order`]'s window).
-pub const BATCH_PER_THREAD: usize = 16;
+/// 1,000-design study of BENCHMARKS.md, 3.5 MB at most; the batch's table copies them once
+/// more while it is written, so a smaller batch holds less, and the tables are the same).
+pub const BATCH_PER_THREAD: usize = 4;
+
+/// How far past the design awaited a thread may start one, per thread of the pool
+/// ([`in_design_order`]'s window): room for the others while one design takes long (their cost
+/// varies a hundredfold), and a bound on the designs waiting for it.
+pub const WINDOW_PER_THREAD: usize = 16;
 
 /// [`steady_states`] a batch of designs at a time, in design order: `each` takes every batch,
 /// so the caller holds one batch rather than the study's. A study along `F0` is one batch.
@@ -58,8 +63,9 @@ pub const BATCH_PER_THREAD: usize = 16;
 /// parallel one after the other waited for their slowest design, and the 1,000-design study's
 /// `reduce` took 155 s against 135 s); the designs that finish ahead of an earlier one wait for
 /// it, so the batches come in design order and the tables are the same for any thread count.
-/// No thread starts a design a batch or more past the one awaited ([`in_design_order`]): the
-/// designs held are at most two batches', however slow one design is.
+/// No thread starts a design [`WINDOW_PER_THREAD`] designs a thread or more past the one
+/// awaited ([`in_design_order`]): the designs held are at most a batch and a window, however
+/// slow one design is.
 pub fn steady_states_in_batches<E>(
     study: &Study,
     fs: &HarmonicSummary,
@@ -81,7 +87,7 @@ pub fn steady_states_in_batches<E>(
         fs.curves.len(),
         threads,
         batch,
-        batch,
+        WINDOW_PER_THREAD * threads,
         |i| along_frequency(study, &h, fs, &fs.curves[i]),
         each,
     )
