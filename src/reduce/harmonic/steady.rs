@@ -10,7 +10,11 @@
 //!
 //! The designs are analysed in parallel, by as many threads as the current rayon pool has, and
 //! handed over in design order, a batch at a time ([`steady_states_in_batches`]), so the tables
-//! are the same for any thread count.
+//! are the same for any thread count; no thread runs more than a window ahead of the design
+//! awaited, so what waits for a slow design is bounded.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
 
 use rayon::prelude::*;
 
@@ -41,8 +45,14 @@ pub fn steady_states(study: &Study, fs: &HarmonicSummary) -> Vec<Response> {
 
 /// Designs whose steady states [`steady_states_in_batches`] hands over at a time, per thread
 /// of the pool (a design's branches take 0.4 MB on average on the 41-frequency curves of the
-/// 1,000-design study of BENCHMARKS.md, 3.5 MB at most).
-pub const BATCH_PER_THREAD: usize = 16;
+/// 1,000-design study of BENCHMARKS.md, 3.5 MB at most; the batch's table copies them once
+/// more while it is written, so a smaller batch holds less, and the tables are the same).
+pub const BATCH_PER_THREAD: usize = 4;
+
+/// How far past the design awaited a thread may start one, per thread of the pool
+/// ([`in_design_order`]'s window): room for the others while one design takes long (their cost
+/// varies a hundredfold), and a bound on the designs waiting for it.
+pub const WINDOW_PER_THREAD: usize = 16;
 
 /// [`steady_states`] a batch of designs at a time, in design order: `each` takes every batch,
 /// so the caller holds one batch rather than the study's. A study along `F0` is one batch.
@@ -51,8 +61,11 @@ pub const BATCH_PER_THREAD: usize = 16;
 /// The designs are analysed by as many threads as the current rayon pool has, each taking the
 /// next design when it is done with one (their cost varies a hundredfold: batches analysed in
 /// parallel one after the other waited for their slowest design, and the 1,000-design study's
-/// `reduce` took 155 s against 135 s); the designs that finish ahead of an earlier one wait for it, so the
-/// batches come in design order and the tables are the same for any thread count.
+/// `reduce` took 155 s against 135 s); the designs that finish ahead of an earlier one wait for
+/// it, so the batches come in design order and the tables are the same for any thread count.
+/// No thread starts a design [`WINDOW_PER_THREAD`] designs a thread or more past the one
+/// awaited ([`in_design_order`]): the designs held are at most a batch and a window, however
+/// slow one design is.
 pub fn steady_states_in_batches<E>(
     study: &Study,
     fs: &HarmonicSummary,
@@ -72,46 +85,142 @@ pub fn steady_states_in_batches<E>(
     }
     let threads = rayon::current_num_threads().max(1);
     let batch = BATCH_PER_THREAD * threads;
-    let n = fs.curves.len();
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Response)>(batch);
+    in_design_order(
+        fs.curves.len(),
+        threads,
+        batch,
+        WINDOW_PER_THREAD * threads,
+        |i| along_frequency(study, &h, fs, &fs.curves[i]),
+        each,
+    )
+}
+
+/// `work(i)` for every design `i < n` on `threads` threads, handed to `each` in design order,
+/// `batch` at a time (the last batch the rest); stops at `each`'s first error.
+///
+/// A thread takes the next design when it is done with one, but does not start design `i`
+/// while `i >= want + window`, `want` being the first design not yet handed over to the batch
+/// being gathered ([`Gate`]): the designs done ahead of a slow one, waiting for it, are fewer
+/// than `window`, so what is held is less than `batch + window` designs' results whatever the
+/// costs. On any way out (the end, `each`'s error, a panic in `work`) the gate closes and the
+/// threads waiting at it end; a panic in `work` is raised again here.
+fn in_design_order<T: Send, E>(
+    n: usize,
+    threads: usize,
+    batch: usize,
+    window: usize,
+    work: impl Fn(usize) -> T + Sync,
+    mut each: impl FnMut(Vec<T>) -> Result<(), E>,
+) -> Result<(), E> {
+    let (threads, batch, window) = (threads.max(1), batch.max(1), window.max(1));
+    let next = AtomicUsize::new(0);
+    let gate = Gate::default();
+    // Every design sent is in `want .. want + window`: the channel never holds more.
+    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, T)>(window);
     std::thread::scope(|scope| {
         for _ in 0..threads {
             let tx = tx.clone();
-            let next = &next;
+            let (next, gate, work) = (&next, &gate, &work);
             scope.spawn(move || {
+                let _closes = ClosesOnPanic(gate);
                 loop {
-                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    // A receiver gone (an error in `each`) ends the work too.
-                    if i >= n
-                        || tx
-                            .send((i, along_frequency(study, &h, fs, &fs.curves[i])))
-                            .is_err()
-                    {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    // A receiver gone or the gate closed (an error in `each`) ends the work too.
+                    if i >= n || !gate.admit(i, window) || tx.send((i, work(i))).is_err() {
                         break;
                     }
                 }
             });
         }
         drop(tx);
+        let _closes = Closes(&gate);
         let mut early = std::collections::BTreeMap::new();
         let (mut want, mut ready) = (0, Vec::with_capacity(batch));
         for (i, r) in rx {
             early.insert(i, r);
+            let was = want;
             while let Some(r) = early.remove(&want) {
                 ready.push(r);
                 want += 1;
+                if ready.len() == batch {
+                    gate.advance(want);
+                    each(std::mem::replace(&mut ready, Vec::with_capacity(batch)))?;
+                }
             }
-            if ready.len() >= batch {
-                each(std::mem::take(&mut ready))?;
+            if want != was {
+                gate.advance(want);
             }
         }
-        if ready.is_empty() {
+        // Short of `n`, a thread panicked: the scope raises it once the others end.
+        if ready.is_empty() || want < n {
             Ok(())
         } else {
             each(ready)
         }
     })
+}
+
+/// How far [`in_design_order`]'s threads may run ahead: the first design not yet handed over
+/// (`want`) and whether the work is over (`closed`), with the condition variable the threads
+/// wait on. The lock is held only to read or move these, never while a design is analysed
+/// or a result sent.
+#[derive(Default)]
+struct Gate {
+    state: Mutex<GateState>,
+    moved: Condvar,
+}
+
+#[derive(Default)]
+struct GateState {
+    want: usize,
+    closed: bool,
+}
+
+impl Gate {
+    fn lock(&self) -> MutexGuard<'_, GateState> {
+        self.state.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Waits until design `i` is within `window` of the design awaited; false when the gate
+    /// closed instead (checked after every wake-up).
+    fn admit(&self, i: usize, window: usize) -> bool {
+        let mut s = self.lock();
+        while !s.closed && i >= s.want + window {
+            s = self.moved.wait(s).unwrap_or_else(PoisonError::into_inner);
+        }
+        !s.closed
+    }
+
+    fn advance(&self, want: usize) {
+        self.lock().want = want;
+        self.moved.notify_all();
+    }
+
+    fn close(&self) {
+        self.lock().closed = true;
+        self.moved.notify_all();
+    }
+}
+
+/// Closes its [`Gate`] when dropped: the consumer's guard, on every way out of it.
+struct Closes<'a>(&'a Gate);
+
+impl Drop for Closes<'_> {
+    fn drop(&mut self) {
+        self.0.close();
+    }
+}
+
+/// Closes its [`Gate`] when its thread panics (the design it held never comes, so the others
+/// would wait for it forever); a thread that merely ran out of designs leaves the gate open.
+struct ClosesOnPanic<'a>(&'a Gate);
+
+impl Drop for ClosesOnPanic<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.close();
+        }
+    }
 }
 
 /// The steady states of one design's curve along the frequency (what an earlier analysis shard
@@ -480,4 +589,151 @@ pub fn section_samples(study: &Study, c: &Curve) -> Vec<SectionSample> {
             out
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+    use std::sync::atomic::AtomicBool;
+    use std::time::{Duration, Instant};
+
+    /// `f()` on its own thread, failing the test if it takes longer than `secs` (a hang).
+    fn within<R: Send + 'static>(secs: u64, f: impl FnOnce() -> R + Send + 'static) -> R {
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let _ = tx.send(std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)));
+        });
+        match rx.recv_timeout(Duration::from_secs(secs)) {
+            Ok(Ok(r)) => r,
+            Ok(Err(panic)) => std::panic::resume_unwind(panic),
+            Err(_) => panic!("no answer in {secs} s: a hang"),
+        }
+    }
+
+    /// The batches of `in_design_order` over `n` designs whose `work` sleeps `cost(i)` ms.
+    fn batches(
+        n: usize,
+        threads: usize,
+        batch: usize,
+        window: usize,
+        cost: fn(usize) -> u64,
+    ) -> Vec<Vec<usize>> {
+        let mut out = Vec::new();
+        let Ok(()) = in_design_order::<_, std::convert::Infallible>(
+            n,
+            threads,
+            batch,
+            window,
+            |i| {
+                std::thread::sleep(Duration::from_millis(cost(i)));
+                i
+            },
+            |b| {
+                out.push(b);
+                Ok(())
+            },
+        );
+        out
+    }
+
+    #[test]
+    fn designs_come_in_order_in_whole_batches_for_any_thread_count() {
+        // Costs that vary, so that threads finish out of order.
+        let cost: fn(usize) -> u64 = |i| [0, 3, 1, 0, 5, 0, 2][i % 7];
+        let want: Vec<Vec<usize>> = (0..53)
+            .collect::<Vec<_>>()
+            .chunks(8)
+            .map(<[usize]>::to_vec)
+            .collect();
+        for threads in [1, 2, 3, 8] {
+            for window in [1, 3, 8, 64] {
+                let got = within(60, move || batches(53, threads, 8, window, cost));
+                assert_eq!(got, want, "{threads} threads, window {window}");
+            }
+        }
+        assert!(within(10, move || batches(0, 2, 8, 8, cost)).is_empty());
+    }
+
+    #[test]
+    fn a_slow_first_design_holds_the_others_within_the_window() {
+        // Design 0 takes 300 ms, the others none: without the window the other threads would
+        // do all 400 while it runs, and every result would wait for it.
+        const N: usize = 400;
+        const WINDOW: usize = 6;
+        let first_done = AtomicBool::new(false);
+        let (ahead, handed) = (AtomicUsize::new(0), AtomicUsize::new(0));
+        let mut order: Vec<usize> = Vec::new();
+        let Ok(()) = in_design_order::<usize, std::convert::Infallible>(
+            N,
+            3,
+            4,
+            WINDOW,
+            |i| {
+                if i == 0 {
+                    std::thread::sleep(Duration::from_millis(300));
+                    first_done.store(true, Ordering::SeqCst);
+                } else if i >= WINDOW {
+                    // Started only once design 0 was handed over.
+                    assert!(first_done.load(Ordering::SeqCst), "design {i} ran ahead");
+                }
+                // At most a batch being gathered plus the window past the designs handed over.
+                let h = handed.load(Ordering::SeqCst);
+                ahead.fetch_max(i - h.min(i), Ordering::SeqCst);
+                i
+            },
+            |b| {
+                order.extend(&b);
+                handed.fetch_add(b.len(), Ordering::SeqCst);
+                Ok(())
+            },
+        );
+        assert_eq!(order, (0..N).collect::<Vec<_>>());
+        assert!(ahead.into_inner() < 4 + WINDOW);
+    }
+
+    #[test]
+    fn an_error_of_the_consumer_ends_the_workers_at_once() {
+        // Many slow designs: the first batch's error must not wait for them, nor leave a thread
+        // waiting at the gate for designs that no one will hand over.
+        for (threads, window) in [(1, 1), (2, 2), (4, 8), (8, 3)] {
+            let started = Arc::new(AtomicUsize::new(0));
+            let s = started.clone();
+            let t0 = Instant::now();
+            let got = within(20, move || {
+                in_design_order(
+                    100_000,
+                    threads,
+                    4,
+                    window,
+                    |i| {
+                        s.fetch_add(1, Ordering::SeqCst);
+                        std::thread::sleep(Duration::from_millis(5));
+                        i
+                    },
+                    |b: Vec<usize>| if b[0] == 4 { Err(b[0]) } else { Ok(()) },
+                )
+            });
+            assert_eq!(got, Err(4));
+            assert!(t0.elapsed() < Duration::from_secs(5), "{:?}", t0.elapsed());
+            // The second batch's 4, the window past them and one design a thread at most.
+            assert!(started.load(Ordering::SeqCst) <= 8 + window + threads);
+        }
+    }
+
+    #[test]
+    fn a_panic_in_the_work_is_raised_not_waited_for() {
+        let got = within(20, || {
+            std::panic::catch_unwind(|| {
+                batches(
+                    1_000,
+                    3,
+                    4,
+                    4,
+                    |i| if i == 5 { panic!("design 5") } else { 1 },
+                )
+            })
+        });
+        assert!(got.is_err());
+    }
 }
