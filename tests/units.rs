@@ -535,18 +535,13 @@ fn a_study_sweeps_units_and_its_tables_carry_them() {
          strength_sd = 20e6\n",
     )
     .unwrap();
-    let out = std::process::Command::new(assert_cmd::cargo::cargo_bin("impactsweep"))
-        .args(["run", "--quiet", "--reduce", "--out"])
-        .arg(tmp.path())
-        .arg(&study)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let run = tmp.path().join("units");
+    let run = common::run_study_file(&study, tmp.path(), "units");
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("reduce")
+        .arg(&run)
+        .assert()
+        .success();
     let mut seen = vec![];
     for part in part_files(&run).unwrap() {
         for row in read_rows::<Record>(&part).unwrap() {

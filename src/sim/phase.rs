@@ -633,7 +633,7 @@ impl<'a, M: Motion> EventMap<'a, M> {
     /// chatter rule per unit; the units that stick close plastically onto the main mass.
     /// Returns one [`Hit`] per unit that hit, in unit order.
     fn collide_units(&mut self) -> Vec<Hit> {
-        let (t, x, v) = (self.t, self.s.x, self.s.v);
+        let (x, v) = (self.s.x, self.s.v);
         let energy = self.energy();
         let hits: Vec<(usize, Wall)> = self
             .lines
@@ -691,22 +691,18 @@ impl<'a, M: Motion> EventMap<'a, M> {
             }
         }
         // The chatter rule per unit, with the acceleration of the main mass as it carries now.
-        let relative = self.carrying.accel_at(t, x, va) - self.carrying.inner_accel(t).0;
-        let settings = self.settings;
-        let period = self.period;
+        let relative = self.wall_accel(va);
         let mut out = Vec::with_capacity(hits.len());
         let mut closing: Option<Wall> = None;
         for (&(i, wall), before) in hits.iter().zip(befores) {
             let u = self.units[i];
-            let sign = wall.sign();
             let after = State {
                 x,
                 v: va,
                 y: u.y,
                 w: u.w,
             };
-            let speed = (sign * (va - u.w)).max(0.0);
-            let stuck = chatter_ends(speed, -sign * relative, u.e, settings, period);
+            let stuck = self.closes(wall, u.e, u.w, va, relative);
             if stuck {
                 closing = Some(wall);
                 self.units[i].stuck = Some(wall);
@@ -759,15 +755,26 @@ impl<'a, M: Motion> EventMap<'a, M> {
     /// Whether every unit of `hits` would stick by the chatter rule after an impact that
     /// changes the main mass's velocity `v` by `dv` while it carries what it carries now.
     fn all_close(&self, hits: &[(usize, Wall)], v: f64, dv: f64) -> bool {
-        let (t, x, va) = (self.t, self.s.x, v + dv);
-        let relative = self.carrying.accel_at(t, x, va) - self.carrying.inner_accel(t).0;
+        let va = v + dv;
+        let relative = self.wall_accel(va);
         hits.iter().all(|&(i, wall)| {
             let u = &self.units[i];
-            let sign = wall.sign();
-            let w = va - u.e * (u.w - v);
-            let speed = (sign * (va - w)).max(0.0);
-            chatter_ends(speed, -sign * relative, u.e, self.settings, self.period)
+            self.closes(wall, u.e, va - u.e * (u.w - v), va, relative)
         })
+    }
+
+    /// The acceleration of the main mass as it carries now, at velocity `va`, relative to a
+    /// free unit's own: what the chatter rule reads after an impact.
+    fn wall_accel(&self, va: f64) -> f64 {
+        self.carrying.accel_at(self.t, self.s.x, va) - self.carrying.inner_accel(self.t).0
+    }
+
+    /// The chatter rule for a unit of restitution `e` leaving `wall` at velocity `w` just after
+    /// an impact that left the main mass at `va`, with `relative` from [`Self::wall_accel`].
+    fn closes(&self, wall: Wall, e: f64, w: f64, va: f64, relative: f64) -> bool {
+        let sign = wall.sign();
+        let speed = (sign * (va - w)).max(0.0);
+        chatter_ends(speed, -sign * relative, e, self.settings, self.period)
     }
 
     /// Ends a sticking phase: every stuck unit leaves the main mass (the contact force's zero
