@@ -363,6 +363,28 @@ impl Chart for ProfileChart<'_> {
     }
 }
 
+/// The map's colour span in `log10` of the number: the values' range `[l0, l1]`, widened about
+/// its middle to the median width of the cells' 95 % intervals when it is narrower, so that
+/// designs the estimates do not tell apart are not painted apart. Whether it was widened.
+fn colour_span(l0: f64, l1: f64, cells: &[(u64, Option<Value>)]) -> (f64, f64, bool) {
+    let mut widths: Vec<f64> = cells
+        .iter()
+        .filter_map(|c| c.1)
+        .filter(|v| !v.bound && v.lo > 0.0 && v.hi > v.lo)
+        .map(|v| v.hi.log10() - v.lo.log10())
+        .collect();
+    if widths.is_empty() || !l0.is_finite() || !l1.is_finite() {
+        return (l0, l1, false);
+    }
+    widths.sort_by(f64::total_cmp);
+    let w = widths[widths.len() / 2];
+    if l1 - l0 >= w {
+        return (l0, l1, false);
+    }
+    let mid = 0.5 * (l0 + l1);
+    (mid - 0.5 * w, mid + 0.5 * w, true)
+}
+
 /// A downward triangle (an upper bound: the value lies below), in pixels about its point.
 fn down() -> Polygon<(i32, i32)> {
     Polygon::new(vec![(-7, -6), (7, -6), (0, 7)], RED.filled())
@@ -392,8 +414,25 @@ impl Chart for MapChart<'_> {
             g.key(self.a),
             g.key(self.b)
         );
+        let cells: Vec<(u64, Option<Value>)> =
+            self.designs.iter().map(|&d| (d, self.n.of(d))).collect();
+        let (l0, l1) = cells
+            .iter()
+            .filter_map(|c| c.1.map(|v| v.log()))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+                (a.min(y), b.max(y))
+            });
+        let (l0, l1, widened) = colour_span(l0, l1, &cells);
         let root = root.titled(&title, TITLE).map_err(err)?;
-        let (sub, rest) = root.split_vertically(26);
+        let (sub, rest) = root.split_vertically(if widened { 44 } else { 26 });
+        if widened {
+            sub.draw(&Text::new(
+                "the colours span the median 95 % interval: the values differ by less than it",
+                (12, 20),
+                SMALL.into_font().color(&BLACK),
+            ))
+            .map_err(err)?;
+        }
         let slice = slice_text(self.s, self.through, &[self.a, self.b]);
         sub.draw(&Text::new(
             format!(
@@ -414,14 +453,6 @@ impl Chart for MapChart<'_> {
             (&eb, &ea),
             (&axis_desc(g.key(self.b)), &axis_desc(g.key(self.a))),
         )?;
-        let cells: Vec<(u64, Option<Value>)> =
-            self.designs.iter().map(|&d| (d, self.n.of(d))).collect();
-        let (l0, l1) = cells
-            .iter()
-            .filter_map(|c| c.1.map(|v| v.log()))
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
-                (a.min(y), b.max(y))
-            });
         let rect = |d: u64| {
             let (ia, ib) = (g.index(d, self.a), g.index(d, self.b));
             [(eb[ib], ea[ia]), (eb[ib + 1], ea[ia + 1])]

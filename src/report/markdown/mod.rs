@@ -10,6 +10,7 @@
 mod common;
 pub mod harmonic;
 pub mod random;
+mod random_units;
 pub mod seismic;
 mod words;
 

@@ -34,7 +34,7 @@ pub fn scene_text(study: &crate::study::Study, s: &Summary, rs: &RandomSummary) 
         None => format!("{per} per design"),
     };
     SceneText {
-        section: section(s, rs),
+        section: section(s, rs) + &super::random_units::section(s, rs),
         point: ("design", "designs"),
         per_point: Some(per_design.clone()),
         window_peaks: false,
