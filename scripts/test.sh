@@ -6,6 +6,8 @@
 # (`pip install ./python`) and its pytest suite, compared against the binary just tested.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Each phase's start, in seconds since the script's (BENCHMARKS.md, "CI time", reads them).
+phase() { echo "test.sh: [${SECONDS} s] $*" >&2; }
 # The Python packages and the browser install only download and unpack: they run in the
 # background while the Rust build below keeps both cores busy, and the script waits for them
 # before the first test that needs them (BENCHMARKS.md, "CI time").
@@ -33,21 +35,26 @@ export IMPACTSWEEP_PYTHON="$PWD/.venv/bin/python"
 # build below, the Python extension's too, so they share their artifacts (BENCHMARKS.md, "CI
 # time").
 export CARGO_INCREMENTAL=0
+phase lint
 cargo fmt --check
 cargo clippy --all-targets -- -D warnings
 # The library's docs, private items included (the module docs link to what they explain), with
 # warnings denied: a link broken by a move or a rename fails here.
+phase doc
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib --document-private-items
 # Every test: the library's, the binary's, the integration tests and the benchmarks (each run
 # once as a smoke test). The examples hold no tests; clippy above has compiled them, and
 # building each at the test profile's opt-level would cost minutes (BENCHMARKS.md, "CI time").
+phase test build
 cargo test --lib --bins --tests --benches --no-run
 wait "$python_setup"
 wait "$chromium_setup"
+phase Rust tests
 cargo test --lib --bins --tests --benches
 # The committed validation of the design life (results/life_validation.md): its report
 # regenerates from the committed estimates, and a slice of them (point P2, seeds 1 and 2) is
 # reproduced bit for bit. The example in the test profile (its dependencies are built already).
+phase validations
 cargo build --quiet --profile test --example life_validation
 LIFE_VALIDATION_BIN="$PWD/target/debug/examples/life_validation" scripts/life_validation.sh --check
 # The committed validation of subset simulation (results/subset_validation.md): its report
@@ -61,6 +68,7 @@ SUBSET_VALIDATION_BIN="$PWD/target/debug/examples/subset_validation" scripts/sub
 # every dependency it shares with the main crate to the same features as the test build above
 # (python/Cargo.toml), so the main crate and its dependencies are not compiled again: only pyo3,
 # the pyarrow bridge and the extension itself are (BENCHMARKS.md, "CI time").
+phase Python extension
 cargo fmt --check --manifest-path python/Cargo.toml
 cargo clippy -p impactsweep-py --all-targets --features share-test-build -- -D warnings
 # maturin (pinned in .venv) builds it; the venv on PATH is where its pip hook finds the binary.
@@ -68,4 +76,6 @@ cargo clippy -p impactsweep-py --all-targets --features share-test-build -- -D w
 # release).
 PATH="$PWD/.venv/bin:$PATH" MATURIN_PEP517_ARGS="--profile dev --features share-test-build" \
   .venv/bin/pip install --quiet --disable-pip-version-check --no-build-isolation ./python
+phase pytest
 IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" .venv/bin/python -m pytest python/tests -q -n 2
+phase done
