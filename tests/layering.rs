@@ -930,7 +930,6 @@ fn issue_25_no_import_circles_in_app_and_study() {
 /// `super::PointPf`, `super::Input`, and its own code uses those children). The tests fail on
 /// a circle not listed here, and on a listed one that is gone (take it off the list).
 const KNOWN_CIRCLES: &[&str] = &[
-    "src/reduce/random: mod.rs, risk",
     "src/sim: dense, dopri5, driven, exact, free, harmonic, mod.rs, noise, phase, random, rk4",
     "src/sim/random: intensity, load, mod.rs",
 ];

@@ -87,7 +87,7 @@ fn write_outputs(
             crate::sim::Scene::Random(r) => r.suite().iter().map(|x| x.name.as_str()).collect(),
             _ => Vec::new(),
         };
-        let t = random::risk::capacities_table(&summary.grid, rs, &suite);
+        let t = random::risk::capacities_table(&summary.grid, &rs.capacities, &suite);
         files.extend(store::summary::write_table(dir, TableKind::Capacities, &t)?);
     }
     let mut chart_files = charts::random::charts(summary, rs, dir)?;

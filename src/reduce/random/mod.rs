@@ -48,6 +48,7 @@
 //! ([`sketch`]) beyond it ([`stream`]). Memory is then one part file, the budget and a fixed
 //! size per design point, whatever the realizations per design.
 
+pub mod point;
 pub mod risk;
 pub mod sketch;
 pub mod stream;
@@ -61,7 +62,6 @@ use crate::reduce::common::{
 use crate::sim::random::IntensitySpec;
 use crate::sim::random::{RandomScene, RealizationRecord};
 use crate::sim::{Outcome, Scene};
-use crate::stats::binomial::clopper_pearson;
 use crate::stats::fragility::{self, Counts, FitOutcome, Fragility};
 use crate::stats::hazard::SiteHazard;
 use crate::store::RunRow;
@@ -88,10 +88,8 @@ pub const SURVIVAL: Damping = Damping {
     description: "share of realizations whose |x| stays within the threshold, 1 - p_f",
 };
 
-/// The confidence of `p_f`'s interval.
-pub const CONFIDENCE: f64 = 0.95;
-
 pub use crate::study::INTENSITY_KEYS;
+pub use point::{CONFIDENCE, PointPf, beta_of};
 
 /// The reducer's options for a random or record study: the study's own, with the amplitude as
 /// the response and `p_s` as the damping quantity, averaged over the realizations (there is no
@@ -145,63 +143,6 @@ pub fn design_study(study: &Study) -> Study {
         }
     }
     s
-}
-
-/// Monte Carlo reliability of one design point of the study's grid (module doc).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PointPf {
-    /// The design point (the study's grid, intensity included).
-    pub point: u64,
-    /// Realizations that ended `ok`, and those among them whose `|x|` passed the threshold.
-    pub n: u64,
-    pub exceed: u64,
-    pub p_f: f64,
-    pub p_f_lo: f64,
-    pub p_f_hi: f64,
-    /// `-Phi^-1(p_f)`.
-    pub beta: f64,
-    /// Mean of the realizations' `rms_x` (m).
-    pub rms_x_mean: f64,
-}
-
-impl PointPf {
-    /// The reliability of one design point from its realizations' rows; `threshold` (m) as the
-    /// study sets it.
-    pub fn of(point: u64, rows: &[RunRow<RealizationRecord>], threshold: Option<f64>) -> Self {
-        let mut acc = PfAcc::default();
-        for r in rows {
-            acc.add(&r.record.record, threshold);
-        }
-        PointPf::of_counts(point, &acc, threshold)
-    }
-
-    /// The reliability of one design point from its realizations' counts.
-    pub fn of_counts(point: u64, acc: &PfAcc, threshold: Option<f64>) -> Self {
-        let (n, exceed, rms_x_mean) = acc.counts();
-        if threshold.is_none() {
-            return PointPf {
-                point,
-                n,
-                exceed: 0,
-                p_f: f64::NAN,
-                p_f_lo: f64::NAN,
-                p_f_hi: f64::NAN,
-                beta: f64::NAN,
-                rms_x_mean,
-            };
-        }
-        let ci = clopper_pearson(exceed, n, CONFIDENCE);
-        PointPf {
-            point,
-            n,
-            exceed,
-            p_f: ci.p,
-            p_f_lo: ci.lo,
-            p_f_hi: ci.hi,
-            beta: beta_of(ci.p),
-            rms_x_mean,
-        }
-    }
 }
 
 /// The design point of the study's grid that is design `design` (over the design axes'
@@ -291,10 +232,7 @@ impl RandomSummary {
 
     /// The capacities' fragility and risk of design `design`, if it has capacities.
     pub fn risk_of(&self, design: u64) -> Option<&DesignRisk> {
-        self.risk
-            .binary_search_by_key(&design, |f| f.design)
-            .ok()
-            .map(|i| &self.risk[i])
+        risk::risk_of(&self.risk, design)
     }
 
     /// Design `design`'s `p_f` at the design intensity as the ranking takes it, with its 95 %
@@ -723,7 +661,7 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
     );
     t.push("rms_x_mean", f(&|p| p.rms_x_mean));
     if !rs.risk.is_empty() {
-        risk::summary_columns(t, rs, rows);
+        risk::summary_columns(t, &rs.risk, rs.hazard.as_ref(), rows);
     }
     let Some(i) = &rs.intensity else {
         return;
@@ -755,15 +693,6 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
                 .collect(),
         ),
     );
-}
-
-/// The reliability index `-Phi^-1(p)` (NaN for a NaN `p`).
-pub fn beta_of(p: f64) -> f64 {
-    if p.is_nan() {
-        f64::NAN
-    } else {
-        -crate::reduce::common::stats::phi_inv(p)
-    }
 }
 
 /// Monte Carlo's coefficient of variation of `p` from `n` runs, `sqrt((1 - p) / (n p))`.

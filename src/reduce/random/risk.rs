@@ -26,7 +26,7 @@ use crate::stats::hazard::{
     self, SiteHazard, deaggregation, lambda_f_empirical, lambda_f_lognormal, p_years,
 };
 
-use super::{PointPf, RandomSummary};
+use super::point::PointPf;
 use crate::reduce::common::PointStats;
 use crate::store::table::{Column, Table};
 
@@ -264,14 +264,28 @@ pub fn cornell_of(d: &DesignRisk, h: &SiteHazard) -> Option<f64> {
     }
 }
 
+/// The capacities' fragility and risk of design `design` among `designs` (in design order), if
+/// it has capacities.
+pub fn risk_of(designs: &[DesignRisk], design: u64) -> Option<&DesignRisk> {
+    designs
+        .binary_search_by_key(&design, |f| f.design)
+        .ok()
+        .map(|i| &designs[i])
+}
+
 /// The summary columns of the capacities and the risk (docs/schema.md): `theta`, `beta_im` and
 /// their bootstrap intervals, `ks`, `ks_critical`, `fit_ok`, `capacities`,
 /// `capacities_censored`, `capacities_resurrected`, `ida_runs_mean`; with a hazard `lambda_f`
 /// (the curve used, `lambda_f_curve`) and its interval, `lambda_f_empirical`,
 /// `lambda_f_lognormal`, `lambda_f_cornell` (a power law), `p_f_years` and its interval,
 /// `deagg_im_10`, `deagg_im_50`, `deagg_im_90`, `risk_rank`.
-pub fn summary_columns(t: &mut Table, rs: &RandomSummary, rows: &[&PointStats]) {
-    let risks: Vec<Option<&DesignRisk>> = rows.iter().map(|d| rs.risk_of(d.point)).collect();
+pub fn summary_columns(
+    t: &mut Table,
+    designs: &[DesignRisk],
+    hazard: Option<&SiteHazard>,
+    rows: &[&PointStats],
+) {
+    let risks: Vec<Option<&DesignRisk>> = rows.iter().map(|d| risk_of(designs, d.point)).collect();
     let col = |g: &dyn Fn(&DesignRisk) -> f64| {
         Column::F64(risks.iter().map(|r| r.map_or(f64::NAN, g)).collect())
     };
@@ -293,7 +307,7 @@ pub fn summary_columns(t: &mut Table, rs: &RandomSummary, rows: &[&PointStats]) 
     t.push("capacities_censored", count(&|r| r.censored as u64));
     t.push("capacities_resurrected", count(&|r| r.resurrected as u64));
     t.push("ida_runs_mean", col(&|r| r.runs_mean));
-    let Some(h) = &rs.hazard else {
+    let Some(h) = hazard else {
         return;
     };
     let k = |g: &dyn Fn(&Risk) -> f64| col(&|r| r.risk.as_ref().map_or(f64::NAN, g));
@@ -337,10 +351,9 @@ pub fn summary_columns(t: &mut Table, rs: &RandomSummary, rows: &[&PointStats]) 
 /// `runs`.
 pub fn capacities_table(
     grid: &crate::reduce::common::Grid,
-    rs: &RandomSummary,
+    c: &[(u64, u32, MotionCapacity)],
     suite: &[&str],
 ) -> Table {
-    let c = &rs.capacities;
     let mut t = Table::default();
     t.push("point", Column::U64(c.iter().map(|x| Some(x.0)).collect()));
     for a in 0..grid.n_axes() {

@@ -3,6 +3,7 @@
 use super::*;
 use crate::reduce::testing;
 use crate::sim::random::RandomScene;
+use crate::stats::binomial::clopper_pearson;
 
 #[test]
 fn a_design_and_its_intensity_give_back_the_design_point() {
