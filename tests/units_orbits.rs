@@ -198,3 +198,60 @@ fn identical_units_in_step_have_the_orbit_of_one_unit_of_their_mass() {
         assert_eq!(on.stability, o1.stability);
     }
 }
+
+/// The relative modes of identical units in step have no multipliers: the map is not
+/// differentiable there. Moved apart by any `delta` (`1e-9` to `1e-3` of the scale), two units
+/// on their in-step orbit hit one after the other, and after one period they are apart by an
+/// amount that does not shrink with `delta`; they do not come back into step but settle on an
+/// orbit of their own, on which each unit moves differently.
+#[test]
+fn units_in_step_part_at_any_relative_offset() {
+    let mut f = common::table_i(0.02, 0.01, 0.7, 1.0, 0.5, 1.1);
+    f.sys.units = 2.0;
+    let newton = Newton::default();
+    let s = umap::eval(&f, &umap::initial(&f), 300).end;
+    let (term, state) = units::solve(&f, 1, &s, &newton);
+    assert!(matches!(term, Termination::Converged { .. }), "{term:?}");
+    let step = units::orbit_at(&f, 1, &state.unwrap(), &newton).unwrap();
+    assert_eq!(step.groups.len(), 1);
+    let l = umap::scale(&f, &step.s);
+    let wn = f.sys.omega();
+    let apart = |s: &[f64]| (s[4] - s[2]).hypot((s[5] - s[3]) / wn) / l;
+    let mut after_one = Vec::new();
+    for delta in [1e-9, 1e-6, 1e-3] {
+        let mut s = step.s.clone();
+        s[4] += delta * l;
+        s = umap::eval(&f, &s, 1).end;
+        after_one.push(apart(&s));
+        s = umap::eval(&f, &s, 200).end;
+        let end = apart(&s);
+        let (term, state) = units::solve(&f, 1, &s, &newton);
+        let orbit = match (term, state) {
+            (Termination::Converged { .. }, Some(st)) => units::orbit_at(&f, 1, &st, &newton),
+            _ => None,
+        };
+        eprintln!(
+            "relative offset {delta:e} L: apart {:.3e} L after one period, {end:.3e} L after 201; \
+             orbit there: {:?}",
+            after_one.last().unwrap(),
+            orbit.as_ref().map(|o| (
+                o.amplitude,
+                o.impacts,
+                o.exact,
+                o.multiplier_max(),
+                o.stability
+            ))
+        );
+        assert!(end > 0.1, "{delta:e}: back in step ({end:e} L apart)");
+        let o = orbit.expect("a periodic orbit out of step");
+        assert_eq!(o.groups.len(), 2);
+        assert!(apart(&o.s) > 0.1);
+    }
+    eprintln!(
+        "in step: amplitude {}, |lambda|max {}",
+        step.amplitude,
+        step.multiplier_max()
+    );
+    // Apart by the same amount after one period, whatever the offset (not in proportion).
+    assert!(after_one.iter().all(|&a| a > 1e-2), "{after_one:?}");
+}
