@@ -27,7 +27,7 @@
 //! one of the other's `p` sections ([`super::shoot::same_orbit`]). Basin share = starts that
 //! reached the orbit / starts.
 
-use super::map::{dim, distance, eval, half_gaps, initial, scale};
+use super::map::{complete, dim, distance, eval, half_gaps, initial, scale};
 use super::shoot::{UnitsOrbit, orbit_at, same_orbit, solve};
 use crate::numeric::mix64;
 use crate::orbits::map::Forcing;
@@ -199,15 +199,16 @@ fn run_start(
     (Landing::Unsettled, periods, amp)
 }
 
-/// Runs the census at `f` from `s0` (the first start's section state, `2 + 2N` components;
-/// [`super::map::initial`] for the system's own initial state). Pure.
+/// Runs the census at `f` from `s0` (the first start's section state, `2 + 2N` components, read
+/// as [`super::map::complete`]s; [`super::map::initial`] for the system's own initial state).
+/// Pure.
 pub fn census_units(f: &Forcing, s0: &[f64], c: &UnitsCensusSettings) -> UnitsCensus {
     let newton = Newton::default();
     let mut out = UnitsCensus::default();
     let mut x_ref = f.half_gap();
     for k in 0..c.starts.max(1) {
         let s = if k == 0 {
-            s0.to_vec()
+            complete(f, s0)
         } else {
             start(f, c, k, x_ref)
         };

@@ -113,6 +113,19 @@ pub fn scale(f: &Forcing, s: &[f64]) -> f64 {
     s[0].abs().max(s[1].abs() / f.omega).max(1e-3 * f.sys.d)
 }
 
+/// `s` as a full section state of [`dim`] components: a shorter one completed as [`eval`]
+/// reads it (missing units in step with unit 1, a missing unit 1 at `(0, 0)`), a longer one cut.
+pub fn complete(f: &Forcing, s: &[f64]) -> Vec<f64> {
+    let n = unit_count(f);
+    let at = |k: usize| s.get(k).copied().unwrap_or(0.0);
+    let mut out = vec![at(0), at(1)];
+    for i in 0..n {
+        let k = if 3 + 2 * i < s.len() { i } else { 0 };
+        out.extend([at(2 + 2 * k), at(3 + 2 * k)]);
+    }
+    out
+}
+
 /// Evaluates `P^p(s)` (`p >= 1` forcing periods from `t = 0`). Each `z_i` is clamped into its
 /// cavity. `s` shorter than [`dim`] is read as far as it goes (missing units start in step with
 /// unit 1). Pure.
@@ -122,17 +135,13 @@ pub fn eval(f: &Forcing, s: &[f64], p: u64) -> UnitsEval {
 
 /// [`eval`] with the simulator's events handed to `probe`.
 pub fn eval_probe<P: Probe>(f: &Forcing, s: &[f64], p: u64, probe: &mut P) -> UnitsEval {
-    let n = unit_count(f);
-    let hd = half_gaps(f);
-    let x = s.first().copied().unwrap_or(0.0);
-    let v = s.get(1).copied().unwrap_or(0.0);
-    let unit = |i: usize| -> (f64, f64) {
-        let k = if 2 + 2 * i + 1 < s.len() { i } else { 0 };
-        let z = s.get(2 + 2 * k).copied().unwrap_or(0.0);
-        let w = s.get(3 + 2 * k).copied().unwrap_or(0.0);
-        (x + z.clamp(-hd[i], hd[i]), w)
-    };
-    let starts: Vec<(f64, f64)> = (0..n).map(unit).collect();
+    let s = complete(f, s);
+    let (x, v) = (s[0], s[1]);
+    let starts: Vec<(f64, f64)> = half_gaps(f)
+        .iter()
+        .enumerate()
+        .map(|(i, hd)| (x + s[2 + 2 * i].clamp(-hd, *hd), s[3 + 2 * i]))
+        .collect();
     let sys = System {
         x0: x,
         v0: v,
@@ -170,8 +179,9 @@ pub fn eval_probe<P: Probe>(f: &Forcing, s: &[f64], p: u64, probe: &mut P) -> Un
 
 /// The groups of units in step at `s` (module doc): units with the same mass, clearance and
 /// restitution whose `(z_i, y_i')` are equal bit for bit, each group listed by its unit indices
-/// in increasing order, groups in the order of their first unit.
+/// in increasing order, groups in the order of their first unit. `s` is read as [`complete`]s.
 pub fn groups(f: &Forcing, s: &[f64]) -> Vec<Vec<usize>> {
+    let s = complete(f, s);
     let units = f.sys.unit_list();
     let key = |i: usize| {
         let u = &units[i];
@@ -221,6 +231,7 @@ pub fn jacobian(
     groups: &[Vec<usize>],
 ) -> Option<DMatrix<f64>> {
     let n = unit_count(f);
+    let s = &complete(f, s);
     let r0 = reduce(s, groups);
     let dim = r0.len();
     let l = scale(f, s);
@@ -304,5 +315,11 @@ mod tests {
         assert_eq!(expand(&r, &groups(&f, &s), 3), s.to_vec());
         f.sys.d_spread = 0.1;
         assert_eq!(groups(&f, &s).len(), 3);
+        // A short state is completed with units in step with unit 1, a long one cut.
+        let short = complete(&f, &[0.001, 0.0, 0.002, 0.1]);
+        assert_eq!(short, vec![0.001, 0.0, 0.002, 0.1, 0.002, 0.1, 0.002, 0.1]);
+        assert_eq!(complete(&f, &[]), vec![0.0; 8]);
+        assert_eq!(complete(&f, &[1.0; 12]).len(), 8);
+        assert_eq!(eval(&f, &[0.001], 1).end.len(), 8);
     }
 }

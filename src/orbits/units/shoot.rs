@@ -24,7 +24,9 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::exact::eval_exact;
-use super::map::{UnitsEval, distance, eval, expand, groups, half_gaps, jacobian, reduce, scale};
+use super::map::{
+    UnitsEval, complete, distance, eval, expand, groups, half_gaps, jacobian, reduce, scale,
+};
 use crate::orbits::map::Forcing;
 use crate::orbits::shoot::{Newton, Stability, Termination};
 use crate::sim::Outcome;
@@ -147,14 +149,15 @@ fn step(
     })
 }
 
-/// Newton on `P^p(s) - s = 0` from `s0` (`2 + 2N` components), the units in step at `s0` kept
-/// in step. Returns how it ended and the last state.
+/// Newton on `P^p(s) - s = 0` from `s0` (`2 + 2N` components; read as
+/// [`super::map::complete`]s), the units in step at `s0` kept in step. Returns how it ended and the last state.
 pub fn solve(
     f: &Forcing,
     p: u64,
     s0: &[f64],
     newton: &Newton,
 ) -> (Termination, Option<UnitsNewton>) {
+    let s0 = &complete(f, s0);
     let g = groups(f, s0);
     let last = eval(f, s0, p);
     if last.outcome != Outcome::Ok {
