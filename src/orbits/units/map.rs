@@ -1,5 +1,5 @@
 //! The stroboscopic map of several damper units (model.md §14) and its Jacobian by central
-//! differences.
+//! differences, for the motions the exact Jacobian ([`super::exact`]) does not cover.
 //!
 //! # The map
 //! With `N` units the section state at `t = k T_f` (`T_f = 2 pi / omega`) has `2 + 2N`
@@ -40,8 +40,9 @@
 //! the optimum `delta^(1/3) = 1e-4`, kept smaller so that a step seldom crosses a grazing
 //! contact. A difference whose two evaluations do not make the same impacts as the base point
 //! (the step crossed a grazing, or a change of the impact sequence) leaves the Jacobian
-//! undefined (`None`): there the map is not differentiable. Newton converges to the fixed point
-//! of the exact map whatever the Jacobian's error, which only slows it.
+//! undefined (`None`): there the map is not differentiable. The fixed point Newton finds is that
+//! of the exact map; a Jacobian error of this size only slows the iteration (each step then
+//! shrinks the error by about that relative size instead of squaring it).
 
 use nalgebra::DMatrix;
 

@@ -1,9 +1,10 @@
 //! Periodic orbits of several damper units (model.md §14, issue 68): the stroboscopic map on
-//! the `2 + 2N`-dimensional section `(x, x', z_1, y_1', ..., z_N, y_N')` with its Jacobian by
-//! central differences ([`map`]), Newton shooting with Floquet multipliers ([`shoot`]) and the
+//! the `2 + 2N`-dimensional section `(x, x', z_1, y_1', ..., z_N, y_N')` ([`map`]), its exact
+//! Jacobian where the impacts come one unit at a time ([`exact`]; central differences of the map
+//! elsewhere, [`map::jacobian`]), Newton shooting with Floquet multipliers ([`shoot`]) and the
 //! census of periodic steady states at one frequency point ([`census`]). One unit's orbits are
-//! [`crate::orbits::map`], [`crate::orbits::shoot`] and [`crate::orbits::census`], with the
-//! exact Jacobian; with `N = 1` this module's map is theirs bit for bit.
+//! [`crate::orbits::map`], [`crate::orbits::shoot`] and [`crate::orbits::census`]; with `N = 1`
+//! this module's map is theirs bit for bit.
 
 pub mod census;
 pub mod exact;
