@@ -92,3 +92,5 @@ mod subset;
 mod sweep;
 #[path = "units.rs"]
 mod units;
+#[path = "units_orbits.rs"]
+mod units_orbits;

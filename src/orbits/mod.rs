@@ -20,6 +20,7 @@ pub mod response;
 pub mod sequence;
 pub mod shoot;
 pub mod twopar;
+pub mod units;
 
 use crate::model::System;
 use crate::sim::harmonic::Steady;

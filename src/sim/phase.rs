@@ -604,6 +604,28 @@ impl<'a, M: Motion> EventMap<'a, M> {
         };
     }
 
+    /// With several units: starts unit `i` at its own `(y_i, w_i)` (m, m/s) instead of the
+    /// system's common `(y0, w0)`, for `i < starts.len()` (the stroboscopic map of several
+    /// units, [`crate::orbits::units`]). Every unit starts free. Nothing with one unit.
+    pub fn start_units(&mut self, starts: &[(f64, f64)]) {
+        if !self.several() {
+            return;
+        }
+        for (u, &(y, w)) in self.units.iter_mut().zip(starts) {
+            u.y = y;
+            u.w = w;
+        }
+        self.mirror();
+    }
+
+    /// Each unit's `(y, w)` now (m, m/s); with one unit, `(s.y, s.w)`.
+    pub fn unit_states(&self) -> Vec<(f64, f64)> {
+        if !self.several() {
+            return vec![(self.s.y, self.s.w)];
+        }
+        self.units.iter().map(|u| (u.y, u.w)).collect()
+    }
+
     /// With several units: the motion of the mass carried, anew from `free` (a scene whose
     /// free motion changes, the random scene's at each load interval, calls it after).
     pub fn carry_anew(&mut self) {

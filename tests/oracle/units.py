@@ -29,7 +29,12 @@ natural period 2 pi sqrt(M/K) and the forcing period, plus geometric samples fro
 the start) followed by brentq(xtol=1e-15, rtol=4 eps). Grazing contacts (the gap touching zero
 inside one step) can be missed: the oracle is meant for well-separated impacts.
 
+Periodic orbits (--shoot): the oracle's own stroboscopic map P^p (a run from t = 0 to p T_f
+from the section state (x, x', z_i = y_i - x, y_i')) and Newton on P^p(s) = s with the
+Jacobian by central differences of that map (function shoot).
+
 Usage:  units.py < spec.json > result.json       units.py --selftest
+        units.py --shoot < {"M", "K", "C", "units", "load", "p", "s0"} > {"s", "residual", ...}
 """
 import itertools
 import json
@@ -448,7 +453,69 @@ def selftest():
     return ok
 
 
+# ---------------------------------------------------------------------------- periodic orbits
+def period_map(spec, s, p):
+    """The oracle's own stroboscopic map P^p on the section s = (x, x', z_1, y_1', ...,
+    z_N, y_N'), z_i = y_i - x, from t = 0 (forcing phase 0) to t = p T_f, T_f = 2 pi / omega."""
+    load = spec["load"]
+    units = [dict(u, y0=s[0] + s[2 + 2 * i], w0=s[3 + 2 * i]) for i, u in enumerate(spec["units"])]
+    run = dict(spec, x0=s[0], v0=s[1], units=units, t0=0.0,
+               t_end=p * 2 * math.pi / float(load["omega"]))
+    res = Oracle(run).run()
+    if res["error"] is not None:
+        raise ValueError(f"the period map stopped: {res['error']} {res['error_detail']}")
+    f = res["final"]
+    out = [f["x"], f["v"]]
+    for y, w in zip(f["y"], f["w"]):
+        out += [y - f["x"], w]
+    return np.array(out), len(res["impacts"])
+
+
+def shoot(spec):
+    """Newton on P^p(s) - s = 0 from spec["s0"], with the Jacobian by central differences of the
+    oracle's own period map (step 1e-6 of the scale, velocities scaled by wn = sqrt(K/M)).
+    Stops when the step falls below 1e-14 of the scale (in the norm
+    sqrt(dx^2 + (dx'/wn)^2 + sum dz^2 + (dy'/wn)^2)) or after 30 iterations. Returns the fixed
+    point, its residual |P^p(s) - s| in that norm, the iterations and the eigenvalues of the
+    Jacobian at the fixed point (Floquet multipliers)."""
+    p = int(spec.get("p", 1))
+    wn = math.sqrt(float(spec["K"]) / float(spec["M"]))
+    s = np.array(spec["s0"], dtype=float)
+    n = len(s)
+    unit = np.array([wn if k % 2 == 1 else 1.0 for k in range(n)])
+    norm = lambda v: float(np.sqrt(np.sum((v / unit) ** 2)))
+    omega = float(spec["load"]["omega"])
+    scale = max(abs(s[0]), abs(s[1]) / omega)
+
+    def jacobian(s):
+        jac = np.empty((n, n))
+        for c in range(n):
+            h = 1e-6 * scale * unit[c]
+            sp, sm = s.copy(), s.copy()
+            sp[c] += h
+            sm[c] -= h
+            jac[:, c] = (period_map(spec, sp, p)[0] - period_map(spec, sm, p)[0]) / (2 * h)
+        return jac
+
+    it = 0
+    for it in range(1, 31):
+        ps, _ = period_map(spec, s, p)
+        step = np.linalg.solve(jacobian(s) - np.eye(n), -(ps - s))
+        s = s + step
+        if norm(step) <= 1e-14 * scale:
+            break
+    ps, impacts = period_map(spec, s, p)
+    ev = np.linalg.eigvals(jacobian(s))
+    ev = ev[np.argsort(-np.abs(ev))]
+    return {"s": [float(q) for q in s], "residual": norm(ps - s), "iterations": it,
+            "impacts": impacts, "multipliers": [[float(z.real), float(z.imag)] for z in ev]}
+
+
 def main():
+    if "--shoot" in sys.argv[1:]:
+        json.dump(shoot(json.load(sys.stdin)), sys.stdout)
+        sys.stdout.write("\n")
+        return
     if "--selftest" in sys.argv[1:]:
         t0 = time.time()
         ok = selftest()

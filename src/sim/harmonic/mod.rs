@@ -80,9 +80,9 @@ use serde::Serialize;
 
 use crate::model::{RangeError, System, fmt_value};
 
-pub use steady::simulate_harmonic;
 #[cfg(test)]
 pub(crate) use steady::{Stepper, simulate_with};
+pub use steady::{simulate_harmonic, simulate_harmonic_units};
 
 /// The forcing frequency, given directly or as a ratio to `sqrt(K/M)`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

@@ -42,6 +42,51 @@ pub fn simulate_harmonic<P: Probe>(
     }
 }
 
+/// [`simulate_harmonic`] with unit `i` of several (model.md §14) started at its own
+/// `starts[i] = (y_i, w_i)` (m, m/s; inside its cavity, `|y_i - x0| <= d_i / 2`) instead of the
+/// system's common `(y0, w0)`; also returns every unit's `(y, w)` at the end. The stroboscopic
+/// map of several units ([`crate::orbits::units`]) evaluates through it. With one unit `starts`
+/// is not read (the unit starts at `(y0, w0)`): the run is [`simulate_harmonic`]'s, bit for bit.
+/// No noise. Pure.
+pub fn simulate_harmonic_units<P: Probe>(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    scene: &Harmonic,
+    starts: &[(f64, f64)],
+    probe: &mut P,
+) -> (HarmonicRecord, Vec<(f64, f64)>) {
+    let starts = Some(starts);
+    match scene.finder {
+        Finder::SafeSteps => {
+            let (rec, _, units) = simulate_from(
+                sys,
+                settings,
+                req,
+                scene,
+                None,
+                probe,
+                DrivenPhase::new,
+                starts,
+            );
+            (rec, units)
+        }
+        Finder::Bracketed => {
+            let (rec, _, units) = simulate_from(
+                sys,
+                settings,
+                req,
+                scene,
+                None,
+                probe,
+                Bracketed::new,
+                starts,
+            );
+            (rec, units)
+        }
+    }
+}
+
 /// [`simulate_harmonic`] with the event finder `make(free, tol_t, max_steps)` builds, and the
 /// finder at the end (a test compares two finders on one run through it).
 pub(crate) fn simulate_with<P: Probe, S: Stepper>(
@@ -53,6 +98,24 @@ pub(crate) fn simulate_with<P: Probe, S: Stepper>(
     probe: &mut P,
     make: impl FnOnce(&Forced, f64, u64) -> S,
 ) -> (HarmonicRecord, S) {
+    let (rec, solver, _) = simulate_from(sys, settings, req, scene, noise, probe, make, None);
+    (rec, solver)
+}
+
+/// [`simulate_with`], the units of several started at `starts` when given
+/// ([`simulate_harmonic_units`]), with every unit's `(y, w)` at the end (empty without
+/// `starts`).
+#[allow(clippy::too_many_arguments)]
+fn simulate_from<P: Probe, S: Stepper>(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    scene: &Harmonic,
+    noise: Option<(&NoiseSettings, &mut NoiseStream)>,
+    probe: &mut P,
+    make: impl FnOnce(&Forced, f64, u64) -> S,
+    starts: Option<&[(f64, f64)]>,
+) -> (HarmonicRecord, S, Vec<(f64, f64)>) {
     let omega = scene.omega(sys);
     let (free, pair) = oscillators(sys, scene.F0, omega);
     let tol_t = settings.tol * sys.period();
@@ -75,10 +138,18 @@ pub(crate) fn simulate_with<P: Probe, S: Stepper>(
         next_noise: 0,
     };
     let mut run = run;
+    if let Some(starts) = starts {
+        run.map.start_units(starts);
+    }
     let mut solver = make(&free, tol_t, settings.max_steps);
     let outcome = phase::run(&mut run, &mut solver);
     let steps = solver.steps();
-    (run.finish(outcome, steps), solver)
+    let units = if starts.is_some() {
+        run.map.unit_states()
+    } else {
+        Vec::new()
+    };
+    (run.finish(outcome, steps), solver, units)
 }
 
 /// An event finder of the forced phases ([`Finder`]): today's safe steps

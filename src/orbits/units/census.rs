@@ -1,0 +1,253 @@
+//! The census of periodic steady states of several units at one frequency point: seeded starts
+//! in the cavities, a transient, Newton on `P^p` ([`super::shoot`]), distinct orbits merged.
+//!
+//! # Starts
+//! Start 0 is the given section state (the system's initial state: every unit at `(y0, w0)`,
+//! in step). Start `k >= 1` is drawn from the seed, the design point and `k` (SplitMix64: the
+//! same on any thread count) over a box scaled by `X = max(A_0, d/2)`, `A_0` the largest `|x|`
+//! start 0 saw in its last period:
+//!
+//! * main mass: `x = a cos(theta)`, `x' = -omega a sin(theta)`, `a = 2 X sqrt(u1)`,
+//!   `theta = 2 pi u2` (uniform over the disc of radius `2 X` in the `(x, x'/omega)` plane);
+//! * unit `i`, each drawn on its own: `z_i = (d_i/2)(2 u - 1)` anywhere in its cavity,
+//!   `y_i' - x'` uniform in `[-2 omega X, 2 omega X]`.
+//!
+//! # Each start
+//! The start runs one forcing period at a time. After each, for the smallest `p` in `1..=8`
+//! whose last two `p`-step differences of the section ([`super::map::distance`]) are both at
+//! most [`UnitsCensusSettings::handover`] times the scale `L` ([`super::map::scale`]), Newton on
+//! `P^p` takes over from the latest section. A converged, impacting, stable orbit ends the start;
+//! otherwise the hand-over tolerance is divided by 1000 and the transient goes on. A start
+//! whose last 16 periods made no impact has reached the non-impacting family (counted, not
+//! listed); one that reaches its budget of [`UnitsCensusSettings::max_periods`] periods first is
+//! counted as not settled (a motion that is not periodic, or a slow transient).
+//!
+//! # Merging
+//! Two orbits are one when their periods agree and the section of one lies within `1e-6 L` of
+//! one of the other's `p` sections ([`super::shoot::same_orbit`]). Basin share = starts that
+//! reached the orbit / starts.
+
+use super::map::{complete, dim, distance, eval, half_gaps, initial, scale};
+use super::shoot::{UnitsOrbit, orbit_at, same_orbit, solve};
+use crate::numeric::mix64;
+use crate::orbits::map::Forcing;
+use crate::orbits::shoot::{Newton, Stability, Termination};
+use crate::sim::Outcome;
+
+/// Largest period looked for.
+const MAX_PERIOD: usize = 8;
+/// Periods without impact after which a start has reached the non-impacting family.
+const QUIET: u64 = 16;
+
+/// The census's settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UnitsCensusSettings {
+    /// Starts, `>= 1` (start 0 from the given state).
+    pub starts: u32,
+    /// Forcing periods each start may run before it counts as not settled.
+    pub max_periods: u64,
+    /// Relative `p`-step difference at which a start is handed to Newton (default `1e-3`).
+    pub handover: f64,
+    /// The study seed and the design point: they fix the starts.
+    pub seed: u64,
+    pub point: u64,
+}
+
+impl Default for UnitsCensusSettings {
+    fn default() -> Self {
+        UnitsCensusSettings {
+            starts: 8,
+            max_periods: 2000,
+            handover: crate::orbits::HANDOVER,
+            seed: 0,
+            point: 0,
+        }
+    }
+}
+
+/// One distinct periodic orbit the census found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UnitsAttractor {
+    pub orbit: UnitsOrbit,
+    /// Starts that reached it.
+    pub starts: u32,
+    /// The first start that reached it.
+    pub first: u32,
+    /// Newton's iterations for that first start.
+    pub iterations: u32,
+}
+
+/// The census of one frequency point.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct UnitsCensus {
+    /// Distinct stable impacting orbits, in the order first reached.
+    pub attractors: Vec<UnitsAttractor>,
+    /// Starts run.
+    pub starts: u32,
+    /// Starts that reached the non-impacting family.
+    pub non_impacting: u32,
+    /// Starts that reached no periodic orbit within their budget (or whose simulation stopped
+    /// at a cap).
+    pub unsettled: u32,
+    /// Forcing periods simulated in all: the transients, and Newton's maps counted as `2 dim + 1`
+    /// maps an iteration (an upper bound: units in step have fewer columns).
+    pub periods: u64,
+}
+
+impl UnitsCensus {
+    /// Basin share of attractor `i`.
+    pub fn share(&self, i: usize) -> f64 {
+        self.attractors[i].starts as f64 / self.starts.max(1) as f64
+    }
+
+    /// The orbit with the largest amplitude.
+    pub fn worst(&self) -> Option<&UnitsAttractor> {
+        self.attractors.iter().reduce(|a, b| {
+            if b.orbit.amplitude > a.orbit.amplitude {
+                b
+            } else {
+                a
+            }
+        })
+    }
+}
+
+/// Where one start ended.
+enum Landing {
+    Orbit(Box<UnitsOrbit>, u32),
+    Quiet,
+    Unsettled,
+}
+
+/// A uniform number in `[0, 1)` for start `k`, draw `j`.
+fn uniform(c: &UnitsCensusSettings, k: u32, j: u64) -> f64 {
+    let z = mix64(c.seed ^ mix64(c.point ^ mix64(0x5EED_0068 + 256 * u64::from(k) + j)));
+    (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
+/// Start `k >= 1` (module doc).
+pub fn start(f: &Forcing, c: &UnitsCensusSettings, k: u32, x_ref: f64) -> Vec<f64> {
+    let w = f.omega;
+    let a = 2.0 * x_ref * uniform(c, k, 1).sqrt();
+    let th = std::f64::consts::TAU * uniform(c, k, 2);
+    let (x, v) = (a * th.cos(), -w * a * th.sin());
+    let mut s = vec![x, v];
+    for (i, hd) in half_gaps(f).iter().enumerate() {
+        let j = 3 + 2 * i as u64;
+        let z = hd * (2.0 * uniform(c, k, j) - 1.0);
+        let rel = 2.0 * w * x_ref * (2.0 * uniform(c, k, j + 1) - 1.0);
+        s.extend([z, v + rel]);
+    }
+    s
+}
+
+/// The smallest `p` whose last two `p`-step differences are within `tol L` (module doc).
+fn repeating(f: &Forcing, h: &[Vec<f64>], tol: f64) -> Option<usize> {
+    let n = h.len();
+    let last = &h[n - 1];
+    let lim = tol * scale(f, last);
+    (1..=MAX_PERIOD).find(|&p| {
+        n > 2 * p
+            && distance(f, last, &h[n - 1 - p]) <= lim
+            && distance(f, &h[n - 1 - p], &h[n - 1 - 2 * p]) <= lim
+    })
+}
+
+/// Runs one start from `s` (module doc); also returns the periods it cost and the largest
+/// `|x|` of its last period.
+fn run_start(
+    f: &Forcing,
+    s: Vec<f64>,
+    c: &UnitsCensusSettings,
+    newton: &Newton,
+) -> (Landing, u64, f64) {
+    // One map and the `2 (2 + 2G) <= 2 dim` of its Jacobian per Newton iteration.
+    let cost = 2 * dim(f) as u64 + 1;
+    let mut history = vec![s];
+    let (mut periods, mut quiet, mut amp) = (0u64, 0u64, 0.0);
+    let mut tol = c.handover;
+    while periods < c.max_periods {
+        let now = history.last().cloned().unwrap_or_default();
+        let e = eval(f, &now, 1);
+        periods += 1;
+        if e.outcome != Outcome::Ok {
+            return (Landing::Unsettled, periods, amp);
+        }
+        amp = e.amplitude;
+        quiet = if e.impacts == 0 { quiet + 1 } else { 0 };
+        if quiet >= QUIET {
+            return (Landing::Quiet, periods, amp);
+        }
+        history.push(e.end);
+        if history.len() > 2 * MAX_PERIOD + 1 {
+            history.remove(0);
+        }
+        let Some(p) = repeating(f, &history, tol) else {
+            continue;
+        };
+        let (term, state) = solve(f, p as u64, &history[history.len() - 1], newton);
+        let iterations = state.as_ref().map_or(0, |st| st.iterations);
+        periods += u64::from(iterations + 1) * p as u64 * cost;
+        if let (Termination::Converged { .. }, Some(st)) = (term, state)
+            && let Some(o) = orbit_at(f, p as u64, &st, newton)
+            && o.stability == Stability::Stable
+        {
+            return (Landing::Orbit(Box::new(o), iterations), periods, amp);
+        }
+        tol *= 1e-3;
+    }
+    (Landing::Unsettled, periods, amp)
+}
+
+/// Runs the census at `f` from `s0` (the first start's section state, `2 + 2N` components, read
+/// as [`super::map::complete`]s; [`super::map::initial`] for the system's own initial state).
+/// Pure.
+pub fn census_units(f: &Forcing, s0: &[f64], c: &UnitsCensusSettings) -> UnitsCensus {
+    let newton = Newton::default();
+    let mut out = UnitsCensus::default();
+    let mut x_ref = f.half_gap();
+    for k in 0..c.starts.max(1) {
+        let s = if k == 0 {
+            complete(f, s0)
+        } else {
+            start(f, c, k, x_ref)
+        };
+        let (landing, periods, amp) = run_start(f, s, c, &newton);
+        if k == 0 && amp.is_finite() {
+            x_ref = x_ref.max(amp);
+        }
+        out.starts += 1;
+        out.periods += periods;
+        match landing {
+            Landing::Orbit(o, iterations) => out.merge(f, *o, k, iterations),
+            Landing::Quiet => out.non_impacting += 1,
+            Landing::Unsettled => out.unsettled += 1,
+        }
+    }
+    out
+}
+
+/// [`census_units`] from the system's own initial state.
+pub fn census_from_rest(f: &Forcing, c: &UnitsCensusSettings) -> UnitsCensus {
+    census_units(f, &initial(f), c)
+}
+
+impl UnitsCensus {
+    fn merge(&mut self, f: &Forcing, o: UnitsOrbit, k: u32, iterations: u32) {
+        let p = u64::from(o.period);
+        if let Some(a) = self
+            .attractors
+            .iter_mut()
+            .find(|a| a.orbit.period == o.period && same_orbit(f, &a.orbit.s, &o.s, p))
+        {
+            a.starts += 1;
+            return;
+        }
+        self.attractors.push(UnitsAttractor {
+            orbit: o,
+            starts: 1,
+            first: k,
+            iterations,
+        });
+    }
+}

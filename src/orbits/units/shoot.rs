@@ -1,0 +1,254 @@
+//! Periodic orbits of several units by shooting: Newton on `P^p(s) - s = 0` in the `2 + 2N`
+//! section dimensions of [`super::map`], the Floquet multipliers and stability.
+//!
+//! # Newton
+//! The units in step at the start form groups ([`super::map::groups`]); the map keeps them in
+//! step, so Newton works on the reduced state `r = (x, x', z_g, y_g')` of dimension `2 + 2G`:
+//! `r_{k+1} = r_k - (J_k - I)^{-1} (P^p(r_k) - r_k)`, `J_k` the reduced Jacobian: the exact one
+//! ([`super::exact`]) where it applies (units all distinct, impacts one unit at a time, no
+//! sticking), else central differences of the map ([`super::map::jacobian`]). A step that would put a unit outside its cavity is
+//! shortened to keep every `|z_g| <= d_g / 2`. It stops with the same typed
+//! [`Termination`] as one unit's shooting ([`crate::orbits::shoot`]): converged when the
+//! residual `|P^p(s) - s|` (the section norm of [`super::map::distance`], m) is at most
+//! [`Newton::tol`] times the scale `L` (default `1e-10`), after at most [`Newton::max_iter`]
+//! iterations.
+//!
+//! # Stability
+//! The Floquet multipliers are the eigenvalues of the reduced monodromy matrix at the fixed
+//! point; an impacting orbit is `stable` when every `|lambda| < 1`. With all units distinct the
+//! reduced matrix is the full one, `2 + 2N` multipliers. With `k` identical units in step it has
+//! the group's two multipliers where the full one would have `2k`: the other `2 (k - 1)` are the
+//! units' relative motions, across which the map is not differentiable (module doc of
+//! [`super::map`]); they are not reported (`relative_modes` counts them).
+
+use nalgebra::{DMatrix, DVector};
+
+use super::exact::eval_exact;
+use super::map::{
+    UnitsEval, complete, distance, eval, expand, groups, half_gaps, jacobian, reduce, scale,
+};
+use crate::orbits::map::Forcing;
+use crate::orbits::shoot::{Newton, Stability, Termination};
+use crate::sim::Outcome;
+
+/// The solver's state after each step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UnitsNewton {
+    /// The full section state, `2 + 2N` components.
+    pub s: Vec<f64>,
+    pub residual: f64,
+    pub iterations: u32,
+    /// The map at `s`.
+    pub last: UnitsEval,
+}
+
+/// A periodic orbit of several units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UnitsOrbit {
+    /// The section state at `t = 0 (mod p T_f)`, `2 + 2N` components.
+    pub s: Vec<f64>,
+    /// Period in forcing periods.
+    pub period: u32,
+    /// `max |x|` over the orbit (m), exact.
+    pub amplitude: f64,
+    /// Impact instants over one orbit period.
+    pub impacts: u64,
+    /// Floquet multipliers `(re, im)` of the reduced monodromy matrix, sorted by decreasing
+    /// modulus.
+    pub multipliers: Vec<(f64, f64)>,
+    pub stability: Stability,
+    /// The units in step, by group (module doc).
+    pub groups: Vec<Vec<usize>>,
+    /// Multipliers of relative motions of units in step, not reported: `2 (N - G)`.
+    pub relative_modes: usize,
+    /// The reduced monodromy matrix.
+    pub monodromy: DMatrix<f64>,
+    /// Whether it is the exact one ([`super::exact`]) rather than central differences.
+    pub exact: bool,
+}
+
+impl UnitsOrbit {
+    /// The largest `|lambda|`.
+    pub fn multiplier_max(&self) -> f64 {
+        self.multipliers
+            .iter()
+            .map(|&(re, im)| re.hypot(im))
+            .fold(0.0, f64::max)
+    }
+
+    /// Impacts per forcing period.
+    pub fn impacts_per_period(&self) -> f64 {
+        self.impacts as f64 / self.period as f64
+    }
+}
+
+/// The reduced Jacobian of `P^p` at `s` on the groups `g` (`base` is the map at `s`): the
+/// exact one when every group is one unit and [`eval_exact`] has it, else central differences;
+/// with whether it is exact. `None` where neither is defined.
+pub fn monodromy(
+    f: &Forcing,
+    s: &[f64],
+    p: u64,
+    base: &UnitsEval,
+    g: &[Vec<usize>],
+) -> Option<(DMatrix<f64>, bool)> {
+    if g.iter().all(|grp| grp.len() == 1)
+        && let (_, Some(j)) = eval_exact(f, s, p)
+    {
+        return Some((j, true));
+    }
+    jacobian(f, s, p, base, g).map(|j| (j, false))
+}
+
+/// One Newton step from `state` on the groups `g`. `Err` ends the search.
+fn step(
+    f: &Forcing,
+    p: u64,
+    g: &[Vec<usize>],
+    state: &UnitsNewton,
+) -> Result<UnitsNewton, Termination> {
+    let (jac, _) = monodromy(f, &state.s, p, &state.last, g).ok_or(Termination::Singular)?;
+    let r0 = reduce(&state.s, g);
+    let res = DVector::from_iterator(
+        r0.len(),
+        reduce(&state.last.end, g)
+            .iter()
+            .zip(&r0)
+            .map(|(a, b)| a - b),
+    );
+    let a = jac - DMatrix::identity(r0.len(), r0.len());
+    let delta = a.lu().solve(&(-res)).ok_or(Termination::Singular)?;
+    if delta.iter().any(|v| !v.is_finite()) {
+        return Err(Termination::Singular);
+    }
+    // Keep every unit inside its cavity: shorten the step along its direction.
+    let hd = half_gaps(f);
+    let mut t: f64 = 1.0;
+    for (k, grp) in g.iter().enumerate() {
+        let (z, dz) = (r0[2 + 2 * k], delta[2 + 2 * k]);
+        let h = hd[grp[0]];
+        if (z + dz).abs() > h && dz != 0.0 {
+            t = t.min(((h.copysign(z + dz) - z) / dz).clamp(0.0, 1.0));
+        }
+    }
+    let r: Vec<f64> = r0
+        .iter()
+        .zip(delta.iter())
+        .map(|(a, d)| a + t * d)
+        .collect();
+    let s = expand(&r, g, state.s.len() / 2 - 1);
+    let last = eval(f, &s, p);
+    if last.outcome != Outcome::Ok {
+        return Err(Termination::Simulator(last.outcome));
+    }
+    Ok(UnitsNewton {
+        residual: distance(f, &last.end, &s),
+        s,
+        iterations: state.iterations + 1,
+        last,
+    })
+}
+
+/// Newton on `P^p(s) - s = 0` from `s0` (`2 + 2N` components; read as
+/// [`super::map::complete`]s), the units in step at `s0` kept in step. Returns how it ended and the last state.
+pub fn solve(
+    f: &Forcing,
+    p: u64,
+    s0: &[f64],
+    newton: &Newton,
+) -> (Termination, Option<UnitsNewton>) {
+    let s0 = &complete(f, s0);
+    let g = groups(f, s0);
+    let last = eval(f, s0, p);
+    if last.outcome != Outcome::Ok {
+        return (Termination::Simulator(last.outcome), None);
+    }
+    let mut state = UnitsNewton {
+        s: s0.to_vec(),
+        residual: distance(f, &last.end, s0),
+        iterations: 0,
+        last,
+    };
+    loop {
+        if state.residual <= newton.tol * scale(f, &state.s) {
+            let done = Termination::Converged {
+                residual: state.residual,
+                iterations: state.iterations,
+            };
+            return (done, Some(state));
+        }
+        if state.iterations >= newton.max_iter {
+            let t = Termination::MaxIterations {
+                residual: state.residual,
+            };
+            return (t, Some(state));
+        }
+        match step(f, p, &g, &state) {
+            Ok(next) => state = next,
+            Err(t) => return (t, Some(state)),
+        }
+    }
+}
+
+/// Eigenvalues of `m`, sorted by decreasing modulus.
+pub fn multipliers(m: &DMatrix<f64>) -> Vec<(f64, f64)> {
+    let mut ev: Vec<(f64, f64)> = m
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| (z.re, z.im))
+        .collect();
+    ev.sort_by(|x, y| y.0.hypot(y.1).total_cmp(&x.0.hypot(x.1)));
+    ev
+}
+
+/// The orbit at a converged fixed point `state` of `P^p`: its minimal period (a divisor of `p`
+/// whose map already closes to `1e3` times Newton's tolerance), multipliers and stability.
+/// `None` when it does not impact, or the Jacobian is undefined there.
+pub fn orbit_at(f: &Forcing, p: u64, state: &UnitsNewton, newton: &Newton) -> Option<UnitsOrbit> {
+    if state.last.impacts == 0 {
+        return None;
+    }
+    let tol = 1e3 * newton.tol * scale(f, &state.s);
+    let (mut best, mut period) = (state.last.clone(), p);
+    for q in (1..p).filter(|q| p.is_multiple_of(*q)) {
+        let e = eval(f, &state.s, q);
+        if e.outcome == Outcome::Ok && distance(f, &e.end, &state.s) <= tol {
+            (best, period) = (e, q);
+            break;
+        }
+    }
+    let g = groups(f, &state.s);
+    let (mono, exact) = monodromy(f, &state.s, period, &best, &g)?;
+    let multipliers = multipliers(&mono);
+    let stable = multipliers.iter().all(|&(re, im)| re.hypot(im) < 1.0);
+    Some(UnitsOrbit {
+        s: state.s.clone(),
+        period: period as u32,
+        amplitude: best.amplitude,
+        impacts: best.impacts,
+        multipliers,
+        stability: if stable {
+            Stability::Stable
+        } else {
+            Stability::Unstable
+        },
+        relative_modes: 2 * (state.s.len() / 2 - 1 - g.len()),
+        groups: g,
+        monodromy: mono,
+        exact,
+    })
+}
+
+/// Whether `b` lies on the period-`p` orbit through `a`: within `1e-6` of the scale of one of
+/// its `p` sections.
+pub fn same_orbit(f: &Forcing, a: &[f64], b: &[f64], p: u64) -> bool {
+    let tol = 1e-6 * scale(f, a);
+    let mut s = a.to_vec();
+    for _ in 0..p.max(1) {
+        if distance(f, &s, b) <= tol {
+            return true;
+        }
+        s = eval(f, &s, 1).end;
+    }
+    false
+}
