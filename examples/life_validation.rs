@@ -11,7 +11,7 @@
 //!   period by period, as the design life measures.
 //! * `estimate [SEEDS] > results/life_validation/estimates.csv`: every point of
 //!   [`POINTS`] as a one-frequency study of 16 starts, at study seeds `1..=SEEDS` (20 by
-//!   default) and design lives of 10^6 and 10^7 periods and 1,000 h, each run as the sweep runs
+//!   default; `A..B`: seeds `A` to `B`) and design lives of 10^6 and 10^7 periods and 1,000 h, each run as the sweep runs
 //!   a curve (the census, then the race for its design life); one row per run: the life
 //!   amplitude of the motion carrying the peak, its interval, the periods measured and the wall
 //!   time.
@@ -272,14 +272,19 @@ fn estimate_one(p: &Point, seed: u64, periods: Option<f64>) -> Option<String> {
 }
 
 fn estimate(args: &[String]) {
-    let seeds: u64 = args.first().map_or(20, |s| s.parse().expect("SEEDS"));
+    // SEEDS: a count `N` (seeds 1 to N) or a range `A..B` (seeds A to B).
+    let seeds: std::ops::RangeInclusive<u64> = match args.first().map(|s| s.split_once("..")) {
+        None => 1..=20,
+        Some(Some((a, b))) => a.parse().expect("SEEDS A..B")..=b.parse().expect("SEEDS A..B"),
+        Some(None) => 1..=args[0].parse().expect("SEEDS"),
+    };
     let only: Vec<&str> = args.iter().skip(1).map(String::as_str).collect();
     println!("point,seed,horizon,periods,amplitude,lo,hi,measured,capped,xi,seconds,window_max");
     for p in POINTS
         .iter()
         .filter(|p| only.is_empty() || only.contains(&p.name))
     {
-        for seed in 1..=seeds {
+        for seed in seeds.clone() {
             for (_, h) in HORIZONS {
                 match estimate_one(p, seed, h) {
                     Some(row) => println!("{row}"),
