@@ -190,6 +190,10 @@ const BAD: &[(&str, &str)] = &[
         "unit_perturbed.toml: [perturb].dm = 0.001: perturbed m and d belong to the plain system; with [[system.unit]] tables each unit's m and d are its own (perturb them by listing the tables again)",
     ),
     (
+        "unit_x0_axis_outside.toml",
+        "unit_x0_axis_outside.toml: [sweep].x0 = -0.002: unit[0].y0: the unit must start inside its cavity: |y0 - x0| = 0.004 exceeds its d/2 = 0.003 (x0 = -0.002)",
+    ),
+    (
         "units_census.toml",
         "units_census.toml: [scene].starts = 8: the census of periodic orbits (docs/model.md §10) covers one damper unit; with several units set starts = 1: each frequency's steady state is then the one the run from the study's initial state settles on",
     ),
