@@ -1032,3 +1032,33 @@ fn a_study_of_unit_tables_stores_and_reads_back_its_units() {
         assert!(!meta.contains_key(META_UNITS));
     }
 }
+
+/// A harmonic study of `[[system.unit]]` tables runs and reduces end to end; its report's
+/// "Several units" section does not take the table's different units for one unit (their
+/// `d_spread` reads 0).
+#[test]
+fn a_harmonic_study_of_unit_tables_reduces_and_reports_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("h.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"h\"\n[system]\nv0 = 0.0\n\
+         [[system.unit]]\nm = 0.004\nd = 0.006\ne = 0.9\n\
+         [[system.unit]]\nm = 0.006\nd = 0.01\ne = 0.75\n\
+         [[system.unit]]\nm = 0.01\nd = 0.014\ne = 0.6\n\
+         [scene]\nkind = \"harmonic\"\nF0 = 0.5\nstarts = 1\n\
+         [sweep]\nr = { start = 0.8, stop = 1.2, num = 5 }\n",
+    )
+    .unwrap();
+    let run = common::run_study_file(&study, tmp.path(), "h");
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("reduce")
+        .arg(&run)
+        .assert()
+        .success();
+    let report = std::fs::read_to_string(run.join("report.md")).unwrap();
+    assert!(report.contains("## Several units"), "{report}");
+    assert!(report.contains("and they are not one unit"), "{report}");
+    assert!(!report.contains("one unit in effect"), "{report}");
+}
