@@ -275,6 +275,11 @@ mod tests {
         let plain = study("[system]\nm = 0.01\nd = 0.02\ne = 0.5\n");
         assert_eq!(one.system, plain.system);
         assert!(!one.several_units());
+        // Its unit is still fixed by the table.
+        assert!(
+            err("[[system.unit]]\nm = 0.01\nd = 0.02\ne = 0.5\n[sweep]\ne = [0.5, 0.6]\n")
+                .contains("[sweep].e = [0.5, 0.6]: e is fixed by the [[system.unit]] tables")
+        );
     }
 
     proptest::proptest! {

@@ -144,16 +144,19 @@ fn unit(cx: &Cx, i: usize, raw: &RawUnit, system: &System) -> Result<Unit, Input
 /// The rules between `[[system.unit]]` and the rest of a study (model.md §14), once its axes
 /// and cases are known: no axis over a key the tables decide or over the units' start (`y0`,
 /// `w0`), every unit inside its cavity at both ends of an `x0` axis, and no perturbed `m` or
-/// `d` (they are the plain system's).
+/// `d` (they are the plain system's). The same rules for a single table, though it is the
+/// plain system: a study's tables fix their units, whatever their number.
 pub(super) fn check_tables(
     cx: &Cx,
+    raw: &RawSystem,
     system: &System,
     axes: &[Axis],
     cases: &[Case],
 ) -> Result<(), InputError> {
-    let Some(table) = system.table else {
+    if raw.unit.is_none() {
         return Ok(());
-    };
+    }
+    let units = system.unit_list();
     for axis in axes {
         let key = axis.key.as_str();
         if TABLE_KEYS.contains(&key) || key == "y0" || key == "w0" {
@@ -168,7 +171,7 @@ pub(super) fn check_tables(
         }
         if key == "x0" {
             for x0 in [axis.values[0], axis.values[axis.values.len() - 1]] {
-                for (i, u) in table.units().iter().enumerate() {
+                for (i, u) in units.iter().enumerate() {
                     System::check_unit(i, u, x0).map_err(|e| {
                         cx.err("[sweep].x0", num(x0), format!("{}: {}", e.key, e.allowed))
                     })?;

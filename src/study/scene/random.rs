@@ -261,7 +261,7 @@ pub(super) fn study(
         units: true,
     };
     let axes = sweep::axes(cx, &raw.sweep, &raw.system, &scene_axes)?;
-    system::check_tables(cx, &system, &axes, &[])?;
+    system::check_tables(cx, &raw.system, &system, &axes, &[])?;
     let solver = solver::solver(cx, &raw.solver)?;
     if solver.kind != SolverKind::Exact {
         return Err(cx.err(
