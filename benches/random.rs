@@ -62,6 +62,7 @@ fn structure(m: f64) -> System {
         w0: 0.0,
         units: 1.0,
         d_spread: 0.0,
+        table: None,
     }
 }
 
@@ -181,6 +182,7 @@ fn seismic_structure(m: f64, d: f64) -> System {
         w0: 0.0,
         units: 1.0,
         d_spread: 0.0,
+        table: None,
     }
 }
 

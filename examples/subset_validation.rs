@@ -237,6 +237,7 @@ fn simulator() -> RandomRun {
         w0: 0.0,
         units: 1.0,
         d_spread: 0.0,
+        table: None,
     };
     let scene = RandomScene {
         input: Input::Base,

@@ -5,7 +5,9 @@
 //! [`System`] is the validated form: every constructor path goes through [`System::validate`],
 //! so later stages (the simulator above all) never see an unvalidated value.
 
-use serde::{Deserialize, Serialize};
+use std::sync::Mutex;
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// One impact damper and its initial state. SI units throughout.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -43,6 +45,14 @@ pub struct System {
     /// spaced over `d (1 ± d_spread)`, so that the units engage at different amplitudes.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub d_spread: f64,
+    /// Per-unit table (`[[system.unit]]`, model.md §14): each unit's own `m`, `d`, `e` and
+    /// initial state, or `None` for the `units` / `d_spread` rule. With a table, `units` is its
+    /// length (2 to 64: a table of one unit is the plain system) and `d_spread` 0, and `m`, `d`,
+    /// `e` are derived from it ([`UnitTable::derived`]): `m` the total inner mass, `d` the
+    /// largest clearance, `e` the mass-weighted mean restitution. Serialized as `unit`, a list
+    /// of units, only when present.
+    #[serde(default, rename = "unit", skip_serializing_if = "Option::is_none")]
+    pub table: Option<UnitTable>,
 }
 
 fn one() -> f64 {
@@ -58,7 +68,7 @@ fn is_zero(v: &f64) -> bool {
 }
 
 /// One damper unit of a [`System`] (model.md §14): a loose mass in its own cavity.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Unit {
     /// Its mass (kg), `>= 0`.
     pub m: f64,
@@ -69,6 +79,79 @@ pub struct Unit {
     /// Its initial displacement (m) and velocity (m/s).
     pub y0: f64,
     pub w0: f64,
+}
+
+/// A per-unit table of a [`System`] (`[[system.unit]]`, model.md §14), interned: a shared
+/// `&'static [Unit]`.
+///
+/// Why not `Option<Arc<[Unit]>>`: [`System`] is `Copy` and copied by value all over the crate
+/// (every design point's system is the study's with its axes set, every run and stored row
+/// holds one, the simulator's scenes keep their own copy). An `Arc` would drop `Copy` for
+/// `Clone`, touch each of those places and put a reference count on every copy of every
+/// system, also the systems of one unit that never have a table. A table is fixed for a whole
+/// study (no key of it is swept), so the few distinct tables a process ever sees are interned
+/// once, deduplicated bit for bit, and live for the process: `System` stays `Copy`, 16 bytes
+/// larger (a fat pointer; `None` is a null pointer), and the simulator reads the table only
+/// through [`System::unit_list`], once per run. The memory held is the distinct tables'
+/// (at most 64 units of 40 bytes each), however many systems, rows or parses refer to them.
+#[derive(Clone, Copy, PartialEq)]
+pub struct UnitTable(&'static [Unit]);
+
+/// The distinct tables of the process ([`UnitTable`]).
+static TABLES: Mutex<Vec<&'static [Unit]>> = Mutex::new(Vec::new());
+
+impl UnitTable {
+    /// The interned table of `units`: the same one for every call with the same bits.
+    pub fn new(units: &[Unit]) -> UnitTable {
+        let bits = |u: &Unit| [u.m, u.d, u.e, u.y0, u.w0].map(f64::to_bits);
+        let same = |t: &&'static [Unit]| {
+            t.len() == units.len() && t.iter().zip(units).all(|(a, b)| bits(a) == bits(b))
+        };
+        let mut tables = TABLES.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some(t) = tables.iter().find(|t| same(t)) {
+            return UnitTable(t);
+        }
+        let t: &'static [Unit] = Box::leak(units.to_vec().into_boxed_slice());
+        tables.push(t);
+        UnitTable(t)
+    }
+
+    /// The units, in table order.
+    pub fn units(&self) -> &'static [Unit] {
+        self.0
+    }
+
+    /// The system keys a table decides: `m` the total inner mass, `d` the largest clearance,
+    /// `e` the mass-weighted mean restitution (the plain mean when every unit is massless).
+    pub fn derived(&self) -> (f64, f64, f64) {
+        let m: f64 = self.0.iter().map(|u| u.m).sum();
+        let d = self.0.iter().map(|u| u.d).fold(0.0, f64::max);
+        let e = if m > 0.0 {
+            self.0.iter().map(|u| u.m * u.e).sum::<f64>() / m
+        } else {
+            self.0.iter().map(|u| u.e).sum::<f64>() / self.0.len().max(1) as f64
+        };
+        (m, d, e)
+    }
+}
+
+impl std::fmt::Debug for UnitTable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.0).finish()
+    }
+}
+
+impl Serialize for UnitTable {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for UnitTable {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let units = Vec::<Unit>::deserialize(d)?;
+        Ok(UnitTable::new(&units))
+    }
 }
 
 /// The names of the system keys, in the order used by tables and Parquet columns.
@@ -133,7 +216,26 @@ impl System {
         w0: 0.0,
         units: 1.0,
         d_spread: 0.0,
+        table: None,
     };
+
+    /// This system with the per-unit table `units` (model.md §14): `units` its length,
+    /// `d_spread` 0 and `m`, `d`, `e` derived from it ([`UnitTable::derived`]). A table of one
+    /// unit is the plain system: its `m`, `d`, `e`, `y0`, `w0` are the system's, and no table is
+    /// kept. Not validated: call [`System::validate`] afterwards.
+    pub fn with_units(mut self, units: &[Unit]) -> System {
+        if let [u] = units {
+            (self.m, self.d, self.e, self.y0, self.w0) = (u.m, u.d, u.e, u.y0, u.w0);
+            (self.units, self.d_spread, self.table) = (1.0, 0.0, None);
+            return self;
+        }
+        let table = UnitTable::new(units);
+        (self.m, self.d, self.e) = table.derived();
+        self.units = units.len() as f64;
+        self.d_spread = 0.0;
+        self.table = Some(table);
+        self
+    }
 
     /// Reads a key by its model.md name.
     pub fn get(&self, key: &str) -> Option<f64> {
@@ -250,6 +352,9 @@ impl System {
                 return Err(RangeError::new(key, v, what));
             }
         }
+        if let Some(table) = self.table {
+            return self.validate_table(table);
+        }
         let n = self.units;
         if !(n.is_finite() && n.fract() == 0.0 && (1.0..=MAX_UNITS).contains(&n)) {
             return Err(RangeError::new("units", n, Self::allowed("units")));
@@ -290,6 +395,85 @@ impl System {
         Ok(())
     }
 
+    /// [`System::validate`]'s checks of a per-unit table: each unit's `m`, `d`, `e`, `y0`, `w0`
+    /// in range (named `unit[i].key`), its start inside its own cavity, 2 to 64 units, and the
+    /// keys the table decides (`units`, `d_spread`, `m`, `d`, `e`) as it decides them.
+    fn validate_table(&self, table: UnitTable) -> Result<(), RangeError> {
+        let units = table.units();
+        let n = units.len() as f64;
+        if !(2.0..=MAX_UNITS).contains(&n) {
+            return Err(RangeError::new(
+                "unit",
+                n,
+                "a table of units holds 1 to 64 units (one is the plain system)",
+            ));
+        }
+        for (i, u) in units.iter().enumerate() {
+            Self::check_unit(i, u, self.x0)?;
+        }
+        let (m, d, e) = table.derived();
+        for (key, v, want) in [
+            ("units", self.units, n),
+            ("d_spread", self.d_spread, 0.0),
+            ("m", self.m, m),
+            ("d", self.d, d),
+            ("e", self.e, e),
+        ] {
+            if v.to_bits() != want.to_bits() {
+                return Err(RangeError::new(
+                    key,
+                    v,
+                    format!(
+                        "the table of units decides {key} = {} (model.md §14)",
+                        fmt_value(want)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// One unit `i` of a table: its keys in range and its start inside its cavity (`x0` the
+    /// main mass's start).
+    pub fn check_unit(i: usize, u: &Unit, x0: f64) -> Result<(), RangeError> {
+        let named = |e: RangeError, key: &str| RangeError {
+            key: format!("unit[{i}].{key}"),
+            ..e
+        };
+        let s = System {
+            m: u.m,
+            d: u.d,
+            e: u.e,
+            w0: u.w0,
+            ..System::TABLE_I
+        };
+        s.validate().map_err(|e| {
+            let key = e.key.clone();
+            named(e, &key)
+        })?;
+        let s = System {
+            x0: u.y0,
+            y0: u.y0,
+            ..System::TABLE_I
+        };
+        s.validate().map_err(|e| named(e, "y0"))?;
+        let gap = (u.y0 - x0).abs();
+        if gap.is_nan() || gap > 0.5 * u.d {
+            return Err(RangeError::new(
+                &format!("unit[{i}].y0"),
+                u.y0,
+                format!(
+                    "the unit must start inside its cavity: |y0 - x0| = {} exceeds its d/2 = {} \
+                     (x0 = {})",
+                    fmt_value(gap),
+                    fmt_value(0.5 * u.d),
+                    fmt_value(x0)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// The number of units, `units` as a count.
     pub fn unit_count(&self) -> usize {
         self.units as usize
@@ -298,7 +482,12 @@ impl System {
     /// The units (model.md §14): `N = units` equal shares `m / N` of the inner mass, each with
     /// `e`, `(y0, w0)` and the clearance `d_i = d (1 + d_spread (2 i / (N - 1) - 1))` (`d` for
     /// one unit). One unit is the paper's system: `m`, `d`, `e`, `y0`, `w0` as given.
+    ///
+    /// With a per-unit table ([`UnitTable`]) the units are the table's, in its order.
     pub fn unit_list(&self) -> Vec<Unit> {
+        if let Some(table) = self.table {
+            return table.units().to_vec();
+        }
         let n = self.unit_count().max(1);
         (0..n)
             .map(|i| {
@@ -393,6 +582,83 @@ mod tests {
         assert_eq!(
             s.validate().unwrap_err().to_string(),
             "y0 = 0.006: the inner mass must start inside the cavity: |y0 - x0| = 0.006 exceeds d/2 = 0.005"
+        );
+    }
+
+    fn unit(m: f64, d: f64, e: f64) -> Unit {
+        Unit {
+            m,
+            d,
+            e,
+            y0: 0.0,
+            w0: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_unit_table_decides_the_derived_keys_and_is_interned() {
+        let units = [unit(0.004, 0.008, 0.8), unit(0.006, 0.012, 0.6)];
+        let s = System::TABLE_I.with_units(&units);
+        s.validate().unwrap();
+        assert_eq!((s.units, s.d_spread, s.m, s.d), (2.0, 0.0, 0.01, 0.012));
+        assert!((s.e - 0.68).abs() < 1e-15, "{}", s.e);
+        assert_eq!(s.unit_list(), units.to_vec());
+        assert_eq!(s.unit_count(), 2);
+        // The same bits share one table; other bits another.
+        let again = System::TABLE_I.with_units(&units);
+        let (a, b) = (s.table.unwrap().units(), again.table.unwrap().units());
+        assert!(std::ptr::eq(a, b));
+        let other = System::TABLE_I.with_units(&[units[1], units[0]]);
+        assert!(!std::ptr::eq(a, other.table.unwrap().units()));
+        // A table of one unit is the plain system.
+        let one = System::TABLE_I.with_units(&[Unit {
+            y0: 0.001,
+            ..units[0]
+        }]);
+        assert_eq!(one.table, None);
+        assert_eq!(
+            (one.m, one.d, one.e, one.y0, one.units),
+            (0.004, 0.008, 0.8, 0.001, 1.0)
+        );
+        // Serde round trip: `unit` only when there is a table.
+        let json = serde_json::to_string(&s).unwrap();
+        assert!(json.contains("\"unit\":[{\"m\":0.004"), "{json}");
+        assert_eq!(serde_json::from_str::<System>(&json).unwrap(), s);
+        assert!(
+            !serde_json::to_string(&System::TABLE_I)
+                .unwrap()
+                .contains("unit")
+        );
+        // The system keys the table decides are checked against it.
+        let mut bad = s;
+        bad.m = 0.02;
+        assert_eq!(
+            bad.validate().unwrap_err().to_string(),
+            "m = 0.02: the table of units decides m = 0.01 (model.md §14)"
+        );
+        let bad = System::TABLE_I.with_units(&[units[0], unit(0.001, 0.004, 1.5)]);
+        assert_eq!(
+            bad.validate().unwrap_err().to_string(),
+            "unit[1].e = 1.5: the coefficient of restitution must be in [0, 1]"
+        );
+        let bad = System::TABLE_I.with_units(&[
+            units[0],
+            Unit {
+                y0: 0.007,
+                ..units[1]
+            },
+        ]);
+        assert_eq!(
+            bad.validate().unwrap_err().to_string(),
+            "unit[1].y0 = 0.007: the unit must start inside its cavity: |y0 - x0| = 0.007 \
+             exceeds its d/2 = 0.006 (x0 = 0)"
+        );
+        let bad = System::TABLE_I.with_units(&vec![units[0]; 65]);
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .starts_with("unit = 65")
         );
     }
 

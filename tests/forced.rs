@@ -538,6 +538,7 @@ fn forced_case() -> impl Strategy<Value = (System, Harmonic)> {
                 w0: 0.0,
                 units: 1.0,
                 d_spread: 0.0,
+                table: None,
             };
             let h = Harmonic {
                 n_trans: Some(30),

@@ -63,6 +63,7 @@ fn system() -> impl Strategy<Value = System> {
                 w0,
                 units: 1.0,
                 d_spread: 0.0,
+                table: None,
             }
         })
 }

@@ -27,6 +27,14 @@ const BAD: &[(&str, &str)] = &[
         "{dir}/random_units.toml: [system].d_spread = 1: the clearance spread must be in [0, 1)",
     ),
     (
+        "random_unit_table.toml",
+        "{dir}/random_unit_table.toml: [system].unit[1].d = 0: the clearance must be a finite number > 0 (m)",
+    ),
+    (
+        "random_unit_table_swept.toml",
+        "{dir}/random_unit_table_swept.toml: [sweep].d_spread = [0, 0.5]: d_spread is fixed by the [[system.unit]] tables (model.md §14); a study with unit tables sweeps none of m, d, e, y0, w0, units, d_spread",
+    ),
+    (
         "random_axis_out_of_range.toml",
         "{dir}/random_axis_out_of_range.toml: [sweep].S0 = 0: the two-sided spectral density must be in (0, 1e12] ((m/s^2)^2 or N^2 per rad/s)",
     ),

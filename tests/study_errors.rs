@@ -150,11 +150,48 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "unknown_key.toml",
-        "unknown_key.toml: [system].mass = 0.1: unknown key 'mass'; allowed keys: M, m, K, C, d, e, x0, v0, y0, w0, units, d_spread",
+        "unknown_key.toml: [system].mass = 0.1: unknown key 'mass'; allowed keys: M, m, K, C, d, e, x0, v0, y0, w0, units, d_spread, unit",
     ),
     (
         "units_in_study.toml",
         "units_in_study.toml: [system].units = 2.5: the number of units must be a whole number in [1, 64]",
+    ),
+    // Issue 68: per-unit tables.
+    (
+        "unit_unknown_key.toml",
+        "unit_unknown_key.toml: [system].unit[0].mass = 0.1: unknown key 'mass'; allowed keys: m, d, e, y0, w0",
+    ),
+    (
+        "unit_missing_e.toml",
+        "unit_missing_e.toml: [system].unit[1].e: missing; every unit needs its own m, d and e (y0 and w0 default to the system's)",
+    ),
+    (
+        "unit_e_out_of_range.toml",
+        "unit_e_out_of_range.toml: [system].unit[1].e = 1.2: the coefficient of restitution must be in [0, 1]",
+    ),
+    (
+        "unit_start_outside.toml",
+        "unit_start_outside.toml: [system].unit[0].y0 = 0.004: the unit must start inside its cavity: |y0 - x0| = 0.004 exceeds its d/2 = 0.003 (x0 = 0)",
+    ),
+    (
+        "unit_too_many.toml",
+        "unit_too_many.toml: [system].unit = 65 tables: give 1 to 64 [[system.unit]] tables, one per damper unit",
+    ),
+    (
+        "unit_with_units.toml",
+        "unit_with_units.toml: [system].units = 3: units is decided by the [[system.unit]] tables (model.md §14): give each unit's m, d and e there; m, d, e, units and d_spread cannot be set beside them",
+    ),
+    (
+        "unit_swept_m.toml",
+        "unit_swept_m.toml: [sweep].m = [0.01, 0.02]: m is fixed by the [[system.unit]] tables (model.md §14); a study with unit tables sweeps none of m, d, e, y0, w0, units, d_spread",
+    ),
+    (
+        "unit_perturbed.toml",
+        "unit_perturbed.toml: [perturb].dm = 0.001: perturbed m and d belong to the plain system; with [[system.unit]] tables each unit's m and d are its own (perturb them by listing the tables again)",
+    ),
+    (
+        "unit_x0_axis_outside.toml",
+        "unit_x0_axis_outside.toml: [sweep].x0 = -0.002: unit[0].y0: the unit must start inside its cavity: |y0 - x0| = 0.004 exceeds its d/2 = 0.003 (x0 = -0.002)",
     ),
     (
         "units_census.toml",

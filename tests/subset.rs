@@ -137,6 +137,7 @@ fn first_passage_of_the_linear_structure_against_monte_carlo() {
         w0: 0.0,
         units: 1.0,
         d_spread: 0.0,
+        table: None,
     };
     let scene = RandomScene {
         input: Input::Base,

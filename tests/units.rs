@@ -8,7 +8,7 @@
 //! * Per-unit impact counts add up, and every unit's clearance is the one `d_spread` gives.
 
 use crate::common;
-use impactsweep::model::System;
+use impactsweep::model::{System, Unit};
 use impactsweep::sim::harmonic::{Drive, Harmonic};
 use impactsweep::sim::{
     NoProbe, Probe, Record, Request, SolverKind, SolverSettings, State, Wall, simulate,
@@ -327,7 +327,8 @@ fn clearances_spread_evenly_and_bad_units_are_named() {
 }
 
 /// Every impact as the Rust run found it, with every unit's state after it (tracked along the
-/// units' straight lines between impacts: these cases neither stick nor accelerate the units).
+/// units' flights between impacts: straight lines, or under a ground motion `ground` its exact
+/// double integral; these cases do not stick).
 /// One impact instant: (t, x, v, units hit in order with their wall, each unit's (y, w) after).
 type ImpactRow = (f64, f64, f64, Vec<(usize, Wall)>, Vec<(f64, f64)>);
 
@@ -336,6 +337,47 @@ struct Impacts {
     rows: Vec<ImpactRow>,
     /// Each unit's last known (t, y, w).
     lines: Vec<(f64, f64, f64)>,
+    /// The ground acceleration the units fly under, if any.
+    ground: Option<Ground>,
+}
+
+/// A ground acceleration linear between samples `a[k]` at `k dt` and 0 after the last, as the
+/// record scene and the oracle's `ground` load take it.
+#[derive(Clone)]
+struct Ground {
+    dt: f64,
+    a: Vec<f64>,
+}
+
+impl Ground {
+    /// `(y, w)` at `t1` of a unit free at `(y, w)` at `t0` under `y'' = -a_g(t)`: exact on each
+    /// piece between samples.
+    fn fly(&self, t0: f64, (mut y, mut w): (f64, f64), t1: f64) -> (f64, f64) {
+        let mut t = t0;
+        while t < t1 {
+            let mut k = (t / self.dt).floor() as usize;
+            if (k + 1) as f64 * self.dt <= t {
+                // t on a sample that t / dt rounded below.
+                k += 1;
+            }
+            let (a0, slope, end) = if k + 1 < self.a.len() {
+                let tk = k as f64 * self.dt;
+                let slope = (self.a[k + 1] - self.a[k]) / self.dt;
+                (
+                    self.a[k] + slope * (t - tk),
+                    slope,
+                    ((k + 1) as f64 * self.dt).min(t1),
+                )
+            } else {
+                (0.0, 0.0, t1)
+            };
+            let h = end - t;
+            y += w * h - (a0 * h * h / 2.0 + slope * h * h * h / 6.0);
+            w -= a0 * h + slope * h * h / 2.0;
+            t = end;
+        }
+        (y, w)
+    }
 }
 
 impl Probe for Impacts {
@@ -344,7 +386,10 @@ impl Probe for Impacts {
         let now: Vec<(f64, f64)> = self
             .lines
             .iter()
-            .map(|&(t0, y, w)| (y + w * (t - t0), w))
+            .map(|&(t0, y, w)| match &self.ground {
+                None => (y + w * (t - t0), w),
+                Some(g) => g.fly(t0, (y, w), t),
+            })
             .collect();
         match self.rows.last_mut() {
             Some(row) if row.0 == t => {
@@ -438,84 +483,7 @@ fn an_independent_reference_agrees_on_every_impact_of_different_units() {
                 json!({"kind": "harmonic", "F0": f0, "omega": scene.omega(&sys)})
             }
         };
-        let rows = &probe.rows;
-        assert!(rows.len() > 20, "{} impacts", rows.len());
-        let unit_json = |state: &[(f64, f64)]| -> Vec<Value> {
-            units
-                .iter()
-                .zip(state)
-                .map(|(u, (y, w))| json!({"m": u.m, "d": u.d, "e": u.e, "y0": y, "w0": w}))
-                .collect()
-        };
-        let specs: Vec<Value> = rows
-            .windows(2)
-            .map(|pair| {
-                let (t, x, v, _, state) = &pair[0];
-                json!({"M": sys.M, "K": sys.K, "C": sys.C, "x0": x, "v0": v, "t0": t,
-                       "units": unit_json(state), "load": load,
-                       "t_end": pair[1].0 + 0.05, "max_impacts": units.len()})
-            })
-            .collect();
-        let out = std::process::Command::new(common::python())
-            .arg(concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/tests/oracle/units.py"
-            ))
-            .stdin(std::process::Stdio::piped())
-            .stdout(std::process::Stdio::piped())
-            .spawn()
-            .and_then(|mut child| {
-                use std::io::Write;
-                child
-                    .stdin
-                    .take()
-                    .unwrap()
-                    .write_all(serde_json::to_string(&specs).unwrap().as_bytes())?;
-                child.wait_with_output()
-            })
-            .expect("the oracle runs");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let results: Vec<Value> = serde_json::from_slice(&out.stdout).unwrap();
-        for (k, (pair, res)) in rows.windows(2).zip(&results).enumerate() {
-            let next = &pair[1];
-            let hits: Vec<&Value> = res["impacts"].as_array().unwrap().iter().collect();
-            let first = hits.first().unwrap_or_else(|| panic!("impact {k}: {res}"));
-            let t = first["t"].as_f64().unwrap();
-            let what = format!("{:?} impact {}", forcing, k + 1);
-            assert!((t - next.0).abs() < 1e-9, "{what}: t {t} vs {}", next.0);
-            let same: Vec<(usize, Wall)> = hits
-                .iter()
-                .filter(|h| h["t"].as_f64() == Some(t))
-                .map(|h| {
-                    let wall = if h["wall"] == "right" {
-                        Wall::Right
-                    } else {
-                        Wall::Left
-                    };
-                    (h["unit"].as_u64().unwrap() as usize, wall)
-                })
-                .collect();
-            assert_eq!(same, next.3, "{what}: units and walls");
-            let at_t: Vec<&&Value> = hits.iter().filter(|h| h["t"].as_f64() == Some(t)).collect();
-            let v_after = at_t.last().unwrap()["v_after"].as_f64().unwrap();
-            close(v_after, next.2, 0.0, 1e-9, &format!("{what}: v after"));
-            for h in hits.iter().filter(|h| h["t"].as_f64() == Some(t)) {
-                let i = h["unit"].as_u64().unwrap() as usize;
-                let w = h["w_after"].as_f64().unwrap();
-                close(
-                    w,
-                    next.4[i].1,
-                    next.2.abs(),
-                    1e-9,
-                    &format!("{what}: w{i} after"),
-                );
-            }
-            compared += 1;
-        }
+        compared += against_the_oracle(&sys, &probe.rows, &load, &format!("{forcing:?}"));
     }
     assert!(compared > 100, "{compared} impacts compared");
 }
@@ -680,3 +648,417 @@ units = [1, 2, 4, 8]
 d_spread = [0.0, 0.5]
 im = [0.1, 0.15, 0.2, 0.25, 0.3, 0.4]
 "#;
+
+/// Restarts the oracle from the Rust state after each impact of `rows` (a run of `sys` under
+/// `load`, the oracle's load spec) and checks that it predicts the next one: the same instant to
+/// `1e-9` s, the same units at the same walls and the same velocities after to `1e-9`
+/// relative. Returns the impacts compared.
+fn against_the_oracle(
+    sys: &System,
+    rows: &[ImpactRow],
+    load: &serde_json::Value,
+    case: &str,
+) -> usize {
+    use serde_json::{Value, json};
+    let units = sys.unit_list();
+    let mut compared = 0;
+    let (mut worst_t, mut worst_v) = (0.0f64, 0.0f64);
+    assert!(rows.len() > 20, "{} impacts", rows.len());
+    let unit_json = |state: &[(f64, f64)]| -> Vec<Value> {
+        units
+            .iter()
+            .zip(state)
+            .map(|(u, (y, w))| json!({"m": u.m, "d": u.d, "e": u.e, "y0": y, "w0": w}))
+            .collect()
+    };
+    let specs: Vec<Value> = rows
+        .windows(2)
+        .map(|pair| {
+            let (t, x, v, _, state) = &pair[0];
+            json!({"M": sys.M, "K": sys.K, "C": sys.C, "x0": x, "v0": v, "t0": t,
+                       "units": unit_json(state), "load": load,
+                       "t_end": pair[1].0 + 0.05, "max_impacts": units.len()})
+        })
+        .collect();
+    let out = std::process::Command::new(common::python())
+        .arg(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/oracle/units.py"
+        ))
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .and_then(|mut child| {
+            use std::io::Write;
+            child
+                .stdin
+                .take()
+                .unwrap()
+                .write_all(serde_json::to_string(&specs).unwrap().as_bytes())?;
+            child.wait_with_output()
+        })
+        .expect("the oracle runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let results: Vec<Value> = serde_json::from_slice(&out.stdout).unwrap();
+    for (k, (pair, res)) in rows.windows(2).zip(&results).enumerate() {
+        let next = &pair[1];
+        let hits: Vec<&Value> = res["impacts"].as_array().unwrap().iter().collect();
+        let first = hits.first().unwrap_or_else(|| panic!("impact {k}: {res}"));
+        let t = first["t"].as_f64().unwrap();
+        let what = format!("{case} impact {}", k + 1);
+        assert!((t - next.0).abs() < 1e-9, "{what}: t {t} vs {}", next.0);
+        worst_t = worst_t.max((t - next.0).abs());
+        let same: Vec<(usize, Wall)> = hits
+            .iter()
+            .filter(|h| h["t"].as_f64() == Some(t))
+            .map(|h| {
+                let wall = if h["wall"] == "right" {
+                    Wall::Right
+                } else {
+                    Wall::Left
+                };
+                (h["unit"].as_u64().unwrap() as usize, wall)
+            })
+            .collect();
+        assert_eq!(same, next.3, "{what}: units and walls");
+        let at_t: Vec<&&Value> = hits.iter().filter(|h| h["t"].as_f64() == Some(t)).collect();
+        let v_after = at_t.last().unwrap()["v_after"].as_f64().unwrap();
+        close(v_after, next.2, 0.0, 1e-9, &format!("{what}: v after"));
+        worst_v = worst_v.max((v_after - next.2).abs() / next.2.abs().max(f64::MIN_POSITIVE));
+        for h in hits.iter().filter(|h| h["t"].as_f64() == Some(t)) {
+            let i = h["unit"].as_u64().unwrap() as usize;
+            let w = h["w_after"].as_f64().unwrap();
+            close(
+                w,
+                next.4[i].1,
+                next.2.abs(),
+                1e-9,
+                &format!("{what}: w{i} after"),
+            );
+        }
+        compared += 1;
+    }
+    eprintln!(
+        "{case}: {compared} impacts, worst |dt| {worst_t:e} s, worst v after {worst_v:e} relative"
+    );
+    compared
+}
+
+/// Three different units of a `[[system.unit]]` table (model.md §14): each its own mass,
+/// clearance, restitution and initial state.
+fn three_units(base: System) -> System {
+    base.with_units(&[
+        Unit {
+            m: 0.004,
+            d: 0.006,
+            e: 0.9,
+            y0: 0.001,
+            w0: 0.0,
+        },
+        Unit {
+            m: 0.006,
+            d: 0.01,
+            e: 0.75,
+            y0: 0.0,
+            w0: 0.1,
+        },
+        Unit {
+            m: 0.01,
+            d: 0.014,
+            e: 0.6,
+            y0: -0.002,
+            w0: -0.1,
+        },
+    ])
+}
+
+/// Issue 68: "An independent reference for three different units: free decay, a harmonic
+/// transient and a record, to 1e-9, impacts equal." Three units of a table with different `m`,
+/// `d`, `e` and starts; the oracle restarted from the Rust state after each impact predicts the
+/// next one ([`against_the_oracle`]) in free decay and under a harmonic force.
+#[test]
+fn three_different_units_agree_with_the_reference_free_and_harmonic() {
+    use serde_json::{Value, json};
+    let free = three_units(System::TABLE_I);
+    free.validate().unwrap();
+    let (m, d, e) = (free.m, free.d, free.e);
+    assert_eq!((free.unit_count(), m, d), (3, 0.02, 0.014));
+    close(
+        e,
+        (0.004 * 0.9 + 0.006 * 0.75 + 0.01 * 0.6) / 0.02,
+        0.0,
+        1e-15,
+        "e",
+    );
+    let mut probe = Impacts {
+        lines: free.unit_list().iter().map(|u| (0.0, u.y0, u.w0)).collect(),
+        ..Impacts::default()
+    };
+    let req = Request {
+        t_end: Some(1.5),
+        ..Request::default()
+    };
+    let rec = simulate(&free, &SolverSettings::default(), &req, None, &mut probe);
+    assert_eq!(rec.sticks, 0);
+    assert!(
+        rec.unit_impacts.iter().all(|&k| k > 10),
+        "{:?}",
+        rec.unit_impacts
+    );
+    let n_free = against_the_oracle(&free, &probe.rows, &Value::Null, "free");
+
+    let forced = three_units(System {
+        v0: 0.0,
+        ..System::TABLE_I
+    });
+    let scene = Harmonic {
+        F0: 0.5,
+        drive: Drive::Ratio(0.9),
+        n_trans: Some(8),
+        n_meas: 4,
+        starts: 1,
+        ..Harmonic::default()
+    };
+    scene.validate(&forced).unwrap();
+    let mut probe = Impacts {
+        lines: forced
+            .unit_list()
+            .iter()
+            .map(|u| (0.0, u.y0, u.w0))
+            .collect(),
+        ..Impacts::default()
+    };
+    let rec = simulate_harmonic(
+        &forced,
+        &SolverSettings::default(),
+        &Request::default(),
+        &scene,
+        None,
+        &mut probe,
+    );
+    assert_eq!(rec.sticks, 0);
+    let load = json!({"kind": "harmonic", "F0": 0.5, "omega": scene.omega(&forced)});
+    let n_forced = against_the_oracle(&forced, &probe.rows, &load, "harmonic");
+    eprintln!("three units: {n_free} impacts in free decay, {n_forced} under a harmonic force");
+    assert!(n_free > 100 && n_forced > 100, "{n_free} {n_forced}");
+}
+
+/// The same three units in a record study (`[scene] kind = "record"`, a ground acceleration
+/// read from a CSV file, `[[system.unit]]` in the study): the oracle's ground load, linear
+/// between the record's samples, predicts every impact of the run from the one before.
+#[test]
+fn three_different_units_agree_with_the_reference_under_a_record() {
+    use impactsweep::plan::Plan;
+    use impactsweep::sim::Scene;
+    use impactsweep::sim::random::{GivenNormals, simulate_random};
+    use impactsweep::study::Study;
+    let tmp = tempfile::tempdir().unwrap();
+    let dt = 0.005;
+    let a: Vec<f64> = (0..=600)
+        .map(|k| {
+            let t = k as f64 * dt;
+            // Near the structure's 10 Hz, so that the units rattle without sticking.
+            let v = 3.0 * (2.0 * std::f64::consts::PI * 9.3 * t).sin()
+                + 2.0 * (2.0 * std::f64::consts::PI * 11.1 * t + 1.0).sin();
+            (v * 1e6).round() / 1e6
+        })
+        .collect();
+    let csv: String = std::iter::once("t,a\n".to_string())
+        .chain(
+            a.iter()
+                .enumerate()
+                .map(|(k, v)| format!("{},{v}\n", k as f64 * dt)),
+        )
+        .collect();
+    std::fs::write(tmp.path().join("quake.csv"), csv).unwrap();
+    let study = tmp.path().join("three.toml");
+    std::fs::write(&study, THREE_UNIT_RECORD_STUDY).unwrap();
+    let study = Study::load(&study).unwrap();
+    let plan = Plan::new(&study);
+    let (sys, scene) = plan.point(0);
+    let Scene::Random(scene) = scene else {
+        panic!("a record study")
+    };
+    assert_eq!(
+        sys,
+        three_units(System {
+            x0: 0.0,
+            v0: 0.0,
+            y0: 0.0,
+            w0: 0.0,
+            ..System::TABLE_I
+        })
+    );
+    assert_eq!(scene.dt, dt);
+    let ground = Ground { dt, a };
+    let mut probe = Impacts {
+        lines: sys.unit_list().iter().map(|u| (0.0, u.y0, u.w0)).collect(),
+        ground: Some(ground.clone()),
+        ..Impacts::default()
+    };
+    let rec = simulate_random(
+        &sys,
+        &study.solver,
+        &study.request,
+        &scene,
+        GivenNormals::new(&[]),
+        &mut probe,
+    );
+    eprintln!(
+        "record: {} impacts, {} sticks, {:?}",
+        rec.impacts, rec.sticks, rec.outcome
+    );
+    assert_eq!(rec.sticks, 0);
+    let load = serde_json::json!({"kind": "ground", "dt": dt, "a": ground.a});
+    let n = against_the_oracle(&sys, &probe.rows, &load, "record");
+    eprintln!("three units under a record: {n} impacts");
+    assert!(n > 100, "{n} impacts compared");
+}
+
+const THREE_UNIT_RECORD_STUDY: &str = r#"[study]
+name = "three-units"
+[system]
+M = 0.1
+K = 400
+C = 0.1
+[[system.unit]]
+m = 0.004
+d = 0.006
+e = 0.9
+y0 = 0.001
+[[system.unit]]
+m = 0.006
+d = 0.01
+e = 0.75
+w0 = 0.1
+[[system.unit]]
+m = 0.01
+d = 0.014
+e = 0.6
+y0 = -0.002
+w0 = -0.1
+[scene]
+kind = "record"
+record = "quake.csv"
+"#;
+
+/// A free-decay study of `[[system.unit]]` tables sweeping `C`: its parts carry the `units`
+/// column and the tables in their metadata, the rows read back to the systems that ran (with
+/// their tables) and equal `simulate`'s runs bit for bit, and the reduce reads it. A table of
+/// one unit is the plain system: the same rows, bit for bit, as the study written with
+/// `[system]` keys.
+#[test]
+fn a_study_of_unit_tables_stores_and_reads_back_its_units() {
+    use impactsweep::store::{META_UNITS, part_files, part_metadata, read_rows};
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("tables.toml");
+    let tables = "[[system.unit]]\nm = 0.004\nd = 0.006\ne = 0.9\ny0 = 0.001\n\
+                  [[system.unit]]\nm = 0.006\nd = 0.01\ne = 0.75\nw0 = 0.1\n\
+                  [[system.unit]]\nm = 0.01\nd = 0.014\ne = 0.6\ny0 = -0.002\nw0 = -0.1\n";
+    std::fs::write(
+        &study,
+        format!("[study]\nname = \"tables\"\n[sweep]\nC = [0.1, 0.5, 2.0]\n{tables}"),
+    )
+    .unwrap();
+    let run = common::run_study_file(&study, tmp.path(), "tables");
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("reduce")
+        .arg(&run)
+        .assert()
+        .success();
+    let want = three_units(System::TABLE_I);
+    let mut seen = 0;
+    for part in part_files(&run).unwrap() {
+        let meta = part_metadata(&part).unwrap();
+        assert!(meta.contains_key(META_UNITS), "{meta:?}");
+        for row in read_rows::<Record>(&part).unwrap() {
+            let sys = row.system;
+            sys.validate().unwrap();
+            assert_eq!(sys.table, want.table);
+            assert_eq!(
+                (sys.units, sys.m, sys.d, sys.e),
+                (3.0, want.m, want.d, want.e)
+            );
+            let again = simulate(
+                &sys,
+                &SolverSettings::default(),
+                &Request::default(),
+                None,
+                &mut NoProbe,
+            );
+            assert_eq!(again.x1.to_bits(), row.record.x1.to_bits(), "{sys:?}");
+            assert_eq!(again.impacts, row.record.impacts);
+            seen += 1;
+        }
+    }
+    assert_eq!(seen, 3);
+
+    // One table is the plain system.
+    let one = tmp.path().join("one.toml");
+    std::fs::write(
+        &one,
+        "[study]\nname = \"one\"\n[sweep]\nC = [0.1, 0.5]\n\
+         [[system.unit]]\nm = 0.01\nd = 0.014\ne = 0.6\ny0 = -0.002\nw0 = -0.1\n",
+    )
+    .unwrap();
+    let plain = tmp.path().join("plain.toml");
+    std::fs::write(
+        &plain,
+        "[study]\nname = \"plain\"\n[system]\nm = 0.01\nd = 0.014\ne = 0.6\ny0 = -0.002\n\
+         w0 = -0.1\n[sweep]\nC = [0.1, 0.5]\n",
+    )
+    .unwrap();
+    let a = common::run_study_file(&one, tmp.path(), "one");
+    let b = common::run_study_file(&plain, tmp.path(), "plain");
+    let rows = |dir: &std::path::Path| -> Vec<_> {
+        part_files(dir)
+            .unwrap()
+            .iter()
+            .flat_map(|p| read_rows::<Record>(p).unwrap())
+            // Debug text: the same bits print the same, NaN included.
+            .map(|r| format!("{:?} {:?}", r.system, r.record))
+            .collect()
+    };
+    let (ra, rb) = (rows(&a), rows(&b));
+    assert_eq!(ra.len(), 2);
+    assert_eq!(ra, rb);
+    for part in part_files(&a).unwrap() {
+        let meta = part_metadata(&part).unwrap();
+        assert!(!meta.contains_key(META_UNITS));
+    }
+}
+
+/// A harmonic study of `[[system.unit]]` tables runs and reduces end to end; its report's
+/// "Several units" section does not take the table's different units for one unit (their
+/// `d_spread` reads 0).
+#[test]
+fn a_harmonic_study_of_unit_tables_reduces_and_reports_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("h.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"h\"\n[system]\nv0 = 0.0\n\
+         [[system.unit]]\nm = 0.004\nd = 0.006\ne = 0.9\n\
+         [[system.unit]]\nm = 0.006\nd = 0.01\ne = 0.75\n\
+         [[system.unit]]\nm = 0.01\nd = 0.014\ne = 0.6\n\
+         [scene]\nkind = \"harmonic\"\nF0 = 0.5\nstarts = 1\n\
+         [sweep]\nr = { start = 0.8, stop = 1.2, num = 5 }\n",
+    )
+    .unwrap();
+    let run = common::run_study_file(&study, tmp.path(), "h");
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("reduce")
+        .arg(&run)
+        .assert()
+        .success();
+    let report = std::fs::read_to_string(run.join("report.md")).unwrap();
+    assert!(report.contains("## Several units"), "{report}");
+    assert!(report.contains("and they are not one unit"), "{report}");
+    assert!(!report.contains("one unit in effect"), "{report}");
+}

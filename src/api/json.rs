@@ -21,6 +21,13 @@ pub fn insert_system(
             system.insert(k.into(), num(sys.get(k).unwrap_or(f64::NAN)));
         }
     }
+    // A per-unit table (model.md §14) as the list of its units.
+    if let Some(table) = sys.table {
+        system.insert(
+            "unit".into(),
+            serde_json::to_value(table).unwrap_or_default(),
+        );
+    }
     map.insert("system".into(), system.into());
     map.insert(
         "solver".into(),

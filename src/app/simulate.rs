@@ -64,6 +64,26 @@ fn units_line(s: &System) -> String {
     if s.unit_count() < 2 {
         return String::new();
     }
+    if let Some(table) = s.table {
+        let each: Vec<String> = table
+            .units()
+            .iter()
+            .map(|u| {
+                format!(
+                    "m = {} kg, d = {} m, e = {}",
+                    fmt_value(u.m),
+                    fmt_value(u.d),
+                    fmt_value(u.e)
+                )
+            })
+            .collect();
+        return format!(
+            "units    {} from [[system.unit]] (m is their total, d the largest, e the \
+             mass-weighted mean): {}\n",
+            s.unit_count(),
+            each.join("; ")
+        );
+    }
     let d: Vec<String> = s.unit_list().iter().map(|u| fmt_value(u.d)).collect();
     format!(
         "units    {} of m/{} = {} kg each, d_spread = {}: d = {} m\n",

@@ -55,8 +55,8 @@ pub use points::{
     part_rows, read_ids_outcomes, read_part, read_rows, write_part,
 };
 pub use schema::{
-    META_SCHEMA_VERSION, META_STUDY, META_TABLE, META_VERSION, SCHEMA_VERSION, TableKind,
-    column_name,
+    META_SCHEMA_VERSION, META_STUDY, META_TABLE, META_UNITS, META_VERSION, SCHEMA_VERSION,
+    TableKind, column_name,
 };
 
 use crate::error::InputError;

@@ -39,8 +39,8 @@ use arrow::array::{
 use arrow::datatypes::{DataType, Int8Type, Schema, SchemaRef};
 
 use super::manifest::{AttractorsEntry, WritingEntry};
-use super::schema::{META_STUDY, META_TABLE, TableKind, column_name};
-use crate::model::{SYSTEM_KEYS, System, UNIT_KEYS};
+use super::schema::{META_STUDY, META_TABLE, META_UNITS, TableKind, column_name};
+use crate::model::{SYSTEM_KEYS, System, UNIT_KEYS, UnitTable};
 use crate::sim::harmonic::Steady;
 use crate::sim::random::RealizationRecord;
 use crate::sim::{HarmonicRecord, Outcome, Record, SolverSettings, State};
@@ -202,6 +202,9 @@ pub fn encode_part<R: StoredRecord>(
 ) -> Result<Vec<u8>> {
     let batch = to_batch(rows, settings, units)?;
     let mut meta = vec![(META_STUDY.to_string(), study_toml.to_string())];
+    if let Some(table) = rows.first().and_then(|r| r.system.table) {
+        meta.push((META_UNITS.to_string(), serde_json::to_string(&table)?));
+    }
     meta.extend(extra.iter().map(|(k, v)| (k.to_string(), v.to_string())));
     super::encode(
         R::TABLE,
@@ -718,9 +721,19 @@ pub fn read_rows<R: StoredRecord>(path: &Path) -> Result<Vec<RunRow<R>>> {
         ))
         .into());
     }
+    let table: Option<UnitTable> = meta
+        .get(META_UNITS)
+        .map(|json| serde_json::from_str(json))
+        .transpose()
+        .with_context(|| format!("reading {} of {}", META_UNITS, path.display()))?;
     let mut rows = Vec::new();
     for batch in super::read_batches(path, builder)? {
         read_batch(&batch, &mut rows).with_context(|| format!("reading {}", path.display()))?;
+    }
+    if table.is_some() {
+        for row in &mut rows {
+            row.system.table = table;
+        }
     }
     Ok(rows)
 }

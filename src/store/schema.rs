@@ -20,6 +20,10 @@ pub const META_STUDY: &str = "impactsweep.study";
 pub const META_VERSION: &str = "impactsweep.version";
 /// Key-value metadata: [`SCHEMA_VERSION`].
 pub const META_SCHEMA_VERSION: &str = "impactsweep.schema_version";
+/// Key-value metadata of a points part whose systems have a per-unit table (`[[system.unit]]`,
+/// model.md §14): the table as JSON, a list of `{m, d, e, y0, w0}`. Its rows' `units` column
+/// counts the units; the table is fixed for a whole study, so it is stored once per part.
+pub const META_UNITS: &str = "impactsweep.units";
 /// Key-value metadata: which table the file holds ([`TableKind::name`]).
 pub const META_TABLE: &str = "impactsweep.table";
 /// Field metadata key of a column's unit (`"1"` dimensionless, `""` for ids, labels and flags).

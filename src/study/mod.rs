@@ -257,6 +257,31 @@ mod tests {
         assert!(s.check_size(false).is_err());
     }
 
+    #[test]
+    fn unit_tables_make_a_study_of_several_units() {
+        let s = study(
+            "[system]\nw0 = 0.1\n[[system.unit]]\nm = 0.004\nd = 0.008\ne = 0.8\n\
+             [[system.unit]]\nm = 0.006\nd = 0.012\ne = 0.6\ny0 = 0.001\n[sweep]\nC = [0.1, 0.2]\n",
+        );
+        assert!(s.several_units());
+        assert!(!s.census());
+        let units = s.system.unit_list();
+        assert_eq!(units.len(), 2);
+        assert_eq!((units[0].y0, units[0].w0), (0.0, 0.1));
+        assert_eq!((units[1].y0, units[1].w0), (0.001, 0.1));
+        assert_eq!((s.system.m, s.system.d, s.system.units), (0.01, 0.012, 2.0));
+        // One table is the plain system: the same study as its [system] keys.
+        let one = study("[[system.unit]]\nm = 0.01\nd = 0.02\ne = 0.5\n");
+        let plain = study("[system]\nm = 0.01\nd = 0.02\ne = 0.5\n");
+        assert_eq!(one.system, plain.system);
+        assert!(!one.several_units());
+        // Its unit is still fixed by the table.
+        assert!(
+            err("[[system.unit]]\nm = 0.01\nd = 0.02\ne = 0.5\n[sweep]\ne = [0.5, 0.6]\n")
+                .contains("[sweep].e = [0.5, 0.6]: e is fixed by the [[system.unit]] tables")
+        );
+    }
+
     proptest::proptest! {
         /// Whatever value lands on whatever key, parsing answers Ok or an error naming the
         /// file; it never panics.
@@ -274,6 +299,12 @@ mod tests {
                 "[system]\nC = 0\n[scene]\nkind = \"harmonic\"\n[sweep]\nr",
                 "[scene]\nkind = \"harmonic\"\n[sweep]\nomega",
                 "[scene]\nkind = \"harmonic\"\n[run]\nchunk_points",
+                "[[system.unit]]\nm = 0.01\nd = 0.01\ne",
+                "[[system.unit]]\nd = 0.01\ne = 0.5\nm",
+                "[[system.unit]]\nm = 0.01\nd = 0.01\ne = 0.5\ny0",
+                "[[system.unit]]\nm = 0.01\nd = 0.01\ne = 0.5\n[[system.unit]]\nm = 0.01\ne = 0.5\nd",
+                "[[system.unit]]\nm = 0.01\nd = 0.01\ne = 0.5\n[sweep]\nx0",
+                "[system]\nunit",
             ]),
             value in proptest::sample::select(vec![
                 "nan", "inf", "-inf", "-0.0", "0", "1e308", "-1", "9223372036854775807", "\"x\"",

@@ -738,6 +738,7 @@ mod tests {
             w0: 0.0,
             units: 1.0,
             d_spread: 0.0,
+            table: None,
         }
     }
 

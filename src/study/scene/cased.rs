@@ -87,6 +87,7 @@ pub(super) fn study(
     scene.order_axes(&mut axes);
     let noise = noise::noise(cx, raw.noise.as_ref())?;
     let cases = perturb::cases(cx, raw.perturb.as_ref(), &axes, &system, noise.as_ref())?;
+    system::check_tables(cx, &raw.system, &system, &axes, &cases)?;
     let solver = solver_of(cx, raw, scene)?;
     let reliability = reliability::reliability(cx, &raw.reliability)?;
     let zones = zones::zones(cx, &raw.zones, &axes)?;

@@ -230,12 +230,15 @@ pub(super) fn study(
     }
     let dir = path.parent().unwrap_or(Path::new("."));
     let (mut scene, realizations) = random_load::scene(cx, kind, raw_scene, &raw.sweep, dir)?;
-    let mut system = system::system(cx, &raw.system)?;
-    for key in ["x0", "v0", "y0", "w0"] {
-        if raw.system.get(key).is_none() {
-            system.set(key, 0.0);
-        }
-    }
+    // A random study starts at rest: the initial state defaults to 0.
+    let at_rest = System {
+        x0: 0.0,
+        v0: 0.0,
+        y0: 0.0,
+        w0: 0.0,
+        ..System::TABLE_I
+    };
+    let system = system::system_on(cx, &raw.system, at_rest)?;
     let swept: Vec<&str> = raw.sweep.keys().map(String::as_str).collect();
     random_load::limit(cx, raw_scene, &system, &swept, &mut scene)?;
     random_load::intensity(cx, raw_scene, &system, &swept, &mut scene)?;
@@ -258,6 +261,7 @@ pub(super) fn study(
         units: true,
     };
     let axes = sweep::axes(cx, &raw.sweep, &raw.system, &scene_axes)?;
+    system::check_tables(cx, &raw.system, &system, &axes, &[])?;
     let solver = solver::solver(cx, &raw.solver)?;
     if solver.kind != SolverKind::Exact {
         return Err(cx.err(

@@ -17,6 +17,8 @@ pub(super) fn several(fs: &HarmonicSummary) -> bool {
 struct Figures {
     units: f64,
     spread: f64,
+    /// Units of their own (`[[system.unit]]`): different units, `d_spread` 0.
+    table: bool,
     peak: f64,
     pr: f64,
     band: Option<(f64, f64, bool)>,
@@ -29,6 +31,7 @@ impl Figures {
         Figures {
             units: c.system.units,
             spread: c.system.d_spread,
+            table: c.system.table.is_some(),
             peak,
             pr: 1.0 - peak / c.linear_peak().0,
             band: c.help_band().map(|b| (b.from, b.to, b.to_edge)),
@@ -73,7 +76,12 @@ pub(super) fn section(fs: &HarmonicSummary) -> String {
     let mut o = String::new();
     let _ = writeln!(
         o,
-        "\n## Several units\n\nThe same added mass split over several units, each in its own cavity (docs/model.md §14). For each number of units: its design with the lowest peak, and its design with the widest band where the damper helps, over the other axes. Equal clearances (`d_spread = 0`) with the units started together keep them in step: they are one unit of the same mass, and their curves differ from one unit's only where the motion is not periodic (there rounding grows to the size of the motion).\n"
+        "\n## Several units\n\nThe same added mass split over several units, each in its own cavity (docs/model.md §14). For each number of units: its design with the lowest peak, and its design with the widest band where the damper helps, over the other axes. Equal clearances (`d_spread = 0`) with the units started together keep them in step: they are one unit of the same mass, and their curves differ from one unit's only where the motion is not periodic (there rounding grows to the size of the motion).{}\n",
+        if all.iter().any(|g| g.table) {
+            " The units of `[[system.unit]]` tables are the study's own (each its mass, clearance and restitution): `d_spread` reads 0 for them, and they are not one unit."
+        } else {
+            ""
+        }
     );
     let _ = writeln!(
         o,
@@ -116,7 +124,7 @@ pub(super) fn section(fs: &HarmonicSummary) -> String {
     // estimator's noise (window maxima of motions that are not periodic), not physics.
     let same: Vec<f64> = all
         .iter()
-        .filter(|g| g.spread == 0.0 || g.units == 1.0)
+        .filter(|g| (g.spread == 0.0 && !g.table) || g.units == 1.0)
         .map(|g| g.peak)
         .collect();
     if same.len() > 1 {
