@@ -925,14 +925,10 @@ fn issue_25_no_import_circles_in_app_and_study() {
 }
 
 /// The circles between a folder's `mod.rs` and its children that this reading finds beyond the
-/// seven issue 68 named (which are gone), as the test prints their first line: left for a
-/// follow-up (each `mod.rs` holds types its children use, `super::Outcome`,
-/// `super::PointPf`, `super::Input`, and its own code uses those children). The tests fail on
-/// a circle not listed here, and on a listed one that is gone (take it off the list).
-const KNOWN_CIRCLES: &[&str] = &[
-    "src/sim: dense, dopri5, driven, exact, free, harmonic, mod.rs, noise, phase, random, rk4",
-    "src/sim/random: intensity, load, mod.rs",
-];
+/// seven issue 68 named: none left (the last, in `src/sim` and `src/sim/random`, went with the
+/// simulator's shared types moving to leaves). The tests fail on a circle not listed here, and on
+/// a listed one that is gone (take it off the list).
+const KNOWN_CIRCLES: &[&str] = &[];
 
 /// Whether circle `c` (as [`all_circles`] prints it) is one of [`KNOWN_CIRCLES`].
 fn known(c: &str) -> bool {

@@ -13,12 +13,16 @@ use super::dopri5::Dopri5;
 use super::exact::ExactPhase;
 use super::linear::Oscillator;
 use super::linear::Propagator;
+use super::noise::NoiseSettings;
 use super::noise::{NoiseStream, NoisyPeak};
 use super::phase::{
     Event, EventMap, Hit, Phase, PhaseSolver, SceneEvents, State, Wall, Watch, run, side_of,
 };
+use super::probe::Probe;
+use super::record::{Outcome, Record};
+use super::request::Request;
 use super::rk4::Rk4;
-use super::{NoiseSettings, Outcome, Probe, Record, Request, SolverKind, SolverSettings};
+use super::settings::{SolverKind, SolverSettings};
 use crate::model::System;
 
 /// Runs one simulation. Pure: the same inputs give the same bits. `noise` carries the noise

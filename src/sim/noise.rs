@@ -5,16 +5,51 @@
 //! (`Pcg64::advance`, O(log k)) instead of drawing them, a run draws exactly the outputs of the
 //! samples it reads, and it computes the normal deviate only for the samples that can be a
 //! half-cycle's largest ([`NoisyPeak`]).
+//!
+//! Its settings, power and sample time ([`NoiseSettings`]), live here too: a leaf below the
+//! scenes, re-exported by [`crate::sim`].
 
 use rand_core::Rng;
 use rand_pcg::Pcg64;
+use serde::Serialize;
 
-use super::NoiseSettings;
+use crate::model::RangeError;
 
 /// SplitMix64 finaliser ([`crate::numeric::mix64`]).
 pub use crate::numeric::mix64;
 /// The uniform number in `(0, 1)` a sample's 64 bits stand for ([`crate::numeric::open_uniform`]).
 pub use crate::numeric::open_uniform as uniform;
+
+/// Band-limited white noise on the measured displacement, Simulink style (model.md §4):
+/// independent Gaussian samples every `sample_time` seconds with variance `power / sample_time`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct NoiseSettings {
+    /// Noise power `P` (m^2 s), `>= 0`.
+    pub power: f64,
+    /// Sample time `Ts` (s), `> 0`.
+    pub sample_time: f64,
+}
+
+impl NoiseSettings {
+    /// Checks `power >= 0` and `sample_time > 0`, both finite.
+    pub fn validate(&self) -> Result<(), RangeError> {
+        if !(self.power.is_finite() && self.power >= 0.0) {
+            return Err(RangeError::new(
+                "power",
+                self.power,
+                "the noise power must be a finite number >= 0 (m^2 s)",
+            ));
+        }
+        if !(self.sample_time.is_finite() && self.sample_time > 0.0) {
+            return Err(RangeError::new(
+                "sample_time",
+                self.sample_time,
+                "the sample time must be a finite number > 0 (s)",
+            ));
+        }
+        Ok(())
+    }
+}
 
 impl NoiseSettings {
     /// Standard deviation of one sample, `sqrt(P / Ts)` (m).

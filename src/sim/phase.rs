@@ -62,7 +62,8 @@
 use serde::Serialize;
 
 use super::linear::Oscillator;
-use super::{Outcome, SolverSettings};
+use super::record::Outcome;
+use super::settings::SolverSettings;
 use crate::model::System;
 
 /// A wall of the cavity: `Right` is `y - x = +d/2`, `Left` is `y - x = -d/2`.

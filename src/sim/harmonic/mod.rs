@@ -402,7 +402,7 @@ impl Harmonic {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[allow(non_snake_case)]
 pub struct HarmonicRecord {
-    pub outcome: crate::sim::Outcome,
+    pub outcome: crate::sim::record::Outcome,
     /// The force amplitude (N), the forcing frequency (rad/s) and its ratio to `sqrt(K/M)`.
     pub F0: f64,
     pub omega: f64,
@@ -430,7 +430,7 @@ pub struct HarmonicRecord {
     pub energy_impact: f64,
     /// The state at `t_stop` (a section time when `ok`): a converged run ends on its orbit, and
     /// the next run of a frequency sweep can start from it to follow a branch.
-    pub end: crate::sim::State,
+    pub end: crate::sim::phase::State,
     /// Over the whole run.
     pub impacts: u64,
     pub sticks: u64,

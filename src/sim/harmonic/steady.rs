@@ -8,9 +8,13 @@ use super::{Harmonic, HarmonicRecord};
 use crate::model::System;
 use crate::numeric::gauss_legendre;
 use crate::sim::driven::{DrivenPhase, Jet};
+use crate::sim::noise::NoiseSettings;
 use crate::sim::noise::NoiseStream;
 use crate::sim::phase::{self, EventMap, Hit, Phase, PhaseSolver, SceneEvents, Wall, Watch};
-use crate::sim::{NoiseSettings, Outcome, Probe, Request, SolverSettings};
+use crate::sim::probe::Probe;
+use crate::sim::record::Outcome;
+use crate::sim::request::Request;
+use crate::sim::settings::SolverSettings;
 
 /// Most sections the transient test looks back: `3 p + 1` for `p <= 8`.
 const HISTORY: usize = 25;

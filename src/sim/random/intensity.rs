@@ -23,11 +23,9 @@
 //! Over the run's duration only (the last interval possibly shorter), and at scale 1: a
 //! realization scaled by `s` has `s PGA` and `s Sa`, since the oscillator is linear.
 
-use serde::Serialize;
-
+use super::RandomScene;
 use super::load::{Normals, Plan, Samples};
-use super::{Input, RandomScene};
-use crate::model::RangeError;
+pub use super::measure::{DEFAULT_IDA_MAX, DEFAULT_IDA_TOL, IntensitySpec, Measure, OwnIntensity};
 use crate::sim::linear::Oscillator;
 
 /// Standard gravity (m/s^2): an acceleration in g is `a / G`.
@@ -35,115 +33,6 @@ pub const G: f64 = 9.80665;
 
 /// The damping ratio of the spectral acceleration, 5 % (codes' and hazard curves').
 pub const SA_ZETA: f64 = 0.05;
-
-/// Which intensity measure a study states its stripes, capacities and hazard in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Measure {
-    /// Peak ground acceleration (g).
-    Pga,
-    /// Spectral acceleration at the period `T`, 5 % damping (g).
-    Sa,
-}
-
-impl Measure {
-    pub const NAMES: [&'static str; 2] = ["pga", "sa"];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Measure::Pga => "pga",
-            Measure::Sa => "sa",
-        }
-    }
-
-    pub fn parse(s: &str) -> Option<Measure> {
-        match s {
-            "pga" => Some(Measure::Pga),
-            "sa" => Some(Measure::Sa),
-            _ => None,
-        }
-    }
-}
-
-/// A study's intensity measure: PGA, or Sa at `period` (s; by default the structure's own
-/// `T1 = 2 pi sqrt(M / K)`), and the settings of its capacities by incremental dynamic analysis
-/// ([`super::ida`]).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct IntensitySpec {
-    pub measure: Measure,
-    /// The period of `Sa` (s), in `[0.01, 100]` and at least `8 dt` (so that `u'` changes sign
-    /// at most once per interval).
-    pub period: f64,
-    /// A capacity's relative tolerance (the bracket `[lo, hi]` ends with `hi / lo <= 1 + tol`),
-    /// in `[1e-6, 0.5]`; default 0.01.
-    pub ida_tol: f64,
-    /// The largest intensity (g) a capacity search tries; a motion that never passes the limit
-    /// below it has a censored capacity. In `(0, 1000]`, default 10 g.
-    pub ida_max: f64,
-}
-
-/// Default relative tolerance of a capacity.
-pub const DEFAULT_IDA_TOL: f64 = 0.01;
-/// Default largest intensity a capacity search tries (g).
-pub const DEFAULT_IDA_MAX: f64 = 10.0;
-
-impl IntensitySpec {
-    /// Checks the ranges for a scene sampled at `dt`; the error names the key.
-    pub fn validate(&self, scene: &RandomScene) -> Result<(), RangeError> {
-        if scene.input != Input::Base {
-            return Err(RangeError::new(
-                "intensity",
-                f64::NAN,
-                "an intensity measure (pga or sa) is a ground motion's: it needs input = \"base\"",
-            ));
-        }
-        // A suite's coarsest record bounds it.
-        let dt = scene.suite().iter().map(|r| r.dt).fold(scene.dt, f64::max);
-        let lo = (8.0 * dt).max(0.01);
-        if !(self.period.is_finite() && self.period >= lo && self.period <= 100.0) {
-            return Err(RangeError::new(
-                "T",
-                self.period,
-                format!(
-                    "the period of Sa (s) must be in [{}, 100] (at least 0.01 s and 8 dt)",
-                    crate::model::fmt_value(lo)
-                ),
-            ));
-        }
-        if !(self.ida_tol.is_finite() && (1e-6..=0.5).contains(&self.ida_tol)) {
-            return Err(RangeError::new(
-                "ida_tol",
-                self.ida_tol,
-                "a capacity's relative tolerance must be in [1e-6, 0.5]",
-            ));
-        }
-        if !(self.ida_max.is_finite() && self.ida_max > 0.0 && self.ida_max <= 1000.0) {
-            return Err(RangeError::new(
-                "ida_max",
-                self.ida_max,
-                "the largest intensity a capacity search tries (g) must be in (0, 1000]",
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// A ground motion's own intensity measures at scale 1 (g).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct OwnIntensity {
-    pub pga: f64,
-    pub sa: f64,
-}
-
-impl OwnIntensity {
-    /// The value of `measure`.
-    pub fn of(&self, measure: Measure) -> f64 {
-        match measure {
-            Measure::Pga => self.pga,
-            Measure::Sa => self.sa,
-        }
-    }
-}
 
 /// PGA and `Sa(period, 5 %)` (g) of the load of `scene` drawn from `normals` (a record draws
 /// none) at scale 1 over the scene's duration (module doc). Pure. A design's runs share one

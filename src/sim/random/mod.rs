@@ -62,6 +62,7 @@
 pub mod ida;
 pub mod intensity;
 pub mod load;
+pub mod measure;
 pub(crate) mod motion;
 mod run;
 
@@ -72,8 +73,9 @@ use serde::Serialize;
 use crate::model::{RangeError, fmt_value};
 
 pub use ida::Capacity;
-pub use intensity::{IntensitySpec, Measure, OwnIntensity, own_intensity};
+pub use intensity::own_intensity;
 pub use load::{GivenNormals, LoadBlock, Normals, RealizationStream};
+pub use measure::{IntensitySpec, Measure, OwnIntensity};
 pub use run::{RandomRun, simulate_random};
 
 /// Where the load acts.
@@ -436,6 +438,48 @@ impl RandomScene {
     }
 }
 
+/// [`IntensitySpec`]'s check needs the scene; it lives here so that [`measure`] stays a leaf.
+impl IntensitySpec {
+    /// Checks the ranges for a scene sampled at `dt`; the error names the key.
+    pub fn validate(&self, scene: &RandomScene) -> Result<(), RangeError> {
+        if scene.input != Input::Base {
+            return Err(RangeError::new(
+                "intensity",
+                f64::NAN,
+                "an intensity measure (pga or sa) is a ground motion's: it needs input = \"base\"",
+            ));
+        }
+        // A suite's coarsest record bounds it.
+        let dt = scene.suite().iter().map(|r| r.dt).fold(scene.dt, f64::max);
+        let lo = (8.0 * dt).max(0.01);
+        if !(self.period.is_finite() && self.period >= lo && self.period <= 100.0) {
+            return Err(RangeError::new(
+                "T",
+                self.period,
+                format!(
+                    "the period of Sa (s) must be in [{}, 100] (at least 0.01 s and 8 dt)",
+                    crate::model::fmt_value(lo)
+                ),
+            ));
+        }
+        if !(self.ida_tol.is_finite() && (1e-6..=0.5).contains(&self.ida_tol)) {
+            return Err(RangeError::new(
+                "ida_tol",
+                self.ida_tol,
+                "a capacity's relative tolerance must be in [1e-6, 0.5]",
+            ));
+        }
+        if !(self.ida_max.is_finite() && self.ida_max > 0.0 && self.ida_max <= 1000.0) {
+            return Err(RangeError::new(
+                "ida_max",
+                self.ida_max,
+                "the largest intensity a capacity search tries (g) must be in (0, 1000]",
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl RandomLoad {
     /// Checks `S0`, the filters and the envelope.
     pub fn validate(&self) -> Result<(), RangeError> {
@@ -530,7 +574,7 @@ fn set_filter(spectrum: &mut Spectrum, key: &str, value: f64) -> bool {
 /// outcome is `ok`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RandomRecord {
-    pub outcome: crate::sim::Outcome,
+    pub outcome: crate::sim::record::Outcome,
     /// `max |x|` over `[0, duration]`, exact between samples too.
     pub amplitude: f64,
     /// When `|x|` reaches `amplitude` (the first time, to the event tolerance).

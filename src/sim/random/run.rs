@@ -36,10 +36,14 @@ use crate::model::System;
 use crate::numeric::gauss_legendre_n;
 use crate::sim::driven::{Driven, DrivenPhase};
 use crate::sim::linear::{Oscillator, Propagator};
+use crate::sim::phase::State;
 use crate::sim::phase::{
     self, Event, EventMap, Hit, Phase, PhaseSolver, SceneEvents, Wall, Walls, Watch,
 };
-use crate::sim::{Outcome, Probe, Request, SolverSettings, State};
+use crate::sim::probe::Probe;
+use crate::sim::record::Outcome;
+use crate::sim::request::Request;
+use crate::sim::settings::SolverSettings;
 
 /// Solver steps and impacts a run may take per load interval before its caps stop it (the
 /// settings' caps hold for runs up to a few thousand intervals; longer runs get caps in
