@@ -166,29 +166,16 @@ fn multi_unit_regenerates_the_committed_showcase() {
 #[test]
 fn multi_unit_slice_reproduces_the_committed_curves() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let study = std::fs::read_to_string(root.join("configs/multi-unit.toml")).unwrap();
-    let narrowed = study
-        .replace("units = [1, 2, 4, 8]", "units = [8]")
-        .replace(
-            "d_spread = [0.0, 0.25, 0.5, 0.75]",
-            "d_spread = [0.25, 0.75]",
-        );
-    assert!(narrowed.contains("units = [8]") && narrowed.contains("d_spread = [0.25, 0.75]"));
-    let tmp = tempfile::tempdir().unwrap();
-    let path = tmp.path().join("slice.toml");
-    std::fs::write(&path, narrowed).unwrap();
-    let out = Command::new(assert_cmd::cargo::cargo_bin("impactsweep"))
-        .args(["run", "--quiet", "--reduce", "--out"])
-        .arg(tmp.path())
-        .arg(&path)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let (_tmp, run) = run_narrowed(
+        "multi-unit",
+        &[
+            ("units = [1, 2, 4, 8]", "units = [8]"),
+            (
+                "d_spread = [0.0, 0.25, 0.5, 0.75]",
+                "d_spread = [0.25, 0.75]",
+            ),
+        ],
     );
-    let run = tmp.path().join("multi-unit");
     let committed = root.join("results/multi-unit");
     // The curves, keyed by (units, d_spread, r).
     let (head, want) = csv(&committed.join("frequency_response_d_spread.csv"));
@@ -437,28 +424,15 @@ fn multi_unit_seismic_regenerates_the_committed_showcase() {
 fn multi_unit_seismic_slice_reproduces_the_committed_capacities() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let (head, committed) = csv(&root.join("results/multi-unit-seismic/capacities.csv"));
-    let study = std::fs::read_to_string(root.join("configs/multi-unit-seismic.toml")).unwrap();
-    let narrowed = study
-        .replace("units = [1, 2, 4, 8]", "units = [8]")
-        .replace("d_spread = [0.0, 0.5]", "d_spread = [0.5]")
-        .replace("d = [0.005, 0.02]", "d = [0.02]");
-    assert_eq!(narrowed.matches("= [8]").count(), 1, "the sweep changed");
-    assert!(narrowed.contains("d_spread = [0.5]") && narrowed.contains("d = [0.02]"));
-    let tmp = tempfile::tempdir().unwrap();
-    let path = tmp.path().join("slice.toml");
-    std::fs::write(&path, narrowed).unwrap();
-    let out = Command::new(assert_cmd::cargo::cargo_bin("impactsweep"))
-        .args(["run", "--quiet", "--reduce", "--out"])
-        .arg(tmp.path())
-        .arg(&path)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let (_tmp, run) = run_narrowed(
+        "multi-unit-seismic",
+        &[
+            ("units = [1, 2, 4, 8]", "units = [8]"),
+            ("d_spread = [0.0, 0.5]", "d_spread = [0.5]"),
+            ("d = [0.005, 0.02]", "d = [0.02]"),
+        ],
     );
-    let (new_head, new) = csv(&tmp.path().join("multi-unit-seismic/capacities.csv"));
+    let (new_head, new) = csv(&run.join("capacities.csv"));
     assert_eq!(new_head, head);
     let at = |name: &str| col(&head, name);
     let design = |r: &Vec<String>| {
@@ -473,4 +447,33 @@ fn multi_unit_seismic_slice_reproduces_the_committed_capacities() {
         got, want,
         "the slice's capacities differ from the committed ones"
     );
+}
+
+/// Runs and reduces `configs/<name>.toml` with its sweep narrowed by `swaps` (each `(from, to)`
+/// line must occur exactly once), in a temporary directory: the directory (kept alive by the
+/// caller) and the run directory.
+fn run_narrowed(name: &str, swaps: &[(&str, &str)]) -> (tempfile::TempDir, std::path::PathBuf) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut study =
+        std::fs::read_to_string(root.join("configs").join(format!("{name}.toml"))).unwrap();
+    for (from, to) in swaps {
+        assert_eq!(study.matches(from).count(), 1, "{name}.toml: `{from}` once");
+        study = study.replace(from, to);
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("slice.toml");
+    std::fs::write(&path, study).unwrap();
+    let out = Command::new(assert_cmd::cargo::cargo_bin("impactsweep"))
+        .args(["run", "--quiet", "--reduce", "--out"])
+        .arg(tmp.path())
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let run = tmp.path().join(name);
+    (tmp, run)
 }
