@@ -71,8 +71,9 @@ fn the_extension_mirrors_every_dev_dependency_of_the_main_crate() {
 }
 
 /// The main crate names `syn` with the features pyo3's macros ask of it (a build-dependency it
-/// never builds), and both name `arrow` with the same features: the two other conditions of the
-/// shared build.
+/// never builds), and `arrow-array` with `ffi`, the feature the extension's pyarrow bridge
+/// (`arrow-pyarrow`) asks of it; an arrow crate the extension names itself has the main crate's
+/// features: the two other conditions of the shared build.
 #[test]
 fn syn_and_arrow_resolve_alike_in_both_builds() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -82,8 +83,22 @@ fn syn_and_arrow_resolve_alike_in_both_builds() {
     for f in ["extra-traits", "visit-mut"] {
         assert!(syn.2.contains(&f.to_string()), "syn without {f}");
     }
-    assert_eq!(
-        spec(&main["dependencies"]["arrow"]),
-        spec(&py["dependencies"]["arrow"])
+    let array = spec(&main["dependencies"]["arrow-array"]);
+    assert!(
+        array.2.contains(&"ffi".to_string()),
+        "arrow-array without ffi"
     );
+    assert!(py["dependencies"].get("arrow-pyarrow").is_some());
+    for (name, got) in py["dependencies"].as_table().unwrap() {
+        if name.starts_with("arrow") && name != "arrow-pyarrow" {
+            let want = main["dependencies"]
+                .get(name)
+                .unwrap_or_else(|| panic!("the extension names {name}, the main crate does not"));
+            assert_eq!(
+                spec(got),
+                spec(want),
+                "{name} differs between the two builds"
+            );
+        }
+    }
 }

@@ -15,7 +15,7 @@ use crate::common;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use arrow::array::{Array, BooleanArray, Float64Array, StringArray, UInt64Array};
+use arrow_array::{Array, BooleanArray, Float64Array, StringArray, UInt64Array};
 use assert_cmd::Command;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use predicates::prelude::*;

@@ -338,15 +338,15 @@ fn issue_44_a_record_study_with_a_swept_scale_gets_its_fragility() {
     let (ts, accs): (Vec<f64>, Vec<f64>) = (0..=300)
         .map(|k| (k as f64 / 100.0, quake(k as f64 * 0.01)))
         .unzip();
-    let schema = std::sync::Arc::new(arrow::datatypes::Schema::new(vec![
-        arrow::datatypes::Field::new("t", arrow::datatypes::DataType::Float64, false),
-        arrow::datatypes::Field::new("a", arrow::datatypes::DataType::Float32, false),
+    let schema = std::sync::Arc::new(arrow_schema::Schema::new(vec![
+        arrow_schema::Field::new("t", arrow_schema::DataType::Float64, false),
+        arrow_schema::Field::new("a", arrow_schema::DataType::Float32, false),
     ]));
-    let batch = arrow::array::RecordBatch::try_new(
+    let batch = arrow_array::RecordBatch::try_new(
         schema.clone(),
         vec![
-            std::sync::Arc::new(arrow::array::Float64Array::from(ts)),
-            std::sync::Arc::new(arrow::array::Float32Array::from(
+            std::sync::Arc::new(arrow_array::Float64Array::from(ts)),
+            std::sync::Arc::new(arrow_array::Float32Array::from(
                 accs.iter().map(|&a| a as f32).collect::<Vec<f32>>(),
             )),
         ],

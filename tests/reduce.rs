@@ -688,7 +688,7 @@ fn a_study_without_axes_reduces_to_one_point() {
 
 #[test]
 fn summary_parquet_reads_back_with_the_summary_values() {
-    use arrow::array::{Array, BooleanArray, Float64Array, StringArray, UInt64Array};
+    use arrow_array::{Array, BooleanArray, Float64Array, StringArray, UInt64Array};
     use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
     let s = paper();
     let sum = run(&s, simulate_chunks(&s));

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
-use arrow::record_batch::RecordBatch;
+use arrow_array::RecordBatch;
 use assert_cmd::cargo::cargo_bin;
 use impactsweep::plan::Plan;
 use impactsweep::slurm::ArrayJob;
@@ -354,8 +354,9 @@ fn assert_same_dataset(what: &str, got: &Path, want: &Path, n_chunks: u64) {
         let wr: usize = wb.iter().map(|b| b.num_rows()).sum();
         assert_eq!(gr, wr, "{what}: {name}: {gr} rows, single machine {wr}");
         // Batch boundaries are the reader's business; compare the concatenation.
-        let cat =
-            |b: &[RecordBatch]| arrow::compute::concat_batches(&b[0].schema(), b).expect("concat");
+        let cat = |b: &[RecordBatch]| {
+            arrow_select::concat::concat_batches(&b[0].schema(), b).expect("concat")
+        };
         assert!(
             cat(gb) == cat(wb),
             "{what}: {name}: values differ from the single-machine run"

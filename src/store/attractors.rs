@@ -12,10 +12,11 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::{Context, Result, anyhow};
-use arrow::array::{
+use arrow_array::cast::AsArray;
+use arrow_array::{
     Array, ArrayRef, BooleanArray, Float64Array, RecordBatch, StringArray, UInt32Array, UInt64Array,
 };
-use arrow::datatypes::{DataType, Schema, SchemaRef};
+use arrow_schema::{DataType, Schema, SchemaRef};
 
 use super::schema::{META_STUDY, META_TABLE, TableKind};
 use crate::orbits::attractors::{AttractorRow, RunId, SteadyKind};
@@ -153,12 +154,27 @@ fn strings(batch: &RecordBatch, name: &str) -> Result<Vec<String>> {
     let c = batch
         .column_by_name(name)
         .ok_or_else(|| anyhow!("column `{name}` is missing"))?;
-    let plain = arrow::compute::cast(c, &DataType::Utf8)?;
-    let s = plain
-        .as_any()
-        .downcast_ref::<StringArray>()
-        .ok_or_else(|| anyhow!("column `{name}` is not text"))?;
-    Ok((0..s.len()).map(|i| s.value(i).to_string()).collect())
+    let text = |a: &dyn Array| -> Result<Vec<String>> {
+        let s = a
+            .as_string_opt::<i32>()
+            .ok_or_else(|| anyhow!("column `{name}` is not text"))?;
+        Ok((0..s.len()).map(|i| s.value(i).to_string()).collect())
+    };
+    match c.as_any_dictionary_opt() {
+        Some(dict) => {
+            let values = text(dict.values())?;
+            dict.normalized_keys()
+                .into_iter()
+                .map(|k| {
+                    values
+                        .get(k)
+                        .cloned()
+                        .ok_or_else(|| anyhow!("column `{name}`: key {k} outside its dictionary"))
+                })
+                .collect()
+        }
+        None => text(c),
+    }
 }
 
 /// A stored name back as the `'static` name it was written from.

@@ -32,11 +32,12 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::{Context, Result, anyhow, bail};
-use arrow::array::{
+use arrow_array::types::Int8Type;
+use arrow_array::{
     Array, ArrayRef, BooleanArray, DictionaryArray, Float64Array, Int8Array, RecordBatch,
     StringArray, UInt32Array, UInt64Array,
 };
-use arrow::datatypes::{DataType, Int8Type, Schema, SchemaRef};
+use arrow_schema::{DataType, Schema, SchemaRef};
 
 use super::manifest::{AttractorsEntry, WritingEntry};
 use super::schema::{META_STUDY, META_TABLE, META_UNITS, TableKind, column_name};

@@ -17,8 +17,8 @@
 use std::sync::Arc;
 
 use anyhow::Result;
-use arrow::array::{Array, ArrayRef, BooleanArray, Float64Array, RecordBatch, UInt64Array};
-use arrow::datatypes::DataType;
+use arrow_array::{Array, ArrayRef, BooleanArray, Float64Array, RecordBatch, UInt64Array};
+use arrow_schema::DataType;
 
 use super::points::{
     RunRow, StoredRecord, column, dict_type, f64col, outcome_col, outcomes, u64col,

@@ -16,9 +16,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::{Context, Result, bail};
-use arrow::array::{ArrayRef, BooleanArray, Float64Array, StringArray, UInt64Array};
-use arrow::compute::concat_batches;
-use arrow::record_batch::RecordBatch;
+use arrow_array::RecordBatch;
+use arrow_array::{ArrayRef, BooleanArray, Float64Array, StringArray, UInt64Array};
+use arrow_select::concat::concat_batches;
 use parquet::arrow::ArrowWriter;
 
 use super::schema::{TableKind, case_clashes};
@@ -110,7 +110,7 @@ pub struct TableWriter {
     pending: Vec<RecordBatch>,
     pending_rows: usize,
     /// The first part's schema: a table without rows still has its columns.
-    schema: Option<arrow::datatypes::SchemaRef>,
+    schema: Option<arrow_schema::SchemaRef>,
     header: bool,
 }
 
@@ -302,7 +302,7 @@ pub fn write_csv_in_batches(
 /// Boolean and Utf8 columns, in file order): what an analysis shard wrote
 /// ([`crate::reduce::harmonic::analysis`]).
 pub fn read_table(path: &Path) -> Result<Table> {
-    use arrow::array::Array;
+    use arrow_array::Array;
     let builder = super::open(path)?;
     let meta = super::metadata_of(&builder);
     super::check_version(path, &meta)?;
@@ -310,9 +310,9 @@ pub fn read_table(path: &Path) -> Result<Table> {
     // Every column, even of a table without rows.
     for field in builder.schema().fields() {
         let empty = match field.data_type() {
-            arrow::datatypes::DataType::Float64 => Column::F64(Vec::new()),
-            arrow::datatypes::DataType::UInt64 => Column::U64(Vec::new()),
-            arrow::datatypes::DataType::Boolean => Column::Bool(Vec::new()),
+            arrow_schema::DataType::Float64 => Column::F64(Vec::new()),
+            arrow_schema::DataType::UInt64 => Column::U64(Vec::new()),
+            arrow_schema::DataType::Boolean => Column::Bool(Vec::new()),
             _ => Column::Str(Vec::new()),
         };
         table.push(field.name().clone(), empty);

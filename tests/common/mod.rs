@@ -137,8 +137,8 @@ pub fn write_study(dir: &Path, name: &str, n_e: usize, chunk_points: u64) -> Pat
 pub fn downgrade_to_v1(run_dir: &Path) {
     use std::sync::Arc;
 
-    use arrow::datatypes::{Field, Schema};
-    use arrow::record_batch::RecordBatch;
+    use arrow_array::RecordBatch;
+    use arrow_schema::{Field, Schema};
     use parquet::arrow::ArrowWriter;
     use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
     use parquet::file::metadata::KeyValue;
