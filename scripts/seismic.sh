@@ -4,7 +4,7 @@
 # capacities by incremental dynamic analysis at the design stripe, designs ranked by annual risk
 # over an illustrative hazard curve) run and reduced by scripts/showcase.sh, its report.html
 # beside the report. About 41 s on 2 cores (release build). tests/reproduce.rs checks the
-# committed files byte for byte. The record-suite sibling: scripts/seismic_records.sh.
+# committed files byte for byte (an ignored test; CI reruns one design's slice). The record-suite sibling: scripts/seismic_records.sh.
 #
 #   scripts/seismic.sh [WORK_DIR]
 set -euo pipefail
