@@ -92,5 +92,7 @@ mod subset;
 mod sweep;
 #[path = "units.rs"]
 mod units;
+#[path = "units_census.rs"]
+mod units_census;
 #[path = "units_orbits.rs"]
 mod units_orbits;

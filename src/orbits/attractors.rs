@@ -3,7 +3,9 @@
 //! per chunk; `reduce` reads them back and never runs a census again.
 
 use super::census::{Census, Kind};
-use super::map::Section;
+use super::map::{Forcing, Section};
+use super::units::census::{RestLanding, UnitsCensus};
+use crate::sim::harmonic::Steady;
 
 /// What kind of steady state an attractor is (the `kind` column).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -200,5 +202,333 @@ impl AttractorRow {
                 }
             })
             .collect()
+    }
+}
+
+/// The largest relative excess of a run's own measured amplitude over the steady states its
+/// census found that is rounding, not a motion the census missed: the simulator's accuracy on a
+/// steady amplitude (1e-9 relative, tests/forced.rs). Above it the floor of
+/// [`AttractorRow::of_units_census`] binds.
+pub const FLOOR_ROUNDING: f64 = 1e-9;
+
+/// What a run of several units measured itself, for [`AttractorRow::of_units_census`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunWindow {
+    /// `max |x|` over the run's measuring window (m), the record's `amplitude`.
+    pub amplitude: f64,
+    /// That window's length (forcing periods), the record's `n_meas`.
+    pub n_meas: u64,
+}
+
+impl AttractorRow {
+    /// The rows of `units`, the census of several units of run `run` at `f` (model.md §14,
+    /// [`super::units::census`]), started from `s0` (the run's end state, `2 + 2N`
+    /// components), the run having measured `own` itself. In order, row 0 being where start 0
+    /// (the run's own motion) ended:
+    ///
+    /// * each stable impacting orbit, its exact amplitude, `multiplier_max = |mu|_max` of the
+    ///   reduced monodromy matrix and `lyapunov = ln |mu|_max / p` per forcing period (exact,
+    ///   `lyapunov_se = 0`);
+    /// * `neutral`, when starts reached the non-impacting family: the structure's forced
+    ///   response alone, amplitude `F0 / |K - M omega^2 + i C omega|`, `|mu|_max = 1` (each unit
+    ///   drifts freely);
+    /// * one `not settled` row when starts did not settle: the largest `|x|` over the last 200
+    ///   periods of each of them and, when start 0 is one, over the run's own window, so over
+    ///   `max(200, n_meas)` periods at least (a lower bound of what the motion reaches; no
+    ///   design-life estimate, no Lyapunov exponent).
+    ///
+    /// **The floor.** The run's attractor is reached by start 0, so the worst row is never below
+    /// the run's own measured amplitude: where it would be by more than [`FLOOR_ROUNDING`]
+    /// relative (the run's window still held a transient that later settled lower), the
+    /// `not settled` row carries the run's amplitude (added with no start when there is none).
+    pub fn of_units_census(
+        run: RunId,
+        f: &Forcing,
+        units: &UnitsCensus,
+        s0: &[f64],
+        own: RunWindow,
+    ) -> Vec<AttractorRow> {
+        let n = f64::from(units.starts.max(1));
+        let t_f = f.period();
+        let mut rows: Vec<AttractorRow> = units
+            .attractors
+            .iter()
+            .map(|a| {
+                let o = &a.orbit;
+                let mu = o.multiplier_max();
+                let lyapunov = mu.ln() / f64::from(o.period.max(1));
+                let row = units_row(run, SteadyKind::Periodic, o.amplitude, section_of(&o.s));
+                AttractorRow {
+                    stability: "stable",
+                    period: o.period,
+                    impacts_per_period: o.impacts_per_period(),
+                    basin_share: f64::from(a.starts) / n,
+                    starts: a.starts,
+                    multiplier_max: mu,
+                    lyapunov,
+                    lyapunov_per_s: lyapunov / t_f,
+                    lyapunov_se: 0.0,
+                    life_amplitude: o.amplitude,
+                    life_lo: o.amplitude,
+                    life_hi: o.amplitude,
+                    measured_periods: u64::from(o.period),
+                    ..row
+                }
+            })
+            .collect();
+        if units.non_impacting > 0 {
+            rows.push(neutral_row(run, f, units.non_impacting, n));
+        }
+        let rest_unsettled = units.rest == RestLanding::Unsettled;
+        let mut wander = units.unsettled_amplitude;
+        if rest_unsettled {
+            wander = wander.max(own.amplitude);
+        }
+        let top = rows.iter().map(|r| r.amplitude).fold(wander, f64::max);
+        let floor = own.amplitude > top * (1.0 + FLOOR_ROUNDING);
+        if units.unsettled > 0 || floor {
+            let amp = if floor { own.amplitude } else { wander };
+            let measured = own.n_meas.max(super::tolerances::CENSUS_WINDOW);
+            rows.push(AttractorRow {
+                basin_share: f64::from(units.unsettled) / n,
+                starts: units.unsettled,
+                measured_periods: measured,
+                ..units_row(run, SteadyKind::NotSettled, amp, section_of(s0))
+            });
+        }
+        // Row 0 is where start 0 ended (the run's own motion).
+        let rest = match units.rest {
+            RestLanding::Orbit(i) => Some(i),
+            RestLanding::NonImpacting => rows.iter().position(|r| r.kind == SteadyKind::Neutral),
+            RestLanding::Unsettled => rows.iter().position(|r| r.kind == SteadyKind::NotSettled),
+        };
+        if let Some(i) = rest.filter(|&i| i < rows.len()) {
+            let r = rows.remove(i);
+            rows.insert(0, r);
+        }
+        for (i, r) in rows.iter_mut().enumerate() {
+            r.attractor = i as u32;
+        }
+        rows
+    }
+}
+
+/// The first four components of a section state of several units: the structure and unit 1
+/// (the `section_*` columns).
+fn section_of(s: &[f64]) -> Section {
+    let at = |k: usize| s.get(k).copied().unwrap_or(f64::NAN);
+    [at(0), at(1), at(2), at(3)]
+}
+
+/// A row of the census of several units with `kind`, design and window amplitude `amplitude`
+/// (m) and `section`, every other column that of a motion that is not periodic.
+fn units_row(run: RunId, kind: SteadyKind, amplitude: f64, section: Section) -> AttractorRow {
+    AttractorRow {
+        run,
+        attractor: 0,
+        kind,
+        stability: "",
+        period: 0,
+        amplitude,
+        window_amplitude: amplitude,
+        impacts_per_period: f64::NAN,
+        basin_share: 0.0,
+        starts: 0,
+        origin: "start",
+        multiplier_max: f64::NAN,
+        lyapunov: f64::NAN,
+        lyapunov_per_s: f64::NAN,
+        lyapunov_se: f64::NAN,
+        life_amplitude: f64::NAN,
+        life_lo: f64::NAN,
+        life_hi: f64::NAN,
+        life_capped: false,
+        tail_shape: f64::NAN,
+        tail_end: f64::NAN,
+        exceedances: 0,
+        measured_periods: 0,
+        section,
+    }
+}
+
+/// The non-impacting family's row: the structure's forced response alone
+/// (`x = P cos(omega t) + Q sin(omega t)`, amplitude `sqrt(P^2 + Q^2)`), the units at rest in
+/// their cavities relative to the ground; `starts` of `n` reached it.
+fn neutral_row(run: RunId, f: &Forcing, starts: u32, n: f64) -> AttractorRow {
+    let sys = &f.sys;
+    let (p, q) = crate::sim::harmonic::motion::particular(sys.M, sys.K, sys.C, f.F0, f.omega);
+    let amp = p.hypot(q);
+    AttractorRow {
+        stability: "neutral",
+        period: 1,
+        impacts_per_period: 0.0,
+        basin_share: f64::from(starts) / n,
+        starts,
+        multiplier_max: 1.0,
+        lyapunov: 0.0,
+        lyapunov_per_s: 0.0,
+        lyapunov_se: 0.0,
+        life_amplitude: amp,
+        life_lo: amp,
+        life_hi: amp,
+        measured_periods: 1,
+        ..units_row(run, SteadyKind::Neutral, amp, [p, f.omega * q, -p, 0.0])
+    }
+}
+
+/// A run's census summary ([`Steady`]) from its attractor rows (row 0 the one reached from the
+/// run's own state), `starts` starts and `periods` forcing periods simulated: the worst row
+/// (the first of the largest design amplitude), its period, impacts, basin share, kind,
+/// exponent, window amplitude and life interval, and row 0's amplitude and period. The one-unit
+/// census ([`super::steady_of`]) and that of several units share it. [`Steady::NONE`] without
+/// rows.
+pub fn steady_of_rows(rows: &[AttractorRow], starts: u32, periods: u64) -> Steady {
+    let Some(worst) = rows
+        .iter()
+        .reduce(|a, b| if b.amplitude > a.amplitude { b } else { a })
+    else {
+        return Steady::NONE;
+    };
+    let rest = &rows[0];
+    Steady {
+        starts,
+        attractors: rows.len() as u32,
+        amplitude_worst: worst.amplitude,
+        worst_period: worst.period,
+        worst_impacts_per_period: worst.impacts_per_period,
+        worst_basin_share: worst.basin_share,
+        rest_amplitude: rest.amplitude,
+        rest_period: rest.period,
+        census_periods: periods,
+        worst_kind: worst.kind.name(),
+        worst_lyapunov: worst.lyapunov,
+        worst_window_amplitude: worst.window_amplitude,
+        worst_life_lo: worst.life_lo,
+        worst_life_hi: worst.life_hi,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::orbits::map::tests::table_i;
+    use crate::orbits::shoot::Stability;
+    use crate::orbits::units::census::UnitsAttractor;
+    use crate::orbits::units::shoot::UnitsOrbit;
+
+    const RUN: RunId = RunId {
+        point_id: 7,
+        point: 7,
+        case: 0,
+        ideal: true,
+        r: 1.0,
+        omega: 63.2,
+        F0: 0.1,
+    };
+
+    /// Two units, a census whose start 0 landed on a period-1 orbit of `amplitude` and whose
+    /// other start did not settle (its window maximum `wander`).
+    fn census(amplitude: f64, wander: f64) -> (Forcing, UnitsCensus) {
+        let mut f = table_i(0.02, 0.01, 0.7, 1.0, 0.5, 1.1);
+        f.sys.units = 2.0;
+        f.sys.d_spread = 0.2;
+        let orbit = UnitsOrbit {
+            s: vec![amplitude, 0.0, 0.001, 0.0, -0.002, 0.0],
+            period: 1,
+            amplitude,
+            impacts: 4,
+            multipliers: vec![(0.5, 0.0), (0.1, 0.2)],
+            stability: Stability::Stable,
+            groups: vec![vec![0], vec![1]],
+            relative_modes: 0,
+            free_modes: 0,
+            monodromy: nalgebra::DMatrix::identity(2, 2),
+            exact: true,
+        };
+        let c = UnitsCensus {
+            attractors: vec![UnitsAttractor {
+                orbit,
+                starts: 1,
+                first: 0,
+                iterations: 3,
+            }],
+            starts: 2,
+            non_impacting: 0,
+            unsettled: 1,
+            periods: 4000,
+            unsettled_amplitude: wander,
+            rest: RestLanding::Orbit(0),
+        };
+        (f, c)
+    }
+
+    fn own(amplitude: f64) -> RunWindow {
+        RunWindow {
+            amplitude,
+            n_meas: 400,
+        }
+    }
+
+    #[test]
+    fn an_orbit_a_wandering_start_and_the_exact_columns() {
+        let (f, c) = census(0.004, 0.003);
+        let s0 = [0.004, 0.0, 0.001, 0.0, -0.002, 0.0];
+        let rows = AttractorRow::of_units_census(RUN, &f, &c, &s0, own(0.004));
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows[0].kind, SteadyKind::Periodic);
+        assert_eq!(rows[0].amplitude, 0.004);
+        assert_eq!(rows[0].multiplier_max, 0.5);
+        assert_eq!(rows[0].lyapunov, 0.5f64.ln());
+        assert_eq!(rows[0].basin_share, 0.5);
+        assert_eq!(rows[1].kind, SteadyKind::NotSettled);
+        assert_eq!(rows[1].amplitude, 0.003);
+        assert_eq!(rows[1].measured_periods, 400);
+        assert_eq!([rows[0].attractor, rows[1].attractor], [0, 1]);
+        let st = steady_of_rows(&rows, c.starts, c.periods);
+        assert_eq!(st.amplitude_worst, 0.004);
+        assert_eq!(st.worst_kind, "periodic");
+        assert_eq!(st.rest_amplitude, 0.004);
+    }
+
+    /// Issue 68, the floor: the run from rest measured 0.467 cm over its window while its
+    /// start 0 settled on an orbit of 0.439 cm later; the worst steady amplitude is the run's,
+    /// carried by the `not settled` row. Fails when the floor is removed.
+    #[test]
+    fn the_worst_amplitude_is_never_below_the_run_from_rest() {
+        let (f, c) = census(0.00439, 0.003);
+        let s0 = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let rows = AttractorRow::of_units_census(RUN, &f, &c, &s0, own(0.00467));
+        let st = steady_of_rows(&rows, c.starts, c.periods);
+        assert_eq!(st.amplitude_worst, 0.00467);
+        assert_eq!(st.worst_kind, "not settled");
+        // The orbit keeps its exact amplitude and stays the run's own (row 0).
+        assert_eq!(rows[0].amplitude, 0.00439);
+        assert_eq!(st.rest_amplitude, 0.00439);
+        // Every start settled: the floor adds a row of its own, with no start.
+        let (f, mut c) = census(0.00439, f64::NAN);
+        c.unsettled = 0;
+        let rows = AttractorRow::of_units_census(RUN, &f, &c, &s0, own(0.00467));
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows[1].starts, 0);
+        assert_eq!(steady_of_rows(&rows, 2, 0).amplitude_worst, 0.00467);
+        // Within rounding of the orbit the floor does not bind.
+        let rows = AttractorRow::of_units_census(RUN, &f, &c, &s0, own(0.00439 * (1.0 + 1e-12)));
+        assert_eq!(rows.len(), 1);
+    }
+
+    /// Start 0 that did not settle: its row is row 0 and carries the run's window when that
+    /// is the larger.
+    #[test]
+    fn a_run_that_does_not_settle_carries_its_own_window() {
+        let (f, mut c) = census(0.004, 0.0041);
+        c.rest = RestLanding::Unsettled;
+        c.attractors[0].first = 1;
+        let s0 = [0.0; 6];
+        let rows = AttractorRow::of_units_census(RUN, &f, &c, &s0, own(0.005));
+        assert_eq!(rows[0].kind, SteadyKind::NotSettled);
+        assert_eq!(rows[0].amplitude, 0.005);
+        assert_eq!(rows[1].kind, SteadyKind::Periodic);
+        let st = steady_of_rows(&rows, c.starts, c.periods);
+        assert_eq!((st.amplitude_worst, st.rest_amplitude), (0.005, 0.005));
     }
 }

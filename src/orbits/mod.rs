@@ -18,7 +18,9 @@ pub mod map;
 pub mod race;
 pub mod response;
 pub mod sequence;
+pub mod several;
 pub mod shoot;
+pub mod tolerances;
 pub mod twopar;
 pub mod units;
 
@@ -30,13 +32,7 @@ use crate::sim::{
     simulate_harmonic,
 };
 
-/// Periods a motion that is not periodic is measured over in the census
-/// ([`census::CensusSettings::window`]).
-pub const CENSUS_WINDOW: u64 = 200;
-
-/// Relative `p`-step difference at which the census hands a start over to Newton
-/// ([`census::CensusSettings::handover`]).
-pub const HANDOVER: f64 = 1e-3;
+pub use tolerances::{CENSUS_WINDOW, HANDOVER};
 
 /// One run of the harmonic scene as a sweep runs it: the run from the study's initial state
 /// ([`simulate_harmonic`], with its noise), then the attractor census of `scene.starts` starts
@@ -92,17 +88,8 @@ pub fn forced_run<P: Probe>(
     rec
 }
 
-/// The census's summary for a run's record.
+/// The census's summary for a run's record: [`attractors::steady_of_rows`] of its rows.
 pub fn steady_of(c: &census::Census) -> Steady {
-    let Some((i, worst)) = c
-        .attractors
-        .iter()
-        .enumerate()
-        .reduce(|a, b| if b.1.amplitude > a.1.amplitude { b } else { a })
-    else {
-        return Steady::NONE;
-    };
-    let rest = &c.attractors[0];
     let run = attractors::RunId {
         point_id: 0,
         point: 0,
@@ -112,21 +99,6 @@ pub fn steady_of(c: &census::Census) -> Steady {
         omega: f64::NAN,
         F0: f64::NAN,
     };
-    let row = attractors::AttractorRow::of_census(run, c, f64::NAN).swap_remove(i);
-    Steady {
-        starts: c.starts,
-        attractors: c.attractors.len() as u32,
-        amplitude_worst: worst.amplitude,
-        worst_period: worst.period,
-        worst_impacts_per_period: worst.impacts_per_period,
-        worst_basin_share: c.share(i),
-        rest_amplitude: rest.amplitude,
-        rest_period: rest.period,
-        census_periods: c.periods,
-        worst_kind: row.kind.name(),
-        worst_lyapunov: row.lyapunov,
-        worst_window_amplitude: row.window_amplitude,
-        worst_life_lo: row.life_lo,
-        worst_life_hi: row.life_hi,
-    }
+    let rows = attractors::AttractorRow::of_census(run, c, f64::NAN);
+    attractors::steady_of_rows(&rows, c.starts, c.periods)
 }

@@ -59,7 +59,7 @@ pub use scene::random::RandomStudy;
 pub use scene::random_load::{DEFAULT_DT, DEFAULT_REALIZATIONS, INTENSITY_KEYS};
 pub use size::{LoadOptions, MAX_RUNS};
 pub use sweep::MAX_AXIS_VALUES;
-pub use validated::Study;
+pub use validated::{CensusKind, Study};
 pub use zones::{DeclaredZone, Zones};
 
 /// Loading and parsing, and what a study's scene decides (its frequency axis, its design

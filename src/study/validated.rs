@@ -18,6 +18,22 @@ use crate::model::System;
 use crate::sim::{NoiseSettings, Request, Scene, SolverSettings};
 use crate::stats::hazard::SiteHazard;
 
+/// Which census of periodic steady states a harmonic study's runs take
+/// ([`Study::census_kind`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CensusKind {
+    /// None: a free-decay or random study, or `starts = 0`.
+    None,
+    /// One unit's census along each frequency-response curve ([`crate::orbits::curve`]), its
+    /// motions that are not periodic measured over the design life ([`crate::orbits::race`]).
+    OneUnit,
+    /// A study of several units (`units` or `d_spread` anywhere, [`Study::several_units`]):
+    /// every run's own census of several units from its end state
+    /// ([`crate::orbits::several`]), for its one-unit designs too, so that every design's
+    /// steady states are found alike.
+    Units,
+}
+
 /// A validated study.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Study {
@@ -70,11 +86,21 @@ pub struct Study {
 }
 
 impl Study {
-    /// A harmonic study whose runs take a census of their steady states (model.md §10): `starts`
-    /// given, and one damper unit (the census covers one).
+    /// Which census of periodic steady states the runs of this study take, decided once here
+    /// for every stage (the sweep matches it, the reducer and the plan read it).
+    pub fn census_kind(&self) -> CensusKind {
+        match self.scene {
+            Scene::Harmonic(h) if h.starts > 0 && self.several_units() => CensusKind::Units,
+            Scene::Harmonic(h) if h.starts > 0 => CensusKind::OneUnit,
+            _ => CensusKind::None,
+        }
+    }
+
+    /// A harmonic study whose runs take the one-unit census (model.md §10): `starts` given, one
+    /// damper unit. Its attractors are followed along branches, raced for their design lives and
+    /// continued to the jumps' probes, which cover one unit ([`CensusKind::OneUnit`]).
     pub fn census(&self) -> bool {
-        matches!(self.scene, crate::sim::Scene::Harmonic(h) if h.starts > 0)
-            && !self.several_units()
+        self.census_kind() == CensusKind::OneUnit
     }
 
     /// Several damper units anywhere in the study (model.md §14): `[system]` or `[sweep]` sets

@@ -2,8 +2,9 @@
 //! each run of a free-decay study on its own, and for a harmonic study with a census each
 //! frequency-response curve (a design and the cases that share its system) as one task, its
 //! runs from the initial state and its census in frequency order ([`crate::orbits::curve`]),
-//! with the attractors it found. Pure: the same plan and chunk give the same rows and bits on
-//! any thread count.
+//! with the attractors it found; for a harmonic study of several units each run with its own
+//! census of several units ([`crate::orbits::several`]). Pure: the same plan and chunk give the
+//! same rows and bits on any thread count.
 
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -12,9 +13,11 @@ use crate::orbits::attractors::{AttractorRow, RunId};
 use crate::orbits::curve::{CurveFrequency, curve_census, fill_steady, from_rest};
 use crate::orbits::forced_run;
 use crate::orbits::race::Serves;
+use crate::orbits::several::{UnitsRun, forced_run_units};
 use crate::plan::{Plan, RunSpec};
 use crate::sim::{Harmonic, HarmonicRecord, NoProbe, Record, Scene, simulate};
 use crate::store::{RunRow, StoredRecord};
+use crate::study::CensusKind;
 
 /// A scene's record as the engine simulates and stores it: [`Record`] for free decay,
 /// [`HarmonicRecord`] for the harmonic scene. The engine picks it from the study's scene.
@@ -50,50 +53,144 @@ impl SceneRun for HarmonicRecord {
         simulate_forced_run(plan, run)
     }
 
-    /// With a census, each frequency-response curve (a design and a case) is one task
-    /// ([`simulate_curve`]); without one, each run on its own.
+    /// By the study's census ([`CensusKind`]): one unit's, each frequency-response curve (a
+    /// design and a case) as one task ([`simulate_curve`]); several units', each run with its
+    /// own census ([`simulate_units_chunk`]); none, each run on its own.
     fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> ChunkRows<Self> {
-        let census = plan.study.census();
-        if !census {
-            return ChunkRows {
+        match plan.study.census_kind() {
+            CensusKind::None => ChunkRows {
                 rows: simulate_chunk(plan, k, progress),
                 attractors: None,
-            };
+            },
+            CensusKind::Units => simulate_units_chunk(plan, k, progress),
+            CensusKind::OneUnit => simulate_curves_chunk(plan, k, progress),
         }
-        let n_f = plan.study.curve_points();
-        let points = plan.chunk_points(k);
-        let designs: Vec<u64> = (points.start / n_f..points.end.div_ceil(n_f)).collect();
-        let tasks: Vec<(u64, Vec<u32>)> = designs
-            .into_iter()
-            .flat_map(|design| {
-                same_system_cases(plan, design)
-                    .into_iter()
-                    .map(move |cases| (design, cases))
-            })
-            .collect();
-        let done: Vec<(Vec<RunRow<HarmonicRecord>>, Vec<AttractorRow>)> = tasks
-            .into_par_iter()
-            .map(|(design, cases)| {
-                let out = simulate_curve(plan, design, &cases);
-                if let Some(pb) = progress {
-                    pb.inc(out.0.len() as u64);
-                }
-                out
-            })
-            .collect();
-        let mut rows = Vec::with_capacity(done.iter().map(|d| d.0.len()).sum());
-        let mut attractors = Vec::new();
-        for (r, a) in done {
-            rows.extend(r);
-            attractors.extend(a);
-        }
-        rows.sort_by_key(|r| r.point_id);
-        // Stable: each run's attractors stay in their census order.
-        attractors.sort_by_key(|a| a.run.point_id);
-        ChunkRows {
-            rows,
-            attractors: Some(attractors),
-        }
+    }
+}
+
+/// Chunk `k` of a study with the one-unit census: each frequency-response curve (a design and
+/// a case group) as one task ([`simulate_curve`]), in parallel.
+fn simulate_curves_chunk(
+    plan: &Plan,
+    k: u64,
+    progress: Option<&ProgressBar>,
+) -> ChunkRows<HarmonicRecord> {
+    let n_f = plan.study.curve_points();
+    let points = plan.chunk_points(k);
+    let designs: Vec<u64> = (points.start / n_f..points.end.div_ceil(n_f)).collect();
+    let tasks: Vec<(u64, Vec<u32>)> = designs
+        .into_iter()
+        .flat_map(|design| {
+            same_system_cases(plan, design)
+                .into_iter()
+                .map(move |cases| (design, cases))
+        })
+        .collect();
+    let done: Vec<(Vec<RunRow<HarmonicRecord>>, Vec<AttractorRow>)> = tasks
+        .into_par_iter()
+        .map(|(design, cases)| {
+            let out = simulate_curve(plan, design, &cases);
+            if let Some(pb) = progress {
+                pb.inc(out.0.len() as u64);
+            }
+            out
+        })
+        .collect();
+    let mut rows = Vec::with_capacity(done.iter().map(|d| d.0.len()).sum());
+    let mut attractors = Vec::new();
+    for (r, a) in done {
+        rows.extend(r);
+        attractors.extend(a);
+    }
+    rows.sort_by_key(|r| r.point_id);
+    // Stable: each run's attractors stay in their census order.
+    attractors.sort_by_key(|a| a.run.point_id);
+    ChunkRows {
+        rows,
+        attractors: Some(attractors),
+    }
+}
+
+/// Chunk `k` of a study of several units: each run with its census ([`forced_run_units`]), in
+/// parallel over the runs; the rows in `point_id` order, each run's attractors in census
+/// order.
+fn simulate_units_chunk(
+    plan: &Plan,
+    k: u64,
+    progress: Option<&ProgressBar>,
+) -> ChunkRows<HarmonicRecord> {
+    let points = plan.chunk_points(k);
+    let n_cases = plan.n_cases();
+    let done: Vec<(RunRow<HarmonicRecord>, Vec<AttractorRow>)> = (points.start * n_cases
+        ..points.end * n_cases)
+        .into_par_iter()
+        .map(|id| {
+            let run = plan.run(id / n_cases, (id % n_cases) as u32);
+            let out = units_run(plan, &run);
+            let rec = &out.record;
+            let rows = out.rows(RunId {
+                point_id: run.point_id,
+                point: run.point,
+                case: run.case,
+                ideal: run.spec.ideal,
+                r: rec.r,
+                omega: rec.omega,
+                F0: rec.F0,
+            });
+            if let Some(pb) = progress {
+                pb.inc(1);
+            }
+            (row_of(plan, &run, out.record), rows)
+        })
+        .collect();
+    let mut rows = Vec::with_capacity(done.len());
+    let mut attractors = Vec::new();
+    for (r, a) in done {
+        rows.push(r);
+        attractors.extend(a);
+    }
+    ChunkRows {
+        rows,
+        attractors: Some(attractors),
+    }
+}
+
+/// The run `run` of a study of several units with its census ([`forced_run_units`]: the
+/// study seed and the design point fix its starts).
+fn units_run(plan: &Plan, run: &RunSpec) -> UnitsRun {
+    let study = plan.study;
+    let scene = harmonic_scene(run);
+    let (seed, point) = (study.seed, run.point);
+    match (study.noise.as_ref(), plan.noise_stream(run)) {
+        (Some(ns), Some(mut stream)) => forced_run_units(
+            &run.system,
+            &study.solver,
+            &study.request,
+            &scene,
+            Some((ns, &mut stream)),
+            &mut NoProbe,
+            seed,
+            point,
+        ),
+        _ => forced_run_units(
+            &run.system,
+            &study.solver,
+            &study.request,
+            &scene,
+            None,
+            &mut NoProbe,
+            seed,
+            point,
+        ),
+    }
+}
+
+/// The run's harmonic scene: the study's, with the design point's `F0`, `omega` or `r`; the
+/// default harmonic scene if the study is a free-decay one.
+fn harmonic_scene(run: &RunSpec) -> Harmonic {
+    match run.scene {
+        Scene::Harmonic(h) => h,
+        Scene::Free | Scene::Random(_) => Harmonic::default(),
     }
 }
 
@@ -208,14 +305,13 @@ pub fn simulate_run(plan: &Plan, run: &RunSpec) -> Record {
 /// for every run ([`Harmonic::validate`]).
 pub fn simulate_forced_run(plan: &Plan, run: &RunSpec) -> HarmonicRecord {
     let study = plan.study;
-    let mut scene = match run.scene {
-        Scene::Harmonic(h) => h,
-        Scene::Free | Scene::Random(_) => Harmonic::default(),
-    };
-    if !study.census() {
-        // A study of several units takes no census, for its one-unit designs either: every
-        // design's steady state comes from its run alike.
-        scene.starts = 0;
+    let mut scene = harmonic_scene(run);
+    match study.census_kind() {
+        CensusKind::None => scene.starts = 0,
+        CensusKind::OneUnit => {}
+        // Every design of a study of several units, its one-unit ones too, takes the census of
+        // several units: every design's steady states are found alike.
+        CensusKind::Units => return units_run(plan, run).record,
     }
     let (seed, point) = (study.seed, run.point);
     match (study.noise.as_ref(), plan.noise_stream(run)) {

@@ -20,7 +20,10 @@
 //! otherwise the hand-over tolerance is divided by 1000 and the transient goes on. A start
 //! whose last 16 periods made no impact has reached the non-impacting family (counted, not
 //! listed); one that reaches its budget of [`UnitsCensusSettings::max_periods`] periods first is
-//! counted as not settled (a motion that is not periodic, or a slow transient).
+//! counted as not settled (a motion that is not periodic, or a slow transient); its largest
+//! `|x|` over its last [`crate::orbits::tolerances::CENSUS_WINDOW`] periods (exact, the map's own
+//! amplitude each period) is kept ([`UnitsCensus::unsettled_amplitude`]), a lower bound of what
+//! that motion reaches.
 //!
 //! # Merging
 //! Two orbits are one when their periods agree and the section of one lies within `1e-6 L` of
@@ -38,6 +41,8 @@ use crate::sim::Outcome;
 const MAX_PERIOD: usize = 8;
 /// Periods without impact after which a start has reached the non-impacting family.
 const QUIET: u64 = 16;
+/// Periods over which a start that does not settle is measured (its last ones).
+const WINDOW: usize = crate::orbits::tolerances::CENSUS_WINDOW as usize;
 
 /// The census's settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,7 +63,7 @@ impl Default for UnitsCensusSettings {
         UnitsCensusSettings {
             starts: 8,
             max_periods: 2000,
-            handover: crate::orbits::HANDOVER,
+            handover: crate::orbits::tolerances::HANDOVER,
             seed: 0,
             point: 0,
         }
@@ -78,7 +83,7 @@ pub struct UnitsAttractor {
 }
 
 /// The census of one frequency point.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct UnitsCensus {
     /// Distinct stable impacting orbits, in the order first reached.
     pub attractors: Vec<UnitsAttractor>,
@@ -92,6 +97,37 @@ pub struct UnitsCensus {
     /// Forcing periods simulated in all: the transients, and Newton's maps counted as `2 dim + 1`
     /// maps an iteration (an upper bound: units in step have fewer columns).
     pub periods: u64,
+    /// The largest `|x|` over the last [`crate::orbits::tolerances::CENSUS_WINDOW`] periods of the starts
+    /// that did not settle (m); NaN when every start settled.
+    pub unsettled_amplitude: f64,
+    /// Where start 0 (the given state) ended.
+    pub rest: RestLanding,
+}
+
+/// Where start 0 of a census ended.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RestLanding {
+    /// On attractor `i` of [`UnitsCensus::attractors`].
+    Orbit(usize),
+    /// On the non-impacting family.
+    NonImpacting,
+    /// Nowhere within its budget (or no census was run).
+    #[default]
+    Unsettled,
+}
+
+impl Default for UnitsCensus {
+    fn default() -> Self {
+        UnitsCensus {
+            attractors: Vec::new(),
+            starts: 0,
+            non_impacting: 0,
+            unsettled: 0,
+            periods: 0,
+            unsettled_amplitude: f64::NAN,
+            rest: RestLanding::Unsettled,
+        }
+    }
 }
 
 impl UnitsCensus {
@@ -153,30 +189,42 @@ fn repeating(f: &Forcing, h: &[Vec<f64>], tol: f64) -> Option<usize> {
     })
 }
 
-/// Runs one start from `s` (module doc); also returns the periods it cost and the largest
-/// `|x|` of its last period.
-fn run_start(
-    f: &Forcing,
-    s: Vec<f64>,
-    c: &UnitsCensusSettings,
-    newton: &Newton,
-) -> (Landing, u64, f64) {
+/// What one start cost and saw: the periods it ran, the largest `|x|` of its last period and
+/// over its last [`crate::orbits::tolerances::CENSUS_WINDOW`] periods (m).
+struct Ran {
+    periods: u64,
+    last: f64,
+    window: f64,
+}
+
+/// Runs one start from `s` (module doc).
+fn run_start(f: &Forcing, s: Vec<f64>, c: &UnitsCensusSettings, newton: &Newton) -> (Landing, Ran) {
     // One map and the `2 (2 + 2G) <= 2 dim` of its Jacobian per Newton iteration.
     let cost = 2 * dim(f) as u64 + 1;
     let mut history = vec![s];
     let (mut periods, mut quiet, mut amp) = (0u64, 0u64, 0.0);
+    let mut recent = std::collections::VecDeque::with_capacity(WINDOW);
+    let ran = |periods, last, recent: &std::collections::VecDeque<f64>| Ran {
+        periods,
+        last,
+        window: recent.iter().copied().fold(f64::NAN, f64::max),
+    };
     let mut tol = c.handover;
     while periods < c.max_periods {
         let now = history.last().cloned().unwrap_or_default();
         let e = eval(f, &now, 1);
         periods += 1;
         if e.outcome != Outcome::Ok {
-            return (Landing::Unsettled, periods, amp);
+            return (Landing::Unsettled, ran(periods, amp, &recent));
         }
         amp = e.amplitude;
+        if recent.len() == WINDOW {
+            recent.pop_front();
+        }
+        recent.push_back(amp);
         quiet = if e.impacts == 0 { quiet + 1 } else { 0 };
         if quiet >= QUIET {
-            return (Landing::Quiet, periods, amp);
+            return (Landing::Quiet, ran(periods, amp, &recent));
         }
         history.push(e.end);
         if history.len() > 2 * MAX_PERIOD + 1 {
@@ -192,11 +240,14 @@ fn run_start(
             && let Some(o) = orbit_at(f, p as u64, &st, newton)
             && o.stability == Stability::Stable
         {
-            return (Landing::Orbit(Box::new(o), iterations), periods, amp);
+            return (
+                Landing::Orbit(Box::new(o), iterations),
+                ran(periods, amp, &recent),
+            );
         }
         tol *= 1e-3;
     }
-    (Landing::Unsettled, periods, amp)
+    (Landing::Unsettled, ran(periods, amp, &recent))
 }
 
 /// Runs the census at `f` from `s0` (the first start's section state, `2 + 2N` components, read
@@ -212,16 +263,26 @@ pub fn census_units(f: &Forcing, s0: &[f64], c: &UnitsCensusSettings) -> UnitsCe
         } else {
             start(f, c, k, x_ref)
         };
-        let (landing, periods, amp) = run_start(f, s, c, &newton);
-        if k == 0 && amp.is_finite() {
-            x_ref = x_ref.max(amp);
+        let (landing, ran) = run_start(f, s, c, &newton);
+        if k == 0 && ran.last.is_finite() {
+            x_ref = x_ref.max(ran.last);
         }
         out.starts += 1;
-        out.periods += periods;
-        match landing {
-            Landing::Orbit(o, iterations) => out.merge(f, *o, k, iterations),
-            Landing::Quiet => out.non_impacting += 1,
-            Landing::Unsettled => out.unsettled += 1,
+        out.periods += ran.periods;
+        let rest = match landing {
+            Landing::Orbit(o, iterations) => RestLanding::Orbit(out.merge(f, *o, k, iterations)),
+            Landing::Quiet => {
+                out.non_impacting += 1;
+                RestLanding::NonImpacting
+            }
+            Landing::Unsettled => {
+                out.unsettled += 1;
+                out.unsettled_amplitude = out.unsettled_amplitude.max(ran.window);
+                RestLanding::Unsettled
+            }
+        };
+        if k == 0 {
+            out.rest = rest;
         }
     }
     out
@@ -233,15 +294,17 @@ pub fn census_from_rest(f: &Forcing, c: &UnitsCensusSettings) -> UnitsCensus {
 }
 
 impl UnitsCensus {
-    fn merge(&mut self, f: &Forcing, o: UnitsOrbit, k: u32, iterations: u32) {
+    /// Adds start `k`'s orbit `o` (a new attractor, or one more start of the same orbit);
+    /// returns its index.
+    fn merge(&mut self, f: &Forcing, o: UnitsOrbit, k: u32, iterations: u32) -> usize {
         let p = u64::from(o.period);
-        if let Some(a) = self
+        if let Some(i) = self
             .attractors
-            .iter_mut()
-            .find(|a| a.orbit.period == o.period && same_orbit(f, &a.orbit.s, &o.s, p))
+            .iter()
+            .position(|a| a.orbit.period == o.period && same_orbit(f, &a.orbit.s, &o.s, p))
         {
-            a.starts += 1;
-            return;
+            self.attractors[i].starts += 1;
+            return i;
         }
         self.attractors.push(UnitsAttractor {
             orbit: o,
@@ -249,5 +312,6 @@ impl UnitsCensus {
             first: k,
             iterations,
         });
+        self.attractors.len() - 1
     }
 }

@@ -19,7 +19,13 @@
 //! reduced matrix is the full one, `2 + 2N` multipliers. With `k` identical units in step it has
 //! the group's two multipliers where the full one would have `2k`: the other `2 (k - 1)` are the
 //! units' relative motions, across which the map is not differentiable (module doc of
-//! [`super::map`]); they are not reported (`relative_modes` counts them).
+//! [`super::map`]); they are not reported (`relative_modes` counts them). A group that makes no
+//! impact over the orbit (at rest in its cavity while the others rattle) flies freely: its
+//! `y'` row of the monodromy matrix is a unit row to [`FREE_ROW_TOL`], and it contributes two
+//! multipliers 1 (its position and velocity drift), which, as for the non-impacting family of
+//! one unit, are neutral: the two multipliers nearest 1 per such group are set apart
+//! (`free_modes`) and the orbit is `stable` when every other `|lambda| < 1` (the census's
+//! start that reached it has settled).
 
 use nalgebra::{DMatrix, DVector};
 
@@ -54,13 +60,19 @@ pub struct UnitsOrbit {
     /// Impact instants over one orbit period.
     pub impacts: u64,
     /// Floquet multipliers `(re, im)` of the reduced monodromy matrix, sorted by decreasing
-    /// modulus.
+    /// modulus; empty when they could not be computed ([`multipliers`]; the orbit is then
+    /// `Unstable`).
     pub multipliers: Vec<(f64, f64)>,
     pub stability: Stability,
     /// The units in step, by group (module doc).
     pub groups: Vec<Vec<usize>>,
     /// Multipliers of relative motions of units in step, not reported: `2 (N - G)`.
     pub relative_modes: usize,
+    /// Multipliers of the groups that make no impact over the orbit (each flies freely in its
+    /// cavity: its `y'` row of the monodromy matrix is a unit row), two per group, equal to 1
+    /// (the drift of a free mass), not in `multipliers` and not counted in the stability, as the
+    /// non-impacting family's are not (module doc).
+    pub free_modes: usize,
     /// The reduced monodromy matrix.
     pub monodromy: DMatrix<f64>,
     /// Whether it is the exact one ([`super::exact`]) rather than central differences.
@@ -68,8 +80,11 @@ pub struct UnitsOrbit {
 }
 
 impl UnitsOrbit {
-    /// The largest `|lambda|`.
+    /// The largest `|lambda|`; NaN when the multipliers could not be computed.
     pub fn multiplier_max(&self) -> f64 {
+        if self.multipliers.is_empty() {
+            return f64::NAN;
+        }
         self.multipliers
             .iter()
             .map(|&(re, im)| re.hypot(im))
@@ -190,15 +205,31 @@ pub fn solve(
     }
 }
 
-/// Eigenvalues of `m`, sorted by decreasing modulus.
-pub fn multipliers(m: &DMatrix<f64>) -> Vec<(f64, f64)> {
-    let mut ev: Vec<(f64, f64)> = m
+/// Iterations the Schur decomposition of [`multipliers`] may take per row of the matrix:
+/// LAPACK's QR iteration allows 30 per eigenvalue; twice that before it gives up.
+pub const SCHUR_ITER_PER_ROW: usize = 60;
+
+/// Eigenvalues of `m`, sorted by decreasing modulus: the real Schur form `m = Q T Q^T` by
+/// nalgebra's shifted QR iteration, to `f64::EPSILON`, capped at [`SCHUR_ITER_PER_ROW`] times the
+/// dimension. `None` when it does not converge within the cap or `m` is not finite (issue 68:
+/// `complex_eigenvalues()`, which iterates without a cap, looped forever on the monodromy of 8
+/// units with spread clearances); the caller then treats the orbit as not shown stable.
+pub fn multipliers(m: &DMatrix<f64>) -> Option<Vec<(f64, f64)>> {
+    if m.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let cap = SCHUR_ITER_PER_ROW * m.nrows().max(1);
+    let schur = nalgebra::linalg::Schur::try_new(m.clone(), f64::EPSILON, cap)?;
+    let mut ev: Vec<(f64, f64)> = schur
         .complex_eigenvalues()
         .iter()
         .map(|z| (z.re, z.im))
         .collect();
+    if ev.iter().any(|z| !(z.0.is_finite() && z.1.is_finite())) {
+        return None;
+    }
     ev.sort_by(|x, y| y.0.hypot(y.1).total_cmp(&x.0.hypot(x.1)));
-    ev
+    Some(ev)
 }
 
 /// The orbit at a converged fixed point `state` of `P^p`: its minimal period (a divisor of `p`
@@ -219,8 +250,20 @@ pub fn orbit_at(f: &Forcing, p: u64, state: &UnitsNewton, newton: &Newton) -> Op
     }
     let g = groups(f, &state.s);
     let (mono, exact) = monodromy(f, &state.s, period, &best, &g)?;
-    let multipliers = multipliers(&mono);
-    let stable = multipliers.iter().all(|&(re, im)| re.hypot(im) < 1.0);
+    // Multipliers that cannot be computed show no stability: the orbit counts as unstable
+    // (the census's start then goes on, and ends not settled at worst).
+    let free = free_groups(&mono, g.len());
+    let (multipliers, stable) = match multipliers(&mono) {
+        Some(mu) => {
+            let (neutral, rest) = set_apart_free(mu, 2 * free);
+            let stable = rest.iter().all(|&(re, im)| re.hypot(im) < 1.0)
+                && neutral
+                    .iter()
+                    .all(|&(re, im)| (re - 1.0).hypot(im) <= FREE_MULTIPLIER_TOL);
+            (rest, stable)
+        }
+        None => (Vec::new(), false),
+    };
     Some(UnitsOrbit {
         s: state.s.clone(),
         period: period as u32,
@@ -233,10 +276,57 @@ pub fn orbit_at(f: &Forcing, p: u64, state: &UnitsNewton, newton: &Newton) -> Op
             Stability::Unstable
         },
         relative_modes: 2 * (state.s.len() / 2 - 1 - g.len()),
+        free_modes: 2 * free,
         groups: g,
         monodromy: mono,
         exact,
     })
+}
+
+/// How far (absolute) a row of the reduced monodromy matrix may lie from a unit row for its
+/// group to fly freely: an exact Jacobian has it to rounding, central differences of an
+/// unchanged velocity to about `1e-11` (module doc of [`super::map`]).
+pub const FREE_ROW_TOL: f64 = 1e-9;
+
+/// How far a free group's multipliers may lie from 1 (their Jordan block's eigenvalues split by
+/// about the square root of the rounding).
+pub const FREE_MULTIPLIER_TOL: f64 = 1e-6;
+
+/// The groups (of `n`) of the reduced monodromy matrix `mono` that make no impact over the
+/// orbit: their `y'` row (index `3 + 2k`) is the unit row to [`FREE_ROW_TOL`].
+fn free_groups(mono: &DMatrix<f64>, n: usize) -> usize {
+    (0..n)
+        .filter(|k| {
+            let i = 3 + 2 * k;
+            i < mono.nrows()
+                && (0..mono.ncols()).all(|j| {
+                    let unit = if j == i { 1.0 } else { 0.0 };
+                    (mono[(i, j)] - unit).abs() <= FREE_ROW_TOL
+                })
+        })
+        .count()
+}
+
+/// Multipliers `(re, im)`.
+type Multipliers = Vec<(f64, f64)>;
+
+/// `mu` split into the `k` multipliers nearest 1 and the rest (each in decreasing modulus).
+fn set_apart_free(mu: Multipliers, k: usize) -> (Multipliers, Multipliers) {
+    let mut by_distance: Vec<usize> = (0..mu.len()).collect();
+    by_distance.sort_by(|&a, &b| {
+        let d = |i: usize| (mu[i].0 - 1.0).hypot(mu[i].1);
+        d(a).total_cmp(&d(b)).then(a.cmp(&b))
+    });
+    let near: Vec<usize> = by_distance.into_iter().take(k).collect();
+    let (mut neutral, mut rest) = (Vec::new(), Vec::new());
+    for (i, m) in mu.into_iter().enumerate() {
+        if near.contains(&i) {
+            neutral.push(m);
+        } else {
+            rest.push(m);
+        }
+    }
+    (neutral, rest)
 }
 
 /// Whether `b` lies on the period-`p` orbit through `a`: within `1e-6` of the scale of one of
@@ -251,4 +341,54 @@ pub fn same_orbit(f: &Forcing, a: &[f64], b: &[f64], p: u64) -> bool {
         s = eval(f, &s, 1).end;
     }
     false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A rotation by 0.3 rad scaled by 0.9 beside a real 0.5: the multipliers `0.9 e^{+-0.3 i}`
+    /// and 0.5, largest first.
+    #[test]
+    fn multipliers_of_a_known_matrix_and_none_for_one_not_finite() {
+        let (c, s) = (0.9 * 0.3f64.cos(), 0.9 * 0.3f64.sin());
+        let m = DMatrix::from_row_slice(3, 3, &[c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 0.5]);
+        let mu = multipliers(&m).expect("multipliers");
+        assert_eq!(mu.len(), 3);
+        for (re, im) in &mu[..2] {
+            assert!((re.hypot(*im) - 0.9).abs() < 1e-14);
+            assert!((re - c).abs() < 1e-14 && (im.abs() - s).abs() < 1e-14);
+        }
+        assert!((mu[2].0 - 0.5).abs() < 1e-14 && mu[2].1 == 0.0);
+        let mut bad = m.clone();
+        bad[(1, 2)] = f64::NAN;
+        assert_eq!(multipliers(&bad), None);
+    }
+
+    /// A group at rest in its cavity while the structure rattles (the two-unit orbit at
+    /// `r = 1.01` of `configs/multi-unit.toml`): its `y'` row is a unit row, its two
+    /// multipliers 1 are set apart, and the orbit is stable on the others.
+    #[test]
+    fn a_group_that_flies_freely_has_neutral_multipliers() {
+        let mut m = DMatrix::<f64>::zeros(4, 4);
+        m[(0, 0)] = 0.5;
+        m[(0, 1)] = 0.1;
+        m[(1, 1)] = 0.4;
+        m[(2, 0)] = 0.3;
+        m[(2, 2)] = 1.0;
+        m[(2, 3)] = 0.09;
+        m[(3, 3)] = 1.0;
+        assert_eq!(free_groups(&m, 1), 1);
+        let mu = multipliers(&m).unwrap();
+        let (neutral, rest) = set_apart_free(mu, 2);
+        assert_eq!((neutral.len(), rest.len()), (2, 2));
+        for (re, im) in &neutral {
+            assert!((re - 1.0).hypot(*im) <= FREE_MULTIPLIER_TOL, "{neutral:?}");
+        }
+        for ((re, im), want) in rest.iter().zip([0.5, 0.4]) {
+            assert!((re - want).abs() < 1e-14 && im.abs() < 1e-14, "{rest:?}");
+        }
+        m[(3, 0)] = 1e-3;
+        assert_eq!(free_groups(&m, 1), 0);
+    }
 }

@@ -27,7 +27,8 @@
 //! The linear system's peak over the band is closed form at every frequency. A dataset without
 //! stored attractors, or a study with `design_peak = "from_rest"`, runs the whole curve at the
 //! probe instead (the run from the initial state at every frequency, and the census when the
-//! design quantity needs it). Probes are deterministic: the same probe gives the same bits.
+//! design quantity needs it), and so does a study of several units (each frequency's census of
+//! several units, [`crate::orbits::several`]: the continuation covers one unit). Probes are deterministic: the same probe gives the same bits.
 
 use super::analysis::{Plan, Shard, line_key};
 use super::curve::{Curve, CurvePoint};
@@ -36,12 +37,13 @@ use crate::orbits::attractors::{AttractorRow, SteadyKind};
 use crate::orbits::census::{CensusSettings, Landing, Settled, first_check, settle};
 use crate::orbits::map::Forcing;
 use crate::orbits::response::orbit_from_section;
+use crate::orbits::several::forced_run_units;
 use crate::orbits::shoot::{Newton, non_impacting};
 use crate::orbits::{CENSUS_WINDOW, HANDOVER, forced_run};
 use crate::reduce::common::jumps::{IdealCase, UNRESOLVED};
 use crate::sim::harmonic::DesignPeak;
 use crate::sim::{Harmonic, NoProbe, Outcome, Scene};
-use crate::study::Study;
+use crate::study::{CensusKind, Study};
 
 /// The share of a corner's peak above which a frequency is probed.
 pub const NEAR_PEAK: f64 = 0.7;
@@ -232,16 +234,32 @@ impl<'a> HarmonicIdeal<'a> {
             if scene.design_peak == DesignPeak::FromRest {
                 scene.starts = 0;
             }
-            let rec = forced_run(
-                &sys,
-                &s.solver,
-                &s.request,
-                &scene,
-                None,
-                &mut NoProbe,
-                s.seed,
-                self.probe_point,
-            );
+            let rec = match s.census_kind() {
+                // Several units: each frequency's own census of several units, as the sweep's.
+                CensusKind::Units => {
+                    forced_run_units(
+                        &sys,
+                        &s.solver,
+                        &s.request,
+                        &scene,
+                        None,
+                        &mut NoProbe,
+                        s.seed,
+                        self.probe_point,
+                    )
+                    .record
+                }
+                CensusKind::None | CensusKind::OneUnit => forced_run(
+                    &sys,
+                    &s.solver,
+                    &s.request,
+                    &scene,
+                    None,
+                    &mut NoProbe,
+                    s.seed,
+                    self.probe_point,
+                ),
+            };
             if rec.outcome != Outcome::Ok {
                 return None;
             }
@@ -272,7 +290,13 @@ impl<'a> HarmonicIdeal<'a> {
                 let (linear, _) = cs[0].linear_peak();
                 Some([peak, 1.0 - peak / linear])
             }
-            Some(cs) if h.design_peak == DesignPeak::Worst && !cs.is_empty() => {
+            // The continuation of stored attractors covers one unit: a study of several units
+            // runs the probe's curve with its census.
+            Some(cs)
+                if h.design_peak == DesignPeak::Worst
+                    && !cs.is_empty()
+                    && self.study.census_kind() != CensusKind::Units =>
+            {
                 self.continued(values, &cs)
             }
             _ => self.simulated(values),

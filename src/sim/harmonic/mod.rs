@@ -82,7 +82,7 @@ use crate::model::{RangeError, System, fmt_value};
 
 #[cfg(test)]
 pub(crate) use steady::{Stepper, simulate_with};
-pub use steady::{simulate_harmonic, simulate_harmonic_units};
+pub use steady::{simulate_harmonic, simulate_harmonic_ends, simulate_harmonic_units};
 
 /// The forcing frequency, given directly or as a ratio to `sqrt(K/M)`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

@@ -91,6 +91,48 @@ pub fn simulate_harmonic_units<P: Probe>(
     }
 }
 
+/// [`simulate_harmonic`] (with its noise), also returning every unit's `(y, w)` (m, m/s) at the
+/// run's end, `t_stop` (a section time when `ok`): with several units the record's `end` holds
+/// unit 1's only, and the census of several units goes on from the whole state
+/// ([`crate::orbits::several`]). The record is [`simulate_harmonic`]'s, bit for bit. Pure.
+pub fn simulate_harmonic_ends<P: Probe>(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    scene: &Harmonic,
+    noise: Option<(&NoiseSettings, &mut NoiseStream)>,
+    probe: &mut P,
+) -> (HarmonicRecord, Vec<(f64, f64)>) {
+    match scene.finder {
+        Finder::SafeSteps => {
+            let (rec, _, units) = simulate_from(
+                sys,
+                settings,
+                req,
+                scene,
+                noise,
+                probe,
+                DrivenPhase::new,
+                None,
+            );
+            (rec, units)
+        }
+        Finder::Bracketed => {
+            let (rec, _, units) = simulate_from(
+                sys,
+                settings,
+                req,
+                scene,
+                noise,
+                probe,
+                Bracketed::new,
+                None,
+            );
+            (rec, units)
+        }
+    }
+}
+
 /// [`simulate_harmonic`] with the event finder `make(free, tol_t, max_steps)` builds, and the
 /// finder at the end (a test compares two finders on one run through it).
 pub(crate) fn simulate_with<P: Probe, S: Stepper>(
@@ -107,8 +149,7 @@ pub(crate) fn simulate_with<P: Probe, S: Stepper>(
 }
 
 /// [`simulate_with`], the units of several started at `starts` when given
-/// ([`simulate_harmonic_units`]), with every unit's `(y, w)` at the end (empty without
-/// `starts`).
+/// ([`simulate_harmonic_units`]), with every unit's `(y, w)` at the end.
 #[allow(clippy::too_many_arguments)]
 fn simulate_from<P: Probe, S: Stepper>(
     sys: &System,
@@ -148,11 +189,7 @@ fn simulate_from<P: Probe, S: Stepper>(
     let mut solver = make(&free, tol_t, settings.max_steps);
     let outcome = phase::run(&mut run, &mut solver);
     let steps = solver.steps();
-    let units = if starts.is_some() {
-        run.map.unit_states()
-    } else {
-        Vec::new()
-    };
+    let units = run.map.unit_states();
     (run.finish(outcome, steps), solver, units)
 }
 

@@ -37,6 +37,11 @@ pub fn section(s: &Summary, fs: &HarmonicSummary, shown: &[&PointStats]) -> Stri
     if !fs.curves.iter().any(|c| c.attractors.is_some()) {
         return o;
     }
+    // Several units: the window peaks are the study's only kind (the design life covers one
+    // unit), which the design peak's reading says.
+    if fs.curves.iter().any(|c| c.system.units > 1.0) {
+        return o;
+    }
     if fs.nonperiodic_peak == NonPeriodicPeak::Window {
         let _ = writeln!(
             o,

@@ -18,7 +18,9 @@ use crate::study::Study;
 
 /// Why a dataset's peaks carried by motions that are not periodic have no design-life estimate.
 fn unmeasured_reason(fs: &HarmonicSummary) -> &'static str {
-    if units::several(fs) {
+    if units::several(fs) && units::census_taken(fs) {
+        "several damper units: the design-life measurement covers one unit"
+    } else if units::several(fs) {
         "several damper units: no census, whose design lives cover one unit"
     } else if fs.design_peak == DesignPeak::FromRest {
         "`design_peak = \"from_rest\"`: no census"
@@ -282,6 +284,10 @@ fn reading(fs: &HarmonicSummary) -> String {
         frequencies += c.points.len();
         not_converged += c.points.iter().filter(|p| !p.converged).count();
         not_periodic += c.points.iter().filter(|p| p.period == 0).count();
+    }
+    if units::several(fs) && units::census_taken(fs) {
+        o.push_str(&units::reading(fs));
+        return o;
     }
     if units::several(fs) {
         let _ = writeln!(

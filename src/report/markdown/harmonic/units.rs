@@ -6,10 +6,40 @@ use std::fmt::Write;
 
 use crate::reduce::harmonic::{Curve, HarmonicSummary};
 use crate::report::markdown::words::{cm, f};
+use crate::report::text::thousands;
 
 /// Whether the study's designs carry several units.
 pub(super) fn several(fs: &HarmonicSummary) -> bool {
     fs.curves.iter().any(|c| c.system.units > 1.0)
+}
+
+/// Whether the runs took the census of several units (issue 68; a dataset written before it,
+/// or `starts = 0`, has none).
+pub(super) fn census_taken(fs: &HarmonicSummary) -> bool {
+    fs.curves
+        .iter()
+        .any(|c| c.points.iter().any(|p| p.attractors > 0))
+}
+
+/// How the design peak of a study of several units with its census is found, with the counts
+/// over the ideal curves of frequencies whose design quantity is not periodic.
+pub(super) fn reading(fs: &HarmonicSummary) -> String {
+    let (mut frequencies, mut wandering, mut from_rest) = (0usize, 0usize, 0usize);
+    for c in &fs.curves {
+        frequencies += c.points.len();
+        wandering += c
+            .points
+            .iter()
+            .filter(|p| p.design.is_finite() && p.design_period == 0)
+            .count();
+        from_rest += c.points.iter().filter(|p| p.period == 0).count();
+    }
+    format!(
+        "\n**The design peak.** The study has several damper units (docs/model.md §14). Each run goes from the study's initial state to its steady state (*from rest* above), then the census of several units at the same frequency runs its starts, each to its attractor: start 0 from the state the run ended in, the others seeded in the cavities (periodic orbits solved exactly by shooting on the 2 + 2N section, with their Floquet multipliers), for every design alike, one unit included. The design peak is the worst steady state found, and never below the run's own measured amplitude (start 0 continues the run's motion). A motion that does not settle on a periodic orbit within `n_trans_max` periods (quasi-periodic, chaotic, or a slow transient: `not settled` in `attractors`) carries its largest amplitude over its last 200 periods and the run's window, a lower bound: the design-life measurement and the branches cover one unit. Over the ideal curves {} of {} frequencies have such a motion as their design quantity ({} from-rest runs did not repeat over their window). The band where the damper helps is the stretch around the linear system's resonance where the design quantity is below the linear system's amplitude, its ends interpolated where its attenuation crosses 1; \"band edge\" means it still helps at the end of the swept band.\n",
+        thousands(wandering as u64),
+        thousands(frequencies as u64),
+        thousands(from_rest as u64)
+    )
 }
 
 /// One design's figures: units, spread, ideal peak (m), PR, the help band and its width, the

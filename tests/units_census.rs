@@ -1,0 +1,224 @@
+//! The census of several units in a harmonic study (issue 68): every run of a study of several
+//! units takes the census of several units from the state its run from rest ended in, and
+//! stores its attractors.
+//!
+//! * Through the command line, a two-unit study's attractor rows equal the library's
+//!   `census_units` from each run's end state (`simulate_harmonic_ends`), to `1e-12`.
+//! * The same rows and records, bit for bit, on 1 and 2 threads and with another chunk size.
+//! * A one-unit study stores the same bytes whether or not it says `units = 1`.
+
+use std::path::{Path, PathBuf};
+
+use impactsweep::orbits::attractors::{AttractorRow, RunId, RunWindow};
+use impactsweep::orbits::map::Forcing;
+use impactsweep::orbits::several::end_section;
+use impactsweep::orbits::units::{UnitsCensusSettings, census_units};
+use impactsweep::plan::Plan;
+use impactsweep::sim::harmonic::simulate_harmonic_ends;
+use impactsweep::sim::{HarmonicRecord, NoProbe, Scene};
+use impactsweep::store::{self, RunRow};
+use impactsweep::study::{CensusKind, Study};
+
+/// Two units of 10 g with clearances 8 and 12 mm (the orbits tests' two units,
+/// tests/units_orbits.rs) near resonance, 4 starts, and the cases of a clearance tolerance.
+const TWO_UNITS: &str = "[study]\nname = \"two\"\nseed = 11\n\
+     [system]\nm = 0.02\nd = 0.01\ne = 0.7\nC = 1.0\nv0 = 0.0\nunits = 2\nd_spread = 0.2\n\
+     [scene]\nkind = \"harmonic\"\nF0 = 0.5\nstarts = 4\nn_meas = 50\nn_trans_max = 600\n\
+     [sweep]\nr = [1.0, 1.1]\n\
+     [perturb]\ndd = [0.001]\n";
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn run(study: &Path, out: &Path, args: &[&str]) {
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("run")
+        .arg(study)
+        .arg("--out")
+        .arg(out)
+        .arg("--quiet")
+        .args(args)
+        .assert()
+        .success();
+}
+
+fn records(dir: &Path) -> Vec<RunRow<HarmonicRecord>> {
+    let mut rows: Vec<_> = store::part_files(dir)
+        .unwrap()
+        .iter()
+        .flat_map(|p| store::read_rows::<HarmonicRecord>(p).unwrap())
+        .collect();
+    rows.sort_by_key(|r| r.point_id);
+    rows
+}
+
+fn attractors(dir: &Path) -> Vec<AttractorRow> {
+    let mut rows = Vec::new();
+    for p in store::part_files(dir).unwrap() {
+        let side = store::attractors::attractors_part_path(dir, store::part_chunk(&p).unwrap());
+        rows.extend(store::attractors::read_part(&side).unwrap());
+    }
+    rows.sort_by_key(|a| (a.run.point_id, a.attractor));
+    rows
+}
+
+fn close(a: f64, b: f64, what: &str) {
+    let ok = (a.is_nan() && b.is_nan()) || (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1e-3);
+    assert!(ok, "{what}: {a:e} against {b:e}");
+}
+
+#[test]
+fn a_two_unit_study_stores_the_census_of_each_runs_end_state() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = write(tmp.path(), "two", TWO_UNITS);
+    let study = Study::load(&path).unwrap();
+    assert_eq!(study.census_kind(), CensusKind::Units);
+    run(&path, tmp.path(), &["--threads", "1"]);
+    let dir = tmp.path().join("two");
+    let (recs, stored) = (records(&dir), attractors(&dir));
+    assert_eq!(recs.len(), 4);
+    let plan = Plan::new(&study);
+    for row in &recs {
+        let spec = plan.run(row.point, row.case);
+        let Scene::Harmonic(scene) = spec.scene else {
+            panic!("not harmonic")
+        };
+        let (rec, units) = simulate_harmonic_ends(
+            &spec.system,
+            &study.solver,
+            &study.request,
+            &scene,
+            None,
+            &mut NoProbe,
+        );
+        assert_eq!(rec.amplitude.to_bits(), row.record.amplitude.to_bits());
+        assert_eq!(units.len(), 2);
+        let f = Forcing {
+            sys: spec.system,
+            F0: scene.F0,
+            omega: rec.omega,
+            settings: study.solver,
+        };
+        let s0 = end_section(&spec.system, &rec, &units);
+        let c = census_units(
+            &f,
+            &s0,
+            &UnitsCensusSettings {
+                starts: 4,
+                max_periods: 600,
+                seed: 11,
+                point: row.point,
+                ..UnitsCensusSettings::default()
+            },
+        );
+        let id = RunId {
+            point_id: row.point_id,
+            point: row.point,
+            case: row.case,
+            ideal: row.ideal,
+            r: rec.r,
+            omega: rec.omega,
+            F0: rec.F0,
+        };
+        let own = RunWindow {
+            amplitude: rec.amplitude,
+            n_meas: rec.n_meas,
+        };
+        let want = AttractorRow::of_units_census(id, &f, &c, &s0, own);
+        let got: Vec<&AttractorRow> = stored
+            .iter()
+            .filter(|a| a.run.point_id == row.point_id)
+            .collect();
+        assert_eq!(got.len(), want.len(), "run {}", row.point_id);
+        assert!(!want.is_empty());
+        for (g, w) in got.iter().zip(&want) {
+            assert_eq!((g.kind, g.period, g.starts), (w.kind, w.period, w.starts));
+            close(g.amplitude, w.amplitude, "amplitude");
+            close(g.multiplier_max, w.multiplier_max, "multiplier_max");
+            close(g.lyapunov, w.lyapunov, "lyapunov");
+            close(g.basin_share, w.basin_share, "basin share");
+            for k in 0..4 {
+                close(g.section[k], w.section[k], "section");
+            }
+        }
+        // The record's summary is that of the rows: the worst, never below the run's own.
+        let worst = want.iter().map(|a| a.amplitude).fold(f64::NAN, f64::max);
+        assert_eq!(row.record.steady.starts, 4);
+        close(row.record.steady.amplitude_worst, worst, "worst");
+        assert!(row.record.steady.amplitude_worst >= row.record.amplitude * (1.0 - 1e-9));
+    }
+}
+
+/// Every stored column of the records and the attractors, as text (`{:?}` of an `f64` is the
+/// shortest text that reads back to its bits).
+fn stored_text(dir: &Path) -> (String, String) {
+    let recs: Vec<String> = records(dir).iter().map(|r| format!("{r:?}")).collect();
+    let atts: Vec<String> = attractors(dir).iter().map(|a| format!("{a:?}")).collect();
+    (recs.join("\n"), atts.join("\n"))
+}
+
+#[test]
+fn the_census_of_several_units_is_the_same_on_any_thread_count_and_chunk_size() {
+    let tmp = tempfile::tempdir().unwrap();
+    // Two designs (two curves), so that a chunk of one curve makes two chunks.
+    let text = TWO_UNITS
+        .replace("e = 0.7\n", "")
+        .replace("[sweep]\n", "[sweep]\ne = [0.7, 0.8]\n");
+    let path = write(tmp.path(), "two", &text);
+    let one = tmp.path().join("one");
+    let two = tmp.path().join("two");
+    let chunks = tmp.path().join("chunks");
+    run(&path, &one, &["--threads", "1"]);
+    run(&path, &two, &["--threads", "2"]);
+    run(&path, &chunks, &["--threads", "2", "--chunk-points", "2"]);
+    assert_eq!(store::part_files(&chunks.join("two")).unwrap().len(), 2);
+    let base = stored_text(&one.join("two"));
+    assert!(base.1.contains("Periodic") || base.1.contains("NotSettled"));
+    assert!(
+        base == stored_text(&two.join("two")),
+        "1 and 2 threads differ"
+    );
+    assert!(
+        base == stored_text(&chunks.join("two")),
+        "chunk sizes differ"
+    );
+}
+
+#[test]
+fn a_one_unit_study_is_the_same_whether_or_not_it_says_units_1() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = "[study]\nname = \"one\"\nseed = 5\n\
+         [system]\nm = 0.02\nd = 0.01\ne = 0.7\nC = 1.0\nv0 = 0.0\n\
+         [scene]\nkind = \"harmonic\"\nF0 = 0.5\nstarts = 3\nn_meas = 50\n\
+         nonperiodic_peak = \"window\"\n\
+         [sweep]\nr = [1.0, 1.1]\n";
+    let plain = write(tmp.path(), "plain", text);
+    let said = write(
+        tmp.path(),
+        "said",
+        &text.replace("v0 = 0.0\n", "v0 = 0.0\nunits = 1\nd_spread = 0.0\n"),
+    );
+    assert_eq!(
+        Study::load(&said).unwrap().census_kind(),
+        CensusKind::OneUnit
+    );
+    let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
+    run(&plain, &a, &[]);
+    run(&said, &b, &[]);
+    let parts = |d: &Path| -> Vec<(String, Vec<u8>)> {
+        crate::common::dataset(d)
+            .into_iter()
+            .filter(|f| f.0 != "manifest.json")
+            .collect()
+    };
+    // The study text is stored in each part's metadata: compare the rows instead of the bytes
+    // when the texts differ, and the bytes of the plain study's two runs.
+    assert!(stored_text(&a.join("one")) == stored_text(&b.join("one")));
+    let c = tmp.path().join("c");
+    run(&plain, &c, &[]);
+    assert!(parts(&a.join("one")) == parts(&c.join("one")));
+}
