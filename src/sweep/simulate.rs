@@ -127,16 +127,7 @@ fn simulate_units_chunk(
         .map(|id| {
             let run = plan.run(id / n_cases, (id % n_cases) as u32);
             let out = units_run(plan, &run);
-            let rec = &out.record;
-            let rows = out.rows(RunId {
-                point_id: run.point_id,
-                point: run.point,
-                case: run.case,
-                ideal: run.spec.ideal,
-                r: rec.r,
-                omega: rec.omega,
-                F0: rec.F0,
-            });
+            let rows = out.rows(run_id(&run, &out.record));
             if let Some(pb) = progress {
                 pb.inc(1);
             }
@@ -159,29 +150,29 @@ fn simulate_units_chunk(
 /// study seed and the design point fix its starts).
 fn units_run(plan: &Plan, run: &RunSpec) -> UnitsRun {
     let study = plan.study;
-    let scene = harmonic_scene(run);
-    let (seed, point) = (study.seed, run.point);
-    match (study.noise.as_ref(), plan.noise_stream(run)) {
-        (Some(ns), Some(mut stream)) => forced_run_units(
-            &run.system,
-            &study.solver,
-            &study.request,
-            &scene,
-            Some((ns, &mut stream)),
-            &mut NoProbe,
-            seed,
-            point,
-        ),
-        _ => forced_run_units(
-            &run.system,
-            &study.solver,
-            &study.request,
-            &scene,
-            None,
-            &mut NoProbe,
-            seed,
-            point,
-        ),
+    let mut stream = plan.noise_stream(run);
+    forced_run_units(
+        &run.system,
+        &study.solver,
+        &study.request,
+        &harmonic_scene(run),
+        study.noise.as_ref().zip(stream.as_mut()),
+        &mut NoProbe,
+        study.seed,
+        run.point,
+    )
+}
+
+/// The attractor rows' key of `run`, simulated as `rec`.
+fn run_id(run: &RunSpec, rec: &HarmonicRecord) -> RunId {
+    RunId {
+        point_id: run.point_id,
+        point: run.point,
+        case: run.case,
+        ideal: run.spec.ideal,
+        r: rec.r,
+        omega: rec.omega,
+        F0: rec.F0,
     }
 }
 
@@ -255,17 +246,8 @@ pub fn simulate_curve(
         fill_steady(&mut records, cs);
         for ((run, record), census) in runs.iter().zip(records).zip(cs.iter()) {
             if let Some(c) = census {
-                let id = RunId {
-                    point_id: run.point_id,
-                    point: run.point,
-                    case: run.case,
-                    ideal: run.spec.ideal,
-                    r: record.r,
-                    omega: record.omega,
-                    F0: record.F0,
-                };
                 attractors.extend(AttractorRow::of_census(
-                    id,
+                    run_id(run, &record),
                     c,
                     std::f64::consts::TAU / record.omega,
                 ));
@@ -313,29 +295,17 @@ pub fn simulate_forced_run(plan: &Plan, run: &RunSpec) -> HarmonicRecord {
         // several units: every design's steady states are found alike.
         CensusKind::Units => return units_run(plan, run).record,
     }
-    let (seed, point) = (study.seed, run.point);
-    match (study.noise.as_ref(), plan.noise_stream(run)) {
-        (Some(ns), Some(mut stream)) => forced_run(
-            &run.system,
-            &study.solver,
-            &study.request,
-            &scene,
-            Some((ns, &mut stream)),
-            &mut NoProbe,
-            seed,
-            point,
-        ),
-        _ => forced_run(
-            &run.system,
-            &study.solver,
-            &study.request,
-            &scene,
-            None,
-            &mut NoProbe,
-            seed,
-            point,
-        ),
-    }
+    let mut stream = plan.noise_stream(run);
+    forced_run(
+        &run.system,
+        &study.solver,
+        &study.request,
+        &scene,
+        study.noise.as_ref().zip(stream.as_mut()),
+        &mut NoProbe,
+        study.seed,
+        run.point,
+    )
 }
 
 /// The stored row of a run.

@@ -60,35 +60,7 @@ pub fn simulate_harmonic_units<P: Probe>(
     starts: &[(f64, f64)],
     probe: &mut P,
 ) -> (HarmonicRecord, Vec<(f64, f64)>) {
-    let starts = Some(starts);
-    match scene.finder {
-        Finder::SafeSteps => {
-            let (rec, _, units) = simulate_from(
-                sys,
-                settings,
-                req,
-                scene,
-                None,
-                probe,
-                DrivenPhase::new,
-                starts,
-            );
-            (rec, units)
-        }
-        Finder::Bracketed => {
-            let (rec, _, units) = simulate_from(
-                sys,
-                settings,
-                req,
-                scene,
-                None,
-                probe,
-                Bracketed::new,
-                starts,
-            );
-            (rec, units)
-        }
-    }
+    simulate_units_by_finder(sys, settings, req, scene, None, probe, Some(starts))
 }
 
 /// [`simulate_harmonic`] (with its noise), also returning every unit's `(y, w)` (m, m/s) at the
@@ -103,6 +75,20 @@ pub fn simulate_harmonic_ends<P: Probe>(
     noise: Option<(&NoiseSettings, &mut NoiseStream)>,
     probe: &mut P,
 ) -> (HarmonicRecord, Vec<(f64, f64)>) {
+    simulate_units_by_finder(sys, settings, req, scene, noise, probe, None)
+}
+
+/// [`simulate_from`] with the scene's event finder: the record and every unit's `(y, w)` at the
+/// end.
+fn simulate_units_by_finder<P: Probe>(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    scene: &Harmonic,
+    noise: Option<(&NoiseSettings, &mut NoiseStream)>,
+    probe: &mut P,
+    starts: Option<&[(f64, f64)]>,
+) -> (HarmonicRecord, Vec<(f64, f64)>) {
     match scene.finder {
         Finder::SafeSteps => {
             let (rec, _, units) = simulate_from(
@@ -113,7 +99,7 @@ pub fn simulate_harmonic_ends<P: Probe>(
                 noise,
                 probe,
                 DrivenPhase::new,
-                None,
+                starts,
             );
             (rec, units)
         }
@@ -126,7 +112,7 @@ pub fn simulate_harmonic_ends<P: Probe>(
                 noise,
                 probe,
                 Bracketed::new,
-                None,
+                starts,
             );
             (rec, units)
         }
