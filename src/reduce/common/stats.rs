@@ -193,7 +193,10 @@ pub fn bootstrap_reliability(
 ///   `0.34 <= A* < 0.6: exp(0.9177 - 4.279 A* - 1.38 A*^2)`;
 ///   `0.2 <= A* < 0.34: 1 - exp(-8.318 + 42.796 A* - 59.938 A*^2)`;
 ///   `A* < 0.2: 1 - exp(-13.436 + 101.14 A* - 223.73 A*^2)`
-///   (`A*` here is `A*^2`, the corrected statistic).
+///   (`A*` here is `A*^2`, the corrected statistic). The first quadratic turns up past its
+///   minimum, `A* = 5.709 / (2 * 0.0186) = 153.47` (`p` about `1e-190` there), and would reach 1
+///   again near `A* = 307`: beyond the minimum `p` keeps its value there ([`ad_p_value`]), so a
+///   sample far from normal never reads as normal.
 ///
 /// `(NaN, NaN)` for fewer than 3 values or a sample without spread (all values equal): a
 /// deterministic design point (no noise, no perturbation) has nothing to test.
@@ -218,7 +221,17 @@ pub fn anderson_darling(xs: &[f64]) -> (f64, f64) {
     }
     let a2 = -nf - s / nf;
     let a = a2 * (1.0 + 0.75 / nf + 2.25 / (nf * nf));
+    (a, ad_p_value(a))
+}
+
+/// The p-value of the corrected Anderson–Darling statistic `a` (`A*^2`) by D'Agostino &
+/// Stephens's four pieces ([`anderson_darling`]), non-increasing in `a`: the first piece's
+/// quadratic is held at its minimum beyond it.
+pub fn ad_p_value(a: f64) -> f64 {
+    /// Where `1.2937 - 5.709 a + 0.0186 a^2` stops falling.
+    const TURN: f64 = 5.709 / (2.0 * 0.0186);
     let p = if a >= 0.6 {
+        let a = a.min(TURN);
         (1.2937 - 5.709 * a + 0.0186 * a * a).exp()
     } else if a >= 0.34 {
         (0.9177 - 4.279 * a - 1.38 * a * a).exp()
@@ -227,7 +240,7 @@ pub fn anderson_darling(xs: &[f64]) -> (f64, f64) {
     } else {
         1.0 - (-13.436 + 101.14 * a - 223.73 * a * a).exp()
     };
-    (a, p.clamp(0.0, 1.0))
+    p.clamp(0.0, 1.0)
 }
 
 /// Perfectibility, eq. 11: `P = (WF1 R / R_max + WF2 DI / DI_max) * 100` (%). A value equal to
@@ -394,5 +407,26 @@ mod tests {
         assert!(close(a2, 1.365_163_104_504_894_4, 1e-6), "A^2 = {a2}");
         assert!(p < 0.01, "A* = {a}, p = {p}");
         assert!(anderson_darling(&[1.0, 1.0, 1.0]).0.is_nan());
+    }
+
+    /// The p-value never rises with the statistic: D'Agostino & Stephens's first quadratic turned
+    /// up past A* = 153.5 and read 1 again from about 307 (a 10^6-realization sample far from
+    /// lognormal read `ad_p = 1` at A* = 596).
+    #[test]
+    fn the_anderson_darling_p_value_falls_with_the_statistic() {
+        let mut last = 1.0;
+        for k in 0..100_000 {
+            let a = k as f64 * 0.01;
+            let p = ad_p_value(a);
+            assert!(p <= last, "p({a}) = {p:e} rises from {last:e}");
+            last = p;
+        }
+        assert!(ad_p_value(596.0) < 1e-150);
+        // A sample of 10^5 values far from normal (a two-point mixture).
+        let x: Vec<f64> = (0..100_000)
+            .map(|i| f64::from(i % 2) + 1e-6 * f64::from(i % 7))
+            .collect();
+        let (a, p) = anderson_darling(&x);
+        assert!(a > 1000.0 && p < 1e-150, "A* = {a}, p = {p:e}");
     }
 }
