@@ -2,7 +2,7 @@
 //! go, and an estimate of run time and disk size.
 //!
 //! The time estimate comes from a short timed sample: up to [`SAMPLE_RUNS`] runs drawn evenly
-//! over the plan (same systems, cases and noise as the real sweep), simulated on one thread;
+//! over the plan (a golden-ratio sequence of run indices, out of step with its axes) (same systems, cases and noise as the real sweep), simulated on one thread;
 //! the mean time per run is scaled by the total and divided by the threads a `run` would use,
 //! but a harmonic study takes at least one curve's time: a curve is one task of the sweep. A
 //! harmonic study with a census times its race of the design lives apart and counts it once a
@@ -20,10 +20,15 @@ use crate::plan::Plan;
 use crate::reduce::harmonic::verify::MOST;
 use crate::report::text::{count, thousands};
 use crate::sim::{self, Drive, NoProbe, Scene};
-use crate::study::{Study, num as fmt_value};
+use crate::study::{CensusKind, Study, num as fmt_value};
 
 /// Runs simulated by the timed sample.
 pub const SAMPLE_RUNS: u64 = 200;
+
+/// Runs simulated by the timed sample of a harmonic study of several units with a census:
+/// each takes its census of several units (about 0.2 s of CPU a run on
+/// configs/multi-unit.toml, up to 1 s with 8 units), so fewer than [`SAMPLE_RUNS`].
+pub const UNITS_SAMPLE_RUNS: u64 = 16;
 
 /// Rough Parquet size of one run (bytes). Measured: 88.4 bytes per run for a 200,000-run
 /// noise-free e × m × d sweep (one case per point, 4 part files, 17.7 MB) written by the sweep
@@ -80,20 +85,33 @@ pub const SAMPLE_FREQUENCIES: u64 = 9;
 /// up and down, the race of the design life): there the runs from rest are a few percent of
 /// the cost (on configs/frequency-response.toml a sample of them alone predicted 3.0 s for a
 /// 109 s sweep). Its frequencies lie further apart than the curve's, so each census inherits
-/// less from its neighbour: rather an overestimate.
+/// less from its neighbour: rather an overestimate. A harmonic study of several units runs up
+/// to [`UNITS_SAMPLE_RUNS`] runs evenly spread, each with its census of several units, as the
+/// sweep runs them.
 pub fn time_sample(study: &Study) -> Sample {
     let plan = Plan::new(study);
     if study.census() {
         return time_curve(study, &plan);
     }
+    let units = study.census_kind() == CensusKind::Units;
     let total = plan.n_runs();
-    let n = total.min(SAMPLE_RUNS);
+    let n = total.min(if units {
+        UNITS_SAMPLE_RUNS
+    } else {
+        SAMPLE_RUNS
+    });
     let n_cases = plan.n_cases();
     let start = Instant::now();
+    let mut steady_states = 0u64;
     for j in 0..n {
-        // Evenly spread run indices; u128 so that j * total cannot overflow.
-        let r = (u128::from(j) * u128::from(total) / u128::from(n)) as u64;
+        let r = sample_index(j, n, total);
         let run = plan.run(r / n_cases, (r % n_cases) as u32);
+        if units {
+            // The run as the sweep runs it, with its census of several units.
+            let rec = crate::sweep::simulate_forced_run(&plan, &run);
+            steady_states += u64::from(rec.steady.attractors);
+            continue;
+        }
         let mut stream = plan.noise_stream(&run);
         let noise = match (&study.noise, stream.as_mut()) {
             (Some(ns), Some(s)) => Some((ns, s)),
@@ -112,10 +130,24 @@ pub fn time_sample(study: &Study) -> Sample {
     Sample {
         runs: n,
         seconds: start.elapsed().as_secs_f64(),
-        steady_states: 0,
+        steady_states,
         race_seconds: 0.0,
         race_periods: 0,
     }
+}
+
+/// The `j`-th of `n` run indices of the timed sample over `total` runs: all of them when
+/// `n == total`, else the golden-ratio sequence `floor(frac(0.5 + j phi) total)`, spread evenly
+/// and never in step with the plan's axes (an even stride of `total / n` runs falls on the same
+/// frequency and case at every step whenever it is a multiple of a curve's runs: on
+/// configs/multi-unit.toml every sampled run lay at r = 0.85, far from resonance).
+fn sample_index(j: u64, n: u64, total: u64) -> u64 {
+    if n >= total {
+        return j;
+    }
+    const PHI: f64 = 0.618_033_988_749_894_9;
+    let u = (0.5 + j as f64 * PHI).fract();
+    ((u * total as f64) as u64).min(total - 1)
 }
 
 /// The timed sample of a harmonic study with a census ([`time_sample`]).
@@ -316,6 +348,11 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
             fmt_duration(sm.race_seconds),
             thousands(sm.race_periods)
         ),
+        Scene::Harmonic(_) if study.census_kind() == CensusKind::Units => format!(
+            "{:.1} ms a run with its census of several units over a sample of {}",
+            per_run * 1e3,
+            count(sm.runs, "run", "runs")
+        ),
         _ => format!(
             "{:.1} us/run over a sample of {}",
             per_run * 1e6,
@@ -354,7 +391,7 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
 fn describe_disk(w: &mut String, study: &Study, plan: &Plan, sample: Option<Sample>) {
     let runs = plan.n_runs();
     let parts = plan.n_chunks().saturating_mul(PART_OVERHEAD_BYTES);
-    let census = study.census();
+    let census = study.census_kind() != CensusKind::None;
     let per_run = match study.scene {
         Scene::Free => BYTES_PER_RUN,
         Scene::Harmonic(_) => BYTES_PER_FORCED_RUN,
@@ -612,6 +649,30 @@ pub fn fmt_bytes(b: u64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The multi-unit showcase's plan: 16 designs x 31 frequencies x 5 cases, the frequency
+    /// fastest. An even stride of 155 runs sampled r = 0.85's ideal case 16 times; the sample
+    /// now meets distinct runs, most frequencies' thirds and more than one case.
+    #[test]
+    fn the_sample_is_not_in_step_with_the_axes() {
+        let (total, n) = (2480u64, 16u64);
+        let runs: Vec<u64> = (0..n).map(|j| sample_index(j, n, total)).collect();
+        let mut distinct = runs.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        assert_eq!(distinct.len(), 16);
+        assert!(runs.iter().all(|&r| r < total));
+        let freq = |r: u64| (r / 5) % 31;
+        for third in 0..3 {
+            assert!(runs.iter().any(|&r| freq(r) / 11 == third), "{runs:?}");
+        }
+        assert!(runs.iter().any(|&r| r % 5 != runs[0] % 5), "{runs:?}");
+        // A sample as large as the plan is the plan.
+        assert_eq!(
+            (0..5).map(|j| sample_index(j, 5, 5)).collect::<Vec<_>>(),
+            [0, 1, 2, 3, 4]
+        );
+    }
 
     #[test]
     fn durations_and_sizes_read_well() {
