@@ -6,6 +6,8 @@
 //!   `census_units` from each run's end state (`simulate_harmonic_ends`), to `1e-12`.
 //! * The same rows and records, bit for bit, on 1 and 2 threads and with another chunk size.
 //! * A one-unit study stores the same bytes whether or not it says `units = 1`.
+//! * `impactsweep simulate` of several units takes the same census: its JSON equals the record
+//!   a one-point study of study seed 0 stores, bit for bit.
 
 use std::path::{Path, PathBuf};
 
@@ -221,4 +223,70 @@ fn a_one_unit_study_is_the_same_whether_or_not_it_says_units_1() {
     let c = tmp.path().join("c");
     run(&plain, &c, &[]);
     assert!(parts(&a.join("one")) == parts(&c.join("one")));
+}
+
+/// `simulate --set units=2 ...` runs the census of several units with the starts of study seed
+/// 0, design point 0: its JSON is the record a one-point study of seed 0 stores, bit for bit
+/// (NaN as null).
+#[test]
+fn simulate_takes_the_census_of_several_units_as_the_sweep_does() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = "[study]\nname = \"one\"\nseed = 0\n\
+         [system]\nm = 0.02\nd = 0.01\ne = 0.7\nC = 1.0\nv0 = 0.0\nunits = 2\nd_spread = 0.2\n\
+         [scene]\nkind = \"harmonic\"\nF0 = 0.5\nr = 1.0\nstarts = 4\nn_meas = 50\n\
+         n_trans_max = 600\n";
+    let path = write(tmp.path(), "one", text);
+    run(&path, tmp.path(), &["--threads", "1"]);
+    let recs = records(&tmp.path().join("one"));
+    assert_eq!(recs.len(), 1);
+    let want = &recs[0].record;
+    let out = assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .args(["simulate", "--json"])
+        .args(
+            [
+                "m=0.02",
+                "d=0.01",
+                "e=0.7",
+                "C=1.0",
+                "v0=0.0",
+                "units=2",
+                "d_spread=0.2",
+                "scene=harmonic",
+                "F0=0.5",
+                "r=1.0",
+                "starts=4",
+                "n_meas=50",
+                "n_trans_max=600",
+            ]
+            .iter()
+            .flat_map(|s| ["--set", s]),
+        )
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let got: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let num = |k: &str| got[k].as_f64().unwrap_or(f64::NAN);
+    let st = &want.steady;
+    assert_eq!(got["starts"], 4);
+    assert_eq!(got["attractors"], st.attractors);
+    assert_eq!(got["worst_period"], st.worst_period);
+    assert_eq!(got["census_periods"], st.census_periods);
+    assert_eq!(got["worst_kind"], st.worst_kind);
+    for (k, v) in [
+        ("amplitude", want.amplitude),
+        ("amplitude_worst", st.amplitude_worst),
+        ("worst_window_amplitude", st.worst_window_amplitude),
+        ("rest_amplitude", st.rest_amplitude),
+        ("worst_basin_share", st.worst_basin_share),
+        ("worst_impacts_per_period", st.worst_impacts_per_period),
+    ] {
+        let g = num(k);
+        assert!(
+            g.to_bits() == v.to_bits() || (g.is_nan() && v.is_nan()),
+            "{k}: simulate {g:e}, the sweep {v:e}"
+        );
+    }
 }

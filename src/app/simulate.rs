@@ -144,32 +144,57 @@ pub fn forced_text(setup: &Setup, rec: &HarmonicRecord) -> String {
                 format!("period {p}")
             }
         };
+        let impacts = if st.worst_impacts_per_period.is_nan() {
+            String::new()
+        } else {
+            format!(", {:.3} impacts per period", st.worst_impacts_per_period)
+        };
         out.push_str(&format!(
-            "census   {} starts, {} attractors; worst {} ({}, {:.3} impacts per period, basin \
-             share {:.2}); from the initial state {} ({})\n",
+            "census   {} starts, {} attractors; worst {} ({}{impacts}, basin share {:.2}); from \
+             the initial state {} ({})\n",
             st.starts,
             st.attractors,
             cm(st.amplitude_worst),
             period(st.worst_period),
-            st.worst_impacts_per_period,
             st.worst_basin_share,
             cm(st.rest_amplitude),
             period(st.rest_period)
         ));
         if st.worst_period == 0 {
-            out.push_str(&format!(
-                "worst    {} (largest Lyapunov exponent {:.3} per period): {} over the census \
-                 window, {} to {} (90 %) over the design life\n",
-                st.worst_kind,
-                st.worst_lyapunov,
-                cm(st.worst_window_amplitude),
-                cm(st.worst_life_lo),
-                cm(st.worst_life_hi)
-            ));
+            out.push_str(&worst_line(s, st));
         }
     }
     out.push_str(&format!("stopped  at t = {:.5} s\n", rec.t_stop));
     out
+}
+
+/// The census's worst steady state when it is not periodic: its kind, its window amplitude and
+/// its design life, or why it has none (several units: the measurement covers one unit).
+fn worst_line(s: &System, st: &crate::sim::harmonic::Steady) -> String {
+    let lyapunov = if st.worst_lyapunov.is_nan() {
+        String::new()
+    } else {
+        format!(
+            " (largest Lyapunov exponent {:.3} per period)",
+            st.worst_lyapunov
+        )
+    };
+    let life = if !st.worst_life_lo.is_nan() {
+        format!(
+            ", {} to {} (90 %) over the design life",
+            cm(st.worst_life_lo),
+            cm(st.worst_life_hi)
+        )
+    } else if s.unit_count() > 1 {
+        " (a lower bound: the design life covers one damper unit)".to_string()
+    } else {
+        " (a lower bound: no design-life estimate)".to_string()
+    };
+    format!(
+        "worst    {}{lyapunov}: {} over the census window{life}\n",
+        st.worst_kind,
+        cm(st.worst_window_amplitude)
+    )
 }
 
 /// A short summary for a person, with units.

@@ -38,7 +38,8 @@ pub use tolerances::{CENSUS_WINDOW, HANDOVER};
 /// ([`simulate_harmonic`], with its noise), then the attractor census of `scene.starts` starts
 /// at the same frequency ([`census::census`], noise-free: the noise is a measurement noise and
 /// does not move the system) with the life amplitudes of its motions that are not periodic
-/// ([`race`]). `seed` and `point` fix the census's starts. Pure.
+/// ([`race`]). `seed` and `point` fix the census's starts. A system of several units takes the
+/// census of several units instead ([`several::forced_run_units`], its record). Pure.
 #[allow(clippy::too_many_arguments)]
 pub fn forced_run<P: Probe>(
     sys: &System,
@@ -50,9 +51,12 @@ pub fn forced_run<P: Probe>(
     seed: u64,
     point: u64,
 ) -> HarmonicRecord {
+    if sys.unit_count() > 1 {
+        return several::forced_run_units(sys, settings, req, scene, noise, probe, seed, point)
+            .record;
+    }
     let mut rec = simulate_harmonic(sys, settings, req, scene, noise, probe);
-    // The census covers one damper unit (its section is the 4-state of one).
-    if rec.outcome != Outcome::Ok || scene.starts == 0 || sys.unit_count() > 1 {
+    if rec.outcome != Outcome::Ok || scene.starts == 0 {
         return rec;
     }
     let f = map::Forcing {
