@@ -317,6 +317,9 @@ fn reading(fs: &HarmonicSummary) -> String {
 
 /// Where each design of `shown` has coexisting steady states (docs/reduce.md, "Bifurcations
 /// over the design space"): the bands of r, and how they enter the ranking.
+/// The bands of r where the census found coexisting steady states, per design shown. The
+/// paragraph names `design_map` and `bifurcations.csv` only where the reduction can write them:
+/// one damper unit (the continuation covers one) and a swept design axis they are drawn over.
 fn coexistence(s: &Summary, fs: &HarmonicSummary, shown: &[&PointStats]) -> String {
     let mut lines = Vec::new();
     for p in shown {
@@ -347,8 +350,17 @@ fn coexistence(s: &Summary, fs: &HarmonicSummary, shown: &[&PointStats]) -> Stri
     if lines.is_empty() {
         return String::new();
     }
+    let g = &s.grid;
+    let mapped = !units::several(fs)
+        && (0..g.n_axes())
+            .any(|a| g.n(a) >= 2 && crate::orbits::twopar::Axis::of_key(g.key(a)).is_some());
+    let where_drawn = if mapped {
+        "; the shaded cells of `design_map`, with the folds, doublings and Neimark–Sacker curves of `bifurcations.csv` over the design axes"
+    } else {
+        ""
+    };
     format!(
-        "\n**Coexisting steady states.** Where the census found two or more steady states at a frequency (a periodic orbit and its mirror image, the same amplitude and multipliers, count once), the response can jump between them (the forced counterpart of the paper's zone II; the shaded cells of `design_map`, with the folds, doublings and Neimark–Sacker curves of `bifurcations.csv` over the design axes). The bands of r, per design:\n\n{}\n\nThey enter the ranking through the design peak: with `design_peak = \"worst\"` a design's peak is the worst of its coexisting states, so the upper state of a jump is already counted; a design whose band reaches its peak's frequency can jump to that peak from a lower state.\n",
+        "\n**Coexisting steady states.** Where the census found two or more steady states at a frequency (a periodic orbit and its mirror image, the same amplitude and multipliers, count once), the response can jump between them (the forced counterpart of the paper's zone II{where_drawn}). The bands of r, per design:\n\n{}\n\nThey enter the ranking through the design peak: with `design_peak = \"worst\"` a design's peak is the worst of its coexisting states, so the upper state of a jump is already counted; a design whose band reaches its peak's frequency can jump to that peak from a lower state.\n",
         lines.join("\n")
     )
 }
