@@ -188,10 +188,7 @@ impl<'a> Plan<'a> {
     /// ([`crate::orbits::curve::run_curve`]): its scene, design point and noise stream.
     pub fn curve_frequency(&self, run: &RunSpec) -> crate::orbits::curve::CurveFrequency {
         crate::orbits::curve::CurveFrequency {
-            scene: match run.scene {
-                Scene::Harmonic(h) => h,
-                Scene::Free | Scene::Random(_) => crate::sim::Harmonic::default(),
-            },
+            scene: run.scene.harmonic_or_default(),
             point: run.point,
             noise: self.noise_stream(run),
         }

@@ -241,7 +241,7 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         .filter(|c| c.dm != 0.0 || c.dd != 0.0)
         .count();
     let _ = writeln!(w, "design points:  {}", plan.n_points());
-    if let Scene::Random(r) = &study.scene {
+    if let Some(r) = study.scene.random() {
         let what = if r.suite().is_empty() {
             "realizations (the same loads at every design point)"
         } else {
@@ -317,7 +317,7 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
     let census = (sm.seconds - sm.race_seconds).max(0.0);
     let per_run = census / sm.runs as f64;
     let curve = study.curve_points();
-    let harmonic = matches!(study.scene, Scene::Harmonic(_));
+    let harmonic = study.scene.harmonic().is_some();
     let curves = if harmonic && curve > 0 {
         plan.n_runs() / curve
     } else {
@@ -339,8 +339,8 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
             );
         }
     }
-    let what = match study.scene {
-        Scene::Harmonic(_) if study.census() => format!(
+    let what = match study.census_kind() {
+        CensusKind::OneUnit => format!(
             "census {:.1} ms a frequency over a sample of {} of one design's curve, its race \
              of the design lives {} over {} periods, counted once a curve",
             per_run * 1e3,
@@ -348,12 +348,12 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
             fmt_duration(sm.race_seconds),
             thousands(sm.race_periods)
         ),
-        Scene::Harmonic(_) if study.census_kind() == CensusKind::Units => format!(
+        CensusKind::Units => format!(
             "{:.1} ms a run with its census of several units over a sample of {}",
             per_run * 1e3,
             count(sm.runs, "run", "runs")
         ),
-        _ => format!(
+        CensusKind::None => format!(
             "{:.1} us/run over a sample of {}",
             per_run * 1e6,
             count(sm.runs, "run", "runs")

@@ -83,10 +83,11 @@ fn write_outputs(
             }
         }
     } else {
-        let suite: Vec<&str> = match &study.scene {
-            crate::sim::Scene::Random(r) => r.suite().iter().map(|x| x.name.as_str()).collect(),
-            _ => Vec::new(),
-        };
+        let suite: Vec<&str> = study
+            .scene
+            .random()
+            .map(|r| r.suite().iter().map(|x| x.name.as_str()).collect())
+            .unwrap_or_default();
         let t = random::risk::capacities_table(&summary.grid, &rs.capacities, &suite);
         files.extend(store::summary::write_table(dir, TableKind::Capacities, &t)?);
     }

@@ -140,7 +140,7 @@ impl<'a> RandomBatch<'a> {
         let (system, scene) = Plan::new(&study).point(0);
         let wrap = |e: crate::model::RangeError| format!("row {i}: {e}");
         system.validate().map_err(wrap)?;
-        if let crate::sim::Scene::Random(r) = &scene {
+        if let Some(r) = scene.random() {
             r.validate().map_err(wrap)?;
         }
         Ok((study, case))

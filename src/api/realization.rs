@@ -19,7 +19,7 @@ use crate::error::InputError;
 use crate::model::{SYSTEM_KEYS, System, UNIT_KEYS};
 use crate::plan::Plan;
 use crate::sim::random::{Excitation, RandomScene, RealizationRecord};
-use crate::sim::{Harmonic, Scene, SolverSettings, State};
+use crate::sim::{Harmonic, SolverSettings, State};
 use crate::study::Study;
 
 /// The scenes a realization at hand runs (`--set scene=random`, `--set scene=record`).
@@ -319,10 +319,12 @@ impl RandomSetup {
 
     /// The design's scene, with its stripe `im` when given.
     pub fn scene(&self) -> RandomScene {
-        match Plan::new(&self.study).point(0).1 {
-            Scene::Random(r) => r,
-            Scene::Free | Scene::Harmonic(_) => RandomScene::placeholder(),
-        }
+        Plan::new(&self.study)
+            .point(0)
+            .1
+            .random()
+            .cloned()
+            .unwrap_or_else(RandomScene::placeholder)
     }
 
     /// `"random"` or `"record"`.

@@ -95,7 +95,7 @@ impl Setup {
         }
         self.random = None;
         let mut forced = HarmonicKeys::default();
-        if let Scene::Harmonic(h) = self.scene {
+        if let Some(&h) = self.scene.harmonic() {
             forced.scene = Some("harmonic".into());
             forced.harmonic = h;
         }
@@ -246,7 +246,7 @@ impl Setup {
         self.system.validate().map_err(wrap)?;
         self.solver.validate().map_err(wrap)?;
         self.request.validate().map_err(wrap)?;
-        if let Scene::Harmonic(h) = &self.scene {
+        if let Some(h) = self.scene.harmonic() {
             h.validate(&self.system).map_err(wrap)?;
             if self.solver.kind != SolverKind::Exact {
                 return Err(InputError::new(format!(

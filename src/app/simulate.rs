@@ -11,7 +11,7 @@ pub use crate::api::setup::{Setup, forced_json, record_json, trace_scene};
 use crate::error::InputError;
 use crate::model::{System, fmt_value};
 use crate::sim::random::{Excitation, Input, RandomScene, RealizationRecord};
-use crate::sim::{HarmonicRecord, NoProbe, Record, Request, Scene, SceneRecord, SolverKind, State};
+use crate::sim::{HarmonicRecord, NoProbe, Record, Request, SceneRecord, SolverKind, State};
 
 /// What `simulate` was asked.
 #[derive(Clone, Debug, Default)]
@@ -273,7 +273,7 @@ pub fn realization(
     dt: f64,
 ) -> anyhow::Result<()> {
     let s = crate::study::Study::load(study)?;
-    if !matches!(s.scene, Scene::Random(_)) {
+    if s.scene.random().is_none() {
         return Err(InputError::new(format!(
             "{}: --study runs one realization of a random or record study ([scene] kind = \
              \"random\" or \"record\"); for this study use impactsweep run",
@@ -459,7 +459,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     check
         .validate()
         .map_err(|e| InputError::new(format!("--{e}")))?;
-    if matches!(setup.scene, Scene::Harmonic(_))
+    if setup.scene.harmonic().is_some()
         && let Some(t_end) = args.t_end
     {
         return Err(InputError::new(format!(

@@ -90,6 +90,45 @@ impl Scene {
         }
     }
 
+    /// The harmonic scene's settings; `None` for another scene. A scene's own modules read their
+    /// settings through these accessors, so that only the dispatch points name every scene.
+    pub fn harmonic(&self) -> Option<&Harmonic> {
+        match self {
+            Scene::Harmonic(h) => Some(h),
+            _ => None,
+        }
+    }
+
+    /// [`Scene::harmonic`], to change.
+    pub fn harmonic_mut(&mut self) -> Option<&mut Harmonic> {
+        match self {
+            Scene::Harmonic(h) => Some(h),
+            _ => None,
+        }
+    }
+
+    /// The harmonic settings of a harmonic scene, the default ones for another (what a run of
+    /// another scene's study reads where it needs a forcing, e.g. a harmonic record's columns).
+    pub fn harmonic_or_default(&self) -> Harmonic {
+        self.harmonic().copied().unwrap_or_default()
+    }
+
+    /// The random or record scene's settings; `None` for another scene.
+    pub fn random(&self) -> Option<&random::RandomScene> {
+        match self {
+            Scene::Random(r) => Some(r),
+            _ => None,
+        }
+    }
+
+    /// [`Scene::random`], to change.
+    pub fn random_mut(&mut self) -> Option<&mut random::RandomScene> {
+        match self {
+            Scene::Random(r) => Some(r),
+            _ => None,
+        }
+    }
+
     /// Sets a sweepable key of the scene ([`Harmonic::AXES`]); `false` for the free scene (it
     /// has none) and for any other key.
     pub fn set(&mut self, key: &str, value: f64) -> bool {

@@ -18,13 +18,12 @@
 //! `size.rs`'s; none of these imports this file.
 //!
 //! A study of the random or record scene (`[scene] kind = "random"` or `"record"`) is validated
-//! into a [`RandomStudy`], which [`Study::load`] turns into a [`Study`] of [`Scene::Random`]
+//! into a [`RandomStudy`], which [`Study::load`] turns into a [`Study`] of [`Scene::Random`](crate::sim::Scene::Random)
 //! whose cases are its realizations ([`Study::realizations`]).
 
 use std::path::Path;
 
 use crate::error::InputError;
-use crate::sim::Scene;
 
 mod axis;
 mod context;
@@ -98,10 +97,8 @@ impl Study {
 
     /// The swept frequency axis of a harmonic study (`omega` or `r`; always the last axis).
     pub fn frequency_axis(&self) -> Option<&Axis> {
-        match self.scene {
-            Scene::Harmonic(_) => frequency_axis(&self.axes).map(|i| &self.axes[i]),
-            Scene::Free | Scene::Random(_) => None,
-        }
+        self.scene.harmonic()?;
+        frequency_axis(&self.axes).map(|i| &self.axes[i])
     }
 
     /// The swept intensity the designs are ranked at (`S0`, `scale` or a stripe's `im`):

@@ -163,7 +163,7 @@ impl Study {
     /// [`record::RECORD_COPY`]), or each record of a suite (`[scene] records`, copied into
     /// [`SUITE_COPY`]` /` under its file name). Empty for any other study.
     pub fn record_files(&self) -> Vec<(PathBuf, PathBuf)> {
-        let Scene::Random(r) = &self.scene else {
+        let Some(r) = self.scene.random() else {
             return Vec::new();
         };
         if r.draws_normals() {

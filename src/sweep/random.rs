@@ -31,7 +31,11 @@ impl SceneRun for RealizationRecord {
     fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> ChunkRows<Self> {
         let points = plan.chunk_points(k);
         let n = plan.n_cases();
-        let suite = matches!(&plan.study.scene, Scene::Random(r) if !r.suite().is_empty());
+        let suite = plan
+            .study
+            .scene
+            .random()
+            .is_some_and(|r| !r.suite().is_empty());
         let setups: Vec<(RunSpec, RandomScene, RandomRun)> = points
             .clone()
             .filter(|_| !suite)
@@ -74,10 +78,9 @@ impl SceneRun for RealizationRecord {
 /// reaches here (the engine picks the record type from the study's scene), and would get the
 /// placeholder of [`RandomScene::placeholder`].
 fn random_scene(scene: &Scene, case: u32) -> RandomScene {
-    match scene {
-        Scene::Random(r) => r.for_case(case).into_owned(),
-        Scene::Free | Scene::Harmonic(_) => RandomScene::placeholder(),
-    }
+    scene
+        .random()
+        .map_or_else(RandomScene::placeholder, |r| r.for_case(case).into_owned())
 }
 
 /// One realization of a random or record study, as the sweep stores it (the same bits as its
@@ -90,9 +93,7 @@ pub fn one_realization(
     case: u32,
     trace: Option<f64>,
 ) -> Option<(RealizationRecord, Vec<(f64, crate::sim::State)>)> {
-    let Scene::Random(_) = &plan.study.scene else {
-        return None;
-    };
+    plan.study.scene.random()?;
     if point >= plan.n_points() || u64::from(case) >= plan.n_cases() {
         return None;
     }

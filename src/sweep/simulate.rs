@@ -15,7 +15,7 @@ use crate::orbits::forced_run;
 use crate::orbits::race::Serves;
 use crate::orbits::several::{UnitsRun, forced_run_units};
 use crate::plan::{Plan, RunSpec};
-use crate::sim::{Harmonic, HarmonicRecord, NoProbe, Record, Scene, simulate};
+use crate::sim::{Harmonic, HarmonicRecord, NoProbe, Record, simulate};
 use crate::store::{RunRow, StoredRecord};
 use crate::study::CensusKind;
 
@@ -179,10 +179,7 @@ fn run_id(run: &RunSpec, rec: &HarmonicRecord) -> RunId {
 /// The run's harmonic scene: the study's, with the design point's `F0`, `omega` or `r`; the
 /// default harmonic scene if the study is a free-decay one.
 fn harmonic_scene(run: &RunSpec) -> Harmonic {
-    match run.scene {
-        Scene::Harmonic(h) => h,
-        Scene::Free | Scene::Random(_) => Harmonic::default(),
-    }
+    run.scene.harmonic_or_default()
 }
 
 /// The cases of design `design` grouped by their system (a case that differs from another only

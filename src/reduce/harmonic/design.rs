@@ -4,7 +4,6 @@
 //! ([`design_peak`]).
 
 use crate::reduce::common::{Damping, Options, Response};
-use crate::sim::Scene;
 use crate::sim::harmonic::DesignPeak;
 use crate::study::{Study, frequency_axis};
 
@@ -27,10 +26,10 @@ pub const PEAK_REDUCTION: Damping = Damping {
 
 /// The study's `[scene].design_peak` (the worst steady state unless it says otherwise).
 pub fn design_peak(study: &Study) -> DesignPeak {
-    match study.scene {
-        Scene::Harmonic(h) => h.design_peak,
-        Scene::Free | Scene::Random(_) => DesignPeak::Worst,
-    }
+    study
+        .scene
+        .harmonic()
+        .map_or(DesignPeak::Worst, |h| h.design_peak)
 }
 
 /// The study of the designs: the harmonic study without its frequency axis.

@@ -42,7 +42,7 @@ use crate::orbits::shoot::{Newton, non_impacting};
 use crate::orbits::{CENSUS_WINDOW, HANDOVER, forced_run};
 use crate::reduce::common::jumps::{IdealCase, UNRESOLVED};
 use crate::sim::harmonic::DesignPeak;
-use crate::sim::{Harmonic, NoProbe, Outcome, Scene};
+use crate::sim::{Harmonic, NoProbe, Outcome};
 use crate::study::{CensusKind, Study};
 
 /// The share of a corner's peak above which a frequency is probed.
@@ -112,10 +112,7 @@ impl<'a> HarmonicIdeal<'a> {
             }
         }
         sys.validate().ok()?;
-        let Scene::Harmonic(h) = scene else {
-            return None;
-        };
-        Some((sys, h))
+        Some((sys, *scene.harmonic()?))
     }
 
     /// The band's scenes: `h` at each swept frequency (one, when the study sweeps none).

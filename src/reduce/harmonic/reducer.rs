@@ -12,7 +12,7 @@ use super::verify::{self, CasePeak, CaseTop, LifeQuestion, Verification};
 use crate::orbits::attractors::AttractorRow;
 use crate::reduce::common::{Options, Reducer, Run, Summary, outcome_index};
 use crate::sim::harmonic::{DesignPeak, NonPeriodicPeak};
-use crate::sim::{HarmonicRecord, Outcome, Scene};
+use crate::sim::{HarmonicRecord, Outcome};
 use crate::store::RunRow;
 use crate::study::Study;
 
@@ -170,7 +170,11 @@ impl<'a> HarmonicReducer<'a> {
         self.study.ranking.verify_periods > 0
             && self.stored
             && self.peak == DesignPeak::Worst
-            && matches!(self.study.scene, Scene::Harmonic(h) if h.nonperiodic_peak == NonPeriodicPeak::Life)
+            && self
+                .study
+                .scene
+                .harmonic()
+                .is_some_and(|h| h.nonperiodic_peak == NonPeriodicPeak::Life)
     }
 
     /// The verification ([`verify`]): the deciding designs' cases measured directly (those
@@ -181,7 +185,7 @@ impl<'a> HarmonicReducer<'a> {
     /// the first round's cases ([`verify::share`]) and changes nothing: the final reduction takes
     /// its measurements and runs the rounds after (they depend on every shard's).
     fn verify(&mut self, plan: &Plan) -> Verification {
-        let Scene::Harmonic(h) = self.study.scene else {
+        let Some(&h) = self.study.scene.harmonic() else {
             return Verification::default();
         };
         let life = LifeQuestion {
@@ -314,6 +318,7 @@ impl<'a> HarmonicReducer<'a> {
         } else {
             Verification::default()
         };
+        let harmonic = self.study.scene.harmonic();
         let ideal = HarmonicIdeal::new(self.study, &self.curves, plan);
         let mut summary = self.reducer.finish_with(&ideal);
         let probes = ideal.computed();
@@ -333,18 +338,9 @@ impl<'a> HarmonicReducer<'a> {
                 outcomes: self.outcomes,
                 design_peak: self.peak,
                 analysis: plan.clone(),
-                design_life: match self.study.scene {
-                    Scene::Harmonic(h) => h.design_life,
-                    Scene::Free | Scene::Random(_) => f64::NAN,
-                },
-                life_quantile: match self.study.scene {
-                    Scene::Harmonic(h) => h.life_quantile,
-                    Scene::Free | Scene::Random(_) => f64::NAN,
-                },
-                nonperiodic_peak: match self.study.scene {
-                    Scene::Harmonic(h) => h.nonperiodic_peak,
-                    Scene::Free | Scene::Random(_) => NonPeriodicPeak::Life,
-                },
+                design_life: harmonic.map_or(f64::NAN, |h| h.design_life),
+                life_quantile: harmonic.map_or(f64::NAN, |h| h.life_quantile),
+                nonperiodic_peak: harmonic.map_or(NonPeriodicPeak::Life, |h| h.nonperiodic_peak),
                 curve_lines: Default::default(),
                 verification,
             },

@@ -26,7 +26,6 @@ use crate::orbits::continuation::Param;
 use crate::orbits::map::{Forcing, Section};
 use crate::orbits::response::{Response, analyse_along, branches, orbit_from_section};
 use crate::orbits::{CENSUS_WINDOW, HANDOVER};
-use crate::sim::Scene;
 use crate::store::table::{Column, Table};
 use crate::study::Study;
 
@@ -71,7 +70,7 @@ pub fn steady_states_in_batches<E>(
     fs: &HarmonicSummary,
     mut each: impl FnMut(Vec<Response>) -> Result<(), E>,
 ) -> Result<(), E> {
-    let Scene::Harmonic(h) = study.scene else {
+    let Some(&h) = study.scene.harmonic() else {
         return Ok(());
     };
     // The census and the orbits' analysis (model.md §10-12) cover one damper unit: a study

@@ -59,9 +59,9 @@ use rayon::prelude::*;
 use crate::reduce::common::{
     Damping, IdealCase, Options, PointStats, Reducer, Response, Run, Summary,
 };
+use crate::sim::Outcome;
 use crate::sim::random::IntensitySpec;
 use crate::sim::random::{RandomScene, RealizationRecord};
-use crate::sim::{Outcome, Scene};
 use crate::stats::fragility::{self, Counts, FitOutcome, Fragility};
 use crate::stats::hazard::SiteHazard;
 use crate::store::RunRow;
@@ -138,7 +138,7 @@ pub fn design_study(study: &Study) -> Study {
     if let Some(i) = intensity(study) {
         let v = i.values[i.design];
         s.axes.remove(i.axis);
-        if let Scene::Random(r) = &mut s.scene {
+        if let Some(r) = s.scene.random_mut() {
             r.set(&i.key, v);
         }
     }
@@ -287,10 +287,7 @@ pub struct RandomReducer<'a> {
 impl<'a> RandomReducer<'a> {
     /// `design` is [`design_study`]`(study)`, `options` the core's ([`options`] of it).
     pub fn new(study: &'a Study, design: &'a Study, options: Options) -> Self {
-        let threshold = match &study.scene {
-            Scene::Random(r) => r.threshold,
-            Scene::Free | Scene::Harmonic(_) => None,
-        };
+        let threshold = study.scene.random().and_then(|r| r.threshold);
         RandomReducer {
             study,
             core: Reducer::new(design, options),
@@ -438,10 +435,9 @@ impl<'a> RandomReducer<'a> {
             });
         }
         let summary = self.core.finish_with(&NoIdeal);
-        let (realizations, record) = match &self.study.scene {
-            Scene::Random(r) => (self.study.realizations, !r.draws_normals()),
-            Scene::Free | Scene::Harmonic(_) => (0, false),
-        };
+        let (realizations, record) = self.study.scene.random().map_or((0, false), |r| {
+            (self.study.realizations, !r.draws_normals())
+        });
         let mut rs = RandomSummary {
             threshold: self.threshold,
             realizations,
@@ -451,10 +447,7 @@ impl<'a> RandomReducer<'a> {
             fragility: Vec::new(),
             subset: subsets,
             capacity_rank: Vec::new(),
-            measure: match &self.study.scene {
-                Scene::Random(r) => r.intensity,
-                Scene::Free | Scene::Harmonic(_) => None,
-            },
+            measure: self.study.scene.random().and_then(|r| r.intensity),
             hazard: self.study.hazard.clone(),
             risk: risks,
             capacities: std::mem::take(&mut self.capacities),
@@ -495,12 +488,12 @@ impl RandomReducer<'_> {
         }
         caps.sort_by_key(|c| (c.0, c.1));
         caps.dedup_by_key(|c| (c.0, c.1));
-        let (ida_max, ida_tol) = match &self.study.scene {
-            Scene::Random(r) => r
-                .intensity
-                .map_or((f64::NAN, f64::NAN), |s| (s.ida_max, s.ida_tol)),
-            Scene::Free | Scene::Harmonic(_) => (f64::NAN, f64::NAN),
-        };
+        let (ida_max, ida_tol) = self
+            .study
+            .scene
+            .random()
+            .and_then(|r| r.intensity)
+            .map_or((f64::NAN, f64::NAN), |s| (s.ida_max, s.ida_tol));
         // A motion that did not pass at a stripe above its capacity (beyond the capacity's
         // tolerance) falls back: its response is not monotone in the scale, and the capacity
         // keeps the first passage.
@@ -718,10 +711,7 @@ pub fn outcome_name(o: FitOutcome) -> &'static str {
 
 /// The random scene of a study (`None` for another scene).
 pub fn scene_of(study: &Study) -> Option<&RandomScene> {
-    match &study.scene {
-        Scene::Random(r) => Some(r),
-        Scene::Free | Scene::Harmonic(_) => None,
-    }
+    study.scene.random()
 }
 
 #[cfg(test)]

@@ -26,7 +26,7 @@
 use crate::numeric::mix64;
 use crate::plan::Plan;
 use crate::sim::random::{GivenNormals, RandomRun};
-use crate::sim::{NoProbe, Outcome, Scene};
+use crate::sim::{NoProbe, Outcome};
 use crate::stats::fragility::Z95;
 use crate::stats::subset::{SubsetOutcome, SubsetSettings, subset_repeats};
 use crate::study::Study;
@@ -85,9 +85,7 @@ impl SubsetAsk {
 /// least 100).
 pub fn subset_pf(study: &Study, point: u64, b: f64, ask: SubsetAsk) -> Option<SubsetPf> {
     let (sys, scene) = Plan::new(study).point(point);
-    let Scene::Random(scene) = scene else {
-        return None;
-    };
+    let scene = scene.random()?;
     if !scene.draws_normals() {
         return None;
     }
@@ -168,6 +166,7 @@ fn student_975(dof: usize) -> f64 {
 mod tests {
     use super::*;
     use crate::reduce::testing;
+    use crate::sim::Scene;
     use crate::sim::random::{Excitation, Input, RandomLoad, RandomScene, Spectrum};
     use crate::stats::subset::repeat_seed;
 

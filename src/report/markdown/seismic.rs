@@ -10,7 +10,6 @@ use crate::reduce::random::{RandomSummary, beta_of};
 use crate::reduce::{PointStats, Summary};
 use crate::report::markdown::words::{cm, design_text, f, prob, ranked};
 use crate::report::text::{fmt_num, thousands};
-use crate::sim::Scene;
 use crate::sim::random::intensity::G;
 use crate::sim::random::{Excitation, Input, Measure, RandomScene, Spectrum};
 use crate::study::Study;
@@ -88,7 +87,7 @@ fn load_text(r: &RandomScene) -> String {
 
 /// The study's statement at the report's top.
 pub fn head(study: &Study, rs: &RandomSummary) -> String {
-    let Scene::Random(r) = &study.scene else {
+    let Some(r) = study.scene.random() else {
         return String::new();
     };
     let sys = &study.system;

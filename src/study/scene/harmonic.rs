@@ -46,7 +46,7 @@ pub(super) fn study(
         refuse_life_keys(cx, scene)?;
         // Several units: a motion that is not periodic carries its largest amplitude over the
         // census's windows (the design-life measurement covers one unit).
-        if let Scene::Harmonic(h) = &mut study.scene {
+        if let Some(h) = study.scene.harmonic_mut() {
             h.nonperiodic_peak = NonPeriodicPeak::Window;
         }
     }
