@@ -89,7 +89,7 @@ pub fn subset_pf(study: &Study, point: u64, b: f64, ask: SubsetAsk) -> Option<Su
     if !scene.draws_normals() {
         return None;
     }
-    let setup = RandomRun::new(&sys, &study.solver, &scene);
+    let setup = RandomRun::new(&sys, &study.solver, scene);
     let settings = settings_for(study, ask.n);
     let rep = subset_repeats(setup.n_normals(), b, &settings, ask.repeats, |u| {
         let rec = setup.run(&study.request, GivenNormals::new(u), &mut NoProbe);

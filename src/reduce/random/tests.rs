@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::reduce::testing;
+use crate::sim::Scene;
 use crate::sim::random::RandomScene;
 use crate::stats::binomial::clopper_pearson;
 
