@@ -12,7 +12,7 @@
 //!   likelihood `sum_uncensored [ln phi(z_j) - ln beta] + sum_censored ln(1 - Phi(z_j))`,
 //!   `z_j = (y_j - ln theta) / beta`, is maximised by Nelder–Mead from the uncensored estimate.
 //! * **Intervals**: a percentile bootstrap over the motions ([`BOOTSTRAP`] resamples of `n`
-//!   drawn with replacement, a PCG-64 stream per design from the study seed): `theta`, `beta`
+//!   drawn with replacement, a PCG-64 stream from the study seed, the same at every design): `theta`, `beta`
 //!   and any functional of the curve (the empirical `P(f | x)` at a stripe, `lambda_f`) get
 //!   their 2.5 % and 97.5 % quantiles.
 //! * **Goodness of fit**: the Kolmogorov–Smirnov distance `D = sup |F_n(x) - F(x)|` between the
