@@ -71,6 +71,22 @@ def test_simulate_equals_the_command_line_on_50_random_systems(cli, scene):
         assert bits(ours) == bits(theirs), keys
 
 
+def test_simulate_of_several_units_takes_their_census_as_the_command_line_does(cli):
+    """Two units near resonance with four starts: the census of several units runs from
+    Python as from the command line (the same bits), and its summary is in the record."""
+    keys = {"m": 0.02, "d": 0.01, "e": 0.7, "C": 1.0, "v0": 0.0, "units": 2, "d_spread": 0.2,
+            "F0": 0.5, "r": 1.0, "starts": 4, "n_meas": 50, "n_trans_max": 600}
+    ours = isw.simulate(scene="harmonic", **keys)
+    args = ["simulate", "--json", "--set", "scene=harmonic"]
+    for k, v in keys.items():
+        args += ["--set", f"{k}={v!r}"]
+    p = cli(*args)
+    assert p.returncode == 0, p.stderr
+    assert bits(ours) == bits(json.loads(p.stdout))
+    assert ours["starts"] == 4 and ours["attractors"] >= 1
+    assert ours["amplitude_worst"] >= ours["amplitude"] * (1 - 1e-9)
+
+
 def test_the_readme_line(cli):
     p = cli("simulate", "--set", "e=0.9", "--json")
     assert isw.simulate(e=0.9)["xmax"] == json.loads(p.stdout)["xmax"]
