@@ -1,8 +1,9 @@
 //! The sizing of a study (`impactsweep plan STUDY.toml`, the Python binding's `plan`): its size, where its dataset would
 //! go, and an estimate of run time and disk size.
 //!
-//! The time estimate comes from a short timed sample: up to [`SAMPLE_RUNS`] runs drawn evenly
-//! over the plan (a golden-ratio sequence of run indices, out of step with its axes) (same systems, cases and noise as the real sweep), simulated on one thread;
+//! The time estimate comes from a short timed sample: up to [`SAMPLE_RUNS`] runs spread over
+//! the plan by a golden-ratio sequence of run indices, out of step with its axes (same
+//! systems, cases and noise as the real sweep), simulated on one thread;
 //! the mean time per run is scaled by the total and divided by the threads a `run` would use,
 //! but a harmonic study takes at least one curve's time: a curve is one task of the sweep. A
 //! harmonic study with a census times its race of the design lives apart and counts it once a
