@@ -50,14 +50,46 @@ pub struct LifeSettings {
     pub cap: u64,
 }
 
+/// One forcing period of a motion at a time: what a [`LifeRun`] measures. One unit's
+/// stroboscopic map ([`Forcing`], whose extrema below a floor need not be located) and that of
+/// several units ([`super::units::map::UnitsMap`], every extremum located) implement it.
+pub trait PeriodMap: Send + Sync {
+    /// A section state, the main mass's displacement `x` (m) first.
+    type State: Clone + Send + Sync + AsMut<[f64]>;
+    /// Whether [`PeriodMap::period`] may leave the extrema below its floor unlocated; a map
+    /// that does not is measured without a floor (module doc).
+    const FLOORS: bool;
+    /// One period from `s`: `max |x|` over it (m; exact when at least `floor`, some value
+    /// below `floor` otherwise) and the section it ends on; `None` when the simulator stopped
+    /// (an outcome other than `ok`).
+    fn period(&self, s: &Self::State, floor: f64) -> Option<(f64, Self::State)>;
+    /// `p` periods from `s`: the section they end on; `None` when the simulator stopped.
+    fn run(&self, s: &Self::State, p: u64) -> Option<Self::State>;
+}
+
+impl PeriodMap for Forcing {
+    type State = Section;
+    const FLOORS: bool = true;
+
+    fn period(&self, s: &Section, floor: f64) -> Option<(f64, Section)> {
+        let e = eval_above(self, s, 1, floor);
+        (e.outcome == Outcome::Ok).then_some((e.amplitude, e.end))
+    }
+
+    fn run(&self, s: &Section, p: u64) -> Option<Section> {
+        let e = eval(self, s, p, false);
+        (e.outcome == Outcome::Ok).then_some(e.end)
+    }
+}
+
 /// One motion's measurement so far, over one or more chains (runs from different states on
 /// the same attractor: a chaotic motion that lingers in one part of its attractor for a while
 /// is sampled more evenly by several runs than by one of the same total length). Resumable:
 /// more periods give the bits of longer runs.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LifeRun {
+pub struct LifeRun<S = Section> {
     /// Each chain's per-period maxima and where it is now.
-    pub chains: Vec<(Vec<f64>, Section)>,
+    pub chains: Vec<(Vec<f64>, S)>,
     /// The simulator stopped a chain (its outcome was not `ok`).
     pub failed: bool,
     /// The estimate from the periods measured (when one could be made).
@@ -67,23 +99,23 @@ pub struct LifeRun {
     /// Extrema below this `|x|` are not located in the periods run next (m; 0: all are).
     pub floor: f64,
     /// The chains' first states (a measurement whose floor did not hold runs again from them).
-    pub starts: Vec<Section>,
+    pub starts: Vec<S>,
     /// Every window locates every extremum ([`LifeRun::without_floor`]).
     pub exact: bool,
     /// The window before the last met the tolerance ([`LifeRun::settled`]).
     pub met_before: bool,
 }
 
-impl LifeRun {
+impl<S: Clone + Send + Sync> LifeRun<S> {
     /// A measurement of one chain starting at `state`.
-    pub fn new(state: Section) -> LifeRun {
+    pub fn new(state: S) -> LifeRun<S> {
         LifeRun::chains(vec![state])
     }
 
     /// A measurement of one chain per state (at least one).
-    pub fn chains(states: Vec<Section>) -> LifeRun {
+    pub fn chains(states: Vec<S>) -> LifeRun<S> {
         LifeRun {
-            chains: states.iter().map(|s| (Vec::new(), *s)).collect(),
+            chains: states.iter().map(|s| (Vec::new(), s.clone())).collect(),
             failed: false,
             estimate: None,
             capped: false,
@@ -96,7 +128,7 @@ impl LifeRun {
 
     /// The same measurement locating every extremum in every window (no floor, module doc): the
     /// per-period maxima are all exact, at the cost of the steps the floor saves.
-    pub fn without_floor(mut self) -> LifeRun {
+    pub fn without_floor(mut self) -> LifeRun<S> {
         self.exact = true;
         self
     }
@@ -115,7 +147,7 @@ impl LifeRun {
     /// finish a window within one segment of each other: run each to its end, the chains' costs
     /// differ (their impacts do) and one core waited up to a chain's time at every window. Each
     /// chain is still one sequence of periods, so the values do not depend on the threads.
-    pub fn extend(&mut self, f: &Forcing, n: u64) {
+    pub fn extend<M: PeriodMap<State = S>>(&mut self, f: &M, n: u64) {
         if self.failed {
             return;
         }
@@ -210,7 +242,7 @@ impl LifeRun {
     /// and the estimate is made again. Returns whether another step could follow (not failed,
     /// not within the tolerance, not at the cap); at the cap without meeting the tolerance the
     /// run is `capped`.
-    pub fn grow(&mut self, f: &Forcing, s: &LifeSettings, lambda: f64) -> bool {
+    pub fn grow<M: PeriodMap<State = S>>(&mut self, f: &M, s: &LifeSettings, lambda: f64) -> bool {
         let have = self.periods();
         let want = window_after(have, s);
         self.met_before = self.meets(s);
@@ -223,7 +255,11 @@ impl LifeRun {
         self.estimate(s, lambda);
         if !self.floor_holds() {
             // Run again without a floor (module doc).
-            self.chains = self.starts.iter().map(|s| (Vec::new(), *s)).collect();
+            self.chains = self
+                .starts
+                .iter()
+                .map(|s| (Vec::new(), s.clone()))
+                .collect();
             self.floor = 0.0;
             self.extend(f, want);
             if self.failed {
@@ -232,6 +268,7 @@ impl LifeRun {
             self.estimate(s, lambda);
         }
         if !self.exact
+            && M::FLOORS
             && let Some(e) = self.estimate
         {
             // The floor for the next window (`floor_for`), never above this estimate's thresholds.
@@ -245,7 +282,7 @@ impl LifeRun {
     }
 
     /// Grows until the measurement is [`settled`](LifeRun::settled) or the cap is reached.
-    pub fn refine(&mut self, f: &Forcing, s: &LifeSettings, lambda: f64) {
+    pub fn refine<M: PeriodMap<State = S>>(&mut self, f: &M, s: &LifeSettings, lambda: f64) {
         while self.grow(f, s, lambda) {}
     }
 
@@ -276,24 +313,23 @@ pub const SEGMENT: u64 = 2000;
 /// Up to [`SEGMENT`] of the `left` periods still due on `chain`, then its next segment queued
 /// behind the other chains' ([`LifeRun::extend`]); a stop of the simulator sets `failed` and ends
 /// the chain.
-fn segment<'s>(
+fn segment<'s, M: PeriodMap>(
     scope: &rayon::ScopeFifo<'s>,
-    f: &'s Forcing,
+    f: &'s M,
     floor: f64,
-    chain: &'s mut (Vec<f64>, Section),
+    chain: &'s mut (Vec<f64>, M::State),
     left: u64,
     failed: &'s AtomicBool,
 ) {
     let now = left.min(SEGMENT);
     let (z, state) = chain;
     for _ in 0..now {
-        let e = eval_above(f, state, 1, floor);
-        if e.outcome != Outcome::Ok {
+        let Some((amplitude, end)) = f.period(state, floor) else {
             failed.store(true, Ordering::Relaxed);
             return;
-        }
-        z.push(e.amplitude);
-        *state = e.end;
+        };
+        z.push(amplitude);
+        *state = end;
     }
     if left > now {
         scope.spawn_fifo(move |scope| segment(scope, f, floor, chain, left - now, failed));
@@ -330,14 +366,10 @@ pub fn cluster_run(lambda: f64) -> usize {
 /// The per-period maxima of `|x|` of the motion from section `s` under `f`: `burn` periods
 /// dropped (its transient), then `n` recorded; `None` when the simulator stopped (its outcome
 /// was not `ok`). What [`LifeRun`] measures, for a caller with its own statistics.
-pub fn period_maxima(f: &Forcing, s: &Section, burn: u64, n: u64) -> Option<Vec<f64>> {
-    let mut state = *s;
+pub fn period_maxima<M: PeriodMap>(f: &M, s: &M::State, burn: u64, n: u64) -> Option<Vec<f64>> {
+    let mut state = s.clone();
     if burn > 0 {
-        let e = eval(f, &state, burn, false);
-        if e.outcome != Outcome::Ok {
-            return None;
-        }
-        state = e.end;
+        state = f.run(&state, burn)?;
     }
     let mut run = LifeRun::new(state);
     run.extend(f, n);
@@ -355,11 +387,10 @@ pub const DIRECT_BURN: u64 = 200;
 /// A state on the motion through `section` for chain `i` of a measurement: the main mass moved
 /// by `i` nm, then [`DIRECT_BURN`] periods run (chain 0 is the section itself run on); `None`
 /// when the simulator stopped.
-fn nudged(f: &Forcing, section: &Section, i: usize) -> Option<Section> {
-    let mut start = *section;
-    start[0] += i as f64 * 1e-9;
-    let e = eval(f, &start, DIRECT_BURN, false);
-    (e.outcome == Outcome::Ok).then_some(e.end)
+fn nudged<M: PeriodMap>(f: &M, section: &M::State, i: usize) -> Option<M::State> {
+    let mut start = section.clone();
+    start.as_mut()[0] += i as f64 * 1e-9;
+    f.run(&start, DIRECT_BURN)
 }
 
 /// The fewest chains a race's motion is measured on ([`topped_up`]).
@@ -373,12 +404,12 @@ pub const MIN_CHAINS: usize = 4;
 /// 16 starts) the motion that led its race was one start's, measured 256,000 to 512,000
 /// periods on one core. The copies' burn is not measured; the count does not depend on the
 /// threads, so neither do the values.
-pub fn topped_up(f: &Forcing, states: Vec<Section>) -> Vec<Section> {
-    let Some(first) = states.first().copied() else {
+pub fn topped_up<M: PeriodMap>(f: &M, states: Vec<M::State>) -> Vec<M::State> {
+    let Some(first) = states.first().cloned() else {
         return states;
     };
     let missing = MIN_CHAINS.saturating_sub(states.len());
-    let copies: Vec<Option<Section>> = (1..=missing)
+    let copies: Vec<Option<M::State>> = (1..=missing)
         .into_par_iter()
         .map(|i| nudged(f, &first, i))
         .collect();
@@ -394,9 +425,9 @@ pub fn topped_up(f: &Forcing, states: Vec<Section>) -> Vec<Section> {
 /// its floor applies), and the design-life estimate of `s` from all of them. What the
 /// harmonic reduction's verification runs on the motions that decide a ranking
 /// (`crate::reduce::harmonic::verify`); `None` when a chain's simulator stopped.
-pub fn measure_directly(
-    f: &Forcing,
-    section: &Section,
+pub fn measure_directly<M: PeriodMap>(
+    f: &M,
+    section: &M::State,
     lambda: f64,
     s: &LifeSettings,
     periods: u64,
@@ -408,19 +439,19 @@ pub fn measure_directly(
 /// (m): a motion that can no longer reach a case's peak need not be measured to the end (its
 /// summary says how many periods it rests on). One whose interval still reaches `bar` runs
 /// all `periods`. Deterministic: the windows and the test are those of `periods` and `bar`.
-pub fn measure_directly_above(
-    f: &Forcing,
-    section: &Section,
+pub fn measure_directly_above<M: PeriodMap>(
+    f: &M,
+    section: &M::State,
     lambda: f64,
     s: &LifeSettings,
     periods: u64,
     bar: f64,
 ) -> Option<LifeSummary> {
-    let starts: Vec<Option<Section>> = (0..DIRECT_CHAINS)
+    let starts: Vec<Option<M::State>> = (0..DIRECT_CHAINS)
         .into_par_iter()
         .map(|i| nudged(f, section, i))
         .collect();
-    let starts: Option<Vec<Section>> = starts.into_iter().collect();
+    let starts: Option<Vec<M::State>> = starts.into_iter().collect();
     let settings = LifeSettings {
         tol: 0.0,
         first: (periods / 64).max(1),
@@ -468,6 +499,20 @@ mod tests {
         assert_eq!(topped_up(&f, vec![on]), states);
         let four = vec![on; MIN_CHAINS];
         assert_eq!(topped_up(&f, four.clone()), four);
+    }
+
+    /// The map of several units with one unit is one unit's map (model.md §14): the per-period
+    /// maxima a measurement takes through it equal, bit for bit, those of one unit's map
+    /// without a floor, on a chaotic motion, where any difference grows.
+    #[test]
+    fn one_unit_measured_through_the_map_of_several_units_gives_the_same_maxima() {
+        let f = crate::orbits::map::tests::table_i(0.02, 0.02, 0.9, 0.1, 0.1, 1.01);
+        let on = eval(&f, &[0.003, 0.05, 0.0, 0.0], 500, false).end;
+        let one = period_maxima(&f, &on, 0, 400).unwrap();
+        let units = crate::orbits::units::map::UnitsMap(f.clone());
+        let several = period_maxima(&units, &on.to_vec(), 0, 400).unwrap();
+        assert_eq!(one.len(), 400);
+        assert_eq!(one, several);
     }
 
     /// A periodic orbit reached (a cycle of 3 values, rounding noise at 1e-12 relative) repeats;

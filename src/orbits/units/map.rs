@@ -178,6 +178,27 @@ pub fn eval_probe<P: Probe>(f: &Forcing, s: &[f64], p: u64, probe: &mut P) -> Un
     }
 }
 
+/// The map of several units one period at a time, for a design-life measurement
+/// ([`crate::orbits::life::LifeRun`]): [`eval`] over one period, every extremum located (no
+/// floor: the event finder of several units has none).
+#[derive(Clone, Debug)]
+pub struct UnitsMap(pub Forcing);
+
+impl crate::orbits::life::PeriodMap for UnitsMap {
+    type State = Vec<f64>;
+    const FLOORS: bool = false;
+
+    fn period(&self, s: &Vec<f64>, _floor: f64) -> Option<(f64, Vec<f64>)> {
+        let e = eval(&self.0, s, 1);
+        (e.outcome == Outcome::Ok).then_some((e.amplitude, e.end))
+    }
+
+    fn run(&self, s: &Vec<f64>, p: u64) -> Option<Vec<f64>> {
+        let e = eval(&self.0, s, p);
+        (e.outcome == Outcome::Ok).then_some(e.end)
+    }
+}
+
 /// The groups of units in step at `s` (module doc): units with the same mass, clearance and
 /// restitution whose `(z_i, y_i')` are equal bit for bit, each group listed by its unit indices
 /// in increasing order, groups in the order of their first unit. `s` is read as [`complete`]s.
