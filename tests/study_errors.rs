@@ -194,14 +194,6 @@ const BAD: &[(&str, &str)] = &[
         "unit_x0_axis_outside.toml: [sweep].x0 = -0.002: unit[0].y0: the unit must start inside its cavity: |y0 - x0| = 0.004 exceeds its d/2 = 0.003 (x0 = -0.002)",
     ),
     (
-        "units_life.toml",
-        "units_life.toml: [scene].life_max_periods = 4000: the design life of a motion that is not periodic is measured for one damper unit; a study of several units (units or d_spread, docs/model.md §14) carries its largest amplitude over the census's windows, a lower bound; remove life_max_periods (allowed: no design-life key with several units)",
-    ),
-    (
-        "units_life_peak.toml",
-        "units_life_peak.toml: [scene].nonperiodic_peak = \"life\": the design life of a motion that is not periodic is measured for one damper unit; a study of several units (units or d_spread, docs/model.md §14) carries its largest amplitude over the census's windows, a lower bound; allowed with several units: \"window\" (the default there)",
-    ),
-    (
         "unknown_key_in_case.toml",
         "unknown_key_in_case.toml: [perturb].cases[1].seed = 3: unknown key 'seed'; allowed keys: dm, dd, noise_seed",
     ),

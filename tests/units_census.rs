@@ -3,7 +3,8 @@
 //! stores its attractors.
 //!
 //! * Through the command line, a two-unit study's attractor rows equal the library's
-//!   `census_units` from each run's end state (`simulate_harmonic_ends`), to `1e-12`.
+//!   `census_units` from each run's end state (`simulate_harmonic_ends`), then the race for the
+//!   design lives along each case's curve (`race_units`), to `1e-12`.
 //! * The same rows and records, bit for bit, on 1 and 2 threads and with another chunk size.
 //! * A one-unit study stores the same bytes whether or not it says `units = 1`.
 //! * `impactsweep simulate` of several units takes the same census: its JSON equals the record
@@ -13,6 +14,7 @@ use std::path::{Path, PathBuf};
 
 use impactsweep::orbits::attractors::{AttractorRow, RunId, RunWindow};
 use impactsweep::orbits::map::Forcing;
+use impactsweep::orbits::race::{Serves, race_units};
 use impactsweep::orbits::several::end_section;
 use impactsweep::orbits::units::{UnitsCensusSettings, census_units};
 use impactsweep::plan::Plan;
@@ -84,6 +86,8 @@ fn a_two_unit_study_stores_the_census_of_each_runs_end_state() {
     let (recs, stored) = (records(&dir), attractors(&dir));
     assert_eq!(recs.len(), 4);
     let plan = Plan::new(&study);
+    // Each run's census from its end state, as the library makes it.
+    let mut runs = Vec::new();
     for row in &recs {
         let spec = plan.run(row.point, row.case);
         let Scene::Harmonic(scene) = spec.scene else {
@@ -117,6 +121,31 @@ fn a_two_unit_study_stores_the_census_of_each_runs_end_state() {
                 ..UnitsCensusSettings::default()
             },
         );
+        runs.push((row, rec, f, s0, scene, c));
+    }
+    // The race for the design lives along each case's curve (the ideal case's serves the
+    // curve, a perturbed case's its peak).
+    for case in [0, 1] {
+        let curve: Vec<usize> = (0..runs.len())
+            .filter(|&i| runs[i].0.case == case)
+            .collect();
+        assert_eq!(curve.len(), 2);
+        let points: Vec<_> = curve
+            .iter()
+            .map(|&i| Some((runs[i].2.clone(), runs[i].4)))
+            .collect();
+        let mut censuses: Vec<_> = curve.iter().map(|&i| Some(runs[i].5.clone())).collect();
+        let serves = if runs[curve[0]].0.ideal {
+            Serves::Curve
+        } else {
+            Serves::Peak
+        };
+        race_units(&points, &mut censuses, serves);
+        for (&i, c) in curve.iter().zip(censuses) {
+            runs[i].5 = c.unwrap();
+        }
+    }
+    for (row, rec, f, s0, _, c) in &runs {
         let id = RunId {
             point_id: row.point_id,
             point: row.point,
@@ -130,7 +159,7 @@ fn a_two_unit_study_stores_the_census_of_each_runs_end_state() {
             amplitude: rec.amplitude,
             n_meas: rec.n_meas,
         };
-        let want = AttractorRow::of_units_census(id, &f, &c, &s0, own);
+        let want = AttractorRow::of_units_census(id, f, c, s0, own);
         let got: Vec<&AttractorRow> = stored
             .iter()
             .filter(|a| a.run.point_id == row.point_id)
@@ -140,6 +169,10 @@ fn a_two_unit_study_stores_the_census_of_each_runs_end_state() {
         for (g, w) in got.iter().zip(&want) {
             assert_eq!((g.kind, g.period, g.starts), (w.kind, w.period, w.starts));
             close(g.amplitude, w.amplitude, "amplitude");
+            close(g.window_amplitude, w.window_amplitude, "window amplitude");
+            close(g.life_lo, w.life_lo, "life_lo");
+            close(g.life_hi, w.life_hi, "life_hi");
+            assert_eq!(g.measured_periods, w.measured_periods);
             close(g.multiplier_max, w.multiplier_max, "multiplier_max");
             close(g.lyapunov, w.lyapunov, "lyapunov");
             close(g.basin_share, w.basin_share, "basin share");
@@ -153,6 +186,14 @@ fn a_two_unit_study_stores_the_census_of_each_runs_end_state() {
         close(row.record.steady.amplitude_worst, worst, "worst");
         assert!(row.record.steady.amplitude_worst >= row.record.amplitude * (1.0 - 1e-9));
     }
+    // The race measured a motion that is not periodic over the design life here.
+    assert!(
+        stored
+            .iter()
+            .any(|a| a.life_lo.is_finite() && !a.kind.periodic()),
+        "no design-life estimate among {} rows",
+        stored.len()
+    );
 }
 
 /// Every stored column of the records and the attractors, as text (`{:?}` of an `f64` is the

@@ -17,10 +17,11 @@ use std::time::Instant;
 use crate::orbits::census::Kind;
 use crate::orbits::curve;
 use crate::orbits::race::{Serves, race};
+use crate::orbits::several::{NO_RUN, UnitsRun, census_run_units, race_runs};
 use crate::plan::Plan;
 use crate::reduce::harmonic::verify::MOST;
 use crate::report::text::{count, thousands};
-use crate::sim::{self, Drive, NoProbe, Scene};
+use crate::sim::{self, Drive, Harmonic, NoProbe, Scene};
 use crate::study::{CensusKind, Study, num as fmt_value};
 
 /// Runs simulated by the timed sample.
@@ -108,9 +109,19 @@ pub fn time_sample(study: &Study) -> Sample {
         let r = sample_index(j, n, total);
         let run = plan.run(r / n_cases, (r % n_cases) as u32);
         if units {
-            // The run as the sweep runs it, with its census of several units.
-            let rec = crate::sweep::simulate_forced_run(&plan, &run);
-            steady_states += u64::from(rec.steady.attractors);
+            // The run as the sweep runs it, with its census of several units (its race is
+            // timed on a curve below).
+            let out = census_run_units(
+                &run.system,
+                &study.solver,
+                &study.request,
+                &run.scene.harmonic_or_default(),
+                None,
+                &mut NoProbe,
+                study.seed,
+                run.point,
+            );
+            steady_states += out.rows(NO_RUN).len() as u64;
             continue;
         }
         let mut stream = plan.noise_stream(&run);
@@ -128,13 +139,59 @@ pub fn time_sample(study: &Study) -> Sample {
         );
         std::hint::black_box(rec);
     }
+    let seconds = start.elapsed().as_secs_f64();
+    let (race_seconds, race_periods) = if units {
+        time_units_race(study, &plan)
+    } else {
+        (0.0, 0)
+    };
     Sample {
         runs: n,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds: seconds + race_seconds,
         steady_states,
-        race_seconds: 0.0,
-        race_periods: 0,
+        race_seconds,
+        race_periods,
     }
+}
+
+/// The race of the design lives of a study of several units, timed on up to
+/// [`SAMPLE_FREQUENCIES`] frequencies of its middle design's ideal curve as the sweep races a
+/// curve ([`race_runs`], each frequency's census of several units run first, not timed): its
+/// seconds and the periods it measured.
+fn time_units_race(study: &Study, plan: &Plan) -> (f64, u64) {
+    let n_f = study.curve_points();
+    let design = plan.n_points() / n_f / 2;
+    let n = n_f.min(SAMPLE_FREQUENCIES);
+    let runs: Vec<crate::plan::RunSpec> = (0..n)
+        .map(|j| {
+            let i = if n > 1 { j * (n_f - 1) / (n - 1) } else { 0 };
+            plan.run(design * n_f + i, 0)
+        })
+        .collect();
+    let scenes: Vec<Harmonic> = runs.iter().map(|r| r.scene.harmonic_or_default()).collect();
+    let mut outs: Vec<UnitsRun> = runs
+        .iter()
+        .zip(&scenes)
+        .map(|(run, h)| {
+            census_run_units(
+                &run.system,
+                &study.solver,
+                &study.request,
+                h,
+                None,
+                &mut NoProbe,
+                study.seed,
+                run.point,
+            )
+        })
+        .collect();
+    let start = Instant::now();
+    race_runs(&mut outs, &scenes, Serves::Curve);
+    let periods = outs
+        .iter()
+        .filter_map(|o| o.census.as_ref()?.2.life.map(|l| l.measured))
+        .sum();
+    (start.elapsed().as_secs_f64(), periods)
 }
 
 /// The `j`-th of `n` run indices of the timed sample over `total` runs: all of them when
@@ -350,9 +407,13 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
             thousands(sm.race_periods)
         ),
         CensusKind::Units => format!(
-            "{:.1} ms a run with its census of several units over a sample of {}",
+            "{:.1} ms a run with its census of several units over a sample of {}, the race of \
+             the design lives {} over {} periods on a sample of one design's curve, counted once \
+             a curve",
             per_run * 1e3,
-            count(sm.runs, "run", "runs")
+            count(sm.runs, "run", "runs"),
+            fmt_duration(sm.race_seconds),
+            thousands(sm.race_periods)
         ),
         CensusKind::None => format!(
             "{:.1} us/run over a sample of {}",

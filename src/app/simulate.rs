@@ -161,7 +161,7 @@ pub fn forced_text(setup: &Setup, rec: &HarmonicRecord) -> String {
             period(st.rest_period)
         ));
         if st.worst_period == 0 {
-            out.push_str(&worst_line(s, st));
+            out.push_str(&worst_line(st));
         }
     }
     out.push_str(&format!("stopped  at t = {:.5} s\n", rec.t_stop));
@@ -169,8 +169,8 @@ pub fn forced_text(setup: &Setup, rec: &HarmonicRecord) -> String {
 }
 
 /// The census's worst steady state when it is not periodic: its kind, its window amplitude and
-/// its design life, or why it has none (several units: the measurement covers one unit).
-fn worst_line(s: &System, st: &crate::sim::harmonic::Steady) -> String {
+/// its design life, or that it has none.
+fn worst_line(st: &crate::sim::harmonic::Steady) -> String {
     let lyapunov = if st.worst_lyapunov.is_nan() {
         String::new()
     } else {
@@ -185,8 +185,6 @@ fn worst_line(s: &System, st: &crate::sim::harmonic::Steady) -> String {
             cm(st.worst_life_lo),
             cm(st.worst_life_hi)
         )
-    } else if s.unit_count() > 1 {
-        " (a lower bound: the design life covers one damper unit)".to_string()
     } else {
         " (a lower bound: no design-life estimate)".to_string()
     };

@@ -232,10 +232,13 @@ impl AttractorRow {
     /// * `neutral`, when starts reached the non-impacting family: the structure's forced
     ///   response alone, amplitude `F0 / |K - M omega^2 + i C omega|`, `|mu|_max = 1` (each unit
     ///   drifts freely);
-    /// * one `not settled` row when starts did not settle: the largest `|x|` over the last 200
-    ///   periods of each of them and, when start 0 is one, over the run's own window, so over
-    ///   `max(200, n_meas)` periods at least (a lower bound of what the motion reaches; no
-    ///   design-life estimate, no Lyapunov exponent).
+    /// * one `not settled` row when starts did not settle: as its window amplitude the largest
+    ///   `|x|` over the last 200 periods of each of them and, when start 0 is one, over the run's
+    ///   own window, so over `max(200, n_meas)` periods at least (a lower bound of what the
+    ///   motion reaches); as its amplitude the design-life estimate of the race
+    ///   ([`super::race::race_units`]: those starts as one motion, its 90 % interval and tail in
+    ///   the `life_*` and `tail_*` columns, `measured_periods` its periods), never below the
+    ///   window amplitude, or without the race the window amplitude; no Lyapunov exponent.
     ///
     /// **The floor.** The run's attractor is reached by start 0, so the worst row is never below
     /// the run's own measured amplitude: where it would be by more than [`FLOOR_ROUNDING`]
@@ -280,20 +283,41 @@ impl AttractorRow {
             rows.push(neutral_row(run, f, units.non_impacting, n));
         }
         let rest_unsettled = units.rest == RestLanding::Unsettled;
-        let mut wander = units.unsettled_amplitude;
+        let mut window = units.unsettled_amplitude;
         if rest_unsettled {
-            wander = wander.max(own.amplitude);
+            window = window.max(own.amplitude);
         }
+        // Over the design life (the race's estimate; its largest value measured when it has
+        // none, a lower bound), never below the census's windows.
+        let life = units.life.and_then(|l| l.estimate);
+        let wander = units.life.map_or(window, |l| {
+            life.map_or(l.window_max, |e| e.amplitude).max(window)
+        });
         let top = rows.iter().map(|r| r.amplitude).fold(wander, f64::max);
         let floor = own.amplitude > top * (1.0 + FLOOR_ROUNDING);
         if units.unsettled > 0 || floor {
             let amp = if floor { own.amplitude } else { wander };
             let measured = own.n_meas.max(super::tolerances::CENSUS_WINDOW);
-            rows.push(AttractorRow {
+            let row = AttractorRow {
                 basin_share: f64::from(units.unsettled) / n,
                 starts: units.unsettled,
                 measured_periods: measured,
                 ..units_row(run, SteadyKind::NotSettled, amp, section_of(s0))
+            };
+            rows.push(match (units.life, floor) {
+                (Some(l), false) => AttractorRow {
+                    window_amplitude: window,
+                    life_amplitude: life.map_or(f64::NAN, |e| e.amplitude),
+                    life_lo: life.map_or(f64::NAN, |e| e.lo),
+                    life_hi: life.map_or(f64::NAN, |e| e.hi),
+                    life_capped: l.capped,
+                    tail_shape: life.map_or(f64::NAN, |e| e.xi),
+                    tail_end: life.map_or(f64::NAN, |e| e.end_point),
+                    exceedances: life.map_or(0, |e| e.exceedances),
+                    measured_periods: l.measured,
+                    ..row
+                },
+                _ => row,
             });
         }
         // Row 0 is where start 0 ended (the run's own motion).
@@ -458,6 +482,7 @@ mod tests {
             periods: 4000,
             unsettled_amplitude: wander,
             rest: RestLanding::Orbit(0),
+            ..UnitsCensus::default()
         };
         (f, c)
     }

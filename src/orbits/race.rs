@@ -50,10 +50,15 @@
 //! by side, then one at a time in an order the rule fixes (each measurement's chains run in
 //! parallel). A scene with `nonperiodic_peak = "window"` ([`NonPeriodicPeak::Window`]) takes no
 //! part: its motions keep their census window's maximum.
+//!
+//! A curve of several units races the same way ([`race_units`]): each frequency's starts that did
+//! not settle make one motion, measured by the map of several units ([`PeriodMap`]).
 
 use super::census::{Census, Kind};
-use super::life::{LifeRun, LifeSettings, MIN_CHAINS, topped_up};
+use super::life::{LifeRun, LifeSettings, MIN_CHAINS, PeriodMap, topped_up};
 use super::map::Forcing;
+use super::units::census::{RestLanding, UnitsCensus};
+use super::units::map::UnitsMap;
 use crate::sim::Harmonic;
 use crate::sim::harmonic::NonPeriodicPeak;
 use crate::stats::extremes::LifeEstimate;
@@ -75,13 +80,13 @@ pub fn settings(f: &Forcing, h: &Harmonic) -> LifeSettings {
 
 /// A motion in the race: where it is (frequency and attractor index), its forcing, the linear
 /// amplitude there (m), settings, exponent and measurement.
-struct Runner {
+struct Runner<M: PeriodMap> {
     at: (usize, usize),
-    f: Forcing,
+    f: M,
     linear: f64,
     s: LifeSettings,
     lambda: f64,
-    run: LifeRun,
+    run: LifeRun<M::State>,
     active: bool,
 }
 
@@ -261,7 +266,7 @@ pub fn refine_all(points: &[Option<(Forcing, Harmonic)>], censuses: &mut [Option
 /// values in a few long build-ups, too few clusters to fit, until it arrives (at the bundled
 /// study's m = 10 g, d = 20 mm, r = 0.935 the census's motion reached 0.899 cm in 4,000 periods
 /// without an estimate, and its attractor 0.91 cm).
-fn grow(r: &mut Runner) -> bool {
+fn grow<M: PeriodMap>(r: &mut Runner<M>) -> bool {
     let more = r.run.grow(&r.f, &r.s, r.lambda);
     more && (r.run.estimate.is_some() || r.run.periods() < 2 * r.s.first || !r.run.repeats())
 }
@@ -301,66 +306,18 @@ fn race_with(
             }
         }
     }
-    // Every motion's first estimate: each a pure function of its own states, so they run side by
-    // side (a motion of one or three chains alone would leave a core idle).
-    // A motion of fewer states than MIN_CHAINS gets nudged copies first (`topped_up`).
-    runners.par_iter_mut().for_each(|r| {
-        if r.run.starts.len() < MIN_CHAINS {
-            r.run = LifeRun::chains(topped_up(&r.f, std::mem::take(&mut r.run.starts)));
-        }
-        r.active = grow(r);
-    });
-    // The curve's frequencies in order of forcing frequency: each one's place, and its largest
-    // periodic amplitude.
-    let mut order: Vec<usize> = (0..points.len()).collect();
-    order.sort_by(|&a, &b| {
-        let w = |i: usize| points[i].as_ref().map_or(f64::NAN, |p| p.0.omega);
-        w(a).total_cmp(&w(b))
-    });
-    let mut place = vec![0; points.len()];
-    for (q, &i) in order.iter().enumerate() {
-        place[i] = q;
-    }
-    let periodic_at: Vec<f64> = order
+    let omega = omegas(points);
+    let periodic_at: Vec<f64> = censuses
         .iter()
-        .map(|&i| {
-            censuses[i]
-                .iter()
+        .map(|c| {
+            c.iter()
                 .flat_map(|c| &c.attractors)
                 .filter(|a| matches!(a.kind, Kind::Periodic(_)))
                 .map(|a| a.amplitude)
                 .fold(f64::NEG_INFINITY, f64::max)
         })
         .collect();
-    let periodic = periodic_at
-        .iter()
-        .copied()
-        .fold(f64::NEG_INFINITY, f64::max);
-    let (tol, cap) = runners.first().map_or((0.0, 0), |r| (r.s.tol, r.s.cap));
-    loop {
-        let entries: Vec<Entry> = runners
-            .iter()
-            .map(|r| Entry {
-                estimate: r.run.estimate,
-                periods: r.run.periods(),
-                active: r.active,
-                meets: r.run.meets(&r.s),
-                linear: r.linear,
-                freq: place[r.at.0],
-            })
-            .collect();
-        let curve = serves == Serves::Curve;
-        let found = next(&entries, periodic, tol, cap, all, curve).or_else(|| {
-            curve
-                .then(|| dip(&entries, &periodic_at, peak_lower(&entries, periodic), tol))
-                .flatten()
-        });
-        let Some(i) = found else {
-            break;
-        };
-        let r = &mut runners[i];
-        r.active = grow(r);
-    }
+    contest(&mut runners, &omega, &periodic_at, all, serves);
     // Motions that turned out to be transients onto a periodic orbit the census holds at their
     // point, removed after every result is written (their indices stay valid until then).
     let mut landed: Vec<(usize, usize, usize)> = Vec::new();
@@ -397,6 +354,162 @@ fn race_with(
         if let Some(c) = censuses[i].as_mut() {
             c.attractors.remove(j);
         }
+    }
+}
+
+/// The race over a curve of several units' censuses (module doc; model.md §14): at each
+/// frequency the starts of the census that did not settle are taken as one motion, their end
+/// states its chains ([`UnitsCensus::unsettled_states`]), measured period by period by the map
+/// of several units ([`UnitsMap`]: every extremum located, no floor) with no Lyapunov exponent
+/// (clusters of exceedances separated by [`super::life::cluster_run`]'s 50 periods, that of a
+/// slowly mixing motion). Its summary lands in [`UnitsCensus::life`]. A motion whose maxima
+/// came to repeat at a periodic orbit's amplitude (a slow transient) is that orbit: its starts
+/// join it.
+pub fn race_units(
+    points: &[Option<(Forcing, Harmonic)>],
+    censuses: &mut [Option<UnitsCensus>],
+    serves: Serves,
+) {
+    let mut runners = Vec::new();
+    for (i, (p, c)) in points.iter().zip(censuses.iter()).enumerate() {
+        let (Some((f, h)), Some(c)) = (p, c) else {
+            continue;
+        };
+        if h.nonperiodic_peak == NonPeriodicPeak::Window || c.unsettled_states.is_empty() {
+            continue;
+        }
+        runners.push(Runner {
+            at: (i, 0),
+            f: UnitsMap(f.clone()),
+            linear: f.sys.linear_amplitude(f.F0, f.ratio()),
+            s: settings(f, h),
+            lambda: f64::NAN,
+            run: LifeRun::chains(c.unsettled_states.clone()),
+            active: true,
+        });
+    }
+    let omega = omegas(points);
+    let periodic_at: Vec<f64> = points
+        .iter()
+        .zip(censuses.iter())
+        .map(|(p, c)| match (p, c) {
+            (Some((f, _)), Some(c)) => units_periodic(f, c),
+            _ => f64::NEG_INFINITY,
+        })
+        .collect();
+    contest(&mut runners, &omega, &periodic_at, false, serves);
+    for r in runners {
+        let Some(c) = censuses[r.at.0].as_mut() else {
+            continue;
+        };
+        let summary = r.run.summary();
+        let top = r.run.last_max();
+        let reached = c
+            .attractors
+            .iter()
+            .position(|a| (a.orbit.amplitude - top).abs() <= 1e-6 * a.orbit.amplitude);
+        match reached {
+            Some(k)
+                if summary.estimate.is_none()
+                    && r.run.repeats()
+                    && c.unsettled_states.len() == c.unsettled as usize =>
+            {
+                c.attractors[k].starts += c.unsettled;
+                if c.rest == RestLanding::Unsettled {
+                    c.rest = RestLanding::Orbit(k);
+                }
+                c.unsettled = 0;
+                c.unsettled_amplitude = f64::NAN;
+                c.unsettled_states.clear();
+            }
+            _ => c.life = Some(summary),
+        }
+    }
+}
+
+/// Each frequency's forcing frequency (rad/s; NaN where it has no census).
+fn omegas(points: &[Option<(Forcing, Harmonic)>]) -> Vec<f64> {
+    points
+        .iter()
+        .map(|p| p.as_ref().map_or(f64::NAN, |p| p.0.omega))
+        .collect()
+}
+
+/// The largest periodic amplitude of a census of several units at `f` (m): its impacting
+/// orbits' and, when starts reached it, the non-impacting family's (the structure's forced
+/// response alone); `-inf` without either.
+fn units_periodic(f: &Forcing, c: &UnitsCensus) -> f64 {
+    let neutral = if c.non_impacting > 0 {
+        let s = &f.sys;
+        let (p, q) = crate::sim::harmonic::motion::particular(s.M, s.K, s.C, f.F0, f.omega);
+        p.hypot(q)
+    } else {
+        f64::NEG_INFINITY
+    };
+    c.attractors
+        .iter()
+        .map(|a| a.orbit.amplitude)
+        .fold(neutral, f64::max)
+}
+
+/// The race itself (module doc) over `runners`, the motions of a curve whose frequency `i` has
+/// forcing frequency `omega[i]` (rad/s; NaN where it has no census) and largest periodic
+/// amplitude `periodic[i]` (m; `-inf` without one): each motion's first estimate, then one
+/// measurement at a time as the rule picks them. What one unit's census and that of several
+/// units share ([`race`], [`race_units`]).
+fn contest<M: PeriodMap>(
+    runners: &mut [Runner<M>],
+    omega: &[f64],
+    periodic: &[f64],
+    all: bool,
+    serves: Serves,
+) {
+    // Every motion's first estimate: each a pure function of its own states, so they run side by
+    // side (a motion of one or three chains alone would leave a core idle).
+    // A motion of fewer states than MIN_CHAINS gets nudged copies first (`topped_up`).
+    runners.par_iter_mut().for_each(|r| {
+        if r.run.starts.len() < MIN_CHAINS {
+            r.run = LifeRun::chains(topped_up(&r.f, std::mem::take(&mut r.run.starts)));
+        }
+        r.active = grow(r);
+    });
+    // The curve's frequencies in order of forcing frequency: each one's place, and its largest
+    // periodic amplitude.
+    let mut order: Vec<usize> = (0..omega.len()).collect();
+    order.sort_by(|&a, &b| omega[a].total_cmp(&omega[b]));
+    let mut place = vec![0; omega.len()];
+    for (q, &i) in order.iter().enumerate() {
+        place[i] = q;
+    }
+    let periodic_at: Vec<f64> = order.iter().map(|&i| periodic[i]).collect();
+    let periodic = periodic_at
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    let (tol, cap) = runners.first().map_or((0.0, 0), |r| (r.s.tol, r.s.cap));
+    loop {
+        let entries: Vec<Entry> = runners
+            .iter()
+            .map(|r| Entry {
+                estimate: r.run.estimate,
+                periods: r.run.periods(),
+                active: r.active,
+                meets: r.run.meets(&r.s),
+                linear: r.linear,
+                freq: place[r.at.0],
+            })
+            .collect();
+        let curve = serves == Serves::Curve;
+        let found = next(&entries, periodic, tol, cap, all, curve).or_else(|| {
+            curve
+                .then(|| dip(&entries, &periodic_at, peak_lower(&entries, periodic), tol))
+                .flatten()
+        });
+        let Some(i) = found else {
+            break;
+        };
+        let r = &mut runners[i];
+        r.active = grow(r);
     }
 }
 

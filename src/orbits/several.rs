@@ -10,14 +10,19 @@
 //! the census's candidates, and the worst steady amplitude is never below the run's own
 //! measured amplitude (the floor of [`AttractorRow::of_units_census`]).
 //!
+//! # The design life
+//! The starts that did not settle on a periodic orbit are taken as one motion, measured over
+//! the design life by the race of the run's curve ([`race_units`], [`race_runs`]; a run on its
+//! own is a curve of one point): its amplitude is the estimate, never below the census's
+//! windows.
+//!
 //! # What it does not do
-//! A motion that is not periodic carries its largest amplitude over its windows, a lower bound:
-//! the design-life measurement and the Lyapunov exponent of such motions cover one unit
-//! ([`super::race`]), and a study of several units refuses the design-life keys. No continuation
-//! between the frequencies either: each run's census stands on its own.
+//! No Lyapunov exponent of a motion that is not periodic (its row stays `not settled`), and no
+//! continuation between the frequencies: each run's census stands on its own.
 
 use super::attractors::{AttractorRow, RunId, RunWindow, steady_of_rows};
 use super::map::Forcing;
+use super::race::{Serves, race_units};
 use super::units::census::{UnitsCensus, UnitsCensusSettings, census_units};
 use crate::model::System;
 use crate::sim::harmonic::simulate_harmonic_ends;
@@ -69,10 +74,29 @@ pub fn end_section(sys: &System, rec: &HarmonicRecord, units: &[(f64, f64)]) -> 
 /// One run of several units (module doc): the run from the study's initial state (with its
 /// noise, a measurement noise that does not move the system), then `scene.starts` starts of the
 /// census from its end state, seeded by `seed` and the design point `point` (the noise-free
-/// census: [`UnitsCensusSettings`]), each start's budget `scene.n_trans_max` periods. With one
-/// unit the map is one unit's, bit for bit ([`super::units`]). Pure.
+/// census: [`UnitsCensusSettings`]), each start's budget `scene.n_trans_max` periods, then the
+/// design life of its motion that is not periodic (the race of a curve of one point,
+/// [`race_units`]). With one unit the map is one unit's, bit for bit ([`super::units`]). Pure.
 #[allow(clippy::too_many_arguments)]
 pub fn forced_run_units<P: Probe>(
+    sys: &System,
+    settings: &SolverSettings,
+    req: &Request,
+    scene: &Harmonic,
+    noise: Option<(&NoiseSettings, &mut NoiseStream)>,
+    probe: &mut P,
+    seed: u64,
+    point: u64,
+) -> UnitsRun {
+    let mut run = census_run_units(sys, settings, req, scene, noise, probe, seed, point);
+    race_runs(std::slice::from_mut(&mut run), &[*scene], Serves::Curve);
+    run
+}
+
+/// [`forced_run_units`] before the race: the run and its census, the record's `steady` summary
+/// not yet filled (what a curve's runs are before [`race_runs`]).
+#[allow(clippy::too_many_arguments)]
+pub fn census_run_units<P: Probe>(
     sys: &System,
     settings: &SolverSettings,
     req: &Request,
@@ -107,19 +131,39 @@ pub fn forced_run_units<P: Probe>(
             point,
         },
     );
-    let mut out = UnitsRun {
+    UnitsRun {
         record,
         census: Some((f, s0, c)),
-    };
-    let rows = out.rows(NO_RUN);
-    if let Some((_, _, c)) = &out.census {
-        out.record.steady = steady_of_rows(&rows, c.starts, c.periods);
     }
-    out
 }
 
-/// The run identity of rows made only for the record's summary.
-const NO_RUN: RunId = RunId {
+/// The race for the design lives over the runs of one curve ([`race_units`]: one design and
+/// case, `scenes[i]` run `i`'s scene, in any order of frequency), then each record's `steady`
+/// summary from its rows. `serves`: what the curve's values are for ([`Serves`]).
+pub fn race_runs(runs: &mut [UnitsRun], scenes: &[Harmonic], serves: Serves) {
+    let points: Vec<Option<(Forcing, Harmonic)>> = runs
+        .iter()
+        .zip(scenes)
+        .map(|(r, h)| r.census.as_ref().map(|(f, _, _)| (f.clone(), *h)))
+        .collect();
+    let mut censuses: Vec<Option<UnitsCensus>> = runs
+        .iter_mut()
+        .map(|r| r.census.as_mut().map(|c| std::mem::take(&mut c.2)))
+        .collect();
+    race_units(&points, &mut censuses, serves);
+    for (run, c) in runs.iter_mut().zip(censuses) {
+        if let (Some(slot), Some(c)) = (run.census.as_mut(), c) {
+            slot.2 = c;
+        }
+        let rows = run.rows(NO_RUN);
+        if let Some((_, _, c)) = &run.census {
+            run.record.steady = steady_of_rows(&rows, c.starts, c.periods);
+        }
+    }
+}
+
+/// The run identity of rows made only for a record's summary or a count.
+pub const NO_RUN: RunId = RunId {
     point_id: 0,
     point: 0,
     case: 0,

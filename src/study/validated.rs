@@ -30,7 +30,8 @@ pub enum CensusKind {
     /// A study of several units (`units` or `d_spread` anywhere, [`Study::several_units`]):
     /// every run's own census of several units from its end state
     /// ([`crate::orbits::several`]), for its one-unit designs too, so that every design's
-    /// steady states are found alike.
+    /// steady states are found alike, its motions that are not periodic measured over the
+    /// design life along each curve ([`crate::orbits::race::race_units`]).
     Units,
 }
 

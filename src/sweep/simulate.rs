@@ -2,9 +2,10 @@
 //! each run of a free-decay study on its own, and for a harmonic study with a census each
 //! frequency-response curve (a design and the cases that share its system) as one task, its
 //! runs from the initial state and its census in frequency order ([`crate::orbits::curve`]),
-//! with the attractors it found; for a harmonic study of several units each run with its own
-//! census of several units ([`crate::orbits::several`]). Pure: the same plan and chunk give the
-//! same rows and bits on any thread count.
+//! with the attractors it found; for a harmonic study of several units each curve too, each
+//! run with its own census of several units and the race for the design lives along the curve
+//! ([`crate::orbits::several`]). Pure: the same plan and chunk give the same rows and bits on
+//! any thread count.
 
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -13,7 +14,7 @@ use crate::orbits::attractors::{AttractorRow, RunId};
 use crate::orbits::curve::{CurveFrequency, curve_census, fill_steady, from_rest};
 use crate::orbits::forced_run;
 use crate::orbits::race::Serves;
-use crate::orbits::several::{UnitsRun, forced_run_units};
+use crate::orbits::several::{UnitsRun, census_run_units, forced_run_units, race_runs};
 use crate::plan::{Plan, RunSpec};
 use crate::sim::{Harmonic, HarmonicRecord, NoProbe, Record, simulate};
 use crate::store::{RunRow, StoredRecord};
@@ -54,8 +55,8 @@ impl SceneRun for HarmonicRecord {
     }
 
     /// By the study's census ([`CensusKind`]): one unit's, each frequency-response curve (a
-    /// design and a case) as one task ([`simulate_curve`]); several units', each run with its
-    /// own census ([`simulate_units_chunk`]); none, each run on its own.
+    /// design and a case group) as one task ([`simulate_curve`]); several units', each curve (a
+    /// design and a case) as one task ([`simulate_units_curve`]); none, each run on its own.
     fn simulate_chunk(plan: &Plan, k: u64, progress: Option<&ProgressBar>) -> ChunkRows<Self> {
         match plan.study.census_kind() {
             CensusKind::None => ChunkRows {
@@ -111,39 +112,90 @@ fn simulate_curves_chunk(
     }
 }
 
-/// Chunk `k` of a study of several units: each run with its census ([`forced_run_units`]), in
-/// parallel over the runs; the rows in `point_id` order, each run's attractors in census
-/// order.
+/// Chunk `k` of a study of several units: each frequency-response curve (a design and a case)
+/// as one task ([`simulate_units_curve`]), in parallel; the rows in `point_id` order, each
+/// run's attractors in census order.
 fn simulate_units_chunk(
     plan: &Plan,
     k: u64,
     progress: Option<&ProgressBar>,
 ) -> ChunkRows<HarmonicRecord> {
+    let n_f = plan.study.curve_points();
     let points = plan.chunk_points(k);
-    let n_cases = plan.n_cases();
-    let done: Vec<(RunRow<HarmonicRecord>, Vec<AttractorRow>)> = (points.start * n_cases
-        ..points.end * n_cases)
+    let n_cases = plan.n_cases() as u32;
+    let tasks: Vec<(u64, u32)> = (points.start / n_f..points.end.div_ceil(n_f))
+        .flat_map(|design| (0..n_cases).map(move |case| (design, case)))
+        .collect();
+    let done: Vec<(Vec<RunRow<HarmonicRecord>>, Vec<AttractorRow>)> = tasks
         .into_par_iter()
-        .map(|id| {
-            let run = plan.run(id / n_cases, (id % n_cases) as u32);
-            let out = units_run(plan, &run);
-            let rows = out.rows(run_id(&run, &out.record));
+        .map(|(design, case)| {
+            let out = simulate_units_curve(plan, design, case);
             if let Some(pb) = progress {
-                pb.inc(1);
+                pb.inc(out.0.len() as u64);
             }
-            (row_of(plan, &run, out.record), rows)
+            out
         })
         .collect();
-    let mut rows = Vec::with_capacity(done.len());
+    let mut rows = Vec::with_capacity(done.iter().map(|d| d.0.len()).sum());
     let mut attractors = Vec::new();
     for (r, a) in done {
-        rows.push(r);
+        rows.extend(r);
         attractors.extend(a);
     }
+    rows.sort_by_key(|r| r.point_id);
+    // Stable: each run's attractors stay in their census order.
+    attractors.sort_by_key(|a| a.run.point_id);
     ChunkRows {
         rows,
         attractors: Some(attractors),
     }
+}
+
+/// The frequency-response curve of a study of several units at design `design` and case
+/// `case`, as one task: each frequency's run with its census ([`census_run_units`], in
+/// parallel), then the race for the design lives over the curve ([`race_runs`]: the ideal
+/// case's curve is drawn and read frequency by frequency, a perturbed case's serves its peak).
+/// Returns the rows and their attractors.
+pub fn simulate_units_curve(
+    plan: &Plan,
+    design: u64,
+    case: u32,
+) -> (Vec<RunRow<HarmonicRecord>>, Vec<AttractorRow>) {
+    let n_f = plan.study.curve_points();
+    let runs: Vec<RunSpec> = (design * n_f..(design + 1) * n_f)
+        .map(|p| plan.run(p, case))
+        .collect();
+    let study = plan.study;
+    let mut outs: Vec<UnitsRun> = runs
+        .par_iter()
+        .map(|run| {
+            let mut stream = plan.noise_stream(run);
+            census_run_units(
+                &run.system,
+                &study.solver,
+                &study.request,
+                &harmonic_scene(run),
+                study.noise.as_ref().zip(stream.as_mut()),
+                &mut NoProbe,
+                study.seed,
+                run.point,
+            )
+        })
+        .collect();
+    let scenes: Vec<Harmonic> = runs.iter().map(harmonic_scene).collect();
+    let serves = if runs.first().is_some_and(|r| r.spec.ideal) {
+        Serves::Curve
+    } else {
+        Serves::Peak
+    };
+    race_runs(&mut outs, &scenes, serves);
+    let mut rows = Vec::with_capacity(runs.len());
+    let mut attractors = Vec::new();
+    for (run, out) in runs.iter().zip(outs) {
+        attractors.extend(out.rows(run_id(run, &out.record)));
+        rows.push(row_of(plan, run, out.record));
+    }
+    (rows, attractors)
 }
 
 /// The run `run` of a study of several units with its census ([`forced_run_units`]: the

@@ -23,7 +23,9 @@
 //! counted as not settled (a motion that is not periodic, or a slow transient); its largest
 //! `|x|` over its last [`crate::orbits::tolerances::CENSUS_WINDOW`] periods (exact, the map's own
 //! amplitude each period) is kept ([`UnitsCensus::unsettled_amplitude`]), a lower bound of what
-//! that motion reaches.
+//! that motion reaches, and so is the state it ended in ([`UnitsCensus::unsettled_states`]), from
+//! which the race measures that motion over the design life
+//! ([`crate::orbits::race::race_units`]).
 //!
 //! # Merging
 //! Two orbits are one when their periods agree and the section of one lies within `1e-6 L` of
@@ -33,6 +35,7 @@
 use super::map::{complete, dim, distance, eval, half_gaps, initial, scale};
 use super::shoot::{UnitsOrbit, orbit_at, same_orbit, solve};
 use crate::numeric::mix64;
+use crate::orbits::life::LifeSummary;
 use crate::orbits::map::Forcing;
 use crate::orbits::shoot::{Newton, Stability, Termination};
 use crate::sim::Outcome;
@@ -102,6 +105,13 @@ pub struct UnitsCensus {
     pub unsettled_amplitude: f64,
     /// Where start 0 (the given state) ended.
     pub rest: RestLanding,
+    /// Where each start that did not settle within its budget ended (its simulation not
+    /// stopped), in start order: the states the design-life measurement of their motion starts
+    /// from ([`crate::orbits::race::race_units`]).
+    pub unsettled_states: Vec<Vec<f64>>,
+    /// That measurement (the starts that did not settle taken as one motion), when the scene
+    /// asks for it; `None` before the race or without it.
+    pub life: Option<LifeSummary>,
 }
 
 /// Where start 0 of a census ended.
@@ -126,6 +136,8 @@ impl Default for UnitsCensus {
             periods: 0,
             unsettled_amplitude: f64::NAN,
             rest: RestLanding::Unsettled,
+            unsettled_states: Vec::new(),
+            life: None,
         }
     }
 }
@@ -152,7 +164,8 @@ impl UnitsCensus {
 enum Landing {
     Orbit(Box<UnitsOrbit>, u32),
     Quiet,
-    Unsettled,
+    /// The budget ran out (with the state it ended on) or the simulation stopped (`None`).
+    Unsettled(Option<Vec<f64>>),
 }
 
 /// A uniform number in `[0, 1)` for start `k`, draw `j`.
@@ -215,7 +228,7 @@ fn run_start(f: &Forcing, s: Vec<f64>, c: &UnitsCensusSettings, newton: &Newton)
         let e = eval(f, &now, 1);
         periods += 1;
         if e.outcome != Outcome::Ok {
-            return (Landing::Unsettled, ran(periods, amp, &recent));
+            return (Landing::Unsettled(None), ran(periods, amp, &recent));
         }
         amp = e.amplitude;
         if recent.len() == WINDOW {
@@ -247,7 +260,10 @@ fn run_start(f: &Forcing, s: Vec<f64>, c: &UnitsCensusSettings, newton: &Newton)
         }
         tol *= 1e-3;
     }
-    (Landing::Unsettled, ran(periods, amp, &recent))
+    (
+        Landing::Unsettled(history.pop()),
+        ran(periods, amp, &recent),
+    )
 }
 
 /// Runs the census at `f` from `s0` (the first start's section state, `2 + 2N` components, read
@@ -275,9 +291,10 @@ pub fn census_units(f: &Forcing, s0: &[f64], c: &UnitsCensusSettings) -> UnitsCe
                 out.non_impacting += 1;
                 RestLanding::NonImpacting
             }
-            Landing::Unsettled => {
+            Landing::Unsettled(end) => {
                 out.unsettled += 1;
                 out.unsettled_amplitude = out.unsettled_amplitude.max(ran.window);
+                out.unsettled_states.extend(end);
                 RestLanding::Unsettled
             }
         };

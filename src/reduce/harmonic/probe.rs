@@ -28,7 +28,11 @@
 //! stored attractors, or a study with `design_peak = "from_rest"`, runs the whole curve at the
 //! probe instead (the run from the initial state at every frequency, and the census when the
 //! design quantity needs it), and so does a study of several units (each frequency's census of
-//! several units, [`crate::orbits::several`]: the continuation covers one unit). Probes are deterministic: the same probe gives the same bits.
+//! several units, [`crate::orbits::several`], then the race for the design lives along the
+//! probe's curve for its peak: the continuation covers one unit). Probes are deterministic: the
+//! same probe gives the same bits.
+
+use rayon::prelude::*;
 
 use super::analysis::{Plan, Shard, line_key};
 use super::curve::{Curve, CurvePoint};
@@ -36,13 +40,14 @@ use super::design::design_study;
 use crate::orbits::attractors::{AttractorRow, SteadyKind};
 use crate::orbits::census::{CensusSettings, Landing, Settled, first_check, settle};
 use crate::orbits::map::Forcing;
+use crate::orbits::race::Serves;
 use crate::orbits::response::orbit_from_section;
-use crate::orbits::several::forced_run_units;
+use crate::orbits::several::{UnitsRun, census_run_units, race_runs};
 use crate::orbits::shoot::{Newton, non_impacting};
 use crate::orbits::{CENSUS_WINDOW, HANDOVER, forced_run};
 use crate::reduce::common::jumps::{IdealCase, UNRESOLVED};
 use crate::sim::harmonic::DesignPeak;
-use crate::sim::{Harmonic, NoProbe, Outcome};
+use crate::sim::{Harmonic, HarmonicRecord, NoProbe, Outcome};
 use crate::study::{CensusKind, Study};
 
 /// The share of a corner's peak above which a frequency is probed.
@@ -225,42 +230,60 @@ impl<'a> HarmonicIdeal<'a> {
     fn simulated(&self, values: &[f64]) -> Option<[f64; 2]> {
         let s = self.study;
         let (sys, h) = self.design(values)?;
-        let (mut peak, mut linear) = (f64::NAN, f64::NAN);
-        for scene in self.band(&sys, h)? {
-            let mut scene = scene;
-            if scene.design_peak == DesignPeak::FromRest {
-                scene.starts = 0;
+        let scenes: Vec<Harmonic> = self
+            .band(&sys, h)?
+            .into_iter()
+            .map(|mut scene| {
+                if scene.design_peak == DesignPeak::FromRest {
+                    scene.starts = 0;
+                }
+                scene
+            })
+            .collect();
+        let records: Vec<HarmonicRecord> = match s.census_kind() {
+            // Several units: each frequency's own census of several units, then the race along
+            // the probe's curve for its peak, as the sweep's perturbed cases.
+            CensusKind::Units => {
+                let mut runs: Vec<UnitsRun> = scenes
+                    .par_iter()
+                    .map(|scene| {
+                        census_run_units(
+                            &sys,
+                            &s.solver,
+                            &s.request,
+                            scene,
+                            None,
+                            &mut NoProbe,
+                            s.seed,
+                            self.probe_point,
+                        )
+                    })
+                    .collect();
+                race_runs(&mut runs, &scenes, Serves::Peak);
+                runs.into_iter().map(|r| r.record).collect()
             }
-            let rec = match s.census_kind() {
-                // Several units: each frequency's own census of several units, as the sweep's.
-                CensusKind::Units => {
-                    forced_run_units(
+            CensusKind::None | CensusKind::OneUnit => scenes
+                .iter()
+                .map(|scene| {
+                    forced_run(
                         &sys,
                         &s.solver,
                         &s.request,
-                        &scene,
+                        scene,
                         None,
                         &mut NoProbe,
                         s.seed,
                         self.probe_point,
                     )
-                    .record
-                }
-                CensusKind::None | CensusKind::OneUnit => forced_run(
-                    &sys,
-                    &s.solver,
-                    &s.request,
-                    &scene,
-                    None,
-                    &mut NoProbe,
-                    s.seed,
-                    self.probe_point,
-                ),
-            };
+                })
+                .collect(),
+        };
+        let (mut peak, mut linear) = (f64::NAN, f64::NAN);
+        for rec in &records {
             if rec.outcome != Outcome::Ok {
                 return None;
             }
-            peak = peak.max(CurvePoint::of(&rec, h.design_peak).design);
+            peak = peak.max(CurvePoint::of(rec, h.design_peak).design);
             linear = linear.max(rec.amplitude_linear);
         }
         Some([peak, 1.0 - peak / linear])

@@ -41,50 +41,8 @@ pub(super) fn study(
 ) -> Result<Study, InputError> {
     scene.refuse_random_keys(cx)?;
     let h = settings(cx, scene, &raw.sweep)?;
-    let mut study = cased::study(cx, raw, path, text, &HarmonicScene(h))?;
-    if study.several_units() {
-        refuse_life_keys(cx, scene)?;
-        // Several units: a motion that is not periodic carries its largest amplitude over the
-        // census's windows (the design-life measurement covers one unit).
-        if let Some(h) = study.scene.harmonic_mut() {
-            h.nonperiodic_peak = NonPeriodicPeak::Window;
-        }
-    }
+    let study = cased::study(cx, raw, path, text, &HarmonicScene(h))?;
     Ok(study)
-}
-
-/// Refuses the design-life keys in a study of several units (model.md §14, issue 68): the
-/// design-life measurement of a motion that is not periodic (the race of
-/// [`crate::orbits::race`]) covers one unit, and the census of several units
-/// ([`crate::orbits::several`]) carries such a motion's largest amplitude over its windows.
-fn refuse_life_keys(cx: &Cx, raw: &RawScene) -> Result<(), InputError> {
-    let why = "the design life of a motion that is not periodic is measured for one damper unit; \
-               a study of several units (units or d_spread, docs/model.md §14) carries its \
-               largest amplitude over the census's windows, a lower bound";
-    let given: [(&str, Option<String>); 4] = [
-        ("design_life", raw.design_life.map(num)),
-        ("life_quantile", raw.life_quantile.map(num)),
-        ("life_tol", raw.life_tol.map(num)),
-        (
-            "life_max_periods",
-            raw.life_max_periods.map(|n| n.to_string()),
-        ),
-    ];
-    if let Some((key, Some(v))) = given.into_iter().find(|(_, v)| v.is_some()) {
-        return Err(cx.err(
-            &format!("[scene].{key}"),
-            v,
-            format!("{why}; remove {key} (allowed: no design-life key with several units)"),
-        ));
-    }
-    if let Some(p) = raw.nonperiodic_peak.as_deref().filter(|p| *p != "window") {
-        return Err(cx.err(
-            "[scene].nonperiodic_peak",
-            format!("{p:?}"),
-            format!("{why}; allowed with several units: \"window\" (the default there)"),
-        ));
-    }
-    Ok(())
 }
 
 /// The validated `[scene]` of a harmonic study (before its axes are known): its fixed settings.

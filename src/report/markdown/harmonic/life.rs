@@ -37,11 +37,6 @@ pub fn section(s: &Summary, fs: &HarmonicSummary, shown: &[&PointStats]) -> Stri
     if !fs.curves.iter().any(|c| c.attractors.is_some()) {
         return o;
     }
-    // Several units: the window peaks are the study's only kind (the design life covers one
-    // unit), which the design peak's reading says.
-    if fs.curves.iter().any(|c| c.system.units > 1.0) {
-        return o;
-    }
     if fs.nonperiodic_peak == NonPeriodicPeak::Window {
         let _ = writeln!(
             o,
@@ -70,12 +65,10 @@ pub fn section(s: &Summary, fs: &HarmonicSummary, shown: &[&PointStats]) -> Stri
         for (p, a) in &rows {
             let _ = writeln!(
                 o,
-                "| {} | {} | {} ± {} ({}) | {} | {} | {} | {} | {}{} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {}{} |",
                 design_text(s, p.point),
                 a.kind.name(),
-                f(a.lyapunov, 3),
-                f(a.lyapunov_se, 3),
-                f(a.lyapunov_per_s, 1),
+                exponent(a),
                 cm(a.window_amplitude),
                 cm(a.amplitude),
                 if a.life_lo.is_finite() {
@@ -93,6 +86,20 @@ pub fn section(s: &Summary, fs: &HarmonicSummary, shown: &[&PointStats]) -> Stri
     o.push_str(&verified(s, fs, !rows.is_empty()));
     o.push_str(&overlaps(s, fs, shown));
     o
+}
+
+/// A motion's largest Lyapunov exponent with its standard error, per period and per second;
+/// "not measured" without one (several units).
+fn exponent(a: &AttractorRow) -> String {
+    if a.lyapunov.is_nan() {
+        return "not measured".to_string();
+    }
+    format!(
+        "{} ± {} ({})",
+        f(a.lyapunov, 3),
+        f(a.lyapunov_se, 3),
+        f(a.lyapunov_per_s, 1)
+    )
 }
 
 /// The verification's paragraph and table (docs/scenes.md, "The decision verified"): which

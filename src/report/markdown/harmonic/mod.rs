@@ -18,14 +18,14 @@ use crate::study::Study;
 
 /// Why a dataset's peaks carried by motions that are not periodic have no design-life estimate.
 fn unmeasured_reason(fs: &HarmonicSummary) -> &'static str {
-    if units::several(fs) && units::census_taken(fs) {
-        "several damper units: the design-life measurement covers one unit"
-    } else if units::several(fs) {
-        "several damper units: no census, whose design lives cover one unit"
+    if units::several(fs) && !units::census_taken(fs) {
+        "several damper units without a census: no design lives"
     } else if fs.design_peak == DesignPeak::FromRest {
         "`design_peak = \"from_rest\"`: no census"
     } else if fs.nonperiodic_peak == NonPeriodicPeak::Window {
         "`nonperiodic_peak = \"window\"`"
+    } else if units::several(fs) {
+        "its measurement made no estimate: too few clusters of large maxima, or maxima that repeat"
     } else {
         "a dataset written before life estimates"
     }
@@ -292,7 +292,7 @@ fn reading(fs: &HarmonicSummary) -> String {
     if units::several(fs) {
         let _ = writeln!(
             o,
-            "\n**The design peak.** The study has several damper units (docs/model.md §14). The attractor census and the design lives of motions that are not periodic cover one unit, so none is taken: each frequency's steady state is the one the run from the study's initial state settles on (*from rest* above), for every design alike, one unit included. A point is *periodic* when the motion repeats after 1 to 8 forcing periods; the others ({} of {} frequencies over the ideal curves) are quasi-periodic or chaotic, or still in their transient ({} runs reached `n_trans_max`), and carry their largest amplitude over the measuring window, a lower bound. The band where the damper helps is the stretch around the linear system's resonance where the steady amplitude is below the linear system's, its ends interpolated where the attenuation crosses 1; \"band edge\" means it still helps at the end of the swept band.",
+            "\n**The design peak.** The study has several damper units (docs/model.md §14). No census was taken (`starts = 0`, or a dataset written before the census of several units), so no design lives either: each frequency's steady state is the one the run from the study's initial state settles on (*from rest* above), for every design alike, one unit included. A point is *periodic* when the motion repeats after 1 to 8 forcing periods; the others ({} of {} frequencies over the ideal curves) are quasi-periodic or chaotic, or still in their transient ({} runs reached `n_trans_max`), and carry their largest amplitude over the measuring window, a lower bound. The band where the damper helps is the stretch around the linear system's resonance where the steady amplitude is below the linear system's, its ends interpolated where the attenuation crosses 1; \"band edge\" means it still helps at the end of the swept band.",
             thousands(not_periodic as u64),
             thousands(frequencies as u64),
             thousands(not_converged as u64)
