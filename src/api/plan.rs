@@ -159,15 +159,7 @@ pub fn time_sample(study: &Study) -> Sample {
 /// curve ([`race_runs`], each frequency's census of several units run first, not timed): its
 /// seconds and the periods it measured.
 fn time_units_race(study: &Study, plan: &Plan) -> (f64, u64) {
-    let n_f = study.curve_points();
-    let design = plan.n_points() / n_f / 2;
-    let n = n_f.min(SAMPLE_FREQUENCIES);
-    let runs: Vec<crate::plan::RunSpec> = (0..n)
-        .map(|j| {
-            let i = if n > 1 { j * (n_f - 1) / (n - 1) } else { 0 };
-            plan.run(design * n_f + i, 0)
-        })
-        .collect();
+    let runs = sample_curve(study, plan);
     let scenes: Vec<Harmonic> = runs.iter().map(|r| r.scene.harmonic_or_default()).collect();
     let mut outs: Vec<UnitsRun> = runs
         .iter()
@@ -208,17 +200,23 @@ fn sample_index(j: u64, n: u64, total: u64) -> u64 {
     ((u * total as f64) as u64).min(total - 1)
 }
 
-/// The timed sample of a harmonic study with a census ([`time_sample`]).
-fn time_curve(study: &Study, plan: &Plan) -> Sample {
+/// Up to [`SAMPLE_FREQUENCIES`] runs, evenly spread, of the middle design's ideal curve: the
+/// curve a harmonic study's timed sample runs.
+fn sample_curve(study: &Study, plan: &Plan) -> Vec<crate::plan::RunSpec> {
     let n_f = study.curve_points();
     let design = plan.n_points() / n_f / 2;
     let n = n_f.min(SAMPLE_FREQUENCIES);
-    let runs: Vec<crate::plan::RunSpec> = (0..n)
+    (0..n)
         .map(|j| {
             let i = if n > 1 { j * (n_f - 1) / (n - 1) } else { 0 };
             plan.run(design * n_f + i, 0)
         })
-        .collect();
+        .collect()
+}
+
+/// The timed sample of a harmonic study with a census ([`time_sample`]).
+fn time_curve(study: &Study, plan: &Plan) -> Sample {
+    let runs = sample_curve(study, plan);
     let freqs: Vec<_> = runs.iter().map(|run| plan.curve_frequency(run)).collect();
     let targets: Vec<_> = freqs.iter().map(|f| (f.scene, f.point)).collect();
     // `run_curve`'s steps, the race timed apart.
@@ -251,7 +249,7 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
         })
         .sum();
     Sample {
-        runs: n,
+        runs: runs.len() as u64,
         seconds,
         steady_states,
         race_seconds,
