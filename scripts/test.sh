@@ -62,6 +62,11 @@ LIFE_VALIDATION_BIN="$PWD/target/debug/examples/life_validation" scripts/life_va
 # design A's run 0) is reproduced bit for bit.
 cargo build --quiet --profile test --example subset_validation
 SUBSET_VALIDATION_BIN="$PWD/target/debug/examples/subset_validation" scripts/subset_validation.sh --check
+# The committed validation of the design life of several units
+# (results/units_life_validation.md): its report regenerates from the committed runs, and a slice
+# (point U2, study seed 1) is reproduced bit for bit.
+cargo build --quiet --profile test --example units_life_validation
+UNITS_LIFE_VALIDATION_BIN="$PWD/target/debug/examples/units_life_validation" scripts/units_life_validation.sh --check
 # The Python extension (python/, a member of the workspace that `cargo test` leaves out): its
 # lint, and its build (the dev profile, whose settings for the main crate and its dependencies
 # are the test profile's) with the feature `share-test-build`, which resolves
