@@ -375,6 +375,14 @@ fn units_row(run: RunId, kind: SteadyKind, amplitude: f64, section: Section) -> 
     }
 }
 
+/// The non-impacting family's amplitude at `f` (m): the structure's forced response alone,
+/// `sqrt(P^2 + Q^2)` of [`crate::sim::harmonic::motion::particular`], as its row carries it.
+pub fn neutral_amplitude(f: &Forcing) -> f64 {
+    let sys = &f.sys;
+    let (p, q) = crate::sim::harmonic::motion::particular(sys.M, sys.K, sys.C, f.F0, f.omega);
+    p.hypot(q)
+}
+
 /// The non-impacting family's row: the structure's forced response alone
 /// (`x = P cos(omega t) + Q sin(omega t)`, amplitude `sqrt(P^2 + Q^2)`), the units at rest in
 /// their cavities relative to the ground; `starts` of `n` reached it.

@@ -440,9 +440,7 @@ fn omegas(points: &[Option<(Forcing, Harmonic)>]) -> Vec<f64> {
 /// response alone); `-inf` without either.
 fn units_periodic(f: &Forcing, c: &UnitsCensus) -> f64 {
     let neutral = if c.non_impacting > 0 {
-        let s = &f.sys;
-        let (p, q) = crate::sim::harmonic::motion::particular(s.M, s.K, s.C, f.F0, f.omega);
-        p.hypot(q)
+        super::attractors::neutral_amplitude(f)
     } else {
         f64::NEG_INFINITY
     };

@@ -97,6 +97,14 @@ fn simulate_curves_chunk(
             out
         })
         .collect();
+    gathered(done)
+}
+
+/// A chunk from its curves' rows and attractors: the rows in `point_id` order, each run's
+/// attractors in census order.
+fn gathered(
+    done: Vec<(Vec<RunRow<HarmonicRecord>>, Vec<AttractorRow>)>,
+) -> ChunkRows<HarmonicRecord> {
     let mut rows = Vec::with_capacity(done.iter().map(|d| d.0.len()).sum());
     let mut attractors = Vec::new();
     for (r, a) in done {
@@ -136,19 +144,7 @@ fn simulate_units_chunk(
             out
         })
         .collect();
-    let mut rows = Vec::with_capacity(done.iter().map(|d| d.0.len()).sum());
-    let mut attractors = Vec::new();
-    for (r, a) in done {
-        rows.extend(r);
-        attractors.extend(a);
-    }
-    rows.sort_by_key(|r| r.point_id);
-    // Stable: each run's attractors stay in their census order.
-    attractors.sort_by_key(|a| a.run.point_id);
-    ChunkRows {
-        rows,
-        attractors: Some(attractors),
-    }
+    gathered(done)
 }
 
 /// The frequency-response curve of a study of several units at design `design` and case
