@@ -278,6 +278,16 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
     let bif = common::run_study_file(&bif_study, &tmp.path().join("out"), "bif");
     bin().arg("reduce").arg(&bif).assert().success();
     let random = run_random(tmp.path(), "random");
+    // Issue 68: the attractors of a study of several units carry their whole section state.
+    let units_study = tmp.path().join("units.toml");
+    std::fs::write(
+        &units_study,
+        "[study]\nname = \"units\"\n[system]\nv0 = 0.0\nunits = 2\nd_spread = 0.2\n\
+         [scene]\nkind = \"harmonic\"\nF0 = 0.3\nr = 1.0\nstarts = 2\nn_trans_max = 200\n\
+         life_max_periods = 2000\n",
+    )
+    .unwrap();
+    let units = common::run_study_file(&units_study, &tmp.path().join("out"), "units");
     // Issue 67: a record suite's capacities name the record.
     let suite = common::run_study_file(
         Path::new("configs/seismic-records.toml"),
@@ -317,7 +327,10 @@ fn issue_9_docs_schema_md_matches_every_written_table() {
         // Issue 23: the sweep's attractors parts, the branches, an analysis shard's probes.
         (
             TableKind::Attractors,
-            vec![forced.join("attractors/part-000000.parquet")],
+            vec![
+                forced.join("attractors/part-000000.parquet"),
+                units.join("attractors/part-000000.parquet"),
+            ],
         ),
         (TableKind::Branches, vec![forced.join("branches.parquet")]),
         (

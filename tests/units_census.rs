@@ -5,6 +5,8 @@
 //! * Through the command line, a two-unit study's attractor rows equal the library's
 //!   `census_units` from each run's end state (`simulate_harmonic_ends`), then the race for the
 //!   design lives along each case's curve (`race_units`), to `1e-12`.
+//!   Each row's whole section state is stored (`section_units`), a periodic orbit's its fixed
+//!   point.
 //! * The same rows and records, bit for bit, on 1 and 2 threads and with another chunk size.
 //! * A one-unit study stores the same bytes whether or not it says `units = 1`.
 //! * `impactsweep simulate` of several units takes the same census: its JSON equals the record
@@ -12,11 +14,12 @@
 
 use std::path::{Path, PathBuf};
 
-use impactsweep::orbits::attractors::{AttractorRow, RunId, RunWindow};
+use impactsweep::orbits::attractors::{AttractorRow, RunId, RunWindow, SteadyKind};
 use impactsweep::orbits::map::Forcing;
 use impactsweep::orbits::race::{Serves, race_units};
 use impactsweep::orbits::several::end_section;
-use impactsweep::orbits::units::{UnitsCensusSettings, census_units};
+use impactsweep::orbits::units::map::distance;
+use impactsweep::orbits::units::{UnitsCensusSettings, census_units, eval};
 use impactsweep::plan::Plan;
 use impactsweep::sim::harmonic::simulate_harmonic_ends;
 use impactsweep::sim::{HarmonicRecord, NoProbe, Scene};
@@ -179,6 +182,20 @@ fn a_two_unit_study_stores_the_census_of_each_runs_end_state() {
             for k in 0..4 {
                 close(g.section[k], w.section[k], "section");
             }
+            // The whole state (`section_units`): stored as the library made it, and a periodic
+            // orbit's is its fixed point, so `reduce` can run the motion again from it.
+            assert_eq!(g.section_units.len(), 6, "2 + 2N components");
+            for (a, b) in g.section_units.iter().zip(&w.section_units) {
+                close(*a, *b, "section_units");
+            }
+            if g.kind == SteadyKind::Periodic {
+                let back = eval(f, &g.section_units, u64::from(g.period)).end;
+                let off = distance(f, &back, &g.section_units);
+                assert!(
+                    off <= 1e-9,
+                    "a stored orbit is {off:e} m off its fixed point"
+                );
+            }
         }
         // The record's summary is that of the rows: the worst, never below the run's own.
         let worst = want.iter().map(|a| a.amplitude).fold(f64::NAN, f64::max);
@@ -330,4 +347,64 @@ fn simulate_takes_the_census_of_several_units_as_the_sweep_does() {
             "{k}: simulate {g:e}, the sweep {v:e}"
         );
     }
+}
+
+/// `reduce` verifies the decision of a study of several units (issue 68): the deciding designs'
+/// motions that are not periodic are run again from their stored whole state (`section_units`)
+/// by the map of several units, over `verify_periods` periods. Two designs of two chaotic units
+/// (those of `results/units_life_validation.md`, U2, at two total masses): the verification
+/// table has direct measurements on the whole `verify_periods`, and each direct value lies
+/// where the race's estimate of the same motion says (its 90 % interval widened by 10 %: the
+/// restart measured the motion the race did, not another).
+#[test]
+fn reduce_verifies_a_study_of_several_units_from_their_stored_states() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = "[study]\nname = \"verify\"\nseed = 1\n\
+         [system]\nM = 0.1\nK = 400.0\nC = 0.1\nd = 0.01\ne = 0.8\n\
+         x0 = 0.0\nv0 = 0.0\ny0 = 0.0\nw0 = 0.0\nunits = 2\nd_spread = 0.5\n\
+         [scene]\nkind = \"harmonic\"\nF0 = 0.1\nstarts = 4\nn_meas = 400\nlife_max_periods = 4000\n\
+         [sweep]\nm = [0.01, 0.011]\nr = [1.0]\n\
+         [ranking]\nverify_periods = 20000\n";
+    let path = write(tmp.path(), "verify", text);
+    run(&path, tmp.path(), &[]);
+    let dir = tmp.path().join("verify");
+    assert!(attractors(&dir).iter().all(|a| a.section_units.len() == 6));
+    assert_cmd::Command::cargo_bin("impactsweep")
+        .unwrap()
+        .arg("reduce")
+        .arg(&dir)
+        .assert()
+        .success();
+    let table = std::fs::read_to_string(dir.join("verification.csv"))
+        .unwrap_or_else(|e| panic!("no verification.csv: {e}"));
+    let mut lines = table.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |name: &str| {
+        head.iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no column {name} in {head:?}"))
+    };
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let num = |r: &Vec<&str>, k: &str| -> f64 { r[at(k)].parse().unwrap_or(f64::NAN) };
+    let measured: Vec<&Vec<&str>> = rows
+        .iter()
+        .filter(|r| num(r, "direct_periods") >= 20000.0)
+        .collect();
+    assert!(
+        !measured.is_empty(),
+        "no motion measured directly over 20,000 periods:\n{table}"
+    );
+    for r in measured {
+        let (direct, lo, hi) = (
+            num(r, "direct"),
+            num(r, "estimate_lo"),
+            num(r, "estimate_hi"),
+        );
+        assert!(
+            direct >= 0.9 * lo && direct <= 1.1 * hi,
+            "direct {direct:e} m outside the race's interval [{lo:e}, {hi:e}]: {r:?}"
+        );
+    }
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(report.contains("**The decision verified.**"), "{report}");
 }

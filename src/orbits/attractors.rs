@@ -115,8 +115,14 @@ pub struct AttractorRow {
     /// Declustered exceedances of the tail's threshold, and the periods measured.
     pub exceedances: u64,
     pub measured_periods: u64,
-    /// A section state on the attractor (see [`super::census::Attractor::section`]).
+    /// A section state on the attractor (see [`super::census::Attractor::section`]); with
+    /// several units, the structure and the first unit.
     pub section: Section,
+    /// With several units, the whole section state the motion can be run again from,
+    /// `(x, x', z_1, y_1', ..., z_N, y_N')` (m and m/s; `z_i = y_i - x`, unit `i`'s position in
+    /// its cavity, and `y_i'` its velocity);
+    /// empty for one unit, whose `section` is whole (the `section_units` column).
+    pub section_units: Vec<f64>,
 }
 
 /// The kind of a motion that is not periodic, from its probe's largest Lyapunov exponent
@@ -199,6 +205,7 @@ impl AttractorRow {
                         None => 0,
                     },
                     section: a.section,
+                    section_units: Vec::new(),
                 }
             })
             .collect()
@@ -260,7 +267,7 @@ impl AttractorRow {
                 let o = &a.orbit;
                 let mu = o.multiplier_max();
                 let lyapunov = mu.ln() / f64::from(o.period.max(1));
-                let row = units_row(run, SteadyKind::Periodic, o.amplitude, section_of(&o.s));
+                let row = units_row(run, SteadyKind::Periodic, o.amplitude, &o.s);
                 AttractorRow {
                     stability: "stable",
                     period: o.period,
@@ -298,11 +305,17 @@ impl AttractorRow {
         if units.unsettled > 0 || floor {
             let amp = if floor { own.amplitude } else { wander };
             let measured = own.n_meas.max(super::tolerances::CENSUS_WINDOW);
+            // A state on the motion: where the first start that did not settle ended (the race's
+            // first chain), or the run's own end when the row is the floor.
+            let on = match units.unsettled_states.first() {
+                Some(s) if !floor => s.as_slice(),
+                _ => s0,
+            };
             let row = AttractorRow {
                 basin_share: f64::from(units.unsettled) / n,
                 starts: units.unsettled,
                 measured_periods: measured,
-                ..units_row(run, SteadyKind::NotSettled, amp, section_of(s0))
+                ..units_row(run, SteadyKind::NotSettled, amp, on)
             };
             rows.push(match (units.life, floor) {
                 (Some(l), false) => AttractorRow {
@@ -345,8 +358,9 @@ fn section_of(s: &[f64]) -> Section {
 }
 
 /// A row of the census of several units with `kind`, design and window amplitude `amplitude`
-/// (m) and `section`, every other column that of a motion that is not periodic.
-fn units_row(run: RunId, kind: SteadyKind, amplitude: f64, section: Section) -> AttractorRow {
+/// (m) and the whole section state `s`, every other column that of a motion that is not
+/// periodic.
+fn units_row(run: RunId, kind: SteadyKind, amplitude: f64, s: &[f64]) -> AttractorRow {
     AttractorRow {
         run,
         attractor: 0,
@@ -371,7 +385,8 @@ fn units_row(run: RunId, kind: SteadyKind, amplitude: f64, section: Section) -> 
         tail_end: f64::NAN,
         exceedances: 0,
         measured_periods: 0,
-        section,
+        section: section_of(s),
+        section_units: s.to_vec(),
     }
 }
 
@@ -390,6 +405,11 @@ fn neutral_row(run: RunId, f: &Forcing, starts: u32, n: f64) -> AttractorRow {
     let sys = &f.sys;
     let (p, q) = crate::sim::harmonic::motion::particular(sys.M, sys.K, sys.C, f.F0, f.omega);
     let amp = p.hypot(q);
+    // Every unit at rest relative to the ground: `z_i = -x`, `z_i' = 0`.
+    let mut at_rest = vec![p, f.omega * q];
+    for _ in 0..super::units::map::unit_count(f) {
+        at_rest.extend([-p, 0.0]);
+    }
     AttractorRow {
         stability: "neutral",
         period: 1,
@@ -404,7 +424,7 @@ fn neutral_row(run: RunId, f: &Forcing, starts: u32, n: f64) -> AttractorRow {
         life_lo: amp,
         life_hi: amp,
         measured_periods: 1,
-        ..units_row(run, SteadyKind::Neutral, amp, [p, f.omega * q, -p, 0.0])
+        ..units_row(run, SteadyKind::Neutral, amp, &at_rest)
     }
 }
 

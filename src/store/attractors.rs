@@ -12,9 +12,11 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::{Context, Result, anyhow};
+use arrow_array::builder::{Float64Builder, ListBuilder};
 use arrow_array::cast::AsArray;
 use arrow_array::{
-    Array, ArrayRef, BooleanArray, Float64Array, RecordBatch, StringArray, UInt32Array, UInt64Array,
+    Array, ArrayRef, BooleanArray, Float64Array, ListArray, RecordBatch, StringArray, UInt32Array,
+    UInt64Array,
 };
 use arrow_schema::{DataType, Schema, SchemaRef};
 
@@ -55,8 +57,19 @@ pub const F64_COLUMNS: [F64Col; 17] = [
     ("section_w", |a| a.section[3]),
 ];
 
-/// The Arrow schema of an attractors part.
-pub fn schema() -> SchemaRef {
+/// The `section_units` column's type: a list of `Float64` (a study of several units only;
+/// arrow's default item field, which a list builder writes).
+fn units_list() -> DataType {
+    DataType::List(Arc::new(arrow_schema::Field::new_list_field(
+        DataType::Float64,
+        true,
+    )))
+}
+
+/// The Arrow schema of an attractors part; a study of several units (`units`) adds
+/// `section_units`, every component of the section state (one unit's parts keep today's
+/// columns, byte for byte).
+pub fn schema(units: bool) -> SchemaRef {
     let t = TableKind::Attractors;
     let mut cols: Vec<(&str, DataType)> = vec![
         ("point_id", DataType::UInt64),
@@ -77,6 +90,9 @@ pub fn schema() -> SchemaRef {
         ("measured_periods", DataType::UInt64),
     ];
     cols.extend(F64_COLUMNS.iter().map(|(n, _)| (*n, DataType::Float64)));
+    if units {
+        cols.push(("section_units", units_list()));
+    }
     let fields: Vec<_> = cols
         .into_iter()
         .map(|(name, dt)| {
@@ -86,8 +102,8 @@ pub fn schema() -> SchemaRef {
     Arc::new(Schema::new(fields))
 }
 
-/// The rows as one record batch ([`schema`]).
-pub fn to_batch(rows: &[AttractorRow]) -> Result<RecordBatch> {
+/// The rows as one record batch ([`schema`]; `units`: a study of several units).
+pub fn to_batch(rows: &[AttractorRow], units: bool) -> Result<RecordBatch> {
     let u64s = |f: fn(&AttractorRow) -> u64| -> ArrayRef {
         Arc::new(UInt64Array::from_iter_values(rows.iter().map(f)))
     };
@@ -125,14 +141,23 @@ pub fn to_batch(rows: &[AttractorRow]) -> Result<RecordBatch> {
     for (_, f) in F64_COLUMNS {
         cols.push(Arc::new(Float64Array::from_iter_values(rows.iter().map(f))));
     }
-    Ok(RecordBatch::try_new(schema(), cols)?)
+    if units {
+        let mut list = ListBuilder::new(Float64Builder::new());
+        for a in rows {
+            list.values().append_slice(&a.section_units);
+            list.append(true);
+        }
+        cols.push(Arc::new(list.finish()));
+    }
+    Ok(RecordBatch::try_new(schema(units), cols)?)
 }
 
-/// Encodes rows as one attractors part (one row group, the study text in the metadata).
-pub fn encode_part(rows: &[AttractorRow], study_toml: &str) -> Result<Vec<u8>> {
+/// Encodes rows as one attractors part (one row group, the study text in the metadata);
+/// `units`: a study of several units ([`schema`]).
+pub fn encode_part(rows: &[AttractorRow], study_toml: &str, units: bool) -> Result<Vec<u8>> {
     super::encode(
         TableKind::Attractors,
-        &to_batch(rows)?,
+        &to_batch(rows, units)?,
         &super::WriteOptions {
             dictionary: &["kind", "stability", "origin"],
             extra: vec![(META_STUDY.to_string(), study_toml.to_string())],
@@ -206,6 +231,22 @@ fn read_batch(batch: &RecordBatch, out: &mut Vec<AttractorRow>) -> Result<()> {
         .iter()
         .map(|(n, _)| col::<Float64Array>(batch, n))
         .collect::<Result<_>>()?;
+    // Present in the parts of a study of several units only.
+    let units = match batch.column_by_name("section_units") {
+        Some(_) => Some(col::<ListArray>(batch, "section_units")?),
+        None => None,
+    };
+    let units_at = |i: usize| -> Result<Vec<f64>> {
+        let Some(list) = units else {
+            return Ok(Vec::new());
+        };
+        let v = list.value(i);
+        let v = v
+            .as_any()
+            .downcast_ref::<Float64Array>()
+            .ok_or_else(|| anyhow!("column `section_units` does not hold Float64 lists"))?;
+        Ok(v.values().to_vec())
+    };
     for i in 0..batch.num_rows() {
         let v = |j: usize| f[j].value(i);
         out.push(AttractorRow {
@@ -242,6 +283,7 @@ fn read_batch(batch: &RecordBatch, out: &mut Vec<AttractorRow>) -> Result<()> {
             tail_shape: v(11),
             tail_end: v(12),
             section: [v(13), v(14), v(15), v(16)],
+            section_units: units_at(i)?,
         });
     }
     Ok(())

@@ -246,7 +246,7 @@ pub fn write_part<R: StoredRecord>(
                 std::fs::create_dir_all(parent)
                     .with_context(|| format!("creating {}", parent.display()))?;
             }
-            let bytes = super::attractors::encode_part(a, study_toml)?;
+            let bytes = super::attractors::encode_part(a, study_toml, units)?;
             let entry = AttractorsEntry {
                 rows: a.len() as u64,
                 checksum: checksum.hex(&bytes),

@@ -350,6 +350,7 @@ fn orbits_unit(column: &str) -> Option<&'static str> {
         "amplitude" | "window_amplitude" | "life_amplitude" | "life_lo" | "life_hi"
         | "tail_end" | "section_x" | "section_z" => "m",
         "section_v" | "section_w" => "m/s",
+        "section_units" => "m, m/s",
         _ => return None,
     })
 }

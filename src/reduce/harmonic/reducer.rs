@@ -164,14 +164,12 @@ impl<'a> HarmonicReducer<'a> {
     }
 
     /// Whether this reduction verifies the deciding designs ([`verify`]): peaks of the worst
-    /// steady state with stored attractors, design-life amplitudes, `[ranking] verify_periods`
-    /// above 0, and one unit (a motion of several units is not restarted from the stored
-    /// attractors, whose section holds the structure and the first unit alone). (A shard of the
-    /// analysis measures its share of the cases.)
+    /// steady state with stored attractors, design-life amplitudes and `[ranking]
+    /// verify_periods` above 0 (a motion of several units restarts from its stored
+    /// `section_units`). (A shard of the analysis measures its share of the cases.)
     fn verifies(&self) -> bool {
         self.study.ranking.verify_periods > 0
             && self.stored
-            && !self.study.several_units()
             && self.peak == DesignPeak::Worst
             && self
                 .study
