@@ -131,11 +131,12 @@ pub struct AttractorRow {
 /// `|lambda| <= 3 se` and `|lambda|` below [`super::census::CHAOS_FLOOR`] (zero, and measured
 /// to be: a motion on a torus; the section's closed curve is not tested); otherwise
 /// `not settled` (a transient still dying out, or an exponent too uncertain to tell).
-fn steady_kind(w: &super::census::Wandering) -> SteadyKind {
-    match w.probe {
-        Some(p) if p.chaotic() && w.exhausted => SteadyKind::Chaotic,
+/// One unit's motion and the pooled motion of several units alike.
+fn steady_kind(probe: Option<super::census::ProbeResult>, exhausted: bool) -> SteadyKind {
+    match probe {
+        Some(p) if p.chaotic() && exhausted => SteadyKind::Chaotic,
         Some(p)
-            if w.exhausted
+            if exhausted
                 && p.lambda.abs() <= 3.0 * p.se
                 && p.lambda.abs() < super::census::CHAOS_FLOOR =>
         {
@@ -158,7 +159,7 @@ impl AttractorRow {
                         (SteadyKind::Neutral, "neutral", o.multiplier_max())
                     }
                     Kind::Periodic(o) => (SteadyKind::Periodic, "stable", o.multiplier_max()),
-                    Kind::NonPeriodic(w) => (steady_kind(w), "", f64::NAN),
+                    Kind::NonPeriodic(w) => (steady_kind(w.probe, w.exhausted), "", f64::NAN),
                 };
                 // A periodic orbit's exponent is exact: ln|mu_max| / p per forcing period.
                 let (lyapunov, se) = match &a.kind {
@@ -239,13 +240,15 @@ impl AttractorRow {
     /// * `neutral`, when starts reached the non-impacting family: the structure's forced
     ///   response alone, amplitude `F0 / |K - M omega^2 + i C omega|`, `|mu|_max = 1` (each unit
     ///   drifts freely);
-    /// * one `not settled` row when starts did not settle: as its window amplitude the largest
+    /// * one row when starts did not settle, its kind from the exponent of their motion
+    ///   ([`super::units::lyapunov`], `lyapunov*`; chaotic, quasi-periodic or `not settled` as
+    ///   one unit's, [`steady_kind`]): as its window amplitude the largest
     ///   `|x|` over the last 200 periods of each of them and, when start 0 is one, over the run's
     ///   own window, so over `max(200, n_meas)` periods at least (a lower bound of what the
     ///   motion reaches); as its amplitude the design-life estimate of the race
     ///   ([`super::race::race_units`]: those starts as one motion, its 90 % interval and tail in
     ///   the `life_*` and `tail_*` columns, `measured_periods` its periods), never below the
-    ///   window amplitude, or without the race the window amplitude; no Lyapunov exponent.
+    ///   window amplitude, or without the race the window amplitude.
     ///
     /// **The floor.** The run's attractor is reached by start 0, so the worst row is never below
     /// the run's own measured amplitude: where it would be by more than [`FLOOR_ROUNDING`]
@@ -317,6 +320,17 @@ impl AttractorRow {
                 measured_periods: measured,
                 ..units_row(run, SteadyKind::NotSettled, amp, on)
             };
+            // Its exponent, and its kind from it, when the row is that motion's.
+            let row = match units.probe.filter(|_| units.unsettled > 0 && !floor) {
+                Some(p) => AttractorRow {
+                    kind: steady_kind(Some(p), true),
+                    lyapunov: p.lambda,
+                    lyapunov_per_s: p.lambda / t_f,
+                    lyapunov_se: p.se,
+                    ..row
+                },
+                None => row,
+            };
             rows.push(match (units.life, floor) {
                 (Some(l), false) => AttractorRow {
                     window_amplitude: window,
@@ -337,7 +351,7 @@ impl AttractorRow {
         let rest = match units.rest {
             RestLanding::Orbit(i) => Some(i),
             RestLanding::NonImpacting => rows.iter().position(|r| r.kind == SteadyKind::Neutral),
-            RestLanding::Unsettled => rows.iter().position(|r| r.kind == SteadyKind::NotSettled),
+            RestLanding::Unsettled => rows.iter().position(|r| !r.kind.periodic()),
         };
         if let Some(i) = rest.filter(|&i| i < rows.len()) {
             let r = rows.remove(i);

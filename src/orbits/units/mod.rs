@@ -2,12 +2,14 @@
 //! the `2 + 2N`-dimensional section `(x, x', z_1, y_1', ..., z_N, y_N')` ([`map`]), its exact
 //! Jacobian where the impacts come one unit at a time ([`exact`]; central differences of the map
 //! elsewhere, [`map::jacobian`]), Newton shooting with Floquet multipliers ([`shoot`]) and the
-//! census of periodic steady states at one frequency point ([`census`]). One unit's orbits are
+//! census of periodic steady states at one frequency point ([`census`]), the largest Lyapunov
+//! exponent of a motion that is not periodic from two trajectories ([`lyapunov`]). One unit's orbits are
 //! [`crate::orbits::map`], [`crate::orbits::shoot`] and [`crate::orbits::census`]; with `N = 1`
 //! this module's map is theirs bit for bit.
 
 pub mod census;
 pub mod exact;
+pub mod lyapunov;
 pub mod map;
 pub mod shoot;
 

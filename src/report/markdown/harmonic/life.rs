@@ -89,7 +89,7 @@ pub fn section(s: &Summary, fs: &HarmonicSummary, shown: &[&PointStats]) -> Stri
 }
 
 /// A motion's largest Lyapunov exponent with its standard error, per period and per second;
-/// "not measured" without one (several units).
+/// "not measured" without one (the simulator stopped its probe).
 fn exponent(a: &AttractorRow) -> String {
     if a.lyapunov.is_nan() {
         return "not measured".to_string();
