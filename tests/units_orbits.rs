@@ -26,6 +26,19 @@ fn two_units() -> Forcing {
     f
 }
 
+/// The census of [`two_units`] from rest: 4 starts of 1,000 periods at seed 68.
+fn census_of_two(f: &Forcing) -> units::UnitsCensus {
+    units::census_from_rest(
+        f,
+        &UnitsCensusSettings {
+            starts: 4,
+            max_periods: 1000,
+            seed: 68,
+            ..UnitsCensusSettings::default()
+        },
+    )
+}
+
 /// The oracle's shooting from `s0`: its fixed point, iterations and multipliers.
 fn oracle_shoot(f: &Forcing, s0: &[f64]) -> (Vec<f64>, u64, f64, Vec<(f64, f64)>) {
     use serde_json::json;
@@ -111,15 +124,7 @@ fn multipliers_apart(a: &[(f64, f64)], b: &[(f64, f64)]) -> f64 {
 fn the_census_of_two_units_finds_the_reference_orbit() {
     let f = two_units();
     let t0 = std::time::Instant::now();
-    let c = units::census_from_rest(
-        &f,
-        &UnitsCensusSettings {
-            starts: 4,
-            max_periods: 1000,
-            seed: 68,
-            ..UnitsCensusSettings::default()
-        },
-    );
+    let c = census_of_two(&f);
     let census_time = t0.elapsed();
     for a in &c.attractors {
         eprintln!(
@@ -288,15 +293,7 @@ fn units_in_step_part_at_any_relative_offset() {
 #[test]
 fn two_trajectories_give_a_periodic_orbits_exponent() {
     let f = two_units();
-    let c = units::census_from_rest(
-        &f,
-        &UnitsCensusSettings {
-            starts: 4,
-            max_periods: 1000,
-            seed: 68,
-            ..UnitsCensusSettings::default()
-        },
-    );
+    let c = census_of_two(&f);
     let o = &c
         .attractors
         .iter()
