@@ -368,3 +368,197 @@ fn two_trajectories_agree_with_one_units_tangent_map_on_a_chaotic_motion() {
         p.se
     );
 }
+
+/// The continuation of several units over `r` in `range` with steps of one unit's showcase.
+fn units_cont(range: (f64, f64)) -> units::continuation::UnitsContSettings {
+    units::continuation::UnitsContSettings {
+        range,
+        h0: 0.01,
+        h_min: 1e-6,
+        h_max: 0.05,
+        max_points: 400,
+    }
+}
+
+/// Two identical units of 10 g in step follow the branch of one unit of 20 g: every point of the
+/// continuation of several units is, read as one unit's section `(x, x', z, y')`, a fixed point
+/// of one unit's exact map at its `r` to `1e-9 L`, with its amplitude to `1e-9` relative; and
+/// each fold, period doubling or Neimark–Sacker one unit's continuation locates inside the
+/// units' branch lies between two consecutive points of it, the second with the same label.
+#[test]
+fn identical_units_in_step_follow_one_units_branch() {
+    use impactsweep::orbits::continuation::{ContSettings, End, Param, follow};
+    use impactsweep::orbits::label::Label;
+    let one = common::table_i(0.02, 0.01, 0.7, 1.0, 0.5, 1.1);
+    let mut two = one.clone();
+    two.sys.units = 2.0;
+    two.sys.validate().unwrap();
+    let c = census_of_two(&two);
+    let o = &c
+        .attractors
+        .iter()
+        .find(|a| a.orbit.groups.len() == 1)
+        .expect("an orbit of the units in step")
+        .orbit;
+    let range = (0.8, 1.4);
+    let b = units::continuation::follow_units(&two, o, &units_cont(range));
+    eprintln!(
+        "units in step: {} points over r = {:.4} … {:.4}, ends {:?}, {} periods, labels {:?}",
+        b.points.len(),
+        b.points.iter().map(|p| p.r).fold(f64::INFINITY, f64::min),
+        b.points
+            .iter()
+            .map(|p| p.r)
+            .fold(f64::NEG_INFINITY, f64::max),
+        b.ends,
+        b.periods,
+        b.points
+            .iter()
+            .filter(|p| p.label != Label::None)
+            .map(|p| (p.label, p.r))
+            .collect::<Vec<_>>()
+    );
+    assert!(b.points.len() > 10);
+    // Each end named: here the range above, and below a new contact that grazes near
+    // r = 1.0722 (one unit's continuation passes it with steps of 1e-5, along the orbit that
+    // keeps its two impacts; this one stops there).
+    for end in [b.ends.0, b.ends.1] {
+        assert!(
+            matches!(end, End::Range | End::GrazingEnd),
+            "a branch of units in step ended {end:?}"
+        );
+    }
+    let l = one.half_gap();
+    for p in &b.points {
+        let f = one.at_ratio(p.r);
+        let s: [f64; 4] = std::array::from_fn(|k| p.orbit.s[k]);
+        let e = impactsweep::orbits::map::eval(&f, &s, u64::from(p.orbit.period), false);
+        let off = shoot::distance(&f, &e.end, &s);
+        assert!(
+            off <= 1e-9 * l,
+            "r = {}: {off:e} m off one unit's orbit",
+            p.r
+        );
+        assert!((e.amplitude - p.orbit.amplitude).abs() <= 1e-9 * e.amplitude);
+    }
+    // One unit's branch from the same orbit, its folds located.
+    let s0: [f64; 4] = std::array::from_fn(|k| o.s[k]);
+    let (_, state) = shoot::solve(&one, u64::from(o.period), &s0, &Newton::default());
+    let orbit = shoot::orbit_at(
+        &one,
+        u64::from(o.period),
+        &state.unwrap(),
+        &Newton::default(),
+    )
+    .unwrap();
+    let cont = ContSettings {
+        range,
+        h0: 0.01,
+        h_min: 1e-6,
+        h_max: 0.05,
+        max_points: 400,
+        switch_pd: false,
+    };
+    let mine = &follow(&one, &orbit, Param::Ratio, &cont)[0];
+    let (lo, hi) = b
+        .points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, z), p| {
+            (a.min(p.r), z.max(p.r))
+        });
+    let located: Vec<(Label, f64)> = mine
+        .points
+        .iter()
+        .filter(|p| p.located && matches!(p.label, Label::SN | Label::PD | Label::NS))
+        .map(|p| (p.label, p.r))
+        .collect();
+    eprintln!(
+        "one unit: located {located:?}, ends {:?}, r = {:.4} … {:.4}",
+        mine.ends,
+        mine.points
+            .iter()
+            .map(|p| p.r)
+            .fold(f64::INFINITY, f64::min),
+        mine.points
+            .iter()
+            .map(|p| p.r)
+            .fold(f64::NEG_INFINITY, f64::max),
+    );
+    let inside: Vec<&(Label, f64)> = located.iter().filter(|(_, r)| lo < *r && *r < hi).collect();
+    assert!(
+        !inside.is_empty(),
+        "no bifurcation of one unit's branch to compare"
+    );
+    for (label, r) in inside {
+        let bracketed = b
+            .points
+            .windows(2)
+            .any(|w| w[1].label == *label && w[0].r.min(w[1].r) <= *r && *r <= w[0].r.max(w[1].r));
+        assert!(
+            bracketed,
+            "one unit's {label:?} at r = {r} is not bracketed by the units' {label:?}"
+        );
+    }
+}
+
+/// The continuation of two different units (clearances 8 and 12 mm) from the census's period-1
+/// orbit: every point a fixed point of the map of several units to `1e-9 L`, and at the middle
+/// point the independent reference's own shooting converges to the same fixed point to `1e-9`
+/// of the orbit's scale, with the same multipliers to `1e-5`.
+#[test]
+fn the_branch_of_two_units_holds_the_reference_orbits() {
+    let f = two_units();
+    let c = census_of_two(&f);
+    let o = &c
+        .attractors
+        .iter()
+        .find(|a| a.orbit.period == 1 && a.orbit.impacts == 4)
+        .expect("the period-1 orbit")
+        .orbit;
+    let b = units::continuation::follow_units(&f, o, &units_cont((0.9, 1.3)));
+    eprintln!(
+        "two units: {} points over r = {:.4} … {:.4}, ends {:?}, {} periods",
+        b.points.len(),
+        b.points.iter().map(|p| p.r).fold(f64::INFINITY, f64::min),
+        b.points
+            .iter()
+            .map(|p| p.r)
+            .fold(f64::NEG_INFINITY, f64::max),
+        b.ends,
+        b.periods
+    );
+    assert!(b.points.len() > 5);
+    let l = f.half_gap();
+    for p in &b.points {
+        let g = f.at_ratio(p.r);
+        let e = units::eval(&g, &p.orbit.s, u64::from(p.orbit.period));
+        let off = umap::distance(&g, &e.end, &p.orbit.s);
+        assert!(
+            off <= 1e-9 * l,
+            "r = {}: {off:e} m off its fixed point",
+            p.r
+        );
+    }
+    let mid = &b.points[b.points.len() / 4];
+    let g = f.at_ratio(mid.r);
+    let scale = umap::scale(&g, &mid.orbit.s);
+    let s0: Vec<f64> = mid
+        .orbit
+        .s
+        .iter()
+        .enumerate()
+        .map(|(k, q)| q + 1e-4 * scale * if k % 2 == 1 { g.sys.omega() } else { 1.0 })
+        .collect();
+    let (s_ref, _, _, mult_ref) = oracle_shoot(&g, &s0);
+    let diff = worst(&g, &mid.orbit.s, &s_ref);
+    let mult_diff = multipliers_apart(&mid.orbit.multipliers, &mult_ref);
+    eprintln!(
+        "at r = {}: {diff:e} m from the reference, multipliers {mult_diff:e}",
+        mid.r
+    );
+    assert!(
+        diff <= 1e-9 * scale,
+        "{diff:e} m from the reference's fixed point"
+    );
+    assert!(mult_diff < 1e-5, "multipliers {mult_diff:e} apart");
+}

@@ -3,11 +3,13 @@
 //! Jacobian where the impacts come one unit at a time ([`exact`]; central differences of the map
 //! elsewhere, [`map::jacobian`]), Newton shooting with Floquet multipliers ([`shoot`]) and the
 //! census of periodic steady states at one frequency point ([`census`]), the largest Lyapunov
-//! exponent of a motion that is not periodic from two trajectories ([`lyapunov`]). One unit's orbits are
+//! exponent of a motion that is not periodic from two trajectories ([`lyapunov`]), and a
+//! periodic orbit followed along `r` with its bifurcations labelled ([`continuation`]). One unit's orbits are
 //! [`crate::orbits::map`], [`crate::orbits::shoot`] and [`crate::orbits::census`]; with `N = 1`
 //! this module's map is theirs bit for bit.
 
 pub mod census;
+pub mod continuation;
 pub mod exact;
 pub mod lyapunov;
 pub mod map;

@@ -1,0 +1,427 @@
+//! Continuation of a periodic orbit of several units along the frequency ratio `r`
+//! (docs/model.md §14): pseudo-arclength predictor–corrector on
+//! `F(q, r) = P^p(q; r) - q = 0` in the reduced section ([`super::shoot`]: the units in step at
+//! the start stay in step), with the bifurcations between points labelled.
+//!
+//! # Predictor–corrector
+//! Unknowns `u = (q, r)`, `q` the reduced state in scaled coordinates (`x / L`, `x' / (wn L)`,
+//! the same for each group; `L = d/2`). The extended Jacobian is `[J - I | dF/dr]`, `J` the
+//! reduced monodromy matrix ([`super::shoot::monodromy`]: exact where impacts come one unit at a
+//! time, central differences of the exact map elsewhere) and `dF/dr` by central differences in
+//! `r` (step `1e-7 r`). The tangent `t` spans its null space (the bordered system with the
+//! previous tangent), oriented like the previous one. The predictor is `u + h t`; the corrector
+//! is Newton on `(F(u), t . (u - u_pred)) = 0`, which crosses folds where `r` turns back, to a
+//! residual of `1e-10 L` (the shooting's tolerance) within [`MAX_CORRECTIONS`] iterations. A
+//! step that converges within 3 iterations grows `h` by 1.5 (up to `h_max`); a failed one halves
+//! it. Below `h_min` the orbit is shot directly a little further along `r` (`1e-4 r`, then
+//! `1e-3 r`: past a point where the map is not smooth but the orbit goes on, as where an event
+//! of the period map changes order) and the walk goes on from there with `h0`; when that fails
+//! too, the branch ends (`step_too_small`, or `grazing_end` below).
+//!
+//! # Labels
+//! Between two consecutive points, on the point past the change (not located between them: the
+//! bracket is the two points' `r`):
+//! * `SN`, a fold: the tangent's `r` component changes sign;
+//! * `PD`: the count of real multipliers below `-1` changes;
+//! * `NS`: the count of complex multipliers outside the unit circle changes;
+//! * `BP`: the sign of `det(J - I)` (the product of `mu - 1` over the multipliers) changes
+//!   without a fold;
+//! * `GR`: the impacts per orbit change (an impact grazes); the branch ends there
+//!   (`grazing_end`): the map is not smooth across it. Where the steps fail down to `h_min`
+//!   and the impacts change just past the last point, the branch ends `grazing_end` too
+//!   (one unit's continuation goes on along the changed impact sequence; this one does not).
+//!
+//! The multipliers are those the census reports ([`super::shoot::orbit_at`]: the relative modes
+//! of units in step and the free modes of a group at rest are set apart). Every branch ends with
+//! a named reason ([`End`]): `range`, `no_impacts`, `step_too_small`, `max_points`, `simulator`,
+//! `grazing_end`. Each step is a bounded number of map evaluations. Pure.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::map::{UnitsEval, distance, eval, expand, groups, reduce};
+use super::shoot::{UnitsNewton, UnitsOrbit, monodromy, orbit_at};
+use crate::orbits::continuation::End;
+use crate::orbits::label::Label;
+use crate::orbits::map::Forcing;
+use crate::orbits::shoot::Newton;
+use crate::sim::Outcome;
+
+/// Corrector iterations per step.
+pub const MAX_CORRECTIONS: u32 = 6;
+
+/// The settings of a continuation of several units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UnitsContSettings {
+    /// The interval of `r` followed.
+    pub range: (f64, f64),
+    /// First, smallest and largest step in the scaled arclength.
+    pub h0: f64,
+    pub h_min: f64,
+    pub h_max: f64,
+    /// Most points each way.
+    pub max_points: usize,
+}
+
+/// One point of a branch: the orbit at `r` and its label.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UnitsBranchPoint {
+    pub r: f64,
+    pub orbit: UnitsOrbit,
+    pub label: Label,
+}
+
+/// A branch in the order of the curve (`r` may turn back at folds), its ends (the low side's
+/// first) and the forcing periods it simulated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UnitsBranch {
+    pub points: Vec<UnitsBranchPoint>,
+    pub ends: (End, End),
+    pub periods: u64,
+}
+
+/// The curve walked: the forcing at the start, the period, the groups and the scales.
+struct Walk<'a> {
+    base: &'a Forcing,
+    p: u64,
+    groups: Vec<Vec<usize>>,
+    n: usize,
+    l: f64,
+    wn: f64,
+    periods: u64,
+}
+
+/// A converged point with its tangent and the corrector's iterations.
+struct Solved {
+    u: DVector<f64>,
+    ext: DMatrix<f64>,
+    orbit: UnitsOrbit,
+    iterations: u32,
+}
+
+impl Walk<'_> {
+    fn scale_of(&self, k: usize) -> f64 {
+        if k % 2 == 1 { self.wn * self.l } else { self.l }
+    }
+
+    /// `u` of a full state `s` at `r`.
+    fn u_of(&self, s: &[f64], r: f64) -> DVector<f64> {
+        let q = reduce(s, &self.groups);
+        let dim = q.len();
+        DVector::from_fn(
+            dim + 1,
+            |k, _| {
+                if k < dim { q[k] / self.scale_of(k) } else { r }
+            },
+        )
+    }
+
+    /// The full state and `r` of `u`.
+    fn state(&self, u: &DVector<f64>) -> (Vec<f64>, f64) {
+        let dim = u.len() - 1;
+        let q: Vec<f64> = (0..dim).map(|k| u[k] * self.scale_of(k)).collect();
+        (expand(&q, &self.groups, self.n), u[dim])
+    }
+
+    fn eval_at(&mut self, s: &[f64], r: f64) -> UnitsEval {
+        self.periods += self.p;
+        eval(&self.base.at_ratio(r), s, self.p)
+    }
+
+    /// The scaled residual `F(u)`, the extended Jacobian `[J - I | dF/dr]` (scaled) and the map
+    /// at `u`; `None` where the map is not differentiable or a run fails.
+    fn residual(&mut self, u: &DVector<f64>) -> Option<(DVector<f64>, DMatrix<f64>, UnitsEval)> {
+        let (s, r) = self.state(u);
+        let f = self.base.at_ratio(r);
+        let base = self.eval_at(&s, r);
+        if base.outcome != Outcome::Ok {
+            return None;
+        }
+        let dim = u.len() - 1;
+        let end = reduce(&base.end, &self.groups);
+        let q = reduce(&s, &self.groups);
+        let res = DVector::from_fn(dim, |k, _| (end[k] - q[k]) / self.scale_of(k));
+        let (j, _) = monodromy(&f, &s, self.p, &base, &self.groups)?;
+        self.periods += 2 * dim as u64 * self.p;
+        let h = 1e-7 * r;
+        let (ep, em) = (self.eval_at(&s, r + h), self.eval_at(&s, r - h));
+        if [&ep, &em].iter().any(|e| {
+            e.outcome != Outcome::Ok || e.impacts != base.impacts || e.sticks != base.sticks
+        }) {
+            return None;
+        }
+        let (rp, rm) = (reduce(&ep.end, &self.groups), reduce(&em.end, &self.groups));
+        let mut ext = DMatrix::zeros(dim, dim + 1);
+        for a in 0..dim {
+            for b in 0..dim {
+                let id = if a == b { 1.0 } else { 0.0 };
+                ext[(a, b)] = (j[(a, b)] - id) * self.scale_of(b) / self.scale_of(a);
+            }
+            ext[(a, dim)] = (rp[a] - rm[a]) / (2.0 * h) / self.scale_of(a);
+        }
+        ext.iter()
+            .all(|v| v.is_finite())
+            .then_some((res, ext, base))
+    }
+
+    /// Why the steps from `u` along `t` failed down to `h_min`: `grazing_end` when, within
+    /// `1e-3` of arclength past `u` (at `4 h_min`, `1e-4` and `1e-3`), the map's impacts differ
+    /// from `prev`'s (an impact grazes there, where the map is not smooth), else
+    /// `step_too_small`.
+    fn failed_at(
+        &mut self,
+        u: &DVector<f64>,
+        t: &DVector<f64>,
+        h_min: f64,
+        prev: &UnitsOrbit,
+    ) -> End {
+        for h in [4.0 * h_min, 1e-4, 1e-3] {
+            let (s, r) = self.state(&(u + t * h));
+            let e = self.eval_at(&s, r);
+            if e.outcome == Outcome::Ok && e.impacts != prev.impacts {
+                return End::GrazingEnd;
+            }
+        }
+        End::StepTooSmall
+    }
+
+    /// A hop over a point where the corrector fails though the orbit goes on: Newton shooting
+    /// at `r + 1e-4 r` (then `1e-3 r`) in the direction `t` moves `r`, from `u`'s state; the
+    /// point found when it keeps `prev`'s period and impacts, with its tangent oriented along
+    /// `r`. `None` at a fold (`t` along `r` vanishes) or when neither shot converges.
+    fn hop(
+        &mut self,
+        u: &DVector<f64>,
+        t: &DVector<f64>,
+        prev: &UnitsOrbit,
+        newton: &Newton,
+    ) -> Option<Solved> {
+        let dim = u.len() - 1;
+        let dir = t[dim].signum();
+        if t[dim].abs() < 1e-3 {
+            return None;
+        }
+        let (s0, r0) = self.state(u);
+        for rel in [1e-4, 1e-3] {
+            let r = r0 * (1.0 + dir * rel);
+            let f = self.base.at_ratio(r);
+            let (end, state) = super::shoot::solve(&f, self.p, &s0, newton);
+            self.periods += self.p * u64::from(state.as_ref().map_or(1, |s| s.iterations + 1));
+            let (crate::orbits::shoot::Termination::Converged { .. }, Some(state)) = (end, state)
+            else {
+                continue;
+            };
+            let Some(orbit) = orbit_at(&f, self.p, &state, newton) else {
+                continue;
+            };
+            if orbit.period != prev.period || orbit.impacts != prev.impacts {
+                continue;
+            }
+            let u = self.u_of(&state.s, r);
+            let Some((_, ext, _)) = self.residual(&u) else {
+                continue;
+            };
+            return Some(Solved {
+                u,
+                ext,
+                orbit,
+                iterations: 0,
+            });
+        }
+        None
+    }
+
+    /// The unit tangent at a point with extended Jacobian `ext`, oriented like `prev`.
+    fn tangent(ext: &DMatrix<f64>, prev: &DVector<f64>) -> Option<DVector<f64>> {
+        let dim = ext.nrows();
+        let mut m = DMatrix::zeros(dim + 1, dim + 1);
+        m.view_mut((0, 0), (dim, dim + 1)).copy_from(ext);
+        m.row_mut(dim).copy_from(&prev.transpose());
+        let mut rhs = DVector::zeros(dim + 1);
+        rhs[dim] = 1.0;
+        let t = m.lu().solve(&rhs)?;
+        let norm = t.norm();
+        (norm.is_finite() && norm > 0.0).then(|| {
+            let t = t / norm;
+            if t.dot(prev) < 0.0 { -t } else { t }
+        })
+    }
+
+    /// The corrector from the prediction `pred` along `t`: the converged point, or `None`.
+    fn correct(&mut self, pred: DVector<f64>, t: &DVector<f64>, newton: &Newton) -> Option<Solved> {
+        let dim = pred.len() - 1;
+        let mut u = pred.clone();
+        for it in 0..=MAX_CORRECTIONS {
+            let (res, ext, base) = self.residual(&u)?;
+            if res.norm() <= newton.tol {
+                let (s, r) = self.state(&u);
+                let state = UnitsNewton {
+                    residual: distance(&self.base.at_ratio(r), &base.end, &s),
+                    s,
+                    iterations: it,
+                    last: base,
+                };
+                let orbit = orbit_at(&self.base.at_ratio(r), self.p, &state, newton)?;
+                return Some(Solved {
+                    u,
+                    ext,
+                    orbit,
+                    iterations: it,
+                });
+            }
+            if it == MAX_CORRECTIONS {
+                break;
+            }
+            let mut m = DMatrix::zeros(dim + 1, dim + 1);
+            m.view_mut((0, 0), (dim, dim + 1)).copy_from(&ext);
+            m.row_mut(dim).copy_from(&t.transpose());
+            let mut rhs = DVector::zeros(dim + 1);
+            rhs.rows_mut(0, dim).copy_from(&(-&res));
+            rhs[dim] = -t.dot(&(&u - &pred));
+            let delta = m.lu().solve(&rhs)?;
+            if delta.iter().any(|v| !v.is_finite()) {
+                return None;
+            }
+            u += delta;
+        }
+        None
+    }
+}
+
+/// The label between two consecutive orbits `a`, `b` whose tangents' `r` components are `ta`,
+/// `tb` (module doc); `GR` where the impacts change.
+fn classify(a: &UnitsOrbit, b: &UnitsOrbit, ta: f64, tb: f64) -> Label {
+    let real = |m: &(f64, f64)| m.1.abs() <= 1e-9 * m.0.hypot(m.1).max(1e-300);
+    let below = |o: &UnitsOrbit| {
+        o.multipliers
+            .iter()
+            .filter(|m| real(m) && m.0 < -1.0)
+            .count()
+    };
+    let outside = |o: &UnitsOrbit| {
+        o.multipliers
+            .iter()
+            .filter(|m| !real(m) && m.0.hypot(m.1) > 1.0)
+            .count()
+    };
+    let det_sign = |o: &UnitsOrbit| {
+        o.multipliers
+            .iter()
+            .filter(|m| real(m))
+            .map(|m| m.0 - 1.0)
+            .product::<f64>()
+            .signum()
+    };
+    let fold = ta * tb < 0.0;
+    if a.impacts != b.impacts {
+        Label::GR
+    } else if fold {
+        Label::SN
+    } else if below(a) != below(b) {
+        Label::PD
+    } else if outside(a) != outside(b) {
+        Label::NS
+    } else if det_sign(a) != det_sign(b) {
+        Label::BP
+    } else {
+        Label::None
+    }
+}
+
+/// Follows the branch of `orbit` (a fixed point of `P^p` of several units at `f`) both ways in
+/// `r` over `settings.range` (module doc). The branch's first point is `orbit`'s.
+pub fn follow_units(f: &Forcing, orbit: &UnitsOrbit, settings: &UnitsContSettings) -> UnitsBranch {
+    let newton = Newton::default();
+    let mut walk = Walk {
+        base: f,
+        p: u64::from(orbit.period),
+        groups: groups(f, &orbit.s),
+        n: orbit.s.len() / 2 - 1,
+        l: f.half_gap(),
+        wn: f.sys.omega(),
+        periods: 0,
+    };
+    let r0 = f.ratio();
+    let u0 = walk.u_of(&orbit.s, r0);
+    let start = UnitsBranchPoint {
+        r: r0,
+        orbit: orbit.clone(),
+        label: Label::None,
+    };
+    let mut sides = Vec::new();
+    for dir in [-1.0, 1.0] {
+        sides.push(side(&mut walk, &u0, orbit, dir, settings, &newton));
+    }
+    let (mut down, end_down) = sides.remove(0);
+    let (up, end_up) = sides.remove(0);
+    down.reverse();
+    down.push(start);
+    down.extend(up);
+    UnitsBranch {
+        points: down,
+        ends: (end_down, end_up),
+        periods: walk.periods,
+    }
+}
+
+/// One side of the branch from `u0` (the orbit `o0`), `dir` the sign of the first step in `r`.
+fn side(
+    walk: &mut Walk,
+    u0: &DVector<f64>,
+    o0: &UnitsOrbit,
+    dir: f64,
+    s: &UnitsContSettings,
+    newton: &Newton,
+) -> (Vec<UnitsBranchPoint>, End) {
+    let dim = u0.len() - 1;
+    let mut seed = DVector::zeros(dim + 1);
+    seed[dim] = dir;
+    let Some((_, ext, _)) = walk.residual(u0) else {
+        return (Vec::new(), End::Simulator);
+    };
+    let Some(mut t) = Walk::tangent(&ext, &seed) else {
+        return (Vec::new(), End::StepTooSmall);
+    };
+    let (mut u, mut prev) = (u0.clone(), o0.clone());
+    let mut h = s.h0;
+    let mut out = Vec::new();
+    while out.len() < s.max_points {
+        let pred = &u + &t * h;
+        let next = match walk.correct(pred, &t, newton) {
+            Some(next) => next,
+            None if h * 0.5 >= s.h_min => {
+                h *= 0.5;
+                continue;
+            }
+            // Past a point where the map is not smooth but the orbit goes on (the corrector's
+            // differences straddle an event): shooting a little further along `r`.
+            None => match walk.hop(&u, &t, &prev, newton) {
+                Some(next) => {
+                    h = s.h0.min(s.h_max);
+                    next
+                }
+                None => return (out, walk.failed_at(&u, &t, s.h_min, &prev)),
+            },
+        };
+        let r = next.u[dim];
+        if r < s.range.0 || r > s.range.1 {
+            return (out, End::Range);
+        }
+        let Some(tn) = Walk::tangent(&next.ext, &t) else {
+            return (out, End::StepTooSmall);
+        };
+        let label = classify(&prev, &next.orbit, t[dim], tn[dim]);
+        out.push(UnitsBranchPoint {
+            r,
+            orbit: next.orbit.clone(),
+            label,
+        });
+        if label == Label::GR {
+            return (out, End::GrazingEnd);
+        }
+        if next.iterations <= 3 {
+            h = (h * 1.5).min(s.h_max);
+        }
+        (u, t, prev) = (next.u, tn, next.orbit);
+    }
+    (out, End::MaxPoints)
+}
