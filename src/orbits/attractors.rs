@@ -240,15 +240,14 @@ impl AttractorRow {
     /// * `neutral`, when starts reached the non-impacting family: the structure's forced
     ///   response alone, amplitude `F0 / |K - M omega^2 + i C omega|`, `|mu|_max = 1` (each unit
     ///   drifts freely);
-    /// * one row when starts did not settle, its kind from the exponent of their motion
-    ///   ([`super::units::lyapunov`], `lyapunov*`; chaotic, quasi-periodic or `not settled` as
-    ///   one unit's, [`steady_kind`]): as its window amplitude the largest
+    /// * one `not settled` row when starts did not settle: as its window amplitude the largest
     ///   `|x|` over the last 200 periods of each of them and, when start 0 is one, over the run's
     ///   own window, so over `max(200, n_meas)` periods at least (a lower bound of what the
     ///   motion reaches); as its amplitude the design-life estimate of the race
     ///   ([`super::race::race_units`]: those starts as one motion, its 90 % interval and tail in
     ///   the `life_*` and `tail_*` columns, `measured_periods` its periods), never below the
-    ///   window amplitude, or without the race the window amplitude.
+    ///   window amplitude, or without the race the window amplitude; no Lyapunov exponent in
+    ///   the sweep (the library has one, [`super::units::lyapunov`], not yet called here).
     ///
     /// **The floor.** The run's attractor is reached by start 0, so the worst row is never below
     /// the run's own measured amplitude: where it would be by more than [`FLOOR_ROUNDING`]
@@ -319,17 +318,6 @@ impl AttractorRow {
                 starts: units.unsettled,
                 measured_periods: measured,
                 ..units_row(run, SteadyKind::NotSettled, amp, on)
-            };
-            // Its exponent, and its kind from it, when the row is that motion's.
-            let row = match units.probe.filter(|_| units.unsettled > 0 && !floor) {
-                Some(p) => AttractorRow {
-                    kind: steady_kind(Some(p), true),
-                    lyapunov: p.lambda,
-                    lyapunov_per_s: p.lambda / t_f,
-                    lyapunov_se: p.se,
-                    ..row
-                },
-                None => row,
             };
             rows.push(match (units.life, floor) {
                 (Some(l), false) => AttractorRow {

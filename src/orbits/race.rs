@@ -360,9 +360,9 @@ fn race_with(
 /// The race over a curve of several units' censuses (module doc; model.md §14): at each
 /// frequency the starts of the census that did not settle are taken as one motion, their end
 /// states its chains ([`UnitsCensus::unsettled_states`]), measured period by period by the map
-/// of several units ([`UnitsMap`]: every extremum located, no floor), clusters of exceedances
-/// separated by [`super::life::cluster_run`] of the census's exponent
-/// ([`UnitsCensus::probe`]; 50 periods, that of a slowly mixing motion, without one). Its summary lands in [`UnitsCensus::life`]. A motion whose maxima
+/// of several units ([`UnitsMap`]: every extremum located, no floor) with no Lyapunov exponent
+/// (clusters of exceedances separated by [`super::life::cluster_run`]'s 50 periods, that of a
+/// slowly mixing motion). Its summary lands in [`UnitsCensus::life`]. A motion whose maxima
 /// came to repeat at a periodic orbit's amplitude (a slow transient) is that orbit: its starts
 /// join it.
 pub fn race_units(
@@ -383,7 +383,7 @@ pub fn race_units(
             f: UnitsMap(f.clone()),
             linear: f.sys.linear_amplitude(f.F0, f.ratio()),
             s: settings(f, h),
-            lambda: c.probe.map_or(f64::NAN, |p| p.lambda),
+            lambda: f64::NAN,
             run: LifeRun::chains(c.unsettled_states.clone()),
             active: true,
         });
@@ -421,7 +421,6 @@ pub fn race_units(
                 c.unsettled = 0;
                 c.unsettled_amplitude = f64::NAN;
                 c.unsettled_states.clear();
-                c.probe = None;
             }
             _ => c.life = Some(summary),
         }

@@ -17,9 +17,10 @@
 //! windows.
 //!
 //! # What it does not do
-//! No continuation between the frequencies: each run's census stands on its own. Two motions
-//! that are not periodic at one frequency are taken as one (the census pools its starts that
-//! did not settle).
+//! No Lyapunov exponent of a motion that is not periodic (its row stays `not settled`), and no
+//! continuation between the frequencies: each run's census stands on its own. Two motions that
+//! are not periodic at one frequency are taken as one (the census pools its starts that did not
+//! settle).
 
 use super::attractors::{AttractorRow, RunId, RunWindow, steady_of_rows};
 use super::map::Forcing;

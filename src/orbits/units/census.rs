@@ -25,21 +25,16 @@
 //! amplitude each period) is kept ([`UnitsCensus::unsettled_amplitude`]), a lower bound of what
 //! that motion reaches, and so is the state it ended in ([`UnitsCensus::unsettled_states`]), from
 //! which the race measures that motion over the design life
-//! ([`crate::orbits::race::race_units`]). The starts that did not settle are taken as one motion;
-//! its largest Lyapunov exponent is measured from the first of their end states over 512
-//! periods ([`super::lyapunov`]), and tells it chaotic, quasi-periodic or not settled as one
-//! unit's census does.
+//! ([`crate::orbits::race::race_units`]).
 //!
 //! # Merging
 //! Two orbits are one when their periods agree and the section of one lies within `1e-6 L` of
 //! one of the other's `p` sections ([`super::shoot::same_orbit`]). Basin share = starts that
 //! reached the orbit / starts.
 
-use super::lyapunov::{self, two_trajectory};
 use super::map::{complete, dim, distance, eval, half_gaps, initial, scale};
 use super::shoot::{UnitsOrbit, orbit_at, same_orbit, solve};
 use crate::numeric::mix64;
-use crate::orbits::census::ProbeResult;
 use crate::orbits::life::LifeSummary;
 use crate::orbits::map::Forcing;
 use crate::orbits::shoot::{Newton, Stability, Termination};
@@ -117,10 +112,6 @@ pub struct UnitsCensus {
     /// That measurement (the starts that did not settle taken as one motion), when the scene
     /// asks for it; `None` before the race or without it.
     pub life: Option<LifeSummary>,
-    /// That motion's largest Lyapunov exponent, from two trajectories through the first state
-    /// that did not settle ([`super::lyapunov`]); `None` when every start settled or the
-    /// simulator stopped.
-    pub probe: Option<ProbeResult>,
 }
 
 /// Where start 0 of a census ended.
@@ -147,7 +138,6 @@ impl Default for UnitsCensus {
             rest: RestLanding::Unsettled,
             unsettled_states: Vec::new(),
             life: None,
-            probe: None,
         }
     }
 }
@@ -311,10 +301,6 @@ pub fn census_units(f: &Forcing, s0: &[f64], c: &UnitsCensusSettings) -> UnitsCe
         if k == 0 {
             out.rest = rest;
         }
-    }
-    if let Some(s) = out.unsettled_states.first() {
-        out.probe = two_trajectory(f, s, lyapunov::PERIODS);
-        out.periods += 2 * (lyapunov::BURN + lyapunov::PERIODS);
     }
     out
 }
