@@ -39,6 +39,16 @@ fn census_of_two(f: &Forcing) -> units::UnitsCensus {
     )
 }
 
+/// The census's period-1 orbit of four impacts of [`two_units`] (each unit crosses its cavity).
+fn period_one_orbit(f: &Forcing) -> units::UnitsOrbit {
+    census_of_two(f)
+        .attractors
+        .into_iter()
+        .find(|a| a.orbit.period == 1 && a.orbit.impacts == 4)
+        .expect("the period-1 orbit of four impacts")
+        .orbit
+}
+
 /// The oracle's shooting from `s0`: its fixed point, iterations and multipliers.
 fn oracle_shoot(f: &Forcing, s0: &[f64]) -> (Vec<f64>, u64, f64, Vec<(f64, f64)>) {
     use serde_json::json;
@@ -293,13 +303,7 @@ fn units_in_step_part_at_any_relative_offset() {
 #[test]
 fn two_trajectories_give_a_periodic_orbits_exponent() {
     let f = two_units();
-    let c = census_of_two(&f);
-    let o = &c
-        .attractors
-        .iter()
-        .find(|a| a.orbit.period == 1 && a.orbit.impacts == 4)
-        .expect("the period-1 orbit of tests above")
-        .orbit;
+    let o = &period_one_orbit(&f);
     let exact = o.multiplier_max().ln();
     let p = units::lyapunov::two_trajectory(&f, &o.s, units::lyapunov::PERIODS).unwrap();
     eprintln!(
@@ -502,19 +506,13 @@ fn identical_units_in_step_follow_one_units_branch() {
 }
 
 /// The continuation of two different units (clearances 8 and 12 mm) from the census's period-1
-/// orbit: every point a fixed point of the map of several units to `1e-9 L`, and at the middle
-/// point the independent reference's own shooting converges to the same fixed point to `1e-9`
+/// orbit: every point a fixed point of the map of several units to `1e-9 L`, and at a point a
+/// quarter along it the independent reference's own shooting converges to the same fixed point to `1e-9`
 /// of the orbit's scale, with the same multipliers to `1e-5`.
 #[test]
 fn the_branch_of_two_units_holds_the_reference_orbits() {
     let f = two_units();
-    let c = census_of_two(&f);
-    let o = &c
-        .attractors
-        .iter()
-        .find(|a| a.orbit.period == 1 && a.orbit.impacts == 4)
-        .expect("the period-1 orbit")
-        .orbit;
+    let o = &period_one_orbit(&f);
     let b = units::continuation::follow_units(&f, o, &units_cont((0.9, 1.3)));
     eprintln!(
         "two units: {} points over r = {:.4} … {:.4}, ends {:?}, {} periods",
