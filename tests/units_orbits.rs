@@ -373,6 +373,15 @@ fn two_trajectories_agree_with_one_units_tangent_map_on_a_chaotic_motion() {
     );
 }
 
+/// The lowest and highest `r` a branch of several units reaches.
+fn r_span(b: &units::continuation::UnitsBranch) -> (f64, f64) {
+    b.points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.r), hi.max(p.r))
+        })
+}
+
 /// The continuation of several units over `r` in `range` with steps of one unit's showcase.
 fn units_cont(range: (f64, f64)) -> units::continuation::UnitsContSettings {
     units::continuation::UnitsContSettings {
@@ -409,11 +418,8 @@ fn identical_units_in_step_follow_one_units_branch() {
     eprintln!(
         "units in step: {} points over r = {:.4} … {:.4}, ends {:?}, {} periods, labels {:?}",
         b.points.len(),
-        b.points.iter().map(|p| p.r).fold(f64::INFINITY, f64::min),
-        b.points
-            .iter()
-            .map(|p| p.r)
-            .fold(f64::NEG_INFINITY, f64::max),
+        r_span(&b).0,
+        r_span(&b).1,
         b.ends,
         b.periods,
         b.points
@@ -464,12 +470,7 @@ fn identical_units_in_step_follow_one_units_branch() {
         switch_pd: false,
     };
     let mine = &follow(&one, &orbit, Param::Ratio, &cont)[0];
-    let (lo, hi) = b
-        .points
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, z), p| {
-            (a.min(p.r), z.max(p.r))
-        });
+    let (lo, hi) = r_span(&b);
     let located: Vec<(Label, f64)> = mine
         .points
         .iter()
@@ -517,11 +518,8 @@ fn the_branch_of_two_units_holds_the_reference_orbits() {
     eprintln!(
         "two units: {} points over r = {:.4} … {:.4}, ends {:?}, {} periods",
         b.points.len(),
-        b.points.iter().map(|p| p.r).fold(f64::INFINITY, f64::min),
-        b.points
-            .iter()
-            .map(|p| p.r)
-            .fold(f64::NEG_INFINITY, f64::max),
+        r_span(&b).0,
+        r_span(&b).1,
         b.ends,
         b.periods
     );
