@@ -3,7 +3,7 @@
 //!
 //! Two chaotic points of the multi-unit showcase's structure (`configs/multi-unit.toml`: two
 //! units sharing `m = 10 g`, clearances 0.5 and 1.5 cm, `e = 0.8`), each a one-frequency study
-//! of 4 starts whose every start wanders (the census's one `not settled` motion). Three steps,
+//! of 4 starts whose every start wanders. Three steps,
 //! each its own subcommand, so that the long one runs once and its results are committed:
 //!
 //! * `brute NAME BLOCKS > results/units_life_validation/brute/NAME.csv`: `BLOCKS` independent
@@ -15,8 +15,9 @@
 //!   one named) as a
 //!   one-frequency study at study seeds `1..=SEEDS` (`A..B`: seeds `A` to `B`) and design lives
 //!   of 10^6 and 10^7 periods, each run as the sweep runs a curve of one point (the census, then
-//!   the race for its design life); one row per run: the life amplitude of the `not settled`
-//!   motion, its interval, the periods measured.
+//!   the race for its design life); one row per run: the life amplitude of the motion that is not
+//!   periodic with the largest estimate (the design quantity), its interval, the periods
+//!   measured and its starts.
 //! * `report > results/units_life_validation.md`: both side by side. The brute-force median
 //!   over `L` periods is the `0.5^(BLOCK / L)` quantile of the block maxima (max-stability,
 //!   `F_L = F^(L / BLOCK)`), with a 90 % bootstrap interval (2,000 resamples of the blocks).
@@ -108,8 +109,9 @@ fn brute(name: &str, blocks: u64) {
     let run = census_of(&s);
     let (f, _, c) = run.census.expect("a census");
     let start = c
-        .unsettled_states
+        .motions
         .first()
+        .and_then(|m| m.states.first())
         .cloned()
         .expect("a start that wanders");
     let map = UnitsMap(f);
@@ -156,11 +158,19 @@ fn estimate(seeds: std::ops::RangeInclusive<u64>, only: Option<&str>) {
                     0,
                 );
                 let (_, _, c) = out.census.expect("a census");
-                let l = c.life.expect("a motion that wanders, measured");
-                let e = l.estimate.expect("an estimate");
+                // The design quantity: the motion of the largest estimate.
+                let (m, l, e) = c
+                    .motions
+                    .iter()
+                    .filter_map(|m| {
+                        let l = m.life?;
+                        Some((m, l, l.estimate?))
+                    })
+                    .max_by(|a, b| a.2.amplitude.total_cmp(&b.2.amplitude))
+                    .expect("a motion that wanders, measured, with an estimate");
                 println!(
                     "{},{seed},{life:e},{:e},{:e},{:e},{},{},{}",
-                    p.name, e.amplitude, e.lo, e.hi, l.measured, l.capped, c.unsettled
+                    p.name, e.amplitude, e.lo, e.hi, l.measured, l.capped, m.starts
                 );
             }
         }

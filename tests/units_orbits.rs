@@ -148,7 +148,7 @@ fn the_census_of_two_units_finds_the_reference_orbit() {
         );
     }
     assert_eq!(
-        c.attractors.iter().map(|a| a.starts).sum::<u32>() + c.unsettled + c.non_impacting,
+        c.attractors.iter().map(|a| a.starts).sum::<u32>() + c.unsettled() + c.non_impacting,
         c.starts
     );
     // Every period-1 orbit of four impacts (each unit hits both its walls once a period: it

@@ -181,7 +181,9 @@ fn time_units_race(study: &Study, plan: &Plan) -> (f64, u64) {
     race_runs(&mut outs, &scenes, Serves::Curve);
     let periods = outs
         .iter()
-        .filter_map(|o| o.census.as_ref()?.2.life.map(|l| l.measured))
+        .filter_map(|o| o.census.as_ref())
+        .flat_map(|c| &c.2.motions)
+        .filter_map(|m| m.life.map(|l| l.measured))
         .sum();
     (start.elapsed().as_secs_f64(), periods)
 }

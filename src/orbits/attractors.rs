@@ -5,6 +5,7 @@
 use super::census::{Census, Kind};
 use super::map::{Forcing, Section};
 use super::units::census::{RestLanding, UnitsCensus};
+use super::units::motion::UnitsMotion;
 use crate::sim::harmonic::Steady;
 
 /// What kind of steady state an attractor is (the `kind` column).
@@ -131,7 +132,7 @@ pub struct AttractorRow {
 /// `|lambda| <= 3 se` and `|lambda|` below [`super::census::CHAOS_FLOOR`] (zero, and measured
 /// to be: a motion on a torus; the section's closed curve is not tested); otherwise
 /// `not settled` (a transient still dying out, or an exponent too uncertain to tell).
-/// One unit's motion and the pooled motion of several units alike.
+/// One unit's motion and a motion of several units alike.
 fn steady_kind(probe: Option<super::census::ProbeResult>, exhausted: bool) -> SteadyKind {
     match probe {
         Some(p) if p.chaotic() && exhausted => SteadyKind::Chaotic,
@@ -240,19 +241,22 @@ impl AttractorRow {
     /// * `neutral`, when starts reached the non-impacting family: the structure's forced
     ///   response alone, amplitude `F0 / |K - M omega^2 + i C omega|`, `|mu|_max = 1` (each unit
     ///   drifts freely);
-    /// * one `not settled` row when starts did not settle: as its window amplitude the largest
-    ///   `|x|` over the last 200 periods of each of them and, when start 0 is one, over the run's
-    ///   own window, so over `max(200, n_meas)` periods at least (a lower bound of what the
-    ///   motion reaches); as its amplitude the design-life estimate of the race
-    ///   ([`super::race::race_units`]: those starts as one motion, its 90 % interval and tail in
-    ///   the `life_*` and `tail_*` columns, `measured_periods` its periods), never below the
-    ///   window amplitude, or without the race the window amplitude; no Lyapunov exponent in
-    ///   the sweep (the library has one, [`super::units::lyapunov`], not yet called here).
+    /// * one row per motion that is not periodic ([`super::units::motion`]: the starts that did
+    ///   not settle, grouped by where they wander), its kind from its exponent
+    ///   ([`super::units::lyapunov`], `lyapunov*`; chaotic, quasi-periodic or `not settled` as
+    ///   one unit's, [`steady_kind`]), its state the one its first start ended in: as its window
+    ///   amplitude the largest `|x|` over the last 200 periods of each of its starts and, when
+    ///   start 0 is one, over the run's own window, so over `max(200, n_meas)` periods at least
+    ///   (a lower bound of what the motion reaches); as its amplitude the design-life estimate of
+    ///   the race ([`super::race::race_units`]: its 90 % interval and tail in the `life_*` and
+    ///   `tail_*` columns, `measured_periods` its periods), never below the window amplitude, or
+    ///   without the race the window amplitude.
     ///
     /// **The floor.** The run's attractor is reached by start 0, so the worst row is never below
     /// the run's own measured amplitude: where it would be by more than [`FLOOR_ROUNDING`]
-    /// relative (the run's window still held a transient that later settled lower), the
-    /// `not settled` row carries the run's amplitude (added with no start when there is none).
+    /// relative (the run's window still held a transient that later settled lower), the row of
+    /// start 0's motion carries the run's amplitude and state (a `not settled` row with no start
+    /// is added when start 0 settled).
     pub fn of_units_census(
         run: RunId,
         f: &Forcing,
@@ -291,54 +295,38 @@ impl AttractorRow {
         if units.non_impacting > 0 {
             rows.push(neutral_row(run, f, units.non_impacting, n));
         }
-        let rest_unsettled = units.rest == RestLanding::Unsettled;
-        let mut window = units.unsettled_amplitude;
-        if rest_unsettled {
-            window = window.max(own.amplitude);
+        let measured = own.n_meas.max(super::tolerances::CENSUS_WINDOW);
+        let first_motion = rows.len();
+        for (j, m) in units.motions.iter().enumerate() {
+            let mut window = m.window;
+            if units.rest == RestLanding::Motion(j) {
+                window = window.max(own.amplitude);
+            }
+            rows.push(motion_row(run, m, window, measured, n, t_f, s0));
         }
-        // Over the design life (the race's estimate; its largest value measured when it has
-        // none, a lower bound), never below the census's windows.
-        let life = units.life.and_then(|l| l.estimate);
-        let wander = units.life.map_or(window, |l| {
-            life.map_or(l.window_max, |e| e.amplitude).max(window)
-        });
-        let top = rows.iter().map(|r| r.amplitude).fold(wander, f64::max);
-        let floor = own.amplitude > top * (1.0 + FLOOR_ROUNDING);
-        if units.unsettled > 0 || floor {
-            let amp = if floor { own.amplitude } else { wander };
-            let measured = own.n_meas.max(super::tolerances::CENSUS_WINDOW);
-            // A state on the motion: where the first start that did not settle ended (the race's
-            // first chain), or the run's own end when the row is the floor.
-            let on = match units.unsettled_states.first() {
-                Some(s) if !floor => s.as_slice(),
-                _ => s0,
+        let top = rows.iter().map(|r| r.amplitude).fold(f64::NAN, f64::max);
+        if own.amplitude > top * (1.0 + FLOOR_ROUNDING) {
+            // Start 0's motion carries the run's amplitude and state, or a row of no start does.
+            let (starts, at) = match units.rest {
+                RestLanding::Motion(j) => (units.motions[j].starts, Some(first_motion + j)),
+                _ => (0, None),
             };
             let row = AttractorRow {
-                basin_share: f64::from(units.unsettled) / n,
-                starts: units.unsettled,
+                basin_share: f64::from(starts) / n,
+                starts,
                 measured_periods: measured,
-                ..units_row(run, SteadyKind::NotSettled, amp, on)
+                ..units_row(run, SteadyKind::NotSettled, own.amplitude, s0)
             };
-            rows.push(match (units.life, floor) {
-                (Some(l), false) => AttractorRow {
-                    window_amplitude: window,
-                    life_amplitude: life.map_or(f64::NAN, |e| e.amplitude),
-                    life_lo: life.map_or(f64::NAN, |e| e.lo),
-                    life_hi: life.map_or(f64::NAN, |e| e.hi),
-                    life_capped: l.capped,
-                    tail_shape: life.map_or(f64::NAN, |e| e.xi),
-                    tail_end: life.map_or(f64::NAN, |e| e.end_point),
-                    exceedances: life.map_or(0, |e| e.exceedances),
-                    measured_periods: l.measured,
-                    ..row
-                },
-                _ => row,
-            });
+            match at {
+                Some(i) => rows[i] = row,
+                None => rows.push(row),
+            }
         }
         // Row 0 is where start 0 ended (the run's own motion).
         let rest = match units.rest {
             RestLanding::Orbit(i) => Some(i),
             RestLanding::NonImpacting => rows.iter().position(|r| r.kind == SteadyKind::Neutral),
+            RestLanding::Motion(j) => Some(first_motion + j),
             RestLanding::Unsettled => rows.iter().position(|r| !r.kind.periodic()),
         };
         if let Some(i) = rest.filter(|&i| i < rows.len()) {
@@ -350,6 +338,51 @@ impl AttractorRow {
         }
         rows
     }
+}
+
+/// The row of motion `m` of a census of several units (of `n` starts, forcing period `t_f`, s):
+/// window amplitude `window` (m), its design life when the race measured it, its exponent and
+/// its kind from it, its first state (`s0`, the run's end, when it has none).
+fn motion_row(
+    run: RunId,
+    m: &UnitsMotion,
+    window: f64,
+    measured: u64,
+    n: f64,
+    t_f: f64,
+    s0: &[f64],
+) -> AttractorRow {
+    // Over the design life (the race's estimate; its largest value measured when it has none,
+    // a lower bound), never below the census's windows.
+    let life = m.life.and_then(|l| l.estimate);
+    let amp = m.life.map_or(window, |l| {
+        life.map_or(l.window_max, |e| e.amplitude).max(window)
+    });
+    let on = m.states.first().map_or(s0, Vec::as_slice);
+    let mut row = AttractorRow {
+        basin_share: f64::from(m.starts) / n,
+        starts: m.starts,
+        measured_periods: measured,
+        window_amplitude: window,
+        ..units_row(run, SteadyKind::NotSettled, amp, on)
+    };
+    if let Some(p) = m.probe {
+        row.kind = steady_kind(Some(p), true);
+        row.lyapunov = p.lambda;
+        row.lyapunov_per_s = p.lambda / t_f;
+        row.lyapunov_se = p.se;
+    }
+    if let Some(l) = m.life {
+        row.life_amplitude = life.map_or(f64::NAN, |e| e.amplitude);
+        row.life_lo = life.map_or(f64::NAN, |e| e.lo);
+        row.life_hi = life.map_or(f64::NAN, |e| e.hi);
+        row.life_capped = l.capped;
+        row.tail_shape = life.map_or(f64::NAN, |e| e.xi);
+        row.tail_end = life.map_or(f64::NAN, |e| e.end_point);
+        row.exceedances = life.map_or(0, |e| e.exceedances);
+        row.measured_periods = l.measured;
+    }
+    row
 }
 
 /// The first four components of a section state of several units: the structure and unit 1
@@ -508,11 +541,14 @@ mod tests {
             }],
             starts: 2,
             non_impacting: 0,
-            unsettled: 1,
+            motions: vec![UnitsMotion {
+                starts: 1,
+                first: 1,
+                window: wander,
+                ..UnitsMotion::default()
+            }],
             periods: 4000,
-            unsettled_amplitude: wander,
             rest: RestLanding::Orbit(0),
-            ..UnitsCensus::default()
         };
         (f, c)
     }
@@ -559,9 +595,13 @@ mod tests {
         // The orbit keeps its exact amplitude and stays the run's own (row 0).
         assert_eq!(rows[0].amplitude, 0.00439);
         assert_eq!(st.rest_amplitude, 0.00439);
+        // Start 0 settled, so the floor is a row of its own, with no start, beside the motion's.
+        assert_eq!(rows.len(), 3);
+        assert_eq!((rows[1].starts, rows[1].amplitude), (1, 0.003));
+        assert_eq!((rows[2].starts, rows[2].amplitude), (0, 0.00467));
         // Every start settled: the floor adds a row of its own, with no start.
         let (f, mut c) = census(0.00439, f64::NAN);
-        c.unsettled = 0;
+        c.motions.clear();
         let rows = AttractorRow::of_units_census(RUN, &f, &c, &s0, own(0.00467));
         assert_eq!(rows.len(), 2);
         assert_eq!(rows[1].starts, 0);
@@ -576,8 +616,9 @@ mod tests {
     #[test]
     fn a_run_that_does_not_settle_carries_its_own_window() {
         let (f, mut c) = census(0.004, 0.0041);
-        c.rest = RestLanding::Unsettled;
+        c.rest = RestLanding::Motion(0);
         c.attractors[0].first = 1;
+        c.motions[0].first = 0;
         let s0 = [0.0; 6];
         let rows = AttractorRow::of_units_census(RUN, &f, &c, &s0, own(0.005));
         assert_eq!(rows[0].kind, SteadyKind::NotSettled);
@@ -585,5 +626,37 @@ mod tests {
         assert_eq!(rows[1].kind, SteadyKind::Periodic);
         let st = steady_of_rows(&rows, c.starts, c.periods);
         assert_eq!((st.amplitude_worst, st.rest_amplitude), (0.005, 0.005));
+    }
+
+    /// Two motions that are not periodic stay two rows (issue 68): each its own starts, window,
+    /// state and exponent's kind, start 0's first; the run's window raises only its own.
+    #[test]
+    fn two_motions_that_are_not_periodic_are_two_rows() {
+        let (f, mut c) = census(0.004, 0.0043);
+        c.starts = 4;
+        c.motions[0].states = vec![vec![1.0; 6]];
+        c.motions.push(UnitsMotion {
+            starts: 2,
+            first: 2,
+            window: 0.0082,
+            states: vec![vec![2.0; 6], vec![3.0; 6]],
+            probe: Some(crate::orbits::census::ProbeResult {
+                lambda: 0.8,
+                se: 0.05,
+                periods: 512,
+            }),
+            ..UnitsMotion::default()
+        });
+        c.rest = RestLanding::Motion(0);
+        let s0 = [0.0; 6];
+        let rows = AttractorRow::of_units_census(RUN, &f, &c, &s0, own(0.0045));
+        assert_eq!(rows.len(), 3);
+        assert_eq!((rows[0].kind, rows[0].starts), (SteadyKind::NotSettled, 1));
+        assert_eq!((rows[0].amplitude, rows[0].section_units[0]), (0.0045, 1.0));
+        assert_eq!(rows[1].kind, SteadyKind::Periodic);
+        assert_eq!((rows[2].kind, rows[2].starts), (SteadyKind::Chaotic, 2));
+        assert_eq!((rows[2].amplitude, rows[2].section_units[0]), (0.0082, 2.0));
+        assert_eq!((rows[2].lyapunov, rows[2].basin_share), (0.8, 0.5));
+        assert_eq!(steady_of_rows(&rows, 4, 0).amplitude_worst, 0.0082);
     }
 }

@@ -358,13 +358,13 @@ fn race_with(
 }
 
 /// The race over a curve of several units' censuses (module doc; model.md §14): at each
-/// frequency the starts of the census that did not settle are taken as one motion, their end
-/// states its chains ([`UnitsCensus::unsettled_states`]), measured period by period by the map
-/// of several units ([`UnitsMap`]: every extremum located, no floor) with no Lyapunov exponent
-/// (clusters of exceedances separated by [`super::life::cluster_run`]'s 50 periods, that of a
-/// slowly mixing motion). Its summary lands in [`UnitsCensus::life`]. A motion whose maxima
-/// came to repeat at a periodic orbit's amplitude (a slow transient) is that orbit: its starts
-/// join it.
+/// frequency each motion of the census that is not periodic ([`UnitsCensus::motions`]) with its
+/// starts' end states as its chains, measured period by period by the map of several units
+/// ([`UnitsMap`]: every extremum located, no floor), clusters of exceedances separated by
+/// [`super::life::cluster_run`] of the motion's exponent ([`super::units::motion::UnitsMotion::probe`]; 50 periods,
+/// that of a slowly mixing motion, without one). Its summary lands in [`super::units::motion::UnitsMotion::life`]. A
+/// motion whose maxima came to repeat at a periodic orbit's amplitude (a slow transient) is that
+/// orbit: its starts join it.
 pub fn race_units(
     points: &[Option<(Forcing, Harmonic)>],
     censuses: &mut [Option<UnitsCensus>],
@@ -375,18 +375,23 @@ pub fn race_units(
         let (Some((f, h)), Some(c)) = (p, c) else {
             continue;
         };
-        if h.nonperiodic_peak == NonPeriodicPeak::Window || c.unsettled_states.is_empty() {
+        if h.nonperiodic_peak == NonPeriodicPeak::Window {
             continue;
         }
-        runners.push(Runner {
-            at: (i, 0),
-            f: UnitsMap(f.clone()),
-            linear: f.sys.linear_amplitude(f.F0, f.ratio()),
-            s: settings(f, h),
-            lambda: f64::NAN,
-            run: LifeRun::chains(c.unsettled_states.clone()),
-            active: true,
-        });
+        for (j, m) in c.motions.iter().enumerate() {
+            if m.states.is_empty() {
+                continue;
+            }
+            runners.push(Runner {
+                at: (i, j),
+                f: UnitsMap(f.clone()),
+                linear: f.sys.linear_amplitude(f.F0, f.ratio()),
+                s: settings(f, h),
+                lambda: m.probe.map_or(f64::NAN, |p| p.lambda),
+                run: LifeRun::chains(m.states.clone()),
+                active: true,
+            });
+        }
     }
     let omega = omegas(points);
     let periodic_at: Vec<f64> = points
@@ -398,6 +403,9 @@ pub fn race_units(
         })
         .collect();
     contest(&mut runners, &omega, &periodic_at, false, serves);
+    // Motions that turned out to be transients onto a periodic orbit of their census, removed
+    // after every result is written (their indices stay valid until then).
+    let mut landed: Vec<(usize, usize, usize)> = Vec::new();
     for r in runners {
         let Some(c) = censuses[r.at.0].as_mut() else {
             continue;
@@ -409,20 +417,22 @@ pub fn race_units(
             .iter()
             .position(|a| (a.orbit.amplitude - top).abs() <= 1e-6 * a.orbit.amplitude);
         match reached {
-            Some(k)
-                if summary.estimate.is_none()
-                    && r.run.repeats()
-                    && c.unsettled_states.len() == c.unsettled as usize =>
-            {
-                c.attractors[k].starts += c.unsettled;
-                if c.rest == RestLanding::Unsettled {
-                    c.rest = RestLanding::Orbit(k);
-                }
-                c.unsettled = 0;
-                c.unsettled_amplitude = f64::NAN;
-                c.unsettled_states.clear();
+            Some(k) if summary.estimate.is_none() && r.run.repeats() => {
+                landed.push((r.at.0, r.at.1, k));
             }
-            _ => c.life = Some(summary),
+            _ => c.motions[r.at.1].life = Some(summary),
+        }
+    }
+    landed.sort_unstable_by(|a, b| b.cmp(a));
+    for (i, j, k) in landed {
+        if let Some(c) = censuses[i].as_mut() {
+            let m = c.motions.remove(j);
+            c.attractors[k].starts += m.starts;
+            c.rest = match c.rest {
+                RestLanding::Motion(r) if r == j => RestLanding::Orbit(k),
+                RestLanding::Motion(r) if r > j => RestLanding::Motion(r - 1),
+                rest => rest,
+            };
         }
     }
 }

@@ -11,16 +11,14 @@
 //! measured amplitude (the floor of [`AttractorRow::of_units_census`]).
 //!
 //! # The design life
-//! The starts that did not settle on a periodic orbit are taken as one motion, measured over
-//! the design life by the race of the run's curve ([`race_units`], [`race_runs`]; a run on its
-//! own is a curve of one point): its amplitude is the estimate, never below the census's
-//! windows.
+//! Each motion of the census that is not periodic (its starts that did not settle, told apart
+//! by where they wander: [`super::units::motion`]) is measured over the design life by the race
+//! of the run's curve ([`race_units`], [`race_runs`]; a run on its own is a curve of one point),
+//! its clusters of exceedances spaced by its Lyapunov exponent from two trajectories
+//! ([`super::units::lyapunov`]): its amplitude is the estimate, never below the census's windows.
 //!
 //! # What it does not do
-//! No Lyapunov exponent of a motion that is not periodic (its row stays `not settled`), and no
-//! continuation between the frequencies: each run's census stands on its own. Two motions that
-//! are not periodic at one frequency are taken as one (the census pools its starts that did not
-//! settle).
+//! No continuation between the frequencies: each run's census stands on its own.
 
 use super::attractors::{AttractorRow, RunId, RunWindow, steady_of_rows};
 use super::map::Forcing;

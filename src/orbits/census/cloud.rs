@@ -61,21 +61,27 @@ impl Cloud {
         (mean, (self.sum2[k] / n - mean * mean).max(0.0).sqrt())
     }
 
-    /// Whether two clouds are one: in every coordinate their means differ by less than half
-    /// the larger spread and their spreads by less than a factor 2 (a chaotic motion sampled
-    /// over tens of periods; two distinct attractors differ in where they are or how far they
-    /// reach). Empty clouds are never one.
+    /// Whether two clouds are one ([`same_moments`]). Empty clouds are never one.
     pub fn same(&self, other: &Cloud) -> bool {
         if self.n == 0 || other.n == 0 {
             return false;
         }
-        (0..4).all(|k| {
-            let (ma, sa) = self.stats(k);
-            let (mb, sb) = other.stats(k);
+        let (a, b): (Vec<_>, Vec<_>) = (0..4).map(|k| (self.stats(k), other.stats(k))).unzip();
+        same_moments(&a, &b)
+    }
+}
+
+/// Whether two samples of motions, each coordinate's `(mean, standard deviation)` in the same
+/// scaled units, are one motion: in every coordinate their means differ by less than half the
+/// larger spread and their spreads by less than a factor 2 (a chaotic motion sampled over tens
+/// of periods; two distinct attractors differ in where they are or how far they reach). One
+/// unit's [`Cloud`] and the clouds of several units ([`crate::orbits::units::motion`]) share it.
+pub fn same_moments(a: &[(f64, f64)], b: &[(f64, f64)]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(&(ma, sa), &(mb, sb))| {
             let spread = sa.max(sb);
             (ma - mb).abs() <= 0.5 * spread + 1e-9 && sa.max(sb) <= 2.0 * sa.min(sb) + 1e-9
         })
-    }
 }
 
 /// What the tangent-map probe of a wandering start found.

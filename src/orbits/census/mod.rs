@@ -61,7 +61,7 @@ mod cloud;
 mod motion;
 mod start;
 
-pub use cloud::{CHAOS_FLOOR, Cloud, SECOND_LOOK};
+pub use cloud::{CHAOS_FLOOR, Cloud, SECOND_LOOK, same_moments};
 use cloud::{chaos_probe, long_cloud};
 pub use motion::{CensusSettings, Origin, ProbeResult, Wandering};
 pub use start::{

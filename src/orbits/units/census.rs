@@ -19,23 +19,28 @@
 //! `P^p` takes over from the latest section. A converged, impacting, stable orbit ends the start;
 //! otherwise the hand-over tolerance is divided by 1000 and the transient goes on. A start
 //! whose last 16 periods made no impact has reached the non-impacting family (counted, not
-//! listed); one that reaches its budget of [`UnitsCensusSettings::max_periods`] periods first is
-//! counted as not settled (a motion that is not periodic, or a slow transient); its largest
-//! `|x|` over its last [`crate::orbits::tolerances::CENSUS_WINDOW`] periods (exact, the map's own
-//! amplitude each period) is kept ([`UnitsCensus::unsettled_amplitude`]), a lower bound of what
-//! that motion reaches, and so is the state it ended in ([`UnitsCensus::unsettled_states`]), from
-//! which the race measures that motion over the design life
-//! ([`crate::orbits::race::race_units`]).
+//! listed); one that reaches its budget of [`UnitsCensusSettings::max_periods`] periods first
+//! did not settle (a motion that is not periodic, or a slow transient). Such starts are grouped
+//! into motions by where they wander over their last
+//! [`crate::orbits::tolerances::CENSUS_WINDOW`] periods ([`super::motion`]: a second look of
+//! [`crate::orbits::census::SECOND_LOOK`] periods where the windows disagree); each motion keeps
+//! the largest `|x|` of its starts over those windows (exact, the map's own amplitude each
+//! period; a lower bound of what it reaches), the states its starts ended in (from which the
+//! race measures it over the design life, [`crate::orbits::race::race_units`]) and its largest
+//! Lyapunov exponent from two trajectories through its first state over
+//! [`super::lyapunov::PERIODS`] periods ([`super::lyapunov`]), which tells it chaotic,
+//! quasi-periodic or not settled as one unit's census does.
 //!
 //! # Merging
 //! Two orbits are one when their periods agree and the section of one lies within `1e-6 L` of
 //! one of the other's `p` sections ([`super::shoot::same_orbit`]). Basin share = starts that
 //! reached the orbit / starts.
 
+use super::lyapunov::{self, two_trajectory};
 use super::map::{complete, dim, distance, eval, half_gaps, initial, scale};
+use super::motion::{UnitsCloud, UnitsMotion, join};
 use super::shoot::{UnitsOrbit, orbit_at, same_orbit, solve};
 use crate::numeric::mix64;
-use crate::orbits::life::LifeSummary;
 use crate::orbits::map::Forcing;
 use crate::orbits::shoot::{Newton, Stability, Termination};
 use crate::sim::Outcome;
@@ -94,24 +99,16 @@ pub struct UnitsCensus {
     pub starts: u32,
     /// Starts that reached the non-impacting family.
     pub non_impacting: u32,
-    /// Starts that reached no periodic orbit within their budget (or whose simulation stopped
-    /// at a cap).
-    pub unsettled: u32,
-    /// Forcing periods simulated in all: the transients, and Newton's maps counted as `2 dim + 1`
-    /// maps an iteration (an upper bound: units in step have fewer columns).
+    /// The motions that are not periodic: the starts that reached no periodic orbit within
+    /// their budget (or whose simulation stopped), grouped by where they wander
+    /// ([`super::motion`]), in the order first reached.
+    pub motions: Vec<UnitsMotion>,
+    /// Forcing periods simulated in all: the transients, Newton's maps counted as `2 dim + 1`
+    /// maps an iteration (an upper bound: units in step have fewer columns), the motions'
+    /// second looks and exponents.
     pub periods: u64,
-    /// The largest `|x|` over the last [`crate::orbits::tolerances::CENSUS_WINDOW`] periods of the starts
-    /// that did not settle (m); NaN when every start settled.
-    pub unsettled_amplitude: f64,
     /// Where start 0 (the given state) ended.
     pub rest: RestLanding,
-    /// Where each start that did not settle within its budget ended (its simulation not
-    /// stopped), in start order: the states the design-life measurement of their motion starts
-    /// from ([`crate::orbits::race::race_units`]).
-    pub unsettled_states: Vec<Vec<f64>>,
-    /// That measurement (the starts that did not settle taken as one motion), when the scene
-    /// asks for it; `None` before the race or without it.
-    pub life: Option<LifeSummary>,
 }
 
 /// Where start 0 of a census ended.
@@ -121,7 +118,9 @@ pub enum RestLanding {
     Orbit(usize),
     /// On the non-impacting family.
     NonImpacting,
-    /// Nowhere within its budget (or no census was run).
+    /// On motion `i` of [`UnitsCensus::motions`] (it did not settle within its budget).
+    Motion(usize),
+    /// No census was run.
     #[default]
     Unsettled,
 }
@@ -132,12 +131,9 @@ impl Default for UnitsCensus {
             attractors: Vec::new(),
             starts: 0,
             non_impacting: 0,
-            unsettled: 0,
+            motions: Vec::new(),
             periods: 0,
-            unsettled_amplitude: f64::NAN,
             rest: RestLanding::Unsettled,
-            unsettled_states: Vec::new(),
-            life: None,
         }
     }
 }
@@ -146,6 +142,11 @@ impl UnitsCensus {
     /// Basin share of attractor `i`.
     pub fn share(&self, i: usize) -> f64 {
         self.attractors[i].starts as f64 / self.starts.max(1) as f64
+    }
+
+    /// Starts that did not settle on a periodic orbit (every motion's).
+    pub fn unsettled(&self) -> u32 {
+        self.motions.iter().map(|m| m.starts).sum()
     }
 
     /// The orbit with the largest amplitude.
@@ -164,8 +165,9 @@ impl UnitsCensus {
 enum Landing {
     Orbit(Box<UnitsOrbit>, u32),
     Quiet,
-    /// The budget ran out (with the state it ended on) or the simulation stopped (`None`).
-    Unsettled(Option<Vec<f64>>),
+    /// The budget ran out (with the state it ended on and its cloud over its last window) or
+    /// the simulation stopped (`None`).
+    Unsettled(Option<(Vec<f64>, UnitsCloud)>),
 }
 
 /// A uniform number in `[0, 1)` for start `k`, draw `j`.
@@ -217,6 +219,8 @@ fn run_start(f: &Forcing, s: Vec<f64>, c: &UnitsCensusSettings, newton: &Newton)
     let mut history = vec![s];
     let (mut periods, mut quiet, mut amp) = (0u64, 0u64, 0.0);
     let mut recent = std::collections::VecDeque::with_capacity(WINDOW);
+    // The last window's sections (the start's cloud if it does not settle).
+    let mut sections = std::collections::VecDeque::with_capacity(WINDOW);
     let ran = |periods, last, recent: &std::collections::VecDeque<f64>| Ran {
         periods,
         last,
@@ -239,6 +243,10 @@ fn run_start(f: &Forcing, s: Vec<f64>, c: &UnitsCensusSettings, newton: &Newton)
         if quiet >= QUIET {
             return (Landing::Quiet, ran(periods, amp, &recent));
         }
+        if sections.len() == WINDOW {
+            sections.pop_front();
+        }
+        sections.push_back(e.end.clone());
         history.push(e.end);
         if history.len() > 2 * MAX_PERIOD + 1 {
             history.remove(0);
@@ -260,8 +268,12 @@ fn run_start(f: &Forcing, s: Vec<f64>, c: &UnitsCensusSettings, newton: &Newton)
         }
         tol *= 1e-3;
     }
+    let mut cloud = UnitsCloud::new(f);
+    for s in &sections {
+        cloud.add(s);
+    }
     (
-        Landing::Unsettled(history.pop()),
+        Landing::Unsettled(history.pop().map(|s| (s, cloud))),
         ran(periods, amp, &recent),
     )
 }
@@ -292,14 +304,19 @@ pub fn census_units(f: &Forcing, s0: &[f64], c: &UnitsCensusSettings) -> UnitsCe
                 RestLanding::NonImpacting
             }
             Landing::Unsettled(end) => {
-                out.unsettled += 1;
-                out.unsettled_amplitude = out.unsettled_amplitude.max(ran.window);
-                out.unsettled_states.extend(end);
-                RestLanding::Unsettled
+                let (i, looked) = join(f, &mut out.motions, k, end, ran.window);
+                out.periods += looked;
+                RestLanding::Motion(i)
             }
         };
         if k == 0 {
             out.rest = rest;
+        }
+    }
+    for m in &mut out.motions {
+        if let Some(s) = m.states.first() {
+            m.probe = two_trajectory(f, s, lyapunov::PERIODS);
+            out.periods += 2 * (lyapunov::BURN + lyapunov::PERIODS);
         }
     }
     out

@@ -164,17 +164,12 @@ impl<'a> HarmonicReducer<'a> {
     }
 
     /// Whether this reduction verifies the deciding designs ([`verify`]): peaks of the worst
-    /// steady state with stored attractors, design-life amplitudes, `[ranking] verify_periods`
-    /// above 0, and one unit. A study of several units is not verified yet: its census pools
-    /// every start that does not settle into one motion, and a restart from one of their stored
-    /// states (`section_units`) can measure another motion than the race did (on the
-    /// multi-unit showcase, 0.43 cm over 10^6 periods where the race's pooled chains reached
-    /// 0.82 cm), which would lower a peak wrongly. (A shard of the analysis measures its share of
-    /// the cases.)
+    /// steady state with stored attractors, design-life amplitudes and `[ranking]
+    /// verify_periods` above 0 (a motion of several units restarts from its stored
+    /// `section_units`). (A shard of the analysis measures its share of the cases.)
     fn verifies(&self) -> bool {
         self.study.ranking.verify_periods > 0
             && self.stored
-            && !self.study.several_units()
             && self.peak == DesignPeak::Worst
             && self
                 .study

@@ -39,6 +39,7 @@ use crate::orbits::attractors::AttractorRow;
 use crate::orbits::life::{LifeSettings, LifeSummary, measure_directly_above};
 use crate::orbits::map::{Forcing, Section};
 use crate::orbits::race::FIRST;
+use crate::orbits::units::map::UnitsMap;
 use crate::sim::SolverSettings;
 use crate::stats::extremes::LifeEstimate;
 use crate::store::table::{Column, Table};
@@ -47,9 +48,10 @@ use crate::store::table::{Column, Table};
 pub const MOST: usize = 3;
 
 /// A motion that is not periodic, kept from the stored attractors for a verification: where
-/// it is, a state on it, its largest Lyapunov exponent (per forcing period) and its estimate
+/// it is, a state on it (with several units, the whole state in `units`; empty for one unit),
+/// its largest Lyapunov exponent (per forcing period; NaN when not measured) and its estimate
 /// (m) with the 90 % interval and the periods it rests on.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Contender {
     pub design: u64,
     pub case: u32,
@@ -57,6 +59,7 @@ pub struct Contender {
     pub omega: f64,
     pub f0: f64,
     pub section: Section,
+    pub units: Vec<f64>,
     pub lambda: f64,
     pub amplitude: f64,
     pub lo: f64,
@@ -77,6 +80,7 @@ impl Contender {
             omega: a.run.omega,
             f0: a.run.F0,
             section: a.section,
+            units: a.section_units.clone(),
             lambda: a.lyapunov,
             amplitude: a.amplitude,
             lo: a.life_lo,
@@ -134,7 +138,7 @@ impl CaseTop {
 }
 
 /// One direct measurement beside the estimate it checks.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Verified {
     pub motion: Contender,
     /// The design-life amplitude from the direct measurement and its 90 % interval (m), the
@@ -261,7 +265,7 @@ pub fn verify_case(
         if c.measured >= life.periods {
             best = best.max(c.amplitude);
             verified.push(Verified {
-                motion: *c,
+                motion: c.clone(),
                 direct: None,
                 as_raced: true,
             });
@@ -272,7 +276,7 @@ pub fn verify_case(
             None => measure(c, sys, settings, life, best),
         };
         let v = Verified {
-            motion: *c,
+            motion: c.clone(),
             direct,
             as_raced: false,
         };
@@ -297,7 +301,8 @@ pub fn verify_case(
 
 /// Motion `c` of a case with system `sys` measured directly over `life.periods` periods, or
 /// fewer once its interval lies below `bar`, the case's peak so far
-/// ([`measure_directly_above`]).
+/// ([`measure_directly_above`]); a motion of several units by their map ([`UnitsMap`]) from its
+/// whole state.
 fn measure(
     c: &Contender,
     sys: &System,
@@ -318,7 +323,11 @@ fn measure(
         first: FIRST,
         cap: life.periods,
     };
-    measure_directly_above(&f, &c.section, c.lambda, &s, life.periods, bar)
+    if c.units.is_empty() {
+        measure_directly_above(&f, &c.section, c.lambda, &s, life.periods, bar)
+    } else {
+        measure_directly_above(&UnitsMap(f), &c.units, c.lambda, &s, life.periods, bar)
+    }
 }
 
 /// The designs that decide the ranking (module doc, step 1): the best-ranked design of `ranks`
@@ -517,6 +526,7 @@ mod tests {
             omega: 1.0,
             f0: 0.1,
             section: [0.0; 4],
+            units: Vec::new(),
             lambda: 1.0,
             amplitude: a,
             lo: a,
