@@ -168,7 +168,7 @@ impl Curve {
 
     /// Takes in a direct measurement of one of its motions ([`super::verify`]): the stored
     /// attractor's design amplitude and life columns become the direct measurement's, and the
-    /// point's design quantity the largest of its attractors again.
+    /// point's design quantity (and its attenuation) the largest of its attractors again.
     pub fn take_verified(&mut self, v: &super::verify::Verified) {
         let Some(i) = self.points.iter().position(|p| p.r == v.motion.r) else {
             return;
@@ -201,6 +201,7 @@ impl Curve {
             .map(|a| (a.amplitude, a.period, a.impacts_per_period, a.basin_share));
         if let (Some((amp, period, impacts, share)), Some(p)) = (top, self.points.get_mut(i)) {
             p.design = amp;
+            p.attenuation = amp / p.linear;
             p.design_period = period;
             p.design_impacts = impacts;
             p.design_share = share;
