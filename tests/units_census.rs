@@ -22,7 +22,7 @@ use impactsweep::orbits::units::map::distance;
 use impactsweep::orbits::units::{UnitsCensusSettings, census_units, eval};
 use impactsweep::plan::Plan;
 use impactsweep::sim::harmonic::simulate_harmonic_ends;
-use impactsweep::sim::{HarmonicRecord, NoProbe, Scene};
+use impactsweep::sim::{Harmonic, HarmonicRecord, NoProbe, Scene};
 use impactsweep::store::{self, RunRow};
 use impactsweep::study::{CensusKind, Study};
 
@@ -73,6 +73,36 @@ fn attractors(dir: &Path) -> Vec<AttractorRow> {
     rows
 }
 
+/// The run of design point `point`, case `case` of a harmonic study of several units from rest,
+/// with its scene, the census's forcing and its end state (the census's start 0).
+fn run_end(
+    study: &Study,
+    plan: &Plan,
+    point: u64,
+    case: u32,
+) -> (HarmonicRecord, Harmonic, Forcing, Vec<f64>) {
+    let spec = plan.run(point, case);
+    let Scene::Harmonic(scene) = spec.scene else {
+        panic!("not harmonic")
+    };
+    let (rec, units) = simulate_harmonic_ends(
+        &spec.system,
+        &study.solver,
+        &study.request,
+        &scene,
+        None,
+        &mut NoProbe,
+    );
+    let f = Forcing {
+        sys: spec.system,
+        F0: scene.F0,
+        omega: rec.omega,
+        settings: study.solver,
+    };
+    let s0 = end_section(&spec.system, &rec, &units);
+    (rec, scene, f, s0)
+}
+
 fn close(a: f64, b: f64, what: &str) {
     let ok = (a.is_nan() && b.is_nan()) || (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1e-3);
     assert!(ok, "{what}: {a:e} against {b:e}");
@@ -92,27 +122,9 @@ fn a_two_unit_study_stores_the_census_of_each_runs_end_state() {
     // Each run's census from its end state, as the library makes it.
     let mut runs = Vec::new();
     for row in &recs {
-        let spec = plan.run(row.point, row.case);
-        let Scene::Harmonic(scene) = spec.scene else {
-            panic!("not harmonic")
-        };
-        let (rec, units) = simulate_harmonic_ends(
-            &spec.system,
-            &study.solver,
-            &study.request,
-            &scene,
-            None,
-            &mut NoProbe,
-        );
+        let (rec, scene, f, s0) = run_end(&study, &plan, row.point, row.case);
         assert_eq!(rec.amplitude.to_bits(), row.record.amplitude.to_bits());
-        assert_eq!(units.len(), 2);
-        let f = Forcing {
-            sys: spec.system,
-            F0: scene.F0,
-            omega: rec.omega,
-            settings: study.solver,
-        };
-        let s0 = end_section(&spec.system, &rec, &units);
+        assert_eq!(s0.len(), 6);
         let c = census_units(
             &f,
             &s0,
@@ -422,29 +434,12 @@ fn coexisting_motions_that_are_not_periodic_are_told_apart() {
     let plan = Plan::new(&study);
     // units = 2 (second of 4), d_spread = 0.5 (third of 4), r = 0.94 (tenth of 31).
     let point = (4 + 2) * 31 + 9;
-    let spec = plan.run(point, 0);
-    assert_eq!((spec.system.units, spec.system.d_spread), (2.0, 0.5));
-    let Scene::Harmonic(scene) = spec.scene else {
-        panic!("not harmonic")
-    };
-    let (rec, units) = simulate_harmonic_ends(
-        &spec.system,
-        &study.solver,
-        &study.request,
-        &scene,
-        None,
-        &mut NoProbe,
-    );
+    let (rec, scene, f, s0) = run_end(&study, &plan, point, 0);
+    assert_eq!((f.sys.units, f.sys.d_spread), (2.0, 0.5));
     assert!((rec.r - 0.94).abs() < 1e-12, "r = {}", rec.r);
-    let f = Forcing {
-        sys: spec.system,
-        F0: scene.F0,
-        omega: rec.omega,
-        settings: study.solver,
-    };
     let c = census_units(
         &f,
-        &end_section(&spec.system, &rec, &units),
+        &s0,
         &UnitsCensusSettings {
             starts: scene.starts,
             max_periods: scene.n_trans_max,
