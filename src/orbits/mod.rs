@@ -23,6 +23,7 @@ pub mod shoot;
 pub mod tolerances;
 pub mod twopar;
 pub mod units;
+pub mod units_response;
 
 use crate::model::System;
 use crate::sim::harmonic::Steady;

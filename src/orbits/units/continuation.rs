@@ -13,15 +13,30 @@
 //! is Newton on `(F(u), t . (u - u_pred)) = 0`, which crosses folds where `r` turns back, to a
 //! residual of `1e-10 L` (the shooting's tolerance) within [`MAX_CORRECTIONS`] iterations. A
 //! step that converges within 3 iterations grows `h` by 1.5 (up to `h_max`); a failed one halves
-//! it. Below `h_min` the orbit is shot directly a little further along `r` (`1e-4 r`, then
+//! it, and so does one whose point lies off the tangent's way (the step `u_new - u` at more than
+//! 60° from `t`, [`MIN_STEP_COSINE`]: the corrector went back along the branch, or across to
+//! another, from a long prediction near a sharp turn). Below `h_min` the orbit is shot directly a little further along `r` (`1e-4 r`, then
 //! `1e-3 r`: past a point where the map is not smooth but the orbit goes on, as where an event
 //! of the period map changes order) and the walk goes on from there with `h0`; when that fails
 //! too, the branch ends (`step_too_small`, or `grazing_end` below).
 //!
+//! # Units at rest
+//! A group of units that makes no impact over the orbit (at rest in its cavity while the others
+//! rattle: its row of the monodromy matrix is free, [`super::shoot::free_mask`]) may rest
+//! anywhere its cavity lets it: the orbits make a family, `J - I` is singular along it and the
+//! corrector could not converge. Such a group is held where the orbit followed has it, relative
+//! to the ground (`y = z + x` at the first point, `y' = 0`): its coordinates leave the unknowns,
+//! its `z = y - x` moves with the structure. Where it starts to impact, the impacts change and
+//! the branch ends there (`grazing_end`).
+//!
 //! # Labels
 //! Between two consecutive points, on the point past the change (not located between them: the
 //! bracket is the two points' `r`):
-//! * `SN`, a fold: the tangent's `r` component changes sign;
+//! * `SN`, a fold: the tangent's `r` component changes sign and `det(J - I)` with it (a real
+//!   multiplier crosses 1). Where `r` turns back without that, the walk met a point where the
+//!   map is not smooth though the impacts per orbit stay (an impact's order changes) and went
+//!   back along the half it came: the branch ends at the last point before it
+//!   (`step_too_small`);
 //! * `PD`: the count of real multipliers below `-1` changes;
 //! * `NS`: the count of complex multipliers outside the unit circle changes;
 //! * `BP`: the sign of `det(J - I)` (the product of `mu - 1` over the multipliers) changes
@@ -39,7 +54,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::map::{UnitsEval, distance, eval, expand, groups, reduce};
-use super::shoot::{UnitsNewton, UnitsOrbit, monodromy, orbit_at};
+use super::shoot::{UnitsNewton, UnitsOrbit, free_mask, monodromy, orbit_at};
 use crate::orbits::continuation::End;
 use crate::orbits::label::Label;
 use crate::orbits::map::Forcing;
@@ -48,6 +63,11 @@ use crate::sim::Outcome;
 
 /// Corrector iterations per step.
 pub const MAX_CORRECTIONS: u32 = 6;
+
+/// The smallest cosine between a step (from the last point to the corrected one) and the
+/// tangent it was predicted along: a step further off the tangent is refused and halved
+/// (module doc).
+pub const MIN_STEP_COSINE: f64 = 0.5;
 
 /// The settings of a continuation of several units.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -84,6 +104,12 @@ struct Walk<'a> {
     base: &'a Forcing,
     p: u64,
     groups: Vec<Vec<usize>>,
+    /// The coordinates of the reduced state that are unknowns: the structure's and those of
+    /// every group that impacts over the orbit.
+    active: Vec<usize>,
+    /// The groups at rest in their cavities over the orbit (no impact), each with its position
+    /// relative to the ground `y` (m), held: `z = y - x`, `y' = 0` (module doc, "Units at rest").
+    held: Vec<(usize, f64)>,
     n: usize,
     l: f64,
     wn: f64,
@@ -106,19 +132,28 @@ impl Walk<'_> {
     /// `u` of a full state `s` at `r`.
     fn u_of(&self, s: &[f64], r: f64) -> DVector<f64> {
         let q = reduce(s, &self.groups);
-        let dim = q.len();
-        DVector::from_fn(
-            dim + 1,
-            |k, _| {
-                if k < dim { q[k] / self.scale_of(k) } else { r }
-            },
-        )
+        let dim = self.active.len();
+        DVector::from_fn(dim + 1, |j, _| {
+            if j < dim {
+                let k = self.active[j];
+                q[k] / self.scale_of(k)
+            } else {
+                r
+            }
+        })
     }
 
     /// The full state and `r` of `u`.
     fn state(&self, u: &DVector<f64>) -> (Vec<f64>, f64) {
         let dim = u.len() - 1;
-        let q: Vec<f64> = (0..dim).map(|k| u[k] * self.scale_of(k)).collect();
+        let mut q = vec![0.0; 2 + 2 * self.groups.len()];
+        for (j, &k) in self.active.iter().enumerate() {
+            q[k] = u[j] * self.scale_of(k);
+        }
+        for &(g, y) in &self.held {
+            q[2 + 2 * g] = y - q[0];
+            q[3 + 2 * g] = 0.0;
+        }
         (expand(&q, &self.groups, self.n), u[dim])
     }
 
@@ -139,9 +174,12 @@ impl Walk<'_> {
         let dim = u.len() - 1;
         let end = reduce(&base.end, &self.groups);
         let q = reduce(&s, &self.groups);
-        let res = DVector::from_fn(dim, |k, _| (end[k] - q[k]) / self.scale_of(k));
+        let res = DVector::from_fn(dim, |i, _| {
+            let k = self.active[i];
+            (end[k] - q[k]) / self.scale_of(k)
+        });
         let (j, _) = monodromy(&f, &s, self.p, &base, &self.groups)?;
-        self.periods += 2 * dim as u64 * self.p;
+        self.periods += 2 * q.len() as u64 * self.p;
         let h = 1e-7 * r;
         let (ep, em) = (self.eval_at(&s, r + h), self.eval_at(&s, r - h));
         if [&ep, &em].iter().any(|e| {
@@ -151,12 +189,18 @@ impl Walk<'_> {
         }
         let (rp, rm) = (reduce(&ep.end, &self.groups), reduce(&em.end, &self.groups));
         let mut ext = DMatrix::zeros(dim, dim + 1);
-        for a in 0..dim {
-            for b in 0..dim {
+        for (ia, &a) in self.active.iter().enumerate() {
+            for (ib, &b) in self.active.iter().enumerate() {
                 let id = if a == b { 1.0 } else { 0.0 };
-                ext[(a, b)] = (j[(a, b)] - id) * self.scale_of(b) / self.scale_of(a);
+                // A held group's `z = y - x` moves with `x` (column 0).
+                let held: f64 = if b == 0 {
+                    self.held.iter().map(|&(g, _)| j[(a, 2 + 2 * g)]).sum()
+                } else {
+                    0.0
+                };
+                ext[(ia, ib)] = (j[(a, b)] - held - id) * self.scale_of(b) / self.scale_of(a);
             }
-            ext[(a, dim)] = (rp[a] - rm[a]) / (2.0 * h) / self.scale_of(a);
+            ext[(ia, dim)] = (rp[a] - rm[a]) / (2.0 * h) / self.scale_of(a);
         }
         ext.iter()
             .all(|v| v.is_finite())
@@ -287,6 +331,26 @@ impl Walk<'_> {
     }
 }
 
+/// The sign of `det(J - I)` at `o`: the product of `mu - 1` over its real multipliers (a
+/// complex pair's product is positive).
+fn det_sign(o: &UnitsOrbit) -> f64 {
+    let real = |m: &(f64, f64)| m.1.abs() <= 1e-9 * m.0.hypot(m.1).max(1e-300);
+    o.multipliers
+        .iter()
+        .filter(|m| real(m))
+        .map(|m| m.0 - 1.0)
+        .product::<f64>()
+        .signum()
+}
+
+/// Whether the walk from `a` to `b` turned back in `r` (tangents' `r` components `ta`, `tb` of
+/// opposite signs) without a fold: no real multiplier crossed 1 (`det(J - I)` kept its sign).
+/// The walk met a point where the map is not smooth though the impacts per orbit did not
+/// change (an impact's order changed), and went back along the half it came (module doc).
+fn turned_back(a: &UnitsOrbit, b: &UnitsOrbit, ta: f64, tb: f64) -> bool {
+    ta * tb < 0.0 && det_sign(a) == det_sign(b)
+}
+
 /// The label between two consecutive orbits `a`, `b` whose tangents' `r` components are `ta`,
 /// `tb` (module doc); `GR` where the impacts change.
 fn classify(a: &UnitsOrbit, b: &UnitsOrbit, ta: f64, tb: f64) -> Label {
@@ -302,14 +366,6 @@ fn classify(a: &UnitsOrbit, b: &UnitsOrbit, ta: f64, tb: f64) -> Label {
             .iter()
             .filter(|m| !real(m) && m.0.hypot(m.1) > 1.0)
             .count()
-    };
-    let det_sign = |o: &UnitsOrbit| {
-        o.multipliers
-            .iter()
-            .filter(|m| real(m))
-            .map(|m| m.0 - 1.0)
-            .product::<f64>()
-            .signum()
     };
     let fold = ta * tb < 0.0;
     if a.impacts != b.impacts {
@@ -331,10 +387,14 @@ fn classify(a: &UnitsOrbit, b: &UnitsOrbit, ta: f64, tb: f64) -> Label {
 /// `r` over `settings.range` (module doc). The branch's first point is `orbit`'s.
 pub fn follow_units(f: &Forcing, orbit: &UnitsOrbit, settings: &UnitsContSettings) -> UnitsBranch {
     let newton = Newton::default();
+    let groups = groups(f, &orbit.s);
+    let (active, held) = unknowns(orbit, &groups);
     let mut walk = Walk {
         base: f,
         p: u64::from(orbit.period),
-        groups: groups(f, &orbit.s),
+        groups,
+        active,
+        held,
         n: orbit.s.len() / 2 - 1,
         l: f.half_gap(),
         wn: f.sys.omega(),
@@ -363,6 +423,69 @@ pub fn follow_units(f: &Forcing, orbit: &UnitsOrbit, settings: &UnitsContSetting
     }
 }
 
+/// Newton at `f`'s frequency on `P^p(s) - s = 0` from `s` with the groups `like` holds at rest
+/// held where `s` has them (module doc, "Units at rest"; shooting on the whole section is
+/// singular there): the converged full state, or `None` within 8 iterations. Pure.
+pub fn shoot_holding(f: &Forcing, like: &UnitsOrbit, s: &[f64]) -> Option<Vec<f64>> {
+    let groups = groups(f, &like.s);
+    let (active, _) = unknowns(like, &groups);
+    let q = reduce(s, &groups);
+    let held = (0..groups.len())
+        .filter(|g| !active.contains(&(2 + 2 * g)))
+        .map(|g| (g, q[2 + 2 * g] + q[0]))
+        .collect();
+    let mut walk = Walk {
+        base: f,
+        p: u64::from(like.period),
+        groups,
+        active,
+        held,
+        n: like.s.len() / 2 - 1,
+        l: f.half_gap(),
+        wn: f.sys.omega(),
+        periods: 0,
+    };
+    let r = f.ratio();
+    let mut u = walk.u_of(s, r);
+    let dim = u.len() - 1;
+    for _ in 0..8 {
+        let (res, ext, _) = walk.residual(&u)?;
+        if res.norm() <= Newton::default().tol {
+            return Some(walk.state(&u).0);
+        }
+        let delta = ext.columns(0, dim).into_owned().lu().solve(&(-res))?;
+        if delta.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        for k in 0..dim {
+            u[k] += delta[k];
+        }
+    }
+    None
+}
+
+/// The unknowns of the walk from `orbit` on `groups`: the reduced coordinates of the structure
+/// and of every group that impacts, and each group at rest (no impact over the orbit: its row of
+/// the monodromy matrix is free, [`free_mask`]) with its position relative to the ground, held.
+fn unknowns(orbit: &UnitsOrbit, groups: &[Vec<usize>]) -> (Vec<usize>, Vec<(usize, f64)>) {
+    let free = if orbit.monodromy.nrows() == 2 + 2 * groups.len() {
+        free_mask(&orbit.monodromy, groups.len())
+    } else {
+        vec![false; groups.len()]
+    };
+    let q = reduce(&orbit.s, groups);
+    let mut active = vec![0, 1];
+    let mut held = Vec::new();
+    for (g, &at_rest) in free.iter().enumerate() {
+        if at_rest {
+            held.push((g, q[2 + 2 * g] + q[0]));
+        } else {
+            active.extend([2 + 2 * g, 3 + 2 * g]);
+        }
+    }
+    (active, held)
+}
+
 /// One side of the branch from `u0` (the orbit `o0`), `dir` the sign of the first step in `r`.
 fn side(
     walk: &mut Walk,
@@ -386,7 +509,13 @@ fn side(
     let mut out = Vec::new();
     while out.len() < s.max_points {
         let pred = &u + &t * h;
-        let next = match walk.correct(pred, &t, newton) {
+        // A corrector that lands off the tangent's way (back along the branch, or across to
+        // another: a long prediction near a sharp turn) has not stepped on.
+        let ahead = |n: &Solved| {
+            let step = &n.u - &u;
+            step.dot(&t) >= MIN_STEP_COSINE * step.norm()
+        };
+        let next = match walk.correct(pred, &t, newton).filter(ahead) {
             Some(next) => next,
             None if h * 0.5 >= s.h_min => {
                 h *= 0.5;
@@ -409,6 +538,9 @@ fn side(
         let Some(tn) = Walk::tangent(&next.ext, &t) else {
             return (out, End::StepTooSmall);
         };
+        if turned_back(&prev, &next.orbit, t[dim], tn[dim]) {
+            return (out, End::StepTooSmall);
+        }
         let label = classify(&prev, &next.orbit, t[dim], tn[dim]);
         out.push(UnitsBranchPoint {
             r,

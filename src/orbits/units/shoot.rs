@@ -295,8 +295,14 @@ pub const FREE_MULTIPLIER_TOL: f64 = 1e-6;
 /// The groups (of `n`) of the reduced monodromy matrix `mono` that make no impact over the
 /// orbit: their `y'` row (index `3 + 2k`) is the unit row to [`FREE_ROW_TOL`].
 fn free_groups(mono: &DMatrix<f64>, n: usize) -> usize {
+    free_mask(mono, n).iter().filter(|&&free| free).count()
+}
+
+/// For each of the `n` groups of the reduced monodromy matrix `mono`, whether it makes no
+/// impact over the orbit (its `y'` row is the unit row to [`FREE_ROW_TOL`]).
+pub fn free_mask(mono: &DMatrix<f64>, n: usize) -> Vec<bool> {
     (0..n)
-        .filter(|k| {
+        .map(|k| {
             let i = 3 + 2 * k;
             i < mono.nrows()
                 && (0..mono.ncols()).all(|j| {
@@ -304,7 +310,7 @@ fn free_groups(mono: &DMatrix<f64>, n: usize) -> usize {
                     (mono[(i, j)] - unit).abs() <= FREE_ROW_TOL
                 })
         })
-        .count()
+        .collect()
 }
 
 /// Multipliers `(re, im)`.

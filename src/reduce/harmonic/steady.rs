@@ -25,9 +25,10 @@ use crate::orbits::census::CensusSettings;
 use crate::orbits::continuation::Param;
 use crate::orbits::map::{Forcing, Section};
 use crate::orbits::response::{Response, analyse_along, branches, orbit_from_section};
+use crate::orbits::units_response::{units_branches, units_orbit_from_section};
 use crate::orbits::{CENSUS_WINDOW, HANDOVER};
 use crate::store::table::{Column, Table};
-use crate::study::Study;
+use crate::study::{CensusKind, Study};
 
 /// The steady states of every curve of `fs`, in design order: along the frequency when the
 /// study sweeps it; otherwise along `F0` when the study sweeps the force (the designs that
@@ -73,10 +74,12 @@ pub fn steady_states_in_batches<E>(
     let Some(&h) = study.scene.harmonic() else {
         return Ok(());
     };
-    // The census and the orbits' analysis (model.md §10-12) cover one damper unit: a study
-    // of several units reads each frequency's steady state from its run.
-    if !study.census() {
-        return Ok(());
+    // A study of several units has its branches along the frequency only (the continuation
+    // of several units moves `r`: [`crate::orbits::units_response`]).
+    match study.census_kind() {
+        CensusKind::None => return Ok(()),
+        CensusKind::Units if fs.frequency.is_none() => return Ok(()),
+        _ => {}
     }
     if fs.frequency.is_none() {
         let all = along_force(study, &h, fs);
@@ -313,6 +316,9 @@ fn curve_states(
     param: Param,
     stored: Option<&[AttractorRow]>,
 ) -> Response {
+    if study.several_units() {
+        return units_curve_states(base, design, values, stored);
+    }
     let s0 = initial_section(&base.sys);
     let Some(rows) = stored else {
         CENSUS_STARTS.fetch_add(
@@ -333,6 +339,43 @@ fn curve_states(
         }
     }
     let (branches, periods) = branches(base, design, &s0, values, param, seeds);
+    Response {
+        design,
+        attractors: rows.to_vec(),
+        branches,
+        periods_census: 0,
+        periods_continuation: periods,
+    }
+}
+
+/// [`curve_states`] of several units (along the frequency): the stored attractors and the
+/// branches followed from their stable periodic impacting orbits, each from its whole section
+/// state (`section_units`). A dataset written before the sweep stored the attractors of several
+/// units has neither (no census runs here).
+fn units_curve_states(
+    base: &Forcing,
+    design: u64,
+    values: &[(u64, f64)],
+    stored: Option<&[AttractorRow]>,
+) -> Response {
+    let Some(rows) = stored else {
+        return Response {
+            design,
+            ..Response::default()
+        };
+    };
+    let mut seeds = Vec::new();
+    for &(point, r) in values {
+        let f = base.at_ratio(r);
+        for a in rows.iter().filter(|a| a.run.point == point) {
+            if a.kind == SteadyKind::Periodic
+                && let Some(o) = units_orbit_from_section(&f, &a.section_units, a.period)
+            {
+                seeds.push((f.clone(), o));
+            }
+        }
+    }
+    let (branches, periods) = units_branches(design, values, seeds);
     Response {
         design,
         attractors: rows.to_vec(),
@@ -570,15 +613,29 @@ pub fn section_samples(study: &Study, c: &Curve) -> Vec<SectionSample> {
             } else {
                 SECTION_SAMPLES
             };
-            let mut s = a.section;
+            let sample = |x: f64| SectionSample {
+                r: a.run.r,
+                attractor: a.attractor,
+                kind: a.kind,
+                x,
+            };
             let mut out = Vec::with_capacity(n as usize);
+            if !a.section_units.is_empty() {
+                // Several units: the whole state, run by their own map.
+                let mut s = a.section_units.clone();
+                for _ in 0..n {
+                    out.push(sample(s[0]));
+                    let e = crate::orbits::units::map::eval(&f, &s, 1);
+                    if e.outcome != crate::sim::Outcome::Ok {
+                        break;
+                    }
+                    s = e.end;
+                }
+                return out;
+            }
+            let mut s = a.section;
             for _ in 0..n {
-                out.push(SectionSample {
-                    r: a.run.r,
-                    attractor: a.attractor,
-                    kind: a.kind,
-                    x: s[0],
-                });
+                out.push(sample(s[0]));
                 let e = crate::orbits::map::eval(&f, &s, 1, false);
                 if e.outcome != crate::sim::Outcome::Ok {
                     break;
