@@ -166,8 +166,9 @@ fn multi_unit_regenerates_the_committed_showcase() {
 /// design amplitude (the worst steady state of the census), its period, the attenuation, the
 /// impacts, the period and the convergence; where `reduce` verified a motion of the curve (the
 /// committed `verification.csv`), its direct value replaces the race's estimate among the
-/// point's attractors before the largest is taken, as `reduce` does. The summary row needs the
-/// whole study's reduction
+/// point's attractors before the largest is taken, as `reduce` does. The branches followed from
+/// the curve's stored periodic orbits are the committed `branches.csv` rows of the design, bit
+/// for bit. The summary row needs the whole study's reduction
 /// (the ignored test above). The 8-unit designs cost most (starts that do not settle run
 /// `n_trans_max` periods of 8 units: about 110 s of CPU for one), so CI reruns a 2-unit one;
 /// the census of 8 units is checked by `tests/units_census.rs` and the ignored whole run.
@@ -278,6 +279,56 @@ fn multi_unit_slice_reproduces_the_committed_curves() {
         measured.len(),
         "every verified motion of the curve found"
     );
+    // The branches `reduce` followed from the curve's stored periodic orbits (issue 68): the
+    // committed rows of design 6, bit for bit.
+    use impactsweep::orbits::attractors::SteadyKind;
+    use impactsweep::orbits::map::Forcing;
+    use impactsweep::orbits::units_response::{units_branches, units_orbit_from_section};
+    let loaded = impactsweep::study::Study::load(&study).unwrap();
+    let sys = rows[0].system;
+    let base = Forcing {
+        sys,
+        F0: loaded.scene.harmonic().unwrap().F0,
+        omega: sys.omega(),
+        settings: loaded.solver,
+    };
+    let values: Vec<(u64, f64)> = rows
+        .iter()
+        .map(|r| (r.point, r.record.omega / sys.omega()))
+        .collect();
+    let mut seeds = Vec::new();
+    for &(point, r) in &values {
+        let f = base.at_ratio(r);
+        for a in attractors.iter().filter(|a| a.run.point == point) {
+            if a.kind == SteadyKind::Periodic
+                && let Some(o) = units_orbit_from_section(&f, &a.section_units, a.period)
+            {
+                seeds.push((f.clone(), o));
+            }
+        }
+    }
+    let (branches, _) = units_branches(6, &values, seeds);
+    let (bhead, committed) = csv(&root.join("results/multi-unit/branches.csv"));
+    let committed: Vec<&Vec<String>> = committed
+        .iter()
+        .filter(|r| r[col(&bhead, "point")] == "6")
+        .collect();
+    assert_eq!(branches.len(), committed.len(), "branch rows of design 6");
+    for (b, w) in branches.iter().zip(&committed) {
+        let got = [
+            ("branch", b.branch.to_string()),
+            ("r", b.r.to_string()),
+            ("amplitude", b.amplitude.to_string()),
+            ("period", b.period.to_string()),
+            ("stability", b.stability.to_string()),
+            ("multiplier_max", b.multiplier_max.to_string()),
+            ("label", b.label.to_string()),
+            ("end", b.end.to_string()),
+        ];
+        for (key, value) in got {
+            assert_eq!(value, w[col(&bhead, key)], "branch row {w:?}: {key}");
+        }
+    }
 }
 
 /// Reads a CSV file into its header and rows of fields (a quoted field may hold commas).

@@ -15,6 +15,7 @@
 use std::path::{Path, PathBuf};
 
 use impactsweep::orbits::attractors::{AttractorRow, RunId, RunWindow, SteadyKind};
+use impactsweep::orbits::continuation::End;
 use impactsweep::orbits::map::Forcing;
 use impactsweep::orbits::race::{Serves, race_units};
 use impactsweep::orbits::several::end_section;
@@ -584,4 +585,56 @@ fn reduce_follows_the_branches_of_several_units_through_their_stored_orbits() {
         assert_eq!(b["located"], "false", "{b:?}");
     }
     assert!(dir.join("branches.png").exists() && dir.join("bifurcation.png").exists());
+}
+
+/// A closed branch of several units is followed once (issue 68): on the multi-unit showcase's
+/// design of one unit (`units = 1`, `d_spread = 0.25`: no spread for one unit), the stable period-1 orbit of three impacts a period at
+/// r = 0.91 lies on a closed curve between r = 0.90 and 0.95 (a fold, a period doubling and back).
+/// Before the walk knew closed curves it went round it 23 times, to its 2,000 points.
+#[test]
+fn a_closed_branch_of_several_units_is_followed_once() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/multi-unit.toml");
+    let study = Study::load(&path).unwrap();
+    let plan = Plan::new(&study);
+    // units = 1 (first of 4), d_spread = 0.25 (second of 4: no spread for one unit), r = 0.91
+    // (seventh of 31).
+    let point = 31 + 6;
+    let (rec, scene, f, s0) = run_end(&study, &plan, point, 0);
+    assert!((rec.r - 0.91).abs() < 1e-12, "r = {}", rec.r);
+    let c = census_units(
+        &f,
+        &s0,
+        &UnitsCensusSettings {
+            starts: scene.starts,
+            max_periods: scene.n_trans_max,
+            seed: study.seed,
+            point,
+            ..UnitsCensusSettings::default()
+        },
+    );
+    let orbit = c
+        .attractors
+        .iter()
+        .map(|a| &a.orbit)
+        .find(|o| o.period == 1 && o.impacts == 3)
+        .unwrap_or_else(|| panic!("no period-1 orbit of 3 impacts at r = 0.91"));
+    let settings = impactsweep::orbits::units::continuation::UnitsContSettings {
+        range: (0.85, 1.15),
+        h0: 0.01 / 0.85,
+        h_min: 1e-6,
+        h_max: 0.05,
+        max_points: 2000,
+    };
+    let b = impactsweep::orbits::units::continuation::follow_units(&f, orbit, &settings);
+    assert!(
+        b.ends.0 == End::Closed || b.ends.1 == End::Closed,
+        "ends {:?} after {} points",
+        b.ends,
+        b.points.len()
+    );
+    assert!(b.points.len() < 500, "{} points", b.points.len());
+    let (lo, hi) = b.points.iter().fold((f64::INFINITY, 0.0f64), |(a, c), p| {
+        (a.min(p.r), c.max(p.r))
+    });
+    assert!(lo < 0.905 && hi > 0.94, "r over [{lo}, {hi}]");
 }

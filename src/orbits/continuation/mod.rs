@@ -62,6 +62,7 @@ mod corners;
 mod located;
 mod through;
 mod walk;
+pub(crate) use walk::passes;
 
 pub use branch::{Branch, BranchPoint, ContSettings, End, GrazingOutcome, Param};
 use branch::{Curve, point};

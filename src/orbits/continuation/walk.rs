@@ -268,9 +268,9 @@ impl Walk {
         let (u, u_new) = (self.u, next.u);
         let trail = &self.trail;
         if trail.len() > 4
-            && trail[..trail.len() - 4]
-                .iter()
-                .any(|(w, tw)| tw.dot(&self.t) > 0.9 && passes(w, &u, &u_new))
+            && trail[..trail.len() - 4].iter().any(|(w, tw)| {
+                tw.dot(&self.t) > 0.9 && passes(w.as_slice(), u.as_slice(), u_new.as_slice())
+            })
         {
             // Back on a point it went through, the same way: a closed curve (an isola, or a
             // loop the branch ran into) is followed once.
@@ -408,16 +408,27 @@ pub(super) fn classify(
 /// above).
 pub(super) const MAX_SWITCHES_PER_SIDE: u32 = 2;
 
-/// Whether the step from `now` to `next` passes through `start`: `start` lies within 5 % of the
-/// step's length (plus the corrector's tolerance) of the chord between them.
-pub(super) fn passes(start: &V5, now: &V5, next: &V5) -> bool {
-    let chord = next - now;
-    let len2 = chord.norm_squared();
+/// Whether the step from `now` to `next` passes through `start` (points of the walk's scaled
+/// space, any dimension): `start` lies within 5 % of the step's length (plus the corrector's
+/// tolerance) of the chord between them.
+pub(crate) fn passes(start: &[f64], now: &[f64], next: &[f64]) -> bool {
+    let dot = |a: &mut dyn Iterator<Item = f64>, b: &mut dyn Iterator<Item = f64>| {
+        a.zip(b).map(|(x, y)| x * y).sum::<f64>()
+    };
+    let chord: Vec<f64> = next.iter().zip(now).map(|(b, a)| b - a).collect();
+    let len2 = dot(&mut chord.iter().copied(), &mut chord.iter().copied());
     if len2 == 0.0 {
         return false;
     }
-    let along = ((start - now).dot(&chord) / len2).clamp(0.0, 1.0);
-    (now + chord * along - start).norm() <= 0.05 * len2.sqrt() + 1e-8
+    let to_start = start.iter().zip(now).map(|(s, a)| s - a);
+    let along = (dot(&mut to_start.clone(), &mut chord.iter().copied()) / len2).clamp(0.0, 1.0);
+    let mut closest = now
+        .iter()
+        .zip(&chord)
+        .zip(start)
+        .map(|((a, c), s)| a + c * along - s);
+    let off = dot(&mut closest.clone(), &mut closest).sqrt();
+    off <= 0.05 * len2.sqrt() + 1e-8
 }
 
 /// Whether `next` goes back along the branch through `before` and `now`: it is nearer `before`

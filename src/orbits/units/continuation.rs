@@ -49,13 +49,14 @@
 //! The multipliers are those the census reports ([`super::shoot::orbit_at`]: the relative modes
 //! of units in step and the free modes of a group at rest are set apart). Every branch ends with
 //! a named reason ([`End`]): `range`, `no_impacts`, `step_too_small`, `max_points`, `simulator`,
-//! `grazing_end`. Each step is a bounded number of map evaluations. Pure.
+//! `grazing_end`, `closed` (the step passed through a point it went through, the same way: a
+//! closed curve is followed once, and the other side is empty). Each step is a bounded number of map evaluations. Pure.
 
 use nalgebra::{DMatrix, DVector};
 
 use super::map::{UnitsEval, distance, eval, expand, groups, reduce};
 use super::shoot::{UnitsNewton, UnitsOrbit, free_mask, monodromy, orbit_at};
-use crate::orbits::continuation::End;
+use crate::orbits::continuation::{End, passes};
 use crate::orbits::label::Label;
 use crate::orbits::map::Forcing;
 use crate::orbits::shoot::Newton;
@@ -407,8 +408,13 @@ pub fn follow_units(f: &Forcing, orbit: &UnitsOrbit, settings: &UnitsContSetting
         orbit: orbit.clone(),
         label: Label::None,
     };
-    let mut sides = Vec::new();
+    let mut sides: Vec<(Vec<UnitsBranchPoint>, End)> = Vec::new();
     for dir in [-1.0, 1.0] {
+        if sides.first().is_some_and(|(_, end)| *end == End::Closed) {
+            // The first side went round the whole curve (or into a loop it follows once).
+            sides.push((Vec::new(), End::Closed));
+            continue;
+        }
         sides.push(side(&mut walk, &u0, orbit, dir, settings, &newton));
     }
     let (mut down, end_down) = sides.remove(0);
@@ -507,6 +513,8 @@ fn side(
     let (mut u, mut prev) = (u0.clone(), o0.clone());
     let mut h = s.h0;
     let mut out = Vec::new();
+    // The points gone through with their tangents, for a closed curve.
+    let mut trail: Vec<(DVector<f64>, DVector<f64>)> = vec![(u0.clone(), t.clone())];
     while out.len() < s.max_points {
         let pred = &u + &t * h;
         // A corrector that lands off the tangent's way (back along the branch, or across to
@@ -531,6 +539,15 @@ fn side(
                 None => return (out, walk.failed_at(&u, &t, s.h_min, &prev)),
             },
         };
+        if trail.len() > 4
+            && trail[..trail.len() - 4].iter().any(|(w, tw)| {
+                tw.dot(&t) > 0.9 && passes(w.as_slice(), u.as_slice(), next.u.as_slice())
+            })
+        {
+            // Back on a point it went through, the same way: a closed curve (an isola, or a
+            // loop the branch ran into) is followed once.
+            return (out, End::Closed);
+        }
         let r = next.u[dim];
         if r < s.range.0 || r > s.range.1 {
             return (out, End::Range);
@@ -553,6 +570,7 @@ fn side(
         if next.iterations <= 3 {
             h = (h * 1.5).min(s.h_max);
         }
+        trail.push((next.u.clone(), tn.clone()));
         (u, t, prev) = (next.u, tn, next.orbit);
     }
     (out, End::MaxPoints)
