@@ -506,7 +506,8 @@ fn csv_rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
 /// period-1 orbit on which the unit in the larger cavity rests while the other rattles is one
 /// branch through both frequencies that store it (the resting unit held: without that the
 /// corrector is singular and the branch a single point; where the unit rests is not a second
-/// orbit), and every stable periodic attractor stored lies on a branch of its period.
+/// orbit), every stable periodic attractor stored lies on a branch of its period, and the
+/// period doubling of the period-3 orbit near r = 1.0996 is located (its multiplier at -1).
 #[test]
 fn reduce_follows_the_branches_of_several_units_through_their_stored_orbits() {
     let tmp = tempfile::tempdir().unwrap();
@@ -582,7 +583,37 @@ fn reduce_follows_the_branches_of_several_units_through_their_stored_orbits() {
             ["stable", "unstable"].contains(&b["stability"].as_str()),
             "{b:?}"
         );
-        assert_eq!(b["located"], "false", "{b:?}");
+    }
+    // Every located label is solved for: a period doubling's multiplier at -1, a fold's or a
+    // branch point's at +1 (a Neimark-Sacker pair on the unit circle), each to 1e-6.
+    let located: Vec<_> = branches.iter().filter(|b| b["located"] == "true").collect();
+    assert!(!located.is_empty(), "no located bifurcation");
+    for b in located {
+        let mu: Vec<(f64, f64)> = (1..=4)
+            .map(|k| (num(b, &format!("mu{k}_re")), num(b, &format!("mu{k}_im"))))
+            .filter(|m| m.0.is_finite())
+            .collect();
+        let off = |target: (f64, f64)| {
+            mu.iter()
+                .map(|m| (m.0 - target.0).hypot(m.1 - target.1))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let miss = match b["label"].as_str() {
+            "PD" => off((-1.0, 0.0)),
+            "SN" | "BP" => off((1.0, 0.0)),
+            "NS" => mu
+                .iter()
+                .filter(|m| m.1.abs() > 1e-9)
+                .map(|m| (m.0.hypot(m.1) - 1.0).abs())
+                .fold(f64::INFINITY, f64::min),
+            other => panic!("label {other} located: {b:?}"),
+        };
+        assert!(
+            miss <= 1e-6,
+            "{} at r = {}: multipliers {mu:?}",
+            b["label"],
+            b["r"]
+        );
     }
     assert!(dir.join("branches.png").exists() && dir.join("bifurcation.png").exists());
 }

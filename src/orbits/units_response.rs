@@ -10,9 +10,10 @@
 //! * `multiplier_max` and `mu1..mu4` are the largest multipliers of the reduced monodromy
 //!   matrix by modulus (the relative modes of units in step and the free modes of a group at
 //!   rest are set apart, as in the census: [`super::units::shoot`]); `NaN` past the ones it has;
-//! * a label sits on the first point past the change, `located = false`: the points are not
-//!   solved for between two points (the bracket is the two rows' `r`), so no bifurcation curve
-//!   starts from them;
+//! * `SN`, `PD`, `NS` and `BP` are located between two points by bisection
+//!   ([`super::units::continuation`]), `located = true`; a grazing (`GR`), and a label whose
+//!   bisection failed, sits on the first point past the change, `located = false`. No
+//!   bifurcation curve starts from them (the curves over the design space cover one unit);
 //! * `min_impact_speed` is `NaN` (not computed for several units) and `grazing_outcome` is empty:
 //!   a branch that reaches a grazing ends there (`grazing_end`);
 //! * the section columns are the structure's and the first unit's, as `attractors`' are.
@@ -227,7 +228,7 @@ fn push_units_branch(
             }),
             min_impact_speed: f64::NAN,
             label: p.label.name(),
-            located: false,
+            located: p.located,
             end,
             grazing_outcome: "",
             s,

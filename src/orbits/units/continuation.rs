@@ -30,8 +30,13 @@
 //! the branch ends there (`grazing_end`).
 //!
 //! # Labels
-//! Between two consecutive points, on the point past the change (not located between them: the
-//! bracket is the two points' `r`):
+//! Between two consecutive points; `SN`, `PD`, `NS` and `BP` are located between them
+//! ([`LOCATED`]): the bracket is bisected, each midpoint of the chord corrected onto the branch
+//! orthogonally to the chord, to [`LOCATE_TOL`] in the scaled arclength; the located point is a
+//! row of its own, kept where its multiplier lies within [`LOCATED_MULTIPLIER_TOL`] of the
+//! bifurcation's value. Where that fails (a corrector does not converge, another change shows in
+//! the bracket, or the bracket narrows onto a jump of the multipliers, where the map is not
+//! smooth though the impacts stay) and for `GR`, the label sits on the point past the change:
 //! * `SN`, a fold: the tangent's `r` component changes sign and `det(J - I)` with it (a real
 //!   multiplier crosses 1). Where `r` turns back without that, the walk met a point where the
 //!   map is not smooth though the impacts per orbit stay (an impact's order changes) and went
@@ -65,6 +70,14 @@ use crate::sim::Outcome;
 /// Corrector iterations per step.
 pub const MAX_CORRECTIONS: u32 = 6;
 
+/// The labels located between two points (module doc, "Labels"); a grazing (`GR`) is not.
+pub const LOCATED: [Label; 4] = [Label::SN, Label::PD, Label::NS, Label::BP];
+
+/// Bisections of a located point at most, and the width (in the scaled arclength) of the
+/// bracket it stops at.
+pub const LOCATE_STEPS: u32 = 40;
+pub const LOCATE_TOL: f64 = 1e-8;
+
 /// The smallest cosine between a step (from the last point to the corrected one) and the
 /// tangent it was predicted along: a step further off the tangent is refused and halved
 /// (module doc).
@@ -89,6 +102,9 @@ pub struct UnitsBranchPoint {
     pub r: f64,
     pub orbit: UnitsOrbit,
     pub label: Label,
+    /// The point is its label's located point (module doc, "Labels"); a label on a point that
+    /// is not located sits on the first point past the change.
+    pub located: bool,
 }
 
 /// A branch in the order of the curve (`r` may turn back at folds), its ends (the low side's
@@ -275,6 +291,47 @@ impl Walk<'_> {
         None
     }
 
+    /// Where `label` happens between the point `ua` (tangent `ta`, orbit `oa`) and the next
+    /// point `ub` (module doc, "Labels"): bisection of the bracket, each midpoint of the chord
+    /// corrected onto the branch in the hyperplane through it orthogonal to the chord, kept as
+    /// the bracket's near end when `label` does not yet happen between the near end and it,
+    /// else as its far end; the far end once the bracket is under [`LOCATE_TOL`], with its
+    /// orbit, where its multiplier is the bifurcation's ([`at_bifurcation`]). `None` when a
+    /// corrector fails, another change shows in the bracket, it does not narrow within
+    /// [`LOCATE_STEPS`], or the multipliers jump there.
+    fn locate(
+        &mut self,
+        ua: &DVector<f64>,
+        ta: &DVector<f64>,
+        oa: &UnitsOrbit,
+        ub: &DVector<f64>,
+        label: Label,
+        newton: &Newton,
+    ) -> Option<(DVector<f64>, UnitsOrbit)> {
+        let dim = ua.len() - 1;
+        let (mut lo, mut lo_t, mut lo_o) = (ua.clone(), ta.clone(), oa.clone());
+        let mut hi = ub.clone();
+        let mut found = None;
+        for _ in 0..LOCATE_STEPS {
+            let chord = &hi - &lo;
+            if chord.norm() <= LOCATE_TOL {
+                return found.filter(|(_, o)| at_bifurcation(o, label));
+            }
+            let along = &chord / chord.norm();
+            let mid = self.correct(&lo + &chord * 0.5, &along, newton)?;
+            let tm = Walk::tangent(&mid.ext, &lo_t)?;
+            match classify(&lo_o, &mid.orbit, lo_t[dim], tm[dim]) {
+                l if l == label => {
+                    hi = mid.u.clone();
+                    found = Some((mid.u, mid.orbit));
+                }
+                Label::None => (lo, lo_t, lo_o) = (mid.u, tm, mid.orbit),
+                _ => return None,
+            }
+        }
+        None
+    }
+
     /// The unit tangent at a point with extended Jacobian `ext`, oriented like `prev`.
     fn tangent(ext: &DMatrix<f64>, prev: &DVector<f64>) -> Option<DVector<f64>> {
         let dim = ext.nrows();
@@ -329,6 +386,31 @@ impl Walk<'_> {
             u += delta;
         }
         None
+    }
+}
+
+/// How near its bifurcation's value a located point's multiplier must lie
+/// ([`at_bifurcation`]).
+pub const LOCATED_MULTIPLIER_TOL: f64 = 1e-4;
+
+/// Whether `o`, located for `label`, has the multiplier of that bifurcation within
+/// [`LOCATED_MULTIPLIER_TOL`]: `-1` for `PD`, `1` for `SN` and `BP`, a complex pair on the unit
+/// circle for `NS`. A bracket that narrows onto a jump of the multipliers (where the map is not
+/// smooth though the impacts stay) has none there: the change is not that bifurcation's.
+fn at_bifurcation(o: &UnitsOrbit, label: Label) -> bool {
+    let near = |target: f64| {
+        o.multipliers
+            .iter()
+            .any(|m| (m.0 - target).hypot(m.1) <= LOCATED_MULTIPLIER_TOL)
+    };
+    match label {
+        Label::PD => near(-1.0),
+        Label::SN | Label::BP => near(1.0),
+        Label::NS => o
+            .multipliers
+            .iter()
+            .any(|m| m.1.abs() > 1e-9 && (m.0.hypot(m.1) - 1.0).abs() <= LOCATED_MULTIPLIER_TOL),
+        _ => false,
     }
 }
 
@@ -407,6 +489,7 @@ pub fn follow_units(f: &Forcing, orbit: &UnitsOrbit, settings: &UnitsContSetting
         r: r0,
         orbit: orbit.clone(),
         label: Label::None,
+        located: false,
     };
     let mut sides: Vec<(Vec<UnitsBranchPoint>, End)> = Vec::new();
     for dir in [-1.0, 1.0] {
@@ -558,11 +641,23 @@ fn side(
         if turned_back(&prev, &next.orbit, t[dim], tn[dim]) {
             return (out, End::StepTooSmall);
         }
-        let label = classify(&prev, &next.orbit, t[dim], tn[dim]);
+        let mut label = classify(&prev, &next.orbit, t[dim], tn[dim]);
+        if LOCATED.contains(&label)
+            && let Some((at, orbit)) = walk.locate(&u, &t, &prev, &next.u, label, newton)
+        {
+            out.push(UnitsBranchPoint {
+                r: at[dim],
+                orbit,
+                label,
+                located: true,
+            });
+            label = Label::None;
+        }
         out.push(UnitsBranchPoint {
             r,
             orbit: next.orbit.clone(),
             label,
+            located: false,
         });
         if label == Label::GR {
             return (out, End::GrazingEnd);

@@ -36,7 +36,7 @@ pub struct Curve {
 }
 
 /// The bifurcation curves of a harmonic study along the frequency (empty without a frequency
-/// axis or without a swept design axis among `m`, `d`, `e`, `C`, `F0`), along the lines of the
+/// axis, without a swept design axis among `m`, `d`, `e`, `C`, `F0`, or with several units), along the lines of the
 /// grid that `lines` asks for (`anchor`: the recommended design; without one, `Recommended`
 /// follows none).
 pub fn curves(
@@ -50,6 +50,11 @@ pub fn curves(
     let Some((_, freqs)) = &fs.frequency else {
         return Vec::new();
     };
+    // The curves over the design space follow one unit's section (a study of several units
+    // locates its points on its branches, and follows no curve from them).
+    if study.several_units() {
+        return Vec::new();
+    }
     let wanted = |design: u64, a: usize| match lines {
         CurveLines::All => true,
         CurveLines::None => false,
