@@ -150,18 +150,12 @@ pub fn branches(
     seeds: Vec<(Forcing, Box<Orbit>)>,
 ) -> (Vec<BranchRow>, u64) {
     let mut out = Response::default();
-    let (lo, hi) = values
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, r)| {
-            (a.min(r), b.max(r))
-        });
-    if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+    let Some((lo, hi, h0)) = curve_steps(values) else {
         return (Vec::new(), 0);
-    }
-    let step = (hi - lo) / (values.len().max(2) - 1) as f64;
+    };
     let cont = ContSettings {
         range: (lo, hi),
-        h0: (step / lo).max(1e-3),
+        h0,
         h_min: 1e-6,
         h_max: 0.05,
         max_points: 2000,
@@ -196,6 +190,22 @@ pub fn branches(
     );
     branch_points_met(&mut out.branches);
     (out.branches, out.periods_continuation)
+}
+
+/// The range `(lo, hi)` of a curve's values (`(point, value)`) and the continuation's first
+/// step `h0`: one step of the curve relative to `lo`, at least `1e-3`. `None` for a curve of one
+/// value.
+pub fn curve_steps(values: &[(u64, f64)]) -> Option<(f64, f64, f64)> {
+    let (lo, hi) = values
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, r)| {
+            (a.min(r), b.max(r))
+        });
+    if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+        return None;
+    }
+    let step = (hi - lo) / (values.len().max(2) - 1) as f64;
+    Some((lo, hi, (step / lo).max(1e-3)))
 }
 
 /// A bifurcation seen from the branch born there. Where the symmetric orbit's branch has a

@@ -23,7 +23,7 @@
 
 use super::continuation::Param;
 use super::map::{Forcing, Section};
-use super::response::{BranchRow, MAX_BRANCHES};
+use super::response::{BranchRow, MAX_BRANCHES, curve_steps};
 use super::shoot::{Newton, Stability, Termination};
 use super::units::continuation::{
     UnitsBranch, UnitsBranchPoint, UnitsContSettings, follow_units, shoot_holding,
@@ -56,18 +56,12 @@ pub fn units_branches(
     values: &[(u64, f64)],
     seeds: Vec<(Forcing, UnitsOrbit)>,
 ) -> (Vec<BranchRow>, u64) {
-    let (lo, hi) = values
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, r)| {
-            (a.min(r), b.max(r))
-        });
-    if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+    let Some((lo, hi, h0)) = curve_steps(values) else {
         return (Vec::new(), 0);
-    }
-    let step = (hi - lo) / (values.len().max(2) - 1) as f64;
+    };
     let cont = UnitsContSettings {
         range: (lo, hi),
-        h0: (step / lo).max(1e-3),
+        h0,
         h_min: 1e-6,
         h_max: 0.05,
         max_points: 2000,

@@ -141,7 +141,25 @@ struct Solved {
     iterations: u32,
 }
 
-impl Walk<'_> {
+impl<'a> Walk<'a> {
+    /// The walk at `f` along orbits like `like` (its period, groups and groups at rest), the
+    /// groups at rest held where the state `s` has them.
+    fn new(f: &'a Forcing, like: &UnitsOrbit, s: &[f64]) -> Walk<'a> {
+        let groups = groups(f, &like.s);
+        let (active, held) = unknowns(like, &groups, s);
+        Walk {
+            base: f,
+            p: u64::from(like.period),
+            groups,
+            active,
+            held,
+            n: like.s.len() / 2 - 1,
+            l: f.half_gap(),
+            wn: f.sys.omega(),
+            periods: 0,
+        }
+    }
+
     fn scale_of(&self, k: usize) -> f64 {
         if k % 2 == 1 { self.wn * self.l } else { self.l }
     }
@@ -470,19 +488,7 @@ fn classify(a: &UnitsOrbit, b: &UnitsOrbit, ta: f64, tb: f64) -> Label {
 /// `r` over `settings.range` (module doc). The branch's first point is `orbit`'s.
 pub fn follow_units(f: &Forcing, orbit: &UnitsOrbit, settings: &UnitsContSettings) -> UnitsBranch {
     let newton = Newton::default();
-    let groups = groups(f, &orbit.s);
-    let (active, held) = unknowns(orbit, &groups);
-    let mut walk = Walk {
-        base: f,
-        p: u64::from(orbit.period),
-        groups,
-        active,
-        held,
-        n: orbit.s.len() / 2 - 1,
-        l: f.half_gap(),
-        wn: f.sys.omega(),
-        periods: 0,
-    };
+    let mut walk = Walk::new(f, orbit, &orbit.s);
     let r0 = f.ratio();
     let u0 = walk.u_of(&orbit.s, r0);
     let start = UnitsBranchPoint {
@@ -516,24 +522,7 @@ pub fn follow_units(f: &Forcing, orbit: &UnitsOrbit, settings: &UnitsContSetting
 /// held where `s` has them (module doc, "Units at rest"; shooting on the whole section is
 /// singular there): the converged full state, or `None` within 8 iterations. Pure.
 pub fn shoot_holding(f: &Forcing, like: &UnitsOrbit, s: &[f64]) -> Option<Vec<f64>> {
-    let groups = groups(f, &like.s);
-    let (active, _) = unknowns(like, &groups);
-    let q = reduce(s, &groups);
-    let held = (0..groups.len())
-        .filter(|g| !active.contains(&(2 + 2 * g)))
-        .map(|g| (g, q[2 + 2 * g] + q[0]))
-        .collect();
-    let mut walk = Walk {
-        base: f,
-        p: u64::from(like.period),
-        groups,
-        active,
-        held,
-        n: like.s.len() / 2 - 1,
-        l: f.half_gap(),
-        wn: f.sys.omega(),
-        periods: 0,
-    };
+    let mut walk = Walk::new(f, like, s);
     let r = f.ratio();
     let mut u = walk.u_of(s, r);
     let dim = u.len() - 1;
@@ -555,14 +544,19 @@ pub fn shoot_holding(f: &Forcing, like: &UnitsOrbit, s: &[f64]) -> Option<Vec<f6
 
 /// The unknowns of the walk from `orbit` on `groups`: the reduced coordinates of the structure
 /// and of every group that impacts, and each group at rest (no impact over the orbit: its row of
-/// the monodromy matrix is free, [`free_mask`]) with its position relative to the ground, held.
-fn unknowns(orbit: &UnitsOrbit, groups: &[Vec<usize>]) -> (Vec<usize>, Vec<(usize, f64)>) {
+/// the monodromy matrix is free, [`free_mask`]) with its position relative to the ground in the
+/// state `s`, held.
+fn unknowns(
+    orbit: &UnitsOrbit,
+    groups: &[Vec<usize>],
+    s: &[f64],
+) -> (Vec<usize>, Vec<(usize, f64)>) {
     let free = if orbit.monodromy.nrows() == 2 + 2 * groups.len() {
         free_mask(&orbit.monodromy, groups.len())
     } else {
         vec![false; groups.len()]
     };
-    let q = reduce(&orbit.s, groups);
+    let q = reduce(s, groups);
     let mut active = vec![0, 1];
     let mut held = Vec::new();
     for (g, &at_rest) in free.iter().enumerate() {
