@@ -387,7 +387,7 @@ fn motion_row(
 
 /// The first four components of a section state of several units: the structure and unit 1
 /// (the `section_*` columns).
-fn section_of(s: &[f64]) -> Section {
+pub fn section_of(s: &[f64]) -> Section {
     let at = |k: usize| s.get(k).copied().unwrap_or(f64::NAN);
     [at(0), at(1), at(2), at(3)]
 }

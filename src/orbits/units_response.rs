@@ -16,13 +16,15 @@
 //!   bifurcation curve starts from them (the curves over the design space cover one unit);
 //! * `min_impact_speed` is `NaN` (not computed for several units) and `grazing_outcome` is empty:
 //!   a branch that reaches a grazing ends there (`grazing_end`);
-//! * the section columns are the structure's and the first unit's, as `attractors`' are.
+//! * the section columns are the structure's and the first unit's, as `attractors`' are
+//!   ([`section_of`]).
 //!
 //! No non-impacting family is drawn, and a curve along `F0` has no branches: the continuation
 //! of several units moves `r` only.
 
+use super::attractors::section_of;
 use super::continuation::Param;
-use super::map::{Forcing, Section};
+use super::map::Forcing;
 use super::response::{BranchRow, MAX_BRANCHES, curve_steps};
 use super::shoot::{Newton, Stability, Termination};
 use super::units::continuation::{
@@ -96,6 +98,7 @@ pub fn units_branches(
 pub fn covers(b: &UnitsBranch, f: &Forcing, orbit: &UnitsOrbit) -> bool {
     let r = Param::Ratio.get(f);
     let p = u64::from(orbit.period);
+    let resting = at_rest(orbit);
     b.points.windows(2).any(|w| {
         let alike = |q: &UnitsBranchPoint| {
             q.orbit.period == orbit.period
@@ -127,11 +130,10 @@ pub fn covers(b: &UnitsBranch, f: &Forcing, orbit: &UnitsOrbit) -> bool {
             .collect();
         // Units at rest over the orbit may rest anywhere their cavities let them: where the
         // orbit has them is where Newton looks.
-        for i in at_rest(orbit) {
+        for &i in &resting {
             s[2 + 2 * i] = orbit.s[2 + 2 * i];
             s[3 + 2 * i] = orbit.s[3 + 2 * i];
         }
-        let resting = at_rest(orbit);
         if resting.is_empty() {
             return matches!(
                 solve(f, p, &s, &Newton::default()),
@@ -200,8 +202,6 @@ fn push_units_branch(
         };
         let o = &p.orbit;
         let stable = o.stability == Stability::Stable;
-        let at = |k: usize| o.s.get(k).copied().unwrap_or(f64::NAN);
-        let s: Section = [at(0), at(1), at(2), at(3)];
         rows.push(BranchRow {
             design,
             branch,
@@ -225,7 +225,7 @@ fn push_units_branch(
             located: p.located,
             end,
             grazing_outcome: "",
-            s,
+            s: section_of(&o.s),
         });
     }
 }

@@ -432,10 +432,14 @@ fn at_bifurcation(o: &UnitsOrbit, label: Label) -> bool {
     }
 }
 
+/// Whether multiplier `m = (re, im)` is real (its imaginary part below `1e-9` of its modulus).
+fn real(m: &(f64, f64)) -> bool {
+    m.1.abs() <= 1e-9 * m.0.hypot(m.1).max(1e-300)
+}
+
 /// The sign of `det(J - I)` at `o`: the product of `mu - 1` over its real multipliers (a
 /// complex pair's product is positive).
 fn det_sign(o: &UnitsOrbit) -> f64 {
-    let real = |m: &(f64, f64)| m.1.abs() <= 1e-9 * m.0.hypot(m.1).max(1e-300);
     o.multipliers
         .iter()
         .filter(|m| real(m))
@@ -455,7 +459,6 @@ fn turned_back(a: &UnitsOrbit, b: &UnitsOrbit, ta: f64, tb: f64) -> bool {
 /// The label between two consecutive orbits `a`, `b` whose tangents' `r` components are `ta`,
 /// `tb` (module doc); `GR` where the impacts change.
 fn classify(a: &UnitsOrbit, b: &UnitsOrbit, ta: f64, tb: f64) -> Label {
-    let real = |m: &(f64, f64)| m.1.abs() <= 1e-9 * m.0.hypot(m.1).max(1e-300);
     let below = |o: &UnitsOrbit| {
         o.multipliers
             .iter()
