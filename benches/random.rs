@@ -18,6 +18,10 @@
 //! from them, its run at the 0.2-g stripe drawing its load and from the samples, and a stripe's
 //! whole realization, for the structure alone and four dampers. `SEISMIC_ONLY=1` stops there;
 //! `cargo bench --profile dev --bench random` builds it without the release profile's LTO.
+//!
+//! Under `cargo test` (criterion's test mode, no `--bench` argument) every measurement runs as a
+//! smoke test on 20 realizations, one round: the printed figures are then not measurements (the
+//! whole set, 150,000 realizations, took 35 s of one core in CI).
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use impactsweep::model::System;
@@ -67,6 +71,16 @@ fn structure(m: f64) -> System {
 }
 
 /// The calling thread's CPU time (s).
+/// Realizations per measurement and rounds of it: `(2000, 5)` under `cargo bench`, `(20, 1)` as
+/// a smoke test under `cargo test`.
+fn sizes() -> (u64, usize) {
+    if std::env::args().any(|a| a == "--bench") {
+        (2000, 5)
+    } else {
+        (20, 1)
+    }
+}
+
 fn thread_cpu() -> f64 {
     let mut ts = libc::timespec {
         tv_sec: 0,
@@ -94,7 +108,7 @@ fn bench(c: &mut Criterion) {
             .collect();
         let impacts = probe.iter().map(|r| r.impacts).sum::<u64>() as f64 / 50.0;
         let steps = probe.iter().map(|r| r.steps).sum::<u64>() as f64 / 50.0;
-        let n = 2000u64;
+        let n = sizes().0;
         let (wall, cpu) = (std::time::Instant::now(), thread_cpu());
         for r in 0..n {
             black_box(run.run(&req, RealizationStream::new(2, 0, r), &mut NoProbe));
@@ -210,21 +224,21 @@ fn seismic() {
     let spec = scene.intensity.expect("an intensity measure");
     let settings = SolverSettings::default();
     let req = Request::default();
-    let n = 2000u64;
+    let (n, rounds) = sizes();
     let stream = |r: u64| RealizationStream::new(2026, 0, r);
     let gains: Vec<f64> = (0..n)
         .map(|r| 0.2 / own_intensity(&scene, spec.period, stream(r)).sa)
         .collect();
-    let own = cpu_us(5, n, |r| {
+    let own = cpu_us(rounds, n, |r| {
         black_box(own_intensity(&scene, spec.period, stream(r)));
     });
     eprintln!("seismic own Sa pass: {own:.1} us of thread CPU per realization");
     // The motion drawn once (issue 69): its samples, its own Sa from them.
     let setup = RandomRun::new(&seismic_structure(0.1, 0.01), &settings, &scene);
     let mut block = LoadBlock::default();
-    let load = cpu_us(5, n, |r| setup.load_into(stream(r), &mut block));
+    let load = cpu_us(rounds, n, |r| setup.load_into(stream(r), &mut block));
     let blocks: Vec<LoadBlock> = (0..n).map(|r| setup.load(stream(r))).collect();
-    let own_block = cpu_us(5, n, |r| {
+    let own_block = cpu_us(rounds, n, |r| {
         black_box(setup.own_intensity(spec.period, &blocks[r as usize]));
     });
     eprintln!(
@@ -239,21 +253,21 @@ fn seismic() {
         (0.2, 0.04),
     ] {
         let run = RandomRun::new(&seismic_structure(m, d), &settings, &scene);
-        let recs: Vec<_> = (0..200u64)
+        let recs: Vec<_> = (0..200.min(n))
             .map(|r| run.run_scaled(&req, stream(r), gains[r as usize], &mut NoProbe))
             .collect();
         let mean = |f: &dyn Fn(&impactsweep::sim::random::RandomRecord) -> f64| {
             recs.iter().map(f).sum::<f64>() / recs.len() as f64
         };
         let (impacts, steps) = (mean(&|r| r.impacts as f64), mean(&|r| r.steps as f64));
-        let us = cpu_us(5, n, |r| {
+        let us = cpu_us(rounds, n, |r| {
             black_box(run.run_scaled(&req, stream(r), gains[r as usize], &mut NoProbe));
         });
-        let from_block = cpu_us(5, n, |r| {
+        let from_block = cpu_us(rounds, n, |r| {
             let i = r as usize;
             black_box(run.run_block(&req, &blocks[i], gains[i], &mut NoProbe));
         });
-        let whole = cpu_us(5, n, |r| {
+        let whole = cpu_us(rounds, n, |r| {
             run.load_into(stream(r), &mut block);
             let own = run.own_intensity(spec.period, &block);
             black_box(run.run_block(&req, &block, 0.2 / own.sa, &mut NoProbe));
@@ -262,7 +276,8 @@ fn seismic() {
             "seismic run m = {m}, d = {d}: {us:.1} us of thread CPU per realization at the 0.2-g \
              stripe drawing its load, {from_block:.1} us from its samples drawn before; a \
              stripe's realization (samples, own Sa, run) {whole:.1} us; {impacts:.1} impacts, \
-             {steps:.0} solver steps (mean of 200)"
+             {steps:.0} solver steps (mean of {})",
+            recs.len()
         );
     }
 }

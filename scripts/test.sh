@@ -37,16 +37,34 @@ export IMPACTSWEEP_PYTHON="$PWD/.venv/bin/python"
 export CARGO_INCREMENTAL=0
 phase lint
 cargo fmt --check
-cargo clippy --all-targets -- -D warnings
-# The library's docs, private items included (the module docs link to what they explain), with
-# warnings denied: a link broken by a move or a rename fails here.
-phase doc
-RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib --document-private-items
+cargo fmt --check --manifest-path python/Cargo.toml
+# Clippy, then the library's docs (private items included: the module docs link to what they
+# explain) with warnings denied, so that a link broken by a move or a rename fails: both in
+# their own target directory (a check build shares nothing with the test build's artifacts), in
+# the background of the test build, whose cores they use where the build leaves one idle (the
+# crate's single-threaded front end, the links; BENCHMARKS.md, "CI time"). Their output is
+# printed when they end; a failure stops the script there.
+mkdir -p target
+lint() {
+  CARGO_TARGET_DIR=target/lint cargo clippy --all-targets -- -D warnings
+  CARGO_TARGET_DIR=target/lint RUSTDOCFLAGS="-D warnings" \
+    cargo doc --no-deps --lib --document-private-items
+}
+lint > target/lint.log 2>&1 &
+lint_job=$!
 # Every test: the library's, the binary's, the integration tests and the benchmarks (each run
 # once as a smoke test). The examples hold no tests; clippy above has compiled them, and
 # building each at the test profile's opt-level would cost minutes (BENCHMARKS.md, "CI time").
 phase test build
 cargo test --lib --bins --tests --benches --no-run
+phase lint and doc
+lint_status=0
+wait "$lint_job" || lint_status=$?
+cat target/lint.log >&2
+if [ "$lint_status" -ne 0 ]; then
+  echo "test.sh: clippy or cargo doc failed (target/lint.log above)" >&2
+  exit "$lint_status"
+fi
 wait "$python_setup"
 wait "$chromium_setup"
 phase Rust tests
@@ -55,17 +73,16 @@ cargo test --lib --bins --tests --benches
 # regenerates from the committed estimates, and a slice of them (point P2, seeds 1 and 2) is
 # reproduced bit for bit. The example in the test profile (its dependencies are built already).
 phase validations
-cargo build --quiet --profile test --example life_validation
+cargo build --quiet --profile test --example life_validation --example subset_validation \
+  --example units_life_validation
 LIFE_VALIDATION_BIN="$PWD/target/debug/examples/life_validation" scripts/life_validation.sh --check
 # The committed validation of subset simulation (results/subset_validation.md): its report
 # regenerates from the committed runs, and a slice (the exact Gaussian case's runs 0-2 at 1e-3,
 # design A's run 0) is reproduced bit for bit.
-cargo build --quiet --profile test --example subset_validation
 SUBSET_VALIDATION_BIN="$PWD/target/debug/examples/subset_validation" scripts/subset_validation.sh --check
 # The committed validation of the design life of several units
 # (results/units_life_validation.md): its report regenerates from the committed runs, and a slice
 # (point U2, study seed 1) is reproduced bit for bit.
-cargo build --quiet --profile test --example units_life_validation
 UNITS_LIFE_VALIDATION_BIN="$PWD/target/debug/examples/units_life_validation" scripts/units_life_validation.sh --check
 # The Python extension (python/, a member of the workspace that `cargo test` leaves out): its
 # lint, and its build (the dev profile, whose settings for the main crate and its dependencies
@@ -74,8 +91,8 @@ UNITS_LIFE_VALIDATION_BIN="$PWD/target/debug/examples/units_life_validation" scr
 # (python/Cargo.toml), so the main crate and its dependencies are not compiled again: only pyo3,
 # the pyarrow bridge and the extension itself are (BENCHMARKS.md, "CI time").
 phase Python extension
-cargo fmt --check --manifest-path python/Cargo.toml
-cargo clippy -p impactsweep-py --all-targets --features share-test-build -- -D warnings
+# Its clippy in the lint's target directory, where the dependencies it shares are checked.
+CARGO_TARGET_DIR=target/lint cargo clippy -p impactsweep-py --all-targets --features share-test-build -- -D warnings
 # maturin (pinned in .venv) builds it; the venv on PATH is where its pip hook finds the binary.
 # The bits it computes do not depend on the profile (a user's `pip install ./python` builds
 # release).

@@ -1046,7 +1046,7 @@ fn a_harmonic_study_of_unit_tables_reduces_and_reports_them() {
          [[system.unit]]\nm = 0.004\nd = 0.006\ne = 0.9\n\
          [[system.unit]]\nm = 0.006\nd = 0.01\ne = 0.75\n\
          [[system.unit]]\nm = 0.01\nd = 0.014\ne = 0.6\n\
-         [scene]\nkind = \"harmonic\"\nF0 = 0.5\nstarts = 1\n\
+         [scene]\nkind = \"harmonic\"\nF0 = 0.5\nstarts = 1\nlife_max_periods = 2000\n\
          [sweep]\nr = { start = 0.8, stop = 1.2, num = 5 }\n\
          [ranking]\nverify_periods = 0\n",
     )
