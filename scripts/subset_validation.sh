@@ -17,7 +17,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=results/subset_validation
 # SUBSET_VALIDATION_BIN: an example binary built already; otherwise a dev build (the crate at
-# opt-level 2: fast enough, and the bits do not depend on the profile).
+# opt-level 1: fast enough, and the bits do not depend on the profile).
 bin=${SUBSET_VALIDATION_BIN:-}
 if [ -z "$bin" ]; then
     cargo build --quiet --example subset_validation
