@@ -4,7 +4,7 @@
 #   scripts/life_validation.sh           the estimates (every point, 20 study seeds, three
 #                                        horizons: about 15 minutes on 2 cores) and the report
 #   scripts/life_validation.sh --brute   brute force first: 64 runs of 10^6 periods per point
-#                                        (256 at S5; about 2 CPU-hours in all), then the above
+#                                        (256 at S5, N1 and N2; about 2.5 CPU-hours in all), then the above
 #   scripts/life_validation.sh --report  the report alone, from the committed files
 #   scripts/life_validation.sh --methods the candidate methods side by side on the same samples
 #                                        (results/life_methods.md, examples/life_methods.rs:
