@@ -240,7 +240,7 @@ fn hw(e: &(f64, f64, f64)) -> f64 {
 }
 
 /// The rules `stops_mode` compares.
-const RULES: [(&str, Rule); 5] = [
+const RULES: [(&str, Rule); 7] = [
     ("half-width <= 5 % (before)", |w| {
         hw(w.last().unwrap()) <= 0.05
     }),
@@ -263,6 +263,16 @@ const RULES: [(&str, Rule); 5] = [
                 l.1 <= p && p <= l.2
             }
         },
+    ),
+    // Issue 69: the chosen rule, not before a least window (the new points' misses stopped at
+    // 32,000 and 64,000 periods).
+    (
+        "chosen, after 7 windows with an estimate (>= 128,000 periods)",
+        |w| w.len() >= 7 && w[w.len() - 2..].iter().all(|e| hw(e) <= 0.05),
+    ),
+    (
+        "chosen, after 8 windows with an estimate (>= 256,000 periods)",
+        |w| w.len() >= 8 && w[w.len() - 2..].iter().all(|e| hw(e) <= 0.05),
     ),
 ];
 
