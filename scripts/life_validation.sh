@@ -26,7 +26,7 @@
 #                                        about 5 minutes with the samples in $LAB)
 #   scripts/life_validation.sh --stops-least  the same with two rules that wait for a least
 #                                        window, at all ten points, 20 seeds
-#                                        (results/life_stops_least.md: about 12 minutes on 2 cores)
+#                                        (results/life_stops_least.md: about 7 minutes on 2 cores)
 #   scripts/life_validation.sh --check   what CI runs: the report regenerates byte for byte from
 #                                        the committed estimates and brute force, and a slice of
 #                                        the estimates (point P2, seeds 1 and 2) is reproduced
