@@ -70,7 +70,6 @@ fn structure(m: f64) -> System {
     }
 }
 
-/// The calling thread's CPU time (s).
 /// Realizations per measurement and rounds of it: `(2000, 5)` under `cargo bench`, `(20, 1)` as
 /// a smoke test under `cargo test`.
 fn sizes() -> (u64, usize) {
@@ -81,6 +80,7 @@ fn sizes() -> (u64, usize) {
     }
 }
 
+/// The calling thread's CPU time (s).
 fn thread_cpu() -> f64 {
     let mut ts = libc::timespec {
         tv_sec: 0,

@@ -239,6 +239,11 @@ fn hw(e: &(f64, f64, f64)) -> f64 {
     0.5 * (e.2 - e.1) / e.0
 }
 
+/// The chosen rule: the half-width within 5 % at the last two windows.
+fn two_within(w: &[(f64, f64, f64)]) -> bool {
+    w.len() >= 2 && w[w.len() - 2..].iter().all(|e| hw(e) <= 0.05)
+}
+
 /// The rules `stops_mode` compares.
 const RULES: [(&str, Rule); 7] = [
     ("half-width <= 5 % (before)", |w| {
@@ -247,7 +252,7 @@ const RULES: [(&str, Rule); 7] = [
     ("half-width <= 3 %", |w| hw(w.last().unwrap()) <= 0.03),
     (
         "half-width <= 5 % at two successive windows (chosen)",
-        |w| w.len() >= 2 && w[w.len() - 2..].iter().all(|e| hw(e) <= 0.05),
+        two_within,
     ),
     ("half-width <= 5 %, the window before within 2.5 %", |w| {
         w.len() >= 2 && hw(&w[w.len() - 1]) <= 0.05 && {
@@ -268,11 +273,11 @@ const RULES: [(&str, Rule); 7] = [
     // 32,000 and 64,000 periods).
     (
         "chosen, after 7 windows with an estimate (>= 128,000 periods)",
-        |w| w.len() >= 7 && w[w.len() - 2..].iter().all(|e| hw(e) <= 0.05),
+        |w| w.len() >= 7 && two_within(w),
     ),
     (
         "chosen, after 8 windows with an estimate (>= 256,000 periods)",
-        |w| w.len() >= 8 && w[w.len() - 2..].iter().all(|e| hw(e) <= 0.05),
+        |w| w.len() >= 8 && two_within(w),
     ),
 ];
 

@@ -239,7 +239,7 @@ fn the_census_of_several_units_is_the_same_on_any_thread_count_and_chunk_size() 
     let tmp = tempfile::tempdir().unwrap();
     // Two designs (two curves), so that a chunk of one curve makes two chunks.
     // Its chaotic motions' design lives measured briefly (2,000 periods, not 1,024,000): the
-    // race runs and is compared all the same, at a 40th of the cost.
+    // race runs and is compared all the same, at a thirtieth of the cost.
     let text = TWO_UNITS
         .replace("e = 0.7\n", "")
         .replace("[sweep]\n", "[sweep]\ne = [0.7, 0.8]\n")

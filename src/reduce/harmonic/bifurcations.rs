@@ -37,8 +37,8 @@ pub struct Curve {
 
 /// The bifurcation curves of a harmonic study along the frequency (empty without a frequency
 /// axis, without a swept design axis among `m`, `d`, `e`, `C`, `F0`, or with several units),
-/// along the lines of the grid that `lines` asks for (`anchor`: the recommended design; without one, `Recommended`
-/// follows none).
+/// along the lines of the grid that `lines` asks for (`anchor`: the recommended design;
+/// without one, `Recommended` follows none).
 pub fn curves(
     study: &Study,
     grid: &Grid,
