@@ -17,7 +17,9 @@
 //!
 //! `race SEEDS CAP POINT:N ...` emulates the race's windows with each rule's estimator;
 //! `stops SEEDS CAP POINT:N ...` the race's stopping rules ([`RULES`]) on the chosen estimator
-//! (`results/life_stops.md`, `scripts/life_validation.sh --stops`);
+//! (`results/life_stops.md`, `scripts/life_validation.sh --stops`; `results/life_stops_least.md`,
+//! `--stops-least`); `windows SEEDS CAP POINT:N ...` every window of that emulation
+//! ([`windows_mode`]);
 //! `points SEEDS CAP POINT:N ...` the estimate's point value under the chosen stopping rule: the
 //! likelihood's quantile, the posterior median ([`posterior_median`]) under a flat and under
 //! Jeffreys's shape prior (the estimate's), and a bootstrap bias correction
@@ -245,7 +247,7 @@ fn two_within(w: &[(f64, f64, f64)]) -> bool {
 }
 
 /// The rules `stops_mode` compares.
-const RULES: [(&str, Rule); 7] = [
+const RULES: [(&str, Rule); 8] = [
     ("half-width <= 5 % (before)", |w| {
         hw(w.last().unwrap()) <= 0.05
     }),
@@ -279,11 +281,44 @@ const RULES: [(&str, Rule); 7] = [
         "chosen, after 8 windows with an estimate (>= 256,000 periods)",
         |w| w.len() >= 8 && two_within(w),
     ),
+    // Issue 69: the tool's rule since stop 83 (`orbits::life::SETTLE_WINDOWS`).
+    (
+        "half-width <= 5 % at three successive windows (chosen since stop 83)",
+        |w| w.len() >= 3 && w[w.len() - 3..].iter().all(|e| hw(e) <= 0.05),
+    ),
 ];
 
-/// The race's windows emulated under each rule of [`RULES`]: `stops SEEDS CAP POINT:N ...`.
+/// Seeds `N` (1 to N) or `A-B`.
+fn seed_range(arg: &str) -> std::ops::RangeInclusive<u64> {
+    let (first, last) = arg.split_once('-').unwrap_or(("1", arg));
+    first.parse().unwrap()..=last.parse().unwrap()
+}
+
+/// The race's windows on `chains` (2,000 periods in all, doubling to `cap`): each window's
+/// periods, its estimate by `est` and the largest per-period maximum it holds.
+fn windows_of(
+    chains: &[Vec<f64>],
+    cap: usize,
+    est: Estimator,
+) -> Vec<(usize, Option<Triple>, f64)> {
+    let mut windows = Vec::new();
+    let mut m = 2000usize;
+    loop {
+        let per = m / chains.len();
+        let r: Vec<&[f64]> = chains.iter().map(|c| &c[..per.min(c.len())]).collect();
+        let largest = r.iter().flat_map(|c| c.iter()).copied().fold(0.0, f64::max);
+        windows.push((m, est(&r), largest));
+        if m >= cap {
+            return windows;
+        }
+        m = (2 * m).min(cap);
+    }
+}
+
+/// The race's windows emulated under each rule of [`RULES`]: `stops SEEDS CAP POINT:N ...`
+/// (`SEEDS`: [`seed_range`]).
 fn stops_mode(args: &[String]) {
-    let seeds: u64 = args[0].parse().unwrap();
+    let seeds = seed_range(&args[0]);
     let cap: usize = args[1].parse().unwrap();
     println!(
         "| point | rule | 1e6: error % min / med / max, within 5 %, coverage, periods med / max | 1e7 | life | mean periods |"
@@ -293,26 +328,15 @@ fn stops_mode(args: &[String]) {
         let (name, n, f, tr) = point_spec(spec);
         let run = cluster_run(1.0);
         let mut res = vec![vec![(Vec::<f64>::new(), 0usize, Vec::<f64>::new()); 3]; RULES.len()];
-        for seed in 1..=seeds {
+        for seed in seeds.clone() {
             let full = cached(&f, name, seed, n);
             for (h, &(l, truth)) in tr.iter().enumerate() {
                 let life = Life::bounded(l, 0.5);
-                let both = |r: &[&[f64]]| chosen(r, run, life);
                 // Every window's estimate once, then each rule walks them.
-                let mut windows = Vec::new();
-                let mut m = 2000usize;
-                loop {
-                    let per = m / full.len();
-                    let r: Vec<&[f64]> = full.iter().map(|c| &c[..per.min(c.len())]).collect();
-                    windows.push((m, both(&r)));
-                    if m >= cap {
-                        break;
-                    }
-                    m = (2 * m).min(cap);
-                }
+                let windows = windows_of(&full, cap, &|r| chosen(r, run, life));
                 for (v, (_, rule)) in RULES.iter().enumerate() {
                     let mut seen = Vec::new();
-                    for (i, (m, e)) in windows.iter().enumerate() {
+                    for (i, (m, e, _)) in windows.iter().enumerate() {
                         let Some(e) = e else { continue };
                         seen.push(*e);
                         if rule(&seen) || i + 1 == windows.len() {
@@ -337,6 +361,42 @@ fn stops_mode(args: &[String]) {
     }
 }
 
+/// Each window of the race's emulation, one line per point, seed and horizon:
+/// `windows SEEDS CAP POINT:N ...` ([`seed_range`]). Each window `Nk:E/H/M`: the chosen
+/// estimate's error against brute force `E`, its interval's half-width `H` and the sample's
+/// largest value against brute force `M`, in per cent: what a stopping rule sees, and the
+/// error it cannot see.
+fn windows_mode(args: &[String]) {
+    let seeds = seed_range(&args[0]);
+    let cap: usize = args[1].parse().unwrap();
+    for spec in &args[2..] {
+        let (name, n, f, tr) = point_spec(spec);
+        let run = cluster_run(1.0);
+        for seed in seeds.clone() {
+            let full = cached(&f, name, seed, n);
+            for (h, &(l, truth)) in tr.iter().enumerate() {
+                let life = Life::bounded(l, 0.5);
+                let mut line = format!("{name} s{seed} h{h}:");
+                for (m, e, smax) in windows_of(&full, cap, &|r| chosen(r, run, life)) {
+                    match e {
+                        Some(e) => {
+                            line += &format!(
+                                " {}k:{:+.1}/{:.1}/{:+.1}",
+                                m / 1000,
+                                100.0 * (e.0 / truth - 1.0),
+                                100.0 * hw(&e),
+                                100.0 * (smax / truth - 1.0)
+                            )
+                        }
+                        None => line += &format!(" {}k:-", m / 1000),
+                    }
+                }
+                println!("{line}");
+            }
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args[0] == "race" {
@@ -344,6 +404,9 @@ fn main() {
     }
     if args[0] == "stops" {
         return stops_mode(&args[1..]);
+    }
+    if args[0] == "windows" {
+        return windows_mode(&args[1..]);
     }
     if args[0] == "grid" {
         return grid_mode();

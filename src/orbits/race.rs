@@ -25,9 +25,9 @@
 //!    chaotic plateau to the tolerance costs several times the rest of a study (measured on the
 //!    bundled frequency-response study: 1.4 * 10^8 periods against 4 * 10^7 with the screen; a
 //!    screened motion whose estimate overtakes the leader's becomes the leader and goes on).
-//!    A leader whose last window met the tolerance is measured once more while it could carry
+//!    A leader whose last window met the tolerance is measured again while it could carry
 //!    the peak, even where the peak's interval is already narrow enough: a measurement settles
-//!    only when two successive windows meet the tolerance ([`LifeRun::settled`]).
+//!    only when three successive windows meet the tolerance ([`LifeRun::settled`]).
 //! 3. **Where the damper helps.** Then each motion whose interval holds the linear amplitude at
 //!    its frequency is measured again until it no longer does, meets the tolerance or reaches
 //!    the screen.
@@ -636,9 +636,10 @@ mod tests {
         assert_eq!(next(&ms, 0.0, 0.05, 1 << 20, false, true), None);
     }
 
-    /// The stopping rule asks two successive windows to meet the tolerance: a leader whose first
-    /// window within it narrows the peak's interval enough is still measured once more while it
-    /// could carry the peak, and not when a periodic orbit above its interval carries it.
+    /// The stopping rule asks successive windows to meet the tolerance
+    /// ([`super::life::SETTLE_WINDOWS`]): a leader whose first window within it narrows the
+    /// peak's interval enough is still measured while it could carry the peak, and not when a
+    /// periodic orbit above its interval carries it.
     #[test]
     fn a_leader_within_the_tolerance_once_is_measured_once_more() {
         let ms = [motion(10e-3, 9.8e-3, 10.2e-3, 128_000)];
