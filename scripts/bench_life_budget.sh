@@ -10,6 +10,8 @@
 #   scripts/bench_life_budget.sh                 builds BASE in a worktree (target/base-BASE)
 #   BASE_BIN=path/to/impactsweep scripts/bench_life_budget.sh
 #   NEW_BIN=path/to/impactsweep ...              this commit's binary, built already
+#   OUT=path.md ...                              the report elsewhere (default below);
+#   BUILDS="..."                                 what the binaries are (default "release builds")
 set -euo pipefail
 cd "$(dirname "$0")/.."
 base=${BASE:-e7df294}
@@ -122,12 +124,12 @@ race() {
     $col["kind"] != "periodic" && $col["kind"] != "neutral" { n++; p += $col["measured_periods"] }
     END { printf "%d motions, %.3g periods", n, p }' "$work/$1/frequency-response/attractors.csv"
 }
-out=results/bench_life_budget.md
+out=${OUT:-results/bench_life_budget.md}
 {
   echo "## Issue 43's budget (\`scripts/bench_life_budget.sh\`)"
   echo
   echo "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores," \
-    "this commit \`$(git rev-parse --short HEAD)\` against \`$base\`, release builds, $rounds runs of each" \
+    "this commit \`$(git rev-parse --short HEAD)\` against \`$base\`, ${BUILDS:-release builds}, $rounds runs of each" \
     "interleaved (the quarter cap one)."
   echo "\`uptime\` at start: \`$up0\`; at end: \`$up1\`."
   echo
