@@ -9,6 +9,8 @@ maxima, as results/life_validation.md takes it), the seeds within 5 % and within
 seeds whose 90 % interval holds the median.
 
     .venv/bin/python scripts/life_seeds.py > results/life_seeds.md
+
+(`scripts/life_validation.sh` runs it after writing both estimate files.)
 """
 import csv
 import json

@@ -6,12 +6,11 @@
 //! its design life 10^6 and 10^7 periods and 1,000 h, run as the sweep runs a curve: every
 //! estimate within 5 % of the brute-force median at its horizon, and the 90 % interval holding
 //! that median in at least 17 of the 20 seeds (85 %) (issue 43's eight points and the two added by
-//! issue 69). Their 600 estimates are committed (`results/life_validation/estimates.csv`,
-//! `scripts/life_validation.sh` regenerates them in about 15 minutes on 2 cores); the test
-//! checks each of them against the brute force and reruns a slice (the slowest tail, P1, at
-//! seeds 1 and 2, every horizon),
-//! which must give the committed rows to their printed digits: the committed file is what this
-//! code computes.
+//! issue 69). Their 600 estimates are committed (`results/life_validation/estimates.csv`;
+//! `scripts/life_validation.sh` regenerates them, with seeds 21-40, in about 30 minutes on 2
+//! cores); the test checks each of them against the brute force and reruns a slice (the slowest
+//! tail, P1, at seeds 1 and 2, every horizon), which must give the committed rows to their
+//! printed digits: the committed file is what this code computes.
 
 use crate::common;
 

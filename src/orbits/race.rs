@@ -161,7 +161,7 @@ fn next(
         }
     }
     // A leader whose last window met the tolerance, and that could carry the peak, is measured
-    // once more: the next window must meet it too ([`LifeRun::settled`]), though the peak's
+    // again: the next windows must meet it too ([`LifeRun::settled`]), though the peak's
     // interval may already be narrow enough.
     if let Some(l) = leader
         && open(l, &motions[l])
