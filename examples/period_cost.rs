@@ -5,9 +5,12 @@
 //! so the A/B of a simulator change compares both speed and bits (BENCHMARKS.md, "The
 //! simulator's cost per period"). The second argument picks the harmonic scene's event finder
 //! (`safe_steps`, today's, or `bracketed`, issue 69), so one binary runs both sides of an A/B
-//! (`scripts/bench_period_ab.sh`); the third, a point's name, runs that point alone.
+//! (`scripts/bench_period_ab.sh`); `chain` runs today's finder through
+//! `orbits::map::periods_above`, the design life's chains (each period the bits of a call of its
+//! own, the run built once; steps not counted: printed as 0); the third, a point's name, runs
+//! that point alone.
 //!
-//! `cargo run --release --example period_cost -- [N] [safe_steps|bracketed] [POINT]`
+//! `cargo run --release --example period_cost -- [N] [safe_steps|bracketed|chain] [POINT]`
 //! (default 20000, the default finder, every point)
 
 #[path = "life_validation.rs"]
@@ -15,7 +18,7 @@
 pub mod validation;
 
 use impactsweep::model::System;
-use impactsweep::orbits::map::{Forcing, Section};
+use impactsweep::orbits::map::{Forcing, Section, periods_above};
 use impactsweep::sim::harmonic::Finder;
 use impactsweep::sim::{Drive, Harmonic, NoProbe, Request, simulate_harmonic};
 use std::time::Instant;
@@ -58,11 +61,12 @@ fn periods(f: &Forcing, s: &Section, p: u64, floor: f64, finder: Finder) -> (Sec
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let n: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(20000);
+    let chain = args.get(2).is_some_and(|a| a == "chain");
     let finder = match args.get(2).map(String::as_str) {
-        None => Finder::DEFAULT,
+        None | Some("chain") => Finder::DEFAULT,
         Some("safe_steps") => Finder::SafeSteps,
         Some("bracketed") => Finder::Bracketed,
-        Some(other) => panic!("finder {other}: expected safe_steps or bracketed"),
+        Some(other) => panic!("finder {other}: expected safe_steps, bracketed or chain"),
     };
     let only = args.get(3);
     let (mut total, mut periods_run) = (0.0, 0u64);
@@ -73,7 +77,13 @@ fn main() {
         for floor in [0.0, 0.8 * f.sys.d.max(0.005)] {
             let t = Instant::now();
             let (mut s, mut sum, mut top, mut steps) = (st, 0.0, 0.0f64, 0u64);
-            for _ in 0..n {
+            if chain {
+                assert!(periods_above(&f, &mut s, n, floor, |amplitude| {
+                    sum += amplitude;
+                    top = top.max(amplitude);
+                }));
+            }
+            for _ in 0..if chain { 0 } else { n } {
                 let (end, amplitude, st) = periods(&f, &s, 1, floor, finder);
                 steps += st;
                 s = end;

@@ -30,7 +30,7 @@
 //! below the floor can join or part clusters: docs/scenes.md);
 //! when one is not, the whole measurement is run again without a floor, from the same states.
 
-use super::map::{Forcing, Section, eval, eval_above};
+use super::map::{Forcing, Section, eval, eval_above, periods_above};
 use crate::sim::Outcome;
 use crate::stats::extremes::{Life, LifeEstimate, floor_for, life_pot};
 use rayon::prelude::*;
@@ -63,6 +63,20 @@ pub trait PeriodMap: Send + Sync {
     /// below `floor` otherwise) and the section it ends on; `None` when the simulator stopped
     /// (an outcome other than `ok`).
     fn period(&self, s: &Self::State, floor: f64) -> Option<(f64, Self::State)>;
+    /// `n` periods of [`PeriodMap::period`] one after another from `s`: each one's `max |x|`
+    /// pushed to `z`, `s` moved to the last one's end; `false` when the simulator stopped (the
+    /// periods before kept, `s` where the failing one started). The bits of `n` calls; a map may
+    /// run them at less cost.
+    fn periods(&self, s: &mut Self::State, floor: f64, n: u64, z: &mut Vec<f64>) -> bool {
+        for _ in 0..n {
+            let Some((amplitude, end)) = self.period(s, floor) else {
+                return false;
+            };
+            z.push(amplitude);
+            *s = end;
+        }
+        true
+    }
     /// `p` periods from `s`: the section they end on; `None` when the simulator stopped.
     fn run(&self, s: &Self::State, p: u64) -> Option<Self::State>;
 }
@@ -74,6 +88,10 @@ impl PeriodMap for Forcing {
     fn period(&self, s: &Section, floor: f64) -> Option<(f64, Section)> {
         let e = eval_above(self, s, 1, floor);
         (e.outcome == Outcome::Ok).then_some((e.amplitude, e.end))
+    }
+
+    fn periods(&self, s: &mut Section, floor: f64, n: u64, z: &mut Vec<f64>) -> bool {
+        periods_above(self, s, n, floor, |amplitude| z.push(amplitude))
     }
 
     fn run(&self, s: &Section, p: u64) -> Option<Section> {
@@ -333,13 +351,9 @@ fn segment<'s, M: PeriodMap>(
 ) {
     let now = left.min(SEGMENT);
     let (z, state) = chain;
-    for _ in 0..now {
-        let Some((amplitude, end)) = f.period(state, floor) else {
-            failed.store(true, Ordering::Relaxed);
-            return;
-        };
-        z.push(amplitude);
-        *state = end;
+    if !f.periods(state, floor, now, z) {
+        failed.store(true, Ordering::Relaxed);
+        return;
     }
     if left > now {
         scope.spawn_fifo(move |scope| segment(scope, f, floor, chain, left - now, failed));

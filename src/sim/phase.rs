@@ -355,6 +355,21 @@ impl<'a, M: Motion> EventMap<'a, M> {
         }
     }
 
+    /// Back to the state [`EventMap::new`] leaves, at `s` in place of the system's initial
+    /// state (one unit): a run of one forcing period after another ([`crate::sim::harmonic`]'s
+    /// `simulate_periods`) reuses one map, each period the bits of a map built anew.
+    pub fn restart(&mut self, s: State) {
+        debug_assert!(!self.several());
+        self.phase = Phase::Free;
+        self.t = 0.0;
+        self.s = s;
+        self.v_side = 1.0;
+        self.impacts = 0;
+        self.sticks = 0;
+        self.carried = self.sys.M;
+        self.carrying = self.free;
+    }
+
     /// Several units (model.md §14), not the paper's one.
     #[inline]
     pub fn several(&self) -> bool {

@@ -80,6 +80,7 @@ use serde::Serialize;
 
 use crate::model::{RangeError, System, fmt_value};
 
+pub(crate) use steady::simulate_periods;
 #[cfg(test)]
 pub(crate) use steady::{Stepper, simulate_with};
 pub use steady::{simulate_harmonic, simulate_harmonic_ends, simulate_harmonic_units};
