@@ -269,10 +269,11 @@ impl Stepper for Bracketed<Forced> {
     }
 }
 
-/// The forced oscillators of the free main mass and of the stuck pair. A life measurement or a
-/// Lyapunov probe runs one period per call on the same system, so the last pair a thread
-/// built is kept and handed out again for the same inputs (the same bits either way: about a
-/// tenth of a one-period run is building them).
+/// The forced oscillators of the free main mass and of the stuck pair. The census's chaos probe
+/// and its shooting run one or a few periods per call on the same system, so the last pair a
+/// thread built is kept and handed out again for the same inputs (the same bits either way:
+/// about a tenth of a one-period run is building them; a design-life chain builds them once,
+/// [`simulate_periods`]).
 fn oscillators(sys: &System, f0: f64, omega: f64) -> (Forced, Forced) {
     type Key = [u64; 6];
     thread_local! {
