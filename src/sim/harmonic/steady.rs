@@ -151,24 +151,8 @@ fn simulate_from<P: Probe, S: Stepper>(
     let (free, pair) = oscillators(sys, scene.F0, omega);
     let tol_t = settings.tol * sys.period();
     let settings = &scaled_caps(settings, scene);
-    let run = Run {
-        map: EventMap::new(sys, settings, free, pair),
-        req,
-        scene,
-        noise,
-        probe,
-        omega,
-        t_f: std::f64::consts::TAU / omega,
-        k_base: 0,
-        k_next: 0,
-        window: None,
-        history: History::default(),
-        n_trans: 0,
-        converged: false,
-        next_trace: 0,
-        next_noise: 0,
-    };
-    let mut run = run;
+    let map = EventMap::new(sys, settings, free, pair);
+    let mut run = Run::new(map, req, scene, noise, probe, omega);
     if let Some(starts) = starts {
         run.map.start_units(starts);
     }
@@ -217,23 +201,8 @@ fn periods_with<S: Stepper>(
     let settings = &scaled_caps(settings, scene);
     let req = Request::default();
     let mut probe = NoProbe;
-    let mut run = Run {
-        map: EventMap::new(sys, settings, free, pair),
-        req: &req,
-        scene,
-        noise: None,
-        probe: &mut probe,
-        omega,
-        t_f: std::f64::consts::TAU / omega,
-        k_base: 0,
-        k_next: 0,
-        window: None,
-        history: History::default(),
-        n_trans: 0,
-        converged: false,
-        next_trace: 0,
-        next_noise: 0,
-    };
+    let map = EventMap::new(sys, settings, free, pair);
+    let mut run = Run::new(map, &req, scene, None, &mut probe, omega);
     loop {
         run.restart(start);
         let mut solver = make(&free, tol_t, settings.max_steps);
@@ -352,8 +321,36 @@ struct Run<'a, P: Probe> {
     next_noise: u64,
 }
 
-impl<P: Probe> Run<'_, P> {
-    /// Back to the run [`simulate_from`] builds, at `s` ([`simulate_periods`]).
+impl<'a, P: Probe> Run<'a, P> {
+    /// A run on `map` at `t = 0`, before its first section, at the forcing frequency `omega`.
+    fn new(
+        map: EventMap<'a, Forced>,
+        req: &'a Request,
+        scene: &'a Harmonic,
+        noise: Option<(&'a NoiseSettings, &'a mut NoiseStream)>,
+        probe: &'a mut P,
+        omega: f64,
+    ) -> Self {
+        Run {
+            map,
+            req,
+            scene,
+            noise,
+            probe,
+            omega,
+            t_f: std::f64::consts::TAU / omega,
+            k_base: 0,
+            k_next: 0,
+            window: None,
+            history: History::default(),
+            n_trans: 0,
+            converged: false,
+            next_trace: 0,
+            next_noise: 0,
+        }
+    }
+
+    /// Back to the run [`Run::new`] builds, at `s` ([`simulate_periods`]).
     fn restart(&mut self, s: State) {
         self.map.restart(s);
         self.k_base = 0;
