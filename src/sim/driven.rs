@@ -314,11 +314,13 @@ impl<F: Driven> PhaseSolver for DrivenPhase<F> {
 #[inline]
 pub(crate) fn skip_step(floor: f64, jet: [f64; 4], b4: f64, h: f64, shortest: f64) -> Option<f64> {
     let mut tau = h;
+    // The model's stationary points do not depend on the step: found once, when first needed.
+    let mut stationary = None;
     for _ in 0..4 {
         if tau <= shortest {
             return None;
         }
-        if below_floor(floor, jet, b4, tau) {
+        if below_floor_with(floor, jet, b4, tau, &mut stationary) {
             return Some(tau);
         }
         tau *= 0.5;
@@ -331,7 +333,20 @@ pub(crate) fn skip_step(floor: f64, jet: [f64; 4], b4: f64, h: f64, shortest: f6
 /// `[0, h]` (its ends and its stationary points) plus the model's error `b4 h^4 / 24`
 /// (`b4 >= |x''''|` for the rest of the phase) is below it.
 #[inline]
-pub(crate) fn below_floor(floor: f64, [x, v, a, j]: [f64; 4], b4: f64, h: f64) -> bool {
+pub(crate) fn below_floor(floor: f64, jet: [f64; 4], b4: f64, h: f64) -> bool {
+    below_floor_with(floor, jet, b4, h, &mut None)
+}
+
+/// [`below_floor`], the model's stationary points taken from `stationary` or found and kept
+/// there ([`stationary_times`]): the same decision for any `h`, the points found once.
+#[inline]
+fn below_floor_with(
+    floor: f64,
+    [x, v, a, j]: [f64; 4],
+    b4: f64,
+    h: f64,
+    stationary: &mut Option<[f64; 2]>,
+) -> bool {
     if floor <= 0.0 || !h.is_finite() {
         return false;
     }
@@ -349,28 +364,32 @@ pub(crate) fn below_floor(floor: f64, [x, v, a, j]: [f64; 4], b4: f64, h: f64) -
     if below(x.abs() + h * (v.abs() + h * (0.5 * a.abs() + h * j6.abs()))) {
         return true;
     }
-    // c' = v + a t + j t^2 / 2 = 0.
-    let (qa, qb, qc) = (0.5 * j, a, v);
-    let mut stationary = |t: f64| {
+    for t in *stationary.get_or_insert_with(|| stationary_times(v, a, j)) {
+        // NaN (no such point) is in no interval.
         if t > 0.0 && t < h {
             top = top.max(c(t).abs());
         }
-    };
-    if qa == 0.0 {
-        if qb != 0.0 {
-            stationary(-qc / qb);
-        }
-    } else {
-        let disc = qb * qb - 4.0 * qa * qc;
-        if disc >= 0.0 {
-            let q = -0.5 * (qb + qb.signum() * disc.sqrt());
-            if q != 0.0 {
-                stationary(q / qa);
-                stationary(qc / q);
-            }
-        }
     }
     below(top)
+}
+
+/// The times at which the cubic model `x + v t + a t^2 / 2 + j t^3 / 6` is stationary, the roots
+/// of `v + a t + j t^2 / 2` (in the order [`below_floor`] visits them; NaN where there is none).
+#[inline]
+fn stationary_times(v: f64, a: f64, j: f64) -> [f64; 2] {
+    let (qa, qb, qc) = (0.5 * j, a, v);
+    let none = f64::NAN;
+    if qa == 0.0 {
+        return [if qb != 0.0 { -qc / qb } else { none }, none];
+    }
+    let disc = qb * qb - 4.0 * qa * qc;
+    if disc >= 0.0 {
+        let q = -0.5 * (qb + qb.signum() * disc.sqrt());
+        if q != 0.0 {
+            return [q / qa, qc / q];
+        }
+    }
+    [none, none]
 }
 
 /// The time to the next zero of `g = s v` (heading into it: `g > 0`, `g1 < 0`) from its cubic
