@@ -41,8 +41,8 @@ pub(super) trait CasedScene {
         Ok(())
     }
 
-    /// What the scene asks of `[run]`, given the axes.
-    fn run_rules<'a>(&self, _axes: &'a [Axis]) -> RunRules<'a> {
+    /// What the scene asks of `[run]`, given the system and the axes.
+    fn run_rules<'a>(&self, _system: &System, _axes: &'a [Axis]) -> RunRules<'a> {
         RunRules {
             aim: DEFAULT_CHUNK_RUNS,
             realizations: false,
@@ -92,7 +92,12 @@ pub(super) fn study(
     let reliability = reliability::reliability(cx, &raw.reliability)?;
     let zones = zones::zones(cx, &raw.zones, &axes)?;
     let ranking = ranking::ranking(cx, &raw.ranking)?;
-    let run = run::run(cx, &raw.run, cases.len() as u64, &scene.run_rules(&axes))?;
+    let run = run::run(
+        cx,
+        &raw.run,
+        cases.len() as u64,
+        &scene.run_rules(&system, &axes),
+    )?;
     scene.check_runs(cx, &system, &axes, &cases)?;
     Ok(Study {
         path: path.to_path_buf(),

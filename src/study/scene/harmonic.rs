@@ -104,12 +104,19 @@ impl CasedScene for HarmonicScene {
         Ok(())
     }
 
-    /// Chunks of whole frequency-response curves, smaller with an attractor census, and no
-    /// accuracy audit.
-    fn run_rules<'a>(&self, axes: &'a [Axis]) -> RunRules<'a> {
+    /// Chunks of whole frequency-response curves, smaller with an attractor census (and smaller
+    /// again by the most damper units a run has: a run of `n` units searches each unit's walls
+    /// on its own, at least `n` times one unit's work), and no accuracy audit.
+    fn run_rules<'a>(&self, system: &System, axes: &'a [Axis]) -> RunRules<'a> {
+        let units = axes
+            .iter()
+            .filter(|a| a.key == "units")
+            .flat_map(|a| a.values.iter().map(|&n| n as u64))
+            .fold(system.unit_count() as u64, u64::max)
+            .max(1);
         RunRules {
             aim: if self.0.starts > 0 {
-                DEFAULT_CHUNK_RUNS_CENSUS
+                (DEFAULT_CHUNK_RUNS_CENSUS / units).max(1)
             } else {
                 DEFAULT_CHUNK_RUNS
             },
@@ -444,6 +451,27 @@ mod tests {
             "h.toml: [run].chunk_points = 4: must be a multiple of the 3 values of the frequency \
              axis [sweep].r, so that every chunk holds whole frequency-response curves"
         );
+    }
+
+    /// A census study's default chunk aims at 4,096 runs, divided by the most units a run has
+    /// (each unit's walls are searched on their own): the bundled several-units showcase, up to
+    /// 8 units and 5 cases over curves of 31 frequencies, gets 3 curves a chunk (6 chunks, so an
+    /// interrupt loses minutes, not the whole study), one unit 26 curves.
+    #[test]
+    fn a_census_chunk_aims_at_fewer_runs_the_more_units_a_run_has() {
+        let census = |sweep: &str| {
+            parse(&format!(
+                "[scene]\nkind = \"harmonic\"\nstarts = 4\n[sweep]\n{sweep}\n\
+                 r = {{ start = 0.85, stop = 1.15, step = 0.01 }}\n\
+                 [perturb]\ndm = [-0.001, 0.001]\ndd = [-0.001, 0.001]\n"
+            ))
+            .unwrap()
+            .run
+            .chunk_points
+        };
+        assert_eq!(census("units = [1, 2, 4, 8]"), 3 * 31); // 4096 / 8 / 5 = 102 points
+        assert_eq!(census("units = [1, 2]"), 13 * 31); // 4096 / 2 / 5 = 409
+        assert_eq!(census("m = [0.01, 0.02]"), 26 * 31); // 4096 / 5 = 819
     }
 
     #[test]
