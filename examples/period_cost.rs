@@ -82,13 +82,14 @@ fn main() {
                     sum += amplitude;
                     top = top.max(amplitude);
                 }));
-            }
-            for _ in 0..if chain { 0 } else { n } {
-                let (end, amplitude, st) = periods(&f, &s, 1, floor, finder);
-                steps += st;
-                s = end;
-                sum += amplitude;
-                top = top.max(amplitude);
+            } else {
+                for _ in 0..n {
+                    let (end, amplitude, st) = periods(&f, &s, 1, floor, finder);
+                    steps += st;
+                    s = end;
+                    sum += amplitude;
+                    top = top.max(amplitude);
+                }
             }
             let dt = t.elapsed().as_secs_f64();
             total += dt;

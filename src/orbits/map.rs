@@ -655,8 +655,7 @@ pub(crate) mod tests {
     /// motions of the design life's validation (S4, P2, S2, P1), the impacting motions with
     /// and without sticking above and one whose periods mostly end stuck, each with every
     /// extremum located and with the life's floor, and on the main mass alone (`m = 0`, its own
-    /// path). Any difference would grow on the
-    /// chaotic motions within a few hundred periods.
+    /// path). Any difference would grow on the chaotic motions within a few hundred periods.
     #[test]
     fn a_chain_of_periods_built_once_is_one_call_a_period_bit_for_bit() {
         let chaotic = [

@@ -105,9 +105,9 @@ impl CasedScene for HarmonicScene {
     }
 
     /// Chunks of whole frequency-response curves, smaller with an attractor census (and smaller
-    /// again by the square of the most damper units a run has: a forcing period of `n` units
-    /// costs about `n^1.6` times one unit's, each unit's walls searched on their own, 26 times at
-    /// 8 units), and no accuracy audit.
+    /// again by the square of the most damper units a run has: each unit's walls are searched on
+    /// their own, so a forcing period of `n` units costs well over `n` times one unit's, 26 times
+    /// at 8 units in one timing), and no accuracy audit.
     fn run_rules<'a>(&self, system: &System, axes: &'a [Axis]) -> RunRules<'a> {
         let units = axes
             .iter()
