@@ -13,9 +13,10 @@
 #   2. noisy: N/10 points x 11 cases (the ideal and ten noise seeds of the paper's noise, 5e-10
 #      m^2 s at 1 ms), as `scripts/bench_e2e.sh` 2.; per noisy run = (CPU - the points' clean
 #      share, from 1. of the same tool and round) / the noisy runs;
-#   3. the bundled free-decay studies as they are: `configs/overnight.toml` (44,541 points x 4
-#      cases, three of them noisy), `configs/design-space.toml` (3,146 x 3) and
-#      `configs/paper.toml` (51 x 12; small enough that process start counts);
+#   3. the bundled free-decay studies as they are: `configs/overnight.toml` (44,541 points x 28
+#      cases: the ideal, 24 perturbed, 27 with noise), `configs/design-space.toml` (3,146 x 9)
+#      and `configs/paper.toml` (51 x 12; small enough that process start counts); their run
+#      counts are read from `impactsweep plan`;
 #   4. the extremes (e near 0 and 1, tiny and large m and d, and the slowest of
 #      examples/time_extremes, C = 50 times critical damping) as studies of 5,000 to 200,000
 #      design points each (times NX_SCALE; a sweep over a sliver of the key, so that every run
@@ -69,7 +70,11 @@ study() { # NAME RUNS [noisy]
 }
 study clean "$N"
 study noisy "$((N / 10))" noisy
-for s in overnight design-space paper; do cp "configs/$s.toml" "$work/$s.toml"; done
+: > "$work/bundled.txt"
+for s in overnight design-space paper; do
+  cp "configs/$s.toml" "$work/$s.toml"
+  echo "$s $("$NEW_BIN" plan "$work/$s.toml" | awk '/^total runs:/ { print $3 }')" >> "$work/bundled.txt"
+done
 studies="clean noisy overnight design-space paper"
 
 extreme() { # NAME SYSTEM-LINE KEY START STOP RUNS (RUNS x SCALE design points)
@@ -130,7 +135,8 @@ import statistics, subprocess, sys
 work, n, rounds, base, up0, up1 = sys.argv[1:]
 n, rounds = int(n), int(rounds)
 xruns = {l.split()[0]: int(l.split()[1]) for l in open(f"{work}/xruns.txt")}
-runs = {"clean": n, "noisy": n // 10 * 11, "overnight": 44541 * 4, "design-space": 3146 * 3, "paper": 51 * 12}
+runs = {"clean": n, "noisy": n // 10 * 11}
+runs.update({l.split()[0]: int(l.split()[1]) for l in open(f"{work}/bundled.txt")})
 cpu = {}  # (tool, study) -> [cpu s per round]
 for line in open(f"{work}/times.txt"):
     i, tool, s, wall, u, sy = line.split()

@@ -74,6 +74,8 @@ pub struct RandomRun {
     /// `c4 dt^4 / 384`, with `B4 = c4 B0` ([`Oscillator::derivative_bounds`]: every bound there
     /// is a constant times the first).
     err4: f64,
+    /// `dt / 3`: the Bézier points' step ([`hull`]).
+    third: f64,
     /// The force on the free main mass per unit load (`-M` for ground acceleration, 1 for a
     /// force), `1 / K` and `M / K`.
     free_scale: f64,
@@ -131,6 +133,7 @@ impl RandomRun {
             tol_t: settings.tol * sys.period(),
             h_max,
             err4: c[4] * dt.powi(4) / 384.0,
+            third: dt / 3.0,
             free_scale: if contact { 1.0 } else { -sys.M },
             inv_k: 1.0 / sys.K,
             m_over_k: sys.M / sys.K,
@@ -304,10 +307,27 @@ fn quadratic(q: &[f64; 10], u: [f64; 4]) -> f64 {
 }
 
 /// The range `(min, max)` of the convex hull of the Bézier points of the cubic Hermite
-/// interpolant from `(g0, d0)` to `(g1, d1)` over an interval of `3 third` (module doc).
+/// interpolant from `(g0, d0)` to `(g1, d1)` over an interval of `3 third` (module doc): the
+/// smallest and largest of `g0, p, q, g1` with NaN points left out ([`f64::min`],
+/// [`f64::max`]). Without a NaN among them (the rule), by plain comparisons in a tree, which are
+/// the same values (a minimum does not depend on the order; a zero's sign can differ, which no
+/// caller can see: the range is only added to and compared) with a shorter dependency chain than
+/// the NaN-aware fold; a NaN anywhere (or `inf - inf` in the test's sum) takes the fold.
 #[inline]
 fn hull(g0: f64, d0: f64, g1: f64, d1: f64, third: f64) -> (f64, f64) {
     let (p, q) = (g0 + third * d0, g1 - third * d1);
+    if ((g0 + p) + (q + g1)).is_nan() {
+        return hull_nan(g0, p, q, g1);
+    }
+    let min = |a: f64, b: f64| if a < b { a } else { b };
+    let max = |a: f64, b: f64| if a > b { a } else { b };
+    (min(min(g0, p), min(q, g1)), max(max(g0, p), max(q, g1)))
+}
+
+/// [`hull`] of Bézier points among which there may be NaNs: the NaN-aware fold.
+#[cold]
+#[inline(never)]
+fn hull_nan(g0: f64, p: f64, q: f64, g1: f64) -> (f64, f64) {
     (g0.min(p).min(q).min(g1), g0.max(p).max(q).max(g1))
 }
 
@@ -419,10 +439,11 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
         let (x1, v1) = (xh + (p0 + p1 * dt), vh + p1);
         // B0 = sqrt(2 E / K) of the free part, whose energy never increases.
         let err = run.err4 * (h0 * h0 + run.m_over_k * g0 * g0).sqrt();
-        let third = dt / 3.0;
+        let third = run.third;
         let (lo, hi) = hull(st.x, st.v, x1, v1, third);
-        // (A NaN bound is not below.)
-        let below = hi.max(-lo) + err < self.amplitude;
+        // (A NaN bound is not below; `hi` and `lo` are both NaN or neither.)
+        let reach = if hi > -lo { hi } else { -lo };
+        let below = reach + err < self.amplitude;
         if !below {
             return false;
         }
