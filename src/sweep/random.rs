@@ -156,7 +156,7 @@ fn realization(
             (gain, amplitude(&record)),
             spec.ida_tol,
             spec.ida_max,
-            |s| amplitude(&setup.run_block(req, &block, s, &mut NoProbe)),
+            |s| setup.amplitude_block(req, &block, s),
         )),
         _ => None,
     };

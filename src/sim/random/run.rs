@@ -40,7 +40,7 @@ use crate::sim::phase::State;
 use crate::sim::phase::{
     self, Event, EventMap, Hit, Phase, PhaseSolver, SceneEvents, Wall, Walls, Watch,
 };
-use crate::sim::probe::Probe;
+use crate::sim::probe::{NoProbe, Probe};
 use crate::sim::record::Outcome;
 use crate::sim::request::Request;
 use crate::sim::settings::SolverSettings;
@@ -172,7 +172,7 @@ impl RandomRun {
         probe: &mut P,
     ) -> RandomRecord {
         let samples = Samples::new(&self.plan, self.scene.dt, normals, gain);
-        self.run_samples(req, samples, probe)
+        self.run_samples(req, samples, probe, true)
     }
 
     /// One realization's load samples at scale 1 ([`LoadBlock`]), drawn from `normals` as a run
@@ -205,7 +205,23 @@ impl RandomRun {
             GivenNormals::new(&[]),
             gain,
         );
-        self.run_samples(req, samples, probe)
+        self.run_samples(req, samples, probe, true)
+    }
+
+    /// The amplitude `max |x|` (m) of [`RandomRun::run_block`]'s record, bit for bit (NaN for a
+    /// run that does not end `ok`), without the integrals `int x^2` and `int a^2` that only its
+    /// other fields need: a capacity search's trial runs ([`super::ida`]) read the amplitude
+    /// alone. The integrals never act on the motion, so every event and extremum is the same.
+    pub fn amplitude_block(&self, req: &Request, block: &LoadBlock, gain: f64) -> f64 {
+        let samples = Samples::from_block(
+            &self.plan,
+            self.scene.dt,
+            block,
+            GivenNormals::new(&[]),
+            gain,
+        );
+        self.run_samples(req, samples, &mut NoProbe, false)
+            .amplitude
     }
 
     /// PGA and `Sa(period, 5 %)` (g) of the motion `block` at scale 1: the same bits as
@@ -221,15 +237,19 @@ impl RandomRun {
         intensity::of_samples(&self.scene, period, samples)
     }
 
+    /// One run of `samples`; `integrals`: whether to integrate `x^2` and `a^2` (the record's
+    /// RMS fields; without them those fields are 0 and nothing else changes).
     fn run_samples<N: Normals, P: Probe>(
         &self,
         req: &Request,
         samples: Samples<'_, N>,
         probe: &mut P,
+        integrals: bool,
     ) -> RandomRecord {
         let free = Ramp::new(self.free, 0.0, 0.0, self.scene.dt, (0.0, 0.0), false);
         let mut solver = DrivenPhase::new(&free, self.tol_t, self.settings.max_steps);
         let mut scene = Realization::new(self, req, samples, probe, free);
+        scene.integrals = integrals;
         let load = scene.cross();
         scene.begin_interval(&mut solver, load);
         let outcome = phase::run(&mut scene, &mut solver);
@@ -359,6 +379,8 @@ struct Realization<'a, N: Normals, P: Probe> {
     first_passage: Option<f64>,
     energy_impact: f64,
     next_trace: u64,
+    /// Whether `int_x2` and `int_a2` are integrated ([`RandomRun::run_samples`]).
+    integrals: bool,
 }
 
 impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
@@ -396,6 +418,7 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
             first_passage,
             energy_impact: 0.0,
             next_trace: 0,
+            integrals: true,
         }
     }
 
@@ -474,9 +497,11 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
             // A massless inner mass is carried along where it started in the cavity.
             (x1 + (sys.y0 - sys.x0), v1)
         };
-        let u = [st.x, st.v, f0, f0 + s * dt];
-        self.int_x2 += quadratic(&run.qx, u);
-        self.int_a2 += quadratic(&run.qa, u);
+        if self.integrals {
+            let u = [st.x, st.v, f0, f0 + s * dt];
+            self.int_x2 += quadratic(&run.qx, u);
+            self.int_a2 += quadratic(&run.qa, u);
+        }
         self.map.s = State {
             x: x1,
             v: v1,
@@ -641,7 +666,7 @@ impl<'a, N: Normals, P: Probe> SceneEvents<'a, DrivenPhase<Ramp>> for Realizatio
             Event::Limit => t >= self.len,
             _ => false,
         };
-        if ends {
+        if ends && self.integrals {
             self.integrate(solver, t);
         }
         self.passage(solver);
@@ -711,7 +736,7 @@ impl<'a, N: Normals, P: Probe> SceneEvents<'a, DrivenPhase<Ramp>> for Realizatio
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::NoProbe;
+
     use crate::sim::random::{
         Envelope, Excitation, IntensitySpec, Measure, RandomLoad, RealizationStream, Recorded,
         Spectrum, own_intensity,
@@ -801,6 +826,9 @@ mod tests {
                 );
                 for gain in [1.0, 0.2 / a.sa, 3.7] {
                     let x = run.run_block(&req, &block, gain, &mut NoProbe);
+                    // A capacity search's trial: the amplitude alone, the same bits.
+                    let amplitude = run.amplitude_block(&req, &block, gain);
+                    assert_eq!(amplitude.to_bits(), x.amplitude.to_bits());
                     let y = run.run_scaled(&req, stream(), gain, &mut NoProbe);
                     assert_eq!(format!("{x:?}"), format!("{y:?}"));
                     assert_eq!(x.rms_x.to_bits(), y.rms_x.to_bits());
