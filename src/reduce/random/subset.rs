@@ -26,7 +26,6 @@
 use crate::numeric::mix64;
 use crate::plan::Plan;
 use crate::sim::random::{GivenNormals, RandomRun};
-use crate::sim::{NoProbe, Outcome};
 use crate::stats::fragility::Z95;
 use crate::stats::subset::{SubsetOutcome, SubsetSettings, subset_repeats};
 use crate::study::Study;
@@ -91,13 +90,9 @@ pub fn subset_pf(study: &Study, point: u64, b: f64, ask: SubsetAsk) -> Option<Su
     }
     let setup = RandomRun::new(&sys, &study.solver, scene);
     let settings = settings_for(study, ask.n);
+    // (The amplitude alone, NaN for a run that did not end `ok`.)
     let rep = subset_repeats(setup.n_normals(), b, &settings, ask.repeats, |u| {
-        let rec = setup.run(&study.request, GivenNormals::new(u), &mut NoProbe);
-        if rec.outcome == Outcome::Ok {
-            rec.amplitude
-        } else {
-            f64::NAN
-        }
+        setup.amplitude(&study.request, GivenNormals::new(u))
     });
     if rep.runs.iter().any(|r| r.outcome == SubsetOutcome::Invalid) {
         return None;
@@ -166,8 +161,8 @@ fn student_975(dof: usize) -> f64 {
 mod tests {
     use super::*;
     use crate::reduce::testing;
-    use crate::sim::Scene;
     use crate::sim::random::{Excitation, Input, RandomLoad, RandomScene, Spectrum};
+    use crate::sim::{NoProbe, Scene};
     use crate::stats::subset::repeat_seed;
 
     /// The structure alone (Table I, `m = 0`) under 1 s of white ground acceleration, and a

@@ -224,6 +224,14 @@ impl RandomRun {
             .amplitude
     }
 
+    /// The amplitude of [`RandomRun::run`]'s record from `normals`, bit for bit, without the
+    /// integrals ([`RandomRun::amplitude_block`]): subset simulation's runs read nothing else.
+    pub fn amplitude<N: Normals>(&self, req: &Request, normals: N) -> f64 {
+        let samples = Samples::new(&self.plan, self.scene.dt, normals, 1.0);
+        self.run_samples(req, samples, &mut NoProbe, false)
+            .amplitude
+    }
+
     /// PGA and `Sa(period, 5 %)` (g) of the motion `block` at scale 1: the same bits as
     /// [`super::own_intensity`] of the normals that made it.
     pub fn own_intensity(&self, period: f64, block: &LoadBlock) -> OwnIntensity {
@@ -829,6 +837,10 @@ mod tests {
                     // A capacity search's trial: the amplitude alone, the same bits.
                     let amplitude = run.amplitude_block(&req, &block, gain);
                     assert_eq!(amplitude.to_bits(), x.amplitude.to_bits());
+                    if gain == 1.0 {
+                        let plain = run.amplitude(&req, stream());
+                        assert_eq!(plain.to_bits(), x.amplitude.to_bits());
+                    }
                     let y = run.run_scaled(&req, stream(), gain, &mut NoProbe);
                     assert_eq!(format!("{x:?}"), format!("{y:?}"));
                     assert_eq!(x.rms_x.to_bits(), y.rms_x.to_bits());
