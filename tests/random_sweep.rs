@@ -636,3 +636,36 @@ fn issue_44_the_designs_rank_on_subset_simulation_at_the_chosen_intensity() {
     );
     assert!(report.contains("| capacity rank |"), "{report}");
 }
+
+/// The smallest random study a newcomer writes (a spectrum and its level, nothing else: one
+/// design point, no threshold) runs, reduces and reports in words, without a `NaN` in them: the
+/// jump section says there is no line to look along.
+#[test]
+fn the_smallest_random_study_reports_in_words() {
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("eq.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"eq\"\n[scene]\nkind = \"random\"\nspectrum = \"kanai-tajimi\"\n\
+         S0 = 0.005\nduration = 2\nrealizations = 20\n",
+    )
+    .unwrap();
+    let out = tmp.path().join("out");
+    bin()
+        .arg("run")
+        .arg(&study)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .assert()
+        .success();
+    let dir = out.join("eq");
+    bin().arg("reduce").arg(&dir).assert().success();
+    bin().arg("status").arg(&dir).assert().success();
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(
+        report.contains("One design point: no line of the grid to look for jumps along."),
+        "{report}"
+    );
+    assert!(!report.contains("NaN"), "{report}");
+}

@@ -18,6 +18,10 @@ pub fn section(s: &Summary, window: bool) -> String {
     let mut o = String::from("## Jumps\n\n");
     let st = &s.jump_stats;
     let g = &s.grid;
+    if (0..g.n_axes()).all(|a| g.n(a) < 2) {
+        o.push_str("One design point: no line of the grid to look for jumps along.\n\n");
+        return o;
+    }
     let (rname, runit) = quantity_of(s, Quantity::Response);
     let damping = &s.options.damping;
     let slopes: Vec<String> = (0..g.n_axes())
@@ -33,10 +37,19 @@ pub fn section(s: &Summary, window: bool) -> String {
         .collect();
     let _ = writeln!(
         o,
-        "Along every line of the grid, a step is a change of the ideal case's {rname} by at least {} {runit} or of its {} by at least {} ({} × the median spread of each over a point's cases) that the trend on either side does not explain; a kink is a change of the slope of {rname} by at least {} × its typical slope ({}). Each candidate is located by bisection with extra simulations of the ideal case to {} of the grid step, then classed: a step if the change stays as the bracket shrinks (where the bisection loses it among several steps close together, the span is cut into eight parts and the part with the largest change cut again, down to the same tolerance), a kink if only the slope changes, dropped otherwise (a steep but smooth stretch).\n",
+        "Along every line of the grid, a step is a change of the ideal case's {rname} by at least {} {runit}{} ({} × the median spread of each over a point's cases) that the trend on either side does not explain; a kink is a change of the slope of {rname} by at least {} × its typical slope ({}). Each candidate is located by bisection with extra simulations of the ideal case to {} of the grid step, then classed: a step if the change stays as the bracket shrinks (where the bisection loses it among several steps close together, the span is cut into eight parts and the part with the largest change cut again, down to the same tolerance), a kink if only the slope changes, dropped otherwise (a steep but smooth stretch).\n",
         fmt_num(st.step_tol[0]),
-        damping.symbol,
-        damping.with_unit(&fmt_num(st.step_tol[1])),
+        // (Without a finite tolerance on the second quantity, e.g. no threshold for p_s, the
+        // steps are the response's alone.)
+        if st.step_tol[1].is_finite() {
+            format!(
+                " or of its {} by at least {}",
+                damping.symbol,
+                damping.with_unit(&fmt_num(st.step_tol[1]))
+            )
+        } else {
+            String::new()
+        },
         fmt_num(s.options.zones.step_spread),
         fmt_num(s.options.zones.kink_slope),
         if slopes.is_empty() {
