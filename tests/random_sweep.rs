@@ -650,16 +650,7 @@ fn the_smallest_random_study_reports_in_words() {
          S0 = 0.005\nduration = 2\nrealizations = 20\n",
     )
     .unwrap();
-    let out = tmp.path().join("out");
-    bin()
-        .arg("run")
-        .arg(&study)
-        .arg("--out")
-        .arg(&out)
-        .arg("--quiet")
-        .assert()
-        .success();
-    let dir = out.join("eq");
+    let dir = common::run_study_file(&study, &tmp.path().join("out"), "eq");
     bin().arg("reduce").arg(&dir).assert().success();
     bin().arg("status").arg(&dir).assert().success();
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();

@@ -198,13 +198,7 @@ impl RandomRun {
         gain: f64,
         probe: &mut P,
     ) -> RandomRecord {
-        let samples = Samples::from_block(
-            &self.plan,
-            self.scene.dt,
-            block,
-            GivenNormals::new(&[]),
-            gain,
-        );
+        let samples = self.block_samples(block, gain);
         self.run_samples(req, samples, probe, true)
     }
 
@@ -213,13 +207,7 @@ impl RandomRun {
     /// other fields need: a capacity search's trial runs ([`super::ida`]) read the amplitude
     /// alone. The integrals never act on the motion, so every event and extremum is the same.
     pub fn amplitude_block(&self, req: &Request, block: &LoadBlock, gain: f64) -> f64 {
-        let samples = Samples::from_block(
-            &self.plan,
-            self.scene.dt,
-            block,
-            GivenNormals::new(&[]),
-            gain,
-        );
+        let samples = self.block_samples(block, gain);
         self.run_samples(req, samples, &mut NoProbe, false)
             .amplitude
     }
@@ -235,14 +223,23 @@ impl RandomRun {
     /// PGA and `Sa(period, 5 %)` (g) of the motion `block` at scale 1: the same bits as
     /// [`super::own_intensity`] of the normals that made it.
     pub fn own_intensity(&self, period: f64, block: &LoadBlock) -> OwnIntensity {
-        let samples = Samples::from_block(
+        let samples = self.block_samples(block, 1.0);
+        intensity::of_samples(&self.scene, period, samples)
+    }
+
+    /// The load of `block` (made by [`RandomRun::load`]) times `gain`, interval by interval.
+    fn block_samples<'b>(
+        &'b self,
+        block: &'b LoadBlock,
+        gain: f64,
+    ) -> Samples<'b, GivenNormals<'b>> {
+        Samples::from_block(
             &self.plan,
             self.scene.dt,
             block,
             GivenNormals::new(&[]),
-            1.0,
-        );
-        intensity::of_samples(&self.scene, period, samples)
+            gain,
+        )
     }
 
     /// One run of `samples`; `integrals`: whether to integrate `x^2` and `a^2` (the record's
