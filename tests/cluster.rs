@@ -90,7 +90,7 @@ impl Cluster {
         if out.status.code() == Some(SKIP) {
             cluster.stopped = true;
             eprintln!(
-                "\n{bar}\n!!! SKIPPED tests/slurm.rs: no Slurm cluster can run on this machine.\n\
+                "\n{bar}\n!!! SKIPPED tests/cluster.rs: no Slurm cluster can run on this machine.\n\
                  !!! scripts/slurm-local.sh exited with status 3 (see its message above:\n\
                  !!! not root, or slurmctld/slurmd/munge cannot be installed with apt-get).\n\
                  !!! The Slurm integration was NOT tested.\n{bar}\n",
