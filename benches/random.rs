@@ -267,6 +267,12 @@ fn seismic() {
             let i = r as usize;
             black_box(run.run_block(&req, &blocks[i], gains[i], &mut NoProbe));
         });
+        // The same runs without `int x^2` and `int a^2` (a capacity search's trial runs): what
+        // the record's two RMS fields cost.
+        let no_integrals = cpu_us(rounds, n, |r| {
+            let i = r as usize;
+            black_box(run.amplitude_block(&req, &blocks[i], gains[i]));
+        });
         let whole = cpu_us(rounds, n, |r| {
             run.load_into(stream(r), &mut block);
             let own = run.own_intensity(spec.period, &block);
@@ -274,8 +280,8 @@ fn seismic() {
         });
         eprintln!(
             "seismic run m = {m}, d = {d}: {us:.1} us of thread CPU per realization at the 0.2-g \
-             stripe drawing its load, {from_block:.1} us from its samples drawn before; a \
-             stripe's realization (samples, own Sa, run) {whole:.1} us; {impacts:.1} impacts, \
+             stripe drawing its load, {from_block:.1} us from its samples drawn before \
+             ({no_integrals:.1} us without the RMS integrals); a stripe's realization (samples, own Sa, run) {whole:.1} us; {impacts:.1} impacts, \
              {steps:.0} solver steps (mean of {})",
             recs.len()
         );
