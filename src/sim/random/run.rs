@@ -581,21 +581,22 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
             let inner = solver;
             let motion = *inner.phase().0;
             let t0 = self.piece;
+            let squares = |tt: f64, x: f64, v: f64| {
+                let a = motion.absolute_accel(tt, x, v);
+                [x * x, a * a]
+            };
             let [x2, a2] = if (t - t0) * motion.osc.derivative_rate() <= self.run.taylor_reach {
                 // The free part as its Taylor polynomial from the piece's start (module doc).
                 let start = inner.at(t0);
                 let poly = motion.osc.taylor(start.xh, start.vh);
                 gauss_legendre_n(t0, t, self.run.h_max, |tt| {
                     let (xh, vh) = poly.at(tt - t0);
-                    let (x, v) = (xh + (motion.p0 + motion.p1 * tt), vh + motion.p1);
-                    let a = motion.absolute_accel(tt, x, v);
-                    [x * x, a * a]
+                    squares(tt, xh + (motion.p0 + motion.p1 * tt), vh + motion.p1)
                 })
             } else {
                 gauss_legendre_n(t0, t, self.run.h_max, |tt| {
                     let jet = inner.at(tt);
-                    let a = motion.absolute_accel(tt, jet.x, jet.v);
-                    [jet.x * jet.x, a * a]
+                    squares(tt, jet.x, jet.v)
                 })
             };
             self.int_x2 += x2;
