@@ -33,7 +33,11 @@
 //! interval's `u = (x0, v0, f0, f1)` (start state and the load at both ends, N on the main
 //! mass): every motion is linear in `u`, so `int x^2 = u^T Q u` with `Q = int phi phi^T` over the
 //! basis motions `phi`, integrated once per run setup by Gauss–Legendre
-//! ([`crate::numeric::gauss_legendre_n`]).
+//! ([`crate::numeric::gauss_legendre_n`]). The run sums `u u^T` over its whole intervals (ten
+//! sums, the Gram sum `G`) and adds `sum_ij Q_ij G_ij` for each integral at its end: the same
+//! sum of forms, ten multiply-adds an interval instead of two forms. Against a compensated sum
+//! of the intervals' forms both orders are off by about 6 rounding units at the median (23 at
+//! the 99th percentile, over 1,000 realizations of the seismic showcase's damped design).
 //!
 //! Any other piece (between events, stuck) is integrated on the phase's motion: its particular
 //! part plus its free part. On a piece shorter than `TAYLOR_REACH / rho` (every piece of a load
@@ -342,21 +346,13 @@ fn quadratic_forms(
     (qx, qa)
 }
 
-/// `u^T Q u` from the upper triangle of `Q`.
+/// `sum_k u_k^T Q u_k = sum_ij Q_ij G_ij` from the upper triangles of `Q` and of the Gram sum
+/// `G = sum_k u_k u_k^T` (module doc).
 #[inline]
-fn quadratic(q: &[f64; 10], u: [f64; 4]) -> f64 {
-    let [a, b, c, d] = u;
-    q[0] * a * a
-        + q[4] * b * b
-        + q[7] * c * c
-        + q[9] * d * d
-        + 2.0
-            * (q[1] * a * b
-                + q[2] * a * c
-                + q[3] * a * d
-                + q[5] * b * c
-                + q[6] * b * d
-                + q[8] * c * d)
+fn contract(q: &[f64; 10], g: &[f64; 10]) -> f64 {
+    let diag = q[0] * g[0] + q[4] * g[4] + q[7] * g[7] + q[9] * g[9];
+    let off = q[1] * g[1] + q[2] * g[2] + q[3] * g[3] + q[5] * g[5] + q[6] * g[6] + q[8] * g[8];
+    diag + 2.0 * off
 }
 
 /// The range `(min, max)` of the convex hull of the Bézier points of the cubic Hermite
@@ -414,6 +410,9 @@ struct Realization<'a, N: Normals, P: Probe> {
     next_trace: u64,
     /// Whether `int_x2` and `int_a2` are integrated ([`RandomRun::run_samples`]).
     integrals: bool,
+    /// The Gram sum `sum u u^T` of the whole intervals of free flight, contracted with the
+    /// quadratic forms at the end.
+    gram: [f64; 10],
 }
 
 impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
@@ -452,6 +451,7 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
             energy_impact: 0.0,
             next_trace: 0,
             integrals: true,
+            gram: [0.0; 10],
         }
     }
 
@@ -545,8 +545,7 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
         };
         if self.integrals {
             let u = [st.x, st.v, f0, f0 + s * dt];
-            self.int_x2 += quadratic(&run.qx, u);
-            self.int_a2 += quadratic(&run.qa, u);
+            self.gram_add(u);
         }
         self.map.s = State {
             x: x1,
@@ -624,6 +623,22 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
         self.map.begin(solver);
     }
 
+    /// Adds a whole interval's `u u^T` to the Gram sum (its upper triangle, row by row).
+    #[inline]
+    fn gram_add(&mut self, [a, b, c, d]: [f64; 4]) {
+        let g = &mut self.gram;
+        g[0] += a * a;
+        g[1] += a * b;
+        g[2] += a * c;
+        g[3] += a * d;
+        g[4] += b * b;
+        g[5] += b * c;
+        g[6] += b * d;
+        g[7] += c * c;
+        g[8] += c * d;
+        g[9] += d * d;
+    }
+
     fn candidate(&mut self, x: f64) {
         if x.abs() > self.amplitude {
             self.amplitude = x.abs();
@@ -637,8 +652,7 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
         if self.clean && self.piece == 0.0 && t == dt {
             let f = &self.map.free;
             let u = [self.start.0, self.start.1, f.f0, f.f0 + f.s * dt];
-            self.int_x2 += quadratic(&self.run.qx, u);
-            self.int_a2 += quadratic(&self.run.qa, u);
+            self.gram_add(u);
         } else if t > self.piece {
             let inner = solver;
             let motion = *inner.phase().0;
@@ -703,8 +717,8 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
             outcome,
             amplitude: keep(self.amplitude),
             t_peak: keep(self.t_peak),
-            rms_x: keep((self.int_x2 / duration).sqrt()),
-            rms_acc: keep((self.int_a2 / duration).sqrt()),
+            rms_x: keep(((self.int_x2 + contract(&self.run.qx, &self.gram)) / duration).sqrt()),
+            rms_acc: keep(((self.int_a2 + contract(&self.run.qa, &self.gram)) / duration).sqrt()),
             first_passage_time: self.first_passage,
             impacts: self.map.impacts,
             sticks: self.map.sticks,
