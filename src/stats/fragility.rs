@@ -14,8 +14,18 @@
 //! from a probit least-squares start. It is a probit regression `p = Phi(a + b x)`,
 //! `x = ln IM`, `a = -ln theta / beta`, `b = 1 / beta`, whose Fisher information is
 //! `sum_j n_j phi(eta_j)^2 / (p_j (1 - p_j)) [1, x_j; x_j, x_j^2]`; its inverse, carried to
-//! `(ln theta, ln beta)` by the delta method, gives the standard errors and the 95 % Wald
-//! intervals `theta exp(+-1.96 se(ln theta))`, `beta exp(+-1.96 se(ln beta))`.
+//! `(ln theta, ln beta)` by the delta method, gives the standard errors.
+//!
+//! The 95 % intervals are the profile likelihood's: the values of `ln theta` (of `ln beta`)
+//! whose profile `max over the other of ln L` lies within `chi2_1(0.95) / 2 = 1.92` of the
+//! maximum. Unlike the Wald interval `exp(+-1.96 se)` they follow the likelihood where it is
+//! far from quadratic, as when few runs fail at few intensities or the counts come close to
+//! separating: there the Wald interval of `theta` can span a hundred orders of magnitude while
+//! the likelihood pins `theta` between two stripes. An end the likelihood does not bound (the
+//! profile stays within 1.92 all the way) is `0` or infinite; `beta`'s lower end is `0` when the
+//! profile stays within 1.92 down to `1e-4` times the estimate (the curve may be a step). The probit log-likelihood is
+//! concave in `(a, b)`, so with one parameter held the other's profile is unimodal: each
+//! inner maximum is a one-dimensional Brent search, each end a Brent root.
 //!
 //! The maximum does not exist when the counts do not overlap: every run below some intensity
 //! safe and every run above it failed (`beta -> 0`), or no run (or every run) failed at any
@@ -23,6 +33,7 @@
 //! numbers.
 
 use argmin::core::{CostFunction, Error, Executor, State};
+use argmin::solver::brent::{BrentOpt, BrentRoot};
 use argmin::solver::neldermead::NelderMead;
 use statrs::distribution::{ContinuousCDF, Normal};
 use statrs::function::erf::erfc;
@@ -67,7 +78,8 @@ pub struct Fragility {
     /// Standard errors of `ln theta` and of `ln beta`.
     pub se_ln_theta: f64,
     pub se_ln_beta: f64,
-    /// 95 % Wald intervals (module doc).
+    /// 95 % profile-likelihood intervals (module doc); `0` or infinite where the likelihood
+    /// does not bound them.
     pub theta_lo: f64,
     pub theta_hi: f64,
     pub beta_lo: f64,
@@ -104,6 +116,20 @@ pub(crate) fn phi_cdf(z: f64) -> f64 {
     0.5 * erfc(-z / std::f64::consts::SQRT_2)
 }
 
+/// `ln Phi(z)` finite for every finite `z`: the CDF's logarithm down to `z = -37` (where `Phi`
+/// is `6e-300`, clear of underflow), below it the asymptotic series
+/// `-z^2 / 2 - ln(-z sqrt(2 pi)) + ln(1 - 1/z^2 + 3/z^4 - 15/z^6 + 105/z^8)`, whose next term is
+/// below `1e-12` there. A likelihood whose probabilities underflow keeps its shape (a profile's
+/// search needs it: far out in a small `beta` every probability is below `1e-308`).
+pub(crate) fn ln_phi(z: f64) -> f64 {
+    if z > -37.0 {
+        return phi_cdf(z).ln();
+    }
+    let r = 1.0 / (z * z);
+    let series = 1.0 - r * (1.0 - r * (3.0 - r * (15.0 - r * 105.0)));
+    -0.5 * z * z - (-z * (2.0 * std::f64::consts::PI).sqrt()).ln() + series.ln()
+}
+
 /// The standard normal density.
 pub(crate) fn phi_pdf(z: f64) -> f64 {
     (-0.5 * z * z).exp() / (2.0 * std::f64::consts::PI).sqrt()
@@ -118,8 +144,8 @@ impl Nll<'_> {
         let mut nll = 0.0;
         for c in self.0 {
             let z = (c.im.ln() - ln_theta) / beta;
-            // ln p and ln(1 - p) from the tails, without cancellation.
-            let (ln_p, ln_q) = (phi_cdf(z).ln(), phi_cdf(-z).ln());
+            // ln p and ln(1 - p) from the tails, without cancellation or underflow.
+            let (ln_p, ln_q) = (ln_phi(z), ln_phi(-z));
             if c.exceed > 0 {
                 nll -= c.exceed as f64 * ln_p;
             }
@@ -186,17 +212,151 @@ pub fn fit(counts: &[Counts]) -> Fragility {
     let Some((se_t, se_b)) = standard_errors(&data, theta, beta) else {
         return Fragility::failed(FitOutcome::Failed);
     };
+    let profile = Profile {
+        nll: Nll(&data),
+        best: [ln_theta, ln_beta],
+        nll_min: nll,
+        theta_range: theta_range(&data, ln_theta),
+    };
+    let (t_lo, t_hi) = (profile.end(0, -1.0, se_t), profile.end(0, 1.0, se_t));
+    let (b_lo, b_hi) = (profile.end(1, -1.0, se_b), profile.end(1, 1.0, se_b));
     Fragility {
         outcome: FitOutcome::Ok,
         theta,
         beta,
         se_ln_theta: se_t,
         se_ln_beta: se_b,
-        theta_lo: theta * (-Z95 * se_t).exp(),
-        theta_hi: theta * (Z95 * se_t).exp(),
-        beta_lo: beta * (-Z95 * se_b).exp(),
-        beta_hi: beta * (Z95 * se_b).exp(),
+        theta_lo: t_lo.exp(),
+        theta_hi: t_hi.exp(),
+        beta_lo: b_lo.exp(),
+        beta_hi: b_hi.exp(),
         log_likelihood: -nll,
+    }
+}
+
+/// Half the 95 % quantile of chi-squared with one degree of freedom: a profile-likelihood
+/// interval holds the values whose profile log-likelihood is within this of the maximum.
+const HALF_CHI2_95: f64 = 0.5 * 3.841_458_820_694_124;
+
+/// How far past the data a profile end is looked for, in `ln` units: farther, the end is
+/// unbounded (`0` or infinite).
+const REACH: f64 = 30.0;
+
+/// The smallest `beta`, relative to the estimate, a profile's lower end is looked for at:
+/// below it the curve is a step, and the interval reaches `beta = 0`.
+const STEP: f64 = 1e-4;
+
+/// The range of `ln theta` a profile searches: the data's `ln IM` widened by [`REACH`] (and
+/// holding the maximum).
+fn theta_range(data: &[Counts], ln_theta: f64) -> (f64, f64) {
+    let (lo, hi) = data.iter().fold((ln_theta, ln_theta), |(lo, hi), c| {
+        (lo.min(c.im.ln()), hi.max(c.im.ln()))
+    });
+    (lo - REACH, hi + REACH)
+}
+
+/// A function of one variable for argmin's one-dimensional solvers.
+struct Line<F: Fn(f64) -> f64>(F);
+
+impl<F: Fn(f64) -> f64> CostFunction for Line<F> {
+    type Param = f64;
+    type Output = f64;
+    fn cost(&self, p: &f64) -> Result<f64, Error> {
+        Ok((self.0)(*p))
+    }
+}
+
+/// The profile likelihood about the maximum `best` (`[ln theta, ln beta]`, where the negative
+/// log-likelihood is `nll_min`).
+struct Profile<'a> {
+    nll: Nll<'a>,
+    best: [f64; 2],
+    nll_min: f64,
+    theta_range: (f64, f64),
+}
+
+impl Profile<'_> {
+    /// The smallest negative log-likelihood with parameter `which` (0: `ln theta`, 1:
+    /// `ln beta`) held at `value`, over the other (a Brent search: the profile is unimodal).
+    fn at(&self, which: usize, value: f64) -> f64 {
+        let (lo, hi) = if which == 0 {
+            (self.best[1] - REACH, self.best[1] + REACH)
+        } else {
+            self.theta_range
+        };
+        let cost = |other: f64| {
+            let v = if which == 0 {
+                self.nll.at(value, other)
+            } else {
+                self.nll.at(other, value)
+            };
+            v.min(f64::MAX)
+        };
+        // A grid first (the wide range holds regions where the likelihood underflows to zero,
+        // which a search from the whole range can settle in), then Brent between the best
+        // point's neighbours.
+        const GRID: usize = 64;
+        let x = |i: usize| lo + (hi - lo) * i as f64 / GRID as f64;
+        let k = (0..=GRID)
+            .map(|i| (i, cost(x(i))))
+            .min_by(|p, q| p.1.total_cmp(&q.1))
+            .map_or(0, |p| p.0);
+        let (a, b) = (x(k.saturating_sub(1)), x((k + 1).min(GRID)));
+        // With `beta` held, the likelihood's valley in `ln theta` is about `beta` wide: the
+        // search resolves it to a thousandth of that.
+        let tol = if which == 1 {
+            1e-3 * value.exp().min(1.0)
+        } else {
+            1e-7
+        };
+        Executor::new(Line(cost), BrentOpt::new(a, b).set_tolerance(1e-15, tol))
+            .configure(|s| s.max_iters(500))
+            .run()
+            .ok()
+            .map(|r| r.state().get_best_cost())
+            .unwrap_or(f64::INFINITY)
+    }
+
+    /// The end of the 95 % interval of parameter `which` on the side `side` (`-1`, `+1`): where
+    /// the profile rises `HALF_CHI2_95` above the maximum, bracketed by steps from the maximum
+    /// that double from a quarter of the Wald standard error `se`, then a Brent root; `-inf` or
+    /// `inf` when no step within [`REACH`] of the maximum (past the data, for `ln theta`; down to
+    /// [`STEP`] times the estimate for `beta`'s lower end) gets there.
+    fn end(&self, which: usize, side: f64, se: f64) -> f64 {
+        let rise = |v: f64| self.at(which, v) - self.nll_min - HALF_CHI2_95;
+        let from = self.best[which];
+        let limit = if which == 1 {
+            // A dispersion below `STEP` times the estimate is a step: no lower end above it
+            // is no lower end.
+            if side < 0.0 { -STEP.ln() } else { REACH }
+        } else if side > 0.0 {
+            self.theta_range.1 - from
+        } else {
+            from - self.theta_range.0
+        };
+        let mut near = from;
+        let mut step = if se.is_finite() && se > 0.0 {
+            0.25 * se.min(1.0)
+        } else {
+            0.05
+        };
+        loop {
+            let far = from + side * step.min(limit);
+            if rise(far) >= 0.0 {
+                let (a, b) = if side > 0.0 { (near, far) } else { (far, near) };
+                return Executor::new(Line(rise), BrentRoot::new(a, b, 1e-10))
+                    .configure(|s| s.max_iters(200))
+                    .run()
+                    .ok()
+                    .map(|r| r.state().best_param.unwrap_or(far))
+                    .unwrap_or(far);
+            }
+            if step >= limit {
+                return side * f64::INFINITY;
+            }
+            near = far;
+            step *= 2.0;
+        }
     }
 }
 
@@ -299,6 +459,17 @@ mod tests {
         assert!((f.beta / beta - 1.0).abs() < 1e-4, "{f:?}");
         assert!(f.theta_lo < theta && theta < f.theta_hi);
         assert!((f.probability(theta) - 0.5).abs() < 1e-4);
+    }
+
+    #[test]
+    fn ln_phi_is_the_log_cdf_and_stays_finite_in_the_far_tail() {
+        for z in [-36.9, -30.0, -10.0, -1.0, 0.0, 2.0] {
+            assert!((ln_phi(z) - phi_cdf(z).ln()).abs() <= 1e-12 * phi_cdf(z).ln().abs().max(1.0));
+        }
+        // At the switch (-37 takes the series) the two forms agree.
+        let (a, b) = (phi_cdf(-37.0).ln(), ln_phi(-37.0));
+        assert!((a - b).abs() <= 1e-12 * a.abs(), "{a} {b}");
+        assert!(ln_phi(-1e3).is_finite() && ln_phi(-1e3) < ln_phi(-100.0));
     }
 
     #[test]

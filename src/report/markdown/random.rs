@@ -297,7 +297,8 @@ fn fragility(s: &Summary, rs: &RandomSummary, designs: &[&PointStats], lens: &[u
     let mut o = format!(
         "### Fragility over {}\n\nEach design's `p_f` at every swept {} and the lognormal \
          fragility curve P(exceed | {k}) = Φ(ln({k} / theta) / beta) fitted to its counts by \
-         maximum likelihood (95 % Wald intervals). `theta`, the median capacity, is the \
+         maximum likelihood (95 % profile-likelihood intervals; 0 or ∞ where the likelihood does \
+         not bound them). `theta`, the median capacity, is the \
          intensity at which half the runs pass the threshold; the designs are listed by it \
          (`capacity rank`, `capacity_rank` in `summary.csv`; a design whose fit did not end ok \
          has none). Two curves with different `beta` cross: a larger `theta` is not a lower \
