@@ -23,9 +23,9 @@
 //! separating: there the Wald interval of `theta` can span a hundred orders of magnitude while
 //! the likelihood pins `theta` between two stripes. An end the likelihood does not bound (the
 //! profile stays within 1.92 all the way) is `0` or infinite; `beta`'s lower end is `0` when the
-//! profile stays within 1.92 down to `1e-4` times the estimate (the curve may be a step). The probit log-likelihood is
-//! concave in `(a, b)`, so with one parameter held the other's profile is unimodal: each
-//! inner maximum is a one-dimensional Brent search, each end a Brent root.
+//! profile stays within 1.92 down to `1e-4` times the estimate (the curve may be a step). The
+//! probit log-likelihood is concave in `(a, b)`, so with one parameter held the other's profile
+//! is unimodal: each inner maximum is a one-dimensional Brent search, each end a Brent root.
 //!
 //! The maximum does not exist when the counts do not overlap: every run below some intensity
 //! safe and every run above it failed (`beta -> 0`), or no run (or every run) failed at any
@@ -121,7 +121,7 @@ pub(crate) fn phi_cdf(z: f64) -> f64 {
 /// `-z^2 / 2 - ln(-z sqrt(2 pi)) + ln(1 - 1/z^2 + 3/z^4 - 15/z^6 + 105/z^8)`, whose next term is
 /// below `1e-12` there. A likelihood whose probabilities underflow keeps its shape (a profile's
 /// search needs it: far out in a small `beta` every probability is below `1e-308`).
-pub(crate) fn ln_phi(z: f64) -> f64 {
+fn ln_phi(z: f64) -> f64 {
     if z > -37.0 {
         return phi_cdf(z).ln();
     }
@@ -292,9 +292,9 @@ impl Profile<'_> {
             };
             v.min(f64::MAX)
         };
-        // A grid first (the wide range holds regions where the likelihood underflows to zero,
-        // which a search from the whole range can settle in), then Brent between the best
-        // point's neighbours.
+        // A grid first, then Brent between the best point's neighbours (the function is
+        // unimodal, so its minimum lies there): the range is up to 60 `ln` units wide and the
+        // valley, with a small `beta` held, about `beta` wide.
         const GRID: usize = 64;
         let x = |i: usize| lo + (hi - lo) * i as f64 / GRID as f64;
         let k = (0..=GRID)

@@ -952,53 +952,69 @@ mod tests {
         }
     }
 
-    #[test]
-    fn pieces_on_the_taylor_polynomial_are_the_closed_forms_to_rounding() {
-        // Issue 69: the pieces between events integrate `x^2` and `A^2` on the free part's
-        // Taylor polynomial by one 5-point rule; against the closed form at every node of the
-        // 8-point rule (what every piece took before), the same motion bit for bit and the run's RMS within a few rounding units,
-        // under ground acceleration and a force, a random load and a record, pieces free and
-        // stuck.
+    /// Runs each of `designs` (`(m, d)`) under three 20-s scenes (ground acceleration and a force
+    /// from the random load, a record) at gains 1, 4 and 12 on 10 realizations of stream `seed`,
+    /// by its `RandomRun` and by `other` of it, and hands both records to `check`.
+    fn against(
+        designs: &[(f64, f64)],
+        seed: u64,
+        other: impl Fn(&RandomRun) -> RandomRun,
+        mut check: impl FnMut(&RandomRecord, &RandomRecord),
+    ) {
         let force = RandomScene {
             input: Input::Force,
             ..seismic()
         };
         let settings = SolverSettings::default();
         let req = Request::default();
-        let (mut worst, mut impacts) = (0.0f64, 0u64);
         let long = |s: RandomScene| RandomScene {
             duration: 20.0,
             ..s
         };
         for scene in [seismic(), force, record()].map(long) {
-            for (m, d) in [(0.1, 0.005), (0.3, 0.002), (0.05, 0.02)] {
+            for &(m, d) in designs {
                 let run = RandomRun::new(&System { m, d, ..damped() }, &settings, &scene);
-                let closed = RandomRun {
-                    taylor_reach: 0.0,
-                    ..run.clone()
-                };
+                let second = other(&run);
                 for r in 0..10 {
-                    let block = run.load(RealizationStream::new(5, 0, r));
+                    let block = run.load(RealizationStream::new(seed, 0, r));
                     for gain in [1.0, 4.0, 12.0] {
                         let x = run.run_block(&req, &block, gain, &mut NoProbe);
-                        let y = closed.run_block(&req, &block, gain, &mut NoProbe);
-                        let motion = |r: &RandomRecord| {
-                            (
-                                r.amplitude.to_bits(),
-                                r.t_peak.to_bits(),
-                                r.impacts,
-                                r.steps,
-                            )
-                        };
-                        assert_eq!(motion(&x), motion(&y));
-                        impacts += x.impacts;
-                        for (a, b) in [(x.rms_x, y.rms_x), (x.rms_acc, y.rms_acc)] {
-                            worst = worst.max((a - b).abs() / b);
-                        }
+                        let y = second.run_block(&req, &block, gain, &mut NoProbe);
+                        check(&x, &y);
                     }
                 }
             }
         }
+    }
+
+    #[test]
+    fn pieces_on_the_taylor_polynomial_are_the_closed_forms_to_rounding() {
+        // Issue 69: the pieces between events integrate `x^2` and `A^2` on the free part's
+        // Taylor polynomial by one 5-point rule; against the closed form at every node of the
+        // 8-point rule (what every piece took before), the same motion bit for bit and the
+        // run's RMS within a few rounding units, under ground acceleration and a force, a random
+        // load and a record, pieces free and stuck.
+        let (mut worst, mut impacts) = (0.0f64, 0u64);
+        let designs = [(0.1, 0.005), (0.3, 0.002), (0.05, 0.02)];
+        let closed = |run: &RandomRun| RandomRun {
+            taylor_reach: 0.0,
+            ..run.clone()
+        };
+        against(&designs, 5, closed, |x, y| {
+            let motion = |r: &RandomRecord| {
+                (
+                    r.amplitude.to_bits(),
+                    r.t_peak.to_bits(),
+                    r.impacts,
+                    r.steps,
+                )
+            };
+            assert_eq!(motion(x), motion(y));
+            impacts += x.impacts;
+            for (a, b) in [(x.rms_x, y.rms_x), (x.rms_acc, y.rms_acc)] {
+                worst = worst.max((a - b).abs() / b);
+            }
+        });
         eprintln!("Taylor against the closed form: {impacts} impacts, RMS off by {worst:e}");
         assert!(impacts > 10_000, "{impacts}");
         assert!(worst <= 64.0 * f64::EPSILON, "{worst:e}");
@@ -1012,44 +1028,25 @@ mod tests {
         // the same bits but the steps, which are fewer. Ground acceleration and a force, a random
         // load and a record, the structure alone and three dampers, at three gains (a threshold
         // in the scene: its first passage is pending until it happens).
-        let force = RandomScene {
-            input: Input::Force,
-            ..seismic()
-        };
-        let settings = SolverSettings::default();
-        let req = Request::default();
-        let long = |s: RandomScene| RandomScene {
-            duration: 20.0,
-            ..s
-        };
         let (mut fewer, mut runs) = (0u64, 0u64);
-        for scene in [seismic(), force, record()].map(long) {
-            for (m, d) in [(0.0, 0.005), (0.1, 0.005), (0.3, 0.002), (0.05, 0.02)] {
-                let run = RandomRun::new(&System { m, d, ..damped() }, &settings, &scene);
-                let looped = RandomRun {
-                    monotone: false,
-                    ..run.clone()
-                };
-                for r in 0..10 {
-                    let block = run.load(RealizationStream::new(7, 0, r));
-                    for gain in [1.0, 4.0, 12.0] {
-                        let x = run.run_block(&req, &block, gain, &mut NoProbe);
-                        let y = looped.run_block(&req, &block, gain, &mut NoProbe);
-                        assert!(x.steps <= y.steps, "{} > {}", x.steps, y.steps);
-                        fewer += y.steps - x.steps;
-                        runs += 1;
-                        let steps = y.steps;
-                        assert_eq!(
-                            format!("{:?}", RandomRecord { steps, ..x }),
-                            format!("{y:?}")
-                        );
-                        for (a, b) in [(x.rms_x, y.rms_x), (x.rms_acc, y.rms_acc)] {
-                            assert_eq!(a.to_bits(), b.to_bits());
-                        }
-                    }
-                }
+        let designs = [(0.0, 0.005), (0.1, 0.005), (0.3, 0.002), (0.05, 0.02)];
+        let looped = |run: &RandomRun| RandomRun {
+            monotone: false,
+            ..run.clone()
+        };
+        against(&designs, 7, looped, |x, y| {
+            assert!(x.steps <= y.steps, "{} > {}", x.steps, y.steps);
+            fewer += y.steps - x.steps;
+            runs += 1;
+            let steps = y.steps;
+            assert_eq!(
+                format!("{:?}", RandomRecord { steps, ..x.clone() }),
+                format!("{y:?}")
+            );
+            for (a, b) in [(x.rms_x, y.rms_x), (x.rms_acc, y.rms_acc)] {
+                assert_eq!(a.to_bits(), b.to_bits());
             }
-        }
+        });
         eprintln!("monotone intervals: {fewer} steps fewer over {runs} runs");
         assert!(fewer > runs, "{fewer} over {runs} runs");
     }
