@@ -465,14 +465,13 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
     /// event (or the last interval, or any interval under a trace), where the event loop goes
     /// on.
     fn cross(&mut self) -> (f64, f64) {
+        // Several units (model.md §14) go through the event loop in every interval. (A crossed
+        // interval changes none of these.)
+        let eligible =
+            self.map.phase == Phase::Free && !self.map.several() && self.req.trace_dt.is_none();
         loop {
             let load = self.samples.next();
-            // Several units (model.md §14) go through the event loop in every interval.
-            let eligible = self.k + 1 < self.run.segments
-                && self.map.phase == Phase::Free
-                && !self.map.several()
-                && self.req.trace_dt.is_none();
-            if !(eligible && self.whole(load)) {
+            if !(eligible && self.k + 1 < self.run.segments && self.whole(load)) {
                 return load;
             }
             self.k += 1;
