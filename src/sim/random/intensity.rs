@@ -26,6 +26,7 @@
 use super::RandomScene;
 use super::load::{Normals, Plan, Samples};
 pub use super::measure::{DEFAULT_IDA_MAX, DEFAULT_IDA_TOL, IntensitySpec, Measure, OwnIntensity};
+use super::run::hull;
 use crate::sim::linear::Oscillator;
 
 /// Standard gravity (m/s^2): an acceleration in g is `a / G`.
@@ -54,6 +55,7 @@ pub(crate) fn of_samples<N: Normals>(
     let prop = osc.propagator(dt);
     // The cubic Hermite interpolant's error per unit B0 of the free part ([`may_exceed`]).
     let err4 = osc.derivative_bounds(1.0, 0.0)[4] * dt.powi(4) / 384.0;
+    let third = dt / 3.0;
     let segments = scene.segments();
     let (mut u, mut v) = (0.0f64, 0.0f64);
     let (mut pga, mut umax) = (0.0f64, 0.0f64);
@@ -78,7 +80,16 @@ pub(crate) fn of_samples<N: Normals>(
         };
         let (u1, v1) = (hx1 + p0 + p1 * len, hv1 + p1);
         if v * v1 < 0.0
-            && (len < dt || may_exceed(umax, (u, v), (u1, v1), (hx, hv, p0, p1), &osc, dt, err4))
+            && (len < dt
+                || may_exceed(
+                    umax,
+                    (u, v),
+                    (u1, v1),
+                    (hx, hv, p0, p1),
+                    &osc,
+                    (dt, third),
+                    err4,
+                ))
         {
             let m = extremum_time(&osc, (hx, hv), p1, len, v, v1);
             umax = umax.max((osc.eval(hx, hv, m).x + p0 + p1 * m).abs());
@@ -98,22 +109,20 @@ pub(crate) fn of_samples<N: Normals>(
 /// cannot, nor can the closed form evaluated anywhere in it. `u` is within
 /// `max |u''''| dt^4 / 384` of its cubic Hermite interpolant (`u'''' = h_x''''`, at most
 /// `err4 B0`, [`Oscillator::derivative_bounds`]), which lies in the convex hull of its Bézier
-/// points `u0, u0 + dt v0 / 3, u1 - dt v1 / 3, u1`; a margin of `1e-12` of the sizes covers the
-/// rounding. An extremum that cannot exceed `umax` leaves `max(umax, |u(t_m)|)` as it is, so
-/// its location (a bisection) is skipped with the same result, bit for bit.
+/// points `u0, u0 + dt v0 / 3, u1 - dt v1 / 3, u1` ([`hull`]; `third = dt / 3`); a margin of
+/// `1e-12` of the sizes covers the rounding. An extremum that cannot exceed `umax` leaves
+/// `max(umax, |u(t_m)|)` as it is, so its location (a bisection) is skipped with the same
+/// result, bit for bit.
 fn may_exceed(
     umax: f64,
     (u0, v0): (f64, f64),
     (u1, v1): (f64, f64),
     (hx, hv, p0, p1): (f64, f64, f64, f64),
     osc: &Oscillator,
-    dt: f64,
+    (dt, third): (f64, f64),
     err4: f64,
 ) -> bool {
-    let third = dt / 3.0;
-    let (p, q) = (u0 + third * v0, u1 - third * v1);
-    let hi = u0.max(p).max(q).max(u1);
-    let lo = u0.min(p).min(q).min(u1);
+    let (lo, hi) = hull(u0, v0, u1, v1, third);
     let b0 = hx.mul_add(hx, hv * hv * osc.inv_w2).sqrt();
     let bound = hi.max(-lo) + err4 * b0;
     let margin = 1e-12 * (bound + b0 + p0.abs() + p1.abs() * dt);

@@ -363,7 +363,7 @@ fn contract(q: &[f64; 10], g: &[f64; 10]) -> f64 {
 /// caller can see: the range is only added to and compared) with a shorter dependency chain than
 /// the NaN-aware fold; a NaN anywhere (or `inf - inf` in the test's sum) takes the fold.
 #[inline]
-fn hull(g0: f64, d0: f64, g1: f64, d1: f64, third: f64) -> (f64, f64) {
+pub(super) fn hull(g0: f64, d0: f64, g1: f64, d1: f64, third: f64) -> (f64, f64) {
     let (p, q) = (g0 + third * d0, g1 - third * d1);
     if ((g0 + p) + (q + g1)).is_nan() {
         return hull_nan(g0, p, q, g1);
