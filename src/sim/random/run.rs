@@ -196,6 +196,10 @@ impl RandomRun {
 
     /// [`RandomRun::run`] with every load value times `gain` (> 0): a stripe's or a capacity
     /// search's scaling of one motion ([`super::ida`]). `gain = 1` is `run`, bit for bit.
+    ///
+    /// The load's samples are drawn first, then run ([`RandomRun::run_block`]): the same bits as
+    /// drawing each as the run reaches it, and cheaper (the crossing's loop then holds no call
+    /// to the filter and the normals; BENCHMARKS.md, "Random realizations at half the cost").
     pub fn run_scaled<N: Normals, P: Probe>(
         &self,
         req: &Request,
@@ -203,8 +207,8 @@ impl RandomRun {
         gain: f64,
         probe: &mut P,
     ) -> RandomRecord {
-        let samples = Samples::new(&self.plan, self.scene.dt, normals, gain);
-        self.run_samples(req, samples, probe, true)
+        let block = self.load(normals);
+        self.run_block(req, &block, gain, probe)
     }
 
     /// One realization's load samples at scale 1 ([`LoadBlock`]), drawn from `normals` as a run
@@ -247,9 +251,7 @@ impl RandomRun {
     /// The amplitude of [`RandomRun::run`]'s record from `normals`, bit for bit, without the
     /// integrals ([`RandomRun::amplitude_block`]): subset simulation's runs read nothing else.
     pub fn amplitude<N: Normals>(&self, req: &Request, normals: N) -> f64 {
-        let samples = Samples::new(&self.plan, self.scene.dt, normals, 1.0);
-        self.run_samples(req, samples, &mut NoProbe, false)
-            .amplitude
+        self.amplitude_block(req, &self.load(normals), 1.0)
     }
 
     /// PGA and `Sa(period, 5 %)` (g) of the motion `block` at scale 1: the same bits as
@@ -938,11 +940,21 @@ mod tests {
                     // A capacity search's trial: the amplitude alone, the same bits.
                     let amplitude = run.amplitude_block(&req, &block, gain);
                     assert_eq!(amplitude.to_bits(), x.amplitude.to_bits());
+                    // Each sample drawn as the run reaches it: the same bits.
+                    let streamed = |integrals| {
+                        let samples = Samples::new(&run.plan, run.scene.dt, stream(), gain);
+                        run.run_samples(&req, samples, &mut NoProbe, integrals)
+                    };
                     if gain == 1.0 {
                         let plain = run.amplitude(&req, stream());
                         assert_eq!(plain.to_bits(), x.amplitude.to_bits());
+                        assert_eq!(streamed(false).amplitude.to_bits(), x.amplitude.to_bits());
                     }
-                    let y = run.run_scaled(&req, stream(), gain, &mut NoProbe);
+                    assert_eq!(
+                        format!("{x:?}"),
+                        format!("{:?}", run.run_scaled(&req, stream(), gain, &mut NoProbe))
+                    );
+                    let y = streamed(true);
                     assert_eq!(format!("{x:?}"), format!("{y:?}"));
                     assert_eq!(x.rms_x.to_bits(), y.rms_x.to_bits());
                     assert_eq!(x.amplitude.to_bits(), y.amplitude.to_bits());
