@@ -24,9 +24,9 @@
 //! realization scaled by `s` has `s PGA` and `s Sa`, since the oscillator is linear.
 
 use super::RandomScene;
+use super::hull::hull;
 use super::load::{Normals, Plan, Samples};
 pub use super::measure::{DEFAULT_IDA_MAX, DEFAULT_IDA_TOL, IntensitySpec, Measure, OwnIntensity};
-use super::run::hull;
 use crate::sim::linear::Oscillator;
 
 /// Standard gravity (m/s^2): an acceleration in g is `a / G`.

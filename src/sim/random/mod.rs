@@ -59,6 +59,7 @@
 //! The run starts from the system's initial state (a study of these scenes starts at rest by
 //! default).
 
+mod hull;
 pub mod ida;
 pub mod intensity;
 pub mod load;

@@ -48,6 +48,7 @@
 //! [`gauss_legendre_5`]); a longer piece takes the closed form and 8-point Gauss–Legendre on
 //! sub-pieces at most 1/16 of the fastest period. All to rounding.
 
+use super::hull::hull;
 use super::intensity::{self, OwnIntensity};
 use super::load::{GivenNormals, LoadBlock, Normals, Plan, Samples};
 use super::motion::Ramp;
@@ -355,31 +356,6 @@ fn contract(q: &[f64; 10], g: &[f64; 10]) -> f64 {
     let diag = q[0] * g[0] + q[4] * g[4] + q[7] * g[7] + q[9] * g[9];
     let off = q[1] * g[1] + q[2] * g[2] + q[3] * g[3] + q[5] * g[5] + q[6] * g[6] + q[8] * g[8];
     diag + 2.0 * off
-}
-
-/// The range `(min, max)` of the convex hull of the Bézier points of the cubic Hermite
-/// interpolant from `(g0, d0)` to `(g1, d1)` over an interval of `3 third` (module doc): the
-/// smallest and largest of `g0, p, q, g1` with NaN points left out ([`f64::min`],
-/// [`f64::max`]). Without a NaN among them (the rule), by plain comparisons in a tree, which are
-/// the same values (a minimum does not depend on the order; a zero's sign can differ, which no
-/// caller can see: the range is only added to and compared) with a shorter dependency chain than
-/// the NaN-aware fold; a NaN anywhere (or `inf - inf` in the test's sum) takes the fold.
-#[inline]
-pub(super) fn hull(g0: f64, d0: f64, g1: f64, d1: f64, third: f64) -> (f64, f64) {
-    let (p, q) = (g0 + third * d0, g1 - third * d1);
-    if ((g0 + p) + (q + g1)).is_nan() {
-        return hull_nan(g0, p, q, g1);
-    }
-    let min = |a: f64, b: f64| if a < b { a } else { b };
-    let max = |a: f64, b: f64| if a > b { a } else { b };
-    (min(min(g0, p), min(q, g1)), max(max(g0, p), max(q, g1)))
-}
-
-/// [`hull`] of Bézier points among which there may be NaNs: the NaN-aware fold.
-#[cold]
-#[inline(never)]
-fn hull_nan(g0: f64, p: f64, q: f64, g1: f64) -> (f64, f64) {
-    (g0.min(p).min(q).min(g1), g0.max(p).max(q).max(g1))
 }
 
 /// One realization on the event map.
