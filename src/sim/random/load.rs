@@ -1,7 +1,8 @@
 //! The load of one run, sample by sample: white noise through the spectrum's filter and the
-//! envelope (a random load), or a record times its scale. Samples are made as the run asks for
-//! them, or once per realization into a [`LoadBlock`] its runs share (the same bits); the
-//! envelope's values at the samples are a table made once per design.
+//! envelope (a random load), or a record times its scale. A run's samples are made once per
+//! realization into a [`LoadBlock`] that its runs share; a pass may also make them as it asks
+//! for them (the same bits); the envelope's values at the samples are a table made once per
+//! design.
 //!
 //! # White noise and its filters
 //! Sample `k` of the white noise is `sigma N_k`, `sigma = sqrt(2 pi S0 / dt)`, with `N_k` a
@@ -456,7 +457,7 @@ impl<'a, N: Normals> Samples<'a, N> {
 
     /// The random load's sample at `t_k`, `k` in increasing order from 0 (it draws the normal
     /// that reaches it: white noise's own, or the filter's input over the interval before).
-    /// (Inline: a call in the crossing's loop would spill every live float around it.)
+    /// (Inline: the loops that draw samples then hold no call.)
     #[inline(always)]
     fn random_sample(&mut self, k: u64) -> f64 {
         let Plan::Random {
