@@ -259,6 +259,10 @@ pub struct SlurmCmd {
     /// Slurm partition.
     #[arg(long)]
     pub partition: Option<String>,
+    /// Node features every task needs (Slurm's --constraint, e.g. avx2): keeps every shard and
+    /// re-run on processors that compute the same bits.
+    #[arg(long)]
+    pub constraint: Option<String>,
     /// Time limit per task, in Slurm's format (e.g. 02:00:00).
     #[arg(long)]
     pub time: Option<String>,
@@ -411,6 +415,7 @@ pub fn main() -> anyhow::Result<()> {
             tasks: c.tasks,
             out: c.out,
             partition: c.partition,
+            constraint: c.constraint,
             time: c.time,
             cpus_per_task: c.cpus_per_task,
             dry_run: c.dry_run,

@@ -35,6 +35,9 @@ pub struct ArrayJob {
     pub tasks: u64,
     /// `--partition`.
     pub partition: Option<String>,
+    /// `--constraint`: the node features every task needs (Slurm's syntax, e.g. `avx2`), so
+    /// that every shard and every re-run computes with one math library (docs/cluster.md).
+    pub constraint: Option<String>,
     /// `--time` per task, in Slurm's format (`MM`, `HH:MM:SS`, `D-HH`, ...).
     pub time: Option<String>,
     /// `--cpus-per-task`; each task runs that many threads (1 when absent).
@@ -125,7 +128,11 @@ impl ArrayJob {
                 self.study_name
             )));
         }
-        for (opt, v) in [("--partition", &self.partition), ("--time", &self.time)] {
+        for (opt, v) in [
+            ("--partition", &self.partition),
+            ("--constraint", &self.constraint),
+            ("--time", &self.time),
+        ] {
             if let Some(v) = v
                 && (v.is_empty() || !v.chars().all(|c| c.is_ascii_graphic() && c != '"'))
             {
@@ -336,6 +343,9 @@ impl ArrayJob {
         if let Some(p) = &self.partition {
             s += &format!("#SBATCH --partition={p}\n");
         }
+        if let Some(c) = &self.constraint {
+            s += &format!("#SBATCH --constraint={c}\n");
+        }
         if let Some(t) = &self.time {
             s += &format!("#SBATCH --time={t}\n");
         }
@@ -380,6 +390,7 @@ mod tests {
             out: "/scratch/u/out".into(),
             tasks: 4,
             partition: None,
+            constraint: None,
             time: None,
             cpus_per_task: None,
             analysis_tasks: None,
@@ -429,10 +440,12 @@ mod tests {
     fn options_appear_when_given() {
         let mut j = job();
         j.partition = Some("short".into());
+        j.constraint = Some("avx2&fma".into());
         j.time = Some("02:00:00".into());
         j.cpus_per_task = Some(8);
         for s in [j.array_script().unwrap(), j.reduce_script().unwrap()] {
             assert!(s.contains("#SBATCH --partition=short\n"), "{s}");
+            assert!(s.contains("#SBATCH --constraint=avx2&fma\n"), "{s}");
             assert!(s.contains("#SBATCH --time=02:00:00\n"), "{s}");
             assert!(s.contains("#SBATCH --cpus-per-task=8\n"), "{s}");
         }
@@ -526,6 +539,7 @@ mod tests {
         assert!(err(&|j| j.time = Some("2 hours".into())).starts_with("--time '2 hours'"));
         assert!(err(&|j| j.time = Some("2h".into())).starts_with("--time '2h': expected Slurm"));
         assert!(err(&|j| j.partition = Some("a b".into())).starts_with("--partition 'a b'"));
+        assert!(err(&|j| j.constraint = Some("".into())).starts_with("--constraint ''"));
         assert_eq!(
             err(&|j| j.cpus_per_task = Some(0)),
             "--cpus-per-task 0: each task needs at least 1 CPU"

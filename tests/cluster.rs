@@ -502,6 +502,7 @@ fn slurm_array_on_a_real_cluster_adds_up_to_the_single_machine_run() {
         out: w.join("out stand-in"),
         tasks: 4,
         partition: Some("debug".into()),
+        constraint: None,
         time: Some("5".into()),
         cpus_per_task: Some(2),
         analysis_tasks: None,

@@ -434,3 +434,87 @@ fn manifest_records_sizes_and_outcomes() {
     assert_eq!(meta[store::META_STUDY], s.source);
     assert!(sweep::ranges(&[0, 1, 2, 3, 7, 9, 10]) == "0-3, 7, 9-10");
 }
+
+/// Whether this processor has the FMA and AVX2 that make glibc pick its FMA code for `exp`,
+/// `sin` and `cos` (so that `GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA` selects another code).
+fn glibc_has_two_codes() -> bool {
+    let Ok(cpu) = std::fs::read_to_string("/proc/cpuinfo") else {
+        return false;
+    };
+    let flags = cpu.lines().find(|l| l.starts_with("flags")).unwrap_or("");
+    let has = |f: &str| flags.split_whitespace().any(|w| w == f);
+    cfg!(all(
+        target_os = "linux",
+        target_arch = "x86_64",
+        target_env = "gnu"
+    )) && has("fma")
+        && has("avx2")
+}
+
+/// A dataset's records are one math library's bits (src/sim/math.rs): glibc's two codes for
+/// `exp`, `sin`, `cos` (picked by the processor) give other part files for the same study
+/// (`configs/paper.toml`), and a shard or a resume with the other code is refused, naming both
+/// fingerprints, without writing anything; the same code goes on.
+#[test]
+fn a_shard_with_another_math_library_is_refused_and_would_have_written_other_bits() {
+    if !glibc_has_two_codes() {
+        eprintln!(
+            "skipped: no x86-64 glibc with FMA and AVX2 here, so no second math code to test"
+        );
+        return;
+    }
+    let other = ("GLIBC_TUNABLES", "glibc.cpu.hwcaps=-AVX2,-FMA");
+    let tmp = tempfile::tempdir().unwrap();
+    let paper = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/paper.toml");
+    let run = |out: &str, env: Option<(&str, &str)>, args: &[&str]| {
+        let mut c = assert_cmd::Command::cargo_bin("impactsweep").unwrap();
+        c.arg("run")
+            .arg(&paper)
+            .arg("--out")
+            .arg(tmp.path().join(out));
+        c.args(args).arg("--quiet");
+        if let Some((k, v)) = env {
+            c.env(k, v);
+        }
+        c.output().unwrap()
+    };
+    // The same study by the two codes: other bits.
+    assert!(run("a", None, &[]).status.success());
+    assert!(run("b", Some(other), &[]).status.success());
+    let (a, b) = (
+        part_bytes(&tmp.path().join("a/paper")),
+        part_bytes(&tmp.path().join("b/paper")),
+    );
+    assert_eq!(a.len(), b.len());
+    assert!(
+        a != b,
+        "glibc's two codes wrote the same part files: the fingerprint guards nothing here"
+    );
+    // Shard 1/2 by one code, then shard 0/2 and a resume by the other: refused.
+    assert!(run("s", None, &["--shard", "1/2"]).status.success());
+    let dir = tmp.path().join("s/paper");
+    let before = part_bytes(&dir);
+    let manifest = std::fs::read_to_string(dir.join("manifest.json")).unwrap();
+    for args in [&["--shard", "0/2"][..], &["--resume"][..]] {
+        let out = run("s", Some(other), args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains("math library that rounds differently") && err.contains("fingerprint"),
+            "{args:?}: {err}"
+        );
+        assert_eq!(
+            part_bytes(&dir),
+            before,
+            "{args:?}: a part file was written"
+        );
+        assert_eq!(
+            std::fs::read_to_string(dir.join("manifest.json")).unwrap(),
+            manifest,
+            "{args:?}"
+        );
+    }
+    // The same code finishes it, to the bits of the whole run.
+    assert!(run("s", None, &["--shard", "0/2"]).status.success());
+    assert_eq!(part_bytes(&dir), a);
+}

@@ -458,7 +458,10 @@ def reduce(run_dir: StudyLike, *, subset: int = 1000, subset_repeats: int = 1) -
 
 def status(run_dir: StudyLike) -> Dict[str, Any]:
     """``impactsweep status`` of a run directory: ``complete n_chunks n_runs runs_done done
-    missing damaged`` and ``text`` (what the command prints)."""
+    missing damaged``, ``math`` (the fingerprint of the math library that wrote the records,
+    ``None`` in directories written before it) and ``math_here`` (this process's: a run or
+    resume into the directory is refused when they differ), and ``text`` (what the command
+    prints)."""
     return _ext.status(os.fspath(run_dir))
 
 

@@ -978,6 +978,10 @@ fn status<'py>(py: Python<'py>, dir: PathBuf) -> PyResult<Bound<'py, PyDict>> {
         "damaged",
         st.damaged.iter().map(|(k, _)| *k).collect::<Vec<_>>(),
     )?;
+    // The math library's fingerprint that wrote the records (None before it was recorded), and
+    // this process's (docs/run.md, "Determinism across machines").
+    d.set_item("math", st.manifest.math.clone())?;
+    d.set_item("math_here", impactsweep::sim::math::fingerprint())?;
     d.set_item("text", st.report(&dir))?;
     Ok(d)
 }

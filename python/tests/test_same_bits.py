@@ -207,6 +207,10 @@ def test_run_from_python_writes_what_the_command_line_writes(cli, tmp_path):
     st = isw.status(tmp_path / "py/batch")
     assert st["complete"] and st["runs_done"] == 90
     assert st["text"] == cli("status", tmp_path / "py/batch").stdout
+    # One math library in both (the records' bits depend on it): the binary's fingerprint, as
+    # its manifest records it, is the extension's.
+    assert len(st["math"]) == 16 and st["math"] == st["math_here"]
+    assert isw.status(tmp_path / "cli/batch")["math"] == st["math_here"]
     assert isw.load(tmp_path / "py/batch").count_rows() == 90
     pl = pytest.importorskip("polars")
     lazy = isw.load(tmp_path / "py/batch", polars=True)

@@ -15,13 +15,14 @@ use crate::plan::Plan;
 use crate::slurm::{ANALYSIS_SCRIPT, ARRAY_SCRIPT, ArrayJob, REDUCE_SCRIPT, shell_word};
 use crate::study::Study;
 
-/// `impactsweep slurm STUDY.toml --tasks N [--out DIR] [--partition P] [--time T] [--cpus-per-task C] [--dry-run]`.
+/// `impactsweep slurm STUDY.toml --tasks N [--out DIR] [--partition P] [--constraint F] [--time T] [--cpus-per-task C] [--dry-run]`.
 #[derive(Clone, Debug, Default)]
 pub struct SlurmArgs {
     pub study: PathBuf,
     pub tasks: u64,
     pub out: PathBuf,
     pub partition: Option<String>,
+    pub constraint: Option<String>,
     pub time: Option<String>,
     pub cpus_per_task: Option<u32>,
     pub dry_run: bool,
@@ -80,6 +81,7 @@ fn array_job(args: &SlurmArgs, study: &Study) -> anyhow::Result<ArrayJob> {
             .with_context(|| format!("resolving --out {}", args.out.display()))?,
         tasks: args.tasks,
         partition: args.partition.clone(),
+        constraint: args.constraint.clone(),
         time: args.time.clone(),
         cpus_per_task: args.cpus_per_task,
         // A harmonic study with a census: its per-design analysis is an array of its own.

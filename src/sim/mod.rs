@@ -44,6 +44,7 @@ pub mod exact;
 pub mod free;
 pub mod harmonic;
 pub mod linear;
+pub mod math;
 pub mod noise;
 pub mod phase;
 pub mod probe;

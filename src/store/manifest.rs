@@ -25,6 +25,11 @@ pub struct Manifest {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub study_checksum: Option<String>,
     pub seed: u64,
+    /// The fingerprint of the math library that computed the records
+    /// ([`crate::sim::math::fingerprint`]): a shard or a resume whose library computes
+    /// otherwise is refused ([`Manifest::math_mismatch`]). Absent in manifests written before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub math: Option<String>,
     pub n_points: u64,
     pub n_cases: u64,
     pub n_runs: u64,
@@ -222,6 +227,7 @@ impl Manifest {
             study: name.to_string(),
             study_checksum: Some(study_checksum(source)),
             seed,
+            math: Some(crate::sim::math::fingerprint().to_string()),
             n_points: sizes.n_points,
             n_cases: sizes.n_cases,
             n_runs: sizes.n_runs,
@@ -291,6 +297,25 @@ impl Manifest {
                 who(fresh)
             )
         })
+    }
+
+    /// Why the records of this manifest's directory and those this process would write are not
+    /// one math library's bits (`fresh`'s fingerprint, [`crate::sim::math::fingerprint`],
+    /// differs from the recorded one), or `None` (also when this manifest predates the
+    /// fingerprint). `dir` names the directory in the message.
+    pub fn math_mismatch(&self, fresh: &Manifest, dir: &Path) -> Option<String> {
+        match (&self.math, &fresh.math) {
+            (Some(theirs), Some(ours)) if theirs != ours => Some(format!(
+                "{}: its records were computed by a math library that rounds differently from \
+                 this machine's (fingerprint {theirs} in manifest.json, {ours} here; glibc picks \
+                 its code for exp, sin and cos by the processor, FMA or not): the records \
+                 written here would not be the same bits as the others. Run every shard and \
+                 every resume of a study on processors of one kind (Slurm: --constraint), or \
+                 choose another --out (nothing was written)",
+                dir.display()
+            )),
+            _ => None,
+        }
     }
 
     /// Why this manifest does not belong to a directory whose `study.toml` is `study_text`, or

@@ -236,8 +236,16 @@ impl ManifestLock {
 
 /// When a shard starts: writes `manifest.json` from `fresh` and the journals if it is absent,
 /// unusable or of another study. Returns the problem it replaced, if any.
+/// Refuses a directory whose records another math library computed
+/// ([`Manifest::math_mismatch`]), before anything is written.
 pub fn start(dir: &Path, fresh: &Manifest) -> Result<Option<String>> {
     let _guard = ManifestLock::take(dir)?;
+    if let ManifestFile::Usable(m) = read_manifest_file(dir)?
+        && m.mismatch(fresh).is_none()
+        && let Some(why) = m.math_mismatch(fresh, dir)
+    {
+        return Err(crate::error::InputError::new(why).into());
+    }
     let ledger = load(dir, fresh)?;
     if ledger.absent || ledger.problem.is_some() {
         write_manifest(dir, &ledger.manifest)?;

@@ -130,6 +130,18 @@ impl Status {
                 }
             );
         }
+        if let Some(theirs) = &m.math {
+            let ours = crate::sim::math::fingerprint();
+            let _ = writeln!(
+                o,
+                "math library: fingerprint {theirs}{}",
+                if theirs == ours {
+                    " (this machine's too)".to_string()
+                } else {
+                    format!(" (this machine's is {ours}: a resume here is refused)")
+                }
+            );
+        }
         if !m.outcomes.is_empty() {
             let outcomes: Vec<String> =
                 m.outcomes.iter().map(|(k, v)| format!("{k} {v}")).collect();
