@@ -518,3 +518,43 @@ fn a_shard_with_another_math_library_is_refused_and_would_have_written_other_bit
     assert!(run("s", None, &["--shard", "0/2"]).status.success());
     assert_eq!(part_bytes(&dir), a);
 }
+
+/// The analysis shards of a harmonic study (`reduce --shard I/N`) record their math library's
+/// fingerprint, and the final `reduce` refuses a set computed by two (naming the shards and
+/// both fingerprints), then merges it once the odd shard is run again by the same library.
+#[test]
+fn analysis_shards_of_two_math_libraries_are_not_merged() {
+    if !glibc_has_two_codes() {
+        eprintln!(
+            "skipped: no x86-64 glibc with FMA and AVX2 here, so no second math code to test"
+        );
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let study = tmp.path().join("att.toml");
+    std::fs::write(&study, common::census_study_text("att")).unwrap();
+    let dir = common::run_study_file(&study, &tmp.path().join("out"), "att");
+    let reduce = |args: &[&str], other: bool| {
+        let mut c = assert_cmd::Command::cargo_bin("impactsweep").unwrap();
+        c.arg("reduce").arg(&dir).args(args);
+        if other {
+            c.env("GLIBC_TUNABLES", "glibc.cpu.hwcaps=-AVX2,-FMA");
+        }
+        c.output().unwrap()
+    };
+    assert!(reduce(&["--shard", "0/2"], false).status.success());
+    assert!(reduce(&["--shard", "1/2"], true).status.success());
+    let out = reduce(&[], false);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("math libraries that round differently")
+            && err.contains("shard 0/2 ")
+            && err.contains("shard 1/2 "),
+        "{err}"
+    );
+    assert!(!dir.join("report.md").exists(), "a report was written");
+    assert!(reduce(&["--shard", "1/2"], false).status.success());
+    assert!(reduce(&[], false).status.success());
+    assert!(dir.join("report.md").exists());
+}

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
-use super::schema::{META_STUDY, TableKind};
+use super::schema::{META_MATH, META_STUDY, TableKind};
 use super::table::Table;
 
 /// The analysis directory of a run directory.
@@ -34,7 +34,13 @@ pub fn write_shard(
         let path = shard_path(run_dir, kind, index, count);
         let opts = super::WriteOptions {
             dictionary: &[],
-            extra: vec![(META_STUDY.to_string(), study_text.to_string())],
+            extra: vec![
+                (META_STUDY.to_string(), study_text.to_string()),
+                (
+                    META_MATH.to_string(),
+                    crate::sim::math::fingerprint().to_string(),
+                ),
+            ],
         };
         let bytes = super::summary::encode_table_with(kind, t, &opts)?;
         super::write_bytes(&path, &bytes, super::Durability::Now)?;
@@ -54,7 +60,10 @@ pub struct ShardSet {
 }
 
 /// The tables of a complete set of shards written for `study_text`: the largest `N` for which
-/// every shard `0..N` left its probes and branches. `None` when there is none.
+/// every shard `0..N` left its probes and branches. `None` when there is none. Refused when its
+/// shards were computed by math libraries that round differently (their fingerprints,
+/// [`META_MATH`], differ; docs/run.md, "Determinism across machines"): the merged tables would
+/// be no single machine's bits.
 pub fn read_complete(run_dir: &Path, study_text: &str) -> Result<Option<ShardSet>> {
     let dir = analysis_dir(run_dir);
     let Ok(entries) = std::fs::read_dir(&dir) else {
@@ -74,27 +83,52 @@ pub fn read_complete(run_dir: &Path, study_text: &str) -> Result<Option<ShardSet
         }
     }
     counts.sort_unstable_by(|a, b| b.cmp(a));
+    // The math library's fingerprint of a file written for `study_text` (`Some(None)` for a
+    // shard written before the fingerprint), `None` for a file of another study or none.
     let written_for = |path: &Path| {
-        super::part_metadata(path)
-            .is_ok_and(|meta| meta.get(META_STUDY).map(String::as_str) == Some(study_text))
+        let meta = super::part_metadata(path).ok()?;
+        (meta.get(META_STUDY).map(String::as_str) == Some(study_text))
+            .then(|| meta.get(META_MATH).cloned())
     };
     'sets: for n in counts {
         let mut set = ShardSet::default();
+        let mut maths: Vec<(u64, String)> = Vec::new();
         for i in 0..n {
+            if let Some(Some(math)) = written_for(&shard_path(run_dir, TableKind::Probes, i, n)) {
+                maths.push((i, math));
+            }
             for (kind, into) in [
                 (TableKind::Probes, &mut set.probes),
                 (TableKind::Branches, &mut set.branches),
             ] {
                 let path = shard_path(run_dir, kind, i, n);
-                if !written_for(&path) {
+                if written_for(&path).is_none() {
                     continue 'sets;
                 }
                 into.push(super::summary::read_table(&path)?);
             }
             let path = shard_path(run_dir, TableKind::Verification, i, n);
-            if written_for(&path) {
+            if written_for(&path).is_some() {
                 set.verification.push(super::summary::read_table(&path)?);
             }
+        }
+        if maths.iter().any(|(_, m)| *m != maths[0].1) {
+            let seen: Vec<String> = maths
+                .iter()
+                .map(|(i, m)| format!("shard {i}/{n} {m}"))
+                .collect();
+            return Err(crate::error::InputError::new(format!(
+                "{}: the analysis shards were computed by math libraries that round differently \
+                 (fingerprints: {}; glibc picks its code for exp, sin and cos by the processor, FMA or not): \
+                 merged, they would be no single machine's bits. Run `impactsweep reduce {} \
+                 --shard I/{n}` again for the shards of one kind on nodes of the other kind, or \
+                 delete {} and reduce without shards",
+                dir.display(),
+                seen.join(", "),
+                run_dir.display(),
+                dir.display()
+            ))
+            .into());
         }
         return Ok(Some(set));
     }

@@ -16,6 +16,9 @@ pub const SCHEMA_VERSION: u32 = 2;
 
 /// Key-value metadata: the study text (points only).
 pub const META_STUDY: &str = "impactsweep.study";
+/// Key-value metadata of an analysis shard's tables: the fingerprint of the math library that
+/// computed them ([`crate::sim::math::fingerprint`]).
+pub const META_MATH: &str = "impactsweep.math";
 /// Key-value metadata: the version of the tool that wrote the file.
 pub const META_VERSION: &str = "impactsweep.version";
 /// Key-value metadata: [`SCHEMA_VERSION`].
