@@ -558,3 +558,56 @@ fn analysis_shards_of_two_math_libraries_are_not_merged() {
     assert!(reduce(&[], false).status.success());
     assert!(dir.join("report.md").exists());
 }
+
+/// A directory started by a build of another numerics version (`manifest.json`'s `numerics`,
+/// here written as another build would) refuses a resume by this one, naming both versions, and
+/// nothing is written; `status` says so.
+#[test]
+fn a_resume_by_a_build_of_other_numerics_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let paper = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/paper.toml");
+    let bin = || assert_cmd::Command::cargo_bin("impactsweep").unwrap();
+    let out = tmp.path().join("o");
+    bin()
+        .arg("run")
+        .arg(&paper)
+        .arg("--out")
+        .arg(&out)
+        .args(["--shard", "1/2", "--quiet"])
+        .assert()
+        .success();
+    let dir = out.join("paper");
+    let path = dir.join("manifest.json");
+    let ours = impactsweep::sim::math::NUMERICS;
+    let text = std::fs::read_to_string(&path).unwrap();
+    let line = format!("\"numerics\": {ours},");
+    assert!(text.contains(&line), "{text}");
+    let other = text.replace(&line, &format!("\"numerics\": {},", ours + 1));
+    std::fs::write(&path, &other).unwrap();
+    let before = part_bytes(&dir);
+    let res = bin()
+        .arg("run")
+        .arg(&paper)
+        .arg("--out")
+        .arg(&out)
+        .args(["--resume", "--quiet"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&res.stderr);
+    assert_eq!(res.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains(&format!(
+            "numerics version {} in manifest.json, {ours} here",
+            ours + 1
+        )),
+        "{err}"
+    );
+    assert_eq!(part_bytes(&dir), before);
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), other);
+    let status = bin().arg("status").arg(&dir).output().unwrap();
+    assert!(
+        String::from_utf8_lossy(&status.stdout).contains("a resume by it is refused"),
+        "{}",
+        String::from_utf8_lossy(&status.stdout)
+    );
+}

@@ -193,15 +193,25 @@ fn digest() -> (usize, u64) {
 /// floor, what a design-life measurement sets): meant to move the floor's case only; every run
 /// without a floor keeps its bits (the showcases' periodic attractors are the same bits).
 /// Before: `(26, 0x888c_68ea_f35d_0590)`.
+/// Pinned with the build's numerics version ([`impactsweep::sim::math::NUMERICS`]): a re-mint
+/// raises it in the same commit, so that a run directory started by the build before refuses a
+/// resume by this one rather than mixing two builds' bits.
+const NUMERICS: u32 = 1;
 const GOLDEN: (usize, u64) = (26, 0x5c18_4578_302c_527d);
 
 #[test]
 fn harmonic_records_are_bit_identical_to_the_golden_digest() {
+    assert_eq!(
+        impactsweep::sim::math::NUMERICS,
+        NUMERICS,
+        "the numerics version moved without a re-mint of the golden digest beside it"
+    );
     let got = digest();
     assert_eq!(
         got, GOLDEN,
         "harmonic records changed: (count, digest) = ({}, {:#018x}); re-mint only if the change \
-         is meant to move harmonic bits (see the module doc)",
+         is meant to move harmonic bits (see the module doc), and then raise \
+         impactsweep::sim::math::NUMERICS and NUMERICS here",
         got.0, got.1
     );
 }

@@ -159,15 +159,25 @@ fn digest() -> (usize, u64) {
 /// events by other arithmetic and takes noise samples by a propagator: the records moved in
 /// their last bits (compared run by run against the old solver and against `exact` at
 /// `tol = 1e-14`; BENCHMARKS.md, results/afsharfard2013). See the module doc to re-mint.
+/// Pinned with the build's numerics version ([`impactsweep::sim::math::NUMERICS`]): a re-mint
+/// raises it in the same commit, so that a run directory started by the build before refuses a
+/// resume by this one rather than mixing two builds' bits.
+const NUMERICS: u32 = 1;
 const GOLDEN: (usize, u64) = (43, 0xaac8_01d8_7a73_5c63);
 
 #[test]
 fn free_decay_records_are_bit_identical_to_the_golden_digest() {
+    assert_eq!(
+        impactsweep::sim::math::NUMERICS,
+        NUMERICS,
+        "the numerics version moved without a re-mint of the golden digest beside it"
+    );
     let got = digest();
     assert_eq!(
         got, GOLDEN,
         "free-decay records changed: (count, digest) = ({}, {:#018x}); re-mint only if the change \
-         is meant to move free-decay bits (see the module doc)",
+         is meant to move free-decay bits (see the module doc), and then raise \
+         impactsweep::sim::math::NUMERICS and NUMERICS here",
         got.0, got.1
     );
 }

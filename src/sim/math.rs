@@ -12,11 +12,19 @@
 //! [`fingerprint`] tells two math libraries apart: a hash of the bits of each function the
 //! records use at arguments where those two codes were seen to differ, and at a few thousand
 //! more. A run directory records its writer's ([`crate::store::Manifest::math`]); a shard or a
-//! resume whose library computes otherwise is refused (docs/run.md, "Determinism"), so that a
-//! dataset's records are always one library's bits.
+//! resume whose library computes otherwise is refused (docs/run.md, "Determinism across
+//! machines"), so that a dataset's records are always one library's bits; likewise a build whose
+//! own arithmetic moved ([`NUMERICS`]).
 
 use std::hint::black_box;
 use std::sync::OnceLock;
+
+/// The version of the records' arithmetic in this build: raised by every change meant to move a
+/// record's bits (the golden digests of `tests/free_decay_golden.rs` and
+/// `tests/forced_golden.rs` are pinned beside it, so re-minting one means raising it). A run
+/// directory records its writer's ([`crate::store::Manifest::numerics`]), and a resume or a
+/// shard by a build of another version is refused: one dataset, one build's arithmetic.
+pub const NUMERICS: u32 = 1;
 
 /// `(function, argument bits, second argument bits)` where glibc 2.36's FMA and SSE2 codes give
 /// different results (found by evaluating 200,000 pseudo-random arguments with each code,

@@ -30,6 +30,11 @@ pub struct Manifest {
     /// otherwise is refused ([`Manifest::math_mismatch`]). Absent in manifests written before it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub math: Option<String>,
+    /// The version of the records' arithmetic of the build that wrote them
+    /// ([`crate::sim::math::NUMERICS`]): a build of another version is refused as `math` is.
+    /// Absent in manifests written before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub numerics: Option<u32>,
     pub n_points: u64,
     pub n_cases: u64,
     pub n_runs: u64,
@@ -228,6 +233,7 @@ impl Manifest {
             study_checksum: Some(study_checksum(source)),
             seed,
             math: Some(crate::sim::math::fingerprint().to_string()),
+            numerics: Some(crate::sim::math::NUMERICS),
             n_points: sizes.n_points,
             n_cases: sizes.n_cases,
             n_runs: sizes.n_runs,
@@ -300,10 +306,23 @@ impl Manifest {
     }
 
     /// Why the records of this manifest's directory and those this process would write are not
-    /// one math library's bits (`fresh`'s fingerprint, [`crate::sim::math::fingerprint`],
-    /// differs from the recorded one), or `None` (also when this manifest predates the
-    /// fingerprint). `dir` names the directory in the message.
+    /// one build's and one math library's bits (`fresh`'s numerics version,
+    /// [`crate::sim::math::NUMERICS`], or its fingerprint, [`crate::sim::math::fingerprint`],
+    /// differs from the recorded one), or `None` (also when this manifest predates them). `dir`
+    /// names the directory in the message.
     pub fn math_mismatch(&self, fresh: &Manifest, dir: &Path) -> Option<String> {
+        if let (Some(theirs), Some(ours)) = (self.numerics, fresh.numerics)
+            && theirs != ours
+        {
+            return Some(format!(
+                "{}: its records were computed by a build of impactsweep whose arithmetic \
+                 differs from this one's (numerics version {theirs} in manifest.json, {ours} \
+                 here): the records written here would not be the same bits as the others. \
+                 Resume it with the build that started it, or run the study again into another \
+                 --out (nothing was written)",
+                dir.display()
+            ));
+        }
         match (&self.math, &fresh.math) {
             (Some(theirs), Some(ours)) if theirs != ours => Some(format!(
                 "{}: its records were computed by a math library that rounds differently from \

@@ -142,6 +142,18 @@ impl Status {
                 }
             );
         }
+        if let Some(theirs) = m.numerics {
+            let ours = crate::sim::math::NUMERICS;
+            let _ = writeln!(
+                o,
+                "numerics version {theirs}{}",
+                if theirs == ours {
+                    " (this build's too)".to_string()
+                } else {
+                    format!(" (this build's is {ours}: a resume by it is refused)")
+                }
+            );
+        }
         if !m.outcomes.is_empty() {
             let outcomes: Vec<String> =
                 m.outcomes.iter().map(|(k, v)| format!("{k} {v}")).collect();
