@@ -130,29 +130,38 @@ impl Status {
                 }
             );
         }
-        if let Some(theirs) = &m.math {
-            let ours = crate::sim::math::fingerprint();
-            let _ = writeln!(
-                o,
-                "math library: fingerprint {theirs}{}",
-                if theirs == ours {
-                    " (this machine's too)".to_string()
-                } else {
-                    format!(" (this machine's is {ours}: a resume here is refused)")
-                }
-            );
-        }
-        if let Some(theirs) = m.numerics {
-            let ours = crate::sim::math::NUMERICS;
-            let _ = writeln!(
-                o,
-                "numerics version {theirs}{}",
-                if theirs == ours {
-                    " (this build's too)".to_string()
-                } else {
-                    format!(" (this build's is {ours}: a resume by it is refused)")
-                }
-            );
+        // What computed the records, against this process (a resume is refused where they differ).
+        let recorded = [
+            m.math.as_ref().map(|theirs| {
+                let ours = crate::sim::math::fingerprint().to_string();
+                (
+                    "math library: fingerprint",
+                    theirs.clone(),
+                    ours,
+                    "machine's",
+                    "here",
+                )
+            }),
+            m.numerics.map(|theirs| {
+                let ours = crate::sim::math::NUMERICS.to_string();
+                (
+                    "numerics version",
+                    theirs.to_string(),
+                    ours,
+                    "build's",
+                    "by it",
+                )
+            }),
+        ];
+        for (what, theirs, ours, whose, how) in recorded.into_iter().flatten() {
+            let _ = if theirs == ours {
+                writeln!(o, "{what} {theirs} (this {whose} too)")
+            } else {
+                writeln!(
+                    o,
+                    "{what} {theirs} (this {whose} is {ours}: a resume {how} is refused)"
+                )
+            };
         }
         if !m.outcomes.is_empty() {
             let outcomes: Vec<String> =
