@@ -183,6 +183,11 @@ fn digest() -> (usize, u64) {
     (cases.len(), h.0)
 }
 
+/// Pinned with the build's numerics version ([`impactsweep::sim::math::NUMERICS`]): a re-mint
+/// raises it in the same commit, so that a run directory started by the build before refuses a
+/// resume by this one rather than mixing two builds' bits.
+const NUMERICS: u32 = 1;
+
 /// Minted on branch `random` before the event finder became generic (see the module doc);
 /// re-minted after `39736dd` (issue 43's budget: the driven scenes' sines and cosines from the
 /// `libm` crate, multiplications by reciprocals, the energy bounds from one square root), a
@@ -193,10 +198,6 @@ fn digest() -> (usize, u64) {
 /// floor, what a design-life measurement sets): meant to move the floor's case only; every run
 /// without a floor keeps its bits (the showcases' periodic attractors are the same bits).
 /// Before: `(26, 0x888c_68ea_f35d_0590)`.
-/// Pinned with the build's numerics version ([`impactsweep::sim::math::NUMERICS`]): a re-mint
-/// raises it in the same commit, so that a run directory started by the build before refuses a
-/// resume by this one rather than mixing two builds' bits.
-const NUMERICS: u32 = 1;
 const GOLDEN: (usize, u64) = (26, 0x5c18_4578_302c_527d);
 
 #[test]

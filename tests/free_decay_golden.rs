@@ -154,15 +154,16 @@ fn digest() -> (usize, u64) {
     (cases.len(), h.0)
 }
 
+/// Pinned with the build's numerics version ([`impactsweep::sim::math::NUMERICS`]): a re-mint
+/// raises it in the same commit, so that a run directory started by the build before refuses a
+/// resume by this one rather than mixing two builds' bits.
+const NUMERICS: u32 = 1;
+
 /// Minted at commit 5ecb2e8 (main, before issue 12) as `(43, 0x6e2e_e319_eb7c_68fa)`; re-minted
 /// for issue 11 on branch `speed` (merged with main at a196743), whose exact solver locates
 /// events by other arithmetic and takes noise samples by a propagator: the records moved in
 /// their last bits (compared run by run against the old solver and against `exact` at
 /// `tol = 1e-14`; BENCHMARKS.md, results/afsharfard2013). See the module doc to re-mint.
-/// Pinned with the build's numerics version ([`impactsweep::sim::math::NUMERICS`]): a re-mint
-/// raises it in the same commit, so that a run directory started by the build before refuses a
-/// resume by this one rather than mixing two builds' bits.
-const NUMERICS: u32 = 1;
 const GOLDEN: (usize, u64) = (43, 0xaac8_01d8_7a73_5c63);
 
 #[test]

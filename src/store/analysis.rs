@@ -94,16 +94,17 @@ pub fn read_complete(run_dir: &Path, study_text: &str) -> Result<Option<ShardSet
         let mut set = ShardSet::default();
         let mut maths: Vec<(u64, String)> = Vec::new();
         for i in 0..n {
-            if let Some(Some(math)) = written_for(&shard_path(run_dir, TableKind::Probes, i, n)) {
-                maths.push((i, math));
-            }
             for (kind, into) in [
                 (TableKind::Probes, &mut set.probes),
                 (TableKind::Branches, &mut set.branches),
             ] {
                 let path = shard_path(run_dir, kind, i, n);
-                if written_for(&path).is_none() {
+                let Some(math) = written_for(&path) else {
                     continue 'sets;
+                };
+                // The shard's fingerprint, from its probes file.
+                if let (TableKind::Probes, Some(math)) = (kind, math) {
+                    maths.push((i, math));
                 }
                 into.push(super::summary::read_table(&path)?);
             }

@@ -27,7 +27,7 @@ pub struct Manifest {
     pub seed: u64,
     /// The fingerprint of the math library that computed the records
     /// ([`crate::sim::math::fingerprint`]): a shard or a resume whose library computes
-    /// otherwise is refused ([`Manifest::math_mismatch`]). Absent in manifests written before it.
+    /// otherwise is refused ([`Manifest::arithmetic_mismatch`]). Absent in manifests written before it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub math: Option<String>,
     /// The version of the records' arithmetic of the build that wrote them
@@ -310,7 +310,7 @@ impl Manifest {
     /// [`crate::sim::math::NUMERICS`], or its fingerprint, [`crate::sim::math::fingerprint`],
     /// differs from the recorded one), or `None` (also when this manifest predates them). `dir`
     /// names the directory in the message.
-    pub fn math_mismatch(&self, fresh: &Manifest, dir: &Path) -> Option<String> {
+    pub fn arithmetic_mismatch(&self, fresh: &Manifest, dir: &Path) -> Option<String> {
         if let (Some(theirs), Some(ours)) = (self.numerics, fresh.numerics)
             && theirs != ours
         {

@@ -235,14 +235,14 @@ impl ManifestLock {
 }
 
 /// When a shard starts: writes `manifest.json` from `fresh` and the journals if it is absent,
-/// unusable or of another study. Returns the problem it replaced, if any.
-/// Refuses a directory whose records another math library computed
-/// ([`Manifest::math_mismatch`]), before anything is written.
+/// unusable or of another study. Returns the problem it replaced, if any. Refuses, before
+/// anything is written, a directory whose records another build's arithmetic or another math
+/// library computed ([`Manifest::arithmetic_mismatch`]).
 pub fn start(dir: &Path, fresh: &Manifest) -> Result<Option<String>> {
     let _guard = ManifestLock::take(dir)?;
     if let ManifestFile::Usable(m) = read_manifest_file(dir)?
         && m.mismatch(fresh).is_none()
-        && let Some(why) = m.math_mismatch(fresh, dir)
+        && let Some(why) = m.arithmetic_mismatch(fresh, dir)
     {
         return Err(crate::error::InputError::new(why).into());
     }
