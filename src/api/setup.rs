@@ -100,114 +100,132 @@ impl Setup {
             forced.harmonic = h;
         }
         for item in sets {
-            let Some((key, raw)) = item.split_once('=') else {
-                return Err(InputError::new(format!(
-                    "--set {item}: expected KEY=VALUE, with KEY one of: {}",
-                    all_keys()
-                )));
-            };
-            let (key, raw) = (key.trim(), raw.trim());
-            if key == "scene" {
-                if !Scene::NAMES.contains(&raw) && !realization::KINDS.contains(&raw) {
-                    return Err(InputError::new(format!(
-                        "--set scene={raw}: unknown scene; allowed: {}",
-                        scene_names()
-                    )));
-                }
-                forced.scene = Some(raw.to_string());
-                continue;
-            }
-            if key == "solver" {
-                self.solver.kind = SolverKind::parse(raw).ok_or_else(|| {
-                    let names: Vec<&str> = SolverKind::ALL.iter().map(|k| k.name()).collect();
-                    InputError::new(format!(
-                        "--set solver={raw}: unknown solver; allowed: {}",
-                        names.join(", ")
-                    ))
-                })?;
-                continue;
-            }
-            let known = SYSTEM_KEYS.contains(&key)
-                || UNIT_KEYS.contains(&key)
-                || SolverSettings::KEYS.contains(&key)
-                || Harmonic::KEYS.contains(&key)
-                || key == "t_end";
-            if !known {
-                for kind in realization::KINDS {
-                    if realization::scene_keys(kind).contains(&key) {
-                        return Err(InputError::new(format!(
-                            "--set {key}={raw}: a key of the {kind} scene; add --set scene={kind}"
-                        )));
-                    }
-                }
-                return Err(InputError::new(format!(
-                    "--set {key}={raw}: unknown key '{key}'; allowed keys: {}",
-                    all_keys()
-                )));
-            }
-            let value: f64 = raw.parse().map_err(|_| {
-                InputError::new(format!("--set {key}={raw}: '{raw}' is not a number"))
-            })?;
-            let integer = |v: f64| -> Result<u64, InputError> {
-                if v.fract() == 0.0 && (0.0..=9.0e15).contains(&v) {
-                    Ok(v as u64)
-                } else {
-                    Err(InputError::new(format!(
-                        "--set {key}={raw}: must be a whole number >= 0"
-                    )))
-                }
-            };
-            match key {
-                "tol" => self.solver.tol = value,
-                "h" => self.solver.h = value,
-                "rtol" => self.solver.rtol = value,
-                "atol" => self.solver.atol = value,
-                "chatter_tol" => self.solver.chatter_tol = value,
-                "max_impacts" => self.solver.max_impacts = integer(value)?,
-                "max_steps" => self.solver.max_steps = integer(value)?,
-                "t_max_periods" => self.solver.t_max_periods = value,
-                "peaks" => {
-                    self.request.peaks = integer(value)? as usize;
-                    forced.free_only.push(format!("{key}={raw}"));
-                }
-                "t_end" => {
-                    self.request.t_end = Some(value);
-                    forced.free_only.push(format!("{key}={raw}"));
-                }
-                "F0" | "omega" | "r" | "n_trans" | "n_trans_max" | "n_meas" | "trans_tol"
-                | "period_tol" | "starts" | "design_life" | "life_quantile" | "life_tol"
-                | "life_max_periods" => {
-                    let h = &mut forced.harmonic;
-                    match key {
-                        "F0" => h.F0 = value,
-                        "omega" => {
-                            h.drive = Drive::Omega(value);
-                            forced.omega = Some(raw.to_string());
-                        }
-                        "r" => {
-                            h.drive = Drive::Ratio(value);
-                            forced.r = Some(raw.to_string());
-                        }
-                        "n_trans" => h.n_trans = Some(integer(value)?),
-                        "n_trans_max" => h.n_trans_max = integer(value)?,
-                        "n_meas" => h.n_meas = integer(value)?,
-                        "trans_tol" => h.trans_tol = value,
-                        "starts" => h.starts = integer(value)? as u32,
-                        "design_life" => h.design_life = value,
-                        "life_quantile" => h.life_quantile = value,
-                        "life_tol" => h.life_tol = value,
-                        "life_max_periods" => h.life_max_periods = integer(value)?,
-                        _ => h.period_tol = value,
-                    }
-                    forced.given.push(format!("{key}={raw}"));
-                }
-                _ => {
-                    self.system.set(key, value);
-                }
-            }
+            self.apply_one(item, &mut forced)?;
         }
         self.settle_scene(forced)?;
         self.validate()
+    }
+
+    /// Applies one `KEY=VALUE` setting; the harmonic scene's keys and the free-decay-only keys
+    /// are gathered in `forced` for [`Self::settle_scene`].
+    fn apply_one(&mut self, item: &str, forced: &mut HarmonicKeys) -> Result<(), InputError> {
+        let Some((key, raw)) = item.split_once('=') else {
+            return Err(InputError::new(format!(
+                "--set {item}: expected KEY=VALUE, with KEY one of: {}",
+                all_keys()
+            )));
+        };
+        let (key, raw) = (key.trim(), raw.trim());
+        if key == "scene" {
+            if !Scene::NAMES.contains(&raw) && !realization::KINDS.contains(&raw) {
+                return Err(InputError::new(format!(
+                    "--set scene={raw}: unknown scene; allowed: {}",
+                    scene_names()
+                )));
+            }
+            forced.scene = Some(raw.to_string());
+            return Ok(());
+        }
+        if key == "solver" {
+            self.solver.kind = SolverKind::parse(raw).ok_or_else(|| {
+                let names: Vec<&str> = SolverKind::ALL.iter().map(|k| k.name()).collect();
+                InputError::new(format!(
+                    "--set solver={raw}: unknown solver; allowed: {}",
+                    names.join(", ")
+                ))
+            })?;
+            return Ok(());
+        }
+        let known = SYSTEM_KEYS.contains(&key)
+            || UNIT_KEYS.contains(&key)
+            || SolverSettings::KEYS.contains(&key)
+            || Harmonic::KEYS.contains(&key)
+            || key == "t_end";
+        if !known {
+            for kind in realization::KINDS {
+                if realization::scene_keys(kind).contains(&key) {
+                    return Err(InputError::new(format!(
+                        "--set {key}={raw}: a key of the {kind} scene; add --set scene={kind}"
+                    )));
+                }
+            }
+            return Err(InputError::new(format!(
+                "--set {key}={raw}: unknown key '{key}'; allowed keys: {}",
+                all_keys()
+            )));
+        }
+        self.set_value(key, raw, forced)
+    }
+
+    /// Sets a known numeric key `key` to `raw` (a solver setting, a harmonic scene's key, a
+    /// free-decay horizon key or a system value).
+    fn set_value(
+        &mut self,
+        key: &str,
+        raw: &str,
+        forced: &mut HarmonicKeys,
+    ) -> Result<(), InputError> {
+        let value: f64 = raw
+            .parse()
+            .map_err(|_| InputError::new(format!("--set {key}={raw}: '{raw}' is not a number")))?;
+        let integer = |v: f64| -> Result<u64, InputError> {
+            if v.fract() == 0.0 && (0.0..=9.0e15).contains(&v) {
+                Ok(v as u64)
+            } else {
+                Err(InputError::new(format!(
+                    "--set {key}={raw}: must be a whole number >= 0"
+                )))
+            }
+        };
+        match key {
+            "tol" => self.solver.tol = value,
+            "h" => self.solver.h = value,
+            "rtol" => self.solver.rtol = value,
+            "atol" => self.solver.atol = value,
+            "chatter_tol" => self.solver.chatter_tol = value,
+            "max_impacts" => self.solver.max_impacts = integer(value)?,
+            "max_steps" => self.solver.max_steps = integer(value)?,
+            "t_max_periods" => self.solver.t_max_periods = value,
+            "peaks" => {
+                self.request.peaks = integer(value)? as usize;
+                forced.free_only.push(format!("{key}={raw}"));
+            }
+            "t_end" => {
+                self.request.t_end = Some(value);
+                forced.free_only.push(format!("{key}={raw}"));
+            }
+            "F0" | "omega" | "r" | "n_trans" | "n_trans_max" | "n_meas" | "trans_tol"
+            | "period_tol" | "starts" | "design_life" | "life_quantile" | "life_tol"
+            | "life_max_periods" => {
+                let h = &mut forced.harmonic;
+                match key {
+                    "F0" => h.F0 = value,
+                    "omega" => {
+                        h.drive = Drive::Omega(value);
+                        forced.omega = Some(raw.to_string());
+                    }
+                    "r" => {
+                        h.drive = Drive::Ratio(value);
+                        forced.r = Some(raw.to_string());
+                    }
+                    "n_trans" => h.n_trans = Some(integer(value)?),
+                    "n_trans_max" => h.n_trans_max = integer(value)?,
+                    "n_meas" => h.n_meas = integer(value)?,
+                    "trans_tol" => h.trans_tol = value,
+                    "starts" => h.starts = integer(value)? as u32,
+                    "design_life" => h.design_life = value,
+                    "life_quantile" => h.life_quantile = value,
+                    "life_tol" => h.life_tol = value,
+                    "life_max_periods" => h.life_max_periods = integer(value)?,
+                    _ => h.period_tol = value,
+                }
+                forced.given.push(format!("{key}={raw}"));
+            }
+            _ => {
+                self.system.set(key, value);
+            }
+        }
+        Ok(())
     }
 
     /// Decides the scene from the keys given: the forced keys need `scene=harmonic`, `omega`

@@ -101,6 +101,20 @@ impl Status {
         } else {
             let _ = writeln!(o, "missing chunks: {}", ranges(&self.missing));
         }
+        self.shard_lines(&mut o);
+        arithmetic_lines(m, &mut o);
+        if !m.outcomes.is_empty() {
+            let outcomes: Vec<String> =
+                m.outcomes.iter().map(|(k, v)| format!("{k} {v}")).collect();
+            let _ = writeln!(o, "outcomes: {}", outcomes.join(", "));
+        }
+        self.lock_and_audit_lines(&mut o);
+        o
+    }
+
+    /// One line per shard the run was split into (`n > 1`): its chunks done and missing.
+    fn shard_lines(&self, o: &mut String) {
+        let m = &self.manifest;
         let mut shards: Vec<(u64, u64)> = m
             .shards
             .iter()
@@ -130,44 +144,11 @@ impl Status {
                 }
             );
         }
-        // What computed the records, against this process (a resume is refused where they differ).
-        let recorded = [
-            m.math.as_ref().map(|theirs| {
-                let ours = crate::sim::math::fingerprint().to_string();
-                (
-                    "math library: fingerprint",
-                    theirs.clone(),
-                    ours,
-                    "machine's",
-                    "here",
-                )
-            }),
-            m.numerics.map(|theirs| {
-                let ours = crate::sim::math::NUMERICS.to_string();
-                (
-                    "numerics version",
-                    theirs.to_string(),
-                    ours,
-                    "build's",
-                    "by it",
-                )
-            }),
-        ];
-        for (what, theirs, ours, whose, how) in recorded.into_iter().flatten() {
-            let _ = if theirs == ours {
-                writeln!(o, "{what} {theirs} (this {whose} too)")
-            } else {
-                writeln!(
-                    o,
-                    "{what} {theirs} (this {whose} is {ours}: a resume {how} is refused)"
-                )
-            };
-        }
-        if !m.outcomes.is_empty() {
-            let outcomes: Vec<String> =
-                m.outcomes.iter().map(|(k, v)| format!("{k} {v}")).collect();
-            let _ = writeln!(o, "outcomes: {}", outcomes.join(", "));
-        }
+    }
+
+    /// A line per lock (its holder, running or stale) and the solver audit's line.
+    fn lock_and_audit_lines(&self, o: &mut String) {
+        let m = &self.manifest;
         for (name, holder) in &self.locks {
             let _ = match holder {
                 Some(h) => writeln!(
@@ -203,7 +184,43 @@ impl Status {
                 a.impacts_changed
             );
         }
-        o
+    }
+}
+
+/// What computed the records (the math library's fingerprint, the numerics version) against
+/// this process: a resume is refused where they differ.
+fn arithmetic_lines(m: &Manifest, o: &mut String) {
+    let recorded = [
+        m.math.as_ref().map(|theirs| {
+            let ours = crate::sim::math::fingerprint().to_string();
+            (
+                "math library: fingerprint",
+                theirs.clone(),
+                ours,
+                "machine's",
+                "here",
+            )
+        }),
+        m.numerics.map(|theirs| {
+            let ours = crate::sim::math::NUMERICS.to_string();
+            (
+                "numerics version",
+                theirs.to_string(),
+                ours,
+                "build's",
+                "by it",
+            )
+        }),
+    ];
+    for (what, theirs, ours, whose, how) in recorded.into_iter().flatten() {
+        let _ = if theirs == ours {
+            writeln!(o, "{what} {theirs} (this {whose} too)")
+        } else {
+            writeln!(
+                o,
+                "{what} {theirs} (this {whose} is {ours}: a resume {how} is refused)"
+            )
+        };
     }
 }
 

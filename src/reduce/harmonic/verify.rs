@@ -397,105 +397,44 @@ pub fn table(v: &Verification, rank_after: impl Fn(u64) -> Option<u64>) -> Table
             .and_then(|d| d.estimate)
             .map_or(f64::NAN, |e| f(&e))
     };
+    type Row<'a> = (&'a CasePeak, &'a Verified);
     let mut t = Table::default();
-    t.push(
-        "point",
-        Column::U64(rows.iter().map(|r| Some(r.0.design)).collect()),
-    );
-    t.push(
-        "case",
-        Column::U64(rows.iter().map(|r| Some(u64::from(r.0.case))).collect()),
-    );
-    t.push(
-        "r",
-        Column::F64(rows.iter().map(|r| r.1.motion.r).collect()),
-    );
-    t.push(
-        "estimate",
-        Column::F64(rows.iter().map(|r| r.1.motion.amplitude).collect()),
-    );
-    t.push(
-        "estimate_lo",
-        Column::F64(rows.iter().map(|r| r.1.motion.lo).collect()),
-    );
-    t.push(
-        "estimate_hi",
-        Column::F64(rows.iter().map(|r| r.1.motion.hi).collect()),
-    );
-    t.push(
-        "estimate_periods",
-        Column::U64(rows.iter().map(|r| Some(r.1.motion.measured)).collect()),
-    );
-    t.push(
-        "direct",
-        Column::F64(
-            rows.iter()
-                .map(|r| estimate(r.1, |e| e.amplitude, |c| c.amplitude))
-                .collect(),
-        ),
-    );
-    t.push(
-        "direct_lo",
-        Column::F64(
-            rows.iter()
-                .map(|r| estimate(r.1, |e| e.lo, |c| c.lo))
-                .collect(),
-        ),
-    );
-    t.push(
-        "direct_hi",
-        Column::F64(
-            rows.iter()
-                .map(|r| estimate(r.1, |e| e.hi, |c| c.hi))
-                .collect(),
-        ),
-    );
-    t.push(
-        "direct_periods",
-        Column::U64(
-            rows.iter()
-                .map(|r| {
-                    if r.1.as_raced {
-                        Some(r.1.motion.measured)
-                    } else {
-                        r.1.direct.map(|d| d.measured)
-                    }
-                })
-                .collect(),
-        ),
-    );
-    t.push(
-        "measured_again",
-        Column::Bool(rows.iter().map(|r| !r.1.as_raced).collect()),
-    );
-    t.push(
-        "largest_seen",
-        Column::F64(rows.iter().map(|r| direct(r.1, |d| d.window_max)).collect()),
-    );
-    t.push(
-        "peak_before",
-        Column::F64(rows.iter().map(|r| r.0.before).collect()),
-    );
-    t.push(
-        "peak_after",
-        Column::F64(rows.iter().map(|r| r.0.after).collect()),
-    );
-    t.push(
-        "supported",
-        Column::Bool(rows.iter().map(|r| r.0.supported).collect()),
-    );
-    t.push(
-        "round",
-        Column::U64(rows.iter().map(|r| Some(r.0.round as u64)).collect()),
-    );
-    t.push(
-        "rank_before",
-        Column::U64(rows.iter().map(|r| v.rank_before(r.0.design)).collect()),
-    );
-    t.push(
-        "rank_after",
-        Column::U64(rows.iter().map(|r| rank_after(r.0.design)).collect()),
-    );
+    let f64s = |t: &mut Table, name: &str, f: &dyn Fn(&Row) -> f64| {
+        t.push(name, Column::F64(rows.iter().map(f).collect()));
+    };
+    let u64s = |t: &mut Table, name: &str, f: &dyn Fn(&Row) -> Option<u64>| {
+        t.push(name, Column::U64(rows.iter().map(f).collect()));
+    };
+    let bools = |t: &mut Table, name: &str, f: &dyn Fn(&Row) -> bool| {
+        t.push(name, Column::Bool(rows.iter().map(f).collect()));
+    };
+    u64s(&mut t, "point", &|r| Some(r.0.design));
+    u64s(&mut t, "case", &|r| Some(u64::from(r.0.case)));
+    f64s(&mut t, "r", &|r| r.1.motion.r);
+    f64s(&mut t, "estimate", &|r| r.1.motion.amplitude);
+    f64s(&mut t, "estimate_lo", &|r| r.1.motion.lo);
+    f64s(&mut t, "estimate_hi", &|r| r.1.motion.hi);
+    u64s(&mut t, "estimate_periods", &|r| Some(r.1.motion.measured));
+    f64s(&mut t, "direct", &|r| {
+        estimate(r.1, |e| e.amplitude, |c| c.amplitude)
+    });
+    f64s(&mut t, "direct_lo", &|r| estimate(r.1, |e| e.lo, |c| c.lo));
+    f64s(&mut t, "direct_hi", &|r| estimate(r.1, |e| e.hi, |c| c.hi));
+    u64s(&mut t, "direct_periods", &|r| {
+        if r.1.as_raced {
+            Some(r.1.motion.measured)
+        } else {
+            r.1.direct.map(|d| d.measured)
+        }
+    });
+    bools(&mut t, "measured_again", &|r| !r.1.as_raced);
+    f64s(&mut t, "largest_seen", &|r| direct(r.1, |d| d.window_max));
+    f64s(&mut t, "peak_before", &|r| r.0.before);
+    f64s(&mut t, "peak_after", &|r| r.0.after);
+    bools(&mut t, "supported", &|r| r.0.supported);
+    u64s(&mut t, "round", &|r| Some(r.0.round as u64));
+    u64s(&mut t, "rank_before", &|r| v.rank_before(r.0.design));
+    u64s(&mut t, "rank_after", &|r| rank_after(r.0.design));
     t
 }
 

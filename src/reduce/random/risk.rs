@@ -131,32 +131,7 @@ pub fn design_risk(
     let caps = Capacities::new(motions.iter().map(|m| (m.0, m.1)).collect());
     let fit = caps.lognormal();
     let ims: Vec<f64> = stripes.iter().map(|s| s.0).collect();
-    let curve_rates = |c: &Capacities| -> (f64, f64) {
-        let Some(h) = hazard else {
-            return (f64::NAN, f64::NAN);
-        };
-        let values: Vec<f64> = c
-            .values
-            .iter()
-            .map(|v| if v.1 { ida_max } else { v.0 })
-            .collect();
-        let logn = c
-            .lognormal()
-            .map_or(f64::NAN, |f| lambda_f_lognormal(&h.curve, f.theta, f.beta));
-        (lambda_f_empirical(&h.curve, &values), logn)
-    };
-    let stat = |c: &Capacities| {
-        let f = c.lognormal();
-        let (le, ll) = curve_rates(c);
-        let mut v = vec![
-            f.map_or(f64::NAN, |f| f.theta),
-            f.map_or(f64::NAN, |f| f.beta),
-            le,
-            ll,
-        ];
-        v.extend(ims.iter().map(|&x| c.p(x)));
-        v
-    };
+    let stat = |c: &Capacities| statistic(c, &ims, hazard, ida_max);
     let boot = caps.bootstrap(mix64(seed ^ 0xCA9A_C17E), stat);
     let at = |k: usize| boot.get(k).copied().unwrap_or((f64::NAN, f64::NAN));
     let whole = stat(&caps);
@@ -191,33 +166,7 @@ pub fn design_risk(
         && stripes.iter().all(|s| s.p_f.is_nan() || s.lognormal_ok())
         && tail_ok;
     let risk = risk.map(|(h, empirical, lognormal)| {
-        let curve = if fit_ok {
-            Curve::Lognormal
-        } else {
-            Curve::Empirical
-        };
-        let lambda_f = match curve {
-            Curve::Lognormal => lognormal,
-            Curve::Empirical => empirical,
-        };
-        let py = |l: f64| p_years(l, h.years);
-        let (lo, hi) = caps
-            .values
-            .first()
-            .zip(caps.values.last())
-            .map_or((1e-3, 10.0), |(a, b)| (a.0 / 100.0, b.0 * 100.0));
-        let deagg = match (curve, fit) {
-            (Curve::Lognormal, Some(f)) => deaggregation(&h.curve, |x| f.p(x), lo, hi),
-            _ => deaggregation(&h.curve, |x| caps.p(x), lo, hi),
-        };
-        Risk {
-            empirical,
-            lognormal,
-            curve,
-            lambda_f,
-            p_f_years: (py(lambda_f.0), py(lambda_f.1), py(lambda_f.2)),
-            deaggregation: deagg,
-        }
+        annual_risk(h, &caps, fit, fit_ok, (empirical, lognormal))
     });
     DesignRisk {
         design,
@@ -234,6 +183,72 @@ pub fn design_risk(
         fit_ok,
         risk,
         risk_rank: None,
+    }
+}
+
+/// The bootstrap's statistic of a set of capacities: the lognormal fit's `theta` and `beta`,
+/// with a hazard the annual rates of failure over the empirical curve (a censored capacity at
+/// `ida_max`) and over the fit, then the empirical curve at each stripe's intensity `ims`.
+fn statistic(c: &Capacities, ims: &[f64], hazard: Option<&SiteHazard>, ida_max: f64) -> Vec<f64> {
+    let f = c.lognormal();
+    let (le, ll) = match hazard {
+        None => (f64::NAN, f64::NAN),
+        Some(h) => {
+            let values: Vec<f64> = c
+                .values
+                .iter()
+                .map(|v| if v.1 { ida_max } else { v.0 })
+                .collect();
+            let logn = f.map_or(f64::NAN, |f| lambda_f_lognormal(&h.curve, f.theta, f.beta));
+            (lambda_f_empirical(&h.curve, &values), logn)
+        }
+    };
+    let mut v = vec![
+        f.map_or(f64::NAN, |f| f.theta),
+        f.map_or(f64::NAN, |f| f.beta),
+        le,
+        ll,
+    ];
+    v.extend(ims.iter().map(|&x| c.p(x)));
+    v
+}
+
+/// A design's annual risk over the hazard `h`: `lambda_f` and its interval over the curve that
+/// holds (the lognormal fit where `fit_ok`, else the empirical curve), the probability of a
+/// failure in the hazard's years and the deaggregation over the intensity.
+fn annual_risk(
+    h: &SiteHazard,
+    caps: &Capacities,
+    fit: Option<LognormalFit>,
+    fit_ok: bool,
+    (empirical, lognormal): (Interval, Interval),
+) -> Risk {
+    let curve = if fit_ok {
+        Curve::Lognormal
+    } else {
+        Curve::Empirical
+    };
+    let lambda_f = match curve {
+        Curve::Lognormal => lognormal,
+        Curve::Empirical => empirical,
+    };
+    let py = |l: f64| p_years(l, h.years);
+    let (lo, hi) = caps
+        .values
+        .first()
+        .zip(caps.values.last())
+        .map_or((1e-3, 10.0), |(a, b)| (a.0 / 100.0, b.0 * 100.0));
+    let deagg = match (curve, fit) {
+        (Curve::Lognormal, Some(f)) => deaggregation(&h.curve, |x| f.p(x), lo, hi),
+        _ => deaggregation(&h.curve, |x| caps.p(x), lo, hi),
+    };
+    Risk {
+        empirical,
+        lognormal,
+        curve,
+        lambda_f,
+        p_f_years: (py(lambda_f.0), py(lambda_f.1), py(lambda_f.2)),
+        deaggregation: deagg,
     }
 }
 

@@ -142,13 +142,47 @@ impl Chart for CapacityChart {
     }
 }
 
-/// Draws `<dir>/fragility.{svg,png,csv}` from the capacities; the data holds each shown
-/// design's curve on a grid of 200 intensities (`point`, `im`, `p_curve`, `curve`) and its
-/// stripes (`p_f`, `p_f_lo`, `p_f_hi`, NaN off a stripe).
-pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
-    let Some(b) = rs.threshold else {
-        return Ok(Vec::new());
-    };
+/// The fragility chart's data columns: each shown design's curve on the intensity grid, then
+/// its stripes (`p_f` and its interval NaN off a stripe).
+#[derive(Default)]
+struct FragilityData {
+    point: Vec<Option<u64>>,
+    im: Vec<f64>,
+    p_curve: Vec<f64>,
+    curve: Vec<String>,
+    p_f: Vec<f64>,
+    p_f_lo: Vec<f64>,
+    p_f_hi: Vec<f64>,
+}
+
+impl FragilityData {
+    fn push(&mut self, d: u64, im: f64, p: f64, use_fit: bool, stripe: (f64, f64, f64)) {
+        self.point.push(Some(d));
+        self.im.push(im);
+        self.p_curve.push(p);
+        self.curve
+            .push(if use_fit { "lognormal" } else { "empirical" }.to_string());
+        self.p_f.push(stripe.0);
+        self.p_f_lo.push(stripe.1);
+        self.p_f_hi.push(stripe.2);
+    }
+
+    fn table(self) -> Table {
+        let mut data = Table::default();
+        data.push("point", Column::U64(self.point));
+        data.push("im", Column::F64(self.im));
+        data.push("p_curve", Column::F64(self.p_curve));
+        data.push("curve", Column::Str(self.curve));
+        data.push("p_f", Column::F64(self.p_f));
+        data.push("p_f_lo", Column::F64(self.p_f_lo));
+        data.push("p_f_hi", Column::F64(self.p_f_hi));
+        data
+    }
+}
+
+/// The designs the fragility chart shows: the best ranked ones with a damper (at most
+/// [`MAX_DESIGNS`]), and the structure without a damper when the study has it.
+fn shown_designs(s: &Summary) -> (Vec<u64>, Option<u64>) {
     let bare = s
         .points
         .iter()
@@ -162,7 +196,13 @@ pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec
         .filter(|&d| !s.grid.without_damper(d))
         .take(MAX_DESIGNS)
         .collect();
-    // The x range: where the shown curves rise, from the capacities.
+    (shown, bare)
+}
+
+/// The intensity range where the shown curves rise, from their capacities: 0.8 times the
+/// smallest to 1.1 times the largest (capacities that were only bounded left out); `None`
+/// without one.
+fn intensity_range(rs: &RandomSummary, shown: &[u64], bare: Option<u64>) -> Option<(f64, f64)> {
     let mut all: Vec<f64> = rs
         .capacities
         .iter()
@@ -172,97 +212,91 @@ pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec
         .collect();
     all.sort_by(f64::total_cmp);
     if all.is_empty() {
-        return Ok(Vec::new());
+        return None;
     }
     let q = |f: f64| all[((all.len() - 1) as f64 * f) as usize];
-    let (lo, hi) = (q(0.0) * 0.8, q(1.0) * 1.1);
-    let x = (lo, hi);
-    let mut data = Table::default();
-    let mut cols: (Vec<Option<u64>>, Vec<f64>, Vec<f64>, Vec<String>) = Default::default();
-    let mut stripes_cols: (Vec<f64>, Vec<f64>, Vec<f64>) = Default::default();
-    let mut curves = Vec::new();
-    for (d, is_bare) in shown
+    Some((q(0.0) * 0.8, q(1.0) * 1.1))
+}
+
+/// Design `d`'s curve over `(lo, hi)` (its lognormal fit where the fit holds, its empirical
+/// capacities' fractions otherwise) and its stripes, added to `cols`; `None` without a risk
+/// record.
+fn design_curve(
+    s: &Summary,
+    rs: &RandomSummary,
+    d: u64,
+    is_bare: bool,
+    (lo, hi): (f64, f64),
+    cols: &mut FragilityData,
+) -> Option<Curve> {
+    let r = rs.risk_of(d)?;
+    let caps = Capacities::new(
+        rs.capacities
+            .iter()
+            .filter(|c| c.0 == d)
+            .map(|c| (c.2.0, c.2.1))
+            .collect(),
+    );
+    let use_fit = r.fit_ok && r.fit.is_some();
+    let line: Vec<(f64, f64)> = (0..200)
+        .map(|k| lo + (hi - lo) * k as f64 / 199.0)
+        .map(|x| {
+            let p = match (use_fit, r.fit) {
+                (true, Some(f)) => f.p(x),
+                _ => caps.p(x),
+            };
+            (x, p)
+        })
+        .collect();
+    let off_stripe = (f64::NAN, f64::NAN, f64::NAN);
+    for &(x, p) in &line {
+        cols.push(d, x, p, use_fit, off_stripe);
+    }
+    for st in &r.stripes {
+        let p = if use_fit { st.lognormal } else { st.empirical };
+        cols.push(d, st.im, p, use_fit, (st.p_f, st.p_f_lo, st.p_f_hi));
+    }
+    let label = (0..s.grid.n_axes())
+        .map(|a| axis_value(s.grid.key(a), s.grid.value(d, a)))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let kind = if is_bare {
+        "no damper"
+    } else if use_fit {
+        "lognormal"
+    } else {
+        "empirical"
+    };
+    Some(Curve {
+        name: shorten(&format!("{label} ({kind})"), 60),
+        line,
+        stripes: r
+            .stripes
+            .iter()
+            .map(|s| (s.im, s.p_f, s.p_f_lo, s.p_f_hi))
+            .collect(),
+        bare: is_bare,
+    })
+}
+
+/// Draws `<dir>/fragility.{svg,png,csv}` from the capacities; the data holds each shown
+/// design's curve on a grid of 200 intensities (`point`, `im`, `p_curve`, `curve`) and its
+/// stripes (`p_f`, `p_f_lo`, `p_f_hi`, NaN off a stripe).
+pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let Some(b) = rs.threshold else {
+        return Ok(Vec::new());
+    };
+    let (shown, bare) = shown_designs(s);
+    let Some(x) = intensity_range(rs, &shown, bare) else {
+        return Ok(Vec::new());
+    };
+    let mut cols = FragilityData::default();
+    let curves: Vec<Curve> = shown
         .iter()
         .map(|&d| (d, false))
         .chain(bare.map(|d| (d, true)))
-    {
-        let Some(r) = rs.risk_of(d) else {
-            continue;
-        };
-        let caps = Capacities::new(
-            rs.capacities
-                .iter()
-                .filter(|c| c.0 == d)
-                .map(|c| (c.2.0, c.2.1))
-                .collect(),
-        );
-        let use_fit = r.fit_ok && r.fit.is_some();
-        let grid: Vec<f64> = (0..200)
-            .map(|k| lo + (hi - lo) * k as f64 / 199.0)
-            .collect();
-        let line: Vec<(f64, f64)> = grid
-            .iter()
-            .map(|&x| {
-                let p = match (use_fit, r.fit) {
-                    (true, Some(f)) => f.p(x),
-                    _ => caps.p(x),
-                };
-                (x, p)
-            })
-            .collect();
-        for &(x, p) in &line {
-            cols.0.push(Some(d));
-            cols.1.push(x);
-            cols.2.push(p);
-            cols.3
-                .push(if use_fit { "lognormal" } else { "empirical" }.to_string());
-            stripes_cols.0.push(f64::NAN);
-            stripes_cols.1.push(f64::NAN);
-            stripes_cols.2.push(f64::NAN);
-        }
-        for st in &r.stripes {
-            cols.0.push(Some(d));
-            cols.1.push(st.im);
-            cols.2
-                .push(if use_fit { st.lognormal } else { st.empirical });
-            cols.3
-                .push(if use_fit { "lognormal" } else { "empirical" }.to_string());
-            stripes_cols.0.push(st.p_f);
-            stripes_cols.1.push(st.p_f_lo);
-            stripes_cols.2.push(st.p_f_hi);
-        }
-        let label = (0..s.grid.n_axes())
-            .map(|a| axis_value(s.grid.key(a), s.grid.value(d, a)))
-            .collect::<Vec<_>>()
-            .join(", ");
-        curves.push(Curve {
-            name: shorten(
-                &if is_bare {
-                    format!("{label} (no damper)")
-                } else {
-                    format!(
-                        "{label} ({})",
-                        if use_fit { "lognormal" } else { "empirical" }
-                    )
-                },
-                60,
-            ),
-            line,
-            stripes: r
-                .stripes
-                .iter()
-                .map(|s| (s.im, s.p_f, s.p_f_lo, s.p_f_hi))
-                .collect(),
-            bare: is_bare,
-        });
-    }
-    data.push("point", Column::U64(cols.0));
-    data.push("im", Column::F64(cols.1));
-    data.push("p_curve", Column::F64(cols.2));
-    data.push("curve", Column::Str(cols.3));
-    data.push("p_f", Column::F64(stripes_cols.0));
-    data.push("p_f_lo", Column::F64(stripes_cols.1));
-    data.push("p_f_hi", Column::F64(stripes_cols.2));
+        .filter_map(|(d, is_bare)| design_curve(s, rs, d, is_bare, x, &mut cols))
+        .collect();
     let im = rs.measure.map_or("IM".to_string(), |m| match m.measure {
         crate::sim::random::Measure::Pga => "PGA".into(),
         crate::sim::random::Measure::Sa => {
@@ -278,5 +312,11 @@ pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec
         curves,
         x,
     };
-    render(dir, "fragility", (1400, 620), &chart, &Data::Table(data))
+    render(
+        dir,
+        "fragility",
+        (1400, 620),
+        &chart,
+        &Data::Table(cols.table()),
+    )
 }

@@ -5,10 +5,12 @@
 
 use std::fmt::Write;
 
+use crate::reduce::random::risk::DesignRisk;
 use crate::reduce::random::{RandomSummary, beta_of, outcome_name};
 use crate::reduce::{PointStats, Summary};
 use crate::report::markdown::words::{MAX_ROWS, SceneText, cm, design_text, f, prob, ranked};
 use crate::report::text::{axis_value, count, fmt_num, thousands};
+use crate::sim::random::IntensitySpec;
 
 /// How the core's sections word a random or record study, and its own section.
 pub fn scene_text(study: &crate::study::Study, s: &Summary, rs: &RandomSummary) -> SceneText {
@@ -368,49 +370,8 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
         return String::new();
     }
     let im = im_name(&spec);
-    let mut o = format!(
-        "### Capacities by incremental dynamic analysis\n\nEach motion of the design stripe \
-         is scaled up until max |x| first passes the limit: its capacity, the {im} (g) of that \
-         first passage, to a relative {} (bracketed, then closed by false position and \
-         bisection; {} runs a motion on average over the study). The fragility is the \
-         capacities' distribution: the empirical curve, and the lognormal fit (`theta` their \
-         geometric mean, `beta` their log standard deviation per ln {im}, maximum likelihood \
-         with censoring where a motion never passed up to {} g), with 95 % bootstrap \
-         intervals over the motions. The lognormal *holds* (`fit`) when its \
-         Kolmogorov–Smirnov distance to the capacities is within Lilliefors' 5 % value, it \
-         lies inside every stripe's Monte Carlo interval{}; where it does not, the empirical \
-         curve is used. `fall back`: motions whose response passed the limit at their capacity \
-         and not at a larger scale tried (by the search or at a stripe above the capacity): the \
-         response is not monotone in the scale (a damper engages more in stronger shaking). The \
-         capacity keeps the first passage, so where motions fall back the capacities' curve lies \
-         above the stripes' `p_f`: the first-passage fragility, on the safe side.\n\n",
-        f(spec.ida_tol, 3),
-        f(
-            rs.risk.iter().map(|r| r.runs_mean).sum::<f64>() / rs.risk.len() as f64,
-            1
-        ),
-        fmt_num(spec.ida_max),
-        if rs.hazard.is_some() {
-            " and its annual rate of failure lies inside the empirical curve's interval"
-        } else {
-            ""
-        },
-    );
-    let mut order = designs.to_vec();
-    // By risk rank, then by median capacity (the largest first), then by design.
-    order.sort_by(|a, b| {
-        let (ra, rb) = (rs.risk_of(a.point), rs.risk_of(b.point));
-        let rank = |r: Option<&crate::reduce::random::risk::DesignRisk>| {
-            r.and_then(|r| r.risk_rank).unwrap_or(u64::MAX)
-        };
-        let theta = |r: Option<&crate::reduce::random::risk::DesignRisk>| {
-            r.and_then(|r| r.fit).map_or(f64::NEG_INFINITY, |f| f.theta)
-        };
-        rank(ra)
-            .cmp(&rank(rb))
-            .then(theta(rb).total_cmp(&theta(ra)))
-            .then(a.point.cmp(&b.point))
-    });
+    let mut o = capacities_intro(rs, &spec, &im);
+    let order = risk_order(rs, designs);
     let with_hazard = rs.hazard.is_some();
     if let Some(h) = &rs.hazard {
         let _ = writeln!(
@@ -437,48 +398,108 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
         let Some(r) = rs.risk_of(d.point) else {
             continue;
         };
-        let iv = |v: (f64, f64, f64)| format!("{} [{}, {}]", num(v.0), num(v.1), num(v.2));
-        let fit_cells = format!(
-            "{} | {} [{}, {}] | {} ({}) | {} | {} of {} | {}",
-            iv(r.theta),
-            f(r.beta.0, 3),
-            f(r.beta.1, 3),
-            f(r.beta.2, 3),
-            f(r.ks, 3),
-            f(r.ks_critical, 3),
-            if r.fit_ok {
-                "holds"
-            } else {
-                "**does not hold**"
-            },
-            thousands(r.censored as u64),
-            thousands(r.n as u64),
-            thousands(r.resurrected as u64),
-        );
-        match &r.risk {
-            Some(k) => {
-                let pv = |v: (f64, f64, f64)| pf_text(v.0, v.1, v.2);
-                let _ = writeln!(
-                    o,
-                    "| {rank} | {name} | {} | {} | {} | {} | {} | {}–{}–{} | {fit_cells} |",
-                    pv(k.lambda_f),
-                    pv(k.p_f_years),
-                    k.curve.name(),
-                    prob(k.empirical.0),
-                    prob(k.lognormal.0),
-                    num(k.deaggregation[0]),
-                    num(k.deaggregation[1]),
-                    num(k.deaggregation[2]),
-                );
-            }
-            None => {
-                let _ = writeln!(o, "| {name} | {fit_cells} |");
-            }
-        }
+        risk_row(&mut o, r, rank, name);
     }
     o.push('\n');
     o += &stripes_table(s, rs, &order);
     o
+}
+
+/// The capacities' paragraph: how each motion's capacity is found and when the lognormal
+/// fit holds.
+fn capacities_intro(rs: &RandomSummary, spec: &IntensitySpec, im: &str) -> String {
+    format!(
+        "### Capacities by incremental dynamic analysis\n\nEach motion of the design stripe \
+         is scaled up until max |x| first passes the limit: its capacity, the {im} (g) of that \
+         first passage, to a relative {} (bracketed, then closed by false position and \
+         bisection; {} runs a motion on average over the study). The fragility is the \
+         capacities' distribution: the empirical curve, and the lognormal fit (`theta` their \
+         geometric mean, `beta` their log standard deviation per ln {im}, maximum likelihood \
+         with censoring where a motion never passed up to {} g), with 95 % bootstrap \
+         intervals over the motions. The lognormal *holds* (`fit`) when its \
+         Kolmogorov–Smirnov distance to the capacities is within Lilliefors' 5 % value, it \
+         lies inside every stripe's Monte Carlo interval{}; where it does not, the empirical \
+         curve is used. `fall back`: motions whose response passed the limit at their capacity \
+         and not at a larger scale tried (by the search or at a stripe above the capacity): the \
+         response is not monotone in the scale (a damper engages more in stronger shaking). The \
+         capacity keeps the first passage, so where motions fall back the capacities' curve lies \
+         above the stripes' `p_f`: the first-passage fragility, on the safe side.\n\n",
+        f(spec.ida_tol, 3),
+        f(
+            rs.risk.iter().map(|r| r.runs_mean).sum::<f64>() / rs.risk.len() as f64,
+            1
+        ),
+        fmt_num(spec.ida_max),
+        if rs.hazard.is_some() {
+            " and its annual rate of failure lies inside the empirical curve's interval"
+        } else {
+            ""
+        },
+    )
+}
+
+/// The designs in the risk table's order: by risk rank, then by median capacity (the largest
+/// first), then by design.
+fn risk_order<'a>(rs: &RandomSummary, designs: &[&'a PointStats]) -> Vec<&'a PointStats> {
+    let mut order = designs.to_vec();
+    // By risk rank, then by median capacity (the largest first), then by design.
+    order.sort_by(|a, b| {
+        let (ra, rb) = (rs.risk_of(a.point), rs.risk_of(b.point));
+        let rank = |r: Option<&crate::reduce::random::risk::DesignRisk>| {
+            r.and_then(|r| r.risk_rank).unwrap_or(u64::MAX)
+        };
+        let theta = |r: Option<&crate::reduce::random::risk::DesignRisk>| {
+            r.and_then(|r| r.fit).map_or(f64::NEG_INFINITY, |f| f.theta)
+        };
+        rank(ra)
+            .cmp(&rank(rb))
+            .then(theta(rb).total_cmp(&theta(ra)))
+            .then(a.point.cmp(&b.point))
+    });
+    order
+}
+
+/// One design's row of the risk table: its fit's cells, and with a hazard its annual risk
+/// first.
+fn risk_row(o: &mut String, r: &DesignRisk, rank: &str, name: &str) {
+    let iv = |v: (f64, f64, f64)| format!("{} [{}, {}]", num(v.0), num(v.1), num(v.2));
+    let fit_cells = format!(
+        "{} | {} [{}, {}] | {} ({}) | {} | {} of {} | {}",
+        iv(r.theta),
+        f(r.beta.0, 3),
+        f(r.beta.1, 3),
+        f(r.beta.2, 3),
+        f(r.ks, 3),
+        f(r.ks_critical, 3),
+        if r.fit_ok {
+            "holds"
+        } else {
+            "**does not hold**"
+        },
+        thousands(r.censored as u64),
+        thousands(r.n as u64),
+        thousands(r.resurrected as u64),
+    );
+    match &r.risk {
+        Some(k) => {
+            let pv = |v: (f64, f64, f64)| pf_text(v.0, v.1, v.2);
+            let _ = writeln!(
+                o,
+                "| {rank} | {name} | {} | {} | {} | {} | {} | {}–{}–{} | {fit_cells} |",
+                pv(k.lambda_f),
+                pv(k.p_f_years),
+                k.curve.name(),
+                prob(k.empirical.0),
+                prob(k.lognormal.0),
+                num(k.deaggregation[0]),
+                num(k.deaggregation[1]),
+                num(k.deaggregation[2]),
+            );
+        }
+        None => {
+            let _ = writeln!(o, "| {name} | {fit_cells} |");
+        }
+    }
 }
 
 /// Each design's stripes: Monte Carlo against both curves.

@@ -76,71 +76,14 @@ pub(super) fn section(s: &Summary, rs: &RandomSummary) -> String {
         let Some(r) = figure(s, rs, base) else {
             continue;
         };
-        let mut members: Vec<(u64, (f64, f64, f64))> = vec![];
-        let mut lines: Vec<u64> = vec![base];
-        for &a in &unit_axes {
-            lines = lines
-                .iter()
-                .flat_map(|&p| (0..s.grid.n(a)).map(move |i| (p, i)))
-                .map(|(p, i)| s.grid.with_index(p, a, i))
-                .collect();
-        }
-        for p in lines.into_iter().filter(|&p| p != base) {
-            if let Some(v) = figure(s, rs, p) {
-                members.push((p, v));
-            }
-        }
+        let members = group_members(s, rs, base, &unit_axes);
         if members.is_empty() {
             continue;
         }
-        let lo = members.iter().map(|m| m.1.0).fold(f64::INFINITY, f64::min);
-        let hi = members
-            .iter()
-            .map(|m| m.1.0)
-            .fold(f64::NEG_INFINITY, f64::max);
-        let change = |v: f64| if r.0 > 0.0 { v / r.0 - 1.0 } else { f64::NAN };
-        let (c_lo, c_hi) = (change(lo), change(hi));
-        if c_lo.is_finite() {
-            widest = widest.max(c_lo.abs()).max(c_hi.abs());
-        }
-        let apart: Vec<String> = members
-            .iter()
-            .filter(|(_, v)| v.1 > r.2 || v.2 < r.1)
-            .map(|(p, v)| {
-                let who: Vec<String> = unit_axes
-                    .iter()
-                    .map(|&a| axis_value(s.grid.key(a), s.grid.value(*p, a)))
-                    .collect();
-                format!("{} ({})", who.join(", "), prob(v.0))
-            })
-            .collect();
-        apart_all += apart.len();
+        let (change, apart) = group_row(&mut o, s, (&unit_axes, &others), base, r, &members);
+        widest = widest.max(change);
+        apart_all += apart;
         compared_all += members.len();
-        let group: Vec<String> = others
-            .iter()
-            .map(|&a| axis_value(s.grid.key(a), s.grid.value(base, a)))
-            .collect();
-        let _ = writeln!(
-            o,
-            "| {} | {} [{}, {}] | {} – {} | {} to {} % | {} |",
-            if group.is_empty() {
-                "every design".to_string()
-            } else {
-                group.join(", ")
-            },
-            prob(r.0),
-            prob(r.1),
-            prob(r.2),
-            prob(lo),
-            prob(hi),
-            f(100.0 * c_lo, 1),
-            f(100.0 * c_hi, 1),
-            if apart.is_empty() {
-                "none".to_string()
-            } else {
-                apart.join("; ")
-            }
-        );
     }
     let _ = writeln!(
         o,
@@ -163,4 +106,90 @@ pub(super) fn section(s: &Summary, rs: &RandomSummary) -> String {
         }
     );
     o
+}
+
+/// The other designs of `base`'s group (every combination of the unit axes' values but the
+/// reference's) that have a figure, with it.
+fn group_members(
+    s: &Summary,
+    rs: &RandomSummary,
+    base: u64,
+    unit_axes: &[usize],
+) -> Vec<(u64, (f64, f64, f64))> {
+    let mut lines: Vec<u64> = vec![base];
+    for &a in unit_axes {
+        lines = lines
+            .iter()
+            .flat_map(|&p| (0..s.grid.n(a)).map(move |i| (p, i)))
+            .map(|(p, i)| s.grid.with_index(p, a, i))
+            .collect();
+    }
+    lines
+        .into_iter()
+        .filter(|&p| p != base)
+        .filter_map(|p| figure(s, rs, p).map(|v| (p, v)))
+        .collect()
+}
+
+/// One group's row of the table: the reference `r` (design `base`), the other designs'
+/// lowest and highest figures, the change against the reference and the designs whose
+/// intervals do not overlap its. Returns the largest change (a fraction, 0 without one) and
+/// how many designs lie apart.
+fn group_row(
+    o: &mut String,
+    s: &Summary,
+    (unit_axes, others): (&[usize], &[usize]),
+    base: u64,
+    r: (f64, f64, f64),
+    members: &[(u64, (f64, f64, f64))],
+) -> (f64, usize) {
+    let lo = members.iter().map(|m| m.1.0).fold(f64::INFINITY, f64::min);
+    let hi = members
+        .iter()
+        .map(|m| m.1.0)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let change = |v: f64| if r.0 > 0.0 { v / r.0 - 1.0 } else { f64::NAN };
+    let (c_lo, c_hi) = (change(lo), change(hi));
+    let widest = if c_lo.is_finite() {
+        c_lo.abs().max(c_hi.abs())
+    } else {
+        0.0
+    };
+    let apart: Vec<String> = members
+        .iter()
+        .filter(|(_, v)| v.1 > r.2 || v.2 < r.1)
+        .map(|(p, v)| {
+            let who: Vec<String> = unit_axes
+                .iter()
+                .map(|&a| axis_value(s.grid.key(a), s.grid.value(*p, a)))
+                .collect();
+            format!("{} ({})", who.join(", "), prob(v.0))
+        })
+        .collect();
+    let group: Vec<String> = others
+        .iter()
+        .map(|&a| axis_value(s.grid.key(a), s.grid.value(base, a)))
+        .collect();
+    let _ = writeln!(
+        o,
+        "| {} | {} [{}, {}] | {} – {} | {} to {} % | {} |",
+        if group.is_empty() {
+            "every design".to_string()
+        } else {
+            group.join(", ")
+        },
+        prob(r.0),
+        prob(r.1),
+        prob(r.2),
+        prob(lo),
+        prob(hi),
+        f(100.0 * c_lo, 1),
+        f(100.0 * c_hi, 1),
+        if apart.is_empty() {
+            "none".to_string()
+        } else {
+            apart.join("; ")
+        }
+    );
+    (widest, apart.len())
 }

@@ -201,64 +201,91 @@ pub fn decision(s: &Summary, rs: &RandomSummary) -> String {
         })
     };
     if rs.hazard.is_some() && !rs.risk.is_empty() {
-        let Some(best) = order.first() else {
-            return o;
-        };
-        let Some(r) = rs.risk_of(best.point).and_then(|r| r.risk.as_ref()) else {
-            return o;
-        };
-        let years = rs.hazard.as_ref().map_or(50.0, |h| h.years);
-        let _ = writeln!(
-            o,
-            "By annual risk over the hazard, the best design is **{}**: λ_f = {} [{}, {}] failures \
-             (max |x| > {} cm) per year, a probability of {} [{}, {}] in {} years ({} fragility).",
-            design_text(s, best.point),
-            prob(r.lambda_f.0),
-            prob(r.lambda_f.1),
-            prob(r.lambda_f.2),
-            cm(b),
-            prob(r.p_f_years.0),
-            prob(r.p_f_years.1),
-            prob(r.p_f_years.2),
-            fmt_num(years),
-            r.curve.name(),
-        );
-        if let Some(n) = next(best)
-            && let Some(k) = rs.risk_of(n.point).and_then(|r| r.risk.as_ref())
-        {
-            let apart = k.lambda_f.1 > r.lambda_f.2;
-            let _ = writeln!(
-                o,
-                "The next, {}, has λ_f = {} [{}, {}]: {}.",
-                design_text(s, n.point),
-                prob(k.lambda_f.0),
-                prob(k.lambda_f.1),
-                prob(k.lambda_f.2),
-                if apart {
-                    "the intervals do not overlap, the order holds"
-                } else {
-                    "the intervals overlap, so these motions do not tell the two apart; more \
-                     realizations would"
-                }
-            );
-        }
-        if let Some(p) = bare
-            && let Some(k) = rs.risk_of(p).and_then(|r| r.risk.as_ref())
-        {
-            let _ = writeln!(
-                o,
-                "Without a damper the structure's λ_f is {} per year: the best design divides it \
-                 by {}.",
-                prob(k.lambda_f.0),
-                f(k.lambda_f.0 / r.lambda_f.0, 1)
-            );
-        }
-        o.push('\n');
+        risk_decision(&mut o, s, rs, &order, b, bare, next);
         return o;
     }
-    // Without a hazard: p_f at the design intensity.
+    pf_decision(&mut o, s, rs, &order, b, next);
+    o
+}
+
+/// The decision by annual risk over the hazard: the best design's `λ_f`, the next one's, and
+/// the structure without a damper's.
+fn risk_decision<'a>(
+    o: &mut String,
+    s: &Summary,
+    rs: &RandomSummary,
+    order: &[&'a PointStats],
+    b: f64,
+    bare: Option<u64>,
+    next: impl Fn(&PointStats) -> Option<&'a PointStats>,
+) {
     let Some(best) = order.first() else {
-        return o;
+        return;
+    };
+    let Some(r) = rs.risk_of(best.point).and_then(|r| r.risk.as_ref()) else {
+        return;
+    };
+    let years = rs.hazard.as_ref().map_or(50.0, |h| h.years);
+    let _ = writeln!(
+        o,
+        "By annual risk over the hazard, the best design is **{}**: λ_f = {} [{}, {}] failures \
+         (max |x| > {} cm) per year, a probability of {} [{}, {}] in {} years ({} fragility).",
+        design_text(s, best.point),
+        prob(r.lambda_f.0),
+        prob(r.lambda_f.1),
+        prob(r.lambda_f.2),
+        cm(b),
+        prob(r.p_f_years.0),
+        prob(r.p_f_years.1),
+        prob(r.p_f_years.2),
+        fmt_num(years),
+        r.curve.name(),
+    );
+    if let Some(n) = next(best)
+        && let Some(k) = rs.risk_of(n.point).and_then(|r| r.risk.as_ref())
+    {
+        let apart = k.lambda_f.1 > r.lambda_f.2;
+        let _ = writeln!(
+            o,
+            "The next, {}, has λ_f = {} [{}, {}]: {}.",
+            design_text(s, n.point),
+            prob(k.lambda_f.0),
+            prob(k.lambda_f.1),
+            prob(k.lambda_f.2),
+            if apart {
+                "the intervals do not overlap, the order holds"
+            } else {
+                "the intervals overlap, so these motions do not tell the two apart; more \
+                 realizations would"
+            }
+        );
+    }
+    if let Some(p) = bare
+        && let Some(k) = rs.risk_of(p).and_then(|r| r.risk.as_ref())
+    {
+        let _ = writeln!(
+            o,
+            "Without a damper the structure's λ_f is {} per year: the best design divides it \
+             by {}.",
+            prob(k.lambda_f.0),
+            f(k.lambda_f.0 / r.lambda_f.0, 1)
+        );
+    }
+    o.push('\n');
+}
+
+/// The decision without a hazard: the best design by `p_f` at the design intensity (or, where
+/// no motion passed the limit, by the mean amplitude's margin to it) and the next one.
+fn pf_decision<'a>(
+    o: &mut String,
+    s: &Summary,
+    rs: &RandomSummary,
+    order: &[&'a PointStats],
+    b: f64,
+    next: impl Fn(&PointStats) -> Option<&'a PointStats>,
+) {
+    let Some(best) = order.first() else {
+        return;
     };
     let lens: Vec<usize> = (0..s.grid.n_axes()).map(|a| s.grid.n(a)).collect();
     let pf = |d: &PointStats| -> (f64, f64, f64) {
@@ -288,7 +315,7 @@ pub fn decision(s: &Summary, rs: &RandomSummary) -> String {
             cm(best.response.mean),
             cm(b),
         );
-        return o;
+        return;
     }
     let _ = writeln!(
         o,
@@ -317,5 +344,4 @@ pub fn decision(s: &Summary, rs: &RandomSummary) -> String {
         );
     }
     o.push('\n');
-    o
 }

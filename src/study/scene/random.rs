@@ -201,33 +201,8 @@ pub(super) fn study(
              harmonic scenes load as a Study)",
         ));
     }
-    h.refuse_free_keys(cx, NOT_RANDOM)?;
     header(cx, h)?;
-    if let Some(key) = raw_scene.harmonic_given().first() {
-        return Err(cx.err(
-            &format!("[scene].{key}"),
-            cx.source("scene", key),
-            format!("{key} belongs to the harmonic scene; this study's kind is {kind:?}"),
-        ));
-    }
-    for (table, present, why) in [
-        (
-            "perturb",
-            raw.perturb.is_some(),
-            "a random study's cases are its realizations ([scene].realizations); perturbed \
-             cases are not supported in it",
-        ),
-        (
-            "noise",
-            raw.noise.is_some(),
-            "measurement noise belongs to the free and harmonic scenes; a random study's load is \
-             its noise",
-        ),
-    ] {
-        if present {
-            return Err(InputError::new(format!("{}: [{table}]: {why}", cx.file)));
-        }
-    }
+    refuse_other_scenes(cx, raw, raw_scene, kind)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let (mut scene, realizations) = random_load::scene(cx, kind, raw_scene, &raw.sweep, dir)?;
     // A random study starts at rest: the initial state defaults to 0.
@@ -262,23 +237,7 @@ pub(super) fn study(
     };
     let axes = sweep::axes(cx, &raw.sweep, &raw.system, &scene_axes)?;
     system::check_tables(cx, &raw.system, &system, &axes, &[])?;
-    let solver = solver::solver(cx, &raw.solver)?;
-    if solver.kind != SolverKind::Exact {
-        return Err(cx.err(
-            "[solver].kind",
-            format!("{:?}", solver.kind.name()),
-            "the random and record scenes are solved by exact only",
-        ));
-    }
-    if let Some(a) = raw.run.audit_given()
-        && a > 0
-    {
-        return Err(cx.err(
-            "[run].audit",
-            a,
-            "the accuracy audit re-runs free-decay runs; a random study has none",
-        ));
-    }
+    let solver = exact_solver(cx, raw)?;
     let design_intensity = random_load::design_intensity(cx, raw_scene.design_intensity, &axes)?;
     let rules = RunRules {
         aim: DEFAULT_CHUNK_RUNS,
@@ -304,6 +263,66 @@ pub(super) fn study(
         run,
         hazard,
     })
+}
+
+/// Refuses what belongs to the other scenes: the free-decay keys, the harmonic scene's keys,
+/// perturbed cases and measurement noise.
+fn refuse_other_scenes(
+    cx: &Cx,
+    raw: &RawStudy,
+    raw_scene: &RawScene,
+    kind: &str,
+) -> Result<(), InputError> {
+    raw.study.refuse_free_keys(cx, NOT_RANDOM)?;
+    if let Some(key) = raw_scene.harmonic_given().first() {
+        return Err(cx.err(
+            &format!("[scene].{key}"),
+            cx.source("scene", key),
+            format!("{key} belongs to the harmonic scene; this study's kind is {kind:?}"),
+        ));
+    }
+    for (table, present, why) in [
+        (
+            "perturb",
+            raw.perturb.is_some(),
+            "a random study's cases are its realizations ([scene].realizations); perturbed \
+             cases are not supported in it",
+        ),
+        (
+            "noise",
+            raw.noise.is_some(),
+            "measurement noise belongs to the free and harmonic scenes; a random study's load is \
+             its noise",
+        ),
+    ] {
+        if present {
+            return Err(InputError::new(format!("{}: [{table}]: {why}", cx.file)));
+        }
+    }
+    Ok(())
+}
+
+/// The study's solver, which must be `exact`, without an accuracy audit (it re-runs
+/// free-decay runs).
+fn exact_solver(cx: &Cx, raw: &RawStudy) -> Result<SolverSettings, InputError> {
+    let solver = solver::solver(cx, &raw.solver)?;
+    if solver.kind != SolverKind::Exact {
+        return Err(cx.err(
+            "[solver].kind",
+            format!("{:?}", solver.kind.name()),
+            "the random and record scenes are solved by exact only",
+        ));
+    }
+    if let Some(a) = raw.run.audit_given()
+        && a > 0
+    {
+        return Err(cx.err(
+            "[run].audit",
+            a,
+            "the accuracy audit re-runs free-decay runs; a random study has none",
+        ));
+    }
+    Ok(solver)
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@ use crate::orbits::attractors::AttractorRow;
 use crate::reduce::PointStats;
 use crate::reduce::Summary;
 use crate::reduce::harmonic::HarmonicSummary;
+use crate::reduce::harmonic::verify::Verification;
 use crate::report::markdown::words::{cm, design_text, f};
 use crate::sim::harmonic::NonPeriodicPeak;
 
@@ -150,50 +151,62 @@ fn verified(s: &Summary, fs: &HarmonicSummary, estimated: bool) -> String {
         }
     );
     if measured > 0 {
-        let _ = writeln!(
-            o,
-            "\n| design | case | at r | estimate (cm) [90 %] | periods | direct (cm) [90 %] | periods | largest seen (cm) | case peak before → after (cm) |\n|---|---|---|---|---|---|---|---|---|"
-        );
-        for p in &v.peaks {
-            for m in &p.verified {
-                let c = &m.motion;
-                let direct = m.direct.and_then(|d| d.estimate.map(|e| (d, e)));
-                let _ = writeln!(
-                    o,
-                    "| {} | {} | {} | {} [{} – {}] | {} | {} | {} | {} | {} → {} |",
-                    design_text(s, p.design),
-                    p.case,
-                    f(c.r, 3),
-                    cm(c.amplitude),
-                    cm(c.lo),
-                    cm(c.hi),
-                    crate::report::text::thousands(c.measured),
-                    if m.as_raced {
-                        format!(
-                            "{} [{} – {}], as raced",
-                            cm(c.amplitude),
-                            cm(c.lo),
-                            cm(c.hi)
-                        )
-                    } else {
-                        direct.map_or("failed".into(), |(_, e)| {
-                            format!("{} [{} – {}]", cm(e.amplitude), cm(e.lo), cm(e.hi))
-                        })
-                    },
-                    if m.as_raced {
-                        crate::report::text::thousands(c.measured)
-                    } else {
-                        direct.map_or("–".into(), |(d, _)| {
-                            crate::report::text::thousands(d.measured)
-                        })
-                    },
-                    direct.map_or("–".into(), |(d, _)| cm(d.window_max)),
-                    cm(p.before),
-                    cm(p.after)
-                );
-            }
+        verified_table(&mut o, s, v);
+    }
+    verified_moves(&mut o, s, v);
+    o
+}
+
+/// The verification's table: each motion measured directly, beside the estimate it checks,
+/// and its case's peak before and after.
+fn verified_table(o: &mut String, s: &Summary, v: &Verification) {
+    let _ = writeln!(
+        o,
+        "\n| design | case | at r | estimate (cm) [90 %] | periods | direct (cm) [90 %] | periods | largest seen (cm) | case peak before → after (cm) |\n|---|---|---|---|---|---|---|---|---|"
+    );
+    for p in &v.peaks {
+        for m in &p.verified {
+            let c = &m.motion;
+            let direct = m.direct.and_then(|d| d.estimate.map(|e| (d, e)));
+            let _ = writeln!(
+                o,
+                "| {} | {} | {} | {} [{} – {}] | {} | {} | {} | {} | {} → {} |",
+                design_text(s, p.design),
+                p.case,
+                f(c.r, 3),
+                cm(c.amplitude),
+                cm(c.lo),
+                cm(c.hi),
+                crate::report::text::thousands(c.measured),
+                if m.as_raced {
+                    format!(
+                        "{} [{} – {}], as raced",
+                        cm(c.amplitude),
+                        cm(c.lo),
+                        cm(c.hi)
+                    )
+                } else {
+                    direct.map_or("failed".into(), |(_, e)| {
+                        format!("{} [{} – {}]", cm(e.amplitude), cm(e.lo), cm(e.hi))
+                    })
+                },
+                if m.as_raced {
+                    crate::report::text::thousands(c.measured)
+                } else {
+                    direct.map_or("–".into(), |(d, _)| {
+                        crate::report::text::thousands(d.measured)
+                    })
+                },
+                direct.map_or("–".into(), |(d, _)| cm(d.window_max)),
+                cm(p.before),
+                cm(p.after)
+            );
         }
     }
+}
+
+/// The ranks the verification moved, and the peaks that still rest on an estimate.
+fn verified_moves(o: &mut String, s: &Summary, v: &Verification) {
     let mut moves = Vec::new();
     for p in &s.points {
         if let (Some(before), Some(after)) = (v.rank_before(p.point), p.rank)
@@ -227,7 +240,6 @@ fn verified(s: &Summary, fs: &HarmonicSummary, estimated: bool) -> String {
             unsupported.join(", ")
         );
     }
-    o
 }
 
 /// A life amplitude this many times the window maximum, from a run capped before its interval
