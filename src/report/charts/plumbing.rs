@@ -12,7 +12,7 @@ use plotters::prelude::*;
 use plotters::style::FontStyle;
 
 use crate::reduce::{Class, Jump, PointStats, Summary};
-use crate::report::text::axis_value;
+use crate::report::text::{axis_value, fmt_num};
 use crate::store::table::Table;
 
 static FONT: &[u8] = include_bytes!("../../../assets/DejaVuSans.ttf");
@@ -510,11 +510,14 @@ pub fn heat(t: f64) -> RGBColor {
     )
 }
 
-/// The plot of a map: cells between the edges `eb` (x) and `ea` (y), no mesh, the axes named
-/// `x_desc` and `y_desc`.
+/// A map's axes over the cell edges `eb` (x) and `ea` (y), without a mesh. An axis of at most
+/// [`GRID_TICKS`] values (`vb`, `va`: the grid's, the cells' centres) is labelled at those values
+/// alone, as [`fmt_num`] writes them (`1, 2, 4, 8` units, not a tick at every unit from 1 to
+/// 10; `0` where a computed tick would read `-0.0`); a denser one gets plotters' ticks.
 pub fn map_chart<'a, DB: DrawingBackend + 'a>(
     area: &DrawingArea<DB, Shift>,
     (eb, ea): (&[f64], &[f64]),
+    (vb, va): (&[f64], &[f64]),
     (x_desc, y_desc): (&str, &str),
 ) -> anyhow::Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>>
 where
@@ -526,17 +529,57 @@ where
         .y_label_area_size(86)
         .build_cartesian_2d(eb[0]..eb[eb.len() - 1], ea[0]..ea[ea.len() - 1])
         .map_err(err)?;
+    let (x_grid, y_grid) = (vb.len() <= GRID_TICKS, va.len() <= GRID_TICKS);
     chart
         .configure_mesh()
         .disable_mesh()
+        .x_labels(if x_grid { 0 } else { 10 })
+        .y_labels(if y_grid { 0 } else { 10 })
         .x_desc(x_desc)
         .y_desc(y_desc)
         .label_style(SMALL)
         .axis_desc_style(LABEL)
         .draw()
         .map_err(err)?;
+    let base = area.get_base_pixel();
+    let at = |x: f64, y: f64| {
+        let (px, py) = chart.backend_coord(&(x, y));
+        (px - base.0, py - base.1)
+    };
+    let font = |h, v| {
+        SMALL
+            .into_font()
+            .color(&BLACK)
+            .pos(text_anchor::Pos::new(h, v))
+    };
+    use plotters::style::text_anchor::{self, HPos, VPos};
+    for &x in vb.iter().filter(|_| x_grid) {
+        let (px, py) = at(x, ea[0]);
+        area.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))
+            .map_err(err)?;
+        area.draw(&Text::new(
+            fmt_num(x),
+            (px, py + 8),
+            font(HPos::Center, VPos::Top),
+        ))
+        .map_err(err)?;
+    }
+    for &y in va.iter().filter(|_| y_grid) {
+        let (px, py) = at(eb[0], y);
+        area.draw(&PathElement::new(vec![(px - 5, py), (px, py)], BLACK))
+            .map_err(err)?;
+        area.draw(&Text::new(
+            fmt_num(y),
+            (px - 8, py),
+            font(HPos::Right, VPos::Center),
+        ))
+        .map_err(err)?;
+    }
     Ok(chart)
 }
+
+/// A map's axis of at most this many grid values is labelled at those values ([`map_chart`]).
+pub const GRID_TICKS: usize = 12;
 
 /// A map's colour bar: [`heat`] from 1 at the top to 0 at the bottom, `label` above it, `top`
 /// and `bottom` beside its ends.
@@ -750,6 +793,54 @@ mod tests {
             assert!(svg.contains(&format!("number {i}")), "entry {i} missing");
         }
         assert!(!svg.contains('…'));
+    }
+
+    /// The SVG text elements' contents, in order.
+    fn texts(svg: &str) -> Vec<String> {
+        svg.split("<text")
+            .skip(1)
+            .filter_map(|t| {
+                Some(
+                    t.split_once('>')?
+                        .1
+                        .split_once("</text>")?
+                        .0
+                        .trim()
+                        .to_string(),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_map_of_few_values_is_labelled_at_them_and_a_dense_one_by_plotters() {
+        register_fonts();
+        let draw = |vb: &[f64], va: &[f64]| {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, (800, 600)).into_drawing_area();
+                let (eb, ea) = (cell_edges(vb), cell_edges(va));
+                map_chart(&root, (&eb, &ea), (vb, va), ("x axis", "y axis")).unwrap();
+                root.present().unwrap();
+            }
+            texts(&svg)
+        };
+        // Units 1, 2, 4, 8 and a spread of 0 and 0.5: those values alone, as the report writes
+        // them (the cells' edges would have given plotters' ticks at 3, 5, 6, ... and -0.0).
+        let labels = draw(&[0.0, 0.5], &[1.0, 2.0, 4.0, 8.0]);
+        for want in ["0", "0.5", "1", "2", "4", "8", "x axis", "y axis"] {
+            assert!(
+                labels.iter().any(|l| l == want),
+                "{want} missing: {labels:?}"
+            );
+        }
+        assert_eq!(labels.len(), 8, "{labels:?}");
+        // 40 values along x: plotters' ticks there, the grid's on y.
+        let xs: Vec<f64> = (0..40).map(|i| 0.8 + 0.01 * i as f64).collect();
+        let labels = draw(&xs, &[0.005, 0.01]);
+        assert!(labels.iter().any(|l| l == "0.005") && labels.iter().any(|l| l == "0.01"));
+        let numbers = labels.iter().filter(|l| l.parse::<f64>().is_ok()).count();
+        assert!((2 + 4..2 + 20).contains(&numbers), "{labels:?}");
     }
 
     #[test]

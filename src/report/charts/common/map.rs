@@ -103,6 +103,7 @@ impl Chart for MapChart<'_> {
         let mut chart = map_chart(
             &area,
             (&eb, &ea),
+            (vb, va),
             (&axis_desc(g.key(self.b)), &axis_desc(g.key(self.a))),
         )?;
         let points = self.points();

@@ -28,13 +28,7 @@ impl Chart for SpreadChart<'_> {
         let pr = self.0;
         let name = pr.s.options.response.name;
         let xs = &pr.xs;
-        let (x0, x1) = minmax(xs.iter().copied());
-        let step = if xs.len() > 1 {
-            (x1 - x0) / (xs.len() - 1) as f64
-        } else {
-            1.0
-        };
-        let (x0, x1) = (x0 - step, x1 + step);
+        let ((x0, x1), halves) = x_layout(xs);
         let cm = 100.0;
         let (y0, y1) = minmax(
             pr.points
@@ -54,22 +48,6 @@ impl Chart for SpreadChart<'_> {
             (x0..x1, y0..y1),
             (&axis_desc(pr.key()), &format!("{name} (cm)")),
         )?;
-        // Half a box: 0.35 of the grid step, or on an uneven grid (a geometric one) 0.35 of the
-        // distance to the nearer neighbour, so that boxes never overlap.
-        let gaps: Vec<f64> = xs.windows(2).map(|g| (g[1] - g[0]).abs()).collect();
-        let uneven = gaps.iter().copied().fold(0.0, f64::max)
-            > 1.01 * gaps.iter().copied().fold(f64::INFINITY, f64::min);
-        let half = |i: usize| -> f64 {
-            let near = [i.checked_sub(1).map(|j| gaps[j]), gaps.get(i).copied()]
-                .into_iter()
-                .flatten()
-                .fold(f64::INFINITY, f64::min);
-            if uneven && near.is_finite() {
-                near * 0.35
-            } else {
-                step * 0.35
-            }
-        };
         let any_ideal = pr.points.iter().any(|p| p.response.ideal.is_finite());
         super::di::jump_lines(&mut chart, pr, (y0, y1))?;
         if let Some(b) = self.1 {
@@ -94,7 +72,7 @@ impl Chart for SpreadChart<'_> {
         let mut first = true;
         for (i, (p, &x)) in pr.points.iter().zip(xs).enumerate() {
             let p = &p.response;
-            let w = half(i);
+            let w = halves[i];
             if !p.min.is_finite() {
                 continue;
             }
@@ -145,9 +123,72 @@ impl Chart for SpreadChart<'_> {
             }
             first = false;
         }
-        series_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+        let corner = legend_corner(pr, &halves, (x0, x1));
+        series_legend(&mut chart, corner)?;
         Ok(())
     }
+}
+
+/// The upper corner for the boxes' legend: the left one unless the boxes and whiskers reach
+/// higher within the left fifth of the axis than within the right fifth (where the legend
+/// would hide the first box's whisker).
+fn legend_corner(pr: &Profile, halves: &[f64], (x0, x1): (f64, f64)) -> SeriesLabelPosition {
+    let fifth = 0.2 * (x1 - x0);
+    let top_within = |lo: f64, hi: f64| {
+        pr.points
+            .iter()
+            .zip(&pr.xs)
+            .zip(halves)
+            .filter(|((_, x), w)| **x + **w >= lo && **x - **w <= hi)
+            .map(|((p, _), _)| p.response.max)
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    if top_within(x1 - fifth, x1) < top_within(x0, x0 + fifth) {
+        SeriesLabelPosition::UpperRight
+    } else {
+        SeriesLabelPosition::UpperLeft
+    }
+}
+
+/// The x axis's range, with room beyond each end, and each box's half width: 0.35 of the grid
+/// step, or on an uneven grid (a geometric one) 0.35 of the distance to the nearer neighbour,
+/// so that boxes never overlap. The room is a grid step, or on an uneven grid the end's own gap
+/// (the mean step would leave an empty stretch before a geometric grid's first value).
+fn x_layout(xs: &[f64]) -> ((f64, f64), Vec<f64>) {
+    let (x0, x1) = minmax(xs.iter().copied());
+    let step = if xs.len() > 1 {
+        (x1 - x0) / (xs.len() - 1) as f64
+    } else {
+        1.0
+    };
+    let gaps: Vec<f64> = xs.windows(2).map(|g| (g[1] - g[0]).abs()).collect();
+    let uneven = gaps.iter().copied().fold(0.0, f64::max)
+        > 1.01 * gaps.iter().copied().fold(f64::INFINITY, f64::min);
+    let mut sorted = xs.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let n = sorted.len();
+    let range = if uneven && n > 1 {
+        (
+            x0 - (sorted[1] - sorted[0]),
+            x1 + (sorted[n - 1] - sorted[n - 2]),
+        )
+    } else {
+        (x0 - step, x1 + step)
+    };
+    let halves = (0..xs.len())
+        .map(|i| {
+            let near = [i.checked_sub(1).map(|j| gaps[j]), gaps.get(i).copied()]
+                .into_iter()
+                .flatten()
+                .fold(f64::INFINITY, f64::min);
+            if uneven && near.is_finite() {
+                near * 0.35
+            } else {
+                step * 0.35
+            }
+        })
+        .collect();
+    (range, halves)
 }
 
 impl SpreadChart<'_> {
@@ -200,5 +241,36 @@ impl SpreadChart<'_> {
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED));
         series_legend(chart, SeriesLabelPosition::UpperLeft)?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::x_layout;
+
+    #[test]
+    fn a_geometric_grid_gets_its_own_ends_room_and_boxes_that_never_overlap() {
+        // The seismic showcases' clearances: room of 5 mm before the first (the mean step,
+        // 11.7 mm, reached below zero) and 20 mm after the last.
+        let ((lo, hi), halves) = x_layout(&[0.005, 0.01, 0.02, 0.04]);
+        assert!(
+            (lo - 0.0).abs() < 1e-15 && (hi - 0.06).abs() < 1e-15,
+            "{lo} {hi}"
+        );
+        let want = [0.00175, 0.00175, 0.0035, 0.007];
+        assert!(
+            halves.iter().zip(want).all(|(h, w)| (h - w).abs() < 1e-15),
+            "{halves:?}"
+        );
+        // An even grid: a step of room and 0.35 of a step for each half box.
+        let ((lo, hi), halves) = x_layout(&[0.5, 0.6, 0.7]);
+        assert!(
+            (lo - 0.4).abs() < 1e-12 && (hi - 0.8).abs() < 1e-12,
+            "{lo} {hi}"
+        );
+        assert!(
+            halves.iter().all(|h| (h - 0.035).abs() < 1e-12),
+            "{halves:?}"
+        );
     }
 }
