@@ -67,6 +67,10 @@ const BAD: &[(&str, &str)] = &[
         "{dir}/random_input.toml: [scene].input = \"ground\": unknown input; allowed: base (ground acceleration, displacements relative to the ground), force (a force on the main mass)",
     ),
     (
+        "random_nothing.toml",
+        "{dir}/random_nothing.toml: [scene].spectrum: missing; the random scene needs a spectrum; allowed: white, kanai-tajimi, clough-penzien; and S0, its two-sided spectral density per rad/s (fixed here or swept in [sweep]): for example spectrum = \"kanai-tajimi\" and S0 = 1e-3",
+    ),
+    (
         "random_no_spectrum.toml",
         "{dir}/random_no_spectrum.toml: [scene].spectrum: missing; the random scene needs a spectrum; allowed: white, kanai-tajimi, clough-penzien",
     ),

@@ -263,11 +263,18 @@ fn random(
     value: &dyn Fn(&str) -> Result<f64, InputError>,
 ) -> Result<(RandomScene, u64), InputError> {
     let Some(name) = &raw.spectrum else {
+        // A study that gives neither hears of both at once, with an example.
+        let and_s0 = if value("S0").is_err() {
+            "; and S0, its two-sided spectral density per rad/s (fixed here or swept in \
+             [sweep]): for example spectrum = \"kanai-tajimi\" and S0 = 1e-3"
+        } else {
+            ""
+        };
         return Err(missing(
             cx,
             "spectrum",
             &format!(
-                "the random scene needs a spectrum; allowed: {}",
+                "the random scene needs a spectrum; allowed: {}{and_s0}",
                 Spectrum::NAMES.join(", ")
             ),
         ));
