@@ -511,8 +511,8 @@ pub fn heat(t: f64) -> RGBColor {
 }
 
 /// A map's axes over the cell edges `eb` (x) and `ea` (y), without a mesh. An axis of at most
-/// [`GRID_TICKS`] values (`vb`, `va`: the grid's, the cells' centres) is labelled at those values
-/// alone, as [`fmt_num`] writes them (`1, 2, 4, 8` units, not a tick at every unit from 1 to
+/// [`GRID_TICKS`] values (`vb`, `va`: the grid's, each inside its cell) is labelled at those
+/// values alone, as [`fmt_num`] writes them (`1, 2, 4, 8` units, not a tick at every unit from 1 to
 /// 10; `0` where a computed tick would read `-0.0`); a denser one gets plotters' ticks.
 pub fn map_chart<'a, DB: DrawingBackend + 'a>(
     area: &DrawingArea<DB, Shift>,
@@ -523,18 +523,23 @@ pub fn map_chart<'a, DB: DrawingBackend + 'a>(
 where
     DB::ErrorType: 'static,
 {
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
     let mut chart = ChartBuilder::on(area)
         .margin(12)
         .x_label_area_size(48)
         .y_label_area_size(86)
         .build_cartesian_2d(eb[0]..eb[eb.len() - 1], ea[0]..ea[ea.len() - 1])
         .map_err(err)?;
-    let (x_grid, y_grid) = (vb.len() <= GRID_TICKS, va.len() <= GRID_TICKS);
+    // The grid's values where an axis has few, else plotters' ticks (10, its default).
+    fn few(v: &[f64]) -> &[f64] {
+        if v.len() <= GRID_TICKS { v } else { &[] }
+    }
+    let (x_ticks, y_ticks) = (few(vb), few(va));
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_labels(if x_grid { 0 } else { 10 })
-        .y_labels(if y_grid { 0 } else { 10 })
+        .x_labels(if x_ticks.is_empty() { 10 } else { 0 })
+        .y_labels(if y_ticks.is_empty() { 10 } else { 0 })
         .x_desc(x_desc)
         .y_desc(y_desc)
         .label_style(SMALL)
@@ -546,14 +551,8 @@ where
         let (px, py) = chart.backend_coord(&(x, y));
         (px - base.0, py - base.1)
     };
-    let font = |h, v| {
-        SMALL
-            .into_font()
-            .color(&BLACK)
-            .pos(text_anchor::Pos::new(h, v))
-    };
-    use plotters::style::text_anchor::{self, HPos, VPos};
-    for &x in vb.iter().filter(|_| x_grid) {
+    let font = |h, v| SMALL.into_font().color(&BLACK).pos(Pos::new(h, v));
+    for &x in x_ticks {
         let (px, py) = at(x, ea[0]);
         area.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))
             .map_err(err)?;
@@ -564,7 +563,7 @@ where
         ))
         .map_err(err)?;
     }
-    for &y in va.iter().filter(|_| y_grid) {
+    for &y in y_ticks {
         let (px, py) = at(eb[0], y);
         area.draw(&PathElement::new(vec![(px - 5, py), (px, py)], BLACK))
             .map_err(err)?;
