@@ -54,6 +54,7 @@ impl WaveChart<'_> {
             (title, if window.is_some() { LABEL } else { TITLE }),
             (t0..t1, y0..y1),
             ("time t (s)", "main-mass displacement x (cm)"),
+            &[],
         )?;
         let colors = [BLUE, RED_LINE, GREEN];
         for (i, tr) in self.traces.iter().enumerate() {

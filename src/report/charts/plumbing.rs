@@ -295,15 +295,20 @@ pub fn with_headroom(lo: f64, hi: f64, min_span: f64) -> (f64, f64) {
 }
 
 /// An x–y chart on `area`: its caption, the ranges, a light grid and the axis descriptions.
+/// An x axis over a design axis of at most [`GRID_TICKS`] values (`x_grid`, the grid's values;
+/// empty for a continuous axis) is labelled at those values alone, as the report writes them
+/// ([`grid_ticks`]); otherwise plotters' ticks.
 pub fn xy_chart<'a, DB: DrawingBackend + 'a>(
     area: &DrawingArea<DB, Shift>,
     caption: (&str, (&str, u32)),
     (x, y): (std::ops::Range<f64>, std::ops::Range<f64>),
     (x_desc, y_desc): (&str, &str),
+    x_grid: &[f64],
 ) -> anyhow::Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>>
 where
     DB::ErrorType: 'static,
 {
+    let y_low = y.start;
     let mut chart = ChartBuilder::on(area)
         .caption(caption.0, caption.1)
         .margin(12)
@@ -311,15 +316,21 @@ where
         .y_label_area_size(72)
         .build_cartesian_2d(x, y)
         .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc(x_desc)
+    let x_ticks = grid_ticks(x_grid);
+    let mut mesh = chart.configure_mesh();
+    // (Plotters' default ticks left as they are: set explicitly, even to their default count,
+    // they draw a different light grid.)
+    if !x_ticks.is_empty() {
+        mesh.x_labels(0);
+    }
+    mesh.x_desc(x_desc)
         .y_desc(y_desc)
         .label_style(SMALL)
         .axis_desc_style(LABEL)
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(err)?;
+    x_ticks_at(area, &chart, x_ticks, y_low)?;
     Ok(chart)
 }
 
@@ -523,7 +534,6 @@ pub fn map_chart<'a, DB: DrawingBackend + 'a>(
 where
     DB::ErrorType: 'static,
 {
-    use plotters::style::text_anchor::{HPos, Pos, VPos};
     let mut chart = ChartBuilder::on(area)
         .margin(12)
         .x_label_area_size(48)
@@ -531,10 +541,7 @@ where
         .build_cartesian_2d(eb[0]..eb[eb.len() - 1], ea[0]..ea[ea.len() - 1])
         .map_err(err)?;
     // The grid's values where an axis has few, else plotters' ticks (10, its default).
-    fn few(v: &[f64]) -> &[f64] {
-        if v.len() <= GRID_TICKS { v } else { &[] }
-    }
-    let (x_ticks, y_ticks) = (few(vb), few(va));
+    let (x_ticks, y_ticks) = (grid_ticks(vb), grid_ticks(va));
     chart
         .configure_mesh()
         .disable_mesh()
@@ -546,35 +553,81 @@ where
         .axis_desc_style(LABEL)
         .draw()
         .map_err(err)?;
+    x_ticks_at(area, &chart, x_ticks, ea[0])?;
+    y_ticks_at(area, &chart, y_ticks, eb[0])?;
+    Ok(chart)
+}
+
+/// The grid's values `v` as an axis's ticks when there are at most [`GRID_TICKS`] of them;
+/// none (plotters' ticks then) when there are more.
+pub fn grid_ticks(v: &[f64]) -> &[f64] {
+    if v.len() <= GRID_TICKS { v } else { &[] }
+}
+
+/// The pixel of `(x, y)` of `chart` within `area`.
+fn pixel_in<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    chart: &ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    (x, y): (f64, f64),
+) -> (i32, i32) {
     let base = area.get_base_pixel();
-    let at = |x: f64, y: f64| {
-        let (px, py) = chart.backend_coord(&(x, y));
-        (px - base.0, py - base.1)
-    };
-    let font = |h, v| SMALL.into_font().color(&BLACK).pos(Pos::new(h, v));
-    for &x in x_ticks {
-        let (px, py) = at(x, ea[0]);
+    let (px, py) = chart.backend_coord(&(x, y));
+    (px - base.0, py - base.1)
+}
+
+/// A tick and a label ([`fmt_num`]) under the x axis (at height `y`) at each of `xs`; a label
+/// that would pass the area's right edge (a tick at the axis's end) is moved left to fit.
+pub fn x_ticks_at<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    chart: &ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    xs: &[f64],
+    y: f64,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let font = SMALL
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Center, VPos::Top));
+    let width = area.dim_in_pixel().0 as i32;
+    for &x in xs {
+        let (px, py) = pixel_in(area, chart, (x, y));
         area.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))
             .map_err(err)?;
-        area.draw(&Text::new(
-            fmt_num(x),
-            (px, py + 8),
-            font(HPos::Center, VPos::Top),
-        ))
-        .map_err(err)?;
+        let text = fmt_num(x);
+        let half = area.estimate_text_size(&text, &font).map_err(err)?.0 as i32 / 2;
+        let at = px.min(width - 2 - half);
+        area.draw(&Text::new(text, (at, py + 8), font.clone()))
+            .map_err(err)?;
     }
-    for &y in y_ticks {
-        let (px, py) = at(eb[0], y);
+    Ok(())
+}
+
+/// A tick and a label ([`fmt_num`]) left of the y axis (at `x`) at each of `ys`.
+fn y_ticks_at<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    chart: &ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    ys: &[f64],
+    x: f64,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let font = SMALL
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Right, VPos::Center));
+    for &y in ys {
+        let (px, py) = pixel_in(area, chart, (x, y));
         area.draw(&PathElement::new(vec![(px - 5, py), (px, py)], BLACK))
             .map_err(err)?;
-        area.draw(&Text::new(
-            fmt_num(y),
-            (px - 8, py),
-            font(HPos::Right, VPos::Center),
-        ))
-        .map_err(err)?;
+        area.draw(&Text::new(fmt_num(y), (px - 8, py), font.clone()))
+            .map_err(err)?;
     }
-    Ok(chart)
+    Ok(())
 }
 
 /// A map's axis of at most this many grid values is labelled at those values ([`map_chart`]).
@@ -840,6 +893,42 @@ mod tests {
         assert!(labels.iter().any(|l| l == "0.005") && labels.iter().any(|l| l == "0.01"));
         let numbers = labels.iter().filter(|l| l.parse::<f64>().is_ok()).count();
         assert!((2 + 4..2 + 20).contains(&numbers), "{labels:?}");
+    }
+
+    #[test]
+    fn a_profile_over_few_values_is_labelled_at_them_and_a_continuous_axis_by_plotters() {
+        register_fonts();
+        let draw = |range: std::ops::Range<f64>, grid: &[f64]| {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, (800, 600)).into_drawing_area();
+                xy_chart(
+                    &root,
+                    ("title", TITLE),
+                    (range, 0.0..1.0),
+                    ("x axis", "y axis"),
+                    grid,
+                )
+                .unwrap();
+                root.present().unwrap();
+            }
+            texts(&svg)
+        };
+        // Units 1, 2, 4, 8: those values alone, as the report writes them (plotters' ticks over
+        // the range read 0.0, 1.0, ..., 9.0, most of them where no design is).
+        let labels = draw(-0.2..9.2, &[1.0, 2.0, 4.0, 8.0]);
+        let x_numbers: Vec<&String> = labels
+            .iter()
+            .filter(|l| ["1", "2", "4", "8"].contains(&l.as_str()))
+            .collect();
+        assert_eq!(x_numbers.len(), 4, "{labels:?}");
+        for absent in ["3", "3.0", "2.0", "9.0"] {
+            assert!(!labels.iter().any(|l| l == absent), "{absent}: {labels:?}");
+        }
+        // A continuous axis (no grid): plotters' ticks.
+        let labels = draw(0.0..20.0, &[]);
+        let numbers = labels.iter().filter(|l| l.parse::<f64>().is_ok()).count();
+        assert!(numbers >= 2 + 4 + 4, "{labels:?}");
     }
 
     #[test]

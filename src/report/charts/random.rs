@@ -48,6 +48,7 @@ impl Chart for FragilityChart {
             (&self.title, LABEL),
             (self.x.0..self.x.1, -0.02..1.02),
             (&self.x_desc, "P(max |x| > threshold)"),
+            &[],
         )?;
         let colors = DESIGN_COLORS;
         let mut k = 0;

@@ -303,6 +303,7 @@ impl Chart for ProfileChart<'_> {
             (&title, TITLE),
             ((x0 - 0.5 * step)..(x1 + 0.5 * step), y0..y1),
             (&axis_desc(g.key(self.axis)), &self.n.label),
+            &xs,
         )?;
         if let Some(b) = self.bare {
             let y = b.log();

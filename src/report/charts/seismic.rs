@@ -72,6 +72,7 @@ impl CapacityChart {
             (title, LABEL),
             (self.x.0..self.x.1, y_range),
             (&self.x_desc, y_desc),
+            &[],
         )?;
         let mut k = 0;
         for c in &self.curves {

@@ -45,6 +45,7 @@ impl Chart for DiChart<'_> {
             (&title, TITLE),
             (x0..x1, y0..y1),
             (&axis_desc(pr.key()), &d.label()),
+            &pr.xs,
         )?;
         let blue = crate::report::charts::plumbing::BLUE;
         chart

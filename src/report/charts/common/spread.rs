@@ -47,6 +47,7 @@ impl Chart for SpreadChart<'_> {
             (&title, TITLE),
             (x0..x1, y0..y1),
             (&axis_desc(pr.key()), &format!("{name} (cm)")),
+            xs,
         )?;
         let any_ideal = pr.points.iter().any(|p| p.response.ideal.is_finite());
         super::di::jump_lines(&mut chart, pr, (y0, y1))?;
