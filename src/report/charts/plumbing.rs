@@ -630,7 +630,8 @@ where
     Ok(())
 }
 
-/// A map's axis of at most this many grid values is labelled at those values ([`map_chart`]).
+/// An axis of at most this many grid values is labelled at those values ([`map_chart`],
+/// [`xy_chart`], the design chart).
 pub const GRID_TICKS: usize = 12;
 
 /// A map's colour bar: [`heat`] from 1 at the top to 0 at the bottom, `label` above it, `top`
