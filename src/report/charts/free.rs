@@ -7,7 +7,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    BLUE, Chart, GREEN, LABEL, RED_LINE, TITLE, err, minmax, pad, render, series_legend, xy_chart,
+    BLUE, Chart, GREEN, LABEL, RED_LINE, Scale, TITLE, err, minmax, pad, render, series_legend,
+    xy_chart,
 };
 use crate::store::table::{Column, Table};
 
@@ -54,7 +55,7 @@ impl WaveChart<'_> {
             (title, if window.is_some() { LABEL } else { TITLE }),
             (t0..t1, y0..y1),
             ("time t (s)", "main-mass displacement x (cm)"),
-            &[],
+            (&[], Scale::Linear),
         )?;
         let colors = [BLUE, RED_LINE, GREEN];
         for (i, tr) in self.traces.iter().enumerate() {

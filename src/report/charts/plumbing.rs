@@ -295,15 +295,17 @@ pub fn with_headroom(lo: f64, hi: f64, min_span: f64) -> (f64, f64) {
 }
 
 /// An x–y chart on `area`: its caption, the ranges, a light grid and the axis descriptions.
-/// An x axis over a design axis of at most [`GRID_TICKS`] values (`x_grid`, the grid's values;
-/// empty for a continuous axis) is labelled at those values alone, as the report writes them
-/// ([`grid_ticks`]); otherwise plotters' ticks.
+/// An x axis over a design axis (`x_grid`, the grid's values; empty for a continuous axis) is
+/// labelled at those values alone, as the report writes them ([`Scale::ticks`]), where it has
+/// at most [`GRID_TICKS`] of them or is drawn on a log scale; otherwise plotters' ticks. The x
+/// range is in `scale`'s coordinates ([`Scale::to`]), and a log scale says so in the axis's
+/// description.
 pub fn xy_chart<'a, DB: DrawingBackend + 'a>(
     area: &DrawingArea<DB, Shift>,
     caption: (&str, (&str, u32)),
     (x, y): (std::ops::Range<f64>, std::ops::Range<f64>),
     (x_desc, y_desc): (&str, &str),
-    x_grid: &[f64],
+    (x_grid, scale): (&[f64], Scale),
 ) -> anyhow::Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>>
 where
     DB::ErrorType: 'static,
@@ -316,22 +318,94 @@ where
         .y_label_area_size(72)
         .build_cartesian_2d(x, y)
         .map_err(err)?;
-    let x_ticks = grid_ticks(x_grid);
+    let x_ticks = scale.ticks(x_grid);
     let mut mesh = chart.configure_mesh();
     // (Plotters' default ticks left as they are: set explicitly, even to their default count,
     // they draw a different light grid.)
     if !x_ticks.is_empty() {
         mesh.x_labels(0);
     }
-    mesh.x_desc(x_desc)
+    mesh.x_desc(scale.desc(x_desc))
         .y_desc(y_desc)
         .label_style(SMALL)
         .axis_desc_style(LABEL)
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(err)?;
-    x_ticks_at(area, &chart, x_ticks, y_low)?;
+    x_ticks_at(area, &chart, (&x_ticks, scale), y_low)?;
     Ok(chart)
+}
+
+/// How a chart draws a swept axis along x: linear, or in `log10` where the grid's values are
+/// more evenly spaced so (a geometric grid: 1, 2, 4, 8 units, or clearances of 5, 10, 20 and
+/// 40 mm), so that neighbouring designs stand equally apart and their boxes are equally wide.
+/// On a linear axis a geometric grid crowds its first values together and draws the last box
+/// widest, as if it stood for more.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scale {
+    Linear,
+    Log,
+}
+
+impl Scale {
+    /// `Log` when the grid's values (any order) are at least three distinct positive numbers
+    /// whose gaps are more even in `log10` than as they are (the largest gap over the smallest,
+    /// and the linear one uneven beyond 1 %); `Linear` otherwise.
+    pub fn of(values: &[f64]) -> Scale {
+        let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        if v.len() < 3 || v[0] <= 0.0 {
+            return Scale::Linear;
+        }
+        let unevenness = |w: &[f64]| {
+            let gaps = w.windows(2).map(|g| g[1] - g[0]);
+            let (lo, hi) = minmax(gaps);
+            hi / lo
+        };
+        let linear = unevenness(&v);
+        let logs: Vec<f64> = v.iter().map(|x| x.log10()).collect();
+        if linear > 1.01 && unevenness(&logs) < linear {
+            Scale::Log
+        } else {
+            Scale::Linear
+        }
+    }
+
+    /// The chart's coordinate of the value `v`.
+    pub fn to(self, v: f64) -> f64 {
+        match self {
+            Scale::Linear => v,
+            Scale::Log => v.log10(),
+        }
+    }
+
+    /// The axis's description, `(log scale)` added on a log scale.
+    pub fn desc(self, d: &str) -> String {
+        match self {
+            Scale::Linear => d.to_string(),
+            Scale::Log => format!("{d}, log scale"),
+        }
+    }
+
+    /// The grid's values labelled under the axis: all of them up to [`GRID_TICKS`], none above
+    /// on a linear axis (plotters' ticks then), and on a log axis every `k`-th value and the
+    /// last, at most [`GRID_TICKS`] (plotters' ticks would read `log10` of the values).
+    pub fn ticks(self, values: &[f64]) -> Vec<f64> {
+        match self {
+            Scale::Linear => grid_ticks(values).to_vec(),
+            Scale::Log => {
+                let n = values.len();
+                let every = n.div_ceil(GRID_TICKS).max(1);
+                let mut out: Vec<f64> = values.iter().step_by(every).copied().collect();
+                // The last value too, unless it would crowd the one before.
+                if n > 0 && 2 * ((n - 1) % every) >= every {
+                    out.push(values[n - 1]);
+                }
+                out
+            }
+        }
+    }
 }
 
 /// The chart builder of a plot under a title and a legend block (the frequency-response and
@@ -365,6 +439,39 @@ where
         .label_font(SMALL)
         .draw()
         .map_err(err)
+}
+
+/// The share of a plot's width and of its height that [`clear_corner`] keeps for a legend box
+/// of up to four short rows.
+pub const LEGEND_SHARE: (f64, f64) = (0.25, 0.25);
+
+/// A corner for a chart's legend clear of what the chart draws: the first of upper right, upper
+/// left, lower right and lower left whose box ([`LEGEND_SHARE`] of the plot over `x` and `y`)
+/// meets none of `spans` (vertical segments `(x, lo, hi)`; a point is one with `lo == hi`) and
+/// none of `levels` (lines drawn across the whole plot at those heights); `None` when each
+/// corner meets one.
+pub fn clear_corner(
+    spans: &[(f64, f64, f64)],
+    levels: &[f64],
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> Option<SeriesLabelPosition> {
+    let (w, h) = (LEGEND_SHARE.0 * (x1 - x0), LEGEND_SHARE.1 * (y1 - y0));
+    let corners = [
+        (SeriesLabelPosition::UpperRight, (x1 - w, x1), (y1 - h, y1)),
+        (SeriesLabelPosition::UpperLeft, (x0, x0 + w), (y1 - h, y1)),
+        (SeriesLabelPosition::LowerRight, (x1 - w, x1), (y0, y0 + h)),
+        (SeriesLabelPosition::LowerLeft, (x0, x0 + w), (y0, y0 + h)),
+    ];
+    corners
+        .into_iter()
+        .find_map(|(corner, (bx0, bx1), (by0, by1))| {
+            let meets_span = spans
+                .iter()
+                .any(|&(x, lo, hi)| x >= bx0 && x <= bx1 && hi >= by0 && lo <= by1);
+            let meets_level = levels.iter().any(|&y| y >= by0 && y <= by1);
+            (!meets_span && !meets_level).then_some(corner)
+        })
 }
 
 /// A legend key.
@@ -553,7 +660,7 @@ where
         .axis_desc_style(LABEL)
         .draw()
         .map_err(err)?;
-    x_ticks_at(area, &chart, x_ticks, ea[0])?;
+    x_ticks_at(area, &chart, (x_ticks, Scale::Linear), ea[0])?;
     y_ticks_at(area, &chart, y_ticks, eb[0])?;
     Ok(chart)
 }
@@ -575,12 +682,13 @@ fn pixel_in<DB: DrawingBackend>(
     (px - base.0, py - base.1)
 }
 
-/// A tick and a label ([`fmt_num`]) under the x axis (at height `y`) at each of `xs`; a label
-/// that would pass the area's right edge (a tick at the axis's end) is moved left to fit.
+/// A tick and a label ([`fmt_num`]) under the x axis (at height `y`) at each of the values
+/// `xs`, placed on `scale`; a label that would pass the area's right edge (a tick at the axis's
+/// end) is moved left to fit.
 pub fn x_ticks_at<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     chart: &ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
-    xs: &[f64],
+    (xs, scale): (&[f64], Scale),
     y: f64,
 ) -> anyhow::Result<()>
 where
@@ -593,7 +701,7 @@ where
         .pos(Pos::new(HPos::Center, VPos::Top));
     let width = area.dim_in_pixel().0 as i32;
     for &x in xs {
-        let (px, py) = pixel_in(area, chart, (x, y));
+        let (px, py) = pixel_in(area, chart, (scale.to(x), y));
         area.draw(&PathElement::new(vec![(px, py), (px, py + 5)], BLACK))
             .map_err(err)?;
         let text = fmt_num(x);
@@ -681,7 +789,11 @@ pub struct Profile<'a> {
     pub s: &'a Summary,
     pub axis: usize,
     pub points: Vec<&'a PointStats>,
+    /// The points' values along the axis.
     pub xs: Vec<f64>,
+    /// How the charts draw the axis ([`Scale::of`] the values); [`Profile::series`] and
+    /// [`Profile::zone_spans`] are in its coordinates.
+    pub scale: Scale,
     pub jumps: Vec<&'a Jump>,
     /// The other axes' values, `m = 0.02 kg, d = 0.01 m`; empty with one axis.
     pub slice: String,
@@ -695,7 +807,8 @@ impl<'a> Profile<'a> {
             .into_iter()
             .filter_map(|p| s.point(p))
             .collect();
-        let xs = points.iter().map(|p| g.value(p.point, axis)).collect();
+        let xs: Vec<f64> = points.iter().map(|p| g.value(p.point, axis)).collect();
+        let scale = Scale::of(&xs);
         let line = g.with_index(through, axis, 0);
         let jumps = s
             .jumps
@@ -712,31 +825,43 @@ impl<'a> Profile<'a> {
             axis,
             points,
             xs,
+            scale,
             jumps,
             slice,
         }
+    }
+
+    /// The chart's coordinates of the points ([`Scale::to`] of [`Profile::xs`]).
+    pub fn positions(&self) -> Vec<f64> {
+        self.xs.iter().map(|&x| self.scale.to(x)).collect()
+    }
+
+    /// The chart's coordinate of the value `v` along the axis.
+    pub fn at_x(&self, v: f64) -> f64 {
+        self.scale.to(v)
     }
 
     pub fn key(&self) -> &str {
         self.s.grid.key(self.axis)
     }
 
-    /// `(x, f(point))` where `f` is finite, thinned for drawing ([`thin`]).
+    /// `(x, f(point))` where `f` is finite, `x` in the chart's coordinates, thinned for
+    /// drawing ([`thin`]).
     pub fn series(&self, f: impl Fn(&PointStats) -> f64) -> Vec<(f64, f64)> {
         thin(
             self.xs
                 .iter()
                 .zip(&self.points)
-                .map(|(&x, p)| (x, f(p)))
+                .map(|(&x, p)| (self.scale.to(x), f(p)))
                 .filter(|p| p.1.is_finite())
                 .collect(),
         )
     }
 
-    /// Spans of consecutive points in one zone: (from, to, zone), boundaries halfway between
-    /// neighbouring points.
+    /// Spans of consecutive points in one zone: (from, to, zone), in the chart's coordinates,
+    /// boundaries halfway between neighbouring points.
     pub fn zone_spans(&self) -> Vec<(f64, f64, u32)> {
-        let xs = &self.xs;
+        let xs = &self.positions();
         let mut out: Vec<(usize, usize, u32)> = Vec::new();
         for (i, p) in self.points.iter().enumerate() {
             match out.last_mut() {
@@ -908,7 +1033,7 @@ mod tests {
                     ("title", TITLE),
                     (range, 0.0..1.0),
                     ("x axis", "y axis"),
-                    grid,
+                    (grid, Scale::Linear),
                 )
                 .unwrap();
                 root.present().unwrap();
@@ -930,6 +1055,100 @@ mod tests {
         let labels = draw(0.0..20.0, &[]);
         let numbers = labels.iter().filter(|l| l.parse::<f64>().is_ok()).count();
         assert!(numbers >= 2 + 4 + 4, "{labels:?}");
+    }
+
+    /// The labels of an SVG with their `x` attribute.
+    fn placed_texts(svg: &str) -> Vec<(String, f64)> {
+        svg.split("<text")
+            .skip(1)
+            .filter_map(|t| {
+                let (tag, rest) = t.split_once('>')?;
+                let x = tag.split_once("x=\"")?.1.split_once('"')?.0.parse().ok()?;
+                Some((rest.split_once("</text>")?.0.trim().to_string(), x))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_geometric_grid_is_drawn_on_a_log_scale_with_its_values_equally_apart() {
+        // Geometric grids: units, the seismic showcases' clearances, a dense log-spaced sweep.
+        assert_eq!(Scale::of(&[1.0, 2.0, 4.0, 8.0]), Scale::Log);
+        assert_eq!(Scale::of(&[0.04, 0.02, 0.01, 0.005]), Scale::Log);
+        let dense: Vec<f64> = (0..40)
+            .map(|i| 1e-3 * 10f64.powf(i as f64 / 13.0))
+            .collect();
+        assert_eq!(Scale::of(&dense), Scale::Log);
+        // Even grids, a grid through zero (the bare structure's m = 0), two values: linear.
+        for linear in [
+            &[0.5, 0.6, 0.7, 0.8, 0.9][..],
+            &[0.005, 0.01, 0.015],
+            &[0.0, 0.05, 0.1, 0.2],
+            &[1.0, 8.0],
+            &[],
+        ] {
+            assert_eq!(Scale::of(linear), Scale::Linear, "{linear:?}");
+        }
+        // Ticks: every value of a short grid; on a dense log axis at most GRID_TICKS of them,
+        // first and last among them (plotters' would read log10 of the values).
+        assert_eq!(
+            Scale::Log.ticks(&[1.0, 2.0, 4.0, 8.0]),
+            [1.0, 2.0, 4.0, 8.0]
+        );
+        let t = Scale::Log.ticks(&dense);
+        assert!(t.len() <= GRID_TICKS && t.len() >= GRID_TICKS / 2, "{t:?}");
+        assert_eq!((t[0], t[t.len() - 1]), (dense[0], dense[39]));
+        assert!(Scale::Linear.ticks(&dense).is_empty());
+
+        // Drawn: units 1, 2, 4, 8 labelled equally apart, and the axis says it is logarithmic.
+        register_fonts();
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, (800, 600)).into_drawing_area();
+            let xs = [1.0, 2.0, 4.0, 8.0];
+            let scale = Scale::of(&xs);
+            let (a, b) = (scale.to(1.0) - 0.2, scale.to(8.0) + 0.2);
+            xy_chart(
+                &root,
+                ("title", TITLE),
+                (a..b, 0.0..1.0),
+                ("units (-)", "y axis"),
+                (&xs, scale),
+            )
+            .unwrap();
+            root.present().unwrap();
+        }
+        let placed = placed_texts(&svg);
+        let at = |label: &str| placed.iter().find(|(t, _)| t == label).map(|p| p.1);
+        let px: Vec<f64> = ["1", "2", "4", "8"]
+            .iter()
+            .map(|l| at(l).unwrap())
+            .collect();
+        let gaps: Vec<f64> = px.windows(2).map(|w| w[1] - w[0]).collect();
+        assert!(
+            gaps.iter().all(|g| (g - gaps[0]).abs() <= 1.0 && *g > 50.0),
+            "{px:?}"
+        );
+        assert!(at("units (-), log scale").is_some(), "{placed:?}");
+    }
+
+    #[test]
+    fn a_legend_goes_to_a_corner_clear_of_the_data_or_nowhere() {
+        let x = (0.0, 10.0);
+        let y = (0.0, 1.0);
+        // A line across the top (the bare structure's rate) and a point low on the left.
+        let spans = [(1.0, 0.05, 0.1), (5.0, 0.4, 0.6)];
+        assert_eq!(
+            clear_corner(&spans, &[0.9], x, y),
+            Some(SeriesLabelPosition::LowerRight)
+        );
+        // Nothing near the top: the upper right.
+        assert_eq!(
+            clear_corner(&spans, &[], x, y),
+            Some(SeriesLabelPosition::UpperRight)
+        );
+        // Whiskers reaching into every corner: none.
+        let spans = [(0.5, 0.0, 1.0), (9.5, 0.0, 1.0)];
+        assert_eq!(clear_corner(&spans, &[], x, y), None);
     }
 
     #[test]

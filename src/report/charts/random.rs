@@ -13,7 +13,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    Chart, DESIGN_COLORS, Data, GREY, LABEL, err, render, series_legend, shorten, xy_chart,
+    Chart, DESIGN_COLORS, Data, GREY, LABEL, Scale, err, render, series_legend, shorten, xy_chart,
 };
 use crate::reduce::Summary;
 use crate::reduce::random::RandomSummary;
@@ -48,7 +48,7 @@ impl Chart for FragilityChart {
             (&self.title, LABEL),
             (self.x.0..self.x.1, -0.02..1.02),
             (&self.x_desc, "P(max |x| > threshold)"),
-            &[],
+            (&[], Scale::Linear),
         )?;
         let colors = DESIGN_COLORS;
         let mut k = 0;

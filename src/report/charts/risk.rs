@@ -23,8 +23,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    BLUE, Chart, Data, GREY, SMALL, TITLE, cell_edges, colour_bar, err, heat, map_chart, pad,
-    render, series_legend, xy_chart,
+    BLUE, Chart, Data, GREY, LEGEND_SHARE, SMALL, Scale, TITLE, cell_edges, clear_corner,
+    colour_bar, err, heat, map_chart, minmax, pad, render, series_legend, xy_chart,
 };
 use crate::reduce::Summary;
 use crate::reduce::random::RandomSummary;
@@ -256,22 +256,24 @@ impl Chart for ProfileChart<'_> {
         DB::ErrorType: 'static,
     {
         let g = &self.s.grid;
-        let pts: Vec<(f64, Value)> = self
-            .designs
-            .iter()
-            .filter(|&&d| !g.without_damper(d))
-            .filter_map(|&d| self.n.of(d).map(|v| (g.value(d, self.axis), v)))
-            .collect();
         let xs: Vec<f64> = self
             .designs
             .iter()
             .map(|&d| g.value(d, self.axis))
             .collect();
-        let (x0, x1) = xs
+        // The axis on the scale its values are evenly spaced on (`m = 0` of the bare structure
+        // keeps it linear).
+        let scale = Scale::of(&xs);
+        let pts: Vec<(f64, Value)> = self
+            .designs
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-                (a.min(x), b.max(x))
-            });
+            .filter(|&&d| !g.without_damper(d))
+            .filter_map(|&d| {
+                let x = scale.to(g.value(d, self.axis));
+                self.n.of(d).map(|v| (x, v))
+            })
+            .collect();
+        let (x0, x1) = minmax(xs.iter().map(|&x| scale.to(x)));
         let step = if xs.len() > 1 {
             (x1 - x0) / (xs.len() - 1) as f64
         } else {
@@ -287,6 +289,24 @@ impl Chart for ProfileChart<'_> {
             (a.min(y), b.max(y))
         });
         let (y0, y1) = pad(y0, y1.max(y0 + 0.2), 0.1);
+        let x_range = (x0 - 0.5 * step, x1 + 0.5 * step);
+        // The legend in a corner clear of the whiskers and of the bare structure's line; where
+        // none is, room above everything for it.
+        let spans: Vec<(f64, f64, f64)> = pts
+            .iter()
+            .map(|&(x, v)| {
+                let lo = if v.lo > 0.0 { v.lo.log10() } else { y0 };
+                (x, lo, v.hi.log10().max(v.log()))
+            })
+            .collect();
+        let levels: Vec<f64> = self.bare.iter().map(|b| b.log()).collect();
+        let (corner, y1) = match clear_corner(&spans, &levels, x_range, (y0, y1)) {
+            Some(corner) => (corner, y1),
+            None => (
+                SeriesLabelPosition::UpperRight,
+                y0 + (y1 - y0) / (1.0 - LEGEND_SHARE.1),
+            ),
+        };
         let slice = slice_text(self.s, self.through, &[self.axis]);
         let title = format!(
             "{} along {}{}",
@@ -301,15 +321,15 @@ impl Chart for ProfileChart<'_> {
         let mut chart = xy_chart(
             root,
             (&title, TITLE),
-            ((x0 - 0.5 * step)..(x1 + 0.5 * step), y0..y1),
+            (x_range.0..x_range.1, y0..y1),
             (&axis_desc(g.key(self.axis)), &self.n.label),
-            &xs,
+            (&xs, scale),
         )?;
         if let Some(b) = self.bare {
             let y = b.log();
             chart
                 .draw_series(DashedLineSeries::new(
-                    [(x0 - 0.5 * step, y), (x1 + 0.5 * step, y)],
+                    [(x_range.0, y), (x_range.1, y)],
                     8,
                     5,
                     GREY.stroke_width(2),
@@ -359,7 +379,7 @@ impl Chart for ProfileChart<'_> {
                 .label("no run passed: below this bound")
                 .legend(|(x, y)| EmptyElement::at((x + 9, y)) + down());
         }
-        series_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+        series_legend(&mut chart, corner)?;
         Ok(())
     }
 }

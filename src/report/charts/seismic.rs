@@ -12,7 +12,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    Chart, DESIGN_COLORS, Data, GREY, LABEL, err, render, series_legend, shorten, xy_chart,
+    Chart, DESIGN_COLORS, Data, GREY, LABEL, Scale, err, render, series_legend, shorten, xy_chart,
 };
 use crate::reduce::Summary;
 use crate::reduce::random::RandomSummary;
@@ -72,7 +72,7 @@ impl CapacityChart {
             (title, LABEL),
             (self.x.0..self.x.1, y_range),
             (&self.x_desc, y_desc),
-            &[],
+            (&[], Scale::Linear),
         )?;
         let mut k = 0;
         for c in &self.curves {

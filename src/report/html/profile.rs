@@ -55,13 +55,16 @@ pub fn design_svg(pr: &Profile) -> String {
     let s = pr.s;
     let n = pr.points.len();
     let h = TOP + 3.0 * PANEL + 2.0 * GAP + 56.0;
+    // Cells and positions on the axis's scale (`Scale`: a geometric grid in log10); `x` places
+    // a value, `xp` a position.
     let edges = if n > 0 {
-        cell_edges(&pr.xs)
+        cell_edges(&pr.positions())
     } else {
         vec![0.0, 1.0]
     };
     let (x0, x1) = (edges[0], edges[edges.len() - 1]);
-    let x = |v: f64| LEFT + (W - LEFT - RIGHT) * (v - x0) / (x1 - x0).max(1e-300);
+    let xp = |p: f64| LEFT + (W - LEFT - RIGHT) * (p - x0) / (x1 - x0).max(1e-300);
+    let x = |v: f64| xp(pr.at_x(v));
     let panels = panels(pr);
     let mut o = format!(
         "<svg class=\"profile\" data-axes=\"{}\" data-points=\"{n}\" viewBox=\"0 0 {W} {h}\" width=\"{W}\" height=\"{h}\" xmlns=\"http://www.w3.org/2000/svg\" role=\"img\">\n",
@@ -72,8 +75,8 @@ pub fn design_svg(pr: &Profile) -> String {
         let _ = writeln!(
             o,
             "<rect class=\"band\" x=\"{:.2}\" y=\"{TOP}\" width=\"{:.2}\" height=\"{:.2}\" fill=\"{}\"/>",
-            x(edges[i]),
-            x(edges[i + 1]) - x(edges[i]),
+            xp(edges[i]),
+            xp(edges[i + 1]) - xp(edges[i]),
             3.0 * PANEL + 2.0 * GAP,
             hex(zone_color(s, p.zone))
         );
@@ -98,7 +101,7 @@ pub fn design_svg(pr: &Profile) -> String {
     }
     for (i, p) in pr.points.iter().enumerate() {
         let xc = x(pr.xs[i]);
-        let half = ((x(edges[i + 1]) - x(edges[i])) * 0.3).clamp(1.0, 8.0);
+        let half = ((xp(edges[i + 1]) - xp(edges[i])) * 0.3).clamp(1.0, 8.0);
         o += &point(s, p, xc, half, &panels);
     }
     o += &marks(pr, &x);
@@ -283,7 +286,7 @@ fn x_axis(pr: &Profile, x: &dyn Fn(f64) -> f64, bottom: f64) -> String {
         "<text class=\"desc\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
         LEFT + (W - LEFT - RIGHT) / 2.0,
         bottom + 40.0,
-        esc(&axis_desc(pr.key()))
+        esc(&pr.scale.desc(&axis_desc(pr.key())))
     );
     o
 }

@@ -11,7 +11,7 @@ use plotters::prelude::*;
 use super::di::{di_source, jump_keys, jump_lines};
 use crate::report::charts::plumbing::{
     BLUE, Chart, GREEN, GREY, Key, LABEL, LEGEND_PITCH, MANY, Profile, RED_LINE, SMALL, TITLE, err,
-    grid_ticks, legend_lines, legend_row, minmax, pad, with_headroom, x_ticks_at, zone_color,
+    legend_lines, legend_row, minmax, pad, with_headroom, x_ticks_at, zone_color,
 };
 use crate::report::text::{axis_desc, fmt_num};
 
@@ -250,7 +250,7 @@ impl DesignChart<'_> {
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(err)?;
         shade_zones(&mut chart, pr, (y0, y1))?;
-        let x_ticks = grid_ticks(&pr.xs);
+        let x_ticks = pr.scale.ticks(&pr.xs);
         let mut mesh = chart.configure_mesh();
         if !x_ticks.is_empty() {
             mesh.x_labels(0);
@@ -270,7 +270,7 @@ impl DesignChart<'_> {
             .light_line_style(TRANSPARENT)
             .draw()
             .map_err(err)?;
-        x_ticks_at(&plot, &chart, x_ticks, y0)?;
+        x_ticks_at(&plot, &chart, (&x_ticks, pr.scale), y0)?;
         if !has_r {
             use plotters::style::text_anchor::{HPos, Pos, VPos};
             chart
@@ -335,19 +335,19 @@ impl DesignChart<'_> {
             .set_secondary_coord(x0..x1, d0..d1);
         shade_zones(&mut chart, pr, (m0, m1))?;
         jump_lines(&mut chart, pr, (m0, m1))?;
-        let x_ticks = grid_ticks(&pr.xs);
+        let x_ticks = pr.scale.ticks(&pr.xs);
         let mut mesh = chart.configure_mesh();
         if !x_ticks.is_empty() {
             mesh.x_labels(0);
         }
-        mesh.x_desc(axis_desc(key))
+        mesh.x_desc(pr.scale.desc(&axis_desc(key)))
             .y_desc("safety factor μn (–)")
             .label_style(SMALL)
             .axis_desc_style(LABEL)
             .light_line_style(TRANSPARENT)
             .draw()
             .map_err(err)?;
-        x_ticks_at(&plot, &chart, x_ticks, m0)?;
+        x_ticks_at(&plot, &chart, (&x_ticks, pr.scale), m0)?;
         chart
             .configure_secondary_axes()
             .y_desc(s.options.damping.label())
@@ -380,7 +380,7 @@ impl Chart for DesignChart<'_> {
         DB::ErrorType: 'static,
     {
         let pr = self.0;
-        let x = minmax(pr.xs.iter().copied());
+        let x = minmax(pr.positions());
         let x = if x.1 > x.0 { x } else { pad(x.0, x.1, 0.5) };
         let title = if pr.slice.is_empty() {
             "Design chart: reliability, safety factor and damping by zone".to_string()

@@ -33,7 +33,7 @@ impl Chart for DiChart<'_> {
     {
         let pr = self.0;
         let s = pr.s;
-        let (x0, x1) = minmax(pr.xs.iter().copied());
+        let (x0, x1) = minmax(pr.positions());
         let (x0, x1) = if x1 > x0 { (x0, x1) } else { pad(x0, x1, 0.5) };
         let di = pr.series(|p| p.di);
         let (y0, y1) = minmax(di.iter().map(|p| p.1));
@@ -45,7 +45,7 @@ impl Chart for DiChart<'_> {
             (&title, TITLE),
             (x0..x1, y0..y1),
             (&axis_desc(pr.key()), &d.label()),
-            &pr.xs,
+            (&pr.xs, pr.scale),
         )?;
         let blue = crate::report::charts::plumbing::BLUE;
         chart
@@ -110,7 +110,7 @@ where
     jumps.sort_by(|a, b| a.location.total_cmp(&b.location));
     let mut seen: Vec<(JumpKind, crate::reduce::Quantity)> = Vec::new();
     for j in jumps {
-        let x = j.location;
+        let x = pr.at_x(j.location);
         let (name, _) = quantity_of(pr.s, j.quantity);
         let color = match j.kind {
             JumpKind::Step => STEP.mix(0.8),

@@ -27,7 +27,7 @@ impl Chart for SpreadChart<'_> {
     {
         let pr = self.0;
         let name = pr.s.options.response.name;
-        let xs = &pr.xs;
+        let xs = &pr.positions();
         let ((x0, x1), halves) = x_layout(xs);
         let cm = 100.0;
         let (y0, y1) = minmax(
@@ -47,7 +47,7 @@ impl Chart for SpreadChart<'_> {
             (&title, TITLE),
             (x0..x1, y0..y1),
             (&axis_desc(pr.key()), &format!("{name} (cm)")),
-            xs,
+            (&pr.xs, pr.scale),
         )?;
         let any_ideal = pr.points.iter().any(|p| p.response.ideal.is_finite());
         super::di::jump_lines(&mut chart, pr, (y0, y1))?;
@@ -124,7 +124,7 @@ impl Chart for SpreadChart<'_> {
             }
             first = false;
         }
-        let corner = legend_corner(pr, &halves, (x0, x1));
+        let corner = legend_corner(pr, (xs, &halves), (x0, x1));
         series_legend(&mut chart, corner)?;
         Ok(())
     }
@@ -133,12 +133,16 @@ impl Chart for SpreadChart<'_> {
 /// The upper corner for the boxes' legend: the left one unless the boxes and whiskers reach
 /// higher within the left fifth of the axis than within the right fifth (where the legend
 /// would hide the first box's whisker).
-fn legend_corner(pr: &Profile, halves: &[f64], (x0, x1): (f64, f64)) -> SeriesLabelPosition {
+fn legend_corner(
+    pr: &Profile,
+    (xs, halves): (&[f64], &[f64]),
+    (x0, x1): (f64, f64),
+) -> SeriesLabelPosition {
     let fifth = 0.2 * (x1 - x0);
     let top_within = |lo: f64, hi: f64| {
         pr.points
             .iter()
-            .zip(&pr.xs)
+            .zip(xs)
             .zip(halves)
             .filter(|((_, x), w)| **x + **w >= lo && **x - **w <= hi)
             .map(|((p, _), _)| p.response.max)
