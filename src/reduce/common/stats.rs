@@ -5,7 +5,6 @@
 //! Everything here is a pure function of numbers; the random generator of the bootstrap is
 //! built from a seed the caller passes in.
 
-use rand_core::Rng;
 use rand_pcg::Pcg64Mcg;
 use statrs::distribution::{ContinuousCDF, Normal};
 
@@ -136,7 +135,11 @@ pub fn safety_factor_paper(beta: f64, cn: f64) -> f64 {
 /// Since `R = Phi(beta)` is monotone in the index `beta`, the percentiles are taken on `beta`
 /// and mapped through `Phi`: the same interval, without rounding `R` to 1 along the way.
 /// Indices are drawn as `(u32 * n) >> 32` (Lemire's multiply-shift; the bias is below
-/// `n / 2^32`, far under the Monte Carlo error). `(NaN, NaN)` for fewer than 2 values.
+/// `n / 2^32`, far under the Monte Carlo error) from one `Pcg64Mcg` stream, resample after
+/// resample, two resamples at a time ([`PairedStream`]: the same draws, each resample's sums in
+/// the same order). `(NaN, NaN)` for fewer than 2 values. Not inlined: inside the reducer's
+/// point statistics its sums were kept on the stack.
+#[inline(never)]
 pub fn bootstrap_reliability(
     xs: &[f64],
     strength: &LogNormal,
@@ -148,38 +151,113 @@ pub fn bootstrap_reliability(
     if n < 2 || resamples == 0 {
         return (f64::NAN, f64::NAN);
     }
-    let mut rng = Pcg64Mcg::new(u128::from(seed) << 1 | 1);
+    let mut stream = PairedStream::new(Pcg64Mcg::new(u128::from(seed) << 1 | 1).state(), n);
     let mut betas = Vec::with_capacity(resamples);
-    let nf = n as f64;
-    let s_var = strength.sigma_ln * strength.sigma_ln;
+    let index = |draw: u64| ((u64::from(draw as u32) * n as u64) >> 32) as usize;
     // Shift by the first value to keep the sum of squares accurate.
     let shift = xs[0];
-    for _ in 0..resamples {
+    for _ in 0..resamples / 2 {
+        let (mut sa, mut s2a, mut sb, mut s2b) = (0.0, 0.0, 0.0, 0.0);
+        for _ in 0..n {
+            let (i, j) = stream.next_pair();
+            let (u, v) = (xs[index(i)] - shift, xs[index(j)] - shift);
+            sa += u;
+            s2a += u * u;
+            sb += v;
+            s2b += v * v;
+        }
+        stream.skip_block();
+        betas.push(resample_index(strength, shift, n, sa, s2a));
+        betas.push(resample_index(strength, shift, n, sb, s2b));
+    }
+    if resamples % 2 == 1 {
         let (mut s, mut s2) = (0.0, 0.0);
         for _ in 0..n {
-            let i = ((u64::from(rng.next_u32()) * n as u64) >> 32) as usize;
-            let v = xs[i] - shift;
-            s += v;
-            s2 += v * v;
+            let u = xs[index(stream.next_first())] - shift;
+            s += u;
+            s2 += u * u;
         }
-        let mean = shift + s / nf;
-        let var = ((s2 - s * s / nf) / (nf - 1.0)).max(0.0);
-        // `reliability_index` of `LogNormal::from_mean_sd(mean, var.sqrt())`, inlined: this
-        // loop runs `resamples` times per design point.
-        let l = (var / (mean * mean)).ln_1p();
-        let num = strength.mu_ln - (mean.ln() - l / 2.0);
-        let den = (s_var + l).sqrt();
-        betas.push(if den > 0.0 {
-            num / den
-        } else {
-            num.signum() * f64::INFINITY
-        });
+        betas.push(resample_index(strength, shift, n, s, s2));
     }
     let alpha = (1.0 - confidence) / 2.0;
     (
         phi(crate::numeric::quantile_mut(&mut betas, alpha)),
         phi(crate::numeric::quantile_mut(&mut betas, 1.0 - alpha)),
     )
+}
+
+/// The reliability index of one resample of `n` values from its sums `s` and `s2` of the values
+/// less `shift`: [`reliability_index`] of `LogNormal::from_mean_sd(mean, sd)`, inlined (it runs
+/// `resamples` times per design point).
+#[inline]
+fn resample_index(strength: &LogNormal, shift: f64, n: usize, s: f64, s2: f64) -> f64 {
+    let nf = n as f64;
+    let mean = shift + s / nf;
+    let var = ((s2 - s * s / nf) / (nf - 1.0)).max(0.0);
+    let l = (var / (mean * mean)).ln_1p();
+    let num = strength.mu_ln - (mean.ln() - l / 2.0);
+    let den = (strength.sigma_ln * strength.sigma_ln + l).sqrt();
+    if den > 0.0 {
+        num / den
+    } else {
+        num.signum() * f64::INFINITY
+    }
+}
+
+/// `Pcg64Mcg`'s stream (rand_pcg's `Mcg128Xsl64`: the state times a constant, then the XSL RR
+/// output) split into blocks of `block` draws, two consecutive blocks drawn side by side: chain
+/// `a` walks one block while chain `b` walks the next, then each jumps over the other's
+/// (`state * M^block`). The same draws as the generator's, in two independent multiply chains
+/// instead of one: a bootstrap's indices come about twice as fast (the 128-bit multiply's latency
+/// set the pace).
+struct PairedStream {
+    a: u128,
+    b: u128,
+    /// `M^block`, the jump over a block.
+    skip: u128,
+}
+
+/// rand_pcg's multiplier of `Mcg128Xsl64` (`pcg64_fast`).
+const PCG_MULTIPLIER: u128 = 0x2360_ED05_1FC6_5DA4_4385_DF64_9FCC_F645;
+
+impl PairedStream {
+    /// The stream of a generator in `state`, in blocks of `block` draws.
+    fn new(state: u128, block: usize) -> PairedStream {
+        let skip = (0..block).fold(1u128, |m, _| m.wrapping_mul(PCG_MULTIPLIER));
+        PairedStream {
+            a: state,
+            b: state.wrapping_mul(skip),
+            skip,
+        }
+    }
+
+    /// The output of a generator state (rand_pcg's `output_xsl_rr`).
+    #[inline(always)]
+    fn output(state: u128) -> u64 {
+        let rot = (state >> 122) as u32;
+        (((state >> 64) as u64) ^ (state as u64)).rotate_right(rot)
+    }
+
+    /// The next draw of the first block and of the second.
+    #[inline(always)]
+    fn next_pair(&mut self) -> (u64, u64) {
+        self.a = self.a.wrapping_mul(PCG_MULTIPLIER);
+        self.b = self.b.wrapping_mul(PCG_MULTIPLIER);
+        (Self::output(self.a), Self::output(self.b))
+    }
+
+    /// The next draw of the first block alone (the last, unpaired block).
+    #[inline(always)]
+    fn next_first(&mut self) -> u64 {
+        self.a = self.a.wrapping_mul(PCG_MULTIPLIER);
+        Self::output(self.a)
+    }
+
+    /// After both blocks are drawn: on to the next two.
+    fn skip_block(&mut self) {
+        self.a = self.a.wrapping_mul(self.skip);
+        self.b = self.b.wrapping_mul(self.skip);
+    }
 }
 
 /// Anderson–Darling test of normality with mean and variance estimated from the sample
@@ -258,6 +336,7 @@ pub fn of_best(v: f64, best: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand_core::Rng;
 
     fn close(a: f64, b: f64, tol: f64) -> bool {
         (a - b).abs() <= tol
@@ -354,6 +433,75 @@ mod tests {
         );
         assert!(a.0 < r && r < a.1, "{a:?} vs {r}");
         assert!(a.1 - a.0 > 1e-4);
+    }
+
+    /// The bootstrap as it was written first: one generator, one resample after the other.
+    fn bootstrap_one_stream(
+        xs: &[f64],
+        strength: &LogNormal,
+        resamples: usize,
+        confidence: f64,
+        seed: u64,
+    ) -> (f64, f64) {
+        let n = xs.len();
+        let mut rng = Pcg64Mcg::new(u128::from(seed) << 1 | 1);
+        let mut betas = Vec::with_capacity(resamples);
+        let shift = xs[0];
+        for _ in 0..resamples {
+            let (mut s, mut s2) = (0.0, 0.0);
+            for _ in 0..n {
+                let i = ((u64::from(rng.next_u32()) * n as u64) >> 32) as usize;
+                let v = xs[i] - shift;
+                s += v;
+                s2 += v * v;
+            }
+            betas.push(resample_index(strength, shift, n, s, s2));
+        }
+        let alpha = (1.0 - confidence) / 2.0;
+        (
+            phi(crate::numeric::quantile_mut(&mut betas, alpha)),
+            phi(crate::numeric::quantile_mut(&mut betas, 1.0 - alpha)),
+        )
+    }
+
+    #[test]
+    fn the_paired_stream_is_the_generators_stream_and_the_bootstrap_its_bits() {
+        // The two chains' draws, block after block, are the generator's own.
+        for (seed, block) in [(1u64, 1usize), (42, 2), (7, 5), (3, 28), (99, 101)] {
+            let mut rng = Pcg64Mcg::new(u128::from(seed) << 1 | 1);
+            let mut paired = PairedStream::new(rng.state(), block);
+            for _ in 0..4 {
+                let (mut first, mut second) = (Vec::new(), Vec::new());
+                for _ in 0..block {
+                    let (a, b) = paired.next_pair();
+                    first.push(a);
+                    second.push(b);
+                }
+                paired.skip_block();
+                let from_rng: Vec<u64> = (0..2 * block).map(|_| rng.next_u64()).collect();
+                assert_eq!(
+                    [first, second].concat(),
+                    from_rng,
+                    "seed {seed}, block {block}"
+                );
+            }
+            assert_eq!(paired.next_first(), rng.next_u64());
+        }
+        // The bootstrap's interval: the bits of one stream drawn resample after resample, for
+        // even and odd resample counts and small and large samples.
+        let strength = LogNormal::from_mean_sd(2.9, 0.1);
+        for (n, resamples, seed) in [(2, 4000, 1), (12, 2000, 42), (28, 1999, 5), (29, 7, 9)] {
+            let xs: Vec<f64> = (0..n)
+                .map(|i| 2.6 + 0.013 * ((i * 7) % 11) as f64)
+                .collect();
+            let a = bootstrap_reliability(&xs, &strength, resamples, 0.95, seed);
+            let b = bootstrap_one_stream(&xs, &strength, resamples, 0.95, seed);
+            assert_eq!(
+                (a.0.to_bits(), a.1.to_bits()),
+                (b.0.to_bits(), b.1.to_bits()),
+                "n {n}, resamples {resamples}"
+            );
+        }
     }
 
     #[test]
