@@ -208,7 +208,7 @@ fn resample_index(strength: &LogNormal, shift: f64, n: usize, s: f64, s2: f64) -
 /// output) split into blocks of `block` draws, two consecutive blocks drawn side by side: chain
 /// `a` walks one block while chain `b` walks the next, then each jumps over the other's
 /// (`state * M^block`). The same draws as the generator's, in two independent multiply chains
-/// instead of one, where the 128-bit multiply's latency set the pace: the bootstrap about 1.5
+/// instead of one, where the 128-bit multiply's latency set the pace: the bootstrap about 1.3
 /// times as fast (BENCHMARKS.md, "Reduce").
 struct PairedStream {
     a: u128,
