@@ -380,7 +380,7 @@ impl Scale {
         }
     }
 
-    /// The axis's description, `(log scale)` added on a log scale.
+    /// The axis's description, with `, log scale` after it on a log scale.
     pub fn desc(self, d: &str) -> String {
         match self {
             Scale::Linear => d.to_string(),
