@@ -8,10 +8,13 @@
 #   stripe  a 0.3-g stripe of Sa(T1) without a limit: the motion's own Sa, then its run at the
 #           stripe;
 #   design  the 0.2-g design stripe: own Sa, the run, and the capacity search's runs.
+#   issue   the plain study with `threshold = 0.0099` m in place of the yield coefficient: what
+#           the issue's base (`c6347dc`, which has neither Sa nor a yield coefficient) runs.
+# STUDIES picks among them (default "plain stripe design"; "issue" against `c6347dc`).
 # Prints a Markdown table (medians of ROUNDS, default 3, of user + system CPU, per realization)
 # and the load before and after.
 #
-#   BASE_BIN=/path/to/old/impactsweep NEW_BIN=/path/to/new/impactsweep \
+#   BASE_BIN=/path/to/old/impactsweep NEW_BIN=/path/to/new/impactsweep [STUDIES="…"] \
 #       scripts/bench_random_speed.sh [N] [ROUNDS]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,10 +32,13 @@ one_design plain | sed -e '/^intensity = /d' -e '/^design_intensity = /d' -e '/^
 one_design stripe | sed -e 's/^im = .*/im = [0.3]/' -e 's/^design_intensity = .*/design_intensity = 0.3/' \
     -e '/^yield_coefficient = /d' -e '/^\[hazard\]/,$d' > "$WORK/stripe.toml"
 one_design design | sed -e 's/^im = .*/im = [0.2]/' > "$WORK/design.toml"
+one_design issue | sed -e '/^intensity = /d' -e '/^design_intensity = /d' -e '/^im = /d' \
+    -e 's/^yield_coefficient = .*/threshold = 0.0099/' -e '/^\[hazard\]/,$d' > "$WORK/issue.toml"
+STUDIES=${STUDIES:-plain stripe design}
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); load before $(cut -d' ' -f1-3 /proc/loadavg)"
 declare -A T
 for r in $(seq 1 "$ROUNDS"); do
-    for study in plain stripe design; do
+    for study in $STUDIES; do
         for side in base new; do
             bin=$BASE_BIN
             [ "$side" = new ] && bin=$NEW_BIN
@@ -48,7 +54,7 @@ echo "load after $(cut -d' ' -f1-3 /proc/loadavg)"
 echo
 echo "| study | before (us/realization) | after | after / before | same records |"
 echo "|---|---|---|---|---|"
-for study in plain stripe design; do
+for study in $STUDIES; do
     med() { for r in $(seq 1 "$ROUNDS"); do echo "${T[$study,$1,$r]}"; done | sort -g |
         awk '{ a[NR] = $1 } END { print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2 }'; }
     b=$(med base)
