@@ -131,11 +131,11 @@ impl Ramp {
         }
     }
 
-    /// `[int x^2, int a^2]` over the piece from `(t0, x0, v0)` to `(t1, x1, v1)` of one smooth
-    /// phase of this motion (times local to the interval, s; m, m/s), `a` the absolute
-    /// acceleration ([`Ramp::absolute_accel`]), from the states at both ends by the equation of
-    /// motion's moments (module doc; units m^2 s and m^2 s^-3), with an estimate of their
-    /// rounding. Needs `c > 0`.
+    /// `int x^2` (m^2 s) and `int a^2` (m^2 s^-3) over the piece from `(t0, x0, v0)` to
+    /// `(t1, x1, v1)` of one smooth phase of this motion (times local to the interval, s; m,
+    /// m/s), `a` the absolute acceleration ([`Ramp::absolute_accel`]), from the states at both
+    /// ends by the equation of motion's moments (module doc), with a first-order estimate of
+    /// each one's rounding. Needs `c > 0`.
     pub fn squares_between(
         &self,
         (t0, x0, v0): (f64, f64, f64),
