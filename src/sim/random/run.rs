@@ -121,8 +121,9 @@ pub struct RandomRun {
     /// may pass the largest so far ([`Realization::monotone`]; `false` sends it to the event
     /// loop, as a test does).
     monotone: bool,
-    /// Whether a piece's integrals may be taken from its ends ([`Ramp::squares_between`], when
-    /// the structure is damped enough; `false` sends every piece to quadrature, as a test does).
+    /// Whether a piece's integrals may be taken from its ends within the rounding budget
+    /// ([`Ramp::squares_between`], [`FROM_ENDS_BUDGET`]; `false` sends every piece to
+    /// quadrature, as a test does).
     moments: bool,
     /// `dt / 3`: the Bézier points' step ([`hull`]).
     third: f64,
