@@ -4,7 +4,8 @@
 //! geometric grid from `LOW` times that capacity up to it, and the smallest one at which
 //! `max |x|` passes the limit. Where `max |x|` is monotone in the gain, that is the capacity to
 //! the grid's step; where it folds back, the search may report a later crossing. Prints the
-//! quantiles of `capacity / smallest passing` (1 where none below passes) as one line.
+//! quantiles of `capacity / smallest passing` (1 where none below passes) as the cells of one
+//! Markdown table row (`scripts/ida_scan.sh` writes `results/ida_scan.md` from them).
 //!
 //! `cargo run --release --example ida_scan -- STUDY.toml [REALIZATIONS] [N] [LOW]`
 //! (defaults 300, 140, 0.5: a grid step of 0.5 %)
@@ -52,12 +53,10 @@ fn main() {
     let q = |p: f64| ratios[((ratios.len() - 1) as f64 * p) as usize];
     let over = |x: f64| ratios.iter().filter(|&&r| r > x).count() as f64 / ratios.len() as f64;
     let gm = (ratios.iter().map(|r| r.ln()).sum::<f64>() / ratios.len() as f64).exp();
+    // One Markdown table row's cells (scripts/ida_scan.sh writes the rest).
     println!(
-        "{} motions ({runs} search runs), capacity / smallest passing on a {:.2} % grid down to \
-         {low} x: median {:.4}, 90 % {:.4}, 99 % {:.4}, max {:.4}; over 1.01 {:.3}, over 1.05 \
-         {:.3}, over 1.1 {:.3}; geometric mean {gm:.4}",
+        "{} | {runs} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.3} | {:.3} | {gm:.4}",
         ratios.len(),
-        100.0 * (low.ln().abs() / f64::from(n)).exp_m1(),
         q(0.5),
         q(0.9),
         q(0.99),
