@@ -270,23 +270,7 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         study.name,
         study.path.display()
     );
-    if study.axes.is_empty() {
-        let _ = writeln!(w, "axes:           none (one design point)");
-    }
-    for (i, a) in study.axes.iter().enumerate() {
-        let label = if i == 0 { "axes:" } else { "" };
-        let n = a.values.len();
-        let range = if n == 1 {
-            fmt_value(a.values[0])
-        } else {
-            format!(
-                "{} .. {}",
-                fmt_value(a.values[0]),
-                fmt_value(a.values[n - 1])
-            )
-        };
-        let _ = writeln!(w, "{label:<16}{} = {range} ({n} values)", a.key);
-    }
+    describe_axes(w, study);
     let n_cases = plan.n_cases();
     let noisy = study
         .cases
@@ -313,6 +297,49 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         );
     }
     let _ = writeln!(w, "total runs:     {}", plan.n_runs());
+    describe_noise(w, study);
+    match &study.scene {
+        Scene::Harmonic(h) => describe_harmonic(w, study, h),
+        Scene::Random(r) => describe_random(w, r, |k| study.axis(k).is_some()),
+        Scene::Free => describe_free(w, study),
+    }
+    describe_chunks(w, study, &plan);
+    if let Some(warning) = tiny_parts(&plan) {
+        let _ = writeln!(w, "warning:        {warning}");
+    }
+    let _ = writeln!(w, "output:         {}/", out.join(&study.name).display());
+    if let Some(sm) = sample
+        && sm.runs > 0
+    {
+        describe_time(w, study, &plan, threads, sm);
+    }
+    describe_disk(w, study, &plan, sample);
+    s
+}
+
+/// The swept axes, one line each with its range and number of values.
+fn describe_axes(w: &mut String, study: &Study) {
+    if study.axes.is_empty() {
+        let _ = writeln!(w, "axes:           none (one design point)");
+    }
+    for (i, a) in study.axes.iter().enumerate() {
+        let label = if i == 0 { "axes:" } else { "" };
+        let n = a.values.len();
+        let range = if n == 1 {
+            fmt_value(a.values[0])
+        } else {
+            format!(
+                "{} .. {}",
+                fmt_value(a.values[0]),
+                fmt_value(a.values[n - 1])
+            )
+        };
+        let _ = writeln!(w, "{label:<16}{} = {range} ({n} values)", a.key);
+    }
+}
+
+/// The measurement noise, on (its power, sample time and deviation per sample) or off.
+fn describe_noise(w: &mut String, study: &Study) {
     match &study.noise {
         Some(ns) => {
             let sd = (ns.power / ns.sample_time).sqrt();
@@ -328,11 +355,10 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
             let _ = writeln!(w, "noise:          off");
         }
     }
-    match &study.scene {
-        Scene::Harmonic(h) => describe_harmonic(w, study, h),
-        Scene::Random(r) => describe_random(w, r, |k| study.axis(k).is_some()),
-        Scene::Free => describe_free(w, study),
-    }
+}
+
+/// How the runs are cut into chunks: realizations of a design point, or design points.
+fn describe_chunks(w: &mut String, study: &Study, plan: &Plan) {
     if plan.blocks() > 1 {
         let _ = writeln!(
             w,
@@ -350,17 +376,6 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
             study.run.chunk_points
         );
     }
-    if let Some(warning) = tiny_parts(&plan) {
-        let _ = writeln!(w, "warning:        {warning}");
-    }
-    let _ = writeln!(w, "output:         {}/", out.join(&study.name).display());
-    if let Some(sm) = sample
-        && sm.runs > 0
-    {
-        describe_time(w, study, &plan, threads, sm);
-    }
-    describe_disk(w, study, &plan, sample);
-    s
 }
 
 /// The time estimate from the timed sample `sm`: its time per run scaled by the runs over the

@@ -28,4 +28,16 @@ impl Label {
             Label::NI => "NI",
         }
     }
+
+    /// The label of a bifurcation a two-parameter curve can follow, by its name ([`Label::name`]):
+    /// `SN`, `PD`, `NS` or `GR`; nothing for any other name.
+    pub fn of_name(name: &str) -> Option<Label> {
+        match name {
+            "SN" => Some(Label::SN),
+            "PD" => Some(Label::PD),
+            "NS" => Some(Label::NS),
+            "GR" => Some(Label::GR),
+            _ => None,
+        }
+    }
 }

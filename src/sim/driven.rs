@@ -141,6 +141,130 @@ impl<F: Driven> DrivenPhase<F> {
     }
 }
 
+/// The nearest event a step has found so far: the safe step `h` every watched function allows,
+/// and the event (with its step) that fires within the tolerance `tol_t`, if any.
+pub(crate) struct Nearest {
+    pub(crate) h: f64,
+    pub(crate) fired: Option<(Event, f64)>,
+    pub(crate) tol_t: f64,
+}
+
+impl Nearest {
+    /// Watched function `g` (derivatives `g1 … g3`, bounds `b2`, `b4` on the second and fourth)
+    /// for event `ev`: fires when its safe step is within the tolerance and it heads to zero
+    /// (the nearest such wins), else shortens the step to its safe step. Returns that safe
+    /// step.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn consider(
+        &mut self,
+        ev: Event,
+        g: f64,
+        g1: f64,
+        g2: f64,
+        g3: f64,
+        b2: f64,
+        b4: f64,
+    ) -> f64 {
+        let hi = safe_step(g, g1, g2, g3, b2, b4);
+        if hi <= self.tol_t && toward(g1, g2) {
+            if self.fired.is_none_or(|(_, hf)| hi < hf) {
+                self.fired = Some((ev, hi));
+            }
+        } else if hi < self.h {
+            self.h = hi;
+        }
+        hi
+    }
+}
+
+impl<F: Driven> DrivenPhase<F> {
+    /// The bounds on the derivatives of `x` over the step: the phasors' where a design-life
+    /// measurement runs (a floor set; computed once per limit `t_limit` and held), the census
+    /// and every other run the energy bounds, step for step, and their bits.
+    #[inline]
+    fn bounds(&mut self, w: &Watch) -> [f64; 6] {
+        let f = self.f;
+        let h = w.t_limit - self.t;
+        if F::PHASE_BOUNDS && w.x_floor > 0.0 {
+            match self.held {
+                Some((limit, b)) if limit == w.t_limit => b,
+                _ => {
+                    let b = f.bounds_over(&self.jet, h);
+                    self.held = Some((w.t_limit, b));
+                    b
+                }
+            }
+        } else {
+            f.bounds(&self.jet)
+        }
+    }
+
+    /// The walls, the zero of `x` and the separation from the stuck pair, each as watched
+    /// (`w`), with the bounds `b`, into `near`.
+    #[inline]
+    fn watch(&self, w: &Watch, b: &[f64; 6], near: &mut Nearest) {
+        let f = self.f;
+        let Jet { x, v, a, j, .. } = self.jet;
+        if let Some(walls) = &w.walls {
+            // z = y - x; the inner mass is a cubic in time (a line when it does not
+            // accelerate, and then the gaps' derivatives are those of -x or +x).
+            let (y, yv, ya, yj) = walls.at(self.t);
+            let z = y - x;
+            let z1 = yv - v;
+            let b2 = b[2] + walls.ya_max;
+            near.consider(
+                Event::Wall(Wall::Right),
+                walls.half_d - z,
+                -z1,
+                a - ya,
+                j - yj,
+                b2,
+                b[4],
+            );
+            near.consider(
+                Event::Wall(Wall::Left),
+                z + walls.half_d,
+                z1,
+                -(a - ya),
+                -(j - yj),
+                b2,
+                b[4],
+            );
+        }
+        if let Some(s) = w.x_side {
+            near.consider(Event::XZero, s * x, s * v, s * a, s * j, b[2], b[4]);
+        }
+        if let Some(s) = w.sep_side {
+            let ([g, g1, g2, g3], b2, b4) = separation(&f, &self.jet, self.t, b);
+            near.consider(Event::Separation, s * g, s * g1, s * g2, s * g3, b2, b4);
+        }
+    }
+}
+
+/// The stuck pair's contact function `C v + K x - L` at `t` (contact holds while `s` times it
+/// stays `>= 0`, module doc) with its first three derivatives, and the bounds on its second and
+/// fourth from the bounds `b` on `x`'s.
+#[inline]
+pub(crate) fn separation<F: Driven>(
+    f: &F,
+    jet: &Jet,
+    t: f64,
+    b: &[f64; 6],
+) -> ([f64; 4], f64, f64) {
+    let (c, k) = (f.oscillator().c, f.oscillator().k);
+    let Jet { x, v, a, j, j2, .. } = *jet;
+    let [fo, f1, f2, f3] = f.contact_load(t);
+    let g = c * v + k * x - fo;
+    let g1 = c * a + k * v - f1;
+    let g2 = c * j + k * a - f2;
+    let g3 = c * j2 + k * j - f3;
+    let (l2, l4) = f.contact_load_bounds();
+    let b2 = c * b[3] + k * b[2] + l2;
+    let b4 = c * b[5] + k * b[4] + l4;
+    ([g, g1, g2, g3], b2, b4)
+}
+
 impl<F: Driven> PhaseSolver for DrivenPhase<F> {
     type Motion = F;
 
@@ -168,87 +292,27 @@ impl<F: Driven> PhaseSolver for DrivenPhase<F> {
     }
 
     fn next_event(&mut self, w: &Watch) -> Result<Event, StepCap> {
-        let f = self.f;
-        let (c, k) = (f.oscillator().c, f.oscillator().k);
         loop {
             self.steps += 1;
             if self.steps > self.max_steps {
                 return Err(StepCap);
             }
-            let Jet { x, v, a, j, j2, .. } = self.jet;
-            let mut h = w.t_limit - self.t;
-            // The phasors' bounds where a design-life measurement runs (a floor set): the
-            // census and every other run keep the energy bounds, step for step, and their bits.
-            let b = if F::PHASE_BOUNDS && w.x_floor > 0.0 {
-                match self.held {
-                    Some((limit, b)) if limit == w.t_limit => b,
-                    _ => {
-                        let b = f.bounds_over(&self.jet, h);
-                        self.held = Some((w.t_limit, b));
-                        b
-                    }
-                }
-            } else {
-                f.bounds(&self.jet)
+            let Jet { x, v, a, j, .. } = self.jet;
+            let b = self.bounds(w);
+            let mut near = Nearest {
+                h: w.t_limit - self.t,
+                fired: None,
+                tol_t: self.tol_t,
             };
-            let mut fired: Option<(Event, f64)> = None;
-            let tol_t = self.tol_t;
-            let mut consider = |ev: Event, g: f64, g1: f64, g2: f64, g3: f64, b2: f64, b4: f64| {
-                let hi = safe_step(g, g1, g2, g3, b2, b4);
-                if hi <= tol_t && toward(g1, g2) {
-                    if fired.is_none_or(|(_, hf)| hi < hf) {
-                        fired = Some((ev, hi));
-                    }
-                } else if hi < h {
-                    h = hi;
-                }
-            };
-            if let Some(walls) = &w.walls {
-                // z = y - x; the inner mass is a cubic in time (a line when it does not
-                // accelerate, and then the gaps' derivatives are those of -x or +x).
-                let (y, yv, ya, yj) = walls.at(self.t);
-                let z = y - x;
-                let z1 = yv - v;
-                let b2 = b[2] + walls.ya_max;
-                consider(
-                    Event::Wall(Wall::Right),
-                    walls.half_d - z,
-                    -z1,
-                    a - ya,
-                    j - yj,
-                    b2,
-                    b[4],
-                );
-                consider(
-                    Event::Wall(Wall::Left),
-                    z + walls.half_d,
-                    z1,
-                    -(a - ya),
-                    -(j - yj),
-                    b2,
-                    b[4],
-                );
-            }
-            if let Some(s) = w.x_side {
-                consider(Event::XZero, s * x, s * v, s * a, s * j, b[2], b[4]);
-            }
-            if let Some(s) = w.sep_side {
-                // Contact holds while s (C v + K x - L) >= 0 (module doc).
-                let [fo, f1, f2, f3] = f.contact_load(self.t);
-                let g = c * v + k * x - fo;
-                let g1 = c * a + k * v - f1;
-                let g2 = c * j + k * a - f2;
-                let g3 = c * j2 + k * j - f3;
-                let (l2, l4) = f.contact_load_bounds();
-                let b2 = c * b[3] + k * b[2] + l2;
-                let b4 = c * b[5] + k * b[4] + l4;
-                consider(Event::Separation, s * g, s * g1, s * g2, s * g3, b2, b4);
-            }
+            self.watch(w, &b, &mut near);
+            let Nearest {
+                mut h, mut fired, ..
+            } = near;
             // The velocity last: an extremum polished now must lie within the others' safe
             // step `h`.
             let mut v_unwatched = None;
             if let Some(s) = w.v_side {
-                let (g, g1, g2, g3) = (s * v, s * a, s * j, s * j2);
+                let (g, g1, g2, g3) = (s * v, s * a, s * j, s * self.jet.j2);
                 let hi = safe_step(g, g1, g2, g3, b[3], b[5]);
                 // A step shorter than the others' is worth taking only when v allows less.
                 let shortest = if hi < h { hi } else { 0.5 * h };
@@ -261,7 +325,7 @@ impl<F: Driven> PhaseSolver for DrivenPhase<F> {
                     // |x| stays below the floor over the step: no extremum to locate in it.
                     h = tau;
                     v_unwatched = Some(s);
-                } else if hi <= tol_t && toward(g1, g2) {
+                } else if hi <= self.tol_t && toward(g1, g2) {
                     if fired.is_none_or(|(_, hf)| hi < hf) {
                         fired = Some((Event::VZero, hi));
                     }

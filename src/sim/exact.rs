@@ -63,6 +63,7 @@
 //! an exponential and a sine. Every evaluation counts as a step against `max_steps`.
 
 use std::f64::consts::{FRAC_1_PI, PI, TAU};
+use std::ops::ControlFlow;
 
 use super::linear::{Kinematics, Oscillator};
 use super::phase::{Event, PhaseSolver, StepCap, Wall, Walls, Watch, toward};
@@ -553,8 +554,49 @@ impl ExactPhase {
         if t_end.is_nan() || t_end <= now.t {
             return Ok((None, None));
         }
-        // The main mass stays within sqrt(2E/K) of its rest position (energy never increases):
-        // a wall is out of reach while the inner mass's line keeps farther from it than that.
+        let from = self.out_of_reach(wl, &now);
+        let start = from[0].min(from[1]);
+        if start >= t_end {
+            return Ok((None, None));
+        }
+        let mut p = if start > now.t {
+            self.eval(start)?
+        } else {
+            now
+        };
+        let (mut t_inf, mut sign) = self.inflection_after(p.t);
+        loop {
+            // March through the piece: each trial point either brackets a root or shows there
+            // is none before it (see the module doc), so the next trial starts from it.
+            if p.t >= t_inf {
+                (t_inf, sign) = self.inflection_after(p.t);
+            }
+            let piece_end = t_inf.min(t_end);
+            let mut trial = match self.trial(wl, &p, &from, (piece_end, sign)) {
+                ControlFlow::Break(wall) => return Ok((Some((wall, p)), None)),
+                ControlFlow::Continue(t) => t,
+            };
+            if trial.is_nan() || trial <= p.t {
+                trial = piece_end;
+            }
+            let q = self.eval(trial)?;
+            let hit = self.first_root(wl, (p, q), &from, sign)?;
+            if hit.is_some() {
+                return Ok((hit, None));
+            }
+            if q.t >= t_end {
+                return Ok((None, Some(q)));
+            }
+            p = q;
+        }
+    }
+
+    /// When each wall (in [`WALLS`]' order) can first be reached from `now`: the main mass
+    /// stays within `sqrt(2E/K)` of its rest position (energy never increases), so a wall is out
+    /// of reach while the inner mass's line keeps farther from it than that. `now.t` for a wall
+    /// already within reach, infinity for one the inner mass moves away from.
+    #[inline]
+    fn out_of_reach(&self, wl: &Walls, now: &Pt) -> [f64; 2] {
         // reach^2 = 2E/K, inflated far beyond its rounding; the square root only when a wall
         // may be out of reach.
         let reach2 = 2.0 * self.osc.energy(now.x, now.v) / self.osc.k * (1.0 + 1e-9) + 1e-300;
@@ -573,81 +615,80 @@ impl ExactPhase {
                 };
             }
         }
-        let start = from[0].min(from[1]);
-        if start >= t_end {
-            return Ok((None, None));
+        from
+    }
+
+    /// The next trial time from `p` on the piece ending at `piece_end` of convexity `sign`: a
+    /// thousandth of the tolerance short of each reachable wall's cubic-model root, or the
+    /// piece's end; `Break(wall)` where `p` is at a wall within the tolerance.
+    #[inline]
+    fn trial(
+        &self,
+        wl: &Walls,
+        p: &Pt,
+        from: &[f64; 2],
+        (piece_end, sign): (f64, f64),
+    ) -> ControlFlow<Wall, f64> {
+        let ap = self.accel(p.x, p.v);
+        let jp = self.jerk(ap, p.v);
+        let mut trial = piece_end;
+        for (i, (wall, sg)) in WALLS.into_iter().enumerate() {
+            if from[i] >= piece_end {
+                continue;
+            }
+            let (g, g1) = gap(wl, sg, p);
+            let g = g.max(0.0);
+            if g1 < 0.0 && g <= -g1 * self.tol_t {
+                // Heading into the wall and its tangent meets it within the tolerance: on a
+                // concave piece the root lies before the tangent's zero; on a convex one
+                // this is the tangent step below the tolerance that declares a contact.
+                return ControlFlow::Break(wall);
+            }
+            if sg * sign > 0.0 && (g1 >= 0.0 || g >= -g1 * (piece_end - p.t)) {
+                continue; // convex and above its tangent, positive to the piece's end
+            }
+            // Aim a thousandth of the tolerance short of the local cubic model's root: once
+            // the model is that good the trial lands on the positive side, at the wall to
+            // well within the tolerance.
+            let h = model_root(g, g1, sg * ap, sg * jp, true);
+            let t = p.t + h;
+            trial = trial.min(t - self.aim(t));
         }
-        let mut p = if start > now.t {
-            self.eval(start)?
-        } else {
-            now
-        };
-        let (mut t_inf, mut sign) = self.inflection_after(p.t);
-        loop {
-            // March through the piece: each trial point either brackets a root or shows there
-            // is none before it (see the module doc), so the next trial starts from it.
-            if p.t >= t_inf {
-                (t_inf, sign) = self.inflection_after(p.t);
+        ControlFlow::Continue(trial)
+    }
+
+    /// The first wall contact between the trial points `p` and `q` (piece convexity `sign`):
+    /// a root bracketed by `q` below a wall, or a dip below it between them on a convex piece.
+    #[inline]
+    fn first_root(
+        &mut self,
+        wl: &Walls,
+        (p, q): (Pt, Pt),
+        from: &[f64; 2],
+        sign: f64,
+    ) -> Result<Option<(Wall, Pt)>, Stop> {
+        let mut hit: Option<(Wall, Pt)> = None;
+        for (i, (wall, sg)) in WALLS.into_iter().enumerate() {
+            if from[i] > q.t {
+                continue;
             }
-            let piece_end = t_inf.min(t_end);
-            let ap = self.accel(p.x, p.v);
-            let jp = self.jerk(ap, p.v);
-            let mut trial = piece_end;
-            for (i, (wall, sg)) in WALLS.into_iter().enumerate() {
-                if from[i] >= piece_end {
-                    continue;
-                }
-                let (g, g1) = gap(wl, sg, &p);
-                let g = g.max(0.0);
-                if g1 < 0.0 && g <= -g1 * self.tol_t {
-                    // Heading into the wall and its tangent meets it within the tolerance: on a
-                    // concave piece the root lies before the tangent's zero; on a convex one
-                    // this is the tangent step below the tolerance that declares a contact.
-                    return Ok((Some((wall, p)), None));
-                }
-                if sg * sign > 0.0 && (g1 >= 0.0 || g >= -g1 * (piece_end - p.t)) {
-                    continue; // convex and above its tangent, positive to the piece's end
-                }
-                // Aim a thousandth of the tolerance short of the local cubic model's root: once
-                // the model is that good the trial lands on the positive side, at the wall to
-                // well within the tolerance.
-                let h = model_root(g, g1, sg * ap, sg * jp, true);
-                let t = p.t + h;
-                trial = trial.min(t - self.aim(t));
+            let conv = sg * sign;
+            let (gp, g1p) = gap(wl, sg, &p);
+            let (gq, g1q) = gap(wl, sg, &q);
+            let root = if gq <= 0.0 {
+                Some(self.refine(wl, sg, p, q, conv)?)
+            } else if conv > 0.0 && gp > 0.0 && g1p < 0.0 && g1q > 0.0 {
+                self.dip(wl, sg, p, q)?
+            } else {
+                None
+            };
+            if let Some(r) = root
+                && hit.is_none_or(|(_, h)| r.t < h.t)
+            {
+                hit = Some((wall, r));
             }
-            if trial.is_nan() || trial <= p.t {
-                trial = piece_end;
-            }
-            let q = self.eval(trial)?;
-            let mut hit: Option<(Wall, Pt)> = None;
-            for (i, (wall, sg)) in WALLS.into_iter().enumerate() {
-                if from[i] > q.t {
-                    continue;
-                }
-                let conv = sg * sign;
-                let (gp, g1p) = gap(wl, sg, &p);
-                let (gq, g1q) = gap(wl, sg, &q);
-                let root = if gq <= 0.0 {
-                    Some(self.refine(wl, sg, p, q, conv)?)
-                } else if conv > 0.0 && gp > 0.0 && g1p < 0.0 && g1q > 0.0 {
-                    self.dip(wl, sg, p, q)?
-                } else {
-                    None
-                };
-                if let Some(r) = root
-                    && hit.is_none_or(|(_, h)| r.t < h.t)
-                {
-                    hit = Some((wall, r));
-                }
-            }
-            if hit.is_some() {
-                return Ok((hit, None));
-            }
-            if q.t >= t_end {
-                return Ok((None, Some(q)));
-            }
-            p = q;
         }
+        Ok(hit)
     }
 
     /// Refines the root bracketed by `lo` (gap `> 0`, or at zero leaving) and `hi` (gap `<= 0`)

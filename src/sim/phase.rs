@@ -755,29 +755,41 @@ impl<'a, M: Motion> EventMap<'a, M> {
             });
         }
         if let Some(wall) = closing {
-            // Units stuck on the other wall cannot stay: the main mass accelerates off them.
-            for u in &mut self.units {
-                if u.stuck.is_some_and(|w| w != wall) {
-                    u.stuck = None;
-                }
-            }
-            // The plastic closing: the new stuck units and the main mass (with what it
-            // carried) at their common velocity, momentum conserved.
-            let (mut p, mut mass) = (self.carried * va, self.carried);
-            for h in out.iter().filter(|h| h.stuck) {
-                let u = &self.units[h.unit];
-                p += u.m * u.w;
-                mass += u.m;
-            }
-            let common = p / mass;
-            self.s.v = common;
-            for u in &mut self.units {
-                if u.stuck.is_some() {
-                    u.w = common;
-                }
-            }
-            self.sticks += 1;
+            self.close_onto(wall, &out, va);
         }
+        self.carry_stuck();
+        self.mirror();
+        out
+    }
+
+    /// The plastic closing at `wall` after an impact that left the main mass at `va`: units
+    /// stuck on the other wall let go (the main mass accelerates off them); the new stuck units
+    /// of `out` and the main mass (with what it carried) move on at their common velocity,
+    /// momentum conserved.
+    fn close_onto(&mut self, wall: Wall, out: &[Hit], va: f64) {
+        for u in &mut self.units {
+            if u.stuck.is_some_and(|w| w != wall) {
+                u.stuck = None;
+            }
+        }
+        let (mut p, mut mass) = (self.carried * va, self.carried);
+        for h in out.iter().filter(|h| h.stuck) {
+            let u = &self.units[h.unit];
+            p += u.m * u.w;
+            mass += u.m;
+        }
+        let common = p / mass;
+        self.s.v = common;
+        for u in &mut self.units {
+            if u.stuck.is_some() {
+                u.w = common;
+            }
+        }
+        self.sticks += 1;
+    }
+
+    /// The main mass carries its own mass and that of the stuck units.
+    fn carry_stuck(&mut self) {
         let carried = self.sys.M
             + self
                 .units
@@ -786,8 +798,6 @@ impl<'a, M: Motion> EventMap<'a, M> {
                 .map(|u| u.m)
                 .sum::<f64>();
         self.carry(carried);
-        self.mirror();
-        out
     }
 
     /// Whether every unit of `hits` would stick by the chatter rule after an impact that

@@ -234,26 +234,9 @@ where
     F: Fn(&[f64]) -> f64 + Sync,
 {
     let s = settings;
-    let ns = (1.0 / s.p0).round() as usize;
-    let valid = dim > 0
-        && (0.01..=0.5).contains(&s.p0)
-        && ((1.0 / s.p0) - ns as f64).abs() < 1e-9
-        && s.n >= 10 * ns
-        && s.n.is_multiple_of(ns)
-        && s.spread.is_finite()
-        && s.spread > 0.0
-        && s.max_levels >= 1;
-    if !valid {
-        return SubsetResult {
-            outcome: SubsetOutcome::Invalid,
-            p_f: f64::NAN,
-            cov: f64::NAN,
-            cov_upper: f64::NAN,
-            levels: Vec::new(),
-            evaluations: 0,
-            non_finite: 0,
-        };
-    }
+    let Some(ns) = seeds_per_chain(dim, s) else {
+        return SubsetResult::invalid();
+    };
     let response = |u: &[f64]| {
         let v = y(u);
         if v.is_nan() { f64::NEG_INFINITY } else { v }
@@ -321,14 +304,51 @@ where
         acceptance = accepted as f64 / (s.n - above) as f64;
         samples = next;
     }
-    let deltas = result.levels.iter().map(|l| l.delta);
-    result.cov = deltas.clone().map(|d| d * d).sum::<f64>().sqrt();
-    result.cov_upper = deltas.sum();
-    if result.p_f == 0.0 {
-        result.cov = f64::INFINITY;
-        result.cov_upper = f64::INFINITY;
-    }
+    result.covs();
     result
+}
+
+/// `1 / p0`, the samples each seed grows to, when `settings` are valid for `dim` inputs: `p0`
+/// in `[0.01, 0.5]` with `1 / p0` an integer, `n` a multiple of it and at least ten times it, a
+/// finite positive spread, at least one level; `None` otherwise.
+fn seeds_per_chain(dim: usize, s: &SubsetSettings) -> Option<usize> {
+    let ns = (1.0 / s.p0).round() as usize;
+    let valid = dim > 0
+        && (0.01..=0.5).contains(&s.p0)
+        && ((1.0 / s.p0) - ns as f64).abs() < 1e-9
+        && s.n >= 10 * ns
+        && s.n.is_multiple_of(ns)
+        && s.spread.is_finite()
+        && s.spread > 0.0
+        && s.max_levels >= 1;
+    valid.then_some(ns)
+}
+
+impl SubsetResult {
+    /// The result of invalid settings: no level, every figure NaN.
+    fn invalid() -> SubsetResult {
+        SubsetResult {
+            outcome: SubsetOutcome::Invalid,
+            p_f: f64::NAN,
+            cov: f64::NAN,
+            cov_upper: f64::NAN,
+            levels: Vec::new(),
+            evaluations: 0,
+            non_finite: 0,
+        }
+    }
+
+    /// The estimate's coefficients of variation from its levels' `delta`: uncorrelated levels
+    /// (the root of the sum of squares) and fully correlated (the sum); infinite for `p_f = 0`.
+    fn covs(&mut self) {
+        let deltas = self.levels.iter().map(|l| l.delta);
+        self.cov = deltas.clone().map(|d| d * d).sum::<f64>().sqrt();
+        self.cov_upper = deltas.sum();
+        if self.p_f == 0.0 {
+            self.cov = f64::INFINITY;
+            self.cov_upper = f64::INFINITY;
+        }
+    }
 }
 
 /// The seed of repeat `r` of a run seeded `seed` ([`subset_repeats`]): `seed` itself for

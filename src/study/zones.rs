@@ -143,43 +143,50 @@ pub(super) fn zones(cx: &Cx, raw: &RawZones, axes: &[Axis]) -> Result<Zones, Inp
         }
         zones.di_strong = Some(di);
     }
-    for (i, z) in rz.zone.iter().enumerate() {
-        let at = format!("[zones].zone[{i}]");
-        if z.name.trim().is_empty() || rz.zone[..i].iter().any(|o| o.name == z.name) {
-            return Err(cx.err(
-                &format!("{at}.name"),
-                format!("{:?}", z.name),
-                "a zone needs a non-empty name, unique in the study",
-            ));
-        }
-        if !axes.iter().any(|a| a.key == z.axis) {
-            let swept: Vec<&str> = axes.iter().map(|a| a.key.as_str()).collect();
-            return Err(cx.err(
-                &format!("{at}.axis"),
-                format!("{:?}", z.axis),
-                format!(
-                    "a zone is a range of a swept axis; swept: {}",
-                    if swept.is_empty() {
-                        "none".to_string()
-                    } else {
-                        swept.join(", ")
-                    }
-                ),
-            ));
-        }
-        if !(z.from.is_finite() && z.to.is_finite() && z.from < z.to) {
-            return Err(cx.err(
-                &format!("{at}.to"),
-                num(z.to),
-                format!("must be a finite number > from = {}", num(z.from)),
-            ));
-        }
-        zones.declared.push(DeclaredZone {
-            name: z.name.clone(),
-            axis: z.axis.clone(),
-            from: z.from,
-            to: z.to,
-        });
+    for i in 0..rz.zone.len() {
+        zones.declared.push(declared(cx, &rz.zone, i, axes)?);
     }
     Ok(zones)
+}
+
+/// The validated declared zone `i` of `all`: a name unique among them, a swept axis, and a
+/// range `from < to`.
+fn declared(cx: &Cx, all: &[RawZone], i: usize, axes: &[Axis]) -> Result<DeclaredZone, InputError> {
+    let z = &all[i];
+    let at = format!("[zones].zone[{i}]");
+    if z.name.trim().is_empty() || all[..i].iter().any(|o| o.name == z.name) {
+        return Err(cx.err(
+            &format!("{at}.name"),
+            format!("{:?}", z.name),
+            "a zone needs a non-empty name, unique in the study",
+        ));
+    }
+    if !axes.iter().any(|a| a.key == z.axis) {
+        let swept: Vec<&str> = axes.iter().map(|a| a.key.as_str()).collect();
+        return Err(cx.err(
+            &format!("{at}.axis"),
+            format!("{:?}", z.axis),
+            format!(
+                "a zone is a range of a swept axis; swept: {}",
+                if swept.is_empty() {
+                    "none".to_string()
+                } else {
+                    swept.join(", ")
+                }
+            ),
+        ));
+    }
+    if !(z.from.is_finite() && z.to.is_finite() && z.from < z.to) {
+        return Err(cx.err(
+            &format!("{at}.to"),
+            num(z.to),
+            format!("must be a finite number > from = {}", num(z.from)),
+        ));
+    }
+    Ok(DeclaredZone {
+        name: z.name.clone(),
+        axis: z.axis.clone(),
+        from: z.from,
+        to: z.to,
+    })
 }

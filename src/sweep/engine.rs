@@ -171,23 +171,7 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
             dir.display()
         ));
     }
-    let fresh = Manifest::new(
-        &study.name,
-        &study.source,
-        study.seed,
-        sizes(&plan, study.run.chunk_points),
-    );
-    if let Some(problem) = journal::start(&dir, &fresh)? {
-        warn(&format!(
-            "{}: manifest.json {problem}; rebuilt from the journals and the part files (each \
-             part is verified)",
-            dir.display()
-        ));
-    }
-    let mut journal = Journal::open(&dir, opts.shard)?;
-    journal.append(&Entry::Shard {
-        shard: format!("{}/{}", opts.shard.0, opts.shard.1),
-    })?;
+    let (fresh, mut journal) = open_journal(&study, &plan, &dir, opts)?;
 
     // 2. What is already done.
     let ledger = journal::load(&dir, &fresh)?;
@@ -205,22 +189,7 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
         .context("starting the thread pool")?;
     let algorithm = ledger.manifest.algorithm();
     let (outcomes, written) = pool
-        .install(|| match study.scene {
-            Scene::Free => {
-                write_chunks::<Record>(&plan, &dir, &pending, opts, algorithm, &mut journal)
-            }
-            Scene::Harmonic(_) => {
-                write_chunks::<HarmonicRecord>(&plan, &dir, &pending, opts, algorithm, &mut journal)
-            }
-            Scene::Random(_) => write_chunks::<RealizationRecord>(
-                &plan,
-                &dir,
-                &pending,
-                opts,
-                algorithm,
-                &mut journal,
-            ),
-        })
+        .install(|| write_scene(&plan, &dir, &pending, opts, algorithm, &mut journal))
         .with_context(|| {
             format!(
                 "the sweep stopped; every chunk written so far is kept: once the cause below is \
@@ -262,6 +231,54 @@ pub fn run_study(study: &Study, out_root: &Path, opts: &SweepOptions) -> Result<
         wall: start.elapsed(),
         audit,
     })
+}
+
+/// The run's manifest as this study and plan make it, checked against (or rebuilding) the one
+/// on disk, and this shard's journal opened with its first line.
+fn open_journal(
+    study: &Study,
+    plan: &Plan,
+    dir: &Path,
+    opts: &SweepOptions,
+) -> Result<(Manifest, Journal)> {
+    let fresh = Manifest::new(
+        &study.name,
+        &study.source,
+        study.seed,
+        sizes(plan, study.run.chunk_points),
+    );
+    if let Some(problem) = journal::start(dir, &fresh)? {
+        warn(&format!(
+            "{}: manifest.json {problem}; rebuilt from the journals and the part files (each \
+             part is verified)",
+            dir.display()
+        ));
+    }
+    let mut journal = Journal::open(dir, opts.shard)?;
+    journal.append(&Entry::Shard {
+        shard: format!("{}/{}", opts.shard.0, opts.shard.1),
+    })?;
+    Ok((fresh, journal))
+}
+
+/// [`write_chunks`] with the study's scene's records.
+fn write_scene(
+    plan: &Plan,
+    dir: &Path,
+    pending: &[u64],
+    opts: &SweepOptions,
+    algorithm: Checksum,
+    journal: &mut Journal,
+) -> Result<(BTreeMap<String, u64>, u64)> {
+    match plan.study.scene {
+        Scene::Free => write_chunks::<Record>(plan, dir, pending, opts, algorithm, journal),
+        Scene::Harmonic(_) => {
+            write_chunks::<HarmonicRecord>(plan, dir, pending, opts, algorithm, journal)
+        }
+        Scene::Random(_) => {
+            write_chunks::<RealizationRecord>(plan, dir, pending, opts, algorithm, journal)
+        }
+    }
 }
 
 /// A warning on stderr (the run goes on).

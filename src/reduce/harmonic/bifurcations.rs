@@ -98,35 +98,25 @@ pub fn curves(
             .iter()
             .filter(|b| b.located && b.multiplier_max.is_finite());
         for b in seeds {
-            let label = match b.label {
-                "SN" => Label::SN,
-                "PD" => Label::PD,
-                "NS" => Label::NS,
-                "GR" => Label::GR,
-                _ => continue,
+            let Some(label) = Label::of_name(b.label) else {
+                continue;
             };
             for &(a, axis) in axes.iter().filter(|(a, _)| wanted(resp.design, *a)) {
-                let line = (0..grid.n_axes())
-                    .map(|k| {
-                        if k == a {
-                            usize::MAX
-                        } else {
-                            grid.index(resp.design, k)
-                        }
-                    })
-                    .collect();
-                lines.entry((a, line)).or_default().push(Candidate {
-                    order,
-                    design: resp.design,
-                    axis,
-                    r_range: (r_lo, r_hi),
-                    seed: Seed {
-                        f: base.at_ratio(b.r),
-                        s: b.s,
-                        period: b.period,
-                        label,
-                    },
-                });
+                lines
+                    .entry((a, line_of(grid, resp.design, a)))
+                    .or_default()
+                    .push(Candidate {
+                        order,
+                        design: resp.design,
+                        axis,
+                        r_range: (r_lo, r_hi),
+                        seed: Seed {
+                            f: base.at_ratio(b.r),
+                            s: b.s,
+                            period: b.period,
+                            label,
+                        },
+                    });
                 order += 1;
             }
         }
@@ -139,6 +129,20 @@ pub fn curves(
         .collect();
     out.sort_by_key(|(order, _)| *order);
     out.into_iter().map(|(_, c)| c).collect()
+}
+
+/// The line through `design` along axis `a`: its index on every other axis, `usize::MAX` on
+/// `a` itself.
+fn line_of(grid: &Grid, design: u64, a: usize) -> Vec<usize> {
+    (0..grid.n_axes())
+        .map(|k| {
+            if k == a {
+                usize::MAX
+            } else {
+                grid.index(design, k)
+            }
+        })
+        .collect()
 }
 
 /// A located point to follow along one axis: its place in the table's order, its design, the

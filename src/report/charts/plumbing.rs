@@ -294,6 +294,9 @@ pub fn with_headroom(lo: f64, hi: f64, min_span: f64) -> (f64, f64) {
     (lo - 0.08 * span, hi + 0.24 * span)
 }
 
+/// A chart of two linear `f64` axes, as [`xy_chart`] builds it.
+pub type Plot<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
 /// An x–y chart on `area`: its caption, the ranges, a light grid and the axis descriptions.
 /// An x axis over a design axis (`x_grid`, the grid's values; empty for a continuous axis) is
 /// labelled at those values alone, as the report writes them ([`Scale::ticks`]), where it has
@@ -306,7 +309,7 @@ pub fn xy_chart<'a, DB: DrawingBackend + 'a>(
     (x, y): (std::ops::Range<f64>, std::ops::Range<f64>),
     (x_desc, y_desc): (&str, &str),
     (x_grid, scale): (&[f64], Scale),
-) -> anyhow::Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>>
+) -> anyhow::Result<Plot<'a, DB>>
 where
     DB::ErrorType: 'static,
 {
@@ -637,7 +640,7 @@ pub fn map_chart<'a, DB: DrawingBackend + 'a>(
     (eb, ea): (&[f64], &[f64]),
     (vb, va): (&[f64], &[f64]),
     (x_desc, y_desc): (&str, &str),
-) -> anyhow::Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>>
+) -> anyhow::Result<Plot<'a, DB>>
 where
     DB::ErrorType: 'static,
 {

@@ -23,7 +23,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plumbing::{
-    BLUE, Chart, Data, GREY, LEGEND_SHARE, SMALL, Scale, TITLE, cell_edges, clear_corner,
+    BLUE, Chart, Data, GREY, LEGEND_SHARE, Plot, SMALL, Scale, TITLE, cell_edges, clear_corner,
     colour_bar, err, heat, map_chart, minmax, pad, render, series_legend, xy_chart,
 };
 use crate::reduce::Summary;
@@ -250,11 +250,23 @@ struct ProfileChart<'a> {
     bare: Option<Value>,
 }
 
-impl Chart for ProfileChart<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
-    where
-        DB::ErrorType: 'static,
-    {
+/// Where a profile chart's points go: the swept values and their scale, the drawn designs'
+/// `(x, value)` on that scale, the axes' ranges (`log10` of the number upward) and the
+/// legend's corner.
+struct ProfileFrame {
+    xs: Vec<f64>,
+    scale: Scale,
+    pts: Vec<(f64, Value)>,
+    x_range: (f64, f64),
+    y_range: (f64, f64),
+    corner: SeriesLabelPosition,
+}
+
+impl ProfileChart<'_> {
+    /// The frame: every design's value and interval on the axes, padded, and the legend in a
+    /// corner clear of the whiskers and of the bare structure's line; where none is, room above
+    /// everything for it.
+    fn frame(&self) -> ProfileFrame {
         let g = &self.s.grid;
         let xs: Vec<f64> = self
             .designs
@@ -290,8 +302,6 @@ impl Chart for ProfileChart<'_> {
         });
         let (y0, y1) = pad(y0, y1.max(y0 + 0.2), 0.1);
         let x_range = (x0 - 0.5 * step, x1 + 0.5 * step);
-        // The legend in a corner clear of the whiskers and of the bare structure's line; where
-        // none is, room above everything for it.
         let spans: Vec<(f64, f64, f64)> = pts
             .iter()
             .map(|&(x, v)| {
@@ -307,79 +317,129 @@ impl Chart for ProfileChart<'_> {
                 y0 + (y1 - y0) / (1.0 - LEGEND_SHARE.1),
             ),
         };
+        ProfileFrame {
+            xs,
+            scale,
+            pts,
+            x_range,
+            y_range: (y0, y1),
+            corner,
+        }
+    }
+
+    /// The chart's title: the number along the axis, and the slice through the best design.
+    fn title(&self) -> String {
         let slice = slice_text(self.s, self.through, &[self.axis]);
-        let title = format!(
+        format!(
             "{} along {}{}",
             self.n.what,
-            g.key(self.axis),
+            self.s.grid.key(self.axis),
             if slice.is_empty() {
                 String::new()
             } else {
                 format!(" at {slice}")
             }
-        );
-        let mut chart = xy_chart(
-            root,
-            (&title, TITLE),
-            (x_range.0..x_range.1, y0..y1),
-            (&axis_desc(g.key(self.axis)), &self.n.label),
-            (&xs, scale),
-        )?;
-        if let Some(b) = self.bare {
-            let y = b.log();
-            chart
-                .draw_series(DashedLineSeries::new(
-                    [(x_range.0, y), (x_range.1, y)],
-                    8,
-                    5,
-                    GREY.stroke_width(2),
-                ))
-                .map_err(err)?
-                .label(format!(
-                    "no damper: {}{}",
-                    if b.bound { "< " } else { "" },
-                    short(b.v)
-                ))
-                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], GREY.stroke_width(2)));
-        }
-        let whisker = |&(x, v): &(f64, Value)| {
-            let lo = if v.lo > 0.0 { v.lo.log10() } else { y0 };
-            PathElement::new(vec![(x, lo), (x, v.hi.log10())], BLUE.stroke_width(2))
-        };
-        chart
-            .draw_series(pts.iter().map(whisker))
-            .map_err(err)?
-            .label("95 % interval")
-            .legend(|(x, y)| PathElement::new(vec![(x + 9, y - 6), (x + 9, y + 6)], BLUE));
-        chart
-            .draw_series(LineSeries::new(
-                pts.iter()
-                    .filter(|p| !p.1.bound)
-                    .map(|(x, v)| (*x, v.log())),
-                BLUE.mix(0.6).stroke_width(1),
-            ))
-            .map_err(err)?;
+        )
+    }
+}
+
+/// The structure without a damper as a dashed line across the chart, at its number `b`.
+fn draw_bare<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Plot<'a, DB>,
+    b: Value,
+    x_range: (f64, f64),
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let y = b.log();
+    chart
+        .draw_series(DashedLineSeries::new(
+            [(x_range.0, y), (x_range.1, y)],
+            8,
+            5,
+            GREY.stroke_width(2),
+        ))
+        .map_err(err)?
+        .label(format!(
+            "no damper: {}{}",
+            if b.bound { "< " } else { "" },
+            short(b.v)
+        ))
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], GREY.stroke_width(2)));
+    Ok(())
+}
+
+/// The designs' intervals as whiskers (from the axis' foot `y0` where the lower end is 0),
+/// their estimates as dots joined by a line, and the bounds of designs where no run passed as
+/// downward arrows.
+fn draw_designs<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Plot<'a, DB>,
+    pts: &[(f64, Value)],
+    y0: f64,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let whisker = |&(x, v): &(f64, Value)| {
+        let lo = if v.lo > 0.0 { v.lo.log10() } else { y0 };
+        PathElement::new(vec![(x, lo), (x, v.hi.log10())], BLUE.stroke_width(2))
+    };
+    chart
+        .draw_series(pts.iter().map(whisker))
+        .map_err(err)?
+        .label("95 % interval")
+        .legend(|(x, y)| PathElement::new(vec![(x + 9, y - 6), (x + 9, y + 6)], BLUE));
+    chart
+        .draw_series(LineSeries::new(
+            pts.iter()
+                .filter(|p| !p.1.bound)
+                .map(|(x, v)| (*x, v.log())),
+            BLUE.mix(0.6).stroke_width(1),
+        ))
+        .map_err(err)?;
+    chart
+        .draw_series(
+            pts.iter()
+                .filter(|p| !p.1.bound)
+                .map(|(x, v)| Circle::new((*x, v.log()), 5, BLUE.filled())),
+        )
+        .map_err(err)?
+        .label("estimate")
+        .legend(|(x, y)| Circle::new((x + 9, y), 5, BLUE.filled()));
+    if pts.iter().any(|p| p.1.bound) {
         chart
             .draw_series(
                 pts.iter()
-                    .filter(|p| !p.1.bound)
-                    .map(|(x, v)| Circle::new((*x, v.log()), 5, BLUE.filled())),
+                    .filter(|p| p.1.bound)
+                    .map(|(x, v)| EmptyElement::at((*x, v.log())) + down()),
             )
             .map_err(err)?
-            .label("estimate")
-            .legend(|(x, y)| Circle::new((x + 9, y), 5, BLUE.filled()));
-        if pts.iter().any(|p| p.1.bound) {
-            chart
-                .draw_series(
-                    pts.iter()
-                        .filter(|p| p.1.bound)
-                        .map(|(x, v)| EmptyElement::at((*x, v.log())) + down()),
-                )
-                .map_err(err)?
-                .label("no run passed: below this bound")
-                .legend(|(x, y)| EmptyElement::at((x + 9, y)) + down());
+            .label("no run passed: below this bound")
+            .legend(|(x, y)| EmptyElement::at((x + 9, y)) + down());
+    }
+    Ok(())
+}
+
+impl Chart for ProfileChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let f = self.frame();
+        let key = self.s.grid.key(self.axis);
+        let mut chart = xy_chart(
+            root,
+            (&self.title(), TITLE),
+            (f.x_range.0..f.x_range.1, f.y_range.0..f.y_range.1),
+            (&axis_desc(key), &self.n.label),
+            (&f.xs, f.scale),
+        )?;
+        if let Some(b) = self.bare {
+            draw_bare(&mut chart, b, f.x_range)?;
         }
-        series_legend(&mut chart, corner)?;
+        draw_designs(&mut chart, &f.pts, f.y_range.0)?;
+        series_legend(&mut chart, f.corner)?;
         Ok(())
     }
 }
@@ -420,32 +480,17 @@ struct MapChart<'a> {
     through: u64,
 }
 
-impl Chart for MapChart<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+impl MapChart<'_> {
+    /// The lines above the map: what the colours span where they were widened
+    /// ([`colour_span`]), the slice, the ring and the bounds.
+    fn notes<DB: DrawingBackend>(
+        &self,
+        sub: &DrawingArea<DB, Shift>,
+        widened: bool,
+    ) -> anyhow::Result<()>
     where
         DB::ErrorType: 'static,
     {
-        use plotters::style::text_anchor::{HPos, Pos, VPos};
-        let g = &self.s.grid;
-        let (va, vb) = (&g.axes[self.a].1, &g.axes[self.b].1);
-        let (ea, eb) = (cell_edges(va), cell_edges(vb));
-        let title = format!(
-            "{} over {} and {}",
-            self.n.what,
-            g.key(self.a),
-            g.key(self.b)
-        );
-        let cells: Vec<(u64, Option<Value>)> =
-            self.designs.iter().map(|&d| (d, self.n.of(d))).collect();
-        let (l0, l1) = cells
-            .iter()
-            .filter_map(|c| c.1.map(|v| v.log()))
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
-                (a.min(y), b.max(y))
-            });
-        let (l0, l1, widened) = colour_span(l0, l1, &cells);
-        let root = root.titled(&title, TITLE).map_err(err)?;
-        let (sub, rest) = root.split_vertically(if widened { 44 } else { 26 });
         if widened {
             sub.draw(&Text::new(
                 "the colours span the median 95 % interval: the values differ by less than it",
@@ -468,18 +513,23 @@ impl Chart for MapChart<'_> {
             SMALL.into_font().color(&BLACK),
         ))
         .map_err(err)?;
-        let (area, legend) = rest.split_horizontally(rest.dim_in_pixel().0 as i32 - 190);
-        let mut chart = map_chart(
-            &area,
-            (&eb, &ea),
-            (vb, va),
-            (&axis_desc(g.key(self.b)), &axis_desc(g.key(self.a))),
-        )?;
-        let rect = |d: u64| {
-            let (ia, ib) = (g.index(d, self.a), g.index(d, self.b));
-            [(eb[ib], ea[ia]), (eb[ib + 1], ea[ia + 1])]
-        };
-        // The lowest number brightest.
+        Ok(())
+    }
+
+    /// The cells, coloured by `log10` of their number over the span `(l0, l1)` (the lowest
+    /// brightest; grey without one), each labelled with its value. `rect`: a design's cell.
+    fn draw_cells<'a, DB: DrawingBackend + 'a>(
+        &self,
+        chart: &mut Plot<'a, DB>,
+        cells: &[(u64, Option<Value>)],
+        rect: impl Fn(u64) -> [(f64, f64); 2],
+        (l0, l1): (f64, f64),
+    ) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        use plotters::style::text_anchor::{HPos, Pos, VPos};
+        let g = &self.s.grid;
         let shade = |v: &Value| heat(1.0 - (v.log() - l0) / (l1 - l0).max(1e-12));
         chart
             .draw_series(cells.iter().map(|(d, v)| {
@@ -506,22 +556,74 @@ impl Chart for MapChart<'_> {
                 Some(Text::new(text, at, font(v)))
             }))
             .map_err(err)?;
-        // The best design's cell, inset.
-        let [(x0, y0), (x1, y1)] = rect(self.through);
-        let (w, h) = ((x1 - x0) * 0.06, (y1 - y0) * 0.06);
-        let ring = [
-            (x0 + w, y0 + h),
-            (x1 - w, y0 + h),
-            (x1 - w, y1 - h),
-            (x0 + w, y1 - h),
-            (x0 + w, y0 + h),
-        ];
-        chart
-            .draw_series([
-                PathElement::new(ring.to_vec(), WHITE.stroke_width(4)),
-                PathElement::new(ring.to_vec(), BLACK.stroke_width(2)),
-            ])
-            .map_err(err)?;
+        Ok(())
+    }
+}
+
+/// A ring just inside the cell `[(x0, y0), (x1, y1)]` (the best design's), white under black.
+fn draw_ring<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Plot<'a, DB>,
+    [(x0, y0), (x1, y1)]: [(f64, f64); 2],
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let (w, h) = ((x1 - x0) * 0.06, (y1 - y0) * 0.06);
+    let ring = [
+        (x0 + w, y0 + h),
+        (x1 - w, y0 + h),
+        (x1 - w, y1 - h),
+        (x0 + w, y1 - h),
+        (x0 + w, y0 + h),
+    ];
+    chart
+        .draw_series([
+            PathElement::new(ring.to_vec(), WHITE.stroke_width(4)),
+            PathElement::new(ring.to_vec(), BLACK.stroke_width(2)),
+        ])
+        .map_err(err)?;
+    Ok(())
+}
+
+impl Chart for MapChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let g = &self.s.grid;
+        let (va, vb) = (&g.axes[self.a].1, &g.axes[self.b].1);
+        let (ea, eb) = (cell_edges(va), cell_edges(vb));
+        let title = format!(
+            "{} over {} and {}",
+            self.n.what,
+            g.key(self.a),
+            g.key(self.b)
+        );
+        let cells: Vec<(u64, Option<Value>)> =
+            self.designs.iter().map(|&d| (d, self.n.of(d))).collect();
+        let (l0, l1) = cells
+            .iter()
+            .filter_map(|c| c.1.map(|v| v.log()))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+                (a.min(y), b.max(y))
+            });
+        let (l0, l1, widened) = colour_span(l0, l1, &cells);
+        let root = root.titled(&title, TITLE).map_err(err)?;
+        let (sub, rest) = root.split_vertically(if widened { 44 } else { 26 });
+        self.notes(&sub, widened)?;
+        let (area, legend) = rest.split_horizontally(rest.dim_in_pixel().0 as i32 - 190);
+        let mut chart = map_chart(
+            &area,
+            (&eb, &ea),
+            (vb, va),
+            (&axis_desc(g.key(self.b)), &axis_desc(g.key(self.a))),
+        )?;
+        let rect = |d: u64| {
+            let (ia, ib) = (g.index(d, self.a), g.index(d, self.b));
+            [(eb[ib], ea[ia]), (eb[ib + 1], ea[ia + 1])]
+        };
+        self.draw_cells(&mut chart, &cells, rect, (l0, l1))?;
+        draw_ring(&mut chart, rect(self.through))?;
         colour_bar(
             &legend.margin(50, 50, 6, 0),
             &self.n.bar,

@@ -5,6 +5,7 @@
 
 use std::path::Path;
 
+use plotters::coord::combinators::LogCoord;
 use plotters::prelude::*;
 
 /// One solver's points `(time per run in s, relative error)`, in ladder order.
@@ -53,26 +54,7 @@ where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE)?;
-    let pts = || {
-        series
-            .iter()
-            .flat_map(|s| s.points.iter())
-            .filter(|p| p.0.is_finite() && p.0 > 0.0 && p.1.is_finite())
-            .map(|&(t, e)| (t, e.max(FLOOR)))
-    };
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, goal, goal);
-    for (t, e) in pts() {
-        x0 = x0.min(t);
-        x1 = x1.max(t);
-        y0 = y0.min(e);
-        y1 = y1.max(e);
-    }
-    if !x0.is_finite() {
-        (x0, x1) = (1e-6, 1e-3);
-    }
-    let (x0, x1) = (x0 / 2.0, x1 * 2.0);
-    // Four decades of room above the highest point hold the legend.
-    let (y0, y1) = (y0 / 5.0, y1 * 1e4);
+    let ((x0, x1), (y0, y1)) = ranges(series, goal);
     let mut chart = ChartBuilder::on(&root)
         .caption(
             "Speed against accuracy (lower left is better)",
@@ -100,40 +82,8 @@ where
         ))?
         .label(format!("goal: {} %", goal * 100.0))
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
-    let palette = [
-        RGBColor(31, 119, 180),
-        RGBColor(214, 39, 40),
-        RGBColor(44, 160, 44),
-        RGBColor(148, 103, 189),
-        RGBColor(255, 127, 14),
-        RGBColor(140, 86, 75),
-    ];
     for (i, s) in series.iter().enumerate() {
-        let color = palette[i % palette.len()];
-        let points: Vec<(f64, f64)> = s
-            .points
-            .iter()
-            .filter(|p| p.0.is_finite() && p.0 > 0.0 && p.1.is_finite())
-            .map(|&(t, e)| (t, e.max(FLOOR)))
-            .collect();
-        if s.peer {
-            chart
-                .draw_series(
-                    points
-                        .iter()
-                        .map(|&p| TriangleMarker::new(p, 9, color.filled())),
-                )?
-                .label(s.name.clone())
-                .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 7, color.filled()));
-        } else {
-            chart
-                .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))?
-                .label(s.name.clone())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
-            chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, color.filled())))?;
-        }
+        draw_series(&mut chart, s, PALETTE[i % PALETTE.len()])?;
     }
     chart
         .configure_series_labels()
@@ -145,3 +95,79 @@ where
     root.present()?;
     Ok(())
 }
+
+/// The axes' ranges `((x0, x1), (y0, y1))` around every finite point (errors floored at
+/// [`FLOOR`]) and the goal, with room: half and twice the times, a fifth of the lowest error,
+/// and four decades above the highest for the legend.
+fn ranges(series: &[Series], goal: f64) -> ((f64, f64), (f64, f64)) {
+    let pts = || {
+        series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|p| p.0.is_finite() && p.0 > 0.0 && p.1.is_finite())
+            .map(|&(t, e)| (t, e.max(FLOOR)))
+    };
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, goal, goal);
+    for (t, e) in pts() {
+        x0 = x0.min(t);
+        x1 = x1.max(t);
+        y0 = y0.min(e);
+        y1 = y1.max(e);
+    }
+    if !x0.is_finite() {
+        (x0, x1) = (1e-6, 1e-3);
+    }
+    let (x0, x1) = (x0 / 2.0, x1 * 2.0);
+    // Four decades of room above the highest point hold the legend.
+    let (y0, y1) = (y0 / 5.0, y1 * 1e4);
+    ((x0, x1), (y0, y1))
+}
+
+/// A solver's colours, in the series' order.
+const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+];
+
+/// One series in `color`: a peer as triangles, a solver as a line through dots.
+fn draw_series<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, LogChart>,
+    s: &Series,
+    color: RGBColor,
+) -> Result<(), Box<dyn std::error::Error>>
+where
+    DB::ErrorType: 'static,
+{
+    let points: Vec<(f64, f64)> = s
+        .points
+        .iter()
+        .filter(|p| p.0.is_finite() && p.0 > 0.0 && p.1.is_finite())
+        .map(|&(t, e)| (t, e.max(FLOOR)))
+        .collect();
+    if s.peer {
+        chart
+            .draw_series(
+                points
+                    .iter()
+                    .map(|&p| TriangleMarker::new(p, 9, color.filled())),
+            )?
+            .label(s.name.clone())
+            .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 7, color.filled()));
+    } else {
+        chart
+            .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))?
+            .label(s.name.clone())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+        chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, color.filled())))?;
+    }
+    Ok(())
+}
+
+/// The chart's coordinates: both axes logarithmic.
+type LogChart = Cartesian2d<LogCoord<f64>, LogCoord<f64>>;

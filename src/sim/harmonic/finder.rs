@@ -44,7 +44,9 @@
 // Every test `!(a < b)` here also rejects a NaN: a bracket is kept only on numbers that prove it.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use crate::sim::driven::{Driven, Jet, below_floor, polished_extremum, skip_step};
+use crate::sim::driven::{
+    Driven, Jet, Nearest, below_floor, polished_extremum, separation, skip_step,
+};
 use crate::sim::phase::{Event, PhaseSolver, StepCap, Wall, Walls, Watch, safe_step, toward};
 
 /// The bracket is tried when the quartic model's root moves by at most this fraction of its
@@ -362,6 +364,97 @@ fn cubic_max(c: &[f64; 4], lo: f64, hi: f64) -> f64 {
     top
 }
 
+impl<F: Driven> Bracketed<F> {
+    /// As [`crate::sim::driven::DrivenPhase`]'s: the phasors' bounds where a floor is set (held
+    /// per limit), else the energy bounds.
+    #[inline]
+    fn bounds(&mut self, w: &Watch) -> [f64; 6] {
+        let h = w.t_limit - self.t;
+        if F::PHASE_BOUNDS && w.x_floor > 0.0 {
+            match self.held {
+                Some((limit, b)) if limit == w.t_limit => b,
+                _ => {
+                    let b = self.f.bounds_over(&self.jet, h);
+                    self.held = Some((w.t_limit, b));
+                    b
+                }
+            }
+        } else {
+            self.f.bounds(&self.jet)
+        }
+    }
+
+    /// The walls, the zero of `x` and the separation, each as watched (`w`), into `nr`; returns
+    /// the nearer wall's gap with its safe step, both gaps, and the shortest safe step of every
+    /// function but the nearer wall (for the bracket).
+    #[allow(clippy::type_complexity)]
+    fn watch(
+        &self,
+        w: &Watch,
+        b: &[f64; 6],
+        nr: &mut Nearest,
+    ) -> (Option<(Gap, f64)>, Option<(Gap, Gap)>, f64) {
+        let Jet { x, v, a, j, .. } = self.jet;
+        let mut h_other = nr.h;
+        let mut near: Option<(Gap, f64)> = None;
+        let mut gaps = None;
+        if let Some(walls) = &w.walls {
+            let (right, left) = self.gaps(walls, b);
+            let [g, g1, g2, g3, _] = right.d;
+            let hr = nr.consider(Event::Wall(Wall::Right), g, g1, g2, g3, right.b2, b[4]);
+            let [g, g1, g2, g3, _] = left.d;
+            let hl = nr.consider(Event::Wall(Wall::Left), g, g1, g2, g3, left.b2, b[4]);
+            let (nearer, hn, hf) = if hr <= hl {
+                (right, hr, hl)
+            } else {
+                (left, hl, hr)
+            };
+            near = Some((nearer, hn));
+            h_other = h_other.min(hf);
+            gaps = Some((right, left));
+        }
+        if let Some(s) = w.x_side {
+            let hi = nr.consider(Event::XZero, s * x, s * v, s * a, s * j, b[2], b[4]);
+            h_other = h_other.min(hi);
+        }
+        if let Some(s) = w.sep_side {
+            let ([g, g1, g2, g3], b2, b4) = separation(&self.f, &self.jet, self.t, b);
+            let hi = nr.consider(Event::Separation, s * g, s * g1, s * g2, s * g3, b2, b4);
+            h_other = h_other.min(hi);
+        }
+        (near, gaps, h_other)
+    }
+
+    /// The event `ev` fired within the tolerance at step `hi`: past the separation, or an
+    /// impact polished to its root within what the other functions allow (`h_other`).
+    fn fire(
+        &mut self,
+        w: &Watch,
+        (ev, hi): (Event, f64),
+        gaps: Option<(Gap, Gap)>,
+        b5: f64,
+        h_other: f64,
+    ) {
+        let tol_t = self.tol_t;
+        if ev == Event::Separation
+            && let Some(side) = w.sep_side
+        {
+            self.step_past_separation(side, hi);
+        }
+        if let Event::Wall(wall) = ev
+            && let (Some(walls), Some((right, left))) = (&w.walls, gaps)
+        {
+            // Polish to the root, within what the other functions allow.
+            let gap = if wall == Wall::Right { right } else { left };
+            let lo = self.t;
+            let reach = h_other.max(0.0);
+            if gap.d[1] < 0.0 {
+                self.polish(walls, wall, b5, lo, lo + reach.min(4.0 * tol_t));
+            }
+        }
+    }
+}
+
 impl<F: Driven> PhaseSolver for Bracketed<F> {
     type Motion = F;
 
@@ -390,97 +483,25 @@ impl<F: Driven> PhaseSolver for Bracketed<F> {
     /// [`crate::sim::driven::DrivenPhase`]'s event finder with the bracket of the module doc at
     /// each step a wall limits, and every impact polished to its root.
     fn next_event(&mut self, w: &Watch) -> Result<Event, StepCap> {
-        let f = self.f;
-        let (c, k) = (f.oscillator().c, f.oscillator().k);
         loop {
             self.steps += 1;
             if self.steps > self.max_steps {
                 return Err(StepCap);
             }
             let Jet { x, v, a, j, j2, .. } = self.jet;
-            let mut h = w.t_limit - self.t;
-            let b = if F::PHASE_BOUNDS && w.x_floor > 0.0 {
-                match self.held {
-                    Some((limit, b)) if limit == w.t_limit => b,
-                    _ => {
-                        let b = f.bounds_over(&self.jet, h);
-                        self.held = Some((w.t_limit, b));
-                        b
-                    }
-                }
-            } else {
-                f.bounds(&self.jet)
+            let h = w.t_limit - self.t;
+            let b = self.bounds(w);
+            let mut nr = Nearest {
+                h,
+                fired: None,
+                tol_t: self.tol_t,
             };
-            let mut fired: Option<(Event, f64)> = None;
-            let tol_t = self.tol_t;
-            // Every function's safe step but the nearest wall's, for the bracket.
-            let mut h_other = h;
-            let mut consider = |ev: Event, d: [f64; 4], b2: f64, b4: f64, h: &mut f64| {
-                let hi = safe_step(d[0], d[1], d[2], d[3], b2, b4);
-                if hi <= tol_t && toward(d[1], d[2]) {
-                    if fired.is_none_or(|(_, hf)| hi < hf) {
-                        fired = Some((ev, hi));
-                    }
-                } else if hi < *h {
-                    *h = hi;
-                }
-                hi
-            };
-            let mut near: Option<(Gap, f64)> = None;
-            let mut gaps = None;
-            if let Some(walls) = &w.walls {
-                let (right, left) = self.gaps(walls, &b);
-                let hr = consider(
-                    Event::Wall(Wall::Right),
-                    [right.d[0], right.d[1], right.d[2], right.d[3]],
-                    right.b2,
-                    b[4],
-                    &mut h,
-                );
-                let hl = consider(
-                    Event::Wall(Wall::Left),
-                    [left.d[0], left.d[1], left.d[2], left.d[3]],
-                    left.b2,
-                    b[4],
-                    &mut h,
-                );
-                let (nearer, hn, hf) = if hr <= hl {
-                    (right, hr, hl)
-                } else {
-                    (left, hl, hr)
-                };
-                near = Some((nearer, hn));
-                h_other = h_other.min(hf);
-                gaps = Some((right, left));
-            }
-            if let Some(s) = w.x_side {
-                let hi = consider(
-                    Event::XZero,
-                    [s * x, s * v, s * a, s * j],
-                    b[2],
-                    b[4],
-                    &mut h,
-                );
-                h_other = h_other.min(hi);
-            }
-            if let Some(s) = w.sep_side {
-                let [fo, f1, f2, f3] = f.contact_load(self.t);
-                let g = c * v + k * x - fo;
-                let g1 = c * a + k * v - f1;
-                let g2 = c * j + k * a - f2;
-                let g3 = c * j2 + k * j - f3;
-                let (l2, l4) = f.contact_load_bounds();
-                let b2 = c * b[3] + k * b[2] + l2;
-                let b4 = c * b[5] + k * b[4] + l4;
-                let hi = consider(
-                    Event::Separation,
-                    [s * g, s * g1, s * g2, s * g3],
-                    b2,
-                    b4,
-                    &mut h,
-                );
-                h_other = h_other.min(hi);
-            }
+            let (near, gaps, mut h_other) = self.watch(w, &b, &mut nr);
+            let Nearest {
+                mut h,
+                mut fired,
+                tol_t,
+            } = nr;
             let mut v_unwatched = None;
             let mut v_check = None;
             if let Some(s) = w.v_side {
@@ -518,22 +539,7 @@ impl<F: Driven> PhaseSolver for Bracketed<F> {
                 }
             }
             if let Some((ev, hi)) = fired {
-                if ev == Event::Separation
-                    && let Some(side) = w.sep_side
-                {
-                    self.step_past_separation(side, hi);
-                }
-                if let Event::Wall(wall) = ev
-                    && let (Some(walls), Some((right, left))) = (&w.walls, gaps)
-                {
-                    // Polish to the root, within what the other functions allow.
-                    let gap = if wall == Wall::Right { right } else { left };
-                    let lo = self.t;
-                    let reach = h_other.max(0.0);
-                    if gap.d[1] < 0.0 {
-                        self.polish(walls, wall, b[5], lo, lo + reach.min(4.0 * tol_t));
-                    }
-                }
+                self.fire(w, (ev, hi), gaps, b[5], h_other);
                 return Ok(ev);
             }
             if let (Some((gap, hn)), Some(walls)) = (near, &w.walls)

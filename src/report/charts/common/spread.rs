@@ -8,7 +8,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::report::charts::plumbing::{
-    BLUE, Chart, MANY, Profile, TITLE, err, minmax, pad, series_legend, xy_chart,
+    BLUE, Chart, MANY, Plot, Profile, TITLE, err, minmax, pad, series_legend, xy_chart,
 };
 
 use crate::reduce::ResponseStats;
@@ -49,85 +49,111 @@ impl Chart for SpreadChart<'_> {
             (&axis_desc(pr.key()), &format!("{name} (cm)")),
             (&pr.xs, pr.scale),
         )?;
-        let any_ideal = pr.points.iter().any(|p| p.response.ideal.is_finite());
         super::di::jump_lines(&mut chart, pr, (y0, y1))?;
         if let Some(b) = self.1 {
-            let red = RED;
-            chart
-                .draw_series(DashedLineSeries::new(
-                    [(x0, b * cm), (x1, b * cm)],
-                    8,
-                    5,
-                    red.stroke_width(2),
-                ))
-                .map_err(err)?
-                .label(format!("limit {:.3} cm", b * cm))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], red.stroke_width(2))
-                });
+            draw_limit(&mut chart, b * cm, (x0, x1))?;
         }
-        let box_color = BLUE;
         if pr.points.len() > MANY {
             return self.bands(&mut chart);
         }
-        let mut first = true;
-        for (i, (p, &x)) in pr.points.iter().zip(xs).enumerate() {
-            let p = &p.response;
-            let w = halves[i];
-            if !p.min.is_finite() {
-                continue;
-            }
-            let whisker = chart
-                .draw_series(std::iter::once(PathElement::new(
-                    vec![(x, p.min * cm), (x, p.max * cm)],
-                    BLACK.mix(0.7),
-                )))
-                .map_err(err)?;
-            if first {
-                whisker
-                    .label("min – max")
-                    .legend(|(x, y)| PathElement::new(vec![(x + 9, y - 6), (x + 9, y + 6)], BLACK));
-            }
-            let bx = chart
-                .draw_series(std::iter::once(Rectangle::new(
-                    [(x - w, p.q1 * cm), (x + w, p.q3 * cm)],
-                    box_color.mix(0.5).filled(),
-                )))
-                .map_err(err)?;
-            if first {
-                bx.label("quartiles").legend(move |(x, y)| {
-                    Rectangle::new([(x, y - 6), (x + 18, y + 6)], box_color.mix(0.5).filled())
-                });
-            }
-            let med = chart
-                .draw_series(std::iter::once(PathElement::new(
-                    vec![(x - w, p.median * cm), (x + w, p.median * cm)],
-                    BLACK.stroke_width(2),
-                )))
-                .map_err(err)?;
-            if first {
-                med.label("median").legend(|(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(2))
-                });
-            }
-            let ideal = chart
-                .draw_series(
-                    std::iter::once(p.ideal)
-                        .filter(|v| v.is_finite())
-                        .map(|v| Cross::new((x, v * cm), 4, RED.stroke_width(2))),
-                )
-                .map_err(err)?;
-            if first && any_ideal {
-                ideal
-                    .label("ideal case")
-                    .legend(|(x, y)| Cross::new((x + 9, y), 4, RED.stroke_width(2)));
-            }
-            first = false;
-        }
+        draw_boxes(&mut chart, pr, (xs, &halves))?;
         let corner = legend_corner(pr, (xs, &halves), (x0, x1));
         series_legend(&mut chart, corner)?;
         Ok(())
     }
+}
+
+/// A limit of the response `y` (cm) as a red dashed line across `(x0, x1)`.
+fn draw_limit<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Plot<'a, DB>,
+    y: f64,
+    (x0, x1): (f64, f64),
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let red = RED;
+    chart
+        .draw_series(DashedLineSeries::new(
+            [(x0, y), (x1, y)],
+            8,
+            5,
+            red.stroke_width(2),
+        ))
+        .map_err(err)?
+        .label(format!("limit {y:.3} cm"))
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], red.stroke_width(2)));
+    Ok(())
+}
+
+/// Each point's box at `xs` (half widths `halves`): min–max whisker, quartile box, median and
+/// the ideal case's cross, the legend's entries from the first drawn.
+fn draw_boxes<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Plot<'a, DB>,
+    pr: &Profile,
+    (xs, halves): (&[f64], &[f64]),
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let cm = 100.0;
+    let box_color = BLUE;
+    let any_ideal = pr.points.iter().any(|p| p.response.ideal.is_finite());
+    let mut first = true;
+    for (i, (p, &x)) in pr.points.iter().zip(xs).enumerate() {
+        let p = &p.response;
+        let w = halves[i];
+        if !p.min.is_finite() {
+            continue;
+        }
+        let whisker = chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(x, p.min * cm), (x, p.max * cm)],
+                BLACK.mix(0.7),
+            )))
+            .map_err(err)?;
+        if first {
+            whisker
+                .label("min – max")
+                .legend(|(x, y)| PathElement::new(vec![(x + 9, y - 6), (x + 9, y + 6)], BLACK));
+        }
+        let bx = chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(x - w, p.q1 * cm), (x + w, p.q3 * cm)],
+                box_color.mix(0.5).filled(),
+            )))
+            .map_err(err)?;
+        if first {
+            bx.label("quartiles").legend(move |(x, y)| {
+                Rectangle::new([(x, y - 6), (x + 18, y + 6)], box_color.mix(0.5).filled())
+            });
+        }
+        let med = chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(x - w, p.median * cm), (x + w, p.median * cm)],
+                BLACK.stroke_width(2),
+            )))
+            .map_err(err)?;
+        if first {
+            med.label("median").legend(|(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(2))
+            });
+        }
+        let ideal = chart
+            .draw_series(
+                std::iter::once(p.ideal)
+                    .filter(|v| v.is_finite())
+                    .map(|v| Cross::new((x, v * cm), 4, RED.stroke_width(2))),
+            )
+            .map_err(err)?;
+        if first && any_ideal {
+            ideal
+                .label("ideal case")
+                .legend(|(x, y)| Cross::new((x + 9, y), 4, RED.stroke_width(2)));
+        }
+        first = false;
+    }
+    Ok(())
 }
 
 /// The upper corner for the boxes' legend: the left one unless the boxes and whiskers reach

@@ -10,7 +10,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::report::charts::plumbing::{Chart, Key, LABEL, SMALL, TITLE, err, plot_builder};
+use crate::report::charts::plumbing::{Chart, Key, LABEL, Plot, SMALL, TITLE, err, plot_builder};
 
 use crate::orbits::attractors::SteadyKind;
 use crate::reduce::Summary;
@@ -179,64 +179,42 @@ impl<'a> DesignMap<'a> {
     }
 }
 
-impl Chart for DesignMap<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+/// The legend's entries: the cells' colours and the curves'.
+fn legend_items() -> Vec<(Key, String)> {
+    vec![
+        (
+            Key::Swatch(COEXIST),
+            "two or more steady states (a jump is possible)".to_string(),
+        ),
+        (
+            Key::Swatch(CHAOS),
+            "a steady state not periodic".to_string(),
+        ),
+        (Key::Swatch(BOTH), "both".to_string()),
+        (Key::Line(SN), "fold (SN)".to_string()),
+        (Key::Line(PD), "period doubling (PD)".to_string()),
+        (Key::Line(NS), "Neimark–Sacker (NS)".to_string()),
+        (Key::Line(GR), "grazing (GR)".to_string()),
+        (Key::Dashed(RESONANCE), "linear resonance".to_string()),
+    ]
+}
+
+impl DesignMap<'_> {
+    /// The cells in one colour each (coexistence, a motion not periodic, or both) and a dot on
+    /// each cell where a period doubled.
+    fn draw_cells<'a, DB: DrawingBackend + 'a>(
+        &self,
+        chart: &mut Plot<'a, DB>,
+    ) -> anyhow::Result<()>
     where
         DB::ErrorType: 'static,
     {
-        let (title, rest) = root.split_vertically(40);
-        title
-            .titled(&format!("Steady states over {} and r", self.key), TITLE)
-            .map_err(err)?;
-        let items = vec![
-            (
-                Key::Swatch(COEXIST),
-                "two or more steady states (a jump is possible)".to_string(),
-            ),
-            (
-                Key::Swatch(CHAOS),
-                "a steady state not periodic".to_string(),
-            ),
-            (Key::Swatch(BOTH), "both".to_string()),
-            (Key::Line(SN), "fold (SN)".to_string()),
-            (Key::Line(PD), "period doubling (PD)".to_string()),
-            (Key::Line(NS), "Neimark–Sacker (NS)".to_string()),
-            (Key::Line(GR), "grazing (GR)".to_string()),
-            (Key::Dashed(RESONANCE), "linear resonance".to_string()),
-        ];
-        let plot = crate::report::charts::plumbing::legend_block(&rest, 80, &items)?;
-        let (r0, r1) = self
-            .cells
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
-                (a.min(c.r_span.0), b.max(c.r_span.1))
-            });
-        let (p0, p1) = self
-            .cells
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
-                (a.min(c.p_span.0), b.max(c.p_span.1))
-            });
-        let mut chart = plot_builder(&plot, 48)
-            .build_cartesian_2d(r0..r1, p0..p1)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("frequency ratio r = omega / sqrt(K/M) (–)")
-            .y_desc(format!("{} ({})", self.key, unit(&self.key)))
-            .y_label_formatter(&|v: &f64| fmt_num(*v))
-            .label_style(SMALL)
-            .axis_desc_style(LABEL)
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(err)?;
         let rect = |c: &Cell, colour: RGBAColor| {
             Rectangle::new(
                 [(c.r_span.0, c.p_span.0), (c.r_span.1, c.p_span.1)],
                 colour.filled(),
             )
         };
-        // Each cell in one colour: coexistence, a motion not periodic, or both.
         chart
             .draw_series(
                 self.cells
@@ -257,6 +235,18 @@ impl Chart for DesignMap<'_> {
                     .map(|c| Circle::new((c.r, c.p), 2, DOUBLED.filled())),
             )
             .map_err(err)?;
+        Ok(())
+    }
+
+    /// The linear resonance, the bifurcation curves (each type its colour) and the anchor
+    /// design's cross.
+    fn draw_curves<'a, DB: DrawingBackend + 'a>(
+        &self,
+        chart: &mut Plot<'a, DB>,
+    ) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
         chart
             .draw_series(DashedLineSeries::new(
                 self.resonance.clone(),
@@ -286,6 +276,47 @@ impl Chart for DesignMap<'_> {
                 ))
                 .map_err(err)?;
         }
+        Ok(())
+    }
+}
+
+impl Chart for DesignMap<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let (title, rest) = root.split_vertically(40);
+        title
+            .titled(&format!("Steady states over {} and r", self.key), TITLE)
+            .map_err(err)?;
+        let plot = crate::report::charts::plumbing::legend_block(&rest, 80, &legend_items())?;
+        let (r0, r1) = self
+            .cells
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
+                (a.min(c.r_span.0), b.max(c.r_span.1))
+            });
+        let (p0, p1) = self
+            .cells
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
+                (a.min(c.p_span.0), b.max(c.p_span.1))
+            });
+        let mut chart = plot_builder(&plot, 48)
+            .build_cartesian_2d(r0..r1, p0..p1)
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("frequency ratio r = omega / sqrt(K/M) (–)")
+            .y_desc(format!("{} ({})", self.key, unit(&self.key)))
+            .y_label_formatter(&|v: &f64| fmt_num(*v))
+            .label_style(SMALL)
+            .axis_desc_style(LABEL)
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(err)?;
+        self.draw_cells(&mut chart)?;
+        self.draw_curves(&mut chart)?;
         Ok(())
     }
 }

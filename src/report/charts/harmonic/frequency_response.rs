@@ -662,92 +662,110 @@ impl Chart for ImpactsAndPeriod<'_> {
             )
             .map_err(err)?;
         let (top, bottom) = plots.split_vertically(plots.dim_in_pixel().1 * 3 / 5);
-        let (x0, x1) = row.x_range();
-        let (_, i1) = minmax(
-            row.curves
-                .iter()
-                .flat_map(|c| c.points.iter().map(|p| p.impacts_per_period)),
-        );
-        let i1 = if i1.is_finite() && i1 > 0.0 {
-            i1 * 1.1
-        } else {
-            1.0
-        };
-        let mut chart = plot_builder(&top, 30)
-            .build_cartesian_2d(x0..x1, 0.0..i1)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .y_desc("impacts per forcing period")
-            .label_style(SMALL)
-            .axis_desc_style(LABEL)
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(err)?;
-        for (i, c) in row.curves.iter().enumerate() {
-            let pts: Vec<(f64, f64, bool)> = row
-                .xs(c)
-                .iter()
-                .zip(&c.points)
-                .filter(|(_, p)| p.impacts_per_period.is_finite())
-                .map(|(&x, p)| (x, p.impacts_per_period, p.period >= 1))
-                .collect();
-            chart
-                .draw_series(LineSeries::new(
-                    pts.iter().map(|&(x, y, _)| (x, y)),
-                    color(i).stroke_width(2),
-                ))
-                .map_err(err)?;
-            markers(&mut chart, &pts, color(i))?;
-        }
-        // The period: 1 to 8, and 0 for none (not periodic), each design a little apart so
-        // that equal periods stay visible.
-        let mut chart = plot_builder(&bottom, 48)
-            .build_cartesian_2d(x0..x1, -0.6..8.6)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc(row.x_desc())
-            .y_desc("period (forcing periods)")
-            .y_labels(10)
-            .y_label_formatter(&|v: &f64| {
-                let k = v.round();
-                if (v - k).abs() > 1e-9 || !(0.0..=8.0).contains(&k) {
-                    String::new()
-                } else if k == 0.0 {
-                    "none".to_string()
-                } else {
-                    format!("{k}")
-                }
-            })
-            .label_style(SMALL)
-            .axis_desc_style(LABEL)
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(err)?;
-        let n = row.curves.len().max(1) as f64;
-        for (i, c) in row.curves.iter().enumerate() {
-            let dy = 0.36 * (i as f64 - (n - 1.0) / 2.0) / n;
-            let pts: Vec<(f64, f64, bool)> = row
-                .xs(c)
-                .iter()
-                .zip(&c.points)
-                .filter(|(_, p)| p.outcome == crate::sim::Outcome::Ok)
-                .map(|(&x, p)| (x, f64::from(p.period) + dy, p.period >= 1))
-                .collect();
-            chart
-                .draw_series(pts.iter().map(|&(x, y, periodic)| {
-                    let style = if periodic {
-                        color(i).filled()
-                    } else {
-                        color(i).stroke_width(1)
-                    };
-                    Circle::new((x, y), 3, style)
-                }))
-                .map_err(err)?;
-        }
-        Ok(())
+        impacts_panel(&top, row)?;
+        period_panel(&bottom, row)
     }
+}
+
+/// The top panel of [`ImpactsAndPeriod`]: impacts per forcing period, one line per curve, the
+/// periodic points filled.
+fn impacts_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, row: &Row) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let (x0, x1) = row.x_range();
+    let (_, i1) = minmax(
+        row.curves
+            .iter()
+            .flat_map(|c| c.points.iter().map(|p| p.impacts_per_period)),
+    );
+    let i1 = if i1.is_finite() && i1 > 0.0 {
+        i1 * 1.1
+    } else {
+        1.0
+    };
+    let mut chart = plot_builder(area, 30)
+        .build_cartesian_2d(x0..x1, 0.0..i1)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .y_desc("impacts per forcing period")
+        .label_style(SMALL)
+        .axis_desc_style(LABEL)
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(err)?;
+    for (i, c) in row.curves.iter().enumerate() {
+        let pts: Vec<(f64, f64, bool)> = row
+            .xs(c)
+            .iter()
+            .zip(&c.points)
+            .filter(|(_, p)| p.impacts_per_period.is_finite())
+            .map(|(&x, p)| (x, p.impacts_per_period, p.period >= 1))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter().map(|&(x, y, _)| (x, y)),
+                color(i).stroke_width(2),
+            ))
+            .map_err(err)?;
+        markers(&mut chart, &pts, color(i))?;
+    }
+    Ok(())
+}
+
+/// The bottom panel of [`ImpactsAndPeriod`]: the period of the steady state, 1 to 8, and 0 for
+/// none (not periodic), each design a little apart so that equal periods stay visible.
+fn period_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, row: &Row) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let (x0, x1) = row.x_range();
+    let mut chart = plot_builder(area, 48)
+        .build_cartesian_2d(x0..x1, -0.6..8.6)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(row.x_desc())
+        .y_desc("period (forcing periods)")
+        .y_labels(10)
+        .y_label_formatter(&|v: &f64| {
+            let k = v.round();
+            if (v - k).abs() > 1e-9 || !(0.0..=8.0).contains(&k) {
+                String::new()
+            } else if k == 0.0 {
+                "none".to_string()
+            } else {
+                format!("{k}")
+            }
+        })
+        .label_style(SMALL)
+        .axis_desc_style(LABEL)
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(err)?;
+    let n = row.curves.len().max(1) as f64;
+    for (i, c) in row.curves.iter().enumerate() {
+        let dy = 0.36 * (i as f64 - (n - 1.0) / 2.0) / n;
+        let pts: Vec<(f64, f64, bool)> = row
+            .xs(c)
+            .iter()
+            .zip(&c.points)
+            .filter(|(_, p)| p.outcome == crate::sim::Outcome::Ok)
+            .map(|(&x, p)| (x, f64::from(p.period) + dy, p.period >= 1))
+            .collect();
+        chart
+            .draw_series(pts.iter().map(|&(x, y, periodic)| {
+                let style = if periodic {
+                    color(i).filled()
+                } else {
+                    color(i).stroke_width(1)
+                };
+                Circle::new((x, y), 3, style)
+            }))
+            .map_err(err)?;
+    }
+    Ok(())
 }
 
 /// Draws the harmonic scene's charts into `dir`: `frequency_response` and `impacts_per_period`

@@ -11,11 +11,10 @@
 
 use crate::orbits::attractors::SteadyKind;
 use plotters::coord::Shift;
-use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::report::charts::plumbing::{
-    Chart, Hovers, Key, LABEL, SMALL, TITLE, err, minmax, pad, plot_builder,
+    Chart, Hovers, Key, LABEL, Plot, SMALL, TITLE, err, minmax, pad, plot_builder,
 };
 
 use crate::orbits::response::Response;
@@ -232,9 +231,6 @@ impl Chart for Branches<'_> {
         Ok(())
     }
 }
-
-/// The chart's plotting area: r (or F0) against the amplitude in cm.
-type Plot<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// The motions that are not periodic (a bar from 0 to their amplitude), the linear system and
 /// the branches over `x0..x1`.

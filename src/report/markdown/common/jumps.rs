@@ -16,12 +16,26 @@ use crate::report::text::{axis_unit, count, fmt_num, thousands};
 /// (`nonperiodic_peak = "window"`), not amplitudes over a design life.
 pub fn section(s: &Summary, window: bool) -> String {
     let mut o = String::from("## Jumps\n\n");
-    let st = &s.jump_stats;
     let g = &s.grid;
     if (0..g.n_axes()).all(|a| g.n(a) < 2) {
         o.push_str("One design point: no line of the grid to look for jumps along.\n\n");
         return o;
     }
+    rule(&mut o, s);
+    counts(&mut o, s, window);
+    if s.jumps.is_empty() {
+        let _ = writeln!(o, "No jump along any axis.\n");
+        return o;
+    }
+    o += &grouped(s);
+    o += &through_anchor(s);
+    o
+}
+
+/// How a jump is found, located and classed, with the study's tolerances and typical slopes.
+fn rule(o: &mut String, s: &Summary) {
+    let st = &s.jump_stats;
+    let g = &s.grid;
     let (rname, runit) = quantity_of(s, Quantity::Response);
     let damping = &s.options.damping;
     let slopes: Vec<String> = (0..g.n_axes())
@@ -59,6 +73,12 @@ pub fn section(s: &Summary, window: bool) -> String {
         },
         fmt_num(s.options.zones.locate),
     );
+}
+
+/// What the search found: candidates, extra simulations, jumps and how each was located, and
+/// the candidates between estimates. `window`: as in [`section`].
+fn counts(o: &mut String, s: &Summary, window: bool) {
+    let st = &s.jump_stats;
     let _ = writeln!(
         o,
         "{}, {}: {}{}, {} dropped{}.\n",
@@ -112,13 +132,6 @@ pub fn section(s: &Summary, window: bool) -> String {
             },
         );
     }
-    if s.jumps.is_empty() {
-        let _ = writeln!(o, "No jump along any axis.\n");
-        return o;
-    }
-    o += &grouped(s);
-    o += &through_anchor(s);
-    o
 }
 
 /// One row per axis, quantity and kind: count, lines, where, how large.

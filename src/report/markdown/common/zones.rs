@@ -8,10 +8,39 @@ use crate::report::markdown::words::{MAX_ROWS, f};
 use crate::reduce::{Class, Summary, Zone};
 use crate::report::text::{count, fmt_num, thousands};
 
+/// The report's section on the zones: how they were drawn, per class with two or more axes,
+/// then one row per zone (the largest [`MAX_ROWS`]).
 pub fn section(s: &Summary) -> String {
     let mut o = String::from("## Zones (Table III)\n\n");
-    let g = &s.grid;
     let declared = s.zones.iter().any(Zone::declared);
+    how_drawn(&mut o, s, declared);
+    if !declared && s.grid.n_axes() >= 2 {
+        o += &by_class(s);
+    }
+    let shown = rows(&mut o, s);
+    if shown.len() < s.zones.len() {
+        let rest: usize = (0..s.zones.len())
+            .filter(|i| !shown.contains(i))
+            .map(|i| s.zones[i].n_points)
+            .sum();
+        let _ = writeln!(
+            o,
+            "\nThe {} largest zones; {} smaller ones ({} points) are in `zones.parquet`.",
+            shown.len(),
+            s.zones.len() - shown.len(),
+            thousands(rest as u64)
+        );
+    }
+    let _ = writeln!(
+        o,
+        "\nMerged in: the zone's points that came from a smaller region merged into it; their own class is not the zone's (a point of a \"reliable\" zone merged in may not show R at or above r_min: its own class is in `summary.parquet`, column `class`). The ranges are the zone's bounding box; the best design has the highest perfectibility in the zone, the representative one lies deepest inside it (the most grid steps from its border and from the edge of the grid). Zone perfectibility is eq. 11 on the zone means, normalised by the best zone means (as the paper's Table III). A zone \"around a jump\" is not recommended whatever its R: there a small error in the design variable changes the behaviour abruptly (the paper's zone II).\n"
+    );
+    o
+}
+
+/// How the zones were drawn: declared by the study, or connected regions of one class merged
+/// above the smallest size.
+fn how_drawn(o: &mut String, s: &Summary, declared: bool) {
     if declared {
         let _ = writeln!(
             o,
@@ -36,10 +65,11 @@ pub fn section(s: &Summary) -> String {
             count(s.zones.len() as u64, "zone", "zones")
         );
     }
-    if !declared && g.n_axes() >= 2 {
-        o += &by_class(s);
-    }
-    // The rows: every zone, or the largest MAX_ROWS in name order.
+}
+
+/// The table: every zone, or the largest [`MAX_ROWS`] in name order; returns the zones shown.
+fn rows(o: &mut String, s: &Summary) -> Vec<usize> {
+    let g = &s.grid;
     let mut shown: Vec<usize> = (0..s.zones.len()).collect();
     if shown.len() > MAX_ROWS {
         shown.sort_by_key(|&i| (std::cmp::Reverse(s.zones[i].n_points), i));
@@ -91,24 +121,7 @@ pub fn section(s: &Summary) -> String {
             f(z.perfectibility, 1)
         );
     }
-    if shown.len() < s.zones.len() {
-        let rest: usize = (0..s.zones.len())
-            .filter(|i| !shown.contains(i))
-            .map(|i| s.zones[i].n_points)
-            .sum();
-        let _ = writeln!(
-            o,
-            "\nThe {} largest zones; {} smaller ones ({} points) are in `zones.parquet`.",
-            shown.len(),
-            s.zones.len() - shown.len(),
-            thousands(rest as u64)
-        );
-    }
-    let _ = writeln!(
-        o,
-        "\nMerged in: the zone's points that came from a smaller region merged into it; their own class is not the zone's (a point of a \"reliable\" zone merged in may not show R at or above r_min: its own class is in `summary.parquet`, column `class`). The ranges are the zone's bounding box; the best design has the highest perfectibility in the zone, the representative one lies deepest inside it (the most grid steps from its border and from the edge of the grid). Zone perfectibility is eq. 11 on the zone means, normalised by the best zone means (as the paper's Table III). A zone \"around a jump\" is not recommended whatever its R: there a small error in the design variable changes the behaviour abruptly (the paper's zone II).\n"
-    );
-    o
+    shown
 }
 
 /// Zones and points per class.

@@ -100,9 +100,6 @@ pub(super) fn section(fs: &HarmonicSummary) -> String {
         .map(Figures::of)
         .filter(|g| g.peak.is_finite())
         .collect();
-    let mut counts: Vec<f64> = all.iter().map(|g| g.units).collect();
-    counts.sort_by(f64::total_cmp);
-    counts.dedup();
     let mut o = String::new();
     let _ = writeln!(
         o,
@@ -113,6 +110,24 @@ pub(super) fn section(fs: &HarmonicSummary) -> String {
             ""
         }
     );
+    let best = table(&mut o, &all);
+    scatter(&mut o, &all);
+    if let Some((_, one_low, one_wide)) = best.iter().find(|b| b.0 == 1.0) {
+        o.push('\n');
+        for (n, low, wide) in best.iter().filter(|b| b.0 > 1.0) {
+            against_one(&mut o, *n, (low, wide), (one_low, one_wide));
+        }
+    }
+    o.push('\n');
+    o
+}
+
+/// The table's rows, one per number of units; returns each number with its design of the
+/// lowest peak and its design of the widest band.
+fn table<'a>(o: &mut String, all: &'a [Figures]) -> Vec<(f64, &'a Figures, &'a Figures)> {
+    let mut counts: Vec<f64> = all.iter().map(|g| g.units).collect();
+    counts.sort_by(f64::total_cmp);
+    counts.dedup();
     let _ = writeln!(
         o,
         "| units | lowest peak (cm) | at d_spread | PR | its band where the damper helps | widest band | at d_spread | its peak (cm) | periodic share of the band |\n|---|---|---|---|---|---|---|---|---|"
@@ -150,8 +165,13 @@ pub(super) fn section(fs: &HarmonicSummary) -> String {
         );
         best.push((*n, low, wide));
     }
-    // Equal clearances are one unit whatever their number: how far their peaks scatter is the
-    // estimator's noise (window maxima of motions that are not periodic), not physics.
+    best
+}
+
+/// How far the peaks of the designs that are one unit in effect scatter. Equal clearances are
+/// one unit whatever their number: that scatter is the estimator's noise (window maxima of
+/// motions that are not periodic), not physics.
+fn scatter(o: &mut String, all: &[Figures]) {
     let same: Vec<f64> = all
         .iter()
         .filter(|g| (g.spread == 0.0 && !g.table) || g.units == 1.0)
@@ -169,33 +189,35 @@ pub(super) fn section(fs: &HarmonicSummary) -> String {
             f((hi / lo - 1.0) * 100.0, 1)
         );
     }
-    if let Some((_, one_low, one_wide)) = best.iter().find(|b| b.0 == 1.0) {
-        o.push('\n');
-        for (n, low, wide) in best.iter().filter(|b| b.0 > 1.0) {
-            let peak = (low.peak / one_low.peak - 1.0) * 100.0;
-            let width = if one_wide.width() > 0.0 {
-                (wide.width() / one_wide.width() - 1.0) * 100.0
-            } else {
-                f64::NAN
-            };
-            let _ = writeln!(
-                o,
-                "- **{} units** against one: the lowest peak {} cm (d_spread = {}) against {} cm, {}{} %; the widest band where the damper helps {} (d_spread = {}, its peak {} cm) against {}, {}{} % wider.",
-                f(*n, 0),
-                cm(low.peak),
-                f(low.spread, 2),
-                cm(one_low.peak),
-                if peak >= 0.0 { "+" } else { "" },
-                f(peak, 1),
-                f(wide.width(), 3),
-                f(wide.spread, 2),
-                cm(wide.peak),
-                f(one_wide.width(), 3),
-                if width >= 0.0 { "+" } else { "" },
-                f(width, 0)
-            );
-        }
-    }
-    o.push('\n');
-    o
+}
+
+/// `n` units' lowest peak and widest band against one unit's.
+fn against_one(
+    o: &mut String,
+    n: f64,
+    (low, wide): (&Figures, &Figures),
+    (one_low, one_wide): (&Figures, &Figures),
+) {
+    let peak = (low.peak / one_low.peak - 1.0) * 100.0;
+    let width = if one_wide.width() > 0.0 {
+        (wide.width() / one_wide.width() - 1.0) * 100.0
+    } else {
+        f64::NAN
+    };
+    let _ = writeln!(
+        o,
+        "- **{} units** against one: the lowest peak {} cm (d_spread = {}) against {} cm, {}{} %; the widest band where the damper helps {} (d_spread = {}, its peak {} cm) against {}, {}{} % wider.",
+        f(n, 0),
+        cm(low.peak),
+        f(low.spread, 2),
+        cm(one_low.peak),
+        if peak >= 0.0 { "+" } else { "" },
+        f(peak, 1),
+        f(wide.width(), 3),
+        f(wide.spread, 2),
+        cm(wide.peak),
+        f(one_wide.width(), 3),
+        if width >= 0.0 { "+" } else { "" },
+        f(width, 0)
+    );
 }
