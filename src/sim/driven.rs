@@ -154,7 +154,7 @@ impl Nearest {
     /// for event `ev`: fires when its safe step is within the tolerance and it heads to zero
     /// (the nearest such wins), else shortens the step to its safe step. Returns that safe
     /// step.
-    #[inline]
+    #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn consider(
         &mut self,
@@ -182,7 +182,7 @@ impl<F: Driven> DrivenPhase<F> {
     /// The bounds on the derivatives of `x` over the step: the phasors' where a design-life
     /// measurement runs (a floor set; computed once per limit `t_limit` and held), the census
     /// and every other run the energy bounds, step for step, and their bits.
-    #[inline]
+    #[inline(always)]
     fn bounds(&mut self, w: &Watch) -> [f64; 6] {
         let f = self.f;
         let h = w.t_limit - self.t;
@@ -202,7 +202,7 @@ impl<F: Driven> DrivenPhase<F> {
 
     /// The walls, the zero of `x` and the separation from the stuck pair, each as watched
     /// (`w`), with the bounds `b`, into `near`.
-    #[inline]
+    #[inline(always)]
     fn watch(&self, w: &Watch, b: &[f64; 6], near: &mut Nearest) {
         let f = self.f;
         let Jet { x, v, a, j, .. } = self.jet;
@@ -245,7 +245,7 @@ impl<F: Driven> DrivenPhase<F> {
 /// The stuck pair's contact function `C v + K x - L` at `t` (contact holds while `s` times it
 /// stays `>= 0`, module doc) with its first three derivatives, and the bounds on its second and
 /// fourth from the bounds `b` on `x`'s.
-#[inline]
+#[inline(always)]
 pub(crate) fn separation<F: Driven>(
     f: &F,
     jet: &Jet,
