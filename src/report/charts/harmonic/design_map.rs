@@ -268,9 +268,16 @@ impl DesignMap<'_> {
                 .map_err(err)?;
         }
         if let Some((r, p)) = self.recommended {
+            // The label on a pale ground, so that the curves it crosses do not hide it.
+            let area = chart.plotting_area();
+            let (w, h) = area
+                .estimate_text_size(self.anchor_label, &SMALL.into_text_style(area))
+                .map_err(err)?;
+            let ground = [(7, -20), (13 + w as i32, -16 + h as i32)];
             chart
                 .draw_series(std::iter::once(
                     EmptyElement::at((r, p))
+                        + Rectangle::new(ground, WHITE.mix(0.8).filled())
                         + Cross::new((0, 0), 8, BLACK.stroke_width(3))
                         + Text::new(self.anchor_label, (10, -18), SMALL.into_font()),
                 ))
