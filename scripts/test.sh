@@ -69,6 +69,9 @@ SUBSET_VALIDATION_BIN="$PWD/target/debug/examples/subset_validation" scripts/sub
 # (results/units_life_validation.md): its report regenerates from the committed runs, and a slice
 # (point U2, study seed 1) is reproduced bit for bit.
 UNITS_LIFE_VALIDATION_BIN="$PWD/target/debug/examples/units_life_validation" scripts/units_life_validation.sh --check
+# The committed comparison of the whole curve with the default (results/life_curve.md): its
+# report regenerates from the committed runs (tests/life.rs checks their claims).
+scripts/life_curve.sh --check
 # The Python extension (python/, a member of the workspace that `cargo test` leaves out): its
 # lint, and its build (the dev profile, whose settings for the main crate and its dependencies
 # are the test profile's) with the feature `share-test-build`, which resolves

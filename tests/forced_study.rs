@@ -591,3 +591,92 @@ fn issue_23_window_peaks_store_the_same_attractors_without_the_design_life() {
         "the study has no motion whose design life was measured"
     );
 }
+
+/// Issue 69, item 7: `life_curve = "whole"` measures every frequency of the ideal curve until
+/// its value is known (each motion that could carry it settled or at `life_max_periods`), and
+/// changes nothing else: a perturbed case's curve, which serves its peak alone, races as with
+/// the default (`"decisions"`) and stores the same rows to their last bit. Under the default
+/// some motion of the ideal curve stops short of the cap: the rule has work to do here.
+#[test]
+fn issue_69_the_whole_curve_is_measured_where_asked_and_nothing_else_moves() {
+    let tmp = tempfile::tempdir().unwrap();
+    const CAP: u64 = 8000;
+    let rows = |name: &str, extra: &str| {
+        let text = format!(
+            "[study]\nname = \"{name}\"\nseed = 3\n[system]\nC = 0.1\ne = 0.9\nm = 0.02\n\
+             d = 0.02\nx0 = 0.0\nv0 = 0.0\ny0 = 0.0\nw0 = 0.0\n[scene]\nkind = \"harmonic\"\n\
+             F0 = 0.1\nstarts = 4\nlife_max_periods = {CAP}\n{extra}[sweep]\n\
+             r = [0.94, 0.95, 0.99, 1.0]\n[perturb]\ndm = [0.001]\n[ranking]\nverify_periods = 0\n"
+        );
+        let path = tmp.path().join(format!("{name}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let s = Study::load(&path).unwrap();
+        sweep::run_study(&s, tmp.path(), &SweepOptions::default()).unwrap();
+        let dir = tmp.path().join(name);
+        let mut out = Vec::new();
+        for p in store::part_files(&dir).unwrap() {
+            let side =
+                store::attractors::attractors_part_path(&dir, store::part_chunk(&p).unwrap());
+            out.extend(store::attractors::read_part(&side).unwrap());
+        }
+        out
+    };
+    let decisions = rows("decisions", "");
+    let whole = rows("whole", "life_curve = \"whole\"\n");
+    let perturbed = |rows: &[impactsweep::orbits::attractors::AttractorRow]| {
+        rows.iter()
+            .filter(|a| a.run.case == 1)
+            .map(|a| format!("{a:?}"))
+            .collect::<Vec<_>>()
+    };
+    assert!(!perturbed(&decisions).is_empty());
+    assert_eq!(perturbed(&decisions), perturbed(&whole));
+    let wandering = |rows: &[impactsweep::orbits::attractors::AttractorRow]| {
+        rows.iter()
+            .filter(|a| a.run.case == 0 && !a.kind.periodic() && a.life_amplitude.is_finite())
+            .cloned()
+            .collect::<Vec<_>>()
+    };
+    let short = wandering(&decisions)
+        .iter()
+        .filter(|a| a.measured_periods < CAP)
+        .count();
+    assert!(
+        short > 0,
+        "every motion reached the cap without the rule: {:?}",
+        wandering(&decisions)
+            .iter()
+            .map(|a| (a.run.point, a.measured_periods, a.life_amplitude))
+            .collect::<Vec<_>>()
+    );
+    // Each frequency's lower end: its largest periodic amplitude and lower end of an interval.
+    let ideal: Vec<_> = whole.iter().filter(|a| a.run.case == 0).collect();
+    let lower = |point: u64| {
+        ideal
+            .iter()
+            .filter(|a| a.run.point == point)
+            .map(|a| {
+                if a.kind.periodic() {
+                    a.amplitude
+                } else {
+                    a.life_lo
+                }
+            })
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let motions = wandering(&whole);
+    assert!(!motions.is_empty());
+    for a in &motions {
+        let settled = 0.5 * (a.life_hi - a.life_lo) <= 0.05 * a.life_amplitude;
+        let out_of_it = a.life_hi <= lower(a.run.point);
+        assert!(
+            a.measured_periods == CAP || settled || out_of_it,
+            "r = {}: {} periods, {} [{}, {}]",
+            a.run.point,
+            a.measured_periods,
+            a.life_amplitude,
+            a.life_lo,
+            a.life_hi
+        );
+    }
+}

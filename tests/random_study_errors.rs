@@ -104,7 +104,7 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "random_unknown_key.toml",
-        "{dir}/random_unknown_key.toml: [scene].sigma = 2: unknown key 'sigma'; allowed keys: kind, F0, omega, r, n_trans, n_trans_max, n_meas, trans_tol, period_tol, starts, design_peak, nonperiodic_peak, design_life, life_quantile, life_tol, life_max_periods, input, spectrum, S0, omega_g, zeta_g, omega_f, zeta_f, dt, duration, envelope, realizations, threshold, record, records, scale, design_intensity, intensity, T, ida_tol, ida_max, drift_ratio, storey_height, yield_coefficient",
+        "{dir}/random_unknown_key.toml: [scene].sigma = 2: unknown key 'sigma'; allowed keys: kind, F0, omega, r, n_trans, n_trans_max, n_meas, trans_tol, period_tol, starts, design_peak, nonperiodic_peak, design_life, life_quantile, life_tol, life_max_periods, life_curve, input, spectrum, S0, omega_g, zeta_g, omega_f, zeta_f, dt, duration, envelope, realizations, threshold, record, records, scale, design_intensity, intensity, T, ida_tol, ida_max, drift_ratio, storey_height, yield_coefficient",
     ),
     (
         "random_unknown_spectrum.toml",

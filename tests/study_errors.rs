@@ -53,6 +53,10 @@ const BAD: &[(&str, &str)] = &[
         "harmonic_nonperiodic_peak.toml: [scene].nonperiodic_peak = \"maximum\": unknown peak of a steady state that is not periodic; allowed: life, window (its largest amplitude over the design life, estimated, or the largest over the census's 200-period window, a lower bound)",
     ),
     (
+        "harmonic_life_curve.toml",
+        "harmonic_life_curve.toml: [scene].life_curve = \"all\": unknown extent of the design-life measurement; allowed: decisions, whole (only where a value can change a decision, or every frequency of the ideal curve until its value is known)",
+    ),
+    (
         "harmonic_resonance.toml",
         "harmonic_resonance.toml: [sweep].r = 1: resonance without damping: |K - M omega^2 + i C omega| = 1.456201205281444e-14 N/m is below 1e-6 K = 4e-4 N/m, the steady amplitude is unbounded; move r or give C > 0 (at M = 0.1, m = 0.02, K = 400, C = 0)",
     ),

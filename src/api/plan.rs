@@ -7,7 +7,8 @@
 //! the mean time per run is scaled by the total and divided by the threads a `run` would use,
 //! but a harmonic study takes at least one curve's time: a curve is one task of the sweep. A
 //! harmonic study with a census times its race of the design lives apart and counts it once a
-//! curve ([`Sample::race_seconds`]).
+//! curve ([`Sample::race_seconds`]); with `life_curve = "whole"` the ideal curves' extra race
+//! scales with their frequencies instead ([`Sample::whole_seconds`]).
 //! It measures the binary it runs in, so a debug build predicts a debug build.
 
 use std::fmt::Write as _;
@@ -21,6 +22,7 @@ use crate::orbits::several::{NO_RUN, UnitsRun, census_run_units, race_runs};
 use crate::plan::Plan;
 use crate::reduce::harmonic::verify::MOST;
 use crate::report::text::{count, thousands};
+use crate::sim::harmonic::LifeCurve;
 use crate::sim::{self, Drive, Harmonic, NoProbe, Scene};
 use crate::study::{CensusKind, Study, num as fmt_value};
 
@@ -75,6 +77,10 @@ pub struct Sample {
     pub race_seconds: f64,
     /// The periods that race measured.
     pub race_periods: u64,
+    /// With `life_curve = "whole"`: the same sample's race with the whole curve measured (step 5
+    /// of [`crate::orbits::race`]), whose cost beyond `race_seconds` follows the frequencies; 0
+    /// otherwise.
+    pub whole_seconds: f64,
 }
 
 /// Frequencies of the middle design's ideal curve that the timed sample of a harmonic study
@@ -140,10 +146,10 @@ pub fn time_sample(study: &Study) -> Sample {
         std::hint::black_box(rec);
     }
     let seconds = start.elapsed().as_secs_f64();
-    let (race_seconds, race_periods) = if units {
+    let (race_seconds, race_periods, whole_seconds) = if units {
         time_units_race(study, &plan)
     } else {
-        (0.0, 0)
+        (0.0, 0, 0.0)
     };
     Sample {
         runs: n,
@@ -151,14 +157,16 @@ pub fn time_sample(study: &Study) -> Sample {
         steady_states,
         race_seconds,
         race_periods,
+        whole_seconds,
     }
 }
 
 /// The race of the design lives of a study of several units, timed on up to
 /// [`SAMPLE_FREQUENCIES`] frequencies of its middle design's ideal curve as the sweep races a
 /// curve ([`race_runs`], each frequency's census of several units run first, not timed): its
-/// seconds and the periods it measured.
-fn time_units_race(study: &Study, plan: &Plan) -> (f64, u64) {
+/// seconds, the periods it measured, and with `life_curve = "whole"` the seconds of the same
+/// race with the whole curve measured (0 otherwise).
+fn time_units_race(study: &Study, plan: &Plan) -> (f64, u64, f64) {
     let runs = sample_curve(study, plan);
     let scenes: Vec<Harmonic> = runs.iter().map(|r| r.scene.harmonic_or_default()).collect();
     let mut outs: Vec<UnitsRun> = runs
@@ -177,15 +185,32 @@ fn time_units_race(study: &Study, plan: &Plan) -> (f64, u64) {
             )
         })
         .collect();
+    // With the whole curve asked for, it is timed first on copies (the third figure), so that
+    // the sample's own race below is the decisions' alone.
+    let whole_seconds = if scenes.iter().any(|h| h.life_curve == LifeCurve::Whole) {
+        let mut copies = outs.clone();
+        let start = Instant::now();
+        race_runs(&mut copies, &scenes, Serves::Curve);
+        start.elapsed().as_secs_f64()
+    } else {
+        0.0
+    };
+    let decisions: Vec<Harmonic> = scenes
+        .iter()
+        .map(|h| Harmonic {
+            life_curve: LifeCurve::Decisions,
+            ..*h
+        })
+        .collect();
     let start = Instant::now();
-    race_runs(&mut outs, &scenes, Serves::Curve);
+    race_runs(&mut outs, &decisions, Serves::Curve);
     let periods = outs
         .iter()
         .filter_map(|o| o.census.as_ref())
         .flat_map(|c| &c.2.motions)
         .filter_map(|m| m.life.map(|l| l.measured))
         .sum();
-    (start.elapsed().as_secs_f64(), periods)
+    (start.elapsed().as_secs_f64(), periods, whole_seconds)
 }
 
 /// The `j`-th of `n` run indices of the timed sample over `total` runs: all of them when
@@ -233,15 +258,35 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
     );
     let points = curve::curve_points(sys, &study.solver, study.seed, &targets, &records);
     let mut censuses = curve::census_passes(&points);
+    let race_points = curve::race_points(&points, &targets);
+    let whole = race_points
+        .iter()
+        .flatten()
+        .any(|(_, h)| h.life_curve == LifeCurve::Whole);
+    // The whole curve timed first on copies, so that the sample's own race below is the
+    // decisions' alone.
+    let whole_seconds = if whole {
+        let mut copies = censuses.clone();
+        let raced = Instant::now();
+        race(&race_points, &mut copies, Serves::Curve);
+        raced.elapsed().as_secs_f64()
+    } else {
+        0.0
+    };
+    let decisions: Vec<_> = race_points
+        .iter()
+        .map(|p| {
+            p.clone().map(|(f, mut h)| {
+                h.life_curve = LifeCurve::Decisions;
+                (f, h)
+            })
+        })
+        .collect();
     let raced = Instant::now();
     // The ideal case's race, every rule: a perturbed case's costs at most as much.
-    race(
-        &curve::race_points(&points, &targets),
-        &mut censuses,
-        Serves::Curve,
-    );
+    race(&decisions, &mut censuses, Serves::Curve);
     let race_seconds = raced.elapsed().as_secs_f64();
-    let seconds = start.elapsed().as_secs_f64();
+    let seconds = start.elapsed().as_secs_f64() - whole_seconds;
     let found = censuses.iter().flatten().flat_map(|c| &c.attractors);
     let steady_states = found.clone().count() as u64;
     let race_periods = found
@@ -256,6 +301,7 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
         steady_states,
         race_seconds,
         race_periods,
+        whole_seconds,
     }
 }
 
@@ -396,13 +442,24 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
     } else {
         0
     };
-    let mut total =
-        per_run * plan.n_runs() as f64 / threads as f64 + sm.race_seconds * curves as f64;
+    // With the whole curve measured, each ideal curve (one a design) adds the sample's extra
+    // race in proportion to its frequencies.
+    let designs = plan.n_points() / curve.max(1);
+    // The race's sample is up to SAMPLE_FREQUENCIES frequencies of one ideal curve.
+    let sampled = curve.min(SAMPLE_FREQUENCIES);
+    let whole_extra = if sm.whole_seconds > 0.0 && sampled > 0 {
+        (sm.whole_seconds - sm.race_seconds).max(0.0) * curve as f64 / sampled as f64
+    } else {
+        0.0
+    };
+    let mut total = per_run * plan.n_runs() as f64 / threads as f64
+        + sm.race_seconds * curves as f64
+        + whole_extra * designs as f64;
     // A harmonic study's curve (one design and case over its frequencies) is one task: the
     // run takes at least one curve's time, however many threads there are.
     let mut bound = String::new();
     if harmonic && curve > 1 {
-        let one = per_run * curve as f64 + sm.race_seconds;
+        let one = per_run * curve as f64 + sm.race_seconds + whole_extra;
         if one > total {
             total = one;
             bound = format!(
@@ -413,23 +470,27 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
         }
     }
     let what = match study.census_kind() {
-        CensusKind::OneUnit => format!(
-            "census {:.1} ms a frequency over a sample of {} of one design's curve, its race \
+        CensusKind::OneUnit => {
+            format!(
+                "census {:.1} ms a frequency over a sample of {} of one design's curve, its race \
              of the design lives {} over {} periods, counted once a curve",
-            per_run * 1e3,
-            count(sm.runs, "frequency", "frequencies"),
-            fmt_duration(sm.race_seconds),
-            thousands(sm.race_periods)
-        ),
-        CensusKind::Units => format!(
-            "{:.1} ms a run with its census of several units over a sample of {}, the race of \
+                per_run * 1e3,
+                count(sm.runs, "frequency", "frequencies"),
+                fmt_duration(sm.race_seconds),
+                thousands(sm.race_periods)
+            ) + &whole_words(whole_extra)
+        }
+        CensusKind::Units => {
+            format!(
+                "{:.1} ms a run with its census of several units over a sample of {}, the race of \
              the design lives {} over {} periods on a sample of one design's curve, counted once \
              a curve",
-            per_run * 1e3,
-            count(sm.runs, "run", "runs"),
-            fmt_duration(sm.race_seconds),
-            thousands(sm.race_periods)
-        ),
+                per_run * 1e3,
+                count(sm.runs, "run", "runs"),
+                fmt_duration(sm.race_seconds),
+                thousands(sm.race_periods)
+            ) + &whole_words(whole_extra)
+        }
         CensusKind::None => format!(
             "{:.1} us/run over a sample of {}",
             per_run * 1e6,
@@ -443,7 +504,6 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
         if threads == 1 { "" } else { "s" },
     );
     // Verified when two designs or more rank (a design is a curve's frequencies).
-    let designs = plan.n_points() / curve.max(1);
     if study.census() && sm.race_periods > 0 && study.ranking.verify_periods > 0 && designs > 1 {
         let per_case = sm.race_seconds / sm.race_periods as f64
             * study.ranking.verify_periods as f64
@@ -457,6 +517,19 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
             thousands(study.ranking.verify_periods),
             fmt_duration(per_case)
         );
+    }
+}
+
+/// The time estimate's words for the whole curve's extra race (`life_curve = "whole"`), empty
+/// without it.
+fn whole_words(extra: f64) -> String {
+    if extra > 0.0 {
+        format!(
+            "; the whole curve measured (`life_curve = \"whole\"`) adds {} a design's ideal curve",
+            fmt_duration(extra)
+        )
+    } else {
+        String::new()
     }
 }
 
@@ -778,6 +851,7 @@ mod tests {
             steady_states: 4,
             race_seconds: 2.0,
             race_periods: 1_000_000,
+            whole_seconds: 0.0,
         };
         let out = describe(&study, Path::new("out"), 2, Some(sample));
         let line = out
@@ -804,6 +878,40 @@ mod tests {
         let study = Study::parse(Path::new("s.toml"), text).unwrap();
         let out = describe(&study, Path::new("out"), 2, Some(sample));
         assert!(!out.contains("verification:"), "{out}");
+    }
+
+    /// With the whole curve measured, each ideal curve adds the sample's extra race scaled from
+    /// the sampled frequencies to its own: the study above (3 designs, 4 frequencies, all
+    /// sampled), its whole race 5 s against the decisions' 2 s, is 15 s + 3 ideal curves x 3 s.
+    #[test]
+    fn the_whole_curve_adds_its_extra_race_to_each_ideal_curve() {
+        let text = "[study]\nname = \"s\"\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n\
+                    life_curve = \"whole\"\n[sweep]\nm = [0.005, 0.01, 0.02]\n\
+                    r = [0.9, 1.0, 1.1, 1.2]\n[perturb]\ndm = [0.001]\n";
+        let study = Study::parse(Path::new("s.toml"), text).unwrap();
+        let sample = Sample {
+            runs: 4,
+            seconds: 3.0,
+            steady_states: 4,
+            race_seconds: 2.0,
+            race_periods: 1_000_000,
+            whole_seconds: 5.0,
+        };
+        let out = describe(&study, Path::new("out"), 2, Some(sample));
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("time estimate:"))
+            .unwrap();
+        assert!(
+            line.starts_with("time estimate:  24.0 s on 2 threads"),
+            "{line}"
+        );
+        assert!(
+            line.ends_with(
+                "counted once a curve; the whole curve measured (`life_curve = \"whole\"`) adds 3.0 s a design's ideal curve)"
+            ),
+            "{line}"
+        );
     }
 
     #[test]

@@ -42,7 +42,15 @@
 //!    after 2,000 to 64,000 periods. A frequency far below the peak keeps its estimate and its
 //!    interval: it decides nothing.
 //!
-//! Steps 3 and 4 run on a curve that is drawn and read frequency by frequency (the ideal
+//! 5. **The whole curve, when asked** (`[scene] life_curve = "whole"`, [`LifeCurve::Whole`];
+//!    [`whole_curve`]). Last, at every frequency each motion that could still carry the
+//!    frequency's value (its upper end above the frequency's largest lower end and periodic
+//!    amplitude) is measured, past the screen up to the cap, until it no longer could or is
+//!    settled: the values the charts draw between the decisions are then measured as long as
+//!    the peak's, at several times the race's periods (`results/life_curve.md`: on the chaotic
+//!    band of m = 20 g, d = 20 mm, r = 0.94 ... 1.02, over 20 study seeds).
+//!
+//! Steps 3 to 5 run on a curve that is drawn and read frequency by frequency (the ideal
 //! case's, [`Serves::Curve`]); a perturbed case's curve serves its peak alone
 //! ([`Serves::Peak`]).
 //!
@@ -60,7 +68,7 @@ use super::map::Forcing;
 use super::units::census::{RestLanding, UnitsCensus};
 use super::units::map::UnitsMap;
 use crate::sim::Harmonic;
-use crate::sim::harmonic::NonPeriodicPeak;
+use crate::sim::harmonic::{LifeCurve, NonPeriodicPeak};
 use crate::stats::extremes::LifeEstimate;
 use rayon::prelude::*;
 
@@ -223,6 +231,24 @@ fn dip(motions: &[Entry], periodic_at: &[f64], lower: f64, tol: f64) -> Option<u
     })
 }
 
+/// Step 5 of the race (module doc), on a curve whose study asks for the whole curve: the
+/// motion with the highest upper end among those that could still carry their frequency's
+/// value (measurable, upper end above the largest lower end and the largest periodic amplitude
+/// `periodic_at` at their frequency), or `None` when every frequency's value is settled, capped
+/// or carried by a periodic orbit. A motion without an estimate yet has no upper bound.
+fn whole_curve(motions: &[Entry], periodic_at: &[f64]) -> Option<usize> {
+    let mut lower = periodic_at.to_vec();
+    for m in motions {
+        lower[m.freq] = lower[m.freq].max(m.interval().0);
+    }
+    motions
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| m.active && m.interval().1 > lower[m.freq])
+        .max_by(|a, b| a.1.interval().1.total_cmp(&b.1.interval().1))
+        .map(|(i, _)| i)
+}
+
 /// What a curve's values serve, and so which of the race's rules run on it (module doc).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Serves {
@@ -317,7 +343,14 @@ fn race_with(
                 .fold(f64::NEG_INFINITY, f64::max)
         })
         .collect();
-    contest(&mut runners, &omega, &periodic_at, all, serves);
+    contest(
+        &mut runners,
+        &omega,
+        &periodic_at,
+        all,
+        whole(points, serves),
+        serves,
+    );
     // Motions that turned out to be transients onto a periodic orbit the census holds at their
     // point, removed after every result is written (their indices stay valid until then).
     let mut landed: Vec<(usize, usize, usize)> = Vec::new();
@@ -402,7 +435,14 @@ pub fn race_units(
             _ => f64::NEG_INFINITY,
         })
         .collect();
-    contest(&mut runners, &omega, &periodic_at, false, serves);
+    contest(
+        &mut runners,
+        &omega,
+        &periodic_at,
+        false,
+        whole(points, serves),
+        serves,
+    );
     // Motions that turned out to be transients onto a periodic orbit of their census, removed
     // after every result is written (their indices stay valid until then).
     let mut landed: Vec<(usize, usize, usize)> = Vec::new();
@@ -437,6 +477,16 @@ pub fn race_units(
     }
 }
 
+/// Whether step 5 (the whole curve) runs: on a curve the report draws ([`Serves::Curve`]) of a
+/// study that asks for it (`life_curve = "whole"`, a study-wide key).
+fn whole(points: &[Option<(Forcing, Harmonic)>], serves: Serves) -> bool {
+    serves == Serves::Curve
+        && points
+            .iter()
+            .flatten()
+            .any(|(_, h)| h.life_curve == LifeCurve::Whole)
+}
+
 /// Each frequency's forcing frequency (rad/s; NaN where it has no census).
 fn omegas(points: &[Option<(Forcing, Harmonic)>]) -> Vec<f64> {
     points
@@ -463,13 +513,14 @@ fn units_periodic(f: &Forcing, c: &UnitsCensus) -> f64 {
 /// The race itself (module doc) over `runners`, the motions of a curve whose frequency `i` has
 /// forcing frequency `omega[i]` (rad/s; NaN where it has no census) and largest periodic
 /// amplitude `periodic[i]` (m; `-inf` without one): each motion's first estimate, then one
-/// measurement at a time as the rule picks them. What one unit's census and that of several
-/// units share ([`race`], [`race_units`]).
+/// measurement at a time as the rule picks them (`whole`: step 5 too). What one unit's census
+/// and that of several units share ([`race`], [`race_units`]).
 fn contest<M: PeriodMap>(
     runners: &mut [Runner<M>],
     omega: &[f64],
     periodic: &[f64],
     all: bool,
+    whole: bool,
     serves: Serves,
 ) {
     // Every motion's first estimate: each a pure function of its own states, so they run side by
@@ -508,11 +559,13 @@ fn contest<M: PeriodMap>(
             })
             .collect();
         let curve = serves == Serves::Curve;
-        let found = next(&entries, periodic, tol, cap, all, curve).or_else(|| {
-            curve
-                .then(|| dip(&entries, &periodic_at, peak_lower(&entries, periodic), tol))
-                .flatten()
-        });
+        let found = next(&entries, periodic, tol, cap, all, curve)
+            .or_else(|| {
+                curve
+                    .then(|| dip(&entries, &periodic_at, peak_lower(&entries, periodic), tol))
+                    .flatten()
+            })
+            .or_else(|| whole.then(|| whole_curve(&entries, &periodic_at)).flatten());
         let Some(i) = found else {
             break;
         };
@@ -654,6 +707,29 @@ mod tests {
     /// `m` at the curve's `q`-th frequency.
     fn at(m: Entry, q: usize) -> Entry {
         Entry { freq: q, ..m }
+    }
+
+    /// Step 5: the motion reaching highest among those that could still carry their
+    /// frequency's value is measured first, then the next; one under a periodic orbit or under
+    /// a neighbour's lower end at its own frequency never is.
+    #[test]
+    fn the_whole_curve_measures_every_value_that_is_not_known() {
+        let mut ms = [
+            at(motion(5e-3, 4.5e-3, 9e-3, 2000), 0),
+            // Under frequency 1's periodic orbit of 1 cm.
+            at(motion(7e-3, 6e-3, 8e-3, 2000), 1),
+            at(motion(7e-3, 6.8e-3, 7.5e-3, 64_000), 2),
+            at(motion(5e-3, 4.5e-3, 6.9e-3, 2000), 2),
+            // Under its frequency's lower end (6.8 mm).
+            at(motion(5e-3, 4.5e-3, 6.7e-3, 2000), 2),
+        ];
+        let periodic_at = [f64::NEG_INFINITY, 1e-2, f64::NEG_INFINITY];
+        let mut order = Vec::new();
+        while let Some(i) = whole_curve(&ms, &periodic_at) {
+            order.push(i);
+            ms[i].active = false;
+        }
+        assert_eq!(order, [0, 2, 3]);
     }
 
     /// A curve of three frequencies: `first` at the first, `second` at the next, and at the

@@ -11,7 +11,7 @@ use super::summary::HarmonicSummary;
 use super::verify::{self, CasePeak, CaseTop, LifeQuestion, Verification};
 use crate::orbits::attractors::AttractorRow;
 use crate::reduce::common::{Options, Reducer, Run, Summary, outcome_index};
-use crate::sim::harmonic::{DesignPeak, NonPeriodicPeak};
+use crate::sim::harmonic::{DesignPeak, LifeCurve, NonPeriodicPeak};
 use crate::sim::{HarmonicRecord, Outcome};
 use crate::store::RunRow;
 use crate::study::Study;
@@ -342,6 +342,7 @@ impl<'a> HarmonicReducer<'a> {
                 design_life: harmonic.map_or(f64::NAN, |h| h.design_life),
                 life_quantile: harmonic.map_or(f64::NAN, |h| h.life_quantile),
                 nonperiodic_peak: harmonic.map_or(NonPeriodicPeak::Life, |h| h.nonperiodic_peak),
+                life_curve: harmonic.map_or(LifeCurve::Decisions, |h| h.life_curve),
                 curve_lines: Default::default(),
                 verification,
             },

@@ -7,7 +7,7 @@ use super::curve::{Curve, CurvePoint};
 use super::verify::Verification;
 use crate::orbits::attractors::AttractorRow;
 use crate::reduce::common::PointStats;
-use crate::sim::harmonic::{DesignPeak, NonPeriodicPeak};
+use crate::sim::harmonic::{DesignPeak, LifeCurve, NonPeriodicPeak};
 use crate::store::table::{Column, Table};
 
 /// What the harmonic reduction adds to the core's [`crate::reduce::Summary`].
@@ -33,6 +33,8 @@ pub struct HarmonicSummary {
     /// How a motion that is not periodic gets its design amplitude (`[scene]
     /// nonperiodic_peak`).
     pub nonperiodic_peak: NonPeriodicPeak,
+    /// Where the race measured the design lives (`[scene] life_curve`).
+    pub life_curve: LifeCurve,
     /// The lines of the grid the bifurcation curves are followed along.
     pub curve_lines: CurveLines,
     /// The deciding designs' peaks measured directly ([`super::verify`]).

@@ -138,6 +138,11 @@ pub struct Harmonic {
     /// (2,000 doubled nine times: the slowest tails validated need some 5 * 10^5 periods for
     /// 5 %, `results/life_validation.md`), range `[2000, 10^8]`.
     pub life_max_periods: u64,
+    /// Where the race measures the design lives of a curve's motions that are not periodic.
+    /// Default [`LifeCurve::Decisions`]; `"whole"` measures every frequency of the ideal curve
+    /// until its value is known, at several times the cost.
+    #[serde(skip_serializing_if = "LifeCurve::is_default")]
+    pub life_curve: LifeCurve,
     /// Integrate the window's energies (default `true`; no study key). The steady-state
     /// solvers of [`crate::orbits`] evaluate the stroboscopic map without them.
     #[serde(skip)]
@@ -231,6 +236,40 @@ impl NonPeriodicPeak {
     }
 }
 
+/// Where a curve's race ([`crate::orbits::race`]) measures the design lives of its motions that
+/// are not periodic (`[scene] life_curve`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LifeCurve {
+    /// Only where a value can change a decision: the curve's peak, where the damper helps, a
+    /// dip beside the peak. A frequency far below the peak keeps its first estimate (2,000 to
+    /// 64,000 periods) and its wide interval.
+    Decisions,
+    /// Also every other frequency of the ideal curve (the one the report draws): each motion
+    /// that could carry a frequency's value is measured until it is settled (`life_tol` at three
+    /// successive windows) or reaches `life_max_periods`, so the frequency-response charts draw
+    /// the whole curve as known values where the cap allows. The perturbed cases' curves, which
+    /// serve only their peaks, race as with `Decisions`.
+    Whole,
+}
+
+impl LifeCurve {
+    pub const NAMES: [&'static str; 2] = ["decisions", "whole"];
+
+    pub fn parse(s: &str) -> Option<LifeCurve> {
+        match s {
+            "decisions" => Some(LifeCurve::Decisions),
+            "whole" => Some(LifeCurve::Whole),
+            _ => None,
+        }
+    }
+
+    /// Whether this is the default (the scene's serialised form leaves it out then).
+    pub fn is_default(&self) -> bool {
+        *self == LifeCurve::Decisions
+    }
+}
+
 impl Default for Harmonic {
     fn default() -> Self {
         Harmonic {
@@ -248,6 +287,7 @@ impl Default for Harmonic {
             life_quantile: 0.5,
             life_tol: 0.05,
             life_max_periods: 1_024_000,
+            life_curve: LifeCurve::Decisions,
             energies: true,
             x_floor: 0.0,
             finder: Finder::DEFAULT,

@@ -20,7 +20,7 @@ use super::raw::{RawScene, RawStudy};
 use crate::error::InputError;
 use crate::model::{RangeError, System};
 use crate::sim::harmonic::motion::RESONANCE_FLOOR;
-use crate::sim::harmonic::{DesignPeak, NonPeriodicPeak};
+use crate::sim::harmonic::{DesignPeak, LifeCurve, NonPeriodicPeak};
 use crate::sim::{Drive, Harmonic, Scene, SolverKind, SolverSettings};
 use crate::study::axis::{Axis, RawAxis};
 use crate::study::context::{Cx, num, range_value};
@@ -230,7 +230,7 @@ fn fixed_settings(raw: &RawScene, sweep: &BTreeMap<String, RawAxis>) -> Harmonic
     h
 }
 
-/// `design_peak` and `nonperiodic_peak` of `raw` into `h`, each one of its names.
+/// `design_peak`, `nonperiodic_peak` and `life_curve` of `raw` into `h`, each one of its names.
 fn parse_peaks(cx: &Cx, raw: &RawScene, h: &mut Harmonic) -> Result<(), InputError> {
     if let Some(p) = &raw.design_peak {
         h.design_peak = DesignPeak::parse(p).ok_or_else(|| {
@@ -255,6 +255,20 @@ fn parse_peaks(cx: &Cx, raw: &RawScene, h: &mut Harmonic) -> Result<(), InputErr
                      largest amplitude over the design life, estimated, or the largest over the \
                      census's 200-period window, a lower bound)",
                     NonPeriodicPeak::NAMES.join(", ")
+                ),
+            )
+        })?;
+    }
+    if let Some(p) = &raw.life_curve {
+        h.life_curve = LifeCurve::parse(p).ok_or_else(|| {
+            cx.err(
+                "[scene].life_curve",
+                format!("{p:?}"),
+                format!(
+                    "unknown extent of the design-life measurement; allowed: {} (only where a \
+                     value can change a decision, or every frequency of the ideal curve until \
+                     its value is known)",
+                    LifeCurve::NAMES.join(", ")
                 ),
             )
         })?;

@@ -84,6 +84,7 @@ pub(super) struct RawScene {
     pub(super) life_quantile: Option<f64>,
     pub(super) life_tol: Option<f64>,
     pub(super) life_max_periods: Option<u64>,
+    pub(super) life_curve: Option<String>,
     // The random and record scenes ([`super::random_load`]).
     pub(super) input: Option<String>,
     pub(super) spectrum: Option<String>,
@@ -172,6 +173,9 @@ impl RawScene {
         }
         if self.nonperiodic_peak.is_some() {
             keys.push("nonperiodic_peak");
+        }
+        if self.life_curve.is_some() {
+            keys.push("life_curve");
         }
         keys
     }

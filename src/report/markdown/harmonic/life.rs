@@ -11,7 +11,7 @@ use crate::reduce::Summary;
 use crate::reduce::harmonic::HarmonicSummary;
 use crate::reduce::harmonic::verify::Verification;
 use crate::report::markdown::words::{cm, design_text, f};
-use crate::sim::harmonic::NonPeriodicPeak;
+use crate::sim::harmonic::{LifeCurve, NonPeriodicPeak};
 
 /// `s` seconds as the report says a design life: hours (and years beyond 10,000 h).
 pub fn life_text(s: f64) -> String {
@@ -58,6 +58,12 @@ pub fn section(s: &Summary, fs: &HarmonicSummary, shown: &[&PointStats]) -> Stri
         quantile_text(fs),
         life_text(fs.design_life)
     );
+    if fs.life_curve == LifeCurve::Whole {
+        let _ = writeln!(
+            o,
+            "\n**The whole curve measured** (`[scene] life_curve = \"whole\"`): besides the values that decide (a curve's peak, where the damper helps, a dip beside the peak), every frequency of each design's ideal curve was measured until the motions that could carry its value were settled (`life_tol` at three successive windows) or reached `life_max_periods` (`attractors.csv`: `measured_periods`, and `life_capped` where the cap stopped them). A perturbed case's curve serves only its peak and was raced as by default."
+        );
+    }
     if !rows.is_empty() {
         let _ = writeln!(
             o,
