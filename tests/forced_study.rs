@@ -511,6 +511,26 @@ fn issue_23_attractor_tables_are_identical_across_threads_chunks_shards_and_kill
     );
 }
 
+/// The study `text` (named `name`) run into `dir` with the default options: every attractor row
+/// it stored, in chunk order.
+fn study_attractors(
+    dir: &Path,
+    name: &str,
+    text: &str,
+) -> Vec<impactsweep::orbits::attractors::AttractorRow> {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    let s = Study::load(&path).unwrap();
+    sweep::run_study(&s, dir, &SweepOptions::default()).unwrap();
+    let run = dir.join(name);
+    let mut out = Vec::new();
+    for p in store::part_files(&run).unwrap() {
+        let side = store::attractors::attractors_part_path(&run, store::part_chunk(&p).unwrap());
+        out.extend(store::attractors::read_part(&side).unwrap());
+    }
+    out
+}
+
 /// Issue 23: `nonperiodic_peak = "window"` skips the design life and nothing else. The same
 /// study with and without it stores the same attractors (every periodic row to its last bit, and
 /// every census column of the others); a motion that is not periodic then keeps its window's
@@ -521,18 +541,7 @@ fn issue_23_window_peaks_store_the_same_attractors_without_the_design_life() {
     let rows = |name: &str, extra: &str| {
         let text = common::census_study_text(name)
             .replace("starts = 4\n", &format!("starts = 4\n{extra}"));
-        let path = tmp.path().join(format!("{name}.toml"));
-        std::fs::write(&path, text).unwrap();
-        let s = Study::load(&path).unwrap();
-        sweep::run_study(&s, tmp.path(), &SweepOptions::default()).unwrap();
-        let dir = tmp.path().join(name);
-        let mut out = Vec::new();
-        for p in store::part_files(&dir).unwrap() {
-            let side =
-                store::attractors::attractors_part_path(&dir, store::part_chunk(&p).unwrap());
-            out.extend(store::attractors::read_part(&side).unwrap());
-        }
-        out
+        study_attractors(tmp.path(), name, &text)
     };
     let life = rows("life", "");
     let window = rows("window", "nonperiodic_peak = \"window\"\n");
@@ -608,18 +617,7 @@ fn issue_69_the_whole_curve_is_measured_where_asked_and_nothing_else_moves() {
              F0 = 0.1\nstarts = 4\nlife_max_periods = {CAP}\n{extra}[sweep]\n\
              r = [0.94, 0.95, 0.99, 1.0]\n[perturb]\ndm = [0.001]\n[ranking]\nverify_periods = 0\n"
         );
-        let path = tmp.path().join(format!("{name}.toml"));
-        std::fs::write(&path, text).unwrap();
-        let s = Study::load(&path).unwrap();
-        sweep::run_study(&s, tmp.path(), &SweepOptions::default()).unwrap();
-        let dir = tmp.path().join(name);
-        let mut out = Vec::new();
-        for p in store::part_files(&dir).unwrap() {
-            let side =
-                store::attractors::attractors_part_path(&dir, store::part_chunk(&p).unwrap());
-            out.extend(store::attractors::read_part(&side).unwrap());
-        }
-        out
+        study_attractors(tmp.path(), name, &text)
     };
     let decisions = rows("decisions", "");
     let whole = rows("whole", "life_curve = \"whole\"\n");

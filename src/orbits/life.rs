@@ -122,6 +122,8 @@ pub struct LifeRun<S = Section> {
     pub exact: bool,
     /// How many windows in a row before the last met the tolerance ([`LifeRun::settled`]).
     pub met_before: u32,
+    /// The per-period maxima [`LifeRun::retire`] let go: how many, and the largest (NaN: none).
+    pub retired: (u64, f64),
 }
 
 impl<S: Clone + Send + Sync> LifeRun<S> {
@@ -141,6 +143,7 @@ impl<S: Clone + Send + Sync> LifeRun<S> {
             starts: states,
             exact: false,
             met_before: 0,
+            retired: (0, f64::NAN),
         }
     }
 
@@ -153,7 +156,22 @@ impl<S: Clone + Send + Sync> LifeRun<S> {
 
     /// Periods measured over all chains.
     pub fn periods(&self) -> u64 {
-        self.chains.iter().map(|c| c.0.len() as u64).sum()
+        self.retired.0 + self.chains.iter().map(|c| c.0.len() as u64).sum::<u64>()
+    }
+
+    /// Lets go of the per-period maxima of a measurement that will not grow again, but for each
+    /// chain's last [`REPEAT_WINDOW`] ([`LifeRun::repeats`], [`LifeRun::last_max`]): its
+    /// estimate, periods and largest value stay ([`LifeRun::summary`]). A race holds many
+    /// measurements at once (a curve's every motion with `life_curve = "whole"`, each up to
+    /// `life_max_periods` values): those that are over take no more memory than a few kB each.
+    pub fn retire(&mut self) {
+        for (z, _) in &mut self.chains {
+            let keep = z.len().saturating_sub(REPEAT_WINDOW);
+            let top = z[..keep].iter().copied().fold(self.retired.1, f64::max);
+            self.retired = (self.retired.0 + keep as u64, top);
+            z.drain(..keep);
+            z.shrink_to_fit();
+        }
     }
 
     /// Runs `n` more periods in all, shared out evenly over the chains (the first chains take
@@ -218,7 +236,7 @@ impl<S: Clone + Send + Sync> LifeRun<S> {
         self.chains
             .iter()
             .flat_map(|c| c.0.iter().copied())
-            .fold(f64::NAN, f64::max)
+            .fold(self.retired.1, f64::max)
     }
 
     /// Every chain's per-period maxima so far.
@@ -501,6 +519,24 @@ mod tests {
             c.0 = z;
         }
         run
+    }
+
+    /// A retired measurement says what it said before: its periods, largest value, summary, and
+    /// its last maxima (whether they repeat, and their largest), from a few kB.
+    #[test]
+    fn a_retired_measurement_keeps_its_summary() {
+        let long: Vec<f64> = (0..5000).map(|i| ((i * 7919) % 1013) as f64).collect();
+        let short: Vec<f64> = (0..100).map(|i| (i % 3) as f64).collect();
+        let mut run = run_of(vec![long, short]);
+        let before = (run.summary(), run.repeats(), run.last_max());
+        run.retire();
+        assert_eq!((run.summary(), run.repeats(), run.last_max()), before);
+        assert_eq!(run.periods(), 5100);
+        assert_eq!(run.chains[0].0.len(), REPEAT_WINDOW);
+        assert_eq!(run.chains[1].0.len(), 100);
+        // Retired twice: nothing more goes.
+        run.retire();
+        assert_eq!(run.summary(), before.0);
     }
 
     /// A motion of one state gets [`MIN_CHAINS`] chains: its own state first, then nudged copies

@@ -531,6 +531,9 @@ fn contest<M: PeriodMap>(
             r.run = LifeRun::chains(topped_up(&r.f, std::mem::take(&mut r.run.starts)));
         }
         r.active = grow(r);
+        if !r.active {
+            r.run.retire();
+        }
     });
     // The curve's frequencies in order of forcing frequency: each one's place, and its largest
     // periodic amplitude.
@@ -571,6 +574,10 @@ fn contest<M: PeriodMap>(
         };
         let r = &mut runners[i];
         r.active = grow(r);
+        // No rule measures an inactive motion again: its maxima can go (LifeRun::retire).
+        if !r.active {
+            r.run.retire();
+        }
     }
 }
 
