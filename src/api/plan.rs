@@ -185,32 +185,44 @@ fn time_units_race(study: &Study, plan: &Plan) -> (f64, u64, f64) {
             )
         })
         .collect();
-    // With the whole curve asked for, it is timed first on copies (the third figure), so that
-    // the sample's own race below is the decisions' alone.
-    let whole_seconds = if scenes.iter().any(|h| h.life_curve == LifeCurve::Whole) {
-        let mut copies = outs.clone();
-        let start = Instant::now();
-        race_runs(&mut copies, &scenes, Serves::Curve);
-        start.elapsed().as_secs_f64()
-    } else {
-        0.0
-    };
-    let decisions: Vec<Harmonic> = scenes
-        .iter()
-        .map(|h| Harmonic {
-            life_curve: LifeCurve::Decisions,
-            ..*h
-        })
-        .collect();
-    let start = Instant::now();
-    race_runs(&mut outs, &decisions, Serves::Curve);
+    let whole = scenes.iter().any(|h| h.life_curve == LifeCurve::Whole);
+    let (seconds, whole_seconds) = time_races(&mut outs, whole, |outs, curve| {
+        let scenes: Vec<Harmonic> = scenes.iter().map(|h| with_life_curve(h, curve)).collect();
+        race_runs(outs, &scenes, Serves::Curve);
+    });
     let periods = outs
         .iter()
         .filter_map(|o| o.census.as_ref())
         .flat_map(|c| &c.2.motions)
         .filter_map(|m| m.life.map(|l| l.measured))
         .sum();
-    (start.elapsed().as_secs_f64(), periods, whole_seconds)
+    (seconds, periods, whole_seconds)
+}
+
+/// The sample's race timed as the study asks: with the whole curve first on a copy of `x`
+/// (`race(copy, LifeCurve::Whole)`, when `whole`), then with the decisions alone on `x` itself,
+/// which the sample keeps. The seconds of the decisions' race, and of the whole curve's (0
+/// without it).
+fn time_races<T: Clone>(x: &mut T, whole: bool, race: impl Fn(&mut T, LifeCurve)) -> (f64, f64) {
+    let whole_seconds = if whole {
+        let mut copy = x.clone();
+        let start = Instant::now();
+        race(&mut copy, LifeCurve::Whole);
+        start.elapsed().as_secs_f64()
+    } else {
+        0.0
+    };
+    let start = Instant::now();
+    race(x, LifeCurve::Decisions);
+    (start.elapsed().as_secs_f64(), whole_seconds)
+}
+
+/// `h` with its `life_curve` set to `curve`.
+fn with_life_curve(h: &Harmonic, curve: LifeCurve) -> Harmonic {
+    Harmonic {
+        life_curve: curve,
+        ..*h
+    }
 }
 
 /// The `j`-th of `n` run indices of the timed sample over `total` runs: all of them when
@@ -263,29 +275,14 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
         .iter()
         .flatten()
         .any(|(_, h)| h.life_curve == LifeCurve::Whole);
-    // The whole curve timed first on copies, so that the sample's own race below is the
-    // decisions' alone.
-    let whole_seconds = if whole {
-        let mut copies = censuses.clone();
-        let raced = Instant::now();
-        race(&race_points, &mut copies, Serves::Curve);
-        raced.elapsed().as_secs_f64()
-    } else {
-        0.0
-    };
-    let decisions: Vec<_> = race_points
-        .iter()
-        .map(|p| {
-            p.clone().map(|(f, mut h)| {
-                h.life_curve = LifeCurve::Decisions;
-                (f, h)
-            })
-        })
-        .collect();
-    let raced = Instant::now();
     // The ideal case's race, every rule: a perturbed case's costs at most as much.
-    race(&decisions, &mut censuses, Serves::Curve);
-    let race_seconds = raced.elapsed().as_secs_f64();
+    let (race_seconds, whole_seconds) = time_races(&mut censuses, whole, |censuses, curve| {
+        let points: Vec<_> = race_points
+            .iter()
+            .map(|p| p.clone().map(|(f, h)| (f, with_life_curve(&h, curve))))
+            .collect();
+        race(&points, censuses, Serves::Curve);
+    });
     let seconds = start.elapsed().as_secs_f64() - whole_seconds;
     let found = censuses.iter().flatten().flat_map(|c| &c.attractors);
     let steady_states = found.clone().count() as u64;
