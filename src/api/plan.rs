@@ -832,6 +832,19 @@ mod tests {
         assert_eq!(fmt_bytes(1_234_000_000), "1.2 GB");
     }
 
+    /// A sample of 4 frequencies: 1 s of census, 2 s of race over 10^6 periods, and the whole
+    /// curve's race `whole_seconds` (0: not asked for).
+    fn curve_sample(whole_seconds: f64) -> Sample {
+        Sample {
+            runs: 4,
+            seconds: 3.0,
+            steady_states: 4,
+            race_seconds: 2.0,
+            race_periods: 1_000_000,
+            whole_seconds,
+        }
+    }
+
     /// The census scales by the runs over the threads, the race by the curves: 3 designs x 2
     /// cases x 4 frequencies, a sample of 4 frequencies taking 1 s of census and 2 s of race,
     /// is 24 runs x 0.25 s / 2 threads + 6 curves x 2 s = 15 s (scaling the whole sample by
@@ -842,14 +855,7 @@ mod tests {
                     [sweep]\nm = [0.005, 0.01, 0.02]\nr = [0.9, 1.0, 1.1, 1.2]\n\
                     [perturb]\ndm = [0.001]\n";
         let study = Study::parse(Path::new("s.toml"), text).unwrap();
-        let sample = Sample {
-            runs: 4,
-            seconds: 3.0,
-            steady_states: 4,
-            race_seconds: 2.0,
-            race_periods: 1_000_000,
-            whole_seconds: 0.0,
-        };
+        let sample = curve_sample(0.0);
         let out = describe(&study, Path::new("out"), 2, Some(sample));
         let line = out
             .lines()
@@ -886,14 +892,7 @@ mod tests {
                     life_curve = \"whole\"\n[sweep]\nm = [0.005, 0.01, 0.02]\n\
                     r = [0.9, 1.0, 1.1, 1.2]\n[perturb]\ndm = [0.001]\n";
         let study = Study::parse(Path::new("s.toml"), text).unwrap();
-        let sample = Sample {
-            runs: 4,
-            seconds: 3.0,
-            steady_states: 4,
-            race_seconds: 2.0,
-            race_periods: 1_000_000,
-            whole_seconds: 5.0,
-        };
+        let sample = curve_sample(5.0);
         let out = describe(&study, Path::new("out"), 2, Some(sample));
         let line = out
             .lines()

@@ -140,7 +140,7 @@ pub struct Harmonic {
     pub life_max_periods: u64,
     /// Where the race measures the design lives of a curve's motions that are not periodic.
     /// Default [`LifeCurve::Decisions`]; `"whole"` measures every frequency of the ideal curve
-    /// until its value is known, at several times the cost.
+    /// as long as its peak, at several times the cost.
     #[serde(skip_serializing_if = "LifeCurve::is_default")]
     pub life_curve: LifeCurve,
     /// Integrate the window's energies (default `true`; no study key). The steady-state
@@ -248,7 +248,7 @@ pub enum LifeCurve {
     /// Also every other frequency of the ideal curve (the one the report draws): each motion
     /// that could carry a frequency's value is measured until it is settled (`life_tol` at three
     /// successive windows) or reaches `life_max_periods`, so the frequency-response charts draw
-    /// the whole curve as known values where the cap allows. The perturbed cases' curves, which
+    /// every value measured as long as the peak's. The perturbed cases' curves, which
     /// serve only their peaks, race as with `Decisions`.
     Whole,
 }

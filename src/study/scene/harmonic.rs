@@ -232,48 +232,66 @@ fn fixed_settings(raw: &RawScene, sweep: &BTreeMap<String, RawAxis>) -> Harmonic
 
 /// `design_peak`, `nonperiodic_peak` and `life_curve` of `raw` into `h`, each one of its names.
 fn parse_peaks(cx: &Cx, raw: &RawScene, h: &mut Harmonic) -> Result<(), InputError> {
-    if let Some(p) = &raw.design_peak {
-        h.design_peak = DesignPeak::parse(p).ok_or_else(|| {
-            cx.err(
-                "[scene].design_peak",
-                format!("{p:?}"),
-                format!(
-                    "unknown design peak; allowed: {} (the worst steady state the census finds, \
-                     or the one reached from the initial state)",
-                    DesignPeak::NAMES.join(", ")
-                ),
-            )
-        })?;
+    if let Some(p) = named(
+        cx,
+        "design_peak",
+        &raw.design_peak,
+        (DesignPeak::parse, &DesignPeak::NAMES),
+        "unknown design peak",
+        "the worst steady state the census finds, or the one reached from the initial state",
+    )? {
+        h.design_peak = p;
     }
-    if let Some(p) = &raw.nonperiodic_peak {
-        h.nonperiodic_peak = NonPeriodicPeak::parse(p).ok_or_else(|| {
-            cx.err(
-                "[scene].nonperiodic_peak",
-                format!("{p:?}"),
-                format!(
-                    "unknown peak of a steady state that is not periodic; allowed: {} (its \
-                     largest amplitude over the design life, estimated, or the largest over the \
-                     census's 200-period window, a lower bound)",
-                    NonPeriodicPeak::NAMES.join(", ")
-                ),
-            )
-        })?;
+    if let Some(p) = named(
+        cx,
+        "nonperiodic_peak",
+        &raw.nonperiodic_peak,
+        (NonPeriodicPeak::parse, &NonPeriodicPeak::NAMES),
+        "unknown peak of a steady state that is not periodic",
+        "its largest amplitude over the design life, estimated, or the largest over the \
+         census's 200-period window, a lower bound",
+    )? {
+        h.nonperiodic_peak = p;
     }
-    if let Some(p) = &raw.life_curve {
-        h.life_curve = LifeCurve::parse(p).ok_or_else(|| {
-            cx.err(
-                "[scene].life_curve",
-                format!("{p:?}"),
-                format!(
-                    "unknown extent of the design-life measurement; allowed: {} (only where a \
-                     value can change a decision, or every frequency of the ideal curve until \
-                     its value is known)",
-                    LifeCurve::NAMES.join(", ")
-                ),
-            )
-        })?;
+    if let Some(c) = named(
+        cx,
+        "life_curve",
+        &raw.life_curve,
+        (LifeCurve::parse, &LifeCurve::NAMES),
+        "unknown extent of the design-life measurement",
+        "only where a value can change a decision, or every frequency of the ideal curve until \
+         its value is known",
+    )? {
+        h.life_curve = c;
     }
     Ok(())
+}
+
+/// A setting's parser and the names it takes.
+type Names<T> = (fn(&str) -> Option<T>, &'static [&'static str]);
+
+/// The `[scene].key` given as one of `names` (`parse`), if given; otherwise the error says
+/// `what` was wrong, the names allowed and what they mean.
+fn named<T>(
+    cx: &Cx,
+    key: &str,
+    given: &Option<String>,
+    (parse, names): Names<T>,
+    what: &str,
+    meaning: &str,
+) -> Result<Option<T>, InputError> {
+    given
+        .as_ref()
+        .map(|p| {
+            parse(p).ok_or_else(|| {
+                cx.err(
+                    &format!("[scene].{key}"),
+                    format!("{p:?}"),
+                    format!("{what}; allowed: {} ({meaning})", names.join(", ")),
+                )
+            })
+        })
+        .transpose()
 }
 
 /// Where a frequency key is set (`[scene].r` or `[sweep].r`), if anywhere.
