@@ -608,12 +608,25 @@ fn issue_23_window_peaks_store_the_same_attractors_without_the_design_life() {
 /// some motion of the ideal curve stops short of the cap: the rule has work to do here.
 #[test]
 fn issue_69_the_whole_curve_is_measured_where_asked_and_nothing_else_moves() {
+    whole_curve_is_measured_where_asked("");
+}
+
+/// As [`issue_69_the_whole_curve_is_measured_where_asked_and_nothing_else_moves`] for two units
+/// of different clearances (the same added mass), whose curves race through the same rules.
+#[test]
+fn issue_69_the_whole_curve_of_two_units_is_measured_where_asked_and_nothing_else_moves() {
+    whole_curve_is_measured_where_asked("units = 2\nd_spread = 0.2\n");
+}
+
+/// The whole curve's check on the study of four frequencies near resonance, with `units` (the
+/// `[system]` keys of several units, or nothing) added to its system.
+fn whole_curve_is_measured_where_asked(units: &str) {
     let tmp = tempfile::tempdir().unwrap();
     const CAP: u64 = 8000;
     let rows = |name: &str, extra: &str| {
         let text = format!(
             "[study]\nname = \"{name}\"\nseed = 3\n[system]\nC = 0.1\ne = 0.9\nm = 0.02\n\
-             d = 0.02\nx0 = 0.0\nv0 = 0.0\ny0 = 0.0\nw0 = 0.0\n[scene]\nkind = \"harmonic\"\n\
+             d = 0.02\nx0 = 0.0\nv0 = 0.0\ny0 = 0.0\nw0 = 0.0\n{units}[scene]\nkind = \"harmonic\"\n\
              F0 = 0.1\nstarts = 4\nlife_max_periods = {CAP}\n{extra}[sweep]\n\
              r = [0.94, 0.95, 0.99, 1.0]\n[perturb]\ndm = [0.001]\n[ranking]\nverify_periods = 0\n"
         );
