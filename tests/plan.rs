@@ -341,8 +341,10 @@ fn a_one_frequency_sample_is_said_in_the_singular() {
          starts = 2\nnonperiodic_peak = \"window\"\n[sweep]\nm = [0.005, 0.01]\nr = [1.0]\n",
     )
     .unwrap();
-    let estimate = plan(&study, tmp.path());
-    let estimate = field(&estimate, "time estimate");
+    let text = plan(&study, tmp.path());
+    // An axis of one value, too.
+    assert!(text.contains("r = 1 (1 value)\n"), "{text}");
+    let estimate = field(&text, "time estimate");
     assert!(
         estimate.contains("over a sample of 1 frequency of one design's curve"),
         "{estimate}"

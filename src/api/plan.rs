@@ -377,7 +377,12 @@ fn describe_axes(w: &mut String, study: &Study) {
                 fmt_value(a.values[n - 1])
             )
         };
-        let _ = writeln!(w, "{label:<16}{} = {range} ({n} values)", a.key);
+        let _ = writeln!(
+            w,
+            "{label:<16}{} = {range} ({})",
+            a.key,
+            count(n as u64, "value", "values")
+        );
     }
 }
 
