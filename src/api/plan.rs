@@ -7,7 +7,8 @@
 //! the mean time per run is scaled by the total and divided by the threads a `run` would use,
 //! but a harmonic study takes at least one curve's time: a curve is one task of the sweep. A
 //! harmonic study with a census times its race of the design lives apart and counts it once a
-//! curve ([`Sample::race_seconds`]); with `life_curve = "whole"` the ideal curves' extra race
+//! curve ([`Sample::race_seconds`]), a perturbed case's curve at its race for the peak alone
+//! ([`Sample::peak_seconds`]); with `life_curve = "whole"` the ideal curves' extra race
 //! scales with their frequencies instead ([`Sample::whole_seconds`]).
 //! It measures the binary it runs in, so a debug build predicts a debug build.
 
@@ -77,6 +78,10 @@ pub struct Sample {
     pub race_seconds: f64,
     /// The periods that race measured.
     pub race_periods: u64,
+    /// A perturbed case's curve's race, which serves its peak alone ([`Serves::Peak`]), timed
+    /// on the same censuses as `race_seconds` (not part of `seconds`); 0 without perturbed
+    /// cases or a census, when each curve counts at `race_seconds`.
+    pub peak_seconds: f64,
     /// With `life_curve = "whole"`: the same sample's race with the whole curve measured (step 5
     /// of [`crate::orbits::race`]), whose cost beyond `race_seconds` follows the frequencies; 0
     /// otherwise.
@@ -157,6 +162,7 @@ pub fn time_sample(study: &Study) -> Sample {
         steady_states,
         race_seconds,
         race_periods,
+        peak_seconds: 0.0,
         whole_seconds,
     }
 }
@@ -275,7 +281,16 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
         .iter()
         .flatten()
         .any(|(_, h)| h.life_curve == LifeCurve::Whole);
-    // The ideal case's race, every rule: a perturbed case's costs at most as much.
+    // A perturbed case's curve races for its peak alone: timed on a copy of the same censuses.
+    let peak_seconds = if plan.n_cases() > 1 {
+        let mut copy = censuses.clone();
+        let start = Instant::now();
+        race(&race_points, &mut copy, Serves::Peak);
+        start.elapsed().as_secs_f64()
+    } else {
+        0.0
+    };
+    // The ideal case's race, every rule.
     let (race_seconds, whole_seconds) = time_races(&mut censuses, whole, |censuses, curve| {
         let points: Vec<_> = race_points
             .iter()
@@ -283,7 +298,7 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
             .collect();
         race(&points, censuses, Serves::Curve);
     });
-    let seconds = start.elapsed().as_secs_f64() - whole_seconds;
+    let seconds = start.elapsed().as_secs_f64() - whole_seconds - peak_seconds;
     let found = censuses.iter().flatten().flat_map(|c| &c.attractors);
     let steady_states = found.clone().count() as u64;
     let race_periods = found
@@ -298,6 +313,7 @@ fn time_curve(study: &Study, plan: &Plan) -> Sample {
         steady_states,
         race_seconds,
         race_periods,
+        peak_seconds,
         whole_seconds,
     }
 }
@@ -454,8 +470,16 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
     } else {
         0.0
     };
+    // Each design's ideal curve races with every rule, a perturbed case's for its peak alone.
+    let perturbed = curves.saturating_sub(designs);
+    let peak = if sm.peak_seconds > 0.0 {
+        sm.peak_seconds
+    } else {
+        sm.race_seconds
+    };
     let mut total = per_run * plan.n_runs() as f64 / threads as f64
-        + sm.race_seconds * curves as f64
+        + sm.race_seconds * (curves - perturbed) as f64
+        + peak * perturbed as f64
         + whole_extra * designs as f64;
     // A harmonic study's curve (one design and case over its frequencies) is one task: the
     // run takes at least one curve's time, however many threads there are.
@@ -475,11 +499,12 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
         CensusKind::OneUnit => {
             format!(
                 "census {:.1} ms a frequency over a sample of {} of one design's curve, its race \
-             of the design lives {} over {} periods, counted once a curve",
+             of the design lives {} over {} periods, counted once a curve{}",
                 per_run * 1e3,
                 count(sm.runs, "frequency", "frequencies"),
                 fmt_duration(sm.race_seconds),
-                thousands(sm.race_periods)
+                thousands(sm.race_periods),
+                peak_words(sm.peak_seconds, perturbed)
             ) + &whole_words(whole_extra)
         }
         CensusKind::Units => {
@@ -519,6 +544,18 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
             thousands(study.ranking.verify_periods),
             fmt_duration(per_case)
         );
+    }
+}
+
+/// The time estimate's words for a perturbed case's race (its peak alone), empty without one.
+fn peak_words(peak: f64, perturbed: u64) -> String {
+    if peak > 0.0 && perturbed > 0 {
+        format!(
+            " ({} when it serves a perturbed case's peak alone)",
+            fmt_duration(peak)
+        )
+    } else {
+        String::new()
     }
 }
 
@@ -846,6 +883,7 @@ mod tests {
             steady_states: 4,
             race_seconds: 2.0,
             race_periods: 1_000_000,
+            peak_seconds: 0.0,
             whole_seconds,
         }
     }
@@ -886,6 +924,36 @@ mod tests {
         let study = Study::parse(Path::new("s.toml"), text).unwrap();
         let out = describe(&study, Path::new("out"), 2, Some(sample));
         assert!(!out.contains("verification:"), "{out}");
+    }
+
+    /// A perturbed case's curve counts at its own race, which serves its peak alone: the study
+    /// of `a_harmonic_race_counts_once_a_curve` (3 designs x 2 cases) with that race at 0.5 s
+    /// is 24 runs x 0.25 s / 2 threads + 3 ideal curves x 2 s + 3 perturbed x 0.5 s = 10.5 s.
+    #[test]
+    fn a_perturbed_curve_counts_at_its_peaks_race() {
+        let text = "[study]\nname = \"s\"\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n\
+                    [sweep]\nm = [0.005, 0.01, 0.02]\nr = [0.9, 1.0, 1.1, 1.2]\n\
+                    [perturb]\ndm = [0.001]\n";
+        let study = Study::parse(Path::new("s.toml"), text).unwrap();
+        let sample = Sample {
+            peak_seconds: 0.5,
+            ..curve_sample(0.0)
+        };
+        let out = describe(&study, Path::new("out"), 2, Some(sample));
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("time estimate:"))
+            .unwrap();
+        assert!(
+            line.starts_with("time estimate:  10.5 s on 2 threads"),
+            "{line}"
+        );
+        assert!(
+            line.ends_with(
+                "counted once a curve (500 ms when it serves a perturbed case's peak alone))"
+            ),
+            "{line}"
+        );
     }
 
     /// With the whole curve measured, each ideal curve adds the sample's extra race scaled from
