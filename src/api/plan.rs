@@ -888,6 +888,18 @@ mod tests {
         }
     }
 
+    /// The study of `text` described with `sample` on 2 threads, and its "time estimate:" line.
+    fn estimate_line(text: &str, sample: Sample) -> (String, String) {
+        let study = Study::parse(Path::new("s.toml"), text).unwrap();
+        let out = describe(&study, Path::new("out"), 2, Some(sample));
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("time estimate:"))
+            .unwrap()
+            .to_string();
+        (out, line)
+    }
+
     /// The census scales by the runs over the threads, the race by the curves: 3 designs x 2
     /// cases x 4 frequencies, a sample of 4 frequencies taking 1 s of census and 2 s of race,
     /// is 24 runs x 0.25 s / 2 threads + 6 curves x 2 s = 15 s (scaling the whole sample by
@@ -897,13 +909,8 @@ mod tests {
         let text = "[study]\nname = \"s\"\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n\
                     [sweep]\nm = [0.005, 0.01, 0.02]\nr = [0.9, 1.0, 1.1, 1.2]\n\
                     [perturb]\ndm = [0.001]\n";
-        let study = Study::parse(Path::new("s.toml"), text).unwrap();
         let sample = curve_sample(0.0);
-        let out = describe(&study, Path::new("out"), 2, Some(sample));
-        let line = out
-            .lines()
-            .find(|l| l.starts_with("time estimate:"))
-            .unwrap();
+        let (out, line) = estimate_line(text, sample);
         assert!(line.starts_with("time estimate:  15.0 s on 2 threads (census 250.0 ms a frequency over a sample of 4 frequencies"), "{line}");
         assert!(
             line.ends_with("2.0 s over 1,000,000 periods, counted once a curve)"),
@@ -934,16 +941,11 @@ mod tests {
         let text = "[study]\nname = \"s\"\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n\
                     [sweep]\nm = [0.005, 0.01, 0.02]\nr = [0.9, 1.0, 1.1, 1.2]\n\
                     [perturb]\ndm = [0.001]\n";
-        let study = Study::parse(Path::new("s.toml"), text).unwrap();
         let sample = Sample {
             peak_seconds: 0.5,
             ..curve_sample(0.0)
         };
-        let out = describe(&study, Path::new("out"), 2, Some(sample));
-        let line = out
-            .lines()
-            .find(|l| l.starts_with("time estimate:"))
-            .unwrap();
+        let (_, line) = estimate_line(text, sample);
         assert!(
             line.starts_with("time estimate:  10.5 s on 2 threads"),
             "{line}"
@@ -964,13 +966,7 @@ mod tests {
         let text = "[study]\nname = \"s\"\n[scene]\nkind = \"harmonic\"\nF0 = 0.1\n\
                     life_curve = \"whole\"\n[sweep]\nm = [0.005, 0.01, 0.02]\n\
                     r = [0.9, 1.0, 1.1, 1.2]\n[perturb]\ndm = [0.001]\n";
-        let study = Study::parse(Path::new("s.toml"), text).unwrap();
-        let sample = curve_sample(5.0);
-        let out = describe(&study, Path::new("out"), 2, Some(sample));
-        let line = out
-            .lines()
-            .find(|l| l.starts_with("time estimate:"))
-            .unwrap();
+        let (_, line) = estimate_line(text, curve_sample(5.0));
         assert!(
             line.starts_with("time estimate:  24.0 s on 2 threads"),
             "{line}"
