@@ -297,6 +297,15 @@ fn grow<M: PeriodMap>(r: &mut Runner<M>) -> bool {
     more && (r.run.estimate.is_some() || r.run.periods() < 2 * r.s.first || !r.run.repeats())
 }
 
+/// One measurement of `r` ([`grow`]), which stays active while it can grow; no rule measures an
+/// inactive motion again, so its per-period maxima go ([`LifeRun::retire`]).
+fn advance<M: PeriodMap>(r: &mut Runner<M>) {
+    r.active = grow(r);
+    if !r.active {
+        r.run.retire();
+    }
+}
+
 fn race_with(
     points: &[Option<(Forcing, Harmonic)>],
     censuses: &mut [Option<Census>],
@@ -530,10 +539,7 @@ fn contest<M: PeriodMap>(
         if r.run.starts.len() < MIN_CHAINS {
             r.run = LifeRun::chains(topped_up(&r.f, std::mem::take(&mut r.run.starts)));
         }
-        r.active = grow(r);
-        if !r.active {
-            r.run.retire();
-        }
+        advance(r);
     });
     // The curve's frequencies in order of forcing frequency: each one's place, and its largest
     // periodic amplitude.
@@ -572,12 +578,7 @@ fn contest<M: PeriodMap>(
         let Some(i) = found else {
             break;
         };
-        let r = &mut runners[i];
-        r.active = grow(r);
-        // No rule measures an inactive motion again: its maxima can go (LifeRun::retire).
-        if !r.active {
-            r.run.retire();
-        }
+        advance(&mut runners[i]);
     }
 }
 
