@@ -2,9 +2,10 @@
 //! analysis, annual risk over a hazard curve. A small Clough–Penzien study (2 designs, 3
 //! stripes of Sa(T1), 120 realizations of 4 s) runs through the binary: the stripes' Monte
 //! Carlo `p_f` lies inside the capacities' curve's bootstrap interval at every stripe, the
-//! lognormal's `lambda_f` meets Cornell's closed form, the designs rank by `lambda_f`, and the
-//! capacities are the same bits on 1 or 2 threads, another chunk size and after a resume. Bad
-//! hazard tables are refused naming the file, the line and what is allowed.
+//! lognormal's `lambda_f` meets Cornell's closed form (so does the stripes' own fit's), the
+//! designs rank by `lambda_f`, and the capacities are the same bits on 1 or 2 threads, another
+//! chunk size and after a resume. Bad hazard tables are refused naming the file, the line and
+//! what is allowed.
 
 use crate::common;
 
@@ -130,6 +131,29 @@ fn issue_67_capacities_agree_with_the_stripes_and_the_designs_rank_by_annual_ris
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(report.contains("Capacities by incremental dynamic analysis"));
     assert!(report.contains("Annual risk"));
+    // The check over the stripes' own fragility: `lambda_f` over the lognormal fitted to the
+    // stripes' counts, Cornell's closed form of `fragility_theta` and `fragility_beta` under
+    // this power law (k0 = 4e-4, k = 2.5), and the decision says it.
+    let number = |name: &str| -> Vec<f64> {
+        column(&summary, name)
+            .iter()
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    let (theta, beta) = (number("fragility_theta"), number("fragility_beta"));
+    let stripes = number("lambda_f_stripes");
+    for d in 0..2 {
+        let cornell = 4e-4 * theta[d].powf(-2.5) * (2.5f64 * 2.5 * beta[d] * beta[d] / 2.0).exp();
+        assert!(
+            (stripes[d] / cornell - 1.0).abs() < 1e-6,
+            "design {d}: {} over the stripes against Cornell's {cornell}",
+            stripes[d]
+        );
+    }
+    assert!(
+        report.contains("Over the stripes' own fragility"),
+        "{report}"
+    );
 }
 
 #[test]

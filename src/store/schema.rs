@@ -427,7 +427,7 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "risk_rank" => "1",
         "fit_ok" | "lambda_f_curve" => "",
         "lambda_f" | "lambda_f_lo" | "lambda_f_hi" | "lambda_f_empirical"
-        | "lambda_f_lognormal" | "lambda_f_cornell" => "1/year",
+        | "lambda_f_lognormal" | "lambda_f_cornell" | "lambda_f_stripes" => "1/year",
         "intensity_design" | "fragility_theta" | "fragility_theta_lo" | "fragility_theta_hi" => {
             UNIT_OF_INTENSITY
         }

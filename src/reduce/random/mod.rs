@@ -63,7 +63,7 @@ use crate::sim::Outcome;
 use crate::sim::random::IntensitySpec;
 use crate::sim::random::{RandomScene, RealizationRecord};
 use crate::stats::fragility::{self, Counts, FitOutcome, Fragility};
-use crate::stats::hazard::SiteHazard;
+use crate::stats::hazard::{SiteHazard, lambda_f_lognormal};
 use crate::store::RunRow;
 use crate::store::table::{Column, Table};
 use crate::study::{DiSource, Study};
@@ -255,6 +255,19 @@ impl RandomSummary {
             .binary_search_by_key(&design, |f| f.0)
             .ok()
             .map(|i| &self.fragility[i].1)
+    }
+
+    /// `lambda_f` (per year) over the stripes' own fragility ([`RandomSummary::fragility_of`]:
+    /// the lognormal fitted to the share of motions that pass at each stripe, `P(f | IM)`
+    /// itself, which needs no capacity), by quadrature over the study's hazard: the check of
+    /// the capacities' `lambda_f` where responses fall back. None without a hazard or a fit
+    /// that ended ok.
+    pub fn lambda_f_stripes(&self, design: u64) -> Option<f64> {
+        let h = self.hazard.as_ref()?;
+        let f = self
+            .fragility_of(design)
+            .filter(|f| f.outcome == FitOutcome::Ok)?;
+        Some(lambda_f_lognormal(&h.curve, f.theta, f.beta))
     }
 }
 
@@ -590,7 +603,8 @@ impl IdealCase for NoIdeal {
 /// The summary columns the scene adds for `rows` (the core's points, designs): `p_f`, its
 /// interval, `beta`, `n_exceed`, `rms_x_mean`, the `threshold`, at the design intensity; with an
 /// intensity axis also `intensity` (its key), `intensity_design` and the fragility fit
-/// (`fragility_theta`, `fragility_beta`, their 95 % intervals, `fragility_outcome`).
+/// (`fragility_theta`, `fragility_beta`, their 95 % intervals, `fragility_outcome`) and, with a
+/// hazard, `lambda_f_stripes`.
 pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&PointStats]) {
     let lens = lens(&s.grid);
     let j = rs.intensity.as_ref().map_or(0, |i| i.design);
@@ -686,6 +700,16 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
                 .collect(),
         ),
     );
+    if rs.hazard.is_some() {
+        t.push(
+            "lambda_f_stripes",
+            Column::F64(
+                rows.iter()
+                    .map(|d| rs.lambda_f_stripes(d.point).unwrap_or(f64::NAN))
+                    .collect(),
+            ),
+        );
+    }
 }
 
 /// Monte Carlo's coefficient of variation of `p` from `n` runs, `sqrt((1 - p) / (n p))`.

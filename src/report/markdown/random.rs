@@ -410,9 +410,9 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
 fn capacities_intro(rs: &RandomSummary, spec: &IntensitySpec, im: &str) -> String {
     format!(
         "### Capacities by incremental dynamic analysis\n\nEach motion of the design stripe \
-         is scaled up until max |x| first passes the limit: its capacity, the {im} (g) of that \
-         first passage, to a relative {} (bracketed, then closed by false position and \
-         bisection; {} runs a motion on average over the study). The fragility is the \
+         is scaled until max |x| passes the limit: its capacity, the {im} (g) of a crossing of \
+         the limit, to a relative {} (bracketed, then closed by false position and bisection; \
+         {} runs a motion on average over the study). The fragility is the \
          capacities' distribution: the empirical curve, and the lognormal fit (`theta` their \
          geometric mean, `beta` their log standard deviation per ln {im}, maximum likelihood \
          with censoring where a motion never passed up to {} g), with 95 % bootstrap \
@@ -421,9 +421,11 @@ fn capacities_intro(rs: &RandomSummary, spec: &IntensitySpec, im: &str) -> Strin
          lies inside every stripe's Monte Carlo interval{}; where it does not, the empirical \
          curve is used. `fall back`: motions whose response passed the limit at their capacity \
          and not at a larger scale tried (by the search or at a stripe above the capacity): the \
-         response is not monotone in the scale (a damper engages more in stronger shaking). The \
-         capacity keeps the first passage, so where motions fall back the capacities' curve lies \
-         above the stripes' `p_f`: the first-passage fragility, on the safe side.\n\n",
+         response is not monotone in the scale (a damper engages more in stronger shaking). \
+         Such a motion passes in narrow windows of scale, more of them the finer one looks, so \
+         its capacity is the crossing the search met, not a first passage any scan converges \
+         to, and the capacities' curve lies above the stripes' `p_f` (the share of motions \
+         that pass at that intensity, which needs no capacity).\n\n",
         f(spec.ida_tol, 3),
         f(
             rs.risk.iter().map(|r| r.runs_mean).sum::<f64>() / rs.risk.len() as f64,

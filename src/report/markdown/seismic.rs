@@ -241,6 +241,7 @@ fn risk_decision<'a>(
         fmt_num(years),
         r.curve.name(),
     );
+    stripes_check(o, s, rs, order, best);
     if let Some(n) = next(best)
         && let Some(k) = rs.risk_of(n.point).and_then(|r| r.risk.as_ref())
     {
@@ -272,6 +273,44 @@ fn risk_decision<'a>(
         );
     }
     o.push('\n');
+}
+
+/// The decision's check against the stripes' own fragility (the lognormal fitted to the share of
+/// motions that pass at each stripe, which needs no capacity): the best design's `λ_f` over it,
+/// and whether the best design by it is the same.
+fn stripes_check(
+    o: &mut String,
+    s: &Summary,
+    rs: &RandomSummary,
+    order: &[&PointStats],
+    best: &PointStats,
+) {
+    let Some(own) = rs.lambda_f_stripes(best.point) else {
+        return;
+    };
+    // Ties to the better ranked design, as the ranking's.
+    let Some((low, other)) = order
+        .iter()
+        .filter_map(|d| Some((rs.lambda_f_stripes(d.point)?, *d)))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+    else {
+        return;
+    };
+    let verdict = if other.point == best.point || low == own {
+        "it is the best design by that curve too".to_string()
+    } else {
+        format!(
+            "by that curve the best design is {} (λ_f = {})",
+            design_text(s, other.point),
+            prob(low)
+        )
+    };
+    let _ = writeln!(
+        o,
+        "Over the stripes' own fragility (the lognormal fitted to the share of motions that pass \
+         at each stripe, P(f | IM) itself, which needs no capacity) its λ_f is {}, and {verdict}.",
+        prob(own),
+    );
 }
 
 /// The decision without a hazard: the best design by `p_f` at the design intensity (or, where
