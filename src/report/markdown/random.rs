@@ -378,7 +378,9 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
             o,
             "**Annual risk** over the hazard curve {} ({}): `lambda_f` = ∫ P(f | {im}) \
              |dλ({im})| per year, over the curve that holds, and the probability of a failure \
-             in {} years, 1 − exp(−{} λ_f). The designs are ranked by `lambda_f` (`risk_rank`; \
+             in {} years, 1 − exp(−{} λ_f). Their intervals resample the motions only, not the \
+             crossing each search met: where motions fall back they are narrower than the \
+             error. The designs are ranked by `lambda_f` (`risk_rank`; \
              rank 1 the lowest). `lambda_f stripes`: over the stripes' own fragility (the \
              lognormal fitted to the share of motions that pass at each stripe, which needs no \
              capacity), the check. `deagg. 10–50–90 %`: the {im} below which 10, 50 and 90 % of \
