@@ -380,11 +380,11 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
              |dλ({im})| per year, over the curve that holds, and the probability of a failure \
              in {} years, 1 − exp(−{} λ_f). Their intervals resample the motions only, not the \
              crossing each search met: where motions fall back they are narrower than the \
-             error. The designs are ranked by `lambda_f` (`risk_rank`; \
-             rank 1 the lowest). `lambda_f stripes`: over the stripes' own fragility (the \
-             lognormal fitted to the share of motions that pass at each stripe, which needs no \
-             capacity), the check. `deagg. 10–50–90 %`: the {im} below which 10, 50 and 90 % of \
-             `lambda_f` comes from.\n",
+             error. The designs are ranked by `lambda_f` (`risk_rank`; rank 1 the lowest). \
+             `lambda_f stripes`: over the stripes' own fragility (the lognormal fitted to the \
+             share of motions that pass at each stripe, which needs no capacity), the check. \
+             `deagg. 10–50–90 %`: the {im} below which 10, 50 and 90 % of `lambda_f` comes \
+             from.\n",
             hazard_text(&h.curve),
             h.source.as_deref().unwrap_or("the study's"),
             fmt_num(h.years),
@@ -428,8 +428,10 @@ fn capacities_intro(rs: &RandomSummary, spec: &IntensitySpec, im: &str) -> Strin
          response is not monotone in the scale (a damper engages more in stronger shaking). \
          Such a motion passes in narrow windows of scale, more of them the finer one looks, so \
          its capacity is the crossing the search met, not a first passage any scan converges \
-         to, and the capacities' curve lies above the stripes' `p_f` (the share of motions \
-         that pass at that intensity, which needs no capacity).\n\n",
+         to, and the capacities' curve parts from the stripes' `p_f` (the share of motions \
+         that pass at that intensity, which needs no capacity) both ways: above it where \
+         motions that passed at a lower scale fall back, below it where a motion passes in a \
+         window under the crossing its search met.\n\n",
         f(spec.ida_tol, 3),
         f(
             rs.risk.iter().map(|r| r.runs_mean).sum::<f64>() / rs.risk.len() as f64,
