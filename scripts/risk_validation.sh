@@ -13,20 +13,26 @@
 # The raw numbers go to results/risk_validation/ (truth.csv: each stripe's share that passed;
 # estimates.csv: each seed's lambda_f, interval, curve and lambda_f_stripes); the report,
 # results/risk_validation.md, is the ratio of each estimate to the truth (mean, standard
-# deviation, range) and the interval's coverage. `--report` rewrites it from those files alone.
-# A measurement, never a test.
+# deviation, range) and the interval's coverage. `--report` rewrites it from those files alone;
+# `--check` (CI) rewrites it to a temporary file, which must be the committed report byte for
+# byte, and reruns one estimate (m = 0.1 kg, d = 0.04 m, seed 1), which must be its committed
+# row bit for bit (about 2 s in the test build).
 #
 #   scripts/risk_validation.sh [M D [M D ...]]    (default: 0.1 0.04, 0.2 0.02 and 0.0 0.01;
 #                                                 about 7 minutes on 2 cores, dev build)
-#   scripts/risk_validation.sh --report
+#   scripts/risk_validation.sh --report | --check
 set -euo pipefail
 cd "$(dirname "$0")/.."
 TRUTH_N=${TRUTH_N:-20000}
 SEEDS=${SEEDS:-20}
 out=${OUT:-results/risk_validation.md}
 data=${DATA:-results/risk_validation}
-if [ "${1:-}" != "--report" ]; then
-    [ $# -gt 0 ] || set -- 0.1 0.04 0.2 0.02 0.0 0.01
+mode=run
+case "${1:-}" in
+    --report) mode=report ;;
+    --check) mode=check ;;
+esac
+if [ "$mode" != report ]; then
     if [ -n "${IMPACTSWEEP_BIN:-}" ]; then
         BIN=$IMPACTSWEEP_BIN
     else
@@ -35,16 +41,40 @@ if [ "${1:-}" != "--report" ]; then
     fi
     WORK=$(mktemp -d)
     trap 'rm -rf "$WORK"' EXIT
+fi
+study() { # name m d seed realizations im design_intensity
+    sed -e "s/^name = .*/name = \"$1\"/" -e "s/^seed = .*/seed = $4/" \
+        -e "s/^realizations = .*/realizations = $5/" -e "s/^m = .*/m = [$2]/" \
+        -e "s/^d = .*/d = [$3]/" -e "s/^im = .*/im = [$6]/" \
+        -e "s/^design_intensity = .*/design_intensity = $7/" configs/seismic.toml > "$WORK/$1.toml"
+    "$BIN" run "$WORK/$1.toml" --out "$WORK" --quiet
+    "$BIN" reduce "$WORK/$1" > /dev/null
+}
+# A seed's estimates row: m, d, seed, then the study's summary columns.
+estimate_row() { # summary.csv m d seed
+    python3 - "$@" <<'PY'
+import csv, sys
+r = next(csv.DictReader(open(sys.argv[1])))
+keys = ("lambda_f", "lambda_f_lo", "lambda_f_hi", "lambda_f_curve", "lambda_f_stripes")
+print(",".join(sys.argv[2:5] + [r[k] for k in keys]))
+PY
+}
+if [ "$mode" = check ]; then
+    study seed_0.1_0.04_1 0.1 0.04 1 1000 "0.1, 0.15, 0.2, 0.25, 0.3, 0.4" 0.2
+    got=$(estimate_row "$WORK/seed_0.1_0.04_1/summary.csv" 0.1 0.04 1)
+    want=$(grep '^0.1,0.04,1,' "$data/estimates.csv")
+    if [ "$got" != "$want" ]; then
+        echo "risk_validation --check: the estimate of m = 0.1, d = 0.04, seed 1 moved:" >&2
+        echo "  committed $want" >&2
+        echo "  now       $got" >&2
+        exit 1
+    fi
+    out=$WORK/report.md
+fi
+if [ "$mode" = run ]; then
+    [ $# -gt 0 ] || set -- 0.1 0.04 0.2 0.02 0.0 0.01
     stripes=$(python3 -c "print(', '.join(repr(round(0.08 * 10 ** (i / 39), 6)) for i in range(40)))")
     design_im=$(python3 -c "print(round(0.08 * 10 ** (16 / 39), 6))")
-    study() { # name m d seed realizations im design_intensity
-        sed -e "s/^name = .*/name = \"$1\"/" -e "s/^seed = .*/seed = $4/" \
-            -e "s/^realizations = .*/realizations = $5/" -e "s/^m = .*/m = [$2]/" \
-            -e "s/^d = .*/d = [$3]/" -e "s/^im = .*/im = [$6]/" \
-            -e "s/^design_intensity = .*/design_intensity = $7/" configs/seismic.toml > "$WORK/$1.toml"
-        "$BIN" run "$WORK/$1.toml" --out "$WORK" --quiet
-        "$BIN" reduce "$WORK/$1" > /dev/null
-    }
     mkdir -p "$data"
     echo "m,d,im,p_f,n" > "$WORK/truth.csv"
     echo "m,d,seed,lambda_f,lambda_f_lo,lambda_f_hi,lambda_f_curve,lambda_f_stripes" > "$WORK/estimates.csv"
@@ -59,12 +89,7 @@ for r in csv.DictReader(open(sys.argv[1])):
 PY
         for s in $(seq 1 "$SEEDS"); do
             study "seed_$1_$2_$s" "$1" "$2" "$s" 1000 "0.1, 0.15, 0.2, 0.25, 0.3, 0.4" 0.2
-            python3 - "$WORK/seed_$1_$2_$s/summary.csv" "$1" "$2" "$s" >> "$WORK/estimates.csv" <<'PY'
-import csv, sys
-r = next(csv.DictReader(open(sys.argv[1])))
-keys = ("lambda_f", "lambda_f_lo", "lambda_f_hi", "lambda_f_curve", "lambda_f_stripes")
-print(",".join(sys.argv[2:5] + [r[k] for k in keys]))
-PY
+            estimate_row "$WORK/seed_$1_$2_$s/summary.csv" "$1" "$2" "$s" >> "$WORK/estimates.csv"
         done
         shift 2
     done
@@ -162,4 +187,12 @@ for m, d in designs:
               f"{statistics.mean(r):.4f} | {statistics.stdev(r):.4f} | {min(r):.3f}-{max(r):.3f} | {cover} |")
 PY
 mv "$out.tmp" "$out"
+if [ "$mode" = check ]; then
+    if ! diff -u results/risk_validation.md "$out" >&2; then
+        echo "risk_validation --check: the report does not regenerate from results/risk_validation/" >&2
+        exit 1
+    fi
+    echo "risk_validation --check: the report regenerates, and m = 0.1, d = 0.04, seed 1 is its committed row"
+    exit 0
+fi
 cat "$out"

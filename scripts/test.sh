@@ -72,6 +72,10 @@ UNITS_LIFE_VALIDATION_BIN="$PWD/target/debug/examples/units_life_validation" scr
 # The committed comparison of the whole curve with the default (results/life_curve.md): its
 # report regenerates from the committed runs (tests/life.rs checks their claims).
 scripts/life_curve.sh --check
+# The committed validation of the seismic decision's annual risk (results/risk_validation.md):
+# its report regenerates from the committed runs, and one estimate (m = 0.1 kg, d = 4 cm, study
+# seed 1) is reproduced bit for bit by the binary just built.
+IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" scripts/risk_validation.sh --check
 # The Python extension (python/, a member of the workspace that `cargo test` leaves out): its
 # lint, and its build (the dev profile, whose settings for the main crate and its dependencies
 # are the test profile's) with the feature `share-test-build`, which resolves
