@@ -107,6 +107,18 @@ data = sys.argv[1]
 run = open(f"{data}/run.txt").read().strip().lstrip("# ")
 K0, K = 3.72e-4, 2.5
 N01 = NormalDist()
+# The committed numbers were run over configs/seismic.toml's power law: refuse to integrate them
+# over another.
+try:
+    import tomllib
+
+    hz = tomllib.load(open("configs/seismic.toml", "rb"))["hazard"]
+    if (hz.get("k0"), hz.get("k")) != (K0, K):
+        sys.exit(f"risk_validation: these numbers are over the hazard k0 = {K0}, k = {K}; "
+                 f"configs/seismic.toml now has k0 = {hz.get('k0')}, k = {hz.get('k')}: "
+                 "run the script again with K0, K here set to them")
+except ImportError:  # Python before 3.11: no check
+    pass
 
 def rate(x):
     return K0 * x ** -K
