@@ -50,6 +50,9 @@ study() { # name m d seed realizations im design_intensity
     "$BIN" run "$WORK/$1.toml" --out "$WORK" --quiet
     "$BIN" reduce "$WORK/$1" > /dev/null
 }
+# The showcase's own stripes (g) and design stripe, at which each seed's study runs.
+showcase_im="0.1, 0.15, 0.2, 0.25, 0.3, 0.4"
+showcase_design=0.2
 # A seed's estimates row: m, d, seed, then the study's summary columns.
 estimate_row() { # summary.csv m d seed
     python3 - "$@" <<'PY'
@@ -60,7 +63,7 @@ print(",".join(sys.argv[2:5] + [r[k] for k in keys]))
 PY
 }
 if [ "$mode" = check ]; then
-    study seed_0.1_0.04_1 0.1 0.04 1 1000 "0.1, 0.15, 0.2, 0.25, 0.3, 0.4" 0.2
+    study seed_0.1_0.04_1 0.1 0.04 1 1000 "$showcase_im" "$showcase_design"
     got=$(estimate_row "$WORK/seed_0.1_0.04_1/summary.csv" 0.1 0.04 1)
     want=$(grep '^0.1,0.04,1,' "$data/estimates.csv")
     if [ "$got" != "$want" ]; then
@@ -88,15 +91,14 @@ for r in csv.DictReader(open(sys.argv[1])):
         print(f"{sys.argv[2]},{sys.argv[3]},{r['im']},{r['p_f']},{sys.argv[4]}")
 PY
         for s in $(seq 1 "$SEEDS"); do
-            study "seed_$1_$2_$s" "$1" "$2" "$s" 1000 "0.1, 0.15, 0.2, 0.25, 0.3, 0.4" 0.2
+            study "seed_$1_$2_$s" "$1" "$2" "$s" 1000 "$showcase_im" "$showcase_design"
             estimate_row "$WORK/seed_$1_$2_$s/summary.csv" "$1" "$2" "$s" >> "$WORK/estimates.csv"
         done
         shift 2
     done
     elapsed=$(( $(date +%s) - start ))
-    {
-        echo "# scripts/risk_validation.sh: $elapsed s of wall time for the runs; $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); TRUTH_N=$TRUTH_N SEEDS=$SEEDS"
-    } > "$data/run.txt"
+    echo "# scripts/risk_validation.sh: $elapsed s of wall time for the runs; $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); TRUTH_N=$TRUTH_N SEEDS=$SEEDS" \
+        > "$data/run.txt"
     mv "$WORK/truth.csv" "$WORK/estimates.csv" "$data"/
 fi
 python3 - "$data" > "$out.tmp" <<'PY'
@@ -196,7 +198,7 @@ for m, d in designs:
             cover = f"{c} of {len(est)}"
             curves = " (" + ", ".join(sorted({e["lambda_f_curve"] for e in est})) + ")"
         print(f"| m = {m} kg, d = {d} m | {lam:.5f} ({se:.5f}) | {lin:.5f} | {p0:.4f} / {p1:.4f} | {label}{curves} | "
-              f"{statistics.mean(r):.4f} | {statistics.stdev(r):.4f} | {min(r):.3f}-{max(r):.3f} | {cover} |")
+              f"{statistics.mean(r):.4f} | {statistics.stdev(r) if len(r) > 1 else math.nan:.4f} | {min(r):.3f}-{max(r):.3f} | {cover} |")
 PY
 mv "$out.tmp" "$out"
 if [ "$mode" = check ]; then
