@@ -22,14 +22,12 @@
 
 use argmin::core::{CostFunction, Error, Executor, State};
 use argmin::solver::neldermead::NelderMead;
-use rand_core::Rng;
-use rand_pcg::Pcg64;
 
+use super::bootstrap;
 use super::fragility::phi_cdf;
-use crate::numeric::{mix64, quantile};
 
 /// Bootstrap resamples of a capacity fit.
-pub const BOOTSTRAP: usize = 400;
+pub const BOOTSTRAP: usize = bootstrap::RESAMPLES;
 
 /// A lognormal fit to capacities.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -147,39 +145,14 @@ impl Capacities {
         d
     }
 
-    /// `n` capacities drawn with replacement from these by `rng`.
-    fn resample(&self, rng: &mut Pcg64) -> Capacities {
-        let n = self.n() as u64;
-        let values = (0..n)
-            .map(|_| self.values[(rng.next_u64() % n) as usize])
-            .collect();
-        Capacities::new(values)
-    }
-
-    /// The percentile bootstrap (module doc) of `stat` over [`BOOTSTRAP`] resamples seeded by
-    /// `seed`: `(lo, hi)` of each of its values, NaN values left out.
+    /// The percentile bootstrap over the motions ([`bootstrap::percentile`]) of `stat`, seeded
+    /// by `seed`: `(lo, hi)` of each of its values, NaN values left out.
     pub fn bootstrap(&self, seed: u64, stat: impl Fn(&Capacities) -> Vec<f64>) -> Vec<(f64, f64)> {
-        let mut rng = Pcg64::new(
-            u128::from(mix64(seed)) << 64 | u128::from(mix64(seed ^ 0xB007)),
-            0xa02b_dbf7_bb3c_0a7a_c28f_a16a_64ab_f96b,
-        );
-        let mut draws: Vec<Vec<f64>> = Vec::with_capacity(BOOTSTRAP);
-        if self.n() > 0 {
-            for _ in 0..BOOTSTRAP {
-                draws.push(stat(&self.resample(&mut rng)));
-            }
-        }
-        let k = draws.first().map_or(0, Vec::len);
-        (0..k)
-            .map(|k| {
-                let v: Vec<f64> = draws.iter().map(|d| d[k]).filter(|x| !x.is_nan()).collect();
-                if v.is_empty() {
-                    (f64::NAN, f64::NAN)
-                } else {
-                    (quantile(&v, 0.025), quantile(&v, 0.975))
-                }
-            })
-            .collect()
+        bootstrap::percentile(self.n(), seed, |idx| {
+            stat(&Capacities::new(
+                idx.iter().map(|&i| self.values[i]).collect(),
+            ))
+        })
     }
 }
 

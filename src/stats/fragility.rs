@@ -165,49 +165,65 @@ impl CostFunction for Nll<'_> {
     }
 }
 
-/// Fits the lognormal fragility curve to `counts` (module doc). Intensities with no runs are
-/// ignored.
-pub fn fit(counts: &[Counts]) -> Fragility {
+/// The maximum of the likelihood of `counts` (module doc) alone: `(theta, beta)`, or the outcome
+/// that says why there is none. [`fit`]'s estimate bit for bit, without its standard errors and
+/// profile intervals (a bootstrap's statistic). Intensities with no runs are ignored.
+pub fn estimate(counts: &[Counts]) -> Result<(f64, f64), FitOutcome> {
     let data: Vec<Counts> = counts.iter().copied().filter(|c| c.n > 0).collect();
+    maximum(&data).map(|(t, b, _)| (t.exp(), b.exp()))
+}
+
+/// The maximum of the likelihood of `data` (runs at every intensity): `(ln theta, ln beta)`
+/// and the negative log-likelihood there.
+fn maximum(data: &[Counts]) -> Result<(f64, f64, f64), FitOutcome> {
     let valid = data.len() >= 2
         && data
             .iter()
             .all(|c| c.im.is_finite() && c.im > 0.0 && c.exceed <= c.n);
     if !valid {
-        return Fragility::failed(FitOutcome::Invalid);
+        return Err(FitOutcome::Invalid);
     }
     let total: u64 = data.iter().map(|c| c.n).sum();
     let exceed: u64 = data.iter().map(|c| c.exceed).sum();
     if exceed == 0 || exceed == total {
-        return Fragility::failed(FitOutcome::NoOverlap);
+        return Err(FitOutcome::NoOverlap);
     }
-    if separated(&data) {
-        return Fragility::failed(FitOutcome::Separated);
+    if separated(data) {
+        return Err(FitOutcome::Separated);
     }
-    let (t0, b0) = start(&data);
+    let (t0, b0) = start(data);
     let simplex = vec![
         vec![t0, b0],
         vec![t0 + 0.2 * b0.exp(), b0],
         vec![t0, b0 + 0.3],
     ];
-    let Some(best) = NelderMead::new(simplex)
+    let best = NelderMead::new(simplex)
         .with_sd_tolerance(1e-13)
         .ok()
         .and_then(|solver| {
-            Executor::new(Nll(&data), solver)
+            Executor::new(Nll(data), solver)
                 .configure(|s| s.max_iters(4000))
                 .run()
                 .ok()
         })
         .and_then(|r| r.state().get_best_param().cloned())
-    else {
-        return Fragility::failed(FitOutcome::Failed);
-    };
+        .ok_or(FitOutcome::Failed)?;
     let (ln_theta, ln_beta) = (best[0], best[1]);
-    let nll = Nll(&data).at(ln_theta, ln_beta);
+    let nll = Nll(data).at(ln_theta, ln_beta);
     if !(ln_theta.is_finite() && ln_beta.is_finite() && nll.is_finite()) {
-        return Fragility::failed(FitOutcome::Failed);
+        return Err(FitOutcome::Failed);
     }
+    Ok((ln_theta, ln_beta, nll))
+}
+
+/// Fits the lognormal fragility curve to `counts` (module doc). Intensities with no runs are
+/// ignored.
+pub fn fit(counts: &[Counts]) -> Fragility {
+    let data: Vec<Counts> = counts.iter().copied().filter(|c| c.n > 0).collect();
+    let (ln_theta, ln_beta, nll) = match maximum(&data) {
+        Ok(m) => m,
+        Err(outcome) => return Fragility::failed(outcome),
+    };
     let (theta, beta) = (ln_theta.exp(), ln_beta.exp());
     let Some((se_t, se_b)) = standard_errors(&data, theta, beta) else {
         return Fragility::failed(FitOutcome::Failed);
