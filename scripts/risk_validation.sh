@@ -8,12 +8,14 @@
 #   standard error, and the same with P itself linear in ln x (the interpolation's check);
 # - the estimates: the showcase's study of that design alone (six stripes of 1,000 motions,
 #   capacities at the 0.2-g design stripe) at study seeds 1 to SEEDS (default 20): lambda_f as
-#   the decision takes it (the capacities' curve that holds) with its 95 % bootstrap interval,
-#   and lambda_f_stripes (over the lognormal fitted to the stripes' counts).
+#   the decision takes it (over the stripes' fitted lognormal where it holds, else the
+#   capacities' curve that holds), lambda_f_capacities (the capacities' curve that holds) and
+#   lambda_f_stripes (over the lognormal fitted to the stripes' counts), each with its 95 %
+#   bootstrap interval over the motions.
 # The raw numbers go to results/risk_validation/ (truth.csv: each stripe's share that passed;
-# estimates.csv: each seed's lambda_f, interval, curve and lambda_f_stripes); the report,
+# estimates.csv: each seed's three estimates with their intervals and the curve used); the report,
 # results/risk_validation.md, is the ratio of each estimate to the truth (mean, standard
-# deviation, range) and the interval's coverage. `--report` rewrites it from those files alone;
+# deviation, range) and each interval's coverage. `--report` rewrites it from those files alone;
 # `--check` (CI) rewrites it to a temporary file, which must be the committed report byte for
 # byte, and reruns one estimate (m = 0.1 kg, d = 0.04 m, seed 1), which must be its committed
 # row bit for bit (about 2 s in the test build).
@@ -58,7 +60,9 @@ estimate_row() { # summary.csv m d seed
     python3 - "$@" <<'PY'
 import csv, sys
 r = next(csv.DictReader(open(sys.argv[1])))
-keys = ("lambda_f", "lambda_f_lo", "lambda_f_hi", "lambda_f_curve", "lambda_f_stripes")
+keys = ("lambda_f", "lambda_f_lo", "lambda_f_hi", "lambda_f_curve", "lambda_f_capacities",
+        "lambda_f_capacities_lo", "lambda_f_capacities_hi", "lambda_f_stripes",
+        "lambda_f_stripes_lo", "lambda_f_stripes_hi")
 print(",".join(sys.argv[2:5] + [r[k] for k in keys]))
 PY
 }
@@ -80,7 +84,8 @@ if [ "$mode" = run ]; then
     design_im=$(python3 -c "print(round(0.08 * 10 ** (16 / 39), 6))")
     mkdir -p "$data"
     echo "m,d,im,p_f,n" > "$WORK/truth.csv"
-    echo "m,d,seed,lambda_f,lambda_f_lo,lambda_f_hi,lambda_f_curve,lambda_f_stripes" > "$WORK/estimates.csv"
+    echo "m,d,seed,lambda_f,lambda_f_lo,lambda_f_hi,lambda_f_curve,lambda_f_capacities,lambda_f_capacities_lo,lambda_f_capacities_hi,lambda_f_stripes,lambda_f_stripes_lo,lambda_f_stripes_hi" \
+        > "$WORK/estimates.csv"
     start=$(date +%s)
     while [ $# -ge 2 ]; do
         study "truth_$1_$2" "$1" "$2" 2026 "$TRUTH_N" "$stripes" "$design_im"
@@ -182,21 +187,24 @@ print("its standard error is the stripes' binomial one, and `P` itself linear in
 print("interpolation's check.")
 print(f"**Estimates**: the showcase's study of that design alone (six stripes of 1,000 motions,")
 print(f"capacities at the 0.2-g design stripe) at study seeds 1 to {seeds}: `lambda_f` as the decision")
-print("takes it (over the capacities' curve that holds) with its 95 % bootstrap interval, and")
-print("`lambda_f_stripes` (over the lognormal fitted to the six stripes' counts).")
+print("takes it (over the stripes' fitted lognormal where it holds, else the capacities' curve that")
+print("holds; the curves it took are named), `lambda_f_capacities` (over the capacities' curve that")
+print("holds) and `lambda_f_stripes` (over the lognormal fitted to the six stripes' counts), each")
+print("with its 95 % bootstrap interval over the motions.")
 print()
 print("| design | truth `lambda_f` (SE) | with `P` linear | P at 0.08 / 0.8 g | estimate | ratio to truth: mean | sd | range | 95 % interval covers the truth |")
 print("|---|---|---|---|---|---|---|---|---|")
 for m, d in designs:
     lam, lin, se, p0, p1, _, _ = truth(m, d)
     est = [e for e in estimates if (e["m"], e["d"]) == (m, d)]
-    for label, key, interval in (("`lambda_f` (capacities)", "lambda_f", True), ("`lambda_f_stripes`", "lambda_f_stripes", False)):
+    for label, key in (("`lambda_f` (the decision)", "lambda_f"), ("`lambda_f_capacities`", "lambda_f_capacities"),
+                       ("`lambda_f_stripes`", "lambda_f_stripes")):
         r = [num(e[key]) / lam for e in est]
-        cover, curves = "–", ""
-        if interval:
-            c = sum(1 for e in est if num(e["lambda_f_lo"]) <= lam <= num(e["lambda_f_hi"]))
-            cover = f"{c} of {len(est)}"
-            curves = " (" + ", ".join(sorted({e["lambda_f_curve"] for e in est})) + ")"
+        c = sum(1 for e in est if num(e[key + "_lo"]) <= lam <= num(e[key + "_hi"]))
+        cover, curves = f"{c} of {len(est)}", ""
+        if key == "lambda_f":
+            used = [e["lambda_f_curve"] for e in est]
+            curves = " (" + ", ".join(f"{c} {used.count(c)}" for c in sorted(set(used))) + ")"
         print(f"| m = {m} kg, d = {d} m | {lam:.5f} ({se:.5f}) | {lin:.5f} | {p0:.4f} / {p1:.4f} | {label}{curves} | "
               f"{statistics.mean(r):.4f} | {statistics.stdev(r) if len(r) > 1 else math.nan:.4f} | {min(r):.3f}-{max(r):.3f} | {cover} |")
 PY

@@ -3,7 +3,8 @@
 //! stripes of Sa(T1), 120 realizations of 4 s) runs through the binary: the stripes' Monte
 //! Carlo `p_f` lies inside the capacities' curve's bootstrap interval at every stripe, the
 //! lognormal's `lambda_f` meets Cornell's closed form (so does the stripes' own fit's), the
-//! designs rank by `lambda_f`, and the capacities are the same bits on 1 or 2 threads, another
+//! decision's `lambda_f` is the stripes' own fit's inside its interval, the designs rank by
+//! `lambda_f`, and the capacities are the same bits on 1 or 2 threads, another
 //! chunk size and after a resume. Bad hazard tables are refused naming the file, the line and
 //! what is allowed.
 
@@ -150,10 +151,35 @@ fn issue_67_capacities_agree_with_the_stripes_and_the_designs_rank_by_annual_ris
             stripes[d]
         );
     }
+    // The decision rests on the stripes' own fit where it holds: then `lambda_f` is
+    // `lambda_f_stripes`, inside its bootstrap interval, and the capacities' curve that holds is
+    // the check, which the decision states.
+    let curve = column(&summary, "lambda_f_curve");
+    let (lo, hi) = (number("lambda_f_stripes_lo"), number("lambda_f_stripes_hi"));
+    let capacities = number("lambda_f_capacities");
+    let fit_ok = column(&summary, "fit_ok");
+    let (empirical, lognormal) = (number("lambda_f_empirical"), number("lambda_f_lognormal"));
+    for d in 0..2 {
+        assert!(lo[d] < stripes[d] && stripes[d] < hi[d], "design {d}");
+        let own = if fit_ok[d] == "true" {
+            lognormal[d]
+        } else {
+            empirical[d]
+        };
+        assert_eq!(
+            capacities[d], own,
+            "design {d}: the capacities' curve that holds"
+        );
+        match curve[d].as_str() {
+            "stripes" => assert_eq!(lambda[d], stripes[d], "design {d}"),
+            _ => assert_eq!(lambda[d], capacities[d], "design {d}"),
+        }
+    }
     assert!(
-        report.contains("Over the stripes' own fragility"),
-        "{report}"
+        curve.iter().all(|c| c == "stripes"),
+        "the test's designs are decided over their stripes: {curve:?}"
     );
+    assert!(report.contains("Over the capacities"), "{report}");
 }
 
 #[test]

@@ -426,8 +426,18 @@ fn summary_unit(column: &str) -> Option<&'static str> {
         | "p_f_years_hi"
         | "risk_rank" => "1",
         "fit_ok" | "lambda_f_curve" => "",
-        "lambda_f" | "lambda_f_lo" | "lambda_f_hi" | "lambda_f_empirical"
-        | "lambda_f_lognormal" | "lambda_f_cornell" | "lambda_f_stripes" => "1/year",
+        "lambda_f"
+        | "lambda_f_lo"
+        | "lambda_f_hi"
+        | "lambda_f_capacities"
+        | "lambda_f_capacities_lo"
+        | "lambda_f_capacities_hi"
+        | "lambda_f_empirical"
+        | "lambda_f_lognormal"
+        | "lambda_f_cornell"
+        | "lambda_f_stripes"
+        | "lambda_f_stripes_lo"
+        | "lambda_f_stripes_hi" => "1/year",
         "intensity_design" | "fragility_theta" | "fragility_theta_lo" | "fragility_theta_hi" => {
             UNIT_OF_INTENSITY
         }

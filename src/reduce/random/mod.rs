@@ -52,6 +52,7 @@ pub mod point;
 pub mod risk;
 pub mod sketch;
 pub mod stream;
+pub mod stripes;
 pub mod subset;
 
 use rayon::prelude::*;
@@ -67,7 +68,7 @@ use crate::stats::hazard::{SiteHazard, lambda_f_lognormal};
 use crate::store::RunRow;
 use crate::store::table::{Column, Table};
 use crate::study::{DiSource, Study};
-use risk::{DesignRisk, MotionCapacity, design_risk, rank_by_risk};
+use risk::{DesignRisk, MotionCapacity, StripesFit, design_risk, rank_by_risk};
 use stream::{EXACT_BUDGET, PfAcc, PointRuns};
 use subset::{SUBSET_BELOW, SubsetAsk, SubsetPf, subset_pf};
 
@@ -179,6 +180,10 @@ pub struct RandomSummary {
     /// Per design (the core's points, in design order): its fragility fit, when the study
     /// sweeps an intensity.
     pub fragility: Vec<(u64, Fragility)>,
+    /// Per design whose fragility fit ended ok, with a hazard (in design order): the 95 %
+    /// bootstrap interval over the motions of [`RandomSummary::lambda_f_stripes`]
+    /// ([`stripes`]).
+    pub stripes_interval: Vec<StripesInterval>,
     /// Per design that got one (in design order): subset simulation's `p_f` ([`subset`]).
     pub subset: Vec<(u64, SubsetPf)>,
     /// Per design whose fragility fit ended ok (in design order): its rank by median capacity
@@ -259,15 +264,23 @@ impl RandomSummary {
 
     /// `lambda_f` (per year) over the stripes' own fragility ([`RandomSummary::fragility_of`]:
     /// the lognormal fitted to the share of motions that pass at each stripe, `P(f | IM)`
-    /// itself, which needs no capacity), by quadrature over the study's hazard: the check of
-    /// the capacities' `lambda_f` where responses fall back. None without a hazard or a fit
-    /// that ended ok.
+    /// itself, which needs no capacity), by quadrature over the study's hazard: the decision's
+    /// `lambda_f` wherever it exists ([`risk`]). None without a hazard or a fit that ended ok.
     pub fn lambda_f_stripes(&self, design: u64) -> Option<f64> {
         let h = self.hazard.as_ref()?;
         let f = self
             .fragility_of(design)
             .filter(|f| f.outcome == FitOutcome::Ok)?;
         Some(lambda_f_lognormal(&h.curve, f.theta, f.beta))
+    }
+
+    /// The 95 % interval of [`RandomSummary::lambda_f_stripes`], a bootstrap over the motions
+    /// ([`stripes`]). None where that has no value.
+    pub fn lambda_f_stripes_interval(&self, design: u64) -> Option<(f64, f64)> {
+        self.stripes_interval
+            .binary_search_by_key(&design, |s| s.0)
+            .ok()
+            .map(|i| self.stripes_interval[i].1)
     }
 }
 
@@ -414,7 +427,13 @@ impl<'a> RandomReducer<'a> {
             .filter(|(a, _)| self.intensity.as_ref().is_none_or(|i| i.axis != *a))
             .map(|(_, &n)| n)
             .collect();
-        let risks = self.risks(&design_lens);
+        // Every stripe's run of every motion, by design, motion and intensity.
+        let mut runs = std::mem::take(&mut self.stripe_runs);
+        runs.sort_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)).then(a.2.total_cmp(&b.2)));
+        // Each design's own fragility from its stripes' counts and, with a hazard, the interval
+        // of its lambda_f; the risk's curve where it holds.
+        let (fits, intervals) = self.stripes_fits(&design_lens, &runs);
+        let risks = self.risks(&design_lens, &runs, &fits, &intervals);
         let hazard = self.study.hazard.as_ref();
         let mut subsets: Vec<(u64, SubsetPf)> = Vec::new();
         if let (Some(n), Some(b)) = (subset, self.threshold) {
@@ -458,6 +477,7 @@ impl<'a> RandomReducer<'a> {
             intensity: self.intensity,
             points: self.points,
             fragility: Vec::new(),
+            stripes_interval: Vec::new(),
             subset: subsets,
             capacity_rank: Vec::new(),
             measure: self.study.scene.random().and_then(|r| r.intensity),
@@ -465,36 +485,69 @@ impl<'a> RandomReducer<'a> {
             risk: risks,
             capacities: std::mem::take(&mut self.capacities),
         };
-        if let (Some(i), Some(_)) = (&rs.intensity, rs.threshold) {
-            let design_axes = lens(&summary.grid);
-            let fits: Vec<(u64, Fragility)> = summary
-                .points
-                .par_iter()
-                .map(|d| {
-                    let counts: Vec<Counts> = (0..i.values.len())
-                        .filter_map(|j| {
-                            let p = rs.point(rs.grid_point(d.point, j, &design_axes))?;
-                            Some(Counts {
-                                im: i.values[j],
-                                n: p.n,
-                                exceed: p.exceed,
-                            })
-                        })
-                        .collect();
-                    (d.point, fragility::fit(&counts))
-                })
-                .collect();
-            rs.capacity_rank = capacity_ranks(&fits);
-            rs.fragility = fits;
-        }
+        // The fits of the designs the core reduced, in design order.
+        let fits: Vec<(u64, Fragility)> = fits
+            .into_iter()
+            .filter(|f| summary.points.iter().any(|d| d.point == f.0))
+            .collect();
+        rs.capacity_rank = capacity_ranks(&fits);
+        rs.stripes_interval = intervals;
+        rs.fragility = fits;
         (summary, rs)
     }
 }
 
 impl RandomReducer<'_> {
+    /// Each design's fragility fitted to its stripes' counts (in design order, where the study
+    /// sweeps an intensity and sets a threshold) and, with a hazard, the bootstrap interval of
+    /// its `lambda_f` over the motions where the fit ended ok ([`stripes`]). `runs`: every
+    /// stripe's run of every motion, sorted by design then case.
+    fn stripes_fits(
+        &self,
+        design_lens: &[usize],
+        runs: &[(u64, u32, f64, bool)],
+    ) -> (Vec<(u64, Fragility)>, Vec<StripesInterval>) {
+        let (Some(i), Some(_)) = (&self.intensity, self.threshold) else {
+            return (Vec::new(), Vec::new());
+        };
+        let designs: u64 = design_lens.iter().map(|&n| n as u64).product();
+        let fits: Vec<(u64, Fragility)> = (0..designs)
+            .into_par_iter()
+            .map(|d| {
+                let counts: Vec<Counts> = (0..i.values.len())
+                    .filter_map(|j| {
+                        let g = point_at(i, d, j, design_lens);
+                        let k = self.points.binary_search_by_key(&g, |p| p.point).ok()?;
+                        let p = &self.points[k];
+                        Some(Counts {
+                            im: i.values[j],
+                            n: p.n,
+                            exceed: p.exceed,
+                        })
+                    })
+                    .collect();
+                (d, fragility::fit(&counts))
+            })
+            .collect();
+        let intervals = stripes_intervals(
+            &fits,
+            runs,
+            &i.values,
+            self.study.hazard.as_ref(),
+            self.study.seed,
+        );
+        (fits, intervals)
+    }
+
     /// Each design's fragility from its capacities and its risk ([`risk`]), in design order,
     /// ranked by `lambda_f` with a hazard; none without capacities.
-    fn risks(&mut self, design_lens: &[usize]) -> Vec<DesignRisk> {
+    fn risks(
+        &mut self,
+        design_lens: &[usize],
+        runs: &[(u64, u32, f64, bool)],
+        fits: &[(u64, Fragility)],
+        intervals: &[StripesInterval],
+    ) -> Vec<DesignRisk> {
         let caps = &mut self.capacities;
         if caps.is_empty() {
             return Vec::new();
@@ -510,8 +563,6 @@ impl RandomReducer<'_> {
         // A motion that did not pass at a stripe above its capacity (beyond the capacity's
         // tolerance) falls back: its response is not monotone in the scale, and the capacity
         // keeps the first passage.
-        let mut runs = std::mem::take(&mut self.stripe_runs);
-        runs.sort_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)).then(a.2.total_cmp(&b.2)));
         for c in caps.iter_mut() {
             let lo = runs.partition_point(|r| (r.0, r.1) < (c.0, c.1));
             let falls_back = runs[lo..]
@@ -539,12 +590,71 @@ impl RandomReducer<'_> {
             .par_iter()
             .map(|g| {
                 let motions: Vec<MotionCapacity> = g.iter().map(|c| c.2).collect();
-                design_risk(g[0].0, &motions, &stripes_of(g[0].0), hazard, ida_max, seed)
+                let own = stripes_fit(g[0].0, fits, intervals, hazard);
+                let stripes = stripes_of(g[0].0);
+                design_risk(g[0].0, &motions, &stripes, own, hazard, ida_max, seed)
             })
             .collect();
         rank_by_risk(&mut out);
         out
     }
+}
+
+/// A design and the 95 % interval `(lo, hi)` of its `lambda_f` over its stripes' fit.
+pub type StripesInterval = (u64, (f64, f64));
+
+/// Design `design`'s own fit from its stripes where it ended ok, with its `lambda_f` and
+/// interval when the study gives a hazard.
+fn stripes_fit(
+    design: u64,
+    fits: &[(u64, Fragility)],
+    intervals: &[StripesInterval],
+    hazard: Option<&SiteHazard>,
+) -> Option<StripesFit> {
+    let f = fits
+        .binary_search_by_key(&design, |f| f.0)
+        .ok()
+        .map(|i| fits[i].1)
+        .filter(|f| f.outcome == FitOutcome::Ok)?;
+    let lambda_f = hazard.and_then(|h| {
+        let (lo, hi) = intervals
+            .binary_search_by_key(&design, |x| x.0)
+            .ok()
+            .map(|i| intervals[i].1)?;
+        Some((lambda_f_lognormal(&h.curve, f.theta, f.beta), lo, hi))
+    });
+    Some(StripesFit {
+        theta: f.theta,
+        beta: f.beta,
+        lambda_f,
+    })
+}
+
+/// Each design's interval of `lambda_f` over its stripes' fit ([`stripes`]), where the fit
+/// ended ok and the study gives a hazard: `fits` in design order, `runs` every stripe's run of
+/// every motion `(design, case, im, exceeded)` sorted by design then case, `ims` the stripes.
+fn stripes_intervals(
+    fits: &[(u64, Fragility)],
+    runs: &[(u64, u32, f64, bool)],
+    ims: &[f64],
+    hazard: Option<&SiteHazard>,
+    seed: u64,
+) -> Vec<StripesInterval> {
+    let Some(h) = hazard else {
+        return Vec::new();
+    };
+    fits.par_iter()
+        .filter(|(_, f)| f.outcome == FitOutcome::Ok)
+        .map(|(design, _)| {
+            let lo = runs.partition_point(|r| r.0 < *design);
+            let hi = runs.partition_point(|r| r.0 <= *design);
+            let own: Vec<(u32, f64, bool)> = runs[lo..hi].iter().map(|r| (r.1, r.2, r.3)).collect();
+            (
+                *design,
+                stripes::lambda_f_interval(&own, ims, &h.curve, seed),
+            )
+        })
+        .collect()
 }
 
 /// The design point being read (module doc of [`stream`]).
@@ -604,7 +714,7 @@ impl IdealCase for NoIdeal {
 /// interval, `beta`, `n_exceed`, `rms_x_mean`, the `threshold`, at the design intensity; with an
 /// intensity axis also `intensity` (its key), `intensity_design` and the fragility fit
 /// (`fragility_theta`, `fragility_beta`, their 95 % intervals, `fragility_outcome`) and, with a
-/// hazard, `lambda_f_stripes`.
+/// hazard, `lambda_f_stripes` and its bootstrap interval (`lambda_f_stripes_lo`, `_hi`).
 pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&PointStats]) {
     let lens = lens(&s.grid);
     let j = rs.intensity.as_ref().map_or(0, |i| i.design);
@@ -701,6 +811,13 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
         ),
     );
     if rs.hazard.is_some() {
+        let interval: Vec<(f64, f64)> = rows
+            .iter()
+            .map(|d| {
+                rs.lambda_f_stripes_interval(d.point)
+                    .unwrap_or((f64::NAN, f64::NAN))
+            })
+            .collect();
         t.push(
             "lambda_f_stripes",
             Column::F64(
@@ -708,6 +825,14 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
                     .map(|d| rs.lambda_f_stripes(d.point).unwrap_or(f64::NAN))
                     .collect(),
             ),
+        );
+        t.push(
+            "lambda_f_stripes_lo",
+            Column::F64(interval.iter().map(|x| x.0).collect()),
+        );
+        t.push(
+            "lambda_f_stripes_hi",
+            Column::F64(interval.iter().map(|x| x.1).collect()),
         );
     }
 }

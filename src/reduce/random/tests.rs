@@ -32,6 +32,7 @@ fn a_design_and_its_intensity_give_back_the_design_point() {
         intensity: intensity(&s),
         points: Vec::new(),
         fragility: Vec::new(),
+        stripes_interval: Vec::new(),
         subset: Vec::new(),
         capacity_rank: Vec::new(),
         measure: None,

@@ -377,12 +377,15 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
         let _ = writeln!(
             o,
             "**Annual risk** over the hazard curve {} ({}): `lambda_f` = ∫ P(f | {im}) \
-             |dλ({im})| per year, over the curve that holds, and the probability of a failure \
-             in {} years, 1 − exp(−{} λ_f). Their intervals resample the motions only, not the \
-             crossing each search met: where motions fall back they are narrower than the \
-             error. The designs are ranked by `lambda_f` (`risk_rank`; rank 1 the lowest). \
-             `lambda_f stripes`: over the stripes' own fragility (the lognormal fitted to the \
-             share of motions that pass at each stripe, which needs no capacity), the check. \
+             |dλ({im})| per year, and the probability of a failure in {} years, \
+             1 − exp(−{} λ_f). `curve`: the fragility it is taken over, the stripes' own \
+             (`stripes`: the lognormal fitted to the share of motions that pass at each stripe, \
+             P(f | {im}) itself, which needs no capacity) wherever the stripes were fitted, \
+             else the capacities' curve that holds. Its 95 % interval resamples the \
+             motions, every stripe's run of a motion together. `lambda_f capacities`: over the \
+             capacities' curve that holds, the check; its interval resamples the motions only, \
+             not the crossing each search met, so where motions fall back it is narrower than \
+             its error. The designs are ranked by `lambda_f` (`risk_rank`; rank 1 the lowest). \
              `deagg. 10–50–90 %`: the {im} below which 10, 50 and 90 % of `lambda_f` comes \
              from.\n",
             hazard_text(&h.curve),
@@ -392,7 +395,7 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
         );
     }
     let head = if with_hazard {
-        "| risk rank | design | lambda_f per year [95 %] | P_f in years [95 %] | curve | lambda_f empirical | lambda_f lognormal | lambda_f stripes | deagg. 10–50–90 % (g) | theta (g) [95 %] | beta [95 %] | KS (5 % value) | fit | censored | fall back |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "| risk rank | design | lambda_f per year [95 %] | P_f in years [95 %] | curve | lambda_f capacities [95 %] | lambda_f empirical | lambda_f lognormal | deagg. 10–50–90 % (g) | theta (g) [95 %] | beta [95 %] | KS (5 % value) | fit | censored | fall back |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     } else {
         "| design | theta (g) [95 %] | beta [95 %] | KS (5 % value) | fit | censored | fall back |\n|---|---|---|---|---|---|---|"
     };
@@ -402,7 +405,7 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
         let Some(r) = rs.risk_of(d.point) else {
             continue;
         };
-        risk_row(&mut o, r, rank, name, rs.lambda_f_stripes(d.point));
+        risk_row(&mut o, r, rank, name);
     }
     o.push('\n');
     o += &stripes_table(s, rs, &order);
@@ -469,7 +472,7 @@ fn risk_order<'a>(rs: &RandomSummary, designs: &[&'a PointStats]) -> Vec<&'a Poi
 
 /// One design's row of the risk table: its fit's cells, and with a hazard its annual risk
 /// first.
-fn risk_row(o: &mut String, r: &DesignRisk, rank: &str, name: &str, stripes: Option<f64>) {
+fn risk_row(o: &mut String, r: &DesignRisk, rank: &str, name: &str) {
     let iv = |v: (f64, f64, f64)| format!("{} [{}, {}]", num(v.0), num(v.1), num(v.2));
     let fit_cells = format!(
         "{} | {} [{}, {}] | {} ({}) | {} | {} of {} | {}",
@@ -497,9 +500,9 @@ fn risk_row(o: &mut String, r: &DesignRisk, rank: &str, name: &str, stripes: Opt
                 pv(k.lambda_f),
                 pv(k.p_f_years),
                 k.curve.name(),
+                pv(k.capacities),
                 prob(k.empirical.0),
                 prob(k.lognormal.0),
-                stripes.map_or("–".to_string(), prob),
                 num(k.deaggregation[0]),
                 num(k.deaggregation[1]),
                 num(k.deaggregation[2]),

@@ -6,6 +6,7 @@
 
 use std::fmt::Write;
 
+use crate::reduce::random::risk::Curve;
 use crate::reduce::random::{RandomSummary, beta_of};
 use crate::reduce::{PointStats, Summary};
 use crate::report::markdown::words::{cm, design_text, f, prob, ranked};
@@ -229,7 +230,7 @@ fn risk_decision<'a>(
     let _ = writeln!(
         o,
         "By annual risk over the hazard, the best design is **{}**: λ_f = {} [{}, {}] failures \
-         (max |x| > {} cm) per year, a probability of {} [{}, {}] in {} years ({} fragility).",
+         (max |x| > {} cm) per year, a probability of {} [{}, {}] in {} years (over {}).",
         design_text(s, best.point),
         prob(r.lambda_f.0),
         prob(r.lambda_f.1),
@@ -239,9 +240,9 @@ fn risk_decision<'a>(
         prob(r.p_f_years.1),
         prob(r.p_f_years.2),
         fmt_num(years),
-        r.curve.name(),
+        r.curve.text(),
     );
-    stripes_check(o, s, rs, order, best);
+    capacities_check(o, s, rs, order, best);
     if let Some(n) = next(best)
         && let Some(k) = rs.risk_of(n.point).and_then(|r| r.risk.as_ref())
     {
@@ -275,41 +276,48 @@ fn risk_decision<'a>(
     o.push('\n');
 }
 
-/// The decision's check against the stripes' own fragility (the lognormal fitted to the share of
-/// motions that pass at each stripe, which needs no capacity): the best design's `λ_f` over it,
-/// and whether the best design by it is the same.
-fn stripes_check(
+/// The decision's check against the capacities (incremental dynamic analysis): the best
+/// design's `λ_f` over the capacities' curve that holds, and whether the best design by it is
+/// the same. Where the decision itself rests on the capacities (the stripes' lognormal did not
+/// hold), nothing.
+fn capacities_check(
     o: &mut String,
     s: &Summary,
     rs: &RandomSummary,
     order: &[&PointStats],
     best: &PointStats,
 ) {
-    let Some(own) = rs.lambda_f_stripes(best.point) else {
+    let risk = |d: &PointStats| rs.risk_of(d.point).and_then(|r| r.risk.as_ref());
+    let Some(own) = risk(best).filter(|k| k.curve == Curve::Stripes) else {
         return;
     };
     // Ties to the better ranked design, as the ranking's.
     let Some((low, other)) = order
         .iter()
-        .filter_map(|d| Some((rs.lambda_f_stripes(d.point)?, *d)))
+        .filter_map(|d| Some((risk(d)?.capacities.0, *d)))
         .min_by(|a, b| a.0.total_cmp(&b.0))
     else {
         return;
     };
-    let verdict = if other.point == best.point || low == own {
-        "it is the best design by that curve too".to_string()
+    let c = own.capacities;
+    let verdict = if other.point == best.point || low == c.0 {
+        "it is the best design by them too".to_string()
     } else {
         format!(
-            "by that curve the best design is {} (λ_f = {})",
+            "by them the best design is {} (λ_f = {})",
             design_text(s, other.point),
             prob(low)
         )
     };
     let _ = writeln!(
         o,
-        "Over the stripes' own fragility (the lognormal fitted to the share of motions that pass \
-         at each stripe, P(f | IM) itself, which needs no capacity) its λ_f is {}, and {verdict}.",
-        prob(own),
+        "Over the capacities (incremental dynamic analysis, their {} curve) its λ_f is {} [{}, {}], \
+         and \
+         {verdict}.",
+        own.capacities_curve.name(),
+        prob(c.0),
+        prob(c.1),
+        prob(c.2),
     );
 }
 

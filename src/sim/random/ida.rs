@@ -22,7 +22,8 @@
 //!   keeps finding lower down (`results/ida_scan.md`: the first passage of the seismic
 //!   showcase's 4-cm design moves from 0.86 to 0.73 of the capacity as a scan's step goes from
 //!   2 to 0.025 %), so there the capacity is the crossing this search meets, not a converged
-//!   first passage; the stripes' own share that passes needs no capacity.
+//!   first passage; the stripes' own share that passes needs no capacity, and the decision
+//!   rests on it (`crate::reduce::random::risk`).
 //! * **Censored**: a motion that does not pass at `ida_max / I0` (the study's largest intensity)
 //!   has capacity above `ida_max` ([`Capacity::censored`], `capacity` = `ida_max`).
 //! * A run that does not end `ok` (its amplitude NaN) ends the search: capacity NaN.
