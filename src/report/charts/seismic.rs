@@ -1,10 +1,11 @@
 //! The fragility chart of a study with capacities (an intensity measure and a threshold):
 //! `fragility` (SVG, PNG, its data as CSV) in place of the fit to the stripes' counts. Two
 //! panels over the intensity measure in g: `P(f | IM)` and `log10 P(f | IM)` (down to 1e-4,
-//! where the hazard weighs the curve most). Each shown design's capacities' curve (the lognormal
-//! where it holds, else the empirical step curve, a thin line), its stripes' Monte Carlo `p_f`
-//! (markers) with their Clopper–Pearson 95 % intervals (whiskers), and the structure without
-//! damper dashed grey beside them.
+//! where the hazard weighs the curve most). Each shown design's curve that its annual risk is
+//! taken over (with a hazard and a fit of its stripes, the lognormal fitted to the stripes'
+//! counts; else the capacities' curve: their lognormal where it holds, else their empirical step
+//! curve), its stripes' Monte Carlo `p_f` (markers) with their Clopper–Pearson 95 % intervals
+//! (whiskers), and the structure without damper dashed grey beside them.
 
 use std::path::{Path, PathBuf};
 
@@ -16,6 +17,7 @@ use super::plumbing::{
 };
 use crate::reduce::Summary;
 use crate::reduce::random::RandomSummary;
+use crate::reduce::random::risk;
 use crate::report::text::{axis_value, fmt_num};
 use crate::stats::capacity::Capacities;
 use crate::store::table::{Column, Table};
@@ -157,12 +159,11 @@ struct FragilityData {
 }
 
 impl FragilityData {
-    fn push(&mut self, d: u64, im: f64, p: f64, use_fit: bool, stripe: (f64, f64, f64)) {
+    fn push(&mut self, d: u64, im: f64, p: f64, curve: risk::Curve, stripe: (f64, f64, f64)) {
         self.point.push(Some(d));
         self.im.push(im);
         self.p_curve.push(p);
-        self.curve
-            .push(if use_fit { "lognormal" } else { "empirical" }.to_string());
+        self.curve.push(curve.name().to_string());
         self.p_f.push(stripe.0);
         self.p_f_lo.push(stripe.1);
         self.p_f_hi.push(stripe.2);
@@ -219,9 +220,9 @@ fn intensity_range(rs: &RandomSummary, shown: &[u64], bare: Option<u64>) -> Opti
     Some((q(0.0) * 0.8, q(1.0) * 1.1))
 }
 
-/// Design `d`'s curve over `(lo, hi)` (its lognormal fit where the fit holds, its empirical
-/// capacities' fractions otherwise) and its stripes, added to `cols`; `None` without a risk
-/// record.
+/// Design `d`'s curve over `(lo, hi)` (the one its annual risk is taken over, with a hazard:
+/// the stripes' fit; else the capacities' lognormal fit where it holds, their empirical
+/// fractions otherwise) and its stripes, added to `cols`; `None` without a risk record.
 fn design_curve(
     s: &Summary,
     rs: &RandomSummary,
@@ -238,35 +239,46 @@ fn design_curve(
             .map(|c| (c.2.0, c.2.1))
             .collect(),
     );
-    let use_fit = r.fit_ok && r.fit.is_some();
+    let own = rs.fragility_of(d).filter(|_| {
+        r.risk
+            .as_ref()
+            .is_some_and(|k| k.curve == risk::Curve::Stripes)
+    });
+    let curve = match (own, r.fit) {
+        (Some(_), _) => risk::Curve::Stripes,
+        (None, Some(_)) if r.fit_ok => risk::Curve::Lognormal,
+        _ => risk::Curve::Empirical,
+    };
+    let p = |x: f64| match (curve, own, r.fit) {
+        (risk::Curve::Stripes, Some(f), _) => f.probability(x),
+        (risk::Curve::Lognormal, _, Some(f)) => f.p(x),
+        _ => caps.p(x),
+    };
     let line: Vec<(f64, f64)> = (0..200)
         .map(|k| lo + (hi - lo) * k as f64 / 199.0)
-        .map(|x| {
-            let p = match (use_fit, r.fit) {
-                (true, Some(f)) => f.p(x),
-                _ => caps.p(x),
-            };
-            (x, p)
-        })
+        .map(|x| (x, p(x)))
         .collect();
     let off_stripe = (f64::NAN, f64::NAN, f64::NAN);
     for &(x, p) in &line {
-        cols.push(d, x, p, use_fit, off_stripe);
+        cols.push(d, x, p, curve, off_stripe);
     }
     for st in &r.stripes {
-        let p = if use_fit { st.lognormal } else { st.empirical };
-        cols.push(d, st.im, p, use_fit, (st.p_f, st.p_f_lo, st.p_f_hi));
+        let on = match curve {
+            risk::Curve::Stripes => p(st.im),
+            risk::Curve::Lognormal => st.lognormal,
+            risk::Curve::Empirical => st.empirical,
+        };
+        cols.push(d, st.im, on, curve, (st.p_f, st.p_f_lo, st.p_f_hi));
     }
     let label = (0..s.grid.n_axes())
         .map(|a| axis_value(s.grid.key(a), s.grid.value(d, a)))
         .collect::<Vec<_>>()
         .join(", ");
-    let kind = if is_bare {
-        "no damper"
-    } else if use_fit {
-        "lognormal"
-    } else {
-        "empirical"
+    let kind = match (is_bare, curve) {
+        (true, _) => "no damper",
+        (false, risk::Curve::Stripes) => "stripes' fit",
+        (false, risk::Curve::Lognormal) => "capacities' lognormal",
+        (false, risk::Curve::Empirical) => "capacities, empirical",
     };
     Some(Curve {
         name: shorten(&format!("{label} ({kind})"), 60),
@@ -280,9 +292,9 @@ fn design_curve(
     })
 }
 
-/// Draws `<dir>/fragility.{svg,png,csv}` from the capacities; the data holds each shown
-/// design's curve on a grid of 200 intensities (`point`, `im`, `p_curve`, `curve`) and its
-/// stripes (`p_f`, `p_f_lo`, `p_f_hi`, NaN off a stripe).
+/// Draws `<dir>/fragility.{svg,png,csv}`; the data holds each shown design's curve on a grid of
+/// 200 intensities (`point`, `im`, `p_curve`, `curve`: `stripes`, `lognormal` or `empirical`)
+/// and its stripes (`p_f`, `p_f_lo`, `p_f_hi`, NaN off a stripe).
 pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let Some(b) = rs.threshold else {
         return Ok(Vec::new());
@@ -306,7 +318,7 @@ pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec
     });
     let chart = CapacityChart {
         title: format!(
-            "Fragility from the capacities: P(max |x| > {} cm) against {im}; stripes with 95 % intervals",
+            "Fragility: P(max |x| > {} cm) against {im}, the curve each design's risk is taken over; stripes with 95 % intervals",
             fmt_num((b * 1e5).round() / 1e3)
         ),
         x_desc: format!("{im} (g)"),
