@@ -68,8 +68,9 @@ use crate::stats::hazard::{SiteHazard, lambda_f_lognormal};
 use crate::store::RunRow;
 use crate::store::table::{Column, Table};
 use crate::study::{DiSource, Study};
-use risk::{DesignRisk, MotionCapacity, StripesFit, design_risk, rank_by_risk};
+use risk::{DesignRisk, MotionCapacity, design_risk, rank_by_risk};
 use stream::{EXACT_BUDGET, PfAcc, PointRuns};
+use stripes::{StripesInterval, stripes_fit, stripes_intervals};
 use subset::{SUBSET_BELOW, SubsetAsk, SubsetPf, subset_pf};
 
 /// The random scene's response: the largest `|x|` of a realization over the duration.
@@ -467,6 +468,8 @@ impl<'a> RandomReducer<'a> {
             });
         }
         let summary = self.core.finish_with(&NoIdeal);
+        let mut risks = risks;
+        rank_by_risk(&mut risks, &summary.points);
         let (realizations, record) = self.study.scene.random().map_or((0, false), |r| {
             (self.study.realizations, !r.draws_normals())
         });
@@ -539,8 +542,9 @@ impl RandomReducer<'_> {
         (fits, intervals)
     }
 
-    /// Each design's fragility from its capacities and its risk ([`risk`]), in design order,
-    /// ranked by `lambda_f` with a hazard; none without capacities.
+    /// Each design's fragility from its capacities and its risk ([`risk`]), in design order
+    /// (ranked once the core has ranked the designs, [`risk::rank_by_risk`]); none without
+    /// capacities.
     fn risks(
         &mut self,
         design_lens: &[usize],
@@ -586,7 +590,7 @@ impl RandomReducer<'_> {
         };
         let groups: Vec<&[(u64, u32, MotionCapacity)]> = caps.chunk_by(|a, b| a.0 == b.0).collect();
         let (hazard, seed) = (self.study.hazard.as_ref(), self.study.seed);
-        let mut out: Vec<DesignRisk> = groups
+        groups
             .par_iter()
             .map(|g| {
                 let motions: Vec<MotionCapacity> = g.iter().map(|c| c.2).collect();
@@ -594,67 +598,8 @@ impl RandomReducer<'_> {
                 let stripes = stripes_of(g[0].0);
                 design_risk(g[0].0, &motions, &stripes, own, hazard, ida_max, seed)
             })
-            .collect();
-        rank_by_risk(&mut out);
-        out
+            .collect()
     }
-}
-
-/// A design and the 95 % interval `(lo, hi)` of its `lambda_f` over its stripes' fit.
-pub type StripesInterval = (u64, (f64, f64));
-
-/// Design `design`'s own fit from its stripes where it ended ok, with its `lambda_f` and
-/// interval when the study gives a hazard.
-fn stripes_fit(
-    design: u64,
-    fits: &[(u64, Fragility)],
-    intervals: &[StripesInterval],
-    hazard: Option<&SiteHazard>,
-) -> Option<StripesFit> {
-    let f = fits
-        .binary_search_by_key(&design, |f| f.0)
-        .ok()
-        .map(|i| fits[i].1)
-        .filter(|f| f.outcome == FitOutcome::Ok)?;
-    let lambda_f = hazard.and_then(|h| {
-        let (lo, hi) = intervals
-            .binary_search_by_key(&design, |x| x.0)
-            .ok()
-            .map(|i| intervals[i].1)?;
-        Some((lambda_f_lognormal(&h.curve, f.theta, f.beta), lo, hi))
-    });
-    Some(StripesFit {
-        theta: f.theta,
-        beta: f.beta,
-        lambda_f,
-    })
-}
-
-/// Each design's interval of `lambda_f` over its stripes' fit ([`stripes`]), where the fit
-/// ended ok and the study gives a hazard: `fits` in design order, `runs` every stripe's run of
-/// every motion `(design, case, im, exceeded)` sorted by design then case, `ims` the stripes.
-fn stripes_intervals(
-    fits: &[(u64, Fragility)],
-    runs: &[(u64, u32, f64, bool)],
-    ims: &[f64],
-    hazard: Option<&SiteHazard>,
-    seed: u64,
-) -> Vec<StripesInterval> {
-    let Some(h) = hazard else {
-        return Vec::new();
-    };
-    fits.par_iter()
-        .filter(|(_, f)| f.outcome == FitOutcome::Ok)
-        .map(|(design, _)| {
-            let lo = runs.partition_point(|r| r.0 < *design);
-            let hi = runs.partition_point(|r| r.0 <= *design);
-            let own: Vec<(u32, f64, bool)> = runs[lo..hi].iter().map(|r| (r.1, r.2, r.3)).collect();
-            (
-                *design,
-                stripes::lambda_f_interval(&own, ims, &h.curve, seed),
-            )
-        })
-        .collect()
 }
 
 /// The design point being read (module doc of [`stream`]).

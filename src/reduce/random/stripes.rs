@@ -13,10 +13,13 @@
 //! Cost: [`bootstrap::RESAMPLES`] fits and quadratures a design, about as many as the
 //! capacities' bootstrap ([`super::risk`]) takes.
 
+use rayon::prelude::*;
+
+use super::risk::StripesFit;
 use crate::numeric::mix64;
 use crate::stats::bootstrap;
-use crate::stats::fragility::{self, Counts};
-use crate::stats::hazard::{Hazard, lambda_f_lognormal};
+use crate::stats::fragility::{self, Counts, FitOutcome, Fragility};
+use crate::stats::hazard::{Hazard, SiteHazard, lambda_f_lognormal};
 
 /// The 95 % bootstrap interval `(lo, hi)` of `lambda_f` over the stripes' fitted fragility of
 /// one design, from its runs `(case, im, exceeded)` sorted by case (every stripe's run of
@@ -61,6 +64,61 @@ pub fn lambda_f_interval(
         .first()
         .copied()
         .unwrap_or((f64::NAN, f64::NAN))
+}
+
+/// A design and the 95 % interval `(lo, hi)` of its `lambda_f` over its stripes' fit.
+pub type StripesInterval = (u64, (f64, f64));
+
+/// Design `design`'s own fit from its stripes where it ended ok, with its `lambda_f` and
+/// interval when the study gives a hazard.
+pub fn stripes_fit(
+    design: u64,
+    fits: &[(u64, Fragility)],
+    intervals: &[StripesInterval],
+    hazard: Option<&SiteHazard>,
+) -> Option<StripesFit> {
+    let f = fits
+        .binary_search_by_key(&design, |f| f.0)
+        .ok()
+        .map(|i| fits[i].1)
+        .filter(|f| f.outcome == FitOutcome::Ok)?;
+    let lambda_f = hazard.and_then(|h| {
+        let (lo, hi) = intervals
+            .binary_search_by_key(&design, |x| x.0)
+            .ok()
+            .map(|i| intervals[i].1)?;
+        Some((lambda_f_lognormal(&h.curve, f.theta, f.beta), lo, hi))
+    });
+    Some(StripesFit {
+        theta: f.theta,
+        beta: f.beta,
+        lambda_f,
+    })
+}
+
+/// Each design's interval of `lambda_f` over its stripes' fit ([`lambda_f_interval`]), where
+/// the fit ended ok and the study gives a hazard: `fits` in design order, `runs` every stripe's
+/// run of every motion `(design, case, im, exceeded)` sorted by design then case, `ims` the
+/// stripes.
+pub fn stripes_intervals(
+    fits: &[(u64, Fragility)],
+    runs: &[(u64, u32, f64, bool)],
+    ims: &[f64],
+    hazard: Option<&SiteHazard>,
+    seed: u64,
+) -> Vec<StripesInterval> {
+    let Some(h) = hazard else {
+        return Vec::new();
+    };
+    fits.par_iter()
+        .filter(|(_, f)| f.outcome == FitOutcome::Ok)
+        .map(|(design, _)| {
+            let lo = runs.partition_point(|r| r.0 < *design);
+            let hi = runs.partition_point(|r| r.0 <= *design);
+            let own: Vec<(u32, f64, bool)> = runs[lo..hi].iter().map(|r| (r.1, r.2, r.3)).collect();
+            (*design, lambda_f_interval(&own, ims, &h.curve, seed))
+        })
+        .collect()
 }
 
 #[cfg(test)]

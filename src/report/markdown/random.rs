@@ -380,9 +380,11 @@ fn risk_section(s: &Summary, rs: &RandomSummary, designs: &[&PointStats]) -> Str
              |dλ({im})| per year, and the probability of a failure in {} years, \
              1 − exp(−{} λ_f). `curve`: the fragility it is taken over, the stripes' own \
              (`stripes`: the lognormal fitted to the share of motions that pass at each stripe, \
-             P(f | {im}) itself, which needs no capacity) wherever the stripes were fitted, \
-             else the capacities' curve that holds. Its 95 % interval resamples the \
-             motions, every stripe's run of a motion together. `lambda_f capacities`: over the \
+             P(f | {im}) itself, which needs no capacity) where motions fall back (`fall back`: \
+             there a capacity is the crossing its search met, not always the first), else the \
+             capacities' curve that holds (every capacity a first passage). Its 95 % interval \
+             resamples the motions, every stripe's run of a motion together. \
+             `lambda_f capacities`: over the \
              capacities' curve that holds, the check; its interval resamples the motions only, \
              not the crossing each search met, so where motions fall back it is narrower than \
              its error. The designs are ranked by `lambda_f` (`risk_rank`; rank 1 the lowest). \

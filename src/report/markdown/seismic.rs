@@ -242,7 +242,7 @@ fn risk_decision<'a>(
         fmt_num(years),
         r.curve.text(),
     );
-    capacities_check(o, s, rs, order, best);
+    basis_check(o, s, rs, order, best);
     if let Some(n) = next(best)
         && let Some(k) = rs.risk_of(n.point).and_then(|r| r.risk.as_ref())
     {
@@ -276,11 +276,11 @@ fn risk_decision<'a>(
     o.push('\n');
 }
 
-/// The decision's check against the capacities (incremental dynamic analysis): the best
-/// design's `λ_f` over the capacities' curve that holds, and whether the best design by it is
-/// the same. Where the decision itself rests on the capacities (the stripes' lognormal did not
-/// hold), nothing.
-fn capacities_check(
+/// The decision's check on the other basis: where the best design's `λ_f` is over its stripes,
+/// its `λ_f` over the capacities' curve that holds; where it is over the capacities, its `λ_f`
+/// over the stripes' own fit. Each with its interval, and whether the best design on that
+/// basis is the same.
+fn basis_check(
     o: &mut String,
     s: &Summary,
     rs: &RandomSummary,
@@ -288,33 +288,52 @@ fn capacities_check(
     best: &PointStats,
 ) {
     let risk = |d: &PointStats| rs.risk_of(d.point).and_then(|r| r.risk.as_ref());
-    let Some(own) = risk(best).filter(|k| k.curve == Curve::Stripes) else {
+    let Some(own) = risk(best) else {
+        return;
+    };
+    let over_stripes = own.curve == Curve::Stripes;
+    // Each design's `λ_f` and interval on the other basis.
+    let other = |d: &PointStats| -> Option<(f64, f64, f64)> {
+        if over_stripes {
+            Some(risk(d)?.capacities)
+        } else {
+            let v = rs.lambda_f_stripes(d.point)?;
+            let (lo, hi) = rs.lambda_f_stripes_interval(d.point)?;
+            Some((v, lo, hi))
+        }
+    };
+    let Some(c) = other(best) else {
         return;
     };
     // Ties to the better ranked design, as the ranking's.
-    let Some((low, other)) = order
+    let Some((low, lowest)) = order
         .iter()
-        .filter_map(|d| Some((risk(d)?.capacities.0, *d)))
+        .filter_map(|d| Some((other(d)?.0, *d)))
         .min_by(|a, b| a.0.total_cmp(&b.0))
     else {
         return;
     };
-    let c = own.capacities;
-    let verdict = if other.point == best.point || low == c.0 {
+    let verdict = if lowest.point == best.point || low == c.0 {
         "it is the best design by them too".to_string()
     } else {
         format!(
             "by them the best design is {} (λ_f = {})",
-            design_text(s, other.point),
+            design_text(s, lowest.point),
             prob(low)
         )
     };
+    let basis = if over_stripes {
+        format!(
+            "the capacities (incremental dynamic analysis, their {} curve)",
+            own.capacities_curve.name()
+        )
+    } else {
+        "the stripes' own fitted fragility (P(f | IM) at each stripe, which needs no capacity)"
+            .to_string()
+    };
     let _ = writeln!(
         o,
-        "Over the capacities (incremental dynamic analysis, their {} curve) its λ_f is {} [{}, {}], \
-         and \
-         {verdict}.",
-        own.capacities_curve.name(),
+        "Over {basis} its λ_f is {} [{}, {}], and {verdict}.",
         prob(c.0),
         prob(c.1),
         prob(c.2),
