@@ -122,8 +122,8 @@ pub struct Risk {
     /// curve) and its `lambda_f` with its interval.
     pub capacities_curve: Curve,
     pub capacities: Interval,
-    /// The curve used (the stripes' where their lognormal holds, else the capacities'), and its
-    /// `lambda_f`, `P_f` over the years, with intervals.
+    /// The curve used (the stripes' fit where motions fall back, else the capacities' curve that
+    /// holds; module doc), and its `lambda_f`, `P_f` over the years, with intervals.
     pub curve: Curve,
     pub lambda_f: Interval,
     pub p_f_years: Interval,
@@ -159,10 +159,10 @@ pub struct DesignRisk {
 pub type MotionCapacity = (f64, bool, bool, u32);
 
 /// The risk of design `design` from its motions' capacities, its stripes `(im, Monte Carlo)`,
-/// the stripes' own fit `own` and the study's hazard. The bootstrap is seeded by the study's `seed` alone, the same at
-/// every design (common random numbers, as subset simulation's): every design resamples the
-/// same ground motions, and a design's intervals do not depend on its index in the grid, so a
-/// study of that design alone reproduces them.
+/// the stripes' own fit `own` and the study's hazard. The bootstrap is seeded by the study's
+/// `seed` alone, the same at every design (common random numbers, as subset simulation's):
+/// every design resamples the same ground motions, and a design's intervals do not depend on
+/// its index in the grid, so a study of that design alone reproduces them.
 pub fn design_risk(
     design: u64,
     motions: &[MotionCapacity],

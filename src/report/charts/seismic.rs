@@ -2,9 +2,9 @@
 //! `fragility` (SVG, PNG, its data as CSV) in place of the fit to the stripes' counts. Two
 //! panels over the intensity measure in g: `P(f | IM)` and `log10 P(f | IM)` (down to 1e-4,
 //! where the hazard weighs the curve most). Each shown design's curve that its annual risk is
-//! taken over (with a hazard and a fit of its stripes, the lognormal fitted to the stripes'
-//! counts; else the capacities' curve: their lognormal where it holds, else their empirical step
-//! curve), its stripes' Monte Carlo `p_f` (markers) with their Clopper–Pearson 95 % intervals
+//! taken over (`Risk::curve`: the lognormal fitted to the stripes' counts where motions fall
+//! back; else the capacities' curve, their lognormal where it holds, else their empirical step
+//! curve; without a hazard the capacities' curve), its stripes' Monte Carlo `p_f` (markers) with their Clopper–Pearson 95 % intervals
 //! (whiskers), and the structure without damper dashed grey beside them.
 
 use std::path::{Path, PathBuf};
@@ -220,9 +220,9 @@ fn intensity_range(rs: &RandomSummary, shown: &[u64], bare: Option<u64>) -> Opti
     Some((q(0.0) * 0.8, q(1.0) * 1.1))
 }
 
-/// Design `d`'s curve over `(lo, hi)` (the one its annual risk is taken over, with a hazard:
-/// the stripes' fit; else the capacities' lognormal fit where it holds, their empirical
-/// fractions otherwise) and its stripes, added to `cols`; `None` without a risk record.
+/// Design `d`'s curve over `(lo, hi)` (the one its annual risk is taken over; without a hazard
+/// the capacities' lognormal fit where it holds, their empirical fractions otherwise) and its
+/// stripes, added to `cols`; `None` without a risk record.
 fn design_curve(
     s: &Summary,
     rs: &RandomSummary,
@@ -239,16 +239,15 @@ fn design_curve(
             .map(|c| (c.2.0, c.2.1))
             .collect(),
     );
-    let own = rs.fragility_of(d).filter(|_| {
-        r.risk
-            .as_ref()
-            .is_some_and(|k| k.curve == risk::Curve::Stripes)
-    });
-    let curve = match (own, r.fit) {
-        (Some(_), _) => risk::Curve::Stripes,
-        (None, Some(_)) if r.fit_ok => risk::Curve::Lognormal,
-        _ => risk::Curve::Empirical,
-    };
+    let curve = r.risk.as_ref().map_or(
+        if r.fit_ok && r.fit.is_some() {
+            risk::Curve::Lognormal
+        } else {
+            risk::Curve::Empirical
+        },
+        |k| k.curve,
+    );
+    let own = rs.fragility_of(d);
     let p = |x: f64| match (curve, own, r.fit) {
         (risk::Curve::Stripes, Some(f), _) => f.probability(x),
         (risk::Curve::Lognormal, _, Some(f)) => f.p(x),
