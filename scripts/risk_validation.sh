@@ -20,13 +20,25 @@
 # byte, and reruns one estimate (m = 0.1 kg, d = 0.04 m, seed 1), which must be its committed
 # row bit for bit (about 2 s in the test build).
 #
+# The same at fewer motions a stripe (the small-sample runs, results/risk_validation_n50.md and
+# its kin): REALIZATIONS sets the seeds' motions a stripe, TRUTH_FROM reuses a measured truth.csv
+# (run.txt names it), DATA and OUT the raw numbers' folder and the report; `--check` reads them
+# the same way and reruns its one estimate at the run's REALIZATIONS.
+#
 #   scripts/risk_validation.sh [M D [M D ...]]    (default: 0.1 0.04, 0.2 0.02 and 0.0 0.01;
-#                                                 about 7 minutes on 2 cores, dev build)
-#   scripts/risk_validation.sh --report | --check
+#                                                 about 15 minutes on 2 cores, dev build)
+#   REALIZATIONS=50 SEEDS=40 TRUTH_FROM=results/risk_validation/truth.csv \
+#       DATA=results/risk_validation_n50 OUT=results/risk_validation_n50.md scripts/risk_validation.sh
+#   [DATA=… OUT=…] scripts/risk_validation.sh --report | --check
 set -euo pipefail
 cd "$(dirname "$0")/.."
 TRUTH_N=${TRUTH_N:-20000}
 SEEDS=${SEEDS:-20}
+# Motions a stripe in each seed's study (the showcase's 1,000 by default).
+REALIZATIONS=${REALIZATIONS:-1000}
+# A truth.csv already measured for these designs (the truth does not depend on REALIZATIONS or
+# SEEDS): reused instead of run again.
+TRUTH_FROM=${TRUTH_FROM:-}
 out=${OUT:-results/risk_validation.md}
 data=${DATA:-results/risk_validation}
 mode=run
@@ -67,7 +79,10 @@ print(",".join(sys.argv[2:5] + [r[k] for k in keys]))
 PY
 }
 if [ "$mode" = check ]; then
-    study seed_0.1_0.04_1 0.1 0.04 1 1000 "$showcase_im" "$showcase_design"
+    # The committed run's motions a stripe (run.txt; 1,000 where it does not say).
+    REALIZATIONS=$(sed -n 's/.*REALIZATIONS=\([0-9]*\).*/\1/p' "$data/run.txt")
+    REALIZATIONS=${REALIZATIONS:-1000}
+    study seed_0.1_0.04_1 0.1 0.04 1 "$REALIZATIONS" "$showcase_im" "$showcase_design"
     got=$(estimate_row "$WORK/seed_0.1_0.04_1/summary.csv" 0.1 0.04 1)
     want=$(grep '^0.1,0.04,1,' "$data/estimates.csv")
     if [ "$got" != "$want" ]; then
@@ -76,6 +91,7 @@ if [ "$mode" = check ]; then
         echo "  now       $got" >&2
         exit 1
     fi
+    committed=$out
     out=$WORK/report.md
 fi
 if [ "$mode" = run ]; then
@@ -88,23 +104,29 @@ if [ "$mode" = run ]; then
         > "$WORK/estimates.csv"
     start=$(date +%s)
     while [ $# -ge 2 ]; do
-        study "truth_$1_$2" "$1" "$2" 2026 "$TRUTH_N" "$stripes" "$design_im"
-        python3 - "$WORK/truth_$1_$2/fragility.csv" "$1" "$2" "$TRUTH_N" >> "$WORK/truth.csv" <<'PY'
+        if [ -n "$TRUTH_FROM" ]; then
+            grep -q "^$1,$2," "$TRUTH_FROM" ||
+                { echo "risk_validation: $TRUTH_FROM has no truth for m = $1, d = $2" >&2; exit 2; }
+        else
+            study "truth_$1_$2" "$1" "$2" 2026 "$TRUTH_N" "$stripes" "$design_im"
+            python3 - "$WORK/truth_$1_$2/fragility.csv" "$1" "$2" "$TRUTH_N" >> "$WORK/truth.csv" <<'PY'
 import csv, sys
 for r in csv.DictReader(open(sys.argv[1])):
     if r["p_f"]:
         print(f"{sys.argv[2]},{sys.argv[3]},{r['im']},{r['p_f']},{sys.argv[4]}")
 PY
+        fi
         for s in $(seq 1 "$SEEDS"); do
-            study "seed_$1_$2_$s" "$1" "$2" "$s" 1000 "$showcase_im" "$showcase_design"
+            study "seed_$1_$2_$s" "$1" "$2" "$s" "$REALIZATIONS" "$showcase_im" "$showcase_design"
             estimate_row "$WORK/seed_$1_$2_$s/summary.csv" "$1" "$2" "$s" >> "$WORK/estimates.csv"
         done
         shift 2
     done
     elapsed=$(( $(date +%s) - start ))
-    echo "# scripts/risk_validation.sh: $elapsed s of wall time for the runs; $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); TRUTH_N=$TRUTH_N SEEDS=$SEEDS" \
+    echo "# scripts/risk_validation.sh: $elapsed s of wall time for the runs; $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); TRUTH_N=$TRUTH_N SEEDS=$SEEDS REALIZATIONS=$REALIZATIONS${TRUTH_FROM:+ TRUTH_FROM=$TRUTH_FROM}" \
         > "$data/run.txt"
-    mv "$WORK/truth.csv" "$WORK/estimates.csv" "$data"/
+    mv "$WORK/estimates.csv" "$data"/
+    [ -n "$TRUTH_FROM" ] || mv "$WORK/truth.csv" "$data"/
 fi
 python3 - "$data" > "$out.tmp" <<'PY'
 import csv, math, statistics, sys
@@ -112,6 +134,8 @@ from statistics import NormalDist
 
 data = sys.argv[1]
 run = open(f"{data}/run.txt").read().strip().lstrip("# ")
+# Motions a stripe in each seed's study (run.txt says so since it could differ from 1,000).
+motions = int(run.split("REALIZATIONS=")[1].split()[0]) if "REALIZATIONS=" in run else 1000
 K0, K = 3.72e-4, 2.5
 N01 = NormalDist()
 # The committed numbers were run over configs/seismic.toml's power law: refuse to integrate them
@@ -136,7 +160,9 @@ def num(v):
     except ValueError:
         return float("nan")
 
-truth_rows = list(csv.DictReader(open(f"{data}/truth.csv")))
+# The truth: this run's own, or the one it reused (run.txt's TRUTH_FROM).
+truth_csv = run.split("TRUTH_FROM=")[1].split()[0] if "TRUTH_FROM=" in run else f"{data}/truth.csv"
+truth_rows = list(csv.DictReader(open(truth_csv)))
 estimates = list(csv.DictReader(open(f"{data}/estimates.csv")))
 designs = list(dict.fromkeys((r["m"], r["d"]) for r in truth_rows))
 
@@ -178,14 +204,14 @@ first = truth(*designs[0])
 seeds = len([e for e in estimates if (e["m"], e["d"]) == designs[0]])
 print("# The seismic decision's annual risk against a truth")
 print()
-print(f"`scripts/risk_validation.sh` ({run}), the raw numbers in `results/risk_validation/`.")
+print(f"`scripts/risk_validation.sh` ({run}), the raw numbers in `{data}/`.")
 print("`configs/seismic.toml`'s scene and hazard (`lambda(x) = 3.72e-4 x^-2.5`), one design a study.")
 print(f"**Truth**: `P(f | Sa(T1))` measured directly at {first[5]} stripes from 0.08 to 0.8 g (geometric),")
 print(f"{first[6]:,} motions each, and `lambda_f = int P(f | x) |d lambda(x)|` with the probit of `P` linear in")
 print("ln x between the stripes (exact for a lognormal curve; the last stripe's value above the last);")
 print("its standard error is the stripes' binomial one, and `P` itself linear in ln x gives the")
 print("interpolation's check.")
-print(f"**Estimates**: the showcase's study of that design alone (six stripes of 1,000 motions,")
+print(f"**Estimates**: the showcase's study of that design alone (six stripes of {motions:,} motions,")
 print(f"capacities at the 0.2-g design stripe) at study seeds 1 to {seeds}: `lambda_f` as the decision")
 print("takes it (over the stripes' fitted lognormal where it holds, else the capacities' curve that")
 print("holds; the curves it took are named), `lambda_f_capacities` (over the capacities' curve that")
@@ -210,11 +236,11 @@ for m, d in designs:
 PY
 mv "$out.tmp" "$out"
 if [ "$mode" = check ]; then
-    if ! diff -u results/risk_validation.md "$out" >&2; then
-        echo "risk_validation --check: the report does not regenerate from results/risk_validation/" >&2
+    if ! diff -u "$committed" "$out" >&2; then
+        echo "risk_validation --check: $committed does not regenerate from $data/" >&2
         exit 1
     fi
-    echo "risk_validation --check: the report regenerates, and m = 0.1, d = 0.04, seed 1 is its committed row"
+    echo "risk_validation --check: $committed regenerates, and m = 0.1, d = 0.04, seed 1 is its committed row"
     exit 0
 fi
 cat "$out"

@@ -72,10 +72,15 @@ UNITS_LIFE_VALIDATION_BIN="$PWD/target/debug/examples/units_life_validation" scr
 # The committed comparison of the whole curve with the default (results/life_curve.md): its
 # report regenerates from the committed runs (tests/life.rs checks their claims).
 scripts/life_curve.sh --check
-# The committed validation of the seismic decision's annual risk (results/risk_validation.md):
-# its report regenerates from the committed runs, and one estimate (m = 0.1 kg, d = 4 cm, study
-# seed 1) is reproduced bit for bit by the binary just built.
+# The committed validation of the seismic decision's annual risk (results/risk_validation.md),
+# and the same at 200, 100 and 50 motions a stripe (results/risk_validation_n*.md): each report
+# regenerates from its committed runs, and one estimate (m = 0.1 kg, d = 4 cm, study seed 1) is
+# reproduced bit for bit by the binary just built.
 IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" scripts/risk_validation.sh --check
+for n in 200 100 50; do
+  DATA=results/risk_validation_n$n OUT=results/risk_validation_n$n.md \
+    IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" scripts/risk_validation.sh --check
+done
 # The Python extension (python/, a member of the workspace that `cargo test` leaves out): its
 # lint, and its build (the dev profile, whose settings for the main crate and its dependencies
 # are the test profile's) with the feature `share-test-build`, which resolves
