@@ -81,6 +81,10 @@ for n in 200 100 50; do
   DATA=results/risk_validation_n$n OUT=results/risk_validation_n$n.md \
     IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" scripts/risk_validation.sh --check
 done
+# The committed validation of subset simulation at a stripe (results/subset_stripe_validation.md):
+# its report regenerates from the committed runs, and seed 1's estimates are reproduced bit for
+# bit.
+IMPACTSWEEP_BIN="$PWD/target/debug/impactsweep" scripts/subset_stripe_validation.sh --check
 # The Python extension (python/, a member of the workspace that `cargo test` leaves out): its
 # lint, and its build (the dev profile, whose settings for the main crate and its dependencies
 # are the test profile's) with the feature `share-test-build`, which resolves

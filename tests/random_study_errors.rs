@@ -107,6 +107,10 @@ const BAD: &[(&str, &str)] = &[
         "{dir}/random_unknown_key.toml: [scene].sigma = 2: unknown key 'sigma'; allowed keys: kind, F0, omega, r, n_trans, n_trans_max, n_meas, trans_tol, period_tol, starts, design_peak, nonperiodic_peak, design_life, life_quantile, life_tol, life_max_periods, life_curve, input, spectrum, S0, omega_g, zeta_g, omega_f, zeta_f, dt, duration, envelope, realizations, threshold, record, records, scale, design_intensity, intensity, T, ida_tol, ida_max, drift_ratio, storey_height, yield_coefficient",
     ),
     (
+        "random_im_in_scene.toml",
+        "{dir}/random_im_in_scene.toml: [scene].im = [0.1, 0.2, 0.3]: unknown key 'im' here; the stripes of an intensity measure are an axis: [sweep] im = [...] (g), with [scene] intensity = \"pga\" or \"sa\"",
+    ),
+    (
         "random_unknown_spectrum.toml",
         "{dir}/random_unknown_spectrum.toml: [scene].spectrum = \"pink\": unknown spectrum; allowed: white, kanai-tajimi, clough-penzien",
     ),

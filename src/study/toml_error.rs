@@ -168,6 +168,12 @@ pub(super) fn serde_error(
             .unwrap_or_default();
         if path.len() <= 1 {
             format!("[{field}]: unknown table; allowed tables: {tables}")
+        } else if field == "im" {
+            // The stripes are an axis, not a scene key: say where they go.
+            format!(
+                "{loc} = {value}: unknown key 'im' here; the stripes of an intensity measure \
+                 are an axis: [sweep] im = [...] (g), with [scene] intensity = \"pga\" or \"sa\""
+            )
         } else {
             format!("{loc} = {value}: unknown key '{field}'; allowed keys: {allowed}")
         }

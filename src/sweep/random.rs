@@ -134,12 +134,8 @@ fn realization(
     };
     // The motion's samples drawn once for its intensity, its run and its capacity search.
     let block = setup.load(plan.load_stream(run));
-    let own = setup.own_intensity(spec.period, &block);
+    let (own, gain) = setup.at_stripe(&spec, scene.im, &block);
     let i0 = own.of(spec.measure);
-    let gain = match scene.im {
-        Some(x) if i0 > 0.0 => x / i0,
-        _ => 1.0,
-    };
     let record = setup.run_block(req, &block, gain, &mut NoProbe);
     let amplitude = |r: &crate::sim::random::RandomRecord| {
         if r.outcome == Outcome::Ok {

@@ -4,7 +4,8 @@
 //! ([`crate::stats::subset`], Au and Beck 2001) over its realization's white-noise samples as
 //! standard normals: the same simulator, the normals handed in as a slice
 //! ([`GivenNormals`]), the response `max |x|` (NaN, i.e. not failing, for a run that did not
-//! end `ok`). Seeded by the study seed alone, the same seed at every design point (common random
+//! end `ok`); at a stripe of an intensity measure, of each sample's motion scaled to the stripe
+//! as the sweep scales its realizations ([`RandomRun::at_stripe`]). Seeded by the study seed alone, the same seed at every design point (common random
 //! numbers, as the sweep's realizations: identical designs get identical estimates and two
 //! designs are compared on correlated samples), so the same bits on any thread
 //! count. Asked for by `reduce --subset N` (`N` samples per level); a record has no normals to
@@ -90,10 +91,23 @@ pub fn subset_pf(study: &Study, point: u64, b: f64, ask: SubsetAsk) -> Option<Su
     }
     let setup = RandomRun::new(&sys, &study.solver, scene);
     let settings = settings_for(study, ask.n);
-    // (The amplitude alone, NaN for a run that did not end `ok`.)
-    let rep = subset_repeats(setup.n_normals(), b, &settings, ask.repeats, |u| {
-        setup.amplitude(&study.request, GivenNormals::new(u))
-    });
+    // (The amplitude alone, NaN for a run that did not end `ok`.) At a stripe each sample's
+    // motion is scaled to it as the sweep scales its realizations: the load's own level then
+    // scales out.
+    let rep = subset_repeats(
+        setup.n_normals(),
+        b,
+        &settings,
+        ask.repeats,
+        |u| match &scene.intensity {
+            Some(spec) => {
+                let block = setup.load(GivenNormals::new(u));
+                let (_, gain) = setup.at_stripe(spec, scene.im, &block);
+                setup.amplitude_block(&study.request, &block, gain)
+            }
+            None => setup.amplitude(&study.request, GivenNormals::new(u)),
+        },
+    );
     if rep.runs.iter().any(|r| r.outcome == SubsetOutcome::Invalid) {
         return None;
     }
@@ -195,6 +209,64 @@ mod tests {
             .collect();
         a.sort_by(f64::total_cmp);
         (s, a[1996])
+    }
+
+    /// The structure alone under white ground acceleration at own level `s0`, each motion
+    /// scaled to a PGA stripe of 0.2 g.
+    fn stripe(s0: f64) -> Study {
+        let (mut s, _) = white();
+        if let Scene::Random(scene) = &mut s.scene {
+            scene.excitation = Excitation::Random(RandomLoad {
+                spectrum: Spectrum::White,
+                S0: s0,
+                envelope: None,
+            });
+            scene.intensity = Some(crate::sim::random::IntensitySpec {
+                measure: crate::sim::random::Measure::Pga,
+                period: 0.5,
+                ida_tol: 0.01,
+                ida_max: 10.0,
+            });
+            scene.im = Some(0.2);
+        }
+        s
+    }
+
+    #[test]
+    fn at_a_stripe_each_sample_is_scaled_to_it_so_the_loads_own_level_scales_out() {
+        // A threshold about 0.2 % of the stripe's motions pass, as the sweep scales them.
+        let s = stripe(1.0);
+        let (sys, Scene::Random(scene)) = Plan::new(&s).point(0) else {
+            panic!()
+        };
+        let run = RandomRun::new(&sys, &s.solver, &scene);
+        let spec = scene.intensity.unwrap();
+        let mut a: Vec<f64> = (0..2000)
+            .map(|r| {
+                let n = crate::sim::random::RealizationStream::new(1, 0, r);
+                let block = run.load(n);
+                let (own, gain) = run.at_stripe(&spec, scene.im, &block);
+                assert!((gain * own.pga - 0.2).abs() < 1e-12);
+                run.amplitude_block(&s.request, &block, gain)
+            })
+            .collect();
+        a.sort_by(f64::total_cmp);
+        let b = a[1996];
+        let strong = subset_pf(&s, 0, b, SubsetAsk::single(200)).unwrap();
+        // The motions at their own level pass far more often (S0 = 1) or never (S0 = 1e-6): the
+        // estimate must not follow them.
+        let weak = subset_pf(&stripe(1e-6), 0, b, SubsetAsk::single(200)).unwrap();
+        assert!(
+            (strong.p_f - weak.p_f).abs() <= 1e-6 * strong.p_f,
+            "{} against {}",
+            strong.p_f,
+            weak.p_f
+        );
+        assert!(
+            (5e-4..8e-3).contains(&strong.p_f),
+            "p_f {} where about 2e-3 of the stripe's motions pass",
+            strong.p_f
+        );
     }
 
     #[test]

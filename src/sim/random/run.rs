@@ -65,7 +65,7 @@ use super::hull::hull;
 use super::intensity::{self, OwnIntensity};
 use super::load::{GivenNormals, LoadBlock, Normals, Plan, Samples};
 use super::motion::Ramp;
-use super::{Input, RandomRecord, RandomScene};
+use super::{Input, IntensitySpec, RandomRecord, RandomScene};
 use crate::model::System;
 use crate::numeric::{gauss_legendre_5, gauss_legendre_n};
 use crate::sim::driven::{Driven, DrivenPhase};
@@ -282,6 +282,25 @@ impl RandomRun {
     pub fn own_intensity(&self, period: f64, block: &LoadBlock) -> OwnIntensity {
         let samples = self.block_samples(block, 1.0);
         intensity::of_samples(&self.scene, period, samples)
+    }
+
+    /// A motion (its samples `block` at scale 1) at the stripe `im` of the intensity measure
+    /// `spec`: its own PGA and Sa ([`RandomRun::own_intensity`]) and the gain that scales it to
+    /// the stripe, `im / own` (1 without a stripe or for a motion whose own value is 0). What the
+    /// sweep runs a stripe's realization at, and subset simulation each of its samples.
+    pub fn at_stripe(
+        &self,
+        spec: &IntensitySpec,
+        im: Option<f64>,
+        block: &LoadBlock,
+    ) -> (OwnIntensity, f64) {
+        let own = self.own_intensity(spec.period, block);
+        let i0 = own.of(spec.measure);
+        let gain = match im {
+            Some(x) if i0 > 0.0 => x / i0,
+            _ => 1.0,
+        };
+        (own, gain)
     }
 
     /// The load of `block` (made by [`RandomRun::load`]) times `gain`, interval by interval.

@@ -371,6 +371,26 @@ mod tests {
     }
 
     #[test]
+    fn stripes_need_no_s0_and_a_load_at_its_own_level_does() {
+        let stripes = parse(
+            "[scene]\nkind = \"random\"\nspectrum = \"clough-penzien\"\nintensity = \"sa\"\n\
+             threshold = 0.02\n[sweep]\nim = [0.1, 0.2]\n",
+        )
+        .unwrap();
+        let Excitation::Random(r) = &stripes.scene.excitation else {
+            panic!()
+        };
+        assert_eq!(r.S0, crate::study::scene::random_load::STRIPES_S0);
+        // Without stripes the motions run at their own level, which the study must give.
+        let own = parse(
+            "[scene]\nkind = \"random\"\nspectrum = \"clough-penzien\"\nintensity = \"sa\"\n\
+             threshold = 0.02\n[sweep]\nm = [0.1, 0.2]\n",
+        )
+        .unwrap_err();
+        assert!(own.contains("[scene].S0: missing"), "{own}");
+    }
+
+    #[test]
     fn a_swept_intensity_lands_on_each_point() {
         let s = parse(
             "[scene]\nkind = \"random\"\nspectrum = \"white\"\nduration = 5\n[sweep]\n\

@@ -9,7 +9,7 @@
 //! |---|---|---|---|---|
 //! | `input` | both | | `"base"` (a record: its column) | `"base"` (ground acceleration) or `"force"` |
 //! | `spectrum` | random | | required | `"white"`, `"kanai-tajimi"`, `"clough-penzien"` |
-//! | `S0` | random | (m/s^2)^2 or N^2 per rad/s | required | `(0, 1e12]`, sweepable |
+//! | `S0` | random | (m/s^2)^2 or N^2 per rad/s | required; with stripes (`intensity` and `[sweep] im`) 0.005, which scales out | `(0, 1e12]`, sweepable |
 //! | `omega_g`, `zeta_g` | random (Kanai–Tajimi, Clough–Penzien) | rad/s, 1 | firm soil: `5 pi`, 0.6 | `[1e-3, 1e5]`, `[1e-3, 10]`, sweepable |
 //! | `omega_f`, `zeta_f` | random (Clough–Penzien) | rad/s, 1 | `pi / 2`, 0.6 | the same |
 //! | `dt` | random | s | 0.005 | `[1e-6, 1]` |
@@ -43,6 +43,11 @@ use crate::study::record;
 
 /// Default realizations per design point.
 pub const DEFAULT_REALIZATIONS: u64 = 1000;
+
+/// `S0` where a study with stripes (an intensity measure and `[sweep] im`) gives none
+/// ((m/s^2)^2 or N^2 per rad/s, the seismic showcase's): every motion is scaled to its stripe,
+/// so the load's own level scales out of every result but the motions' unscaled `pga` and `sa`.
+pub const STRIPES_S0: f64 = 0.005;
 
 /// Default sample interval of a random load (s): 200 samples per second, the rate of many
 /// strong-motion records.
@@ -226,7 +231,10 @@ pub(super) fn scene(
         None => None,
     };
     let (scene, realizations) = if kind == "random" {
-        random(cx, raw, input.unwrap_or(Input::Base), &value)?
+        // With stripes (an intensity measure and `[sweep] im`) every motion is scaled to its
+        // stripe, so the load's own level scales out.
+        let stripes = raw.intensity.is_some() && sweep.contains_key("im");
+        random(cx, raw, input.unwrap_or(Input::Base), stripes, &value)?
     } else {
         recorded(cx, raw, input, &value, dir)?
     };
@@ -260,11 +268,17 @@ fn random(
     cx: &Cx,
     raw: &RawScene,
     input: Input,
+    stripes: bool,
     value: &dyn Fn(&str) -> Result<f64, InputError>,
 ) -> Result<(RandomScene, u64), InputError> {
+    // S0 may be left out where stripes scale every motion (its default then scales out).
+    let s0 = || match raw.number("S0") {
+        None if stripes => Ok(STRIPES_S0),
+        _ => value("S0"),
+    };
     let Some(name) = &raw.spectrum else {
         // A study that gives neither hears of both at once, with an example.
-        let and_s0 = if value("S0").is_err() {
+        let and_s0 = if s0().is_err() {
             "; and S0, its two-sided spectral density per rad/s (fixed here or swept in \
              [sweep]): for example spectrum = \"kanai-tajimi\" and S0 = 1e-3"
         } else {
@@ -329,7 +343,7 @@ fn random(
         input,
         excitation: Excitation::Random(RandomLoad {
             spectrum,
-            S0: value("S0")?,
+            S0: s0()?,
             envelope: raw.envelope.as_ref().map(|e| Envelope {
                 t1: e.t1,
                 t2: e.t2,
