@@ -85,20 +85,21 @@ impl CapacityChart {
                 DESIGN_COLORS[(k - 1) % DESIGN_COLORS.len()]
             };
             let style = color.stroke_width(2);
-            let line: Vec<(f64, f64)> = c
-                .line
-                .iter()
-                .filter(|p| !log || p.1 > 0.0)
-                .map(|&(x, p)| (x, y(p)))
-                .collect();
-            if c.bare {
-                chart
-                    .draw_series(DashedLineSeries::new(line, 8, 5, style))
-                    .map_err(err)?;
+            let pieces = if log {
+                above_floor(&c.line, LOG_FLOOR - 0.1)
             } else {
-                chart
-                    .draw_series(LineSeries::new(line, style))
-                    .map_err(err)?;
+                vec![c.line.clone()]
+            };
+            for line in pieces {
+                if c.bare {
+                    chart
+                        .draw_series(DashedLineSeries::new(line, 8, 5, style))
+                        .map_err(err)?;
+                } else {
+                    chart
+                        .draw_series(LineSeries::new(line, style))
+                        .map_err(err)?;
+                }
             }
             let shown: Vec<&(f64, f64, f64, f64)> =
                 c.stripes.iter().filter(|s| !log || s.1 > 0.0).collect();
@@ -131,6 +132,46 @@ impl CapacityChart {
             series_legend(&mut chart, SeriesLabelPosition::LowerRight)
         }
     }
+}
+
+/// The runs of the curve `(im, p)` whose `log10 p` lies at or above `floor` (the log panel's
+/// bottom), each as `(im, log10 p)`, cut where the curve crosses the floor (linearly in
+/// `log10 p` between the two points), so that a curve below the panel leaves no line along
+/// its bottom edge.
+fn above_floor(line: &[(f64, f64)], floor: f64) -> Vec<Vec<(f64, f64)>> {
+    let mut pieces = Vec::new();
+    let mut run: Vec<(f64, f64)> = Vec::new();
+    let mut prev: Option<(f64, f64)> = None;
+    for &(x, p) in line {
+        let l = p.log10();
+        let crossing = |(x0, l0): (f64, f64)| {
+            let t = if l0.is_finite() && l.is_finite() {
+                (floor - l0) / (l - l0)
+            } else if l0.is_finite() {
+                0.0
+            } else {
+                1.0
+            };
+            (x0 + t * (x - x0), floor)
+        };
+        let inside = l >= floor;
+        match prev {
+            Some(q) if inside && q.1 < floor => run.push(crossing(q)),
+            Some(q) if !inside && q.1 >= floor => {
+                run.push(crossing(q));
+                pieces.push(std::mem::take(&mut run));
+            }
+            _ => {}
+        }
+        if inside {
+            run.push((x, l));
+        }
+        prev = Some((x, l));
+    }
+    if !run.is_empty() {
+        pieces.push(run);
+    }
+    pieces
 }
 
 impl Chart for CapacityChart {
@@ -331,4 +372,35 @@ pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec
         &chart,
         &Data::Table(cols.table()),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::above_floor;
+
+    #[test]
+    fn the_log_panel_draws_a_curve_only_above_its_floor_and_enters_where_it_crosses() {
+        // 1e-6, 1e-3 (crossing -4 a third of the way), 1e-1; a zero, then 1e-2 and 1.
+        let line = [
+            (0.1, 1e-6),
+            (0.2, 1e-3),
+            (0.3, 1e-1),
+            (0.4, 0.0),
+            (0.5, 1e-2),
+            (0.6, 1.0),
+        ];
+        let pieces = above_floor(&line, -4.0);
+        assert_eq!(pieces.len(), 2, "{pieces:?}");
+        let (x, l) = pieces[0][0];
+        assert!((x - (0.1 + 0.1 * 2.0 / 3.0)).abs() < 1e-12 && l == -4.0);
+        assert_eq!(pieces[0][1], (0.2, -3.0));
+        // Down to zero: the line leaves at the last point above and comes back at the next.
+        assert_eq!(*pieces[0].last().unwrap(), (0.3, -4.0));
+        assert_eq!(pieces[1][0], (0.5, -4.0));
+        assert_eq!(*pieces[1].last().unwrap(), (0.6, 0.0));
+        // No point on or below the floor but those cuts.
+        assert!(pieces.iter().flatten().all(|&(_, l)| l >= -4.0));
+        // A curve wholly below draws nothing.
+        assert!(above_floor(&[(0.1, 1e-9), (0.2, 1e-8)], -4.0).is_empty());
+    }
 }
