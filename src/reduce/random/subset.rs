@@ -5,10 +5,10 @@
 //! standard normals: the same simulator, the normals handed in as a slice
 //! ([`GivenNormals`]), the response `max |x|` (NaN, i.e. not failing, for a run that did not
 //! end `ok`); at a stripe of an intensity measure, of each sample's motion scaled to the stripe
-//! as the sweep scales its realizations ([`RandomRun::at_stripe`]). Seeded by the study seed alone, the same seed at every design point (common random
-//! numbers, as the sweep's realizations: identical designs get identical estimates and two
-//! designs are compared on correlated samples), so the same bits on any thread
-//! count. Asked for by `reduce --subset N` (`N` samples per level); a record has no normals to
+//! as the sweep scales its realizations ([`RandomRun::at_stripe`]). Seeded by the study seed
+//! alone, the same seed at every design point (common random numbers, as the sweep's
+//! realizations: identical designs get identical estimates and two designs are compared on
+//! correlated samples), so the same bits on any thread count. Asked for by `reduce --subset N` (`N` samples per level); a record has no normals to
 //! sample and keeps Monte Carlo.
 //!
 //! Its interval is a lognormal one on the method's coefficient of variation with fully
