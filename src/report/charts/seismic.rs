@@ -5,7 +5,8 @@
 //! taken over (`Risk::curve`: the lognormal fitted to the stripes' counts where motions fall
 //! back; else the capacities' curve, their lognormal where it holds, else their empirical step
 //! curve; without a hazard the capacities' curve), its stripes' Monte Carlo `p_f` (markers) with their Clopper–Pearson 95 % intervals
-//! (whiskers), and the structure without damper dashed grey beside them.
+//! (whiskers), and the structure without damper dashed grey beside them. The legend sits in the
+//! log panel's lower right, where a curve rising with the intensity never runs.
 
 use std::path::{Path, PathBuf};
 
@@ -120,16 +121,19 @@ impl CapacityChart {
                         .map(|&&(x, p, _, _)| Circle::new((x, y(p)), 4, color.filled())),
                 )
                 .map_err(err)?;
-            if !log {
+            // The legend in the log panel's lower right: high intensity and low probability,
+            // where a fragility curve (rising with the intensity) never is. (In the P panel's
+            // corners the curves or the stripes' whiskers run.)
+            if log {
                 series.label(c.name.clone()).legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
                 });
             }
         }
         if log {
-            Ok(())
-        } else {
             series_legend(&mut chart, SeriesLabelPosition::LowerRight)
+        } else {
+            Ok(())
         }
     }
 }
