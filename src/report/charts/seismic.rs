@@ -4,9 +4,10 @@
 //! where the hazard weighs the curve most). Each shown design's curve that its annual risk is
 //! taken over (`Risk::curve`: the lognormal fitted to the stripes' counts where motions fall
 //! back; else the capacities' curve, their lognormal where it holds, else their empirical step
-//! curve; without a hazard the capacities' curve), its stripes' Monte Carlo `p_f` (markers) with their Clopper–Pearson 95 % intervals
-//! (whiskers), and the structure without damper dashed grey beside them. The legend sits in the
-//! log panel's lower right, where a curve rising with the intensity never runs.
+//! curve; without a hazard the capacities' curve), its stripes' Monte Carlo `p_f` (markers)
+//! with their Clopper–Pearson 95 % intervals (whiskers), and the structure without damper dashed
+//! grey beside them. The legend sits in the log panel's lower right, where a curve rising with
+//! the intensity never runs.
 
 use std::path::{Path, PathBuf};
 
