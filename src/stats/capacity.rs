@@ -11,9 +11,9 @@
 //!   `ln theta = mean(y)`, `beta^2 = mean((y - ln theta)^2)` (the `1/n` variance); with it, the
 //!   likelihood `sum_uncensored [ln phi(z_j) - ln beta] + sum_censored ln(1 - Phi(z_j))`,
 //!   `z_j = (y_j - ln theta) / beta`, is maximised by Nelder–Mead from the uncensored estimate.
-//! * **Intervals**: a percentile bootstrap over the motions ([`BOOTSTRAP`] resamples of `n`
-//!   drawn with replacement, a PCG-64 stream from the study seed, the same at every design): `theta`, `beta`
-//!   and any functional of the curve (the empirical `P(f | x)` at a stripe, `lambda_f`) get
+//! * **Intervals**: a percentile bootstrap over the motions ([`bootstrap::RESAMPLES`] resamples
+//!   of `n` drawn with replacement, a PCG-64 stream from the study seed, the same at every
+//!   design): `theta`, `beta` and any functional of the curve (the empirical `P(f | x)` at a stripe, `lambda_f`) get
 //!   their 2.5 % and 97.5 % quantiles.
 //! * **Goodness of fit**: the Kolmogorov–Smirnov distance `D = sup |F_n(x) - F(x)|` between the
 //!   empirical curve and the fitted lognormal (over the uncensored range), against Lilliefors'
@@ -25,9 +25,6 @@ use argmin::solver::neldermead::NelderMead;
 
 use super::bootstrap;
 use super::fragility::phi_cdf;
-
-/// Bootstrap resamples of a capacity fit.
-pub const BOOTSTRAP: usize = bootstrap::RESAMPLES;
 
 /// A lognormal fit to capacities.
 #[derive(Clone, Copy, Debug, PartialEq)]

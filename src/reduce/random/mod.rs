@@ -434,7 +434,7 @@ impl<'a> RandomReducer<'a> {
         // Each design's own fragility from its stripes' counts and, with a hazard, the interval
         // of its lambda_f; the risk's curve where it holds.
         let (fits, intervals) = self.stripes_fits(&design_lens, &runs);
-        let risks = self.risks(&design_lens, &runs, &fits, &intervals);
+        let mut risks = self.risks(&design_lens, &runs, &fits, &intervals);
         let hazard = self.study.hazard.as_ref();
         let mut subsets: Vec<(u64, SubsetPf)> = Vec::new();
         if let (Some(n), Some(b)) = (subset, self.threshold) {
@@ -468,7 +468,6 @@ impl<'a> RandomReducer<'a> {
             });
         }
         let summary = self.core.finish_with(&NoIdeal);
-        let mut risks = risks;
         rank_by_risk(&mut risks, &summary.points);
         let (realizations, record) = self.study.scene.random().map_or((0, false), |r| {
             (self.study.realizations, !r.draws_normals())

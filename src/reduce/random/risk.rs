@@ -32,7 +32,8 @@
 //!   is not tested stripe by stripe for this: at a 4-cm design it lies outside some stripe's
 //!   interval at most seeds, and its `lambda_f` still reads the truth (the integral over the
 //!   hazard averages the misfit). The designs are then ranked by `lambda_f` (rank 1 the lowest;
-//!   ties to the lower design).
+//!   ties as the core's ranking breaks them: the lower mean amplitude, then the lower design;
+//!   [`rank_by_risk`]).
 
 use crate::numeric::mix64;
 use crate::stats::capacity::{Capacities, LognormalFit, lilliefors_5};
