@@ -92,12 +92,17 @@ def _sets(keys: Mapping[str, Any], scene: str) -> List[str]:
 SCENES = ("free", "harmonic", "random", "record")
 _RANDOM_SCENES = ("random", "record")
 #: The keys of ``scene="random"`` and ``scene="record"`` besides the system's and the solver's
-#: (docs/scenes.md, "Inputs"); the run's own ``seed``, ``realization`` and ``normals``.
+#: (docs/scenes.md, "Inputs"): the ``[scene]`` keys (the limit state's and the intensity
+#: measure's among them) and a stripe ``im`` (g, the study's ``[sweep] im = [im]``); the run's
+#: own ``seed``, ``realization`` and ``normals``.
+_LIMIT_KEYS = ("drift_ratio", "storey_height", "yield_coefficient", "intensity", "T", "ida_tol", "ida_max", "im")
 RANDOM_KEYS = ("input", "spectrum", "S0", "omega_g", "zeta_g", "omega_f", "zeta_f", "dt", "duration",
-               "envelope", "threshold")
-RECORD_KEYS = ("input", "record", "scale", "duration", "threshold")
+               "envelope", "threshold", *_LIMIT_KEYS)
+RECORD_KEYS = ("input", "record", "scale", "duration", "threshold", *_LIMIT_KEYS)
 _RUN_KEYS = ("seed", "realization", "normals")
-_STRING_KEYS = ("input", "spectrum", "record", "solver")
+_STRING_KEYS = ("input", "spectrum", "record", "solver", "intensity")
+#: The capacity columns of a run at a stripe: searched only when the record asked for holds one.
+_CAPACITY_KEYS = ("capacity", "capacity_censored", "capacity_resurrected", "capacity_runs")
 _INTEGER_KEYS = ("max_impacts", "max_steps")
 
 
@@ -140,8 +145,11 @@ def _random_text(scene: str, keys: Mapping[str, Any]) -> str:
     (the Rust side parses and checks it as a study file, so the defaults are a study's: the
     structure at rest)."""
     own = RANDOM_KEYS if scene == "random" else RECORD_KEYS
-    tables: Dict[str, List[str]] = {"scene": [f'kind = "{scene}"'], "system": [], "solver": []}
+    tables: Dict[str, List[str]] = {"scene": [f'kind = "{scene}"'], "system": [], "solver": [], "sweep": []}
     for key, v in keys.items():
+        if key == "im":
+            tables["sweep"].append(f"im = [{_toml(key, v)}]")
+            continue
         if key in own:
             table = "scene"
         elif key in SYSTEM_KEYS:
@@ -160,7 +168,7 @@ def _random_text(scene: str, keys: Mapping[str, Any]) -> str:
             continue
         tables[table].append(f"{'kind' if key == 'solver' else key} = {_toml(key, v)}")
     parts = ['[study]\nname = "simulate"\n']
-    parts += [f"[{t}]\n" + "".join(f"{line}\n" for line in lines) for t, lines in tables.items()]
+    parts += [f"[{t}]\n" + "".join(f"{line}\n" for line in lines) for t, lines in tables.items() if lines or t != "sweep"]
     return "".join(parts)
 
 
@@ -188,15 +196,22 @@ def simulate(*, scene: str = "free", outputs: Optional[Sequence[str]] = None, **
     ``scene="random"`` (or ``"record"``) runs one realization of a random (record) study's
     design: the keys of its ``[scene]`` (``spectrum S0 omega_g zeta_g omega_f zeta_f dt
     duration envelope threshold input``; a record's ``record scale duration threshold input``,
-    ``record`` a CSV path) with the system's and the solver's, the same defaults and checks as
-    the study file (the structure starts at rest). The load is realization ``realization``
-    (default 0) of study seed ``seed`` (default 0): the same bits as the sweep's row of that
-    realization at that design. ``normals`` (a 1-D array of ``n_normals`` standard normals)
-    replaces the stream, as subset simulation hands them in. The record has the run's
-    observables (``amplitude t_peak rms_x rms_acc first_passage_time impacts sticks
-    energy_impact samples t_stop steps outcome``; ``first_passage_time`` is None when ``|x|``
-    never passed ``threshold``), then ``scene seed realization`` (None with ``normals`` or a
-    record), ``n_normals``, ``system``, ``solver`` and the scene's settings under its name.
+    ``record`` a CSV path; the limit state's ``drift_ratio storey_height yield_coefficient`` and
+    the intensity measure's ``intensity T ida_tol ida_max``) and a stripe ``im`` in g, with the
+    system's and the solver's, the same defaults and checks as the study file (the structure
+    starts at rest). The load is realization ``realization`` (default 0) of study seed ``seed``
+    (default 0): the same bits as the sweep's row of that realization at that design.
+    ``normals`` (a 1-D array of ``n_normals`` standard normals) replaces the stream, as subset
+    simulation hands them in. With ``intensity`` and ``im`` the motion is scaled to the stripe
+    (its ``pga`` or ``sa`` to ``im``) as the sweep scales it, normals handed in included. The
+    record has the run's observables (``amplitude t_peak rms_x rms_acc first_passage_time
+    impacts sticks energy_impact samples t_stop steps outcome``; ``first_passage_time`` is None
+    when ``|x|`` never passed ``threshold``); under an intensity measure the motion's own ``pga
+    sa`` (g, at scale 1), the ``scale`` it ran at and its capacity (``capacity
+    capacity_censored capacity_resurrected capacity_runs``, the ``random_points`` columns; with
+    a ``threshold``, searched only when ``outputs`` is None or names one of them); then ``scene
+    seed realization`` (None with ``normals`` or a record), ``n_normals``, ``system``,
+    ``solver`` and the scene's settings under its name.
     """
     scene = _scene(scene)
     if scene in _RANDOM_SCENES:
@@ -206,8 +221,9 @@ def simulate(*, scene: str = "free", outputs: Optional[Sequence[str]] = None, **
         normals = run.get("normals")
         if normals is not None and ("seed" in run or "realization" in run):
             raise ValueError("normals: given with seed or realization; the normals replace the stream they name")
+        capacity = outputs is None or any(k in _CAPACITY_KEYS for k in outputs)
         rec = _ext.simulate_random(
-            _random_text(scene, keys), seed, realization, None if normals is None else _normals(normals)
+            _random_text(scene, keys), seed, realization, None if normals is None else _normals(normals), capacity
         )
     else:
         for k in _RUN_KEYS:

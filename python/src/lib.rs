@@ -27,7 +27,7 @@ use impactsweep::error::{InputError, Interrupted};
 use impactsweep::model::SYSTEM_KEYS;
 use impactsweep::plan::{Plan, RunSpec};
 use impactsweep::sim::random::{
-    Excitation, GivenNormals, Normals, RandomRecord, RandomRun, RandomScene, RealizationRecord,
+    Excitation, GivenNormals, LoadBlock, Normals, RandomRun, RandomScene, RealizationRecord,
     RealizationStream,
 };
 use impactsweep::sim::{
@@ -159,13 +159,14 @@ struct RandomDesign {
 impl RandomDesign {
     fn parse(text: &str) -> PyResult<RandomDesign> {
         let study = Study::parse(Path::new(RANDOM_FILE), text).map_err(random_err)?;
-        let Scene::Random(scene) = study.scene.clone() else {
+        // Design point 0: the study's scene with its one stripe `im` set.
+        let (system, scene) = Plan::new(&study).point(0);
+        let Scene::Random(scene) = scene else {
             return Err(PyValueError::new_err(
                 "scene: the random or record scene's setup has no [scene] kind (a bug: please \
                  report it)",
             ));
         };
-        let system = study.system;
         let run = RandomRun::new(&system, &study.solver, &scene);
         Ok(RandomDesign {
             study,
@@ -178,11 +179,14 @@ impl RandomDesign {
     /// The record of one run as a JSON object: the run's observables, then what it ran (the
     /// scene, the stream or `null` for normals handed in or a record, `n_normals`, the system,
     /// the solver and the scene's settings under its name).
-    fn json(&self, rec: &RandomRecord, stream: Option<(u64, u64)>) -> serde_json::Value {
-        let mut map = match serde_json::to_value(rec) {
+    fn json(&self, row: &RealizationRecord, stream: Option<(u64, u64)>) -> serde_json::Value {
+        let mut map = match serde_json::to_value(&row.record) {
             Ok(serde_json::Value::Object(m)) => m,
             _ => serde_json::Map::new(),
         };
+        if self.scene.intensity.is_some() {
+            insert_stripe(&mut map, row);
+        }
         let kind = if self.scene.draws_normals() {
             "random"
         } else {
@@ -241,39 +245,75 @@ impl RandomDesign {
             "threshold".into(),
             sc.threshold.map_or(serde_json::Value::Null, num),
         );
+        if let Some(spec) = sc.intensity {
+            m.insert("intensity".into(), spec.measure.name().into());
+            m.insert("T".into(), num(spec.period));
+            m.insert("ida_tol".into(), num(spec.ida_tol));
+            m.insert("ida_max".into(), num(spec.ida_max));
+        }
         serde_json::Value::Object(m)
     }
+}
+
+/// A run under an intensity measure: the motion's own `pga` and `sa` (g, at scale 1), the
+/// `scale` it ran at (`im / own`) and its capacity (`capacity` g, `capacity_censored`,
+/// `capacity_resurrected`, `capacity_runs`; null where not searched), under the names of the
+/// `random_points` table (docs/schema.md).
+fn insert_stripe(map: &mut serde_json::Map<String, serde_json::Value>, row: &RealizationRecord) {
+    let num = |v: f64| serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, Into::into);
+    let opt = |v: Option<f64>| v.map_or(serde_json::Value::Null, num);
+    map.insert("pga".into(), opt(row.own.map(|o| o.pga)));
+    map.insert("sa".into(), opt(row.own.map(|o| o.sa)));
+    map.insert("scale".into(), opt(row.load[5]));
+    let c = row.capacity;
+    map.insert("capacity".into(), opt(c.map(|c| c.capacity)));
+    let flag = |f: Option<bool>| f.map_or(serde_json::Value::Null, Into::into);
+    map.insert("capacity_censored".into(), flag(c.map(|c| c.censored)));
+    map.insert(
+        "capacity_resurrected".into(),
+        flag(c.map(|c| c.resurrected)),
+    );
+    map.insert(
+        "capacity_runs".into(),
+        c.map_or(serde_json::Value::Null, |c| c.runs.into()),
+    );
 }
 
 /// One run of the random or record scene: the setup of study text `text` (its one design),
 /// realization `realization` of study seed `seed` (the stream the sweep's row of that
 /// realization draws, [`Plan::load_stream`]), or the standard normals `normals` (f64 bytes,
-/// native endian, exactly `n_normals` of them) in its place. Returns the record as a dict.
+/// native endian, exactly `n_normals` of them) in its place. Under an intensity measure the
+/// motion runs at the study's stripe `im` (`[sweep] im = [im]`) as the sweep runs it
+/// ([`sweep::random::motion_row`]), with its capacity where `capacity` and a threshold.
+/// Returns the record as a dict.
 #[pyfunction]
-#[pyo3(signature = (text, seed, realization, normals=None))]
+#[pyo3(signature = (text, seed, realization, normals=None, capacity=true))]
 fn simulate_random<'py>(
     py: Python<'py>,
     text: &str,
     seed: u64,
     realization: u64,
     normals: Option<Bound<'py, PyBytes>>,
+    capacity: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let d = RandomDesign::parse(text)?;
     let req = d.study.request;
-    let (rec, stream) = match normals {
+    let run =
+        |block: &LoadBlock| sweep::random::motion_row(&d.run, &req, &d.scene, block, capacity);
+    let (row, stream) = match normals {
         Some(bytes) => {
             let u = f64s(bytes.as_bytes());
             check_normals(&d, &u)?;
-            let rec = py.detach(|| d.run.run(&req, GivenNormals::new(&u), &mut NoProbe));
-            (rec, None)
+            let row = py.detach(|| run(&d.run.load(GivenNormals::new(&u))));
+            (row, None)
         }
         None => {
             let stream = RealizationStream::new(seed, 0, realization);
-            let rec = py.detach(|| d.run.run(&req, stream, &mut NoProbe));
-            (rec, d.scene.draws_normals().then_some((seed, realization)))
+            let row = py.detach(|| run(&d.run.load(stream)));
+            (row, d.scene.draws_normals().then_some((seed, realization)))
         }
     };
-    json_to_py(py, &d.json(&rec, stream))
+    json_to_py(py, &d.json(&row, stream))
 }
 
 /// Normals handed in: a random load's, exactly `n_normals` of them, every one finite.

@@ -169,6 +169,42 @@ def test_the_streams_normals_handed_in_are_the_same_run():
     assert rest["amplitude"] == 0.0 and rest["impacts"] == 0
 
 
+def test_a_motion_at_a_stripe_is_the_sweeps_row_normals_handed_in_included():
+    """``intensity`` and ``im``: the motion scaled to the stripe as the sweep scales it, from its
+    stream or from its normals handed in (subset simulation at a stripe from Python)."""
+    cp = dict(M=1.0, K=246.7, C=0.628, m=0.05, d=0.02, e=0.6, spectrum="clough-penzien", S0=0.004,
+              duration=3.0, threshold=0.02, intensity="sa")
+    n = isw.n_normals(**cp)
+    batch = isw.simulate_batch({"im": np.array([0.2, 0.2, 0.6]), "realization": np.array([2, 5, 5])},
+                               scene="random", seed=4, **cp).to_pylist()
+    for row in batch:
+        keys = cp | {"im": row["im"]}
+        streamed = isw.simulate(scene="random", **keys, seed=4, realization=row["case"])
+        u = isw.realization_normals(n, seed=4, realization=row["case"])
+        given = isw.simulate(scene="random", **keys, normals=u)
+        for rec in (streamed, given):
+            for k in OUTPUTS[1:] + ["pga", "sa", "scale", "capacity", "capacity_censored", "capacity_runs"]:
+                theirs = row[k]
+                if isinstance(theirs, float) and np.isnan(theirs):
+                    theirs = None
+                assert bits(rec[k]) == bits(theirs), (row["point_id"], k, rec[k], theirs)
+        # The stripe is the motion's own Sa times its scale; the capacity is searched at it.
+        assert abs(given["sa"] * given["scale"] / row["im"] - 1) < 1e-12
+        assert given["capacity_runs"] >= 2 and given["random"]["intensity"] == "sa"
+    # Another stripe, another run of the same motion: the same capacity to its tolerance (its
+    # search starts from the stripe's run); the capacity only where asked for.
+    low, high = (isw.simulate(scene="random", **cp, im=im, normals=u, outputs=["amplitude", "capacity"])
+                 for im in (0.2, 0.6))
+    assert low["amplitude"] < high["amplitude"] and abs(low["capacity"] / high["capacity"] - 1) < 0.01
+    quick = isw.simulate(scene="random", **cp, im=0.6, normals=u, outputs=["amplitude", "scale"])
+    assert bits(quick["amplitude"]) == bits(high["amplitude"]) and quick["scale"] > 0
+    bare = isw.simulate(scene="random", **cp, im=0.6, normals=u, outputs=["capacity_runs", "sticks"])
+    assert bare["capacity_runs"] == isw.simulate(scene="random", **cp, im=0.6, normals=u)["capacity_runs"] > 0
+    # A stripe without an intensity measure is the study's error.
+    with pytest.raises(ValueError, match="im"):
+        isw.simulate(scene="random", **{k: v for k, v in cp.items() if k != "intensity"}, im=0.3)
+
+
 def test_the_record_names_its_setup():
     rec = isw.simulate(scene="random", spectrum="white", S0=0.01, duration=1.0)
     assert rec["scene"] == "random" and rec["outcome"] == "ok"

@@ -14,8 +14,8 @@ use rayon::prelude::*;
 
 use super::simulate::{ChunkRows, SceneRun, row_of};
 use crate::plan::{Plan, RunSpec};
-use crate::sim::random::{RandomRun, RandomScene, RealizationRecord, ida};
-use crate::sim::{NoProbe, Outcome, Scene};
+use crate::sim::random::{LoadBlock, RandomRun, RandomScene, RealizationRecord, ida};
+use crate::sim::{NoProbe, Outcome, Request, Scene};
 use crate::store::RunRow;
 
 impl SceneRun for RealizationRecord {
@@ -115,28 +115,44 @@ pub fn one_realization(
     Some((row, probe.rows))
 }
 
-/// Realization `run.case` of `run.point` on its design point's `setup`. Under an intensity
-/// measure: the motion's samples drawn once ([`RandomRun::load`]), its own PGA and Sa first (one
-/// pass over them), the run at the stripe's
-/// gain `im / own` (1 without stripes), and at the design stripe (every point without stripes)
-/// with a threshold, the motion's capacity by incremental dynamic analysis
-/// ([`crate::sim::random::ida`]), each trial a run of the same motion at another gain.
+/// Realization `run.case` of `run.point` on its design point's `setup`: its load's samples
+/// drawn once ([`RandomRun::load`]) and run as [`motion_row`] runs them, the capacity searched
+/// at the design stripe (every point without stripes).
 fn realization(
     plan: &Plan,
     run: &RunSpec,
     scene: &RandomScene,
     setup: &RandomRun,
 ) -> RealizationRecord {
-    let req = &plan.study.request;
+    let block = setup.load(plan.load_stream(run));
+    let design_stripe = scene.im.is_none() || scene.im == plan.study.design_intensity_value();
+    motion_row(setup, &plan.study.request, scene, &block, design_stripe)
+}
+
+/// The row of one motion, its load's samples `block` at scale 1 ([`RandomRun::load`]), on a
+/// design point's `setup`: what the sweep stores for a realization, and what Python's
+/// `simulate(scene="random", normals=...)` runs on the normals it is handed.
+///
+/// Without an intensity measure, the run of `block` (the same bits as [`RandomRun::run`] on
+/// the normals that made it). Under one: the motion's own PGA and Sa first (one pass over the
+/// samples), the run at the stripe's gain `im / own` (1 without a stripe,
+/// [`RandomRun::at_stripe`]), and where `capacity` and the scene has a threshold, the motion's
+/// capacity by incremental dynamic analysis ([`crate::sim::random::ida`]), each trial a run of
+/// the same motion at another gain.
+pub fn motion_row(
+    setup: &RandomRun,
+    req: &Request,
+    scene: &RandomScene,
+    block: &LoadBlock,
+    capacity: bool,
+) -> RealizationRecord {
     let Some(spec) = scene.intensity else {
-        let record = setup.run(req, plan.load_stream(run), &mut NoProbe);
+        let record = setup.run_block(req, block, 1.0, &mut NoProbe);
         return RealizationRecord::new(scene, record);
     };
-    // The motion's samples drawn once for its intensity, its run and its capacity search.
-    let block = setup.load(plan.load_stream(run));
-    let (own, gain) = setup.at_stripe(&spec, scene.im, &block);
+    let (own, gain) = setup.at_stripe(&spec, scene.im, block);
     let i0 = own.of(spec.measure);
-    let record = setup.run_block(req, &block, gain, &mut NoProbe);
+    let record = setup.run_block(req, block, gain, &mut NoProbe);
     let amplitude = |r: &crate::sim::random::RandomRecord| {
         if r.outcome == Outcome::Ok {
             r.amplitude
@@ -144,15 +160,14 @@ fn realization(
             f64::NAN
         }
     };
-    let design_stripe = scene.im.is_none() || scene.im == plan.study.design_intensity_value();
     let capacity = match scene.threshold {
-        Some(b) if design_stripe && i0 > 0.0 => Some(ida::capacity(
+        Some(b) if capacity && i0 > 0.0 => Some(ida::capacity(
             i0,
             b,
             (gain, amplitude(&record)),
             spec.ida_tol,
             spec.ida_max,
-            |s| setup.amplitude_block(req, &block, s),
+            |s| setup.amplitude_block(req, block, s),
         )),
         _ => None,
     };
