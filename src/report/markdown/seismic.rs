@@ -150,12 +150,18 @@ pub fn head(study: &Study, rs: &RandomSummary) -> String {
             .map_or(String::new(), |i| {
                 format!(
                     "; stripes at {} g, each motion scaled so that its own value equals the \
-                     stripe's",
+                     stripe's{}",
                     i.values
                         .iter()
                         .map(|v| fmt_num(*v))
                         .collect::<Vec<_>>()
-                        .join(", ")
+                        .join(", "),
+                    if matches!(r.excitation, Excitation::Random(_)) {
+                        " (the load's S0 sets only the motions' own level: it scales out of \
+                         every result but their own PGA and Sa)"
+                    } else {
+                        ""
+                    }
                 )
             });
         let _ = writeln!(o, "**Intensity.** {what}, in g{stripes}.\n");
