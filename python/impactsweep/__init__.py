@@ -309,7 +309,13 @@ def _random_sets(fixed: Mapping[str, Any], scene: str) -> List[str]:
 
 
 def simulate_batch(
-    inputs: Any, *, threads: Optional[int] = None, scene: str = "free", seed: int = 0, **fixed: Any
+    inputs: Any,
+    *,
+    threads: Optional[int] = None,
+    scene: str = "free",
+    seed: int = 0,
+    normals: Any = None,
+    **fixed: Any,
 ) -> pa.Table:
     """One run per row of ``inputs``, in parallel, as a pyarrow Table.
 
@@ -339,18 +345,35 @@ def simulate_batch(
     ``np.arange(n)`` as the column gives ``n`` realizations of one design. Its ``case`` is the
     realization, ``point_id = point = i``. A row with a stripe ``im`` and a ``threshold`` is
     its own design stripe: it carries the motion's capacity.
+
+    ``normals`` (``scene="random"``): a 2-D array of one row of ``n_normals`` standard normals
+    per run; row ``i`` runs on its row in place of a realization's stream (its ``case`` is 0),
+    as :func:`simulate` with ``normals`` runs it, bit for bit, and on the normals of
+    :func:`realization_normals` as the row of that realization. ``inputs`` may then be empty
+    (``{}``): the normals give the rows. A reliability library's whole sample of standard
+    normals, a stripe ``im`` among the keys, is one call on every core.
     """
     scene = _scene(scene)
     cols = _columns(inputs)
     lengths = {len(a) for a in cols.values()}
     if len(lengths) > 1:
         raise ValueError(f"inputs: columns of different lengths {sorted(lengths)}")
+    raw = None
+    if normals is not None:
+        if scene != "random":
+            raise ValueError(f"normals: only a random load draws normals; scene={scene!r}")
+        u = np.ascontiguousarray(np.asarray(normals, dtype=np.float64))
+        if u.ndim != 2:
+            raise ValueError(f"normals: {u.ndim}-dimensional; expected one row of n_normals standard normals per run (2-D)")
+        if lengths and lengths != {len(u)}:
+            raise ValueError(f"normals: {len(u)} rows for input columns of {lengths.pop()}")
+        lengths, raw = {len(u)}, u.tobytes()
     n = lengths.pop() if lengths else 1
     if scene in _RANDOM_SCENES:
         sets, seed = _random_sets(fixed, scene), _whole("seed", seed)
     else:
         sets, seed = _sets(fixed, scene), int(seed)
-    batch = _ext.simulate_batch(sets, list(cols), [a.tobytes() for a in cols.values()], n, threads, seed)
+    batch = _ext.simulate_batch(sets, list(cols), [a.tobytes() for a in cols.values()], n, threads, seed, raw)
     return pa.Table.from_batches([batch])
 
 

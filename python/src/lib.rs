@@ -428,8 +428,13 @@ const INLINE_ROWS: usize = 64;
 /// `scene=random` or `scene=record` among `sets` a row is one realization (the `realization`
 /// column, else the setup's) of the one-point study of the keys and the row's values, under
 /// study seed `seed` ([`impactsweep::api::random_batch`]): the `random_points` table.
+///
+/// `normals` (random scene only; f64 bytes, native endian, `n_rows` rows of `n_normals`
+/// standard normals): row `i` runs on its row of normals in place of a realization's stream
+/// ([`RandomBatch::run_on_normals`]).
 #[pyfunction]
-#[pyo3(signature = (sets, names, columns, n_rows, threads=None, seed=0))]
+#[pyo3(signature = (sets, names, columns, n_rows, threads=None, seed=0, normals=None))]
+#[allow(clippy::too_many_arguments)]
 fn simulate_batch<'py>(
     py: Python<'py>,
     sets: Vec<String>,
@@ -438,6 +443,7 @@ fn simulate_batch<'py>(
     n_rows: usize,
     threads: Option<usize>,
     seed: u64,
+    normals: Option<Bound<'py, PyBytes>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let base = setup(&sets)?;
     let study = batch_study(&base, seed)?;
@@ -482,7 +488,15 @@ fn simulate_batch<'py>(
                     "scene: a random setup without its study (a bug: please report it)",
                 ));
             };
-            let rows = random_rows(py, pool.as_ref(), r, seed, &names, &cols, n_rows)?;
+            let normals = normals.map(|b| f64s(b.as_bytes()));
+            let rows = random_rows(
+                py,
+                pool.as_ref(),
+                r,
+                seed,
+                (&names, &cols, n_rows),
+                normals.as_deref(),
+            )?;
             impactsweep::store::points::to_batch(&rows, &r.study.solver, false)
         }
     }
@@ -497,9 +511,8 @@ fn random_rows(
     pool: Option<&rayon::ThreadPool>,
     setup: &RandomSetup,
     seed: u64,
-    names: &[String],
-    cols: &[Vec<f64>],
-    n: usize,
+    (names, cols, n): (&[String], &[Vec<f64>], usize),
+    normals: Option<&[f64]>,
 ) -> PyResult<Vec<RunRow<RealizationRecord>>> {
     if setup.has("seed") {
         return Err(PyValueError::new_err(format!(
@@ -511,6 +524,10 @@ fn random_rows(
     setup.study.seed = seed;
     let setup = &setup;
     let batch = RandomBatch::new(setup, names, cols, n).map_err(PyValueError::new_err)?;
+    let per_row = match normals {
+        Some(u) => Some(check_batch_normals(setup, &batch, names, u, n)?),
+        None => None,
+    };
     let stop = AtomicBool::new(false);
     let all = || -> Result<Vec<RunRow<RealizationRecord>>, String> {
         if let Some(msg) = (0..n)
@@ -526,7 +543,10 @@ fn random_rows(
                     return None;
                 }
                 let (study, case) = batch.row(i).ok()?;
-                Some(RandomBatch::run(i, &study, case))
+                Some(match (normals, per_row) {
+                    (Some(u), Some(k)) => RandomBatch::run_on_normals(i, &study, &u[i * k..][..k]),
+                    _ => RandomBatch::run(i, &study, case),
+                })
             })
             .collect())
     };
@@ -540,6 +560,43 @@ fn random_rows(
         interruptible(py, || stop.store(true, Ordering::SeqCst), work)?
     };
     rows.map_err(PyValueError::new_err)
+}
+
+/// Normals handed to a batch: a random load's (not a record's), without a realization to name
+/// the stream they replace, `n` rows of `n_normals`, every one finite. Returns `n_normals`.
+fn check_batch_normals(
+    setup: &RandomSetup,
+    batch: &RandomBatch,
+    names: &[String],
+    u: &[f64],
+    n: usize,
+) -> PyResult<usize> {
+    if !setup.scene().draws_normals() {
+        return Err(PyValueError::new_err(
+            "normals: a record's load draws no normals; leave normals out",
+        ));
+    }
+    if setup.has("realization") || names.iter().any(|k| k == "realization") {
+        return Err(PyValueError::new_err(
+            "normals: given with realization; the normals replace the stream it names",
+        ));
+    }
+    let k = batch.n_normals();
+    if u.len() != n * k {
+        return Err(PyValueError::new_err(format!(
+            "normals: {} values for {n} rows; this load draws n_normals = {k} standard normals \
+             a run (one row of normals per row of the batch)",
+            u.len()
+        )));
+    }
+    if let Some((i, v)) = u.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "normals[{}, {}] = {v}: a standard normal must be finite",
+            i / k.max(1),
+            i % k.max(1)
+        )));
+    }
+    Ok(k)
 }
 
 /// The batch's rows: `base` with row `i` of the input columns.

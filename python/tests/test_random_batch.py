@@ -143,3 +143,44 @@ def test_the_seed_of_a_batch_is_its_argument():
     sets = ["scene=random", "spectrum=white", "S0=0.01", "duration=1", "seed=3"]
     with pytest.raises(ValueError, match=r"^seed=3: the study seed of a batch is its seed argument"):
         isw._ext.simulate_batch(sets, [], [], 1, None, 0)
+
+
+def test_a_batch_on_normals_handed_in_is_each_rows_run(cli, tmp_path):
+    """``normals=``: row ``i`` runs on its row of standard normals, at the stripe: the sweep's row
+    of the realization whose stream drew them (but ``case``, 0), ``simulate``'s record of them,
+    on 1 and 2 threads; bad normals name what is wrong."""
+    study = tmp_path / "cp.toml"
+    study.write_text(STUDY)
+    p = cli("run", study, "--out", tmp_path / "out", "--quiet")
+    assert p.returncode == 0, p.stderr
+    theirs = points(tmp_path / "out" / "cp")
+    n = isw.n_normals(**FIXED)
+    cases = theirs.column("case").to_pylist()
+    u = np.stack([isw.realization_normals(n, seed=23, realization=c) for c in cases])
+    inputs = {"mass_inner": theirs.column("mass_inner").to_numpy()}
+    for threads in (1, 2):
+        ours = isw.simulate_batch(inputs, threads=threads, scene="random", normals=u, **FIXED)
+        assert ours.column("case").to_pylist() == [0] * len(cases)
+        assert ours.column("noise_seed").null_count == len(cases)
+        assert_same(ours, theirs, skip=("point", "case", "noise_seed"))
+    # Each row is simulate's run of its normals; the normals alone give the rows.
+    m = FIXED | {"m": 0.05}
+    rows = isw.simulate_batch({}, scene="random", normals=u[:2], **m).to_pylist()
+    for row, ui in zip(rows, u[:2]):
+        rec = isw.simulate(scene="random", normals=ui, **m)
+        assert [rec[k] for k in ("amplitude", "rms_x", "capacity", "scale")] == \
+            [row[k] for k in ("amplitude", "rms_x", "capacity", "scale")]
+    with pytest.raises(ValueError, match=r"^normals: 2 rows for input columns of 3"):
+        isw.simulate_batch({"m": [0.01, 0.02, 0.03]}, scene="random", normals=u[:2], **FIXED)
+    with pytest.raises(ValueError, match=r"^normals: 1-dimensional; expected one row"):
+        isw.simulate_batch({}, scene="random", normals=u[0], **FIXED)
+    with pytest.raises(ValueError, match=rf"^normals: {2 * (n - 1)} values for 2 rows; this load draws n_normals = {n}"):
+        isw.simulate_batch({}, scene="random", normals=u[:2, 1:], **FIXED)
+    with pytest.raises(ValueError, match=r"^normals: given with realization"):
+        isw.simulate_batch({"realization": [0, 1]}, scene="random", normals=u[:2], **FIXED)
+    bad = u[:2].copy()
+    bad[1, 3] = np.nan
+    with pytest.raises(ValueError, match=r"^normals\[1, 3\] = NaN: a standard normal must be finite"):
+        isw.simulate_batch({}, scene="random", normals=bad, **FIXED)
+    with pytest.raises(ValueError, match=r"^normals: only a random load draws normals"):
+        isw.simulate_batch({}, scene="record", normals=u[:2], record="x.csv")

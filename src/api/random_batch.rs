@@ -15,9 +15,9 @@
 
 use super::realization::{MAX_REALIZATION, RandomSetup};
 use crate::model::SYSTEM_KEYS;
-use crate::plan::Plan;
+use crate::plan::{Plan, RunSpec};
 use crate::sim::Harmonic;
-use crate::sim::random::{Measure, RandomScene, RealizationRecord};
+use crate::sim::random::{Measure, RandomRun, RandomScene, RealizationRecord};
 use crate::store::RunRow;
 use crate::study::{Axis, Study};
 
@@ -149,10 +149,34 @@ impl<'a> RandomBatch<'a> {
     /// Runs row `i` of the checked `study` and realization `case` ([`RandomBatch::row`]).
     pub fn run(i: usize, study: &Study, case: u32) -> RunRow<RealizationRecord> {
         let plan = Plan::new(study);
+        crate::sweep::run_row::<RealizationRecord>(&plan, &Self::spec(&plan, i, case))
+    }
+
+    /// Runs row `i` of the checked `study` on the standard normals `normals` handed in
+    /// ([`RandomRun::n_normals`] of them, finite) in place of a realization's stream: its
+    /// `case` is 0 and its `noise_seed` null (no stream seeds its load). On the normals
+    /// realization `c`'s stream draws, [`RandomBatch::run`]'s row of `c` bit for bit but for
+    /// those two.
+    pub fn run_on_normals(i: usize, study: &Study, normals: &[f64]) -> RunRow<RealizationRecord> {
+        let plan = Plan::new(study);
+        let mut run = Self::spec(&plan, i, 0);
+        run.spec.noise_seed = None;
+        crate::sweep::random::row_on_normals(&plan, &run, normals)
+    }
+
+    /// The run of the one-point `plan`'s realization `case` as row `i` (`point_id = point = i`).
+    fn spec(plan: &Plan, i: usize, case: u32) -> RunSpec {
         let mut run = plan.run(0, case);
         run.point = i as u64;
         run.point_id = i as u64;
-        crate::sweep::run_row::<RealizationRecord>(&plan, &run)
+        run
+    }
+
+    /// The standard normals a run of this batch's load draws ([`RandomRun::n_normals`]; 0 for
+    /// a record): every row's, as its columns change no key they depend on.
+    pub fn n_normals(&self) -> usize {
+        let study = &self.setup.study;
+        RandomRun::new(&study.system, &study.solver, &self.setup.scene()).n_normals()
     }
 }
 

@@ -276,8 +276,11 @@ impl RandomSetup {
             )? as u32,
             None => 0,
         };
+        // At a stripe `S0` scales out and may be left to its default (the study's rule).
         let needed: &[&str] = if kind == "record" {
             &["record"]
+        } else if values.contains_key("im") {
+            &["spectrum"]
         } else {
             &["spectrum", "S0"]
         };
@@ -516,6 +519,21 @@ mod tests {
                 .starts_with("--set scene=random: needs --set spectrum=")
         );
         assert!(err(&["scene=record"]).starts_with("--set scene=record: needs --set record="));
+        // At a stripe S0 may be left out (it scales out); elsewhere it is needed.
+        let at_stripe = |extra: &[&str]| {
+            let mut items = vec!["scene=random", "spectrum=white", "duration=1"];
+            items.extend_from_slice(extra);
+            RandomSetup::from_sets("random", &sets(&items))
+        };
+        let striped = at_stripe(&["intensity=pga", "im=0.3"]).expect("S0 defaults at a stripe");
+        // The study file's default at stripes (docs/scenes.md, "Inputs").
+        assert_eq!(striped.scene().get("S0"), Some(0.005));
+        assert!(
+            at_stripe(&[])
+                .unwrap_err()
+                .to_string()
+                .starts_with("--set scene=random: needs --set S0=")
+        );
         let missing = err(&["scene=record", "record=no/such.csv"]);
         assert!(
             missing.starts_with("--set record = \"no/such.csv\": cannot read the record file"),

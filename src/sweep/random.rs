@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 use super::simulate::{ChunkRows, SceneRun, row_of};
 use crate::plan::{Plan, RunSpec};
-use crate::sim::random::{LoadBlock, RandomRun, RandomScene, RealizationRecord, ida};
+use crate::sim::random::{GivenNormals, LoadBlock, RandomRun, RandomScene, RealizationRecord, ida};
 use crate::sim::{NoProbe, Outcome, Request, Scene};
 use crate::store::RunRow;
 
@@ -125,8 +125,33 @@ fn realization(
     setup: &RandomRun,
 ) -> RealizationRecord {
     let block = setup.load(plan.load_stream(run));
-    let design_stripe = scene.im.is_none() || scene.im == plan.study.design_intensity_value();
-    motion_row(setup, &plan.study.request, scene, &block, design_stripe)
+    motion_row(
+        setup,
+        &plan.study.request,
+        scene,
+        &block,
+        design_stripe(plan, scene),
+    )
+}
+
+/// Whether `scene` (a design point's) lies at the study's design stripe, where a motion's
+/// capacity is searched: every point of a study without stripes.
+fn design_stripe(plan: &Plan, scene: &RandomScene) -> bool {
+    scene.im.is_none() || scene.im == plan.study.design_intensity_value()
+}
+
+/// The stored row of realization `run` on its load's standard normals handed in (`normals`,
+/// [`RandomRun::n_normals`] of them) in place of its stream: [`motion_row`] of their samples,
+/// the capacity searched at the design stripe as the sweep searches it. On the normals the
+/// stream draws, the sweep's row bit for bit. Python's `simulate_batch(normals=...)` runs one a
+/// row.
+pub fn row_on_normals(plan: &Plan, run: &RunSpec, normals: &[f64]) -> RunRow<RealizationRecord> {
+    let scene = random_scene(&run.scene, run.case);
+    let setup = RandomRun::new(&run.system, &plan.study.solver, &scene);
+    let block = setup.load(GivenNormals::new(normals));
+    let capacity = design_stripe(plan, &scene);
+    let record = motion_row(&setup, &plan.study.request, &scene, &block, capacity);
+    row_of(plan, run, record)
 }
 
 /// The row of one motion, its load's samples `block` at scale 1 ([`RandomRun::load`]), on a
