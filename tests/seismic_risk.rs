@@ -373,17 +373,19 @@ fn issue_67_bad_hazards_and_intensities_are_refused_with_what_is_allowed() {
     let no_im = STUDY
         .replace("intensity = \"sa\"\n", "")
         .replace("design_intensity = 0.2\n", "");
+    // Stripes without an intensity measure are named first, hazard or not.
     std::fs::write(t.join("j.toml"), no_im.replace("NAME", "j")).unwrap();
     let e = Study::load(&t.join("j.toml")).unwrap_err().to_string();
     assert!(
-        e.contains("[hazard]") && e.contains("intensity = \"pga\" or \"sa\""),
+        e.contains("[sweep].im = [0.15, 0.2, 0.25]: stripes (g) scale each motion")
+            && e.contains("give [scene] intensity = \"pga\" or \"sa\""),
         "{e}"
     );
-    let no_hazard = no_im.replace("[hazard]\nk0 = 4e-4\nk = 2.5\n", "");
-    std::fs::write(t.join("k.toml"), no_hazard.replace("NAME", "k")).unwrap();
+    let no_stripes = no_im.replace("im = [0.15, 0.2, 0.25]\n", "");
+    std::fs::write(t.join("k.toml"), no_stripes.replace("NAME", "k")).unwrap();
     let e = Study::load(&t.join("k.toml")).unwrap_err().to_string();
     assert!(
-        e.contains("[sweep].im") && e.contains("unknown axis 'im'"),
+        e.contains("[hazard]") && e.contains("intensity = \"pga\" or \"sa\""),
         "{e}"
     );
 }

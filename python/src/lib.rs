@@ -132,7 +132,8 @@ const RANDOM_FILE: &str = "simulate";
 
 /// A study's message about the keys of `simulate(scene="random")` as the keyword arguments
 /// name them: without the file (the Python layer wrote the text) and without the table
-/// (`[scene].S0 = -1: ...` reads `S0 = -1: ...`, `[solver].kind` reads `solver`).
+/// (`[scene].S0 = -1: ...` reads `S0 = -1: ...`, `[sweep].im` reads `im`, `[solver].kind` reads
+/// `solver`).
 fn random_err(err: InputError) -> PyErr {
     let msg = err.0;
     let msg = msg
@@ -140,7 +141,7 @@ fn random_err(err: InputError) -> PyErr {
         .unwrap_or(&msg)
         .replace("[solver].kind", "solver");
     let mut msg = msg.as_str().to_owned();
-    for table in ["[scene].", "[system].", "[solver]."] {
+    for table in ["[scene].", "[system].", "[solver].", "[sweep]."] {
         msg = msg.replace(table, "");
     }
     PyValueError::new_err(msg)

@@ -200,9 +200,12 @@ def test_a_motion_at_a_stripe_is_the_sweeps_row_normals_handed_in_included():
     assert bits(quick["amplitude"]) == bits(high["amplitude"]) and quick["scale"] > 0
     bare = isw.simulate(scene="random", **cp, im=0.6, normals=u, outputs=["capacity_runs", "sticks"])
     assert bare["capacity_runs"] == isw.simulate(scene="random", **cp, im=0.6, normals=u)["capacity_runs"] > 0
-    # A stripe without an intensity measure is the study's error.
+    # A stripe without an intensity measure, or out of range, is the study's error, named as the
+    # keyword argument names it.
     with pytest.raises(ValueError, match="im"):
         isw.simulate(scene="random", **{k: v for k, v in cp.items() if k != "intensity"}, im=0.3)
+    with pytest.raises(ValueError, match=r"^im = -1: a stripe's intensity \(g\) must be in \[1e-6, 1000\]"):
+        isw.simulate(scene="random", **cp, im=-1)
 
 
 def test_the_record_names_its_setup():

@@ -388,6 +388,16 @@ mod tests {
         )
         .unwrap_err();
         assert!(own.contains("[scene].S0: missing"), "{own}");
+        // Stripes without an intensity measure are named first (not the S0 they would excuse).
+        let bare = parse("[scene]\nkind = \"random\"\nspectrum = \"white\"\n[sweep]\nim = [0.3]\n")
+            .unwrap_err();
+        assert!(
+            bare.contains(
+                "[sweep].im = [0.3]: stripes (g) scale each motion to its own intensity \
+                 measure; give [scene] intensity = \"pga\" or \"sa\""
+            ),
+            "{bare}"
+        );
     }
 
     #[test]

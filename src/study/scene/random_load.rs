@@ -230,6 +230,15 @@ pub(super) fn scene(
         })?),
         None => None,
     };
+    if sweep.contains_key("im") && raw.intensity.is_none() {
+        // Before the load's own keys: at a stripe a random load's S0 may be left out.
+        return Err(cx.err(
+            "[sweep].im",
+            cx.source("sweep", "im"),
+            "stripes (g) scale each motion to its own intensity measure; give [scene] intensity \
+             = \"pga\" or \"sa\"",
+        ));
+    }
     let (scene, realizations) = if kind == "random" {
         // With stripes (an intensity measure and `[sweep] im`) every motion is scaled to its
         // stripe, so the load's own level scales out.
