@@ -238,7 +238,7 @@ fn a_record_by_its_keys_and_a_batch_row_are_the_sweeps_rows() {
     let batch = RandomBatch::new(&setup, &names, &cols, stored.len()).unwrap();
     for (i, row) in stored.iter().enumerate() {
         let (s, c) = batch.row(i).unwrap();
-        let mine = RandomBatch::run(i, &s, c);
+        let mine = RandomBatch::run(i, &s, c, None, true);
         assert_eq!(mine.record, row.record);
         assert_eq!(mine.system, row.system);
         assert_eq!(

@@ -315,6 +315,7 @@ def simulate_batch(
     scene: str = "free",
     seed: int = 0,
     normals: Any = None,
+    capacity: bool = True,
     **fixed: Any,
 ) -> pa.Table:
     """One run per row of ``inputs``, in parallel, as a pyarrow Table.
@@ -352,6 +353,11 @@ def simulate_batch(
     :func:`realization_normals` as the row of that realization. ``inputs`` may then be empty
     (``{}``): the normals give the rows. A reliability library's whole sample of standard
     normals, a stripe ``im`` among the keys, is one call on every core.
+
+    ``capacity=False`` (random and record scenes): no row searches its motion's capacity (the
+    ``capacity`` columns null, every other column the same), where a row at its stripe with a
+    ``threshold`` would: a limit state that reads the amplitude then costs one run a row, not
+    the search's five to ten.
     """
     scene = _scene(scene)
     cols = _columns(inputs)
@@ -369,11 +375,17 @@ def simulate_batch(
             raise ValueError(f"normals: {len(u)} rows for input columns of {lengths.pop()}")
         lengths, raw = {len(u)}, u.tobytes()
     n = lengths.pop() if lengths else 1
+    if not isinstance(capacity, (bool, np.bool_)):
+        raise ValueError(f"capacity={capacity!r}: expected True or False")
     if scene in _RANDOM_SCENES:
         sets, seed = _random_sets(fixed, scene), _whole("seed", seed)
+    elif not capacity:
+        raise ValueError(f"capacity=False: a random or record scene's option (a capacity by incremental dynamic analysis); scene={scene!r}")
     else:
         sets, seed = _sets(fixed, scene), int(seed)
-    batch = _ext.simulate_batch(sets, list(cols), [a.tobytes() for a in cols.values()], n, threads, seed, raw)
+    batch = _ext.simulate_batch(
+        sets, list(cols), [a.tobytes() for a in cols.values()], n, threads, seed, raw, bool(capacity)
+    )
     return pa.Table.from_batches([batch])
 
 

@@ -431,10 +431,11 @@ const INLINE_ROWS: usize = 64;
 /// study seed `seed` ([`impactsweep::api::random_batch`]): the `random_points` table.
 ///
 /// `normals` (random scene only; f64 bytes, native endian, `n_rows` rows of `n_normals`
-/// standard normals): row `i` runs on its row of normals in place of a realization's stream
-/// ([`RandomBatch::run_on_normals`]).
+/// standard normals): row `i` runs on its row of normals in place of a realization's stream.
+/// `capacity` (random and record scenes): whether a row at its stripe with a threshold searches
+/// the motion's capacity ([`RandomBatch::run`]).
 #[pyfunction]
-#[pyo3(signature = (sets, names, columns, n_rows, threads=None, seed=0, normals=None))]
+#[pyo3(signature = (sets, names, columns, n_rows, threads=None, seed=0, normals=None, capacity=true))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_batch<'py>(
     py: Python<'py>,
@@ -445,6 +446,7 @@ fn simulate_batch<'py>(
     threads: Option<usize>,
     seed: u64,
     normals: Option<Bound<'py, PyBytes>>,
+    capacity: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let base = setup(&sets)?;
     let study = batch_study(&base, seed)?;
@@ -496,7 +498,7 @@ fn simulate_batch<'py>(
                 r,
                 seed,
                 (&names, &cols, n_rows),
-                normals.as_deref(),
+                (normals.as_deref(), capacity),
             )?;
             impactsweep::store::points::to_batch(&rows, &r.study.solver, false)
         }
@@ -513,7 +515,7 @@ fn random_rows(
     setup: &RandomSetup,
     seed: u64,
     (names, cols, n): (&[String], &[Vec<f64>], usize),
-    normals: Option<&[f64]>,
+    (normals, capacity): (Option<&[f64]>, bool),
 ) -> PyResult<Vec<RunRow<RealizationRecord>>> {
     if setup.has("seed") {
         return Err(PyValueError::new_err(format!(
@@ -544,10 +546,8 @@ fn random_rows(
                     return None;
                 }
                 let (study, case) = batch.row(i).ok()?;
-                Some(match (normals, per_row) {
-                    (Some(u), Some(k)) => RandomBatch::run_on_normals(i, &study, &u[i * k..][..k]),
-                    _ => RandomBatch::run(i, &study, case),
-                })
+                let u = normals.zip(per_row).map(|(u, k)| &u[i * k..][..k]);
+                Some(RandomBatch::run(i, &study, case, u, capacity))
             })
             .collect())
     };

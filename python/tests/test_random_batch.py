@@ -170,6 +170,12 @@ def test_a_batch_on_normals_handed_in_is_each_rows_run(cli, tmp_path):
         rec = isw.simulate(scene="random", normals=ui, **m)
         assert [rec[k] for k in ("amplitude", "rms_x", "capacity", "scale")] == \
             [row[k] for k in ("amplitude", "rms_x", "capacity", "scale")]
+    # Without the capacity search: the capacity columns null, every other column the same.
+    quick = isw.simulate_batch(inputs, scene="random", normals=u, capacity=False, **FIXED)
+    assert quick.column("capacity").null_count == len(cases)
+    assert_same(quick, ours, skip=("capacity", "capacity_censored", "capacity_resurrected", "capacity_runs"))
+    with pytest.raises(ValueError, match=r"^capacity=False: a random or record scene's option"):
+        isw.simulate_batch({"e": [0.5]}, capacity=False)
     with pytest.raises(ValueError, match=r"^normals: 2 rows for input columns of 3"):
         isw.simulate_batch({"m": [0.01, 0.02, 0.03]}, scene="random", normals=u[:2], **FIXED)
     with pytest.raises(ValueError, match=r"^normals: 1-dimensional; expected one row"):

@@ -15,7 +15,7 @@
 
 use super::realization::{MAX_REALIZATION, RandomSetup};
 use crate::model::SYSTEM_KEYS;
-use crate::plan::{Plan, RunSpec};
+use crate::plan::Plan;
 use crate::sim::Harmonic;
 use crate::sim::random::{Measure, RandomRun, RandomScene, RealizationRecord};
 use crate::store::RunRow;
@@ -146,30 +146,29 @@ impl<'a> RandomBatch<'a> {
         Ok((study, case))
     }
 
-    /// Runs row `i` of the checked `study` and realization `case` ([`RandomBatch::row`]).
-    pub fn run(i: usize, study: &Study, case: u32) -> RunRow<RealizationRecord> {
+    /// Runs row `i` of the checked `study` and realization `case` ([`RandomBatch::row`]), its
+    /// capacity searched where `capacity` (and the setup has a threshold and an intensity
+    /// measure; with `false` the capacity columns are null and nothing else changes).
+    ///
+    /// With `normals` (the load's standard normals, [`RandomRun::n_normals`] of them, finite)
+    /// the row runs on them in place of the realization's stream: its `case` is 0 and its
+    /// `noise_seed` null (no stream seeds its load). On the normals realization `c`'s stream
+    /// draws, the row of `c` bit for bit but for those two.
+    pub fn run(
+        i: usize,
+        study: &Study,
+        case: u32,
+        normals: Option<&[f64]>,
+        capacity: bool,
+    ) -> RunRow<RealizationRecord> {
         let plan = Plan::new(study);
-        crate::sweep::run_row::<RealizationRecord>(&plan, &Self::spec(&plan, i, case))
-    }
-
-    /// Runs row `i` of the checked `study` on the standard normals `normals` handed in
-    /// ([`RandomRun::n_normals`] of them, finite) in place of a realization's stream: its
-    /// `case` is 0 and its `noise_seed` null (no stream seeds its load). On the normals
-    /// realization `c`'s stream draws, [`RandomBatch::run`]'s row of `c` bit for bit but for
-    /// those two.
-    pub fn run_on_normals(i: usize, study: &Study, normals: &[f64]) -> RunRow<RealizationRecord> {
-        let plan = Plan::new(study);
-        let mut run = Self::spec(&plan, i, 0);
-        run.spec.noise_seed = None;
-        crate::sweep::random::row_on_normals(&plan, &run, normals)
-    }
-
-    /// The run of the one-point `plan`'s realization `case` as row `i` (`point_id = point = i`).
-    fn spec(plan: &Plan, i: usize, case: u32) -> RunSpec {
-        let mut run = plan.run(0, case);
+        let mut run = plan.run(0, if normals.is_some() { 0 } else { case });
         run.point = i as u64;
         run.point_id = i as u64;
-        run
+        if normals.is_some() {
+            run.spec.noise_seed = None;
+        }
+        crate::sweep::random::realization_row(&plan, &run, normals, capacity)
     }
 
     /// The standard normals a run of this batch's load draws ([`RandomRun::n_normals`]; 0 for
@@ -202,13 +201,43 @@ mod tests {
         let cols = vec![vec![0.02], vec![3.0]];
         let batch = RandomBatch::new(&s, &names, &cols, 1).unwrap();
         let (study, case) = batch.row(0).unwrap();
-        let row = RandomBatch::run(0, &study, case);
+        let row = RandomBatch::run(0, &study, case, None, true);
         let mut sets = base.to_vec();
         sets.extend(["m=0.02", "realization=3"]);
         let one = setup(&sets);
         let (want, _) = one.run(None).unwrap();
         assert_eq!(row.record, want);
         assert_eq!((row.point_id, row.point, row.case), (0, 0, 3));
+        // The normals realization 3's stream draws, handed in: the same record, with no stream
+        // to name (case 0, noise_seed null).
+        use crate::sim::random::{Normals, RealizationStream};
+        let mut stream = RealizationStream::new(study.seed, 0, 3);
+        let u: Vec<f64> = (0..batch.n_normals())
+            .map(|_| stream.next_normal())
+            .collect();
+        let given = RandomBatch::run(0, &study, case, Some(&u), true);
+        assert_eq!(given.record, want);
+        assert_eq!((given.case, given.noise_seed), (0, None));
+        assert_eq!(row.noise_seed, Some(3));
+    }
+
+    #[test]
+    fn the_capacity_is_searched_only_where_asked() {
+        let s = setup(&[
+            "scene=random",
+            "spectrum=white",
+            "duration=1",
+            "threshold=0.005",
+            "intensity=pga",
+            "im=0.5",
+        ]);
+        let batch = RandomBatch::new(&s, &[], &[], 1).unwrap();
+        let (study, case) = batch.row(0).unwrap();
+        let with = RandomBatch::run(0, &study, case, None, true);
+        let without = RandomBatch::run(0, &study, case, None, false);
+        assert!(with.record.capacity.is_some() && without.record.capacity.is_none());
+        assert_eq!(with.record.record, without.record.record);
+        assert_eq!(with.record.own, without.record.own);
     }
 
     #[test]

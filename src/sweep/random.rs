@@ -140,16 +140,24 @@ fn design_stripe(plan: &Plan, scene: &RandomScene) -> bool {
     scene.im.is_none() || scene.im == plan.study.design_intensity_value()
 }
 
-/// The stored row of realization `run` on its load's standard normals handed in (`normals`,
-/// [`RandomRun::n_normals`] of them) in place of its stream: [`motion_row`] of their samples,
-/// the capacity searched at the design stripe as the sweep searches it. On the normals the
-/// stream draws, the sweep's row bit for bit. Python's `simulate_batch(normals=...)` runs one a
-/// row.
-pub fn row_on_normals(plan: &Plan, run: &RunSpec, normals: &[f64]) -> RunRow<RealizationRecord> {
+/// The stored row of realization `run` alone (Python's `simulate_batch` runs one a row): its
+/// load drawn from its stream, or from the standard normals `normals` handed in
+/// ([`RandomRun::n_normals`] of them) in place of it, run as [`motion_row`] runs it, the
+/// capacity searched at the design stripe where `capacity`. With the stream and `capacity`,
+/// the sweep's row bit for bit; on the normals the stream draws, the same.
+pub fn realization_row(
+    plan: &Plan,
+    run: &RunSpec,
+    normals: Option<&[f64]>,
+    capacity: bool,
+) -> RunRow<RealizationRecord> {
     let scene = random_scene(&run.scene, run.case);
     let setup = RandomRun::new(&run.system, &plan.study.solver, &scene);
-    let block = setup.load(GivenNormals::new(normals));
-    let capacity = design_stripe(plan, &scene);
+    let block = match normals {
+        Some(u) => setup.load(GivenNormals::new(u)),
+        None => setup.load(plan.load_stream(run)),
+    };
+    let capacity = capacity && design_stripe(plan, &scene);
     let record = motion_row(&setup, &plan.study.request, &scene, &block, capacity);
     row_of(plan, run, record)
 }
