@@ -395,12 +395,37 @@ def trace(*, dt: float = 1e-4, t_end: Optional[float] = None, scene: str = "free
     Returns NumPy arrays ``t`` (s), ``x v`` (main mass, m and m/s), ``y w`` (inner mass),
     ``impacts`` (the impact times, s), and ``record`` (the dict of :func:`simulate`). The rows
     are those of ``impactsweep simulate --trace FILE --dt DT``.
+
+    ``scene="random"`` (or ``"record"``): the realization :func:`simulate` runs for the same keys
+    (``seed``, ``realization`` or ``normals``; at a stripe ``im``, scaled to it), displacements
+    relative to the ground under a ground motion; ``record`` is :func:`simulate`'s record without
+    the capacity search (its columns None), and ``load`` the load's samples at the scale the
+    motion ran at (m/s^2 or N; ``load[k]`` at ``k * load_dt``, ``load_dt`` the scene's ``dt``),
+    so the motion behind a failure can be looked at. ``t_end`` is free decay's.
     """
-    rec, samples, impacts = _ext.trace(_sets(keys, scene), float(dt), None if t_end is None else float(t_end))
+    scene = _scene(scene)
+    if scene in _RANDOM_SCENES:
+        if t_end is not None:
+            raise ValueError(f"t_end={t_end!r}: a free-decay option; a random or record run lasts its duration")
+        run = {k: keys.pop(k) for k in _RUN_KEYS if k in keys}
+        seed = _whole("seed", run.get("seed", 0))
+        realization = _whole("realization", run.get("realization", 0))
+        normals = run.get("normals")
+        if normals is not None and ("seed" in run or "realization" in run):
+            raise ValueError("normals: given with seed or realization; the normals replace the stream they name")
+        rec, samples, impacts, load = _ext.trace_random(
+            _random_text(scene, keys), seed, realization, None if normals is None else _normals(normals), float(dt)
+        )
+    else:
+        rec, samples, impacts = _ext.trace(_sets(keys, scene), float(dt), None if t_end is None else float(t_end))
+        load = None
     rows = np.frombuffer(samples, dtype=np.float64).reshape(-1, 5)
     out: Dict[str, Any] = {name: rows[:, j].copy() for j, name in enumerate(("t", "x", "v", "y", "w"))}
     out["impacts"] = np.frombuffer(impacts, dtype=np.float64).copy()
     out["record"] = rec
+    if load is not None:
+        out["load"] = np.frombuffer(load, dtype=np.float64).copy()
+        out["load_dt"] = rec[scene]["dt"]
     return out
 
 

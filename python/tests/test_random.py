@@ -208,6 +208,33 @@ def test_a_motion_at_a_stripe_is_the_sweeps_row_normals_handed_in_included():
         isw.simulate(scene="random", **cp, im=-1)
 
 
+def test_the_trace_of_a_motion_at_a_stripe():
+    """``trace(scene="random")``: the realization ``simulate`` runs, its waveform every ``dt`` and
+    at every impact, and the load at the scale it ran at."""
+    cp = dict(M=1.0, K=246.7, C=0.628, m=0.05, d=0.02, e=0.6, spectrum="clough-penzien", duration=3.0,
+              threshold=0.02, intensity="pga", im=0.4)
+    u = isw.realization_normals(isw.n_normals(**cp), seed=2, realization=9)
+    tr = isw.trace(scene="random", normals=u, dt=0.002, **cp)
+    rec = isw.simulate(scene="random", normals=u, outputs=["amplitude", "impacts", "pga", "scale"], **cp)
+    assert bits(tr["record"]["amplitude"]) == bits(rec["amplitude"]) and tr["record"]["capacity"] is None
+    # The samples never pass the run's largest |x|, and come within a hair of it.
+    top = np.abs(tr["x"]).max()
+    assert top <= rec["amplitude"] and top > 0.98 * rec["amplitude"]
+    assert len(tr["impacts"]) == rec["impacts"] > 0 and np.all(np.diff(tr["t"]) >= 0)
+    assert tr["t"][-1] == pytest.approx(3.0) and np.all(np.abs(tr["x"] - tr["y"]) <= 0.01 + 1e-12)
+    # The load at the stripe: its PGA is the stripe's 0.4 g.
+    assert len(tr["load"]) == 601 and tr["load_dt"] == 0.005
+    assert abs(np.abs(tr["load"]).max() / 9.80665 / 0.4 - 1) < 1e-12
+    assert rec["pga"] * rec["scale"] == pytest.approx(0.4, rel=1e-12)
+    # The stream it names, the same motion.
+    streamed = isw.trace(scene="random", seed=2, realization=9, dt=0.002, **cp)
+    assert all(np.array_equal(streamed[k], tr[k]) for k in ("t", "x", "v", "y", "w", "impacts", "load"))
+    with pytest.raises(ValueError, match=r"^dt=1e-9: the trace of a 3 s run would hold 3e9 rows; allowed at most 1e7 \(dt >= duration / 1e7 = 3e-7 s\)"):
+        isw.trace(scene="random", normals=u, dt=1e-9, **cp)
+    with pytest.raises(ValueError, match=r"^t_end=1.0: a free-decay option"):
+        isw.trace(scene="random", normals=u, t_end=1.0, **cp)
+
+
 def test_the_record_names_its_setup():
     rec = isw.simulate(scene="random", spectrum="white", S0=0.01, duration=1.0)
     assert rec["scene"] == "random" and rec["outcome"] == "ok"
