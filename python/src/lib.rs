@@ -177,6 +177,32 @@ impl RandomDesign {
         })
     }
 
+    /// The load's samples of one run ([`RandomRun::load`]): realization `realization` of study
+    /// seed `seed`, or the standard normals `normals` (f64 bytes, checked) in its place; with
+    /// the stream it names (`None` for normals or a record).
+    fn block(
+        &self,
+        py: Python<'_>,
+        seed: u64,
+        realization: u64,
+        normals: Option<Bound<'_, PyBytes>>,
+    ) -> PyResult<(LoadBlock, Option<(u64, u64)>)> {
+        Ok(match normals {
+            Some(bytes) => {
+                let u = f64s(bytes.as_bytes());
+                check_normals(self, &u)?;
+                (py.detach(|| self.run.load(GivenNormals::new(&u))), None)
+            }
+            None => {
+                let stream = RealizationStream::new(seed, 0, realization);
+                (
+                    py.detach(|| self.run.load(stream)),
+                    self.scene.draws_normals().then_some((seed, realization)),
+                )
+            }
+        })
+    }
+
     /// The record of one run as a JSON object: the run's observables, then what it ran (the
     /// scene, the stream or `null` for normals handed in or a record, `n_normals`, the system,
     /// the solver and the scene's settings under its name).
@@ -299,21 +325,8 @@ fn simulate_random<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let d = RandomDesign::parse(text)?;
     let req = d.study.request;
-    let run =
-        |block: &LoadBlock| sweep::random::motion_row(&d.run, &req, &d.scene, block, capacity);
-    let (row, stream) = match normals {
-        Some(bytes) => {
-            let u = f64s(bytes.as_bytes());
-            check_normals(&d, &u)?;
-            let row = py.detach(|| run(&d.run.load(GivenNormals::new(&u))));
-            (row, None)
-        }
-        None => {
-            let stream = RealizationStream::new(seed, 0, realization);
-            let row = py.detach(|| run(&d.run.load(stream)));
-            (row, d.scene.draws_normals().then_some((seed, realization)))
-        }
-    };
+    let (block, stream) = d.block(py, seed, realization, normals)?;
+    let row = py.detach(|| sweep::random::motion_row(&d.run, &req, &d.scene, &block, capacity));
     json_to_py(py, &d.json(&row, stream))
 }
 
@@ -363,17 +376,7 @@ fn trace_random<'py>(
             fmt(d.scene.duration / MAX_TRACE_ROWS)
         )));
     }
-    let (block, stream) = match normals {
-        Some(bytes) => {
-            let u = f64s(bytes.as_bytes());
-            check_normals(&d, &u)?;
-            (d.run.load(GivenNormals::new(&u)), None)
-        }
-        None => (
-            d.run.load(RealizationStream::new(seed, 0, realization)),
-            d.scene.draws_normals().then_some((seed, realization)),
-        ),
-    };
+    let (block, stream) = d.block(py, seed, realization, normals)?;
     // The record from the run as the sweep takes it; the trace from a second run at its scale
     // (a traced run takes every interval through the event loop).
     let row = py.detach(|| sweep::random::motion_row(&d.run, &req, &d.scene, &block, false));
@@ -384,23 +387,12 @@ fn trace_random<'py>(
     py.detach(|| d.run.run_block(&traced, &block, gain, &mut probe));
     let mut times = ImpactTimes::default();
     py.detach(|| d.run.run_block(&req, &block, gain, &mut times));
-    let mut samples = Vec::with_capacity(probe.rows.len() * 40);
-    for (t, st) in &probe.rows {
-        for v in [*t, st.x, st.v, st.y, st.w] {
-            samples.extend_from_slice(&v.to_ne_bytes());
-        }
-    }
-    let impacts: Vec<u8> = times.times.iter().flat_map(|t| t.to_ne_bytes()).collect();
-    let load: Vec<u8> = block
-        .values()
-        .iter()
-        .flat_map(|a| (a * gain).to_ne_bytes())
-        .collect();
+    let load: Vec<f64> = block.values().iter().map(|a| a * gain).collect();
     Ok((
         json_to_py(py, &d.json(&row, stream))?,
-        PyBytes::new(py, &samples),
-        PyBytes::new(py, &impacts),
-        PyBytes::new(py, &load),
+        PyBytes::new(py, &trace_rows(&probe.rows)),
+        PyBytes::new(py, &f64_bytes(&times.times)),
+        PyBytes::new(py, &f64_bytes(&load)),
     ))
 }
 
@@ -871,18 +863,27 @@ fn trace<'py>(
     let mut s2 = s.clone();
     s2.request.trace_dt = None;
     py.detach(|| s2.run_scene(&mut probe));
-    let mut samples = Vec::with_capacity(rows.len() * 40);
-    for (t, st) in &rows {
-        for v in [*t, st.x, st.v, st.y, st.w] {
-            samples.extend_from_slice(&v.to_ne_bytes());
-        }
-    }
-    let impacts: Vec<u8> = probe.times.iter().flat_map(|t| t.to_ne_bytes()).collect();
     Ok((
         json_to_py(py, &json)?,
-        PyBytes::new(py, &samples),
-        PyBytes::new(py, &impacts),
+        PyBytes::new(py, &trace_rows(&rows)),
+        PyBytes::new(py, &f64_bytes(&probe.times)),
     ))
+}
+
+/// A trace's rows as bytes of `t x v y w` rows (f64, native endian).
+fn trace_rows(rows: &[(f64, impactsweep::sim::State)]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(rows.len() * 40);
+    for (t, st) in rows {
+        for v in [*t, st.x, st.v, st.y, st.w] {
+            out.extend_from_slice(&v.to_ne_bytes());
+        }
+    }
+    out
+}
+
+/// Values as f64 bytes, native endian.
+fn f64_bytes(values: &[f64]) -> Vec<u8> {
+    values.iter().flat_map(|v| v.to_ne_bytes()).collect()
 }
 
 /// The per-period maxima of `|x|` of the harmonic setup's motion from its initial state: `burn`
