@@ -186,6 +186,17 @@ def _normals(u: Any) -> bytes:
     return arr.tobytes()
 
 
+def _run_keys(keys: Dict[str, Any]) -> tuple:
+    """(seed, realization, normals as bytes or None) of a random or record run, taken out of
+    ``keys``: the stream it names, or the normals that replace it."""
+    run = {k: keys.pop(k) for k in _RUN_KEYS if k in keys}
+    normals = run.get("normals")
+    if normals is not None and ("seed" in run or "realization" in run):
+        raise ValueError("normals: given with seed or realization; the normals replace the stream they name")
+    return (_whole("seed", run.get("seed", 0)), _whole("realization", run.get("realization", 0)),
+            None if normals is None else _normals(normals))
+
+
 def simulate(*, scene: str = "free", outputs: Optional[Sequence[str]] = None, **keys: Any) -> Dict[str, Any]:
     """One run: the record ``impactsweep simulate --set KEY=VALUE ... --json`` prints, as a dict.
 
@@ -215,16 +226,9 @@ def simulate(*, scene: str = "free", outputs: Optional[Sequence[str]] = None, **
     """
     scene = _scene(scene)
     if scene in _RANDOM_SCENES:
-        run = {k: keys.pop(k) for k in _RUN_KEYS if k in keys}
-        seed = _whole("seed", run.get("seed", 0))
-        realization = _whole("realization", run.get("realization", 0))
-        normals = run.get("normals")
-        if normals is not None and ("seed" in run or "realization" in run):
-            raise ValueError("normals: given with seed or realization; the normals replace the stream they name")
+        run = _run_keys(keys)
         capacity = outputs is None or any(k in _CAPACITY_KEYS for k in outputs)
-        rec = _ext.simulate_random(
-            _random_text(scene, keys), seed, realization, None if normals is None else _normals(normals), capacity
-        )
+        rec = _ext.simulate_random(_random_text(scene, keys), *run, capacity)
     else:
         for k in _RUN_KEYS:
             if k in keys:
@@ -407,15 +411,8 @@ def trace(*, dt: float = 1e-4, t_end: Optional[float] = None, scene: str = "free
     if scene in _RANDOM_SCENES:
         if t_end is not None:
             raise ValueError(f"t_end={t_end!r}: a free-decay option; a random or record run lasts its duration")
-        run = {k: keys.pop(k) for k in _RUN_KEYS if k in keys}
-        seed = _whole("seed", run.get("seed", 0))
-        realization = _whole("realization", run.get("realization", 0))
-        normals = run.get("normals")
-        if normals is not None and ("seed" in run or "realization" in run):
-            raise ValueError("normals: given with seed or realization; the normals replace the stream they name")
-        rec, samples, impacts, load = _ext.trace_random(
-            _random_text(scene, keys), seed, realization, None if normals is None else _normals(normals), float(dt)
-        )
+        run = _run_keys(keys)
+        rec, samples, impacts, load = _ext.trace_random(_random_text(scene, keys), *run, float(dt))
     else:
         rec, samples, impacts = _ext.trace(_sets(keys, scene), float(dt), None if t_end is None else float(t_end))
         load = None
