@@ -922,8 +922,7 @@ fn period_maxima<'py>(
                 "period_maxima: the simulator stopped (event_cap, step_cap or non_finite)",
             )
         })?;
-    let bytes: Vec<u8> = z.iter().flat_map(|v| v.to_ne_bytes()).collect();
-    Ok(PyBytes::new(py, &bytes))
+    Ok(PyBytes::new(py, &f64_bytes(&z)))
 }
 
 /// The peaks-over-threshold estimate of the largest value over `design_periods` periods from
