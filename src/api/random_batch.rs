@@ -12,6 +12,10 @@
 //! `M` and `K` may not vary by row where the setup derives a value from them (a
 //! `yield_coefficient` limit, or Sa's period `T` left to default), as a study sweeping them
 //! refuses the same.
+//!
+//! A row may run on its load's standard normals handed in, in place of its realization's
+//! stream, and may skip its capacity search ([`RandomBatch::run`]): a reliability library's
+//! sample of normals at a stripe, one row a sample.
 
 use super::realization::{MAX_REALIZATION, RandomSetup};
 use crate::model::SYSTEM_KEYS;
