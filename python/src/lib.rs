@@ -326,7 +326,9 @@ fn simulate_random<'py>(
     let d = RandomDesign::parse(text)?;
     let req = d.study.request;
     let (block, stream) = d.block(py, seed, realization, normals)?;
-    let row = py.detach(|| sweep::random::motion_row(&d.run, &req, &d.scene, &block, capacity));
+    let row = py.detach(|| {
+        sweep::random::motion_row(&d.run, &req, &d.scene, (&block, capacity), &mut NoProbe)
+    });
     json_to_py(py, &d.json(&row, stream))
 }
 
@@ -377,16 +379,16 @@ fn trace_random<'py>(
         )));
     }
     let (block, stream) = d.block(py, seed, realization, normals)?;
-    // The record from the run as the sweep takes it; the trace from a second run at its scale
-    // (a traced run takes every interval through the event loop).
-    let row = py.detach(|| sweep::random::motion_row(&d.run, &req, &d.scene, &block, false));
+    // The record and its impact times from the run as the sweep takes it; the trace from a
+    // second run at its scale (a traced run takes every interval through the event loop).
+    let mut times = ImpactTimes::default();
+    let row = py
+        .detach(|| sweep::random::motion_row(&d.run, &req, &d.scene, (&block, false), &mut times));
     let gain = row.load[5]
         .filter(|_| d.scene.intensity.is_some())
         .unwrap_or(1.0);
     let mut probe = impactsweep::sim::TraceProbe::default();
     py.detach(|| d.run.run_block(&traced, &block, gain, &mut probe));
-    let mut times = ImpactTimes::default();
-    py.detach(|| d.run.run_block(&req, &block, gain, &mut times));
     let load: Vec<f64> = block.values().iter().map(|a| a * gain).collect();
     Ok((
         json_to_py(py, &d.json(&row, stream))?,

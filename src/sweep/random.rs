@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use super::simulate::{ChunkRows, SceneRun, row_of};
 use crate::plan::{Plan, RunSpec};
 use crate::sim::random::{GivenNormals, LoadBlock, RandomRun, RandomScene, RealizationRecord, ida};
-use crate::sim::{NoProbe, Outcome, Request, Scene};
+use crate::sim::{NoProbe, Outcome, Probe, Request, Scene};
 use crate::store::RunRow;
 
 impl SceneRun for RealizationRecord {
@@ -125,12 +125,13 @@ fn realization(
     setup: &RandomRun,
 ) -> RealizationRecord {
     let block = setup.load(plan.load_stream(run));
+    let capacity = design_stripe(plan, scene);
     motion_row(
         setup,
         &plan.study.request,
         scene,
-        &block,
-        design_stripe(plan, scene),
+        (&block, capacity),
+        &mut NoProbe,
     )
 }
 
@@ -158,7 +159,8 @@ pub fn realization_row(
         None => setup.load(plan.load_stream(run)),
     };
     let capacity = capacity && design_stripe(plan, &scene);
-    let record = motion_row(&setup, &plan.study.request, &scene, &block, capacity);
+    let req = &plan.study.request;
+    let record = motion_row(&setup, req, &scene, (&block, capacity), &mut NoProbe);
     row_of(plan, run, record)
 }
 
@@ -171,21 +173,22 @@ pub fn realization_row(
 /// samples), the run at the stripe's gain `im / own` (1 without a stripe,
 /// [`RandomRun::at_stripe`]), and where `capacity` and the scene has a threshold, the motion's
 /// capacity by incremental dynamic analysis ([`crate::sim::random::ida`]), each trial a run of
-/// the same motion at another gain.
-pub fn motion_row(
+/// the same motion at another gain. `probe` observes the run the record comes from (not the
+/// capacity search's).
+pub fn motion_row<P: Probe>(
     setup: &RandomRun,
     req: &Request,
     scene: &RandomScene,
-    block: &LoadBlock,
-    capacity: bool,
+    (block, capacity): (&LoadBlock, bool),
+    probe: &mut P,
 ) -> RealizationRecord {
     let Some(spec) = scene.intensity else {
-        let record = setup.run_block(req, block, 1.0, &mut NoProbe);
+        let record = setup.run_block(req, block, 1.0, probe);
         return RealizationRecord::new(scene, record);
     };
     let (own, gain) = setup.at_stripe(&spec, scene.im, block);
     let i0 = own.of(spec.measure);
-    let record = setup.run_block(req, block, gain, &mut NoProbe);
+    let record = setup.run_block(req, block, gain, probe);
     let amplitude = |r: &crate::sim::random::RandomRecord| {
         if r.outcome == Outcome::Ok {
             r.amplitude
