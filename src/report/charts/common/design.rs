@@ -46,6 +46,24 @@ where
     Ok(LEGEND_ROW + rows.saturating_sub(1) * LEGEND_PITCH)
 }
 
+/// The safety factor's share of its axis at the least: the axis spans at least this fraction of
+/// the values' middle, so that a change of a percent reads as one and not as a cliff (the
+/// multi-unit showcase's factors, 1.428 to 1.444 over its units, once filled the whole axis).
+const SAFETY_FACTOR_MIN_SPAN: f64 = 0.05;
+
+/// The damping panel's left range over the safety factors `mu` ([`SAFETY_FACTOR_MIN_SPAN`]),
+/// with room for the zone names above.
+fn safety_factor_range(mu: impl IntoIterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = minmax(mu);
+    let mid = (lo + hi) / 2.0;
+    let min_span = if mid.is_finite() {
+        SAFETY_FACTOR_MIN_SPAN * mid.abs()
+    } else {
+        0.0
+    };
+    with_headroom(lo, hi, min_span)
+}
+
 /// The R panel's range over `r` (R and its interval bounds): with `r_min` when that at most
 /// doubles the span (so the threshold never flattens R), and room for the zone names above;
 /// true when `r_min` is inside.
@@ -320,8 +338,7 @@ impl DesignChart<'_> {
         ));
         let (keys, plot) = area.split_vertically(legend_height(area, &items)?);
         legend_row(&keys, LEGEND_X, &items)?;
-        let (m0, m1) = minmax(pr.points.iter().map(|p| p.safety_factor));
-        let (m0, m1) = with_headroom(m0, m1, 0.0);
+        let (m0, m1) = safety_factor_range(pr.points.iter().map(|p| p.safety_factor));
         let (d0, d1) = minmax(pr.points.iter().map(|p| p.di));
         let (d0, d1) = with_headroom(d0.min(0.0), d1, 0.0);
         let mut chart = ChartBuilder::on(&plot)
@@ -423,6 +440,24 @@ mod tests {
         // Inside the doubled span it is drawn.
         let ((y0, _), shown) = reliability_range([0.99, 0.995, 0.999], 0.985);
         assert!(shown && y0 < 0.985);
+    }
+
+    #[test]
+    fn a_percent_of_safety_factor_is_not_drawn_as_a_cliff() {
+        // The multi-unit showcase's factors over its units: 1.1 % apart.
+        let (y0, y1) = safety_factor_range([1.4352, 1.4436, 1.4284, 1.4280]);
+        assert!(y1 - y0 >= 0.05 * 1.4358, "{y0}..{y1}");
+        assert!(y0 < 1.4280 && y1 > 1.4436, "{y0}..{y1}");
+        // The values sit in the middle of the span, below the zone names' headroom.
+        assert!((1.4436 - 1.4280) / (y1 - y0) < 0.25, "{y0}..{y1}");
+        // A wider spread keeps its own tight axis (the paper's, 5.9 %).
+        let (y0, y1) = safety_factor_range([1.1657, 1.236]);
+        assert!(
+            (y1 - y0 - 1.32 * (1.236 - 1.1657)).abs() < 1e-12,
+            "{y0}..{y1}"
+        );
+        // No finite factor: a usable axis.
+        assert_eq!(safety_factor_range([f64::NAN]), (0.0, 1.0));
     }
 
     #[test]
