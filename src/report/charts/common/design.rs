@@ -55,13 +55,8 @@ const SAFETY_FACTOR_MIN_SPAN: f64 = 0.05;
 /// with room for the zone names above.
 fn safety_factor_range(mu: impl IntoIterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = minmax(mu);
-    let mid = (lo + hi) / 2.0;
-    let min_span = if mid.is_finite() {
-        SAFETY_FACTOR_MIN_SPAN * mid.abs()
-    } else {
-        0.0
-    };
-    with_headroom(lo, hi, min_span)
+    // Without a finite factor `with_headroom` gives its usable axis before reading the span.
+    with_headroom(lo, hi, SAFETY_FACTOR_MIN_SPAN * ((lo + hi) / 2.0).abs())
 }
 
 /// The R panel's range over `r` (R and its interval bounds): with `r_min` when that at most
