@@ -28,7 +28,9 @@ pub struct CurvePoint {
     /// (`design_peak = "worst"`), or `amplitude` (`"from_rest"`, or a run without census).
     pub design: f64,
     /// The period of the steady state that carries `design` (0: not periodic), its impacts
-    /// per forcing period and its basin share (NaN without census).
+    /// per forcing period and its basin share (NaN without census): the share of the census's
+    /// starts that reached it, its mirror image's included once the curve holds its attractors
+    /// ([`Curve::count_mirror_images`]).
     pub design_period: u32,
     pub design_impacts: f64,
     pub design_share: f64,
@@ -115,6 +117,21 @@ pub struct Curve {
     /// The ideal case's attractors at every frequency, as the sweep stored them (the
     /// `attractors` table); `None` for a dataset written before the sweep stored them.
     pub attractors: Option<Vec<AttractorRow>>,
+}
+
+/// Whether two attractors at one frequency are a periodic orbit and its mirror image. The
+/// cavity is symmetric, so `x -> -x` half a forcing period later maps a motion onto another; an
+/// asymmetric orbit and its image are two attractors with the same period, amplitude and
+/// multipliers (equal here to 1e-9 relative), and a jump between them changes nothing the
+/// design quantity measures.
+pub fn mirror_images(a: &AttractorRow, b: &AttractorRow) -> bool {
+    let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
+    a.kind.periodic()
+        && b.kind.periodic()
+        && a.period == b.period
+        && same(a.amplitude, b.amplitude)
+        && (same(a.multiplier_max, b.multiplier_max)
+            || (a.multiplier_max.is_nan() && b.multiplier_max.is_nan()))
 }
 
 impl Curve {
@@ -206,6 +223,9 @@ impl Curve {
             p.design_impacts = impacts;
             p.design_share = share;
         }
+        if let Some(share) = self.design_share_at(i) {
+            self.points[i].design_share = share;
+        }
     }
 
     /// The stored attractor that carries the design quantity of the curve's `i`-th point: the
@@ -227,28 +247,41 @@ impl Curve {
     }
 
     /// The steady states at the curve's `i`-th point that differ in what the design sees: the
-    /// stored attractors, a periodic orbit and its mirror image counted once. The cavity is
-    /// symmetric, so `x -> -x` half a forcing period later maps a motion onto another; an
-    /// asymmetric orbit and its image are two attractors with the same period, amplitude and
-    /// multipliers (equal here to 1e-9 relative), and a jump between them changes nothing
-    /// the design quantity measures.
+    /// stored attractors, a periodic orbit and its mirror image counted once
+    /// ([`mirror_images`]).
     pub fn distinct_states_at(&self, i: usize) -> usize {
-        let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
         let mut kept: Vec<&AttractorRow> = Vec::new();
         for a in self.attractors_at(i) {
-            let twin = a.kind.periodic()
-                && kept.iter().any(|k| {
-                    k.kind.periodic()
-                        && k.period == a.period
-                        && same(k.amplitude, a.amplitude)
-                        && (same(k.multiplier_max, a.multiplier_max)
-                            || (k.multiplier_max.is_nan() && a.multiplier_max.is_nan()))
-                });
-            if !twin {
+            if !kept.iter().any(|k| mirror_images(k, a)) {
                 kept.push(a);
             }
         }
         kept.len()
+    }
+
+    /// The basin share of the steady state carrying the design quantity at the curve's `i`-th
+    /// point: its attractor's share plus its mirror image's ([`mirror_images`]), which the
+    /// census counts as two attractors of its own. `None` without a stored attractor there.
+    pub fn design_share_at(&self, i: usize) -> Option<f64> {
+        let carrier = self.design_attractor(i)?;
+        Some(
+            self.attractors_at(i)
+                .filter(|a| std::ptr::eq(*a, carrier) || mirror_images(a, carrier))
+                .map(|a| a.basin_share)
+                .sum(),
+        )
+    }
+
+    /// Counts each point's design share over the steady state, not the attractor: a periodic
+    /// orbit carrying the design quantity and its mirror image are reached from their starts
+    /// together (the run's stored `worst_basin_share` is one attractor's). Points without a
+    /// stored attractor keep the run's.
+    pub fn count_mirror_images(&mut self) {
+        for i in 0..self.points.len() {
+            if let Some(share) = self.design_share_at(i) {
+                self.points[i].design_share = share;
+            }
+        }
     }
 
     /// The bands of `r` (first and last grid frequency of each run of neighbours) where the
@@ -388,6 +421,7 @@ impl Curve {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::orbits::attractors::SteadyKind;
 
     fn pt(r: f64, amplitude: f64, linear: f64) -> CurvePoint {
         CurvePoint {
@@ -459,6 +493,94 @@ mod tests {
         c.points[0].outcome = Outcome::StepCap;
         assert!(c.peak().0.is_nan());
         assert_eq!(c.periodic_share(), 0.5);
+    }
+
+    /// A stored attractor of the curve's design 0 at its `i`-th point (of `n`).
+    fn attractor(
+        i: u64,
+        kind: SteadyKind,
+        amplitude: f64,
+        multiplier: f64,
+        share: f64,
+    ) -> AttractorRow {
+        use crate::orbits::attractors::{RunId, section_of};
+        AttractorRow {
+            run: RunId {
+                point_id: i,
+                point: i,
+                case: 0,
+                ideal: true,
+                r: 0.9 + 0.1 * i as f64,
+                omega: 63.0,
+                F0: 1.0,
+            },
+            attractor: 0,
+            kind,
+            stability: "stable",
+            period: u32::from(kind.periodic()),
+            amplitude,
+            window_amplitude: amplitude,
+            impacts_per_period: 2.0,
+            basin_share: share,
+            starts: 0,
+            origin: "start",
+            multiplier_max: multiplier,
+            lyapunov: f64::NAN,
+            lyapunov_per_s: f64::NAN,
+            lyapunov_se: f64::NAN,
+            life_amplitude: amplitude,
+            life_lo: amplitude,
+            life_hi: amplitude,
+            life_capped: false,
+            tail_shape: f64::NAN,
+            tail_end: f64::NAN,
+            exceedances: 0,
+            measured_periods: 1,
+            section: section_of(&[0.0, 0.0, 0.0, 0.0]),
+            section_units: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_peak_carried_by_an_orbit_and_its_mirror_image_counts_both_basins() {
+        use crate::orbits::attractors::SteadyKind::{Chaotic, Periodic};
+        // At r = 1.0 an asymmetric orbit (25 % of the starts) and its mirror image (62.5 %, the
+        // same amplitude and multiplier to rounding) carry the peak; a lower orbit takes the
+        // rest. At r = 1.1 the peak's orbit has a different multiplier than its neighbour: two
+        // steady states, its own share alone.
+        let mut points = vec![pt(0.9, 1.0, 4.0), pt(1.0, 3.0, 8.0), pt(1.1, 2.0, 2.0)];
+        for p in &mut points {
+            p.design_share = 0.25; // the run's stored share: one attractor's
+        }
+        let rows = vec![
+            attractor(1, Periodic, 3.0, 0.5, 0.25),
+            attractor(1, Periodic, 3.0 * (1.0 + 1e-12), 0.5 * (1.0 - 1e-12), 0.625),
+            attractor(1, Periodic, 1.0, 0.5, 0.125),
+            attractor(2, Periodic, 2.0, 0.5, 0.25),
+            attractor(2, Periodic, 2.0, 0.7, 0.75),
+            attractor(0, Chaotic, 1.0, f64::NAN, 0.25),
+            attractor(0, Chaotic, 1.0, f64::NAN, 0.75),
+        ];
+        let mut c = Curve {
+            system: crate::model::System::TABLE_I,
+            f0: 1.0,
+            attractors: Some(rows),
+            design: 0,
+            points,
+        };
+        assert_eq!(c.distinct_states_at(1), 2);
+        assert_eq!(c.distinct_states_at(2), 2);
+        // Motions that are not periodic are never one another's image.
+        assert_eq!(c.distinct_states_at(0), 2);
+        c.count_mirror_images();
+        assert_eq!(c.peak_point().unwrap().design_share, 0.875);
+        assert_eq!(c.points[2].design_share, 0.25);
+        assert_eq!(c.points[0].design_share, 0.25);
+        // Without stored attractors the run's share stands.
+        c.attractors = None;
+        c.points[1].design_share = 0.25;
+        c.count_mirror_images();
+        assert_eq!(c.points[1].design_share, 0.25);
     }
 
     #[test]

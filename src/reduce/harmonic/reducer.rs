@@ -313,6 +313,7 @@ impl<'a> HarmonicReducer<'a> {
         for c in &mut self.curves {
             let rows = self.attractors.remove(&c.design);
             c.attractors = self.stored.then(|| rows.unwrap_or_default());
+            c.count_mirror_images();
         }
         let verification = if self.verifies() {
             self.verify(plan)
