@@ -23,5 +23,6 @@ pub mod testing;
 
 pub use self::common::{
     Class, Damping, EdgeWarning, Grid, IdealCase, Jump, JumpKind, JumpStats, Options, PointStats,
-    Quantity, Reducer, Response, ResponseStats, Run, Sensitivity, Summary, Zone, ZoneParams,
+    Quantity, Reducer, Response, ResponseStats, Run, Sensitivity, StepRule, Summary, Zone,
+    ZoneParams,
 };

@@ -36,4 +36,4 @@ pub use options::Options;
 pub use point::{Damping, PointStats, Response, ResponseStats, Run};
 pub use reducer::{Reducer, nominal_point, outcome_index};
 pub use summary::{EdgeWarning, Sensitivity, Summary};
-pub use zones::{JumpStats, Zone, ZoneParams};
+pub use zones::{JumpStats, StepRule, Zone, ZoneParams};

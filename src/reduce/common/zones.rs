@@ -102,8 +102,10 @@ impl Zone {
 /// The jump-finding figures the report quotes.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct JumpStats {
-    /// The step tolerance per quantity ([`Quantity::index`]), in the quantity's units.
+    /// The step tolerance per quantity ([`Quantity::index`]), in the quantity's units, and how
+    /// each was set ([`step_tolerances`]).
     pub step_tol: [f64; 2],
+    pub step_rule: [StepRule; 2],
     /// The typical slope of the response per axis.
     pub typical_slope: Vec<f64>,
     pub candidates: usize,
@@ -191,24 +193,40 @@ pub fn classify(
     }
 }
 
-/// The step tolerance of each quantity: `step_spread` times the median over the points of its
-/// SD over the ok cases; without a spread (one case per point, or cases that do not differ:
-/// the median SD is below 1e-9 of the median magnitude), 1 % of its median magnitude.
-pub fn step_tolerances(points: &[PointStats], step_spread: f64) -> [f64; 2] {
+/// How a quantity's step tolerance was set ([`step_tolerances`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum StepRule {
+    /// `step_spread` times the median over the points of its SD over the ok cases.
+    #[default]
+    Spread,
+    /// [`LEVEL_SHARE`] of its median magnitude: the points have no spread to scale (one case
+    /// each, or cases that do not differ).
+    Level,
+}
+
+/// The step tolerance's share of a quantity's median magnitude where its cases give no spread.
+pub const LEVEL_SHARE: f64 = 0.01;
+
+/// The step tolerance of each quantity, and its rule: `step_spread` times the median over the
+/// points of its SD over the ok cases; without a spread (one case per point, or cases that do
+/// not differ: the median SD is below 1e-9 of the median magnitude), 1 % of its median
+/// magnitude.
+pub fn step_tolerances(points: &[PointStats], step_spread: f64) -> ([f64; 2], [StepRule; 2]) {
     let tol = |sd: &dyn Fn(&PointStats) -> f64, level: &dyn Fn(&PointStats) -> f64| {
         let sds: Vec<f64> = points.iter().map(sd).collect();
         let levels: Vec<f64> = points.iter().map(|p| level(p).abs()).collect();
         let (s, l) = (median(&sds), median(&levels));
         if s > 1e-9 * l {
-            step_spread * s
+            (step_spread * s, StepRule::Spread)
         } else {
-            0.01 * l
+            (LEVEL_SHARE * l, StepRule::Level)
         }
     };
-    [
+    let [(r, rr), (d, dr)] = [
         tol(&|p| p.response.sd, &|p| p.response.mean),
         tol(&|p| p.di_sd, &|p| p.di),
-    ]
+    ];
+    ([r, d], [rr, dr])
 }
 
 /// Finds the jumps, classes the points, cuts the zones and fills `points[i].zone` and
@@ -222,7 +240,7 @@ pub fn find(
     ranking: &Ranking,
     ideal: &dyn IdealCase,
 ) -> Found {
-    let step_tol = step_tolerances(points, cfg.params.step_spread);
+    let (step_tol, step_rule) = step_tolerances(points, cfg.params.step_spread);
     let found = find_jumps(grid, points, pos, cfg, step_tol, ideal);
     let dis: Vec<f64> = points.iter().map(|p| p.di).collect();
     let di_strong = cfg.di_strong.unwrap_or_else(|| median(&dis));
@@ -234,6 +252,7 @@ pub fn find(
         jumps: found.jumps,
         stats: JumpStats {
             step_tol,
+            step_rule,
             typical_slope: found.typical_slope,
             candidates: found.candidates,
             dropped: found.dropped,

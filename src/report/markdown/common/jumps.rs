@@ -7,7 +7,8 @@ use crate::report::markdown::words::{MAX_ROWS, f};
 
 use crate::reduce::common::stats::median;
 use crate::reduce::common::tables::{per_axis_unit, quantity_of};
-use crate::reduce::{Jump, JumpKind, Quantity, Summary};
+use crate::reduce::common::zones::LEVEL_SHARE;
+use crate::reduce::{Jump, JumpKind, Quantity, StepRule, Summary};
 use crate::report::text::{axis_unit, count, fmt_num, thousands};
 
 /// The report's section on the jumps located along the design axes.
@@ -51,7 +52,7 @@ fn rule(o: &mut String, s: &Summary) {
         .collect();
     let _ = writeln!(
         o,
-        "Along every line of the grid, a step is a change of the ideal case's {rname} by at least {} {runit}{} ({} × the median spread of each over a point's cases) that the trend on either side does not explain; a kink is a change of the slope of {rname} by at least {} × its typical slope ({}). Each candidate is located by bisection with extra simulations of the ideal case to {} of the grid step, then classed: a step if the change stays as the bracket shrinks (where the bisection loses it among several steps close together, the span is cut into eight parts and the part with the largest change cut again, down to the same tolerance), a kink if only the slope changes, dropped otherwise (a steep but smooth stretch).\n",
+        "Along every line of the grid, a step is a change of the ideal case's {rname} by at least {} {runit}{} ({}) that the trend on either side does not explain; a kink is a change of the slope of {rname} by at least {} × its typical slope ({}). Each candidate is located by bisection with extra simulations of the ideal case to {} of the grid step, then classed: a step if the change stays as the bracket shrinks (where the bisection loses it among several steps close together, the span is cut into eight parts and the part with the largest change cut again, down to the same tolerance), a kink if only the slope changes, dropped otherwise (a steep but smooth stretch).\n",
         fmt_num(st.step_tol[0]),
         // (Without a finite tolerance on the second quantity, e.g. no threshold for p_s, the
         // steps are the response's alone.)
@@ -64,7 +65,7 @@ fn rule(o: &mut String, s: &Summary) {
         } else {
             String::new()
         },
-        fmt_num(s.options.zones.step_spread),
+        step_rule(s),
         fmt_num(s.options.zones.kink_slope),
         if slopes.is_empty() {
             "–".to_string()
@@ -73,6 +74,45 @@ fn rule(o: &mut String, s: &Summary) {
         },
         fmt_num(s.options.zones.locate),
     );
+}
+
+/// How the step tolerances were set: from the spread of the points' cases, or, where the cases
+/// give no spread (one case per point, or cases that do not differ), from the quantity's median
+/// value ([`crate::reduce::common::zones::step_tolerances`]).
+fn step_rule(s: &Summary) -> String {
+    let st = &s.jump_stats;
+    let spread = fmt_num(s.options.zones.step_spread);
+    let level = format!("{} %", fmt_num(100.0 * LEVEL_SHARE));
+    let (rname, _) = quantity_of(s, Quantity::Response);
+    let dname = s.options.damping.symbol;
+    let rules: &[StepRule] = if st.step_tol[1].is_finite() {
+        &st.step_rule
+    } else {
+        &st.step_rule[..1]
+    };
+    match rules {
+        [StepRule::Spread] => format!("{spread} × the median spread over a point's cases"),
+        [StepRule::Spread, StepRule::Spread] => {
+            format!("{spread} × the median spread of each over a point's cases")
+        }
+        [StepRule::Level] => format!(
+            "{level} of its median value over the points: a point's cases do not differ, so there is no spread to scale"
+        ),
+        [StepRule::Level, StepRule::Level] => format!(
+            "{level} of each one's median value over the points: a point's cases do not differ, so there is no spread to scale"
+        ),
+        [r, _] => {
+            let (by_spread, by_level) = if *r == StepRule::Spread {
+                (rname, dname)
+            } else {
+                (dname, rname)
+            };
+            format!(
+                "{spread} × the median spread over a point's cases for {by_spread}; {level} of the median value for {by_level}, whose cases do not differ"
+            )
+        }
+        _ => String::new(),
+    }
 }
 
 /// What the search found: candidates, extra simulations, jumps and how each was located, and
@@ -270,5 +310,37 @@ fn spaced(unit: &str) -> String {
         String::new()
     } else {
         format!(" {unit}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::reduce::testing::{reduce_simulated, study};
+
+    /// The rule the report states is the one the tolerances came from: with one case a point
+    /// there is no spread, and the tolerances are 1 % of the quantities' median values.
+    #[test]
+    fn the_step_rule_stated_is_the_one_applied() {
+        let axes = || vec![("e", vec![0.5, 0.6, 0.7, 0.8])];
+        let one = reduce_simulated(&study(axes(), 1));
+        assert_eq!(one.jump_stats.step_rule, [StepRule::Level; 2]);
+        let text = section(&one, false);
+        assert!(
+            text.contains("(1 % of each one's median value over the points: a point's cases do not differ, so there is no spread to scale)"),
+            "{text}"
+        );
+        assert!(!text.contains("median spread"), "{text}");
+        // Noisy cases differ: the spread sets both.
+        let mut noisy = study(axes(), 3);
+        noisy.noise = Some(crate::sim::NoiseSettings {
+            power: 5e-10,
+            sample_time: 1e-3,
+        });
+        let noisy = reduce_simulated(&noisy);
+        assert_eq!(noisy.jump_stats.step_rule, [StepRule::Spread; 2]);
+        assert!(
+            section(&noisy, false).contains("(1 × the median spread of each over a point's cases)")
+        );
     }
 }
