@@ -4,6 +4,7 @@
 use super::common::{IdealCase, Reducer, Run, Summary};
 use super::free;
 use crate::model::System;
+use crate::orbits::attractors::{AttractorRow, RunId, SteadyKind, section_of};
 use crate::sim::{Outcome, Request, SolverSettings};
 use crate::study::{
     Axis, Case, DiSource, Ranking, Reliability, RunSettings, SafetyForm, Study, VERIFY_PERIODS,
@@ -178,4 +179,51 @@ pub fn paper_study() -> Study {
         sample_time: 1e-3,
     });
     s
+}
+
+/// A stored attractor of a harmonic curve's run at point `i` (design 0's `i`-th frequency,
+/// `r = 0.9 + 0.1 i`): of `kind`, design amplitude `amplitude` (m), largest multiplier
+/// `multiplier` and basin share `share`, found from a start.
+pub fn attractor_row(
+    i: u64,
+    kind: SteadyKind,
+    amplitude: f64,
+    multiplier: f64,
+    share: f64,
+) -> AttractorRow {
+    AttractorRow {
+        run: RunId {
+            point_id: i,
+            point: i,
+            case: 0,
+            ideal: true,
+            r: 0.9 + 0.1 * i as f64,
+            omega: 63.0,
+            F0: 1.0,
+        },
+        attractor: 0,
+        kind,
+        stability: "stable",
+        period: u32::from(kind.periodic()),
+        amplitude,
+        window_amplitude: amplitude,
+        impacts_per_period: 2.0,
+        basin_share: share,
+        starts: 0,
+        origin: "start",
+        multiplier_max: multiplier,
+        lyapunov: f64::NAN,
+        lyapunov_per_s: f64::NAN,
+        lyapunov_se: f64::NAN,
+        life_amplitude: amplitude,
+        life_lo: amplitude,
+        life_hi: amplitude,
+        life_capped: false,
+        tail_shape: f64::NAN,
+        tail_end: f64::NAN,
+        exceedances: 0,
+        measured_periods: 1,
+        section: section_of(&[0.0, 0.0, 0.0, 0.0]),
+        section_units: Vec::new(),
+    }
 }

@@ -421,7 +421,6 @@ impl Curve {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::orbits::attractors::SteadyKind;
 
     fn pt(r: f64, amplitude: f64, linear: f64) -> CurvePoint {
         CurvePoint {
@@ -495,52 +494,6 @@ mod tests {
         assert_eq!(c.periodic_share(), 0.5);
     }
 
-    /// A stored attractor of the curve's design 0 at its `i`-th point (of `n`).
-    fn attractor(
-        i: u64,
-        kind: SteadyKind,
-        amplitude: f64,
-        multiplier: f64,
-        share: f64,
-    ) -> AttractorRow {
-        use crate::orbits::attractors::{RunId, section_of};
-        AttractorRow {
-            run: RunId {
-                point_id: i,
-                point: i,
-                case: 0,
-                ideal: true,
-                r: 0.9 + 0.1 * i as f64,
-                omega: 63.0,
-                F0: 1.0,
-            },
-            attractor: 0,
-            kind,
-            stability: "stable",
-            period: u32::from(kind.periodic()),
-            amplitude,
-            window_amplitude: amplitude,
-            impacts_per_period: 2.0,
-            basin_share: share,
-            starts: 0,
-            origin: "start",
-            multiplier_max: multiplier,
-            lyapunov: f64::NAN,
-            lyapunov_per_s: f64::NAN,
-            lyapunov_se: f64::NAN,
-            life_amplitude: amplitude,
-            life_lo: amplitude,
-            life_hi: amplitude,
-            life_capped: false,
-            tail_shape: f64::NAN,
-            tail_end: f64::NAN,
-            exceedances: 0,
-            measured_periods: 1,
-            section: section_of(&[0.0, 0.0, 0.0, 0.0]),
-            section_units: Vec::new(),
-        }
-    }
-
     #[test]
     fn a_peak_carried_by_an_orbit_and_its_mirror_image_counts_both_basins() {
         use crate::orbits::attractors::SteadyKind::{Chaotic, Periodic};
@@ -552,6 +505,7 @@ mod tests {
         for p in &mut points {
             p.design_share = 0.25; // the run's stored share: one attractor's
         }
+        let attractor = crate::reduce::testing::attractor_row;
         let rows = vec![
             attractor(1, Periodic, 3.0, 0.5, 0.25),
             attractor(1, Periodic, 3.0 * (1.0 + 1e-12), 0.5 * (1.0 - 1e-12), 0.625),

@@ -249,7 +249,7 @@ fn design_row(s: &Summary, c: &Curve, p: &PointStats) -> (String, bool) {
 }
 
 /// The steady state that carries a curve's peak: its kind or period and impacts, and its basin
-/// share when the census measured one.
+/// share when the census measured one; where no start reached it, how the census found it.
 fn carried_by(c: &Curve) -> String {
     c.peak_point().map_or(String::new(), |q| {
         let what = if q.design_period == 0 {
@@ -265,7 +265,15 @@ fn carried_by(c: &Curve) -> String {
                 f(q.design_impacts, 2)
             )
         };
-        if q.design_share.is_finite() {
+        let found = match c.peak_attractor().map(|a| a.origin) {
+            Some("up") => "continued up in r from the next lower frequency",
+            Some("down") => "continued down in r from the next higher frequency",
+            Some("recurrence") => "found from the close returns of a wandering motion",
+            _ => "",
+        };
+        if q.design_share == 0.0 && !found.is_empty() {
+            format!("{what}, no start reached it ({found})")
+        } else if q.design_share.is_finite() {
             format!("{what}, basin {} %", f(100.0 * q.design_share, 0))
         } else {
             what
@@ -363,4 +371,50 @@ fn coexistence(s: &Summary, fs: &HarmonicSummary, shown: &[&PointStats]) -> Stri
         "\n**Coexisting steady states.** Where the census found two or more steady states at a frequency (a periodic orbit and its mirror image, the same amplitude and multipliers, count once), the response can jump between them (the forced counterpart of the paper's zone II{where_drawn}). The bands of r, per design:\n\n{}\n\nThey enter the ranking through the design peak: with `design_peak = \"worst\"` a design's peak is the worst of its coexisting states, so the upper state of a jump is already counted; a design whose band reaches its peak's frequency can jump to that peak from a lower state.\n",
         lines.join("\n")
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::orbits::attractors::SteadyKind::Chaotic;
+    use crate::reduce::harmonic::curve::CurvePoint;
+    use crate::reduce::testing::attractor_row;
+    use crate::sim::Outcome;
+
+    /// A peak carried by a motion no start reached says how the census found it, not
+    /// "basin 0 %".
+    #[test]
+    fn a_peak_no_start_reached_says_how_it_was_found() {
+        let point = CurvePoint {
+            r: 0.9,
+            omega: 57.0,
+            outcome: Outcome::Ok,
+            amplitude: 1.0,
+            linear: 2.0,
+            attenuation: 1.5,
+            impacts_per_period: 2.0,
+            period: 0,
+            converged: false,
+            design: 3.0,
+            design_period: 0,
+            design_impacts: 2.0,
+            design_share: 0.0,
+            attractors: 2,
+        };
+        let mut down = attractor_row(0, Chaotic, 3.0, f64::NAN, 0.0);
+        down.origin = "down";
+        let mut c = Curve {
+            design: 0,
+            points: vec![point],
+            system: crate::model::System::TABLE_I,
+            f0: 1.0,
+            attractors: Some(vec![attractor_row(0, Chaotic, 2.9, f64::NAN, 1.0), down]),
+        };
+        assert_eq!(
+            carried_by(&c),
+            "chaotic, no start reached it (continued down in r from the next higher frequency)"
+        );
+        c.points[0].design_share = 0.25;
+        assert_eq!(carried_by(&c), "chaotic, basin 25 %");
+    }
 }
