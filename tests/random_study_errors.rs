@@ -68,7 +68,11 @@ const BAD: &[(&str, &str)] = &[
     ),
     (
         "random_nothing.toml",
-        "{dir}/random_nothing.toml: [scene].spectrum: missing; the random scene needs a spectrum; allowed: white, kanai-tajimi, clough-penzien; and S0, its two-sided spectral density per rad/s (fixed here or swept in [sweep]): for example spectrum = \"kanai-tajimi\" and S0 = 1e-3",
+        "{dir}/random_nothing.toml: [scene].spectrum: missing; the random scene needs a spectrum; allowed: white, kanai-tajimi, clough-penzien; and S0, the load's two-sided spectral density per rad/s, in (0, 1e12] ((m/s^2)^2 for a base input, N^2 for a force) (fixed here or swept in [sweep]): for example spectrum = \"kanai-tajimi\" and S0 = 1e-3",
+    ),
+    (
+        "random_no_S0.toml",
+        "{dir}/random_no_S0.toml: [scene].S0: missing; the random scene needs S0, the load's two-sided spectral density per rad/s, in (0, 1e12] ((m/s^2)^2 for a base input, N^2 for a force) (fixed here or swept in [sweep])",
     ),
     (
         "random_no_spectrum.toml",

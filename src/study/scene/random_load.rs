@@ -215,7 +215,10 @@ pub(super) fn scene(
             None => Err(missing(
                 cx,
                 key,
-                &format!("the {kind} scene needs {key} (fixed here or swept in [sweep])"),
+                &format!(
+                    "the {kind} scene needs {} (fixed here or swept in [sweep])",
+                    if key == "S0" { S0_WHAT } else { key }
+                ),
             )),
         }
     };
@@ -267,6 +270,10 @@ pub fn default_of(key: &str) -> Option<f64> {
     })
 }
 
+/// What `S0` is and the values it takes ([`crate::sim::random::RandomLoad::validate`]).
+const S0_WHAT: &str = "S0, the load's two-sided spectral density per rad/s, in (0, 1e12] \
+                       ((m/s^2)^2 for a base input, N^2 for a force)";
+
 /// A key of `[scene]` the scene needs and the study lacks.
 fn missing(cx: &Cx, key: &str, why: &str) -> InputError {
     InputError::new(format!("{}: [scene].{key}: missing; {why}", cx.file))
@@ -288,10 +295,12 @@ fn random(
     let Some(name) = &raw.spectrum else {
         // A study that gives neither hears of both at once, with an example.
         let and_s0 = if s0().is_err() {
-            "; and S0, its two-sided spectral density per rad/s (fixed here or swept in \
-             [sweep]): for example spectrum = \"kanai-tajimi\" and S0 = 1e-3"
+            format!(
+                "; and {S0_WHAT} (fixed here or swept in [sweep]): for example spectrum = \
+                 \"kanai-tajimi\" and S0 = 1e-3"
+            )
         } else {
-            ""
+            String::new()
         };
         return Err(missing(
             cx,
