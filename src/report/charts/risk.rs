@@ -250,6 +250,31 @@ struct ProfileChart<'a> {
     bare: Option<Value>,
 }
 
+/// Decades of the profile's axis below a number known only as a bound.
+const BOUND_DECADES: f64 = 1.0;
+
+/// The profile's `log10` axis: every drawn value, interval end and the bare structure's line,
+/// padded; at least 0.2 wide, and reaching [`BOUND_DECADES`] below a number known only as a
+/// bound (no run passed), which lies anywhere below it, so that what the bound leaves open
+/// shows.
+fn log_span(pts: &[(f64, Value)], bare: Option<Value>) -> (f64, f64) {
+    let values = || pts.iter().map(|(_, v)| v).chain(bare.iter());
+    let (y0, y1) = pts
+        .iter()
+        .flat_map(|(_, v)| [v.lo, v.hi, v.v])
+        .chain(bare.map(|b| b.v))
+        .filter(|v| *v > 0.0)
+        .map(f64::log10)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+            (a.min(y), b.max(y))
+        });
+    let open_below = values()
+        .filter(|v| v.bound && v.v > 0.0)
+        .map(|v| v.log() - BOUND_DECADES)
+        .fold(f64::INFINITY, f64::min);
+    pad(y0.min(open_below), y1.max(y0 + 0.2), 0.1)
+}
+
 /// Where a profile chart's points go: the swept values and their scale, the drawn designs'
 /// `(x, value)` on that scale, the axes' ranges (`log10` of the number upward) and the
 /// legend's corner.
@@ -291,16 +316,7 @@ impl ProfileChart<'_> {
         } else {
             1.0
         };
-        let logs = pts
-            .iter()
-            .flat_map(|(_, v)| [v.lo, v.hi, v.v])
-            .chain(self.bare.map(|b| b.v))
-            .filter(|v| *v > 0.0)
-            .map(f64::log10);
-        let (y0, y1) = logs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
-            (a.min(y), b.max(y))
-        });
-        let (y0, y1) = pad(y0, y1.max(y0 + 0.2), 0.1);
+        let (y0, y1) = log_span(&pts, self.bare);
         let x_range = (x0 - 0.5 * step, x1 + 0.5 * step);
         let spans: Vec<(f64, f64, f64)> = pts
             .iter()
@@ -630,5 +646,30 @@ impl Chart for MapChart<'_> {
             &format!("{l0:.2}"),
             &format!("{l1:.2}"),
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn value(v: f64, lo: f64, hi: f64, bound: bool) -> Value {
+        Value { v, lo, hi, bound }
+    }
+
+    /// A design no run of which passed is drawn at its bound with the axis a decade below it;
+    /// estimates keep their own tight axis.
+    #[test]
+    fn a_bound_leaves_a_decade_open_below_it() {
+        let bound = value(0.018, 0.0, 0.018, true);
+        let (y0, y1) = log_span(&[(0.0, bound)], Some(bound));
+        assert!(y0 <= 0.018f64.log10() - BOUND_DECADES, "{y0}");
+        assert!(y1 > 0.018f64.log10(), "{y1}");
+        let estimate = value(0.02, 0.018, 0.022, false);
+        let (y0, y1) = log_span(&[(0.0, estimate)], None);
+        assert!(
+            y0 > 0.018f64.log10() - 0.05 && y1 < 0.022f64.log10() + 0.2,
+            "{y0} {y1}"
+        );
     }
 }
