@@ -30,12 +30,13 @@ impl Chart for SpreadChart<'_> {
         let xs = &pr.positions();
         let ((x0, x1), halves) = x_layout(xs);
         let cm = 100.0;
-        let (y0, y1) = minmax(
+        let values = || {
             pr.points
                 .iter()
                 .flat_map(|p| [p.response.min * cm, p.response.max * cm])
-                .chain(self.1.map(|b| b * cm)),
-        );
+        };
+        let (limit, drawn) = limit_drawn(self.1.map(|b| b * cm), minmax(values()).1);
+        let (y0, y1) = minmax(values().chain(drawn));
         let (y0, y1) = pad(y0, y1, 0.08);
         let title = format!(
             "Spread of {name} over the cases along {}{}",
@@ -50,8 +51,10 @@ impl Chart for SpreadChart<'_> {
             (&pr.xs, pr.scale),
         )?;
         super::di::jump_lines(&mut chart, pr, (y0, y1))?;
-        if let Some(b) = self.1 {
-            draw_limit(&mut chart, b * cm, (x0, x1))?;
+        match (limit, drawn) {
+            (Some(b), Some(_)) => draw_limit(&mut chart, b, (x0, x1))?,
+            (Some(b), None) => limit_above(&mut chart, b, values().fold(f64::NAN, f64::max))?,
+            _ => {}
         }
         if pr.points.len() > MANY {
             return self.bands(&mut chart);
@@ -61,6 +64,40 @@ impl Chart for SpreadChart<'_> {
         series_legend(&mut chart, corner)?;
         Ok(())
     }
+}
+
+/// A limit is drawn across the spread when it lies within this many times the largest value
+/// drawn; farther up the axis would squash the boxes to a line at its foot, and the legend
+/// names the limit instead.
+const LIMIT_REACH: f64 = 3.0;
+
+/// The limit (cm), and the same when the axis reaches it ([`LIMIT_REACH`] times `top`, the
+/// largest value drawn; always when nothing finite is drawn).
+fn limit_drawn(limit: Option<f64>, top: f64) -> (Option<f64>, Option<f64>) {
+    let drawn = limit.filter(|&b| !(top.is_finite() && top > 0.0) || b <= LIMIT_REACH * top);
+    (limit, drawn)
+}
+
+/// A limit `y` (cm) above the chart: a legend entry that names it and how far above the
+/// largest value drawn (`top`) it lies.
+fn limit_above<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Plot<'a, DB>,
+    y: f64,
+    top: f64,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let red = RED;
+    chart
+        .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+        .map_err(err)?
+        .label(format!(
+            "limit {y:.3} cm, above the chart ({:.0} × the largest)",
+            y / top
+        ))
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], red.stroke_width(2)));
+    Ok(())
 }
 
 /// A limit of the response `y` (cm) as a red dashed line across `(x0, x1)`.
@@ -277,7 +314,17 @@ impl SpreadChart<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::x_layout;
+    use super::{limit_drawn, x_layout};
+
+    /// A limit far above the spread is named, not drawn; one within reach is drawn.
+    #[test]
+    fn a_far_limit_does_not_squash_the_spread() {
+        assert_eq!(limit_drawn(Some(5.0), 0.11), (Some(5.0), None));
+        assert_eq!(limit_drawn(Some(0.994), 2.0), (Some(0.994), Some(0.994)));
+        assert_eq!(limit_drawn(Some(3.0), 1.0), (Some(3.0), Some(3.0)));
+        assert_eq!(limit_drawn(Some(5.0), f64::NAN), (Some(5.0), Some(5.0)));
+        assert_eq!(limit_drawn(None, 1.0), (None, None));
+    }
 
     #[test]
     fn a_geometric_grid_gets_its_own_ends_room_and_boxes_that_never_overlap() {
