@@ -121,6 +121,10 @@ const BAD: &[(&str, &str)] = &[
         "step_and_num.toml: [sweep].e = { start = 0.5, stop = 0.9, step = 0.1, num = 5 }: give either step or num, not both",
     ),
     (
+        "seeds_not_a_list.toml",
+        "seeds_not_a_list.toml: [perturb].noise_seeds = 3: must be a list, one seed a case: for example noise_seeds = [1, 2, 3]",
+    ),
+    (
         "strength_without_sd.toml",
         "strength_without_sd.toml: [reliability].strength_mean = 2.85e8: strength_sd must be given too (both or neither)",
     ),

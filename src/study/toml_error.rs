@@ -139,6 +139,16 @@ fn human_expected(exp: &str) -> String {
     }
 }
 
+/// An example of the list a key of `[perturb]` takes, for a study that gave one value.
+fn list_example(key: &str) -> &'static str {
+    match key {
+        "noise_seeds" => ", one seed a case: for example noise_seeds = [1, 2, 3]",
+        "dm" => ", one change of m (kg) a case: for example dm = [-0.001, 0.001]",
+        "dd" => ", one change of d (m) a case: for example dd = [-0.0005, 0.0005]",
+        _ => "",
+    }
+}
+
 pub(super) fn serde_error(
     file: &str,
     text: &str,
@@ -200,7 +210,11 @@ pub(super) fn serde_error(
         .or_else(|| msg.strip_prefix("invalid value: "))
         .and_then(|m| m.rsplit_once(", expected "))
     {
-        format!("{loc} = {value}: {}", human_expected(exp))
+        let example = match path.last() {
+            Some(Seg::Key(k)) if human_expected(exp) == "must be a list" => list_example(k),
+            _ => "",
+        };
+        format!("{loc} = {value}: {}{example}", human_expected(exp))
     } else if loc.is_empty() {
         msg.to_string()
     } else {
