@@ -275,9 +275,13 @@ impl Curve {
     /// Counts each point's design share over the steady state, not the attractor: a periodic
     /// orbit carrying the design quantity and its mirror image are reached from their starts
     /// together (the run's stored `worst_basin_share` is one attractor's). Points without a
-    /// stored attractor keep the run's.
+    /// stored attractor keep the run's, and points without a share (`design_peak =
+    /// "from_rest"`, whose design quantity is the run's own) keep none.
     pub fn count_mirror_images(&mut self) {
         for i in 0..self.points.len() {
+            if !self.points[i].design_share.is_finite() {
+                continue;
+            }
             if let Some(share) = self.design_share_at(i) {
                 self.points[i].design_share = share;
             }
@@ -530,6 +534,10 @@ mod tests {
         assert_eq!(c.peak_point().unwrap().design_share, 0.875);
         assert_eq!(c.points[2].design_share, 0.25);
         assert_eq!(c.points[0].design_share, 0.25);
+        // Without a share (`design_peak = "from_rest"`) none is made up.
+        c.points[1].design_share = f64::NAN;
+        c.count_mirror_images();
+        assert!(c.points[1].design_share.is_nan());
         // Without stored attractors the run's share stands.
         c.attractors = None;
         c.points[1].design_share = 0.25;
