@@ -35,7 +35,9 @@ impl Chart for SpreadChart<'_> {
                 .iter()
                 .flat_map(|p| [p.response.min * cm, p.response.max * cm])
         };
-        let (limit, drawn) = limit_drawn(self.1.map(|b| b * cm), minmax(values()).1);
+        let limit = self.1.map(|b| b * cm);
+        let top = minmax(values()).1;
+        let drawn = limit_drawn(limit, top);
         let (y0, y1) = minmax(values().chain(drawn));
         let (y0, y1) = pad(y0, y1, 0.08);
         let title = format!(
@@ -53,7 +55,7 @@ impl Chart for SpreadChart<'_> {
         super::di::jump_lines(&mut chart, pr, (y0, y1))?;
         match (limit, drawn) {
             (Some(b), Some(_)) => draw_limit(&mut chart, b, (x0, x1))?,
-            (Some(b), None) => limit_above(&mut chart, b, values().fold(f64::NAN, f64::max))?,
+            (Some(b), None) => limit_above(&mut chart, b, top)?,
             _ => {}
         }
         if pr.points.len() > MANY {
@@ -71,11 +73,10 @@ impl Chart for SpreadChart<'_> {
 /// names the limit instead.
 const LIMIT_REACH: f64 = 3.0;
 
-/// The limit (cm), and the same when the axis reaches it ([`LIMIT_REACH`] times `top`, the
-/// largest value drawn; always when nothing finite is drawn).
-fn limit_drawn(limit: Option<f64>, top: f64) -> (Option<f64>, Option<f64>) {
-    let drawn = limit.filter(|&b| !(top.is_finite() && top > 0.0) || b <= LIMIT_REACH * top);
-    (limit, drawn)
+/// The limit (cm) when the axis reaches it: within [`LIMIT_REACH`] times `top`, the largest
+/// value drawn, and always when nothing finite is drawn.
+fn limit_drawn(limit: Option<f64>, top: f64) -> Option<f64> {
+    limit.filter(|&b| !(top.is_finite() && top > 0.0) || b <= LIMIT_REACH * top)
 }
 
 /// A limit `y` (cm) above the chart: a legend entry that names it and how far above the
@@ -319,11 +320,11 @@ mod tests {
     /// A limit far above the spread is named, not drawn; one within reach is drawn.
     #[test]
     fn a_far_limit_does_not_squash_the_spread() {
-        assert_eq!(limit_drawn(Some(5.0), 0.11), (Some(5.0), None));
-        assert_eq!(limit_drawn(Some(0.994), 2.0), (Some(0.994), Some(0.994)));
-        assert_eq!(limit_drawn(Some(3.0), 1.0), (Some(3.0), Some(3.0)));
-        assert_eq!(limit_drawn(Some(5.0), f64::NAN), (Some(5.0), Some(5.0)));
-        assert_eq!(limit_drawn(None, 1.0), (None, None));
+        assert_eq!(limit_drawn(Some(5.0), 0.11), None);
+        assert_eq!(limit_drawn(Some(0.994), 2.0), Some(0.994));
+        assert_eq!(limit_drawn(Some(3.0), 1.0), Some(3.0));
+        assert_eq!(limit_drawn(Some(5.0), f64::NAN), Some(5.0));
+        assert_eq!(limit_drawn(None, 1.0), None);
     }
 
     #[test]
