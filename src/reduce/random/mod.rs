@@ -228,6 +228,14 @@ impl RandomSummary {
             .map(|i| &self.subset[i].1)
     }
 
+    /// Subset simulation's estimate where it stands for design `design`'s `p_f`: where it got
+    /// one above 0. Where its levels never passed the limit (`p_f = 0`, an interval with no
+    /// meaning) Monte Carlo's bound says more, and the summary, the report and the charts take
+    /// Monte Carlo's numbers.
+    pub fn subset_estimate(&self, design: u64) -> Option<&SubsetPf> {
+        self.subset_of(design).filter(|x| x.p_f > 0.0)
+    }
+
     /// The rank of design `design` by median capacity, if its fit ended ok.
     pub fn capacity_rank_of(&self, design: u64) -> Option<u64> {
         self.capacity_rank
@@ -245,9 +253,9 @@ impl RandomSummary {
     /// interval `(p_f, lo, hi)`: subset simulation's where it estimated one above 0, else Monte
     /// Carlo's (`lens`: the design grid's axis lengths, as [`RandomSummary::grid_point`]).
     pub fn design_pf(&self, design: u64, lens: &[usize]) -> Option<(f64, f64, f64)> {
-        match self.subset_of(design) {
-            Some(x) if x.p_f > 0.0 => Some((x.p_f, x.lo, x.hi)),
-            _ => {
+        match self.subset_estimate(design) {
+            Some(x) => Some((x.p_f, x.lo, x.hi)),
+            None => {
                 let j = self.intensity.as_ref().map_or(0, |i| i.design);
                 let p = self.point(self.grid_point(design, j, lens))?;
                 Some((p.p_f, p.p_f_lo, p.p_f_hi))
@@ -667,11 +675,14 @@ pub fn summary_columns(t: &mut Table, s: &Summary, rs: &RandomSummary, rows: &[&
         .map(|d| rs.point(rs.grid_point(d.point, j, &lens)))
         .collect();
     let ss: Vec<Option<&SubsetPf>> = rows.iter().map(|d| rs.subset_of(d.point)).collect();
-    // A column of the Monte Carlo estimate, or subset simulation's where the design got one.
+    let estimates: Vec<Option<&SubsetPf>> =
+        rows.iter().map(|d| rs.subset_estimate(d.point)).collect();
+    // A column of the Monte Carlo estimate, or subset simulation's where it stands for the
+    // design's `p_f` ([`RandomSummary::subset_estimate`]).
     let either = |mc: &dyn Fn(&PointPf) -> f64, sub: &dyn Fn(&SubsetPf) -> f64| {
         Column::F64(
             pf.iter()
-                .zip(&ss)
+                .zip(&estimates)
                 .map(|(p, s)| match s {
                     Some(s) => sub(s),
                     None => p.map_or(f64::NAN, mc),

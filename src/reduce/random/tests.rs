@@ -103,3 +103,74 @@ fn p_f_is_the_share_that_passed_with_its_exact_interval() {
     assert_eq!(run_of(&rows[1], 0, Some(0.01)).di, 0.0);
     assert_eq!(run_of(&rows[0], 0, Some(0.01)).di, 1.0);
 }
+
+/// Where subset simulation's levels never passed the limit (its `p_f` 0, its interval `[0, 1]`
+/// from `0 x inf`), the summary's `p_f`, interval, `beta` and CoVs are Monte Carlo's, as the
+/// report's and the charts' are: one design, one set of numbers.
+#[test]
+fn a_subset_that_never_passed_leaves_the_summary_to_monte_carlo() {
+    let s = testing::study(vec![("m", vec![0.0, 0.05])], 1);
+    let summary = testing::reduce_simulated(&s);
+    let mc = |point: u64, exceed: u64| {
+        let ci = clopper_pearson(exceed, 200, 0.95);
+        PointPf {
+            point,
+            n: 200,
+            exceed,
+            p_f: exceed as f64 / 200.0,
+            p_f_lo: ci.lo,
+            p_f_hi: ci.hi,
+            beta: f64::INFINITY,
+            rms_x_mean: 0.001,
+        }
+    };
+    let subset = |p_f: f64, lo: f64, hi: f64| SubsetPf {
+        p_f,
+        cov: if p_f > 0.0 { 0.3 } else { f64::INFINITY },
+        cov_upper: if p_f > 0.0 { 0.5 } else { f64::INFINITY },
+        lo,
+        hi,
+        levels: 6,
+        runs: 5_000,
+        converged: p_f > 0.0,
+        repeats: 1,
+        cov_repeats: f64::NAN,
+    };
+    let rs = RandomSummary {
+        threshold: Some(0.05),
+        realizations: 200,
+        record: false,
+        intensity: None,
+        points: vec![mc(0, 0), mc(1, 0)],
+        fragility: Vec::new(),
+        stripes_interval: Vec::new(),
+        // Design 0: the levels never passed; design 1: an estimate.
+        subset: vec![(0, subset(0.0, 0.0, 1.0)), (1, subset(2e-6, 1e-6, 4e-6))],
+        capacity_rank: Vec::new(),
+        measure: None,
+        hazard: None,
+        risk: Vec::new(),
+        capacities: Vec::new(),
+    };
+    assert!(rs.subset_estimate(0).is_none());
+    assert_eq!(rs.subset_estimate(1).map(|x| x.p_f), Some(2e-6));
+    let bound = clopper_pearson(0, 200, 0.95).hi;
+    assert_eq!(rs.design_pf(0, &[2]), Some((0.0, 0.0, bound)));
+    assert_eq!(rs.design_pf(1, &[2]), Some((2e-6, 1e-6, 4e-6)));
+    let rows: Vec<&PointStats> = summary.points.iter().collect();
+    let mut t = Table::default();
+    summary_columns(&mut t, &summary, &rs, &rows);
+    let col = |name: &str| match t.get(name) {
+        Some(Column::F64(v)) => v.clone(),
+        other => panic!("{name}: {other:?}"),
+    };
+    assert_eq!(col("p_f"), vec![0.0, 2e-6]);
+    assert_eq!(col("p_f_hi"), vec![bound, 4e-6]);
+    assert_eq!(col("p_f_lo"), vec![0.0, 1e-6]);
+    assert_eq!(col("p_f_cov")[1], 0.3);
+    // Which method ran stays said: subset simulation ran on both.
+    match t.get("p_f_method") {
+        Some(Column::Str(v)) => assert_eq!(v, &vec!["subset_unconverged", "subset"]),
+        other => panic!("{other:?}"),
+    }
+}
