@@ -5,8 +5,8 @@
 //! exactly summary.parquet's, and merged-in points hatched and counted.
 //!
 //! The browser test (`pages_in_headless_chromium`) runs `tests/html_check.py` with Selenium and
-//! Debian's `chromium` + `chromium-driver` on copies of the output roots of the showcases and
-//! of a queue of two studies, including its negative checks (a broken copy must fail). It
+//! Debian's `chromium` + `chromium-driver` on copies of the output roots of the showcases (a
+//! small seismic study among them: risk profiles and a risk map) and of a queue of two studies, including its negative checks (a broken copy must fail). It
 //! skips, loudly, when `/usr/bin/chromedriver` is missing (`scripts/test.sh` installs it when
 //! it can). With `IMPACTSWEEP_SCREENSHOT=PATH` it also writes the README's screenshot.
 
@@ -101,6 +101,114 @@ fn run_reduce(studies: &[&str], out: &Path) {
         .assert()
         .success()
         .stderr(predicate::str::contains("index: "));
+}
+
+/// `configs/seismic.toml` made small (2 x 2 designs, 3 stripes, 40 motions; every design
+/// passes often enough at the design stripe that no subset simulation runs), written into
+/// `dir`: a load study whose page has risk profiles and a risk map, in about a second.
+fn small_seismic(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string("configs/seismic.toml").unwrap();
+    let small = [
+        ("realizations = 1000", "realizations = 40"),
+        ("m = [0.0, 0.05, 0.1, 0.2]", "m = [0.0, 0.05]"),
+        ("d = [0.005, 0.01, 0.02, 0.04]", "d = [0.005, 0.01]"),
+        (
+            "im = [0.1, 0.15, 0.2, 0.25, 0.3, 0.4]",
+            "im = [0.15, 0.2, 0.3]",
+        ),
+    ]
+    .iter()
+    .fold(text, |t, (from, to)| {
+        assert!(t.contains(from), "configs/seismic.toml lost {from}");
+        t.replace(from, to)
+    });
+    let path = dir.join("seismic.toml");
+    std::fs::write(&path, small).unwrap();
+    path
+}
+
+/// A load study's page: its risk profiles and map drawn one element per design, each with the
+/// summary's values (its `p_f` and `lambda_f` with their intervals among them) and a hover text
+/// that says them; the PNG's number on the map's cell.
+#[test]
+fn a_load_study_page_draws_its_risk_charts_one_element_per_design() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    run_reduce(&[small_seismic(tmp.path()).to_str().unwrap()], &out);
+    let dir = out.join("seismic");
+    let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    let summary: HashMap<String, HashMap<String, String>> = table(&dir.join("summary.parquet"))
+        .into_iter()
+        .map(|r| (r["point"].clone(), r))
+        .collect();
+    assert_eq!(summary.len(), 4);
+    // Two profiles of two designs, one map of four; no plotters SVG inlined for them.
+    assert_eq!(
+        html.matches("<svg class=\"profile\" data-kind=\"risk\"")
+            .count(),
+        2
+    );
+    assert_eq!(
+        html.matches("<svg class=\"map\" data-kind=\"risk\"")
+            .count(),
+        1
+    );
+    assert_eq!(html.matches("<g class=\"pt\"").count(), 4);
+    assert_eq!(html.matches("<rect class=\"cell\"").count(), 4);
+    for stem in [
+        "risk_profile_mass_inner",
+        "risk_profile_d",
+        "risk_map_mass_inner_d",
+    ] {
+        let fig = html
+            .split(&format!("<figure class=\"chart\" id=\"fig-{stem}\">"))
+            .nth(1)
+            .unwrap_or_else(|| panic!("no figure {stem}"));
+        let fig = &fig[..fig.find("</figure>").unwrap()];
+        assert!(
+            fig.contains("Drawn for this page from the summary"),
+            "{stem}"
+        );
+    }
+    let points = design_points(&html);
+    assert_eq!(points.len(), 8);
+    for (a, title) in &points {
+        let row = &summary[&a["data-point"]];
+        for col in [
+            "p_f",
+            "p_f_lo",
+            "p_f_hi",
+            "lambda_f",
+            "lambda_f_lo",
+            "lambda_f_hi",
+            "rank",
+        ] {
+            assert_eq!(
+                a[&format!("data-{col}")],
+                row[col],
+                "{col} of {}",
+                a["data-point"]
+            );
+        }
+        let lambda: f64 = row["lambda_f"].parse().unwrap();
+        assert!(lambda > 0.0);
+        for want in [
+            format!("(design point {})", row["point"]),
+            "Annual rate of failure λ_f: ".to_string(),
+            "p_f at im = 0.2: ".to_string(),
+            format!("rank {} of 4", row["rank"]),
+        ] {
+            assert!(title.contains(&want), "{title:?} lacks {want:?}");
+        }
+    }
+    // The map's cells carry the PNG's labels: each design's number to two digits.
+    let map = html
+        .split("data-kind=\"risk\" data-axes=\"mass_inner d\"")
+        .nth(1)
+        .unwrap();
+    let map = &map[..map.find("</svg>").unwrap()];
+    assert_eq!(map.matches("<text class=\"cell-value").count(), 4);
+    assert_eq!(map.matches("<rect class=\"anchor\"").count(), 1);
 }
 
 #[test]
@@ -378,11 +486,14 @@ fn issue_18_pages_in_headless_chromium() {
             + "\n[ranking]\nverify_periods = 0\n",
     )
     .unwrap();
+    // A load study too: its risk charts (the small seismic study).
+    let seismic = small_seismic(tmp.path());
     run_reduce(
         &[
             "configs/design-space.toml",
             "configs/paper.toml",
             fr.to_str().unwrap(),
+            seismic.to_str().unwrap(),
         ],
         &showcases,
     );
@@ -422,7 +533,7 @@ fn issue_18_pages_in_headless_chromium() {
     }
     let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
     let report = check_in_browser(&copies[0], &extra);
-    for study in ["design-space", "paper", "frequency-response"] {
+    for study in ["design-space", "paper", "frequency-response", "seismic"] {
         assert!(report.contains(&format!("\"{study}\": {{")), "{report}");
     }
     for broken in [

@@ -1064,29 +1064,42 @@ fn issue_45_the_reports_core_knows_no_scene() {
         "report::markdown::common",
         "report::html",
     ];
+    // The page's scene sibling (a load study's risk charts, drawn by the core's
+    // `report::html::numbers`), as `report::charts::random` and `report::markdown::random` are
+    // the other layers': it sits under `report::html` but is no part of its core.
+    let siblings = ["report::html::random"];
     let sources = sources();
-    for c in core {
+    for c in core.iter().chain(&siblings) {
         assert!(under(&sources, c).count() >= 1, "no module {c}");
     }
+    let v = violations(
+        &sources,
+        &core,
+        &[
+            "report::charts::free",
+            "report::charts::harmonic",
+            "report::charts::random",
+            "report::charts::risk",
+            "report::html::random",
+            "report::markdown::harmonic",
+            "report::markdown::random",
+            "reduce::free",
+            "reduce::harmonic",
+            "reduce::random",
+            "orbits",
+            "sim::harmonic",
+            "sim::random",
+        ],
+    );
     assert_none(
         "a scene-independent module of the report imports a scene",
-        violations(
-            &sources,
-            &core,
-            &[
-                "report::charts::free",
-                "report::charts::harmonic",
-                "report::charts::random",
-                "report::markdown::harmonic",
-                "report::markdown::random",
-                "reduce::free",
-                "reduce::harmonic",
-                "reduce::random",
-                "orbits",
-                "sim::harmonic",
-                "sim::random",
-            ],
-        ),
+        v.into_iter()
+            .filter(|line| {
+                !siblings
+                    .iter()
+                    .any(|s| line.starts_with(&format!("{s} ->")))
+            })
+            .collect(),
     );
 }
 

@@ -103,6 +103,6 @@ pub(crate) fn write_outputs_with(
     let md = markdown::report_with(study, summary, &names, audit, &text);
     std::fs::write(&p, &md).with_context(|| format!("writing {}", p.display()))?;
     files.push(p);
-    files.push(html::write_report(&md, summary, &names, dir)?);
+    files.push(html::write_report(&md, summary, &names, dir, Vec::new())?);
     Ok(files)
 }

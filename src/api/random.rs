@@ -104,6 +104,12 @@ fn write_outputs(
     let md = markdown::report_with(study, summary, &names, None, &scene);
     std::fs::write(&p, &md).with_context(|| format!("writing {}", p.display()))?;
     files.push(p);
-    files.push(html::write_report(&md, summary, &names, dir)?);
+    files.push(html::write_report(
+        &md,
+        summary,
+        &names,
+        dir,
+        html::random::interactive(summary, rs),
+    )?);
     Ok(files)
 }

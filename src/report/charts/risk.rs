@@ -22,40 +22,24 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::common::interval::{Value, colour_span, log_span, short};
 use super::plumbing::{
     BLUE, Chart, Data, GREY, LEGEND_SHARE, Plot, SMALL, Scale, TITLE, cell_edges, clear_corner,
-    colour_bar, err, heat, map_chart, minmax, pad, render, series_legend, xy_chart,
+    colour_bar, err, heat, map_chart, minmax, render, series_legend, xy_chart,
 };
 use crate::reduce::Summary;
 use crate::reduce::random::RandomSummary;
 use crate::report::text::{axis_desc, axis_value};
 use crate::store::table::{Column, Table, axis_column};
 
-/// A design's number: its value and 95 % interval; `bound` when no run passed (the value is
-/// then the interval's upper end).
-#[derive(Clone, Copy, Debug)]
-struct Value {
-    v: f64,
-    lo: f64,
-    hi: f64,
-    bound: bool,
-}
-
-impl Value {
-    /// `log10` of what is drawn: the value, or the bound.
-    fn log(&self) -> f64 {
-        self.v.log10()
-    }
-}
-
 /// What the charts draw: the number's name and unit, and each design's value.
-struct Numbers {
+pub(crate) struct Numbers {
     /// `λ_f (per year)` or `p_f at Sa = 0.2 g`.
-    label: String,
+    pub label: String,
     /// For titles: `Annual rate of failure λ_f`.
-    what: String,
+    pub what: String,
     /// For the colour bar: `log10 λ_f`.
-    bar: String,
+    pub bar: String,
     values: Vec<(u64, Value)>,
 }
 
@@ -123,7 +107,8 @@ fn numbers(s: &Summary, rs: &RandomSummary) -> Numbers {
 }
 
 impl Numbers {
-    fn of(&self, design: u64) -> Option<Value> {
+    /// Design `design`'s number, if it has one.
+    pub fn of(&self, design: u64) -> Option<Value> {
         self.values
             .iter()
             .find(|(d, _)| *d == design)
@@ -159,86 +144,135 @@ impl Numbers {
     }
 }
 
+/// The risk charts of a load study: its numbers, the best design they go through, the
+/// structure without a damper's number and the swept design axes. The plotters charts here and
+/// the page's drawn ones ([`crate::report::html::random`]) are made from the same one.
+pub(crate) struct RiskCharts<'a> {
+    pub s: &'a Summary,
+    pub n: Numbers,
+    /// The best design: every profile and map is a slice through it.
+    pub anchor: u64,
+    /// The number of the structure without a damper (`m = 0`), drawn as a line.
+    pub bare: Option<Value>,
+    swept: Vec<usize>,
+}
+
+impl<'a> RiskCharts<'a> {
+    /// None without a threshold, a best design or a design with a number.
+    pub fn of(s: &'a Summary, rs: &RandomSummary) -> Option<RiskCharts<'a>> {
+        let (Some(_), Some(anchor)) = (rs.threshold, s.anchor()) else {
+            return None;
+        };
+        let n = numbers(s, rs);
+        if n.values.is_empty() {
+            return None;
+        }
+        let g = &s.grid;
+        let bare = s
+            .points
+            .iter()
+            .find(|p| g.without_damper(p.point))
+            .and_then(|p| n.of(p.point));
+        let swept = (0..g.n_axes()).filter(|&a| g.n(a) >= 2).collect();
+        Some(RiskCharts {
+            s,
+            n,
+            anchor,
+            bare,
+            swept,
+        })
+    }
+
+    /// The profiles: each swept axis, its chart's file stem and the designs along it through
+    /// the best design.
+    pub fn profiles(&self) -> Vec<(usize, String, Vec<u64>)> {
+        let g = &self.s.grid;
+        self.swept
+            .iter()
+            .map(|&a| {
+                (
+                    a,
+                    format!("risk_profile_{}", axis_column(g.key(a))),
+                    g.slice(self.anchor, &[a]),
+                )
+            })
+            .collect()
+    }
+
+    /// The maps: each pair of swept axes `(a, b)` (`a` up, `b` across), its chart's file stem
+    /// and the designs of the slice through the best design.
+    pub fn maps(&self) -> Vec<((usize, usize), String, Vec<u64>)> {
+        let g = &self.s.grid;
+        let mut out = Vec::new();
+        for (i, &a) in self.swept.iter().enumerate() {
+            for &b in &self.swept[i + 1..] {
+                out.push((
+                    (a, b),
+                    format!(
+                        "risk_map_{}_{}",
+                        axis_column(g.key(a)),
+                        axis_column(g.key(b))
+                    ),
+                    g.slice(self.anchor, &[a, b]),
+                ));
+            }
+        }
+        out
+    }
+}
+
 /// The risk profiles and maps of a load study (module doc), through the best design.
 pub fn charts(s: &Summary, rs: &RandomSummary, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let mut files = Vec::new();
-    let (Some(_), Some(anchor)) = (rs.threshold, s.anchor()) else {
+    let Some(rc) = RiskCharts::of(s, rs) else {
         return Ok(files);
     };
-    let n = numbers(s, rs);
-    if n.values.is_empty() {
-        return Ok(files);
-    }
-    let g = &s.grid;
-    let bare = s
-        .points
-        .iter()
-        .find(|p| g.without_damper(p.point))
-        .and_then(|p| n.of(p.point));
-    let swept: Vec<usize> = (0..g.n_axes()).filter(|&a| g.n(a) >= 2).collect();
-    for &a in &swept {
-        let designs = g.slice(anchor, &[a]);
+    let n = &rc.n;
+    for (axis, stem, designs) in rc.profiles() {
         let chart = ProfileChart {
             s,
-            n: &n,
-            axis: a,
+            n,
+            axis,
             designs: designs.clone(),
-            through: anchor,
-            bare,
+            through: rc.anchor,
+            bare: rc.bare,
         };
         files.extend(render(
             dir,
-            &format!("risk_profile_{}", axis_column(g.key(a))),
+            &stem,
             (1000, 560),
             &chart,
             &Data::Table(n.table(s, &designs)),
         )?);
     }
-    for (i, &a) in swept.iter().enumerate() {
-        for &b in &swept[i + 1..] {
-            let designs = g.slice(anchor, &[a, b]);
-            let chart = MapChart {
-                s,
-                n: &n,
-                a,
-                b,
-                designs: designs.clone(),
-                through: anchor,
-            };
-            files.extend(render(
-                dir,
-                &format!(
-                    "risk_map_{}_{}",
-                    axis_column(g.key(a)),
-                    axis_column(g.key(b))
-                ),
-                (1000, 700),
-                &chart,
-                &Data::Table(n.table(s, &designs)),
-            )?);
-        }
+    for ((a, b), stem, designs) in rc.maps() {
+        let chart = MapChart {
+            s,
+            n,
+            a,
+            b,
+            designs: designs.clone(),
+            through: rc.anchor,
+        };
+        files.extend(render(
+            dir,
+            &stem,
+            (1000, 700),
+            &chart,
+            &Data::Table(n.table(s, &designs)),
+        )?);
     }
     Ok(files)
 }
 
 /// The other axes' values of a slice through `through`: `m = 0.2 kg`.
-fn slice_text(s: &Summary, through: u64, shown: &[usize]) -> String {
+pub(crate) fn slice_text(s: &Summary, through: u64, shown: &[usize]) -> String {
     let g = &s.grid;
     (0..g.n_axes())
         .filter(|k| !shown.contains(k))
         .map(|k| axis_value(g.key(k), g.value(through, k)))
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-/// A value as a label, two significant digits: `0.011`, `0.43`, `3.4e-5`.
-fn short(v: f64) -> String {
-    if (1e-3..10.0).contains(&v) {
-        let digits = (1.0 - v.log10().floor()).max(0.0) as usize;
-        format!("{v:.digits$}")
-    } else {
-        format!("{v:.1e}")
-    }
 }
 
 struct ProfileChart<'a> {
@@ -248,31 +282,6 @@ struct ProfileChart<'a> {
     designs: Vec<u64>,
     through: u64,
     bare: Option<Value>,
-}
-
-/// Decades of the profile's axis below a number known only as a bound.
-const BOUND_DECADES: f64 = 1.0;
-
-/// The profile's `log10` axis: every drawn value, interval end and the bare structure's line,
-/// padded; at least 0.2 wide, and reaching [`BOUND_DECADES`] below a number known only as a
-/// bound (no run passed), which lies anywhere below it, so that what the bound leaves open
-/// shows.
-fn log_span(pts: &[(f64, Value)], bare: Option<Value>) -> (f64, f64) {
-    let values = || pts.iter().map(|(_, v)| v).chain(bare.iter());
-    let (y0, y1) = pts
-        .iter()
-        .flat_map(|(_, v)| [v.lo, v.hi, v.v])
-        .chain(bare.map(|b| b.v))
-        .filter(|v| *v > 0.0)
-        .map(f64::log10)
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
-            (a.min(y), b.max(y))
-        });
-    let open_below = values()
-        .filter(|v| v.bound && v.v > 0.0)
-        .map(|v| v.log() - BOUND_DECADES)
-        .fold(f64::INFINITY, f64::min);
-    pad(y0.min(open_below), y1.max(y0 + 0.2), 0.1)
 }
 
 /// Where a profile chart's points go: the swept values and their scale, the drawn designs'
@@ -460,28 +469,6 @@ impl Chart for ProfileChart<'_> {
     }
 }
 
-/// The map's colour span in `log10` of the number: the values' range `[l0, l1]`, widened about
-/// its middle to the median width of the cells' 95 % intervals when it is narrower, so that
-/// designs the estimates do not tell apart are not painted apart. Whether it was widened.
-fn colour_span(l0: f64, l1: f64, cells: &[(u64, Option<Value>)]) -> (f64, f64, bool) {
-    let mut widths: Vec<f64> = cells
-        .iter()
-        .filter_map(|c| c.1)
-        .filter(|v| !v.bound && v.lo > 0.0 && v.hi > v.lo)
-        .map(|v| v.hi.log10() - v.lo.log10())
-        .collect();
-    if widths.is_empty() || !l0.is_finite() || !l1.is_finite() {
-        return (l0, l1, false);
-    }
-    widths.sort_by(f64::total_cmp);
-    let w = widths[widths.len() / 2];
-    if l1 - l0 >= w {
-        return (l0, l1, false);
-    }
-    let mid = 0.5 * (l0 + l1);
-    (mid - 0.5 * w, mid + 0.5 * w, true)
-}
-
 /// A downward triangle (an upper bound: the value lies below), in pixels about its point.
 fn down() -> Polygon<(i32, i32)> {
     Polygon::new(vec![(-7, -6), (7, -6), (0, 7)], RED.filled())
@@ -646,30 +633,5 @@ impl Chart for MapChart<'_> {
             &format!("{l0:.2}"),
             &format!("{l1:.2}"),
         )
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn value(v: f64, lo: f64, hi: f64, bound: bool) -> Value {
-        Value { v, lo, hi, bound }
-    }
-
-    /// A design no run of which passed is drawn at its bound with the axis a decade below it;
-    /// estimates keep their own tight axis.
-    #[test]
-    fn a_bound_leaves_a_decade_open_below_it() {
-        let bound = value(0.018, 0.0, 0.018, true);
-        let (y0, y1) = log_span(&[(0.0, bound)], Some(bound));
-        assert!(y0 <= 0.018f64.log10() - BOUND_DECADES, "{y0}");
-        assert!(y1 > 0.018f64.log10(), "{y1}");
-        let estimate = value(0.02, 0.018, 0.022, false);
-        let (y0, y1) = log_span(&[(0.0, estimate)], None);
-        assert!(
-            y0 > 0.018f64.log10() - 0.05 && y1 < 0.022f64.log10() + 0.2,
-            "{y0} {y1}"
-        );
     }
 }

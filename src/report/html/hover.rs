@@ -20,7 +20,7 @@ pub fn hex(c: RGBColor) -> String {
 
 /// A number as an attribute value: Rust's shortest round-trip form, empty when not finite (the
 /// summary's empty cell; a page never shows `NaN`).
-fn num(v: f64) -> String {
+pub fn num(v: f64) -> String {
     if v.is_finite() {
         v.to_string()
     } else {

@@ -9,7 +9,8 @@
 //! The charts that can say which design a mark is are drawn here as SVG text, one element per
 //! design point with its summary values as `data-*` attributes and its hover text as `<title>`
 //! ([`hover`]): the zone and perfectibility maps ([`maps`]) and the design charts with the
-//! response's boxes ([`profile`]). The other charts (the frequency response, the small
+//! response's boxes ([`profile`]); a load study's risk profiles and maps ([`random`], drawn by [`numbers`]). The other
+//! charts (the frequency response, the small
 //! multiples, …) are the plotters SVGs of the run directory, inlined. Clicking a row of the
 //! zones table highlights that zone's cells and points; the page's script also shows the hover
 //! text beside the pointer at once (a browser shows a `<title>` only after a pause).
@@ -18,7 +19,9 @@ pub mod hover;
 pub mod index;
 pub mod maps;
 pub mod markdown;
+pub mod numbers;
 pub mod profile;
+pub mod random;
 
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -145,9 +148,17 @@ fn inline_svg(dir: &Path, file: &str) -> anyhow::Result<String> {
 }
 
 /// The page of a reduction: `md` is `report.md`'s text, `charts` the chart files it names
-/// (relative to `dir`, the run directory, where the plotters SVGs are read from).
-pub fn report(md: &str, s: &Summary, charts: &[String], dir: &Path) -> anyhow::Result<String> {
-    let drawn = interactive(s);
+/// (relative to `dir`, the run directory, where the plotters SVGs are read from), `scene` the
+/// X.
+pub fn report(
+    md: &str,
+    s: &Summary,
+    charts: &[String],
+    dir: &Path,
+    scene: Vec<(String, String)>,
+) -> anyhow::Result<String> {
+    let mut drawn = interactive(s);
+    drawn.extend(scene);
     let zones: Vec<String> = s.zones.iter().map(|z| z.name.clone()).collect();
     let mut figure = |file: &str| -> anyhow::Result<String> {
         let stem = file.strip_suffix(".svg").unwrap_or(file);
@@ -183,10 +194,16 @@ pub fn report(md: &str, s: &Summary, charts: &[String], dir: &Path) -> anyhow::R
         .filter(|_| s.recommended.is_none())
         .map(|p| crate::report::markdown::design_text(s, p))
         .unwrap_or_default();
-    let thumbnail = charts
-        .iter()
-        .find(|c| c.starts_with("design_chart") && c.ends_with(".png"))
-        .or_else(|| charts.iter().find(|c| c.ends_with(".png")))
+    // The chart a study is chosen by: its design chart, or a load study's risk map or profile.
+    let png = |stem: &str| {
+        charts
+            .iter()
+            .find(|c| c.starts_with(stem) && c.ends_with(".png"))
+    };
+    let thumbnail = png("design_chart")
+        .or_else(|| png("risk_map"))
+        .or_else(|| png("risk_profile"))
+        .or_else(|| png(""))
         .cloned()
         .unwrap_or_default();
     let mut o = String::new();
@@ -222,14 +239,15 @@ fn nav(md: &str) -> String {
     o
 }
 
-/// Writes `dir/report.html`; returns its path.
+/// Writes `dir/report.html` ([`report`]); returns its path.
 pub fn write_report(
     md: &str,
     s: &Summary,
     charts: &[String],
     dir: &Path,
+    scene: Vec<(String, String)>,
 ) -> anyhow::Result<PathBuf> {
-    let page = report(md, s, charts, dir)?;
+    let page = report(md, s, charts, dir, scene)?;
     let path = dir.join("report.html");
     std::fs::write(&path, page).with_context(|| format!("writing {}", path.display()))?;
     Ok(path)

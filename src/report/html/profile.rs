@@ -15,12 +15,14 @@ use crate::report::charts::plumbing::{Profile, cell_edges, minmax, pad, zone_col
 use crate::report::text::{axis_desc, axis_value, fmt_num};
 use crate::store::table::axis_column;
 
-const W: f64 = 760.0;
-const LEFT: f64 = 90.0;
-const RIGHT: f64 = 20.0;
+/// The chart's width, its left and right margins and the plot's top (px); the risk charts
+/// ([`super::numbers`]) share them.
+pub(super) const W: f64 = 760.0;
+pub(super) const LEFT: f64 = 90.0;
+pub(super) const RIGHT: f64 = 20.0;
+pub(super) const TOP: f64 = 22.0;
 const PANEL: f64 = 150.0;
 const GAP: f64 = 34.0;
-const TOP: f64 = 22.0;
 
 /// What a jump is, for its hover text: `kink of xmax along e at 0.8099 ± 7.8e-5`.
 pub fn jump_text(s: &Summary, j: &Jump) -> String {
@@ -105,7 +107,12 @@ pub fn design_svg(pr: &Profile) -> String {
         o += &point(s, p, xc, half, &panels);
     }
     o += &marks(pr, &x);
-    o += &x_axis(pr, &x, TOP + 3.0 * PANEL + 2.0 * GAP);
+    o += &x_axis(
+        &pr.xs,
+        &x,
+        TOP + 3.0 * PANEL + 2.0 * GAP,
+        &pr.scale.desc(&axis_desc(pr.key())),
+    );
     o.push_str("</svg>\n");
     o
 }
@@ -265,12 +272,13 @@ fn short(v: f64) -> String {
     fmt_num(format!("{v:.digits$}").parse().unwrap_or(v))
 }
 
-/// The swept axis: ticks at about ten of its values and its description.
-fn x_axis(pr: &Profile, x: &dyn Fn(f64) -> f64, bottom: f64) -> String {
-    let n = pr.xs.len();
+/// The swept axis under a chart whose plot ends at `bottom`: ticks at about ten of its values
+/// `xs` (placed by `x`) and its description `desc`.
+pub(super) fn x_axis(xs: &[f64], x: &dyn Fn(f64) -> f64, bottom: f64, desc: &str) -> String {
+    let n = xs.len();
     let every = n.div_ceil(10).max(1);
     let mut o = String::new();
-    for (i, &v) in pr.xs.iter().enumerate() {
+    for (i, &v) in xs.iter().enumerate() {
         if i % every == 0 || i + 1 == n {
             let _ = writeln!(
                 o,
@@ -286,7 +294,7 @@ fn x_axis(pr: &Profile, x: &dyn Fn(f64) -> f64, bottom: f64) -> String {
         "<text class=\"desc\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
         LEFT + (W - LEFT - RIGHT) / 2.0,
         bottom + 40.0,
-        esc(&pr.scale.desc(&axis_desc(pr.key())))
+        esc(desc)
     );
     o
 }

@@ -5,6 +5,7 @@
 
 pub mod design;
 pub mod di;
+pub mod interval;
 pub mod map;
 pub mod multiples;
 pub mod spread;
