@@ -28,6 +28,8 @@ const PANEL: f64 = 280.0;
 const BOTTOM: f64 = 56.0;
 /// The map's cells: square-ish, the map between 160 and 460 px high.
 const CELL_MAX: f64 = 80.0;
+/// The narrowest cell labelled with its number (`< 0.018`: 7 characters).
+const LABEL_WIDTH: f64 = 50.0;
 
 /// What a chart of one number per design draws.
 pub struct NumberChart<'a> {
@@ -174,7 +176,9 @@ impl NumberChart<'_> {
                 ),
             );
             o.push_str("</rect>\n");
-            if let Some(v) = v {
+            // A label only where it fits (about 7 px a character at 12 px); hovering the cell
+            // says the number anyway.
+            if let Some(v) = v.filter(|_| cw >= LABEL_WIDTH && ch >= 16.0) {
                 let dark = shade(&v, (l0, l1)) <= 0.55;
                 let _ = writeln!(
                     o,
@@ -370,7 +374,62 @@ fn shade(v: &Value, (l0, l1): (f64, f64)) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::nice_step;
+    use super::*;
+    use crate::reduce::testing;
+
+    /// Every design of a map or a profile is one element, opened by the scene's `open`; the
+    /// anchor is outlined once; a cell carries its number where the label fits, and a number
+    /// known only as a bound reads `< `.
+    #[test]
+    fn one_element_per_design_and_labels_only_where_they_fit() {
+        let chart_of = |m: Vec<f64>, d: Vec<f64>, check: &dyn Fn(&NumberChart, usize)| {
+            let study = testing::study(vec![("m", m), ("d", d)], 1);
+            let s = testing::reduce_simulated(&study);
+            let value = |p: u64| {
+                (p > 0).then_some(Value {
+                    v: 1e-3 * (p + 1) as f64,
+                    lo: 5e-4 * (p + 1) as f64,
+                    hi: 2e-3 * (p + 1) as f64,
+                    bound: p == 1,
+                })
+            };
+            let open = |p: &PointStats, tag: &str, attrs: &str| {
+                format!("<{tag}{attrs} data-point=\"{}\"><title>t</title>", p.point)
+            };
+            let chart = NumberChart {
+                s: &s,
+                kind: "risk",
+                label: "log10 p_f",
+                bar: "log10 p_f",
+                anchor: 2,
+                bare: None,
+                value: &value,
+                open: &open,
+            };
+            check(&chart, s.points.len());
+        };
+        // 2 x 2 designs: 325-px cells, every number labelled (design 0 has none).
+        chart_of(vec![0.05, 0.1], vec![0.01, 0.02], &|c, n| {
+            let all: Vec<u64> = (0..n as u64).collect();
+            let map = c.map_svg((0, 1), &all);
+            assert_eq!(map.matches("<rect class=\"cell\"").count(), 4);
+            assert_eq!(map.matches(" data-point=").count(), 4);
+            assert_eq!(map.matches("<rect class=\"anchor\"").count(), 1);
+            assert_eq!(map.matches("class=\"cell-value").count(), 3);
+            assert!(map.contains(">&lt; 0.0020</text>"), "{map}");
+            let profile = c.profile_svg(1, &[2, 3]);
+            assert_eq!(profile.matches("<g class=\"pt\"").count(), 2);
+            assert_eq!(profile.matches("<circle class=\"r\"").count(), 2);
+        });
+        // 2 x 20 designs: 32-px cells, too narrow for a label; still one cell each.
+        let d: Vec<f64> = (1..=20).map(|k| 0.001 * k as f64).collect();
+        chart_of(vec![0.05, 0.1], d, &|c, n| {
+            let all: Vec<u64> = (0..n as u64).collect();
+            let map = c.map_svg((0, 1), &all);
+            assert_eq!(map.matches("<rect class=\"cell\"").count(), 40);
+            assert_eq!(map.matches("class=\"cell-value").count(), 0);
+        });
+    }
 
     #[test]
     fn tick_steps_are_one_two_or_five_times_a_power_of_ten() {
