@@ -383,7 +383,9 @@ def negative(drv, root):
         ),
         "a hover value off summary.parquet": lambda r: edit(
             r / victim / "report.html",
-            lambda t: re.sub(r'data-reliability="([0-9.]+)"', lambda m: f'data-reliability="{float(m.group(1)) / 2}"', t, count=1),
+            # R on a laboratory page, p_f on a load study's (whose R is empty).
+            lambda t: re.sub(r'data-(reliability|p_f)="([0-9.]+)"',
+                             lambda m: f'data-{m.group(1)}="{float(m.group(2)) / 2}"', t, count=1),
         ),
     }
     caught = {}
