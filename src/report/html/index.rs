@@ -1,9 +1,9 @@
 //! `OUT/index.html`: one page for an output root, one row per study: its state, runs, wall
-//! time, the recommended design, a thumbnail of its design chart and a link to its
-//! `report.html`. The command layer says what each run directory holds ([`Row`]); the
-//! recommended design and the thumbnail are read back from the study's `report.html` (its
-//! `<meta>` lines, [`super::META_RECOMMENDED`]). Links and images are relative to the root, so
-//! the page works from a copy of the whole output root.
+//! time, the recommended design, a thumbnail of the chart it is chosen by (its design chart, a
+//! load study's risk map) and a link to its `report.html`. The command layer says what each run
+//! directory holds ([`Row`]); the recommended design and the thumbnail are read back from the
+//! study's `report.html` (its `<meta>` lines, [`super::META_RECOMMENDED`]). Links and images
+//! are relative to the root, so the page works from a copy of the whole output root.
 
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -117,7 +117,7 @@ pub fn page(root: &Path, rows: &[Row]) -> String {
             format!("{} studies", rows.len())
         }
     );
-    o.push_str("<div class=\"table\"><table class=\"index\">\n<thead><tr><th>study</th><th>state</th><th>runs</th><th>wall time</th><th>recommended design</th><th>design chart</th><th>report</th></tr></thead>\n<tbody>\n");
+    o.push_str("<div class=\"table\"><table class=\"index\">\n<thead><tr><th>study</th><th>state</th><th>runs</th><th>wall time</th><th>recommended design</th><th>chart</th><th>report</th></tr></thead>\n<tbody>\n");
     for r in rows {
         o += &row(root, r);
     }
@@ -175,7 +175,7 @@ fn row(root: &Path, r: &Row) -> String {
         o,
         "<td>{}</td>",
         thumbnail.map_or("–".to_string(), |t| link(&format!(
-            "<img src=\"{name}/{}\" alt=\"{name}: design chart\" loading=\"lazy\">",
+            "<img src=\"{name}/{}\" alt=\"{name}: the chart it is chosen by\" loading=\"lazy\">",
             esc(&t)
         )))
     );
