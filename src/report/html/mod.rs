@@ -9,9 +9,9 @@
 //! The charts that can say which design a mark is are drawn here as SVG text, one element per
 //! design point with its summary values as `data-*` attributes and its hover text as `<title>`
 //! ([`hover`]): the zone and perfectibility maps ([`maps`]) and the design charts with the
-//! response's boxes ([`profile`]); a load study's risk profiles and maps ([`random`], drawn by [`numbers`]). The other
-//! charts (the frequency response, the small
-//! multiples, …) are the plotters SVGs of the run directory, inlined. Clicking a row of the
+//! response's boxes ([`profile`]); a load study's risk profiles and maps ([`random`], the
+//! page's scene sibling, drawn by [`numbers`]). The other charts (the frequency response, the
+//! small multiples, …) are the plotters SVGs of the run directory, inlined. Clicking a row of the
 //! zones table highlights that zone's cells and points; the page's script also shows the hover
 //! text beside the pointer at once (a browser shows a `<title>` only after a pause).
 
@@ -149,7 +149,8 @@ fn inline_svg(dir: &Path, file: &str) -> anyhow::Result<String> {
 
 /// The page of a reduction: `md` is `report.md`'s text, `charts` the chart files it names
 /// (relative to `dir`, the run directory, where the plotters SVGs are read from), `scene` the
-/// X.
+/// scene's own drawn charts by the file name of the plotters SVG each stands for
+/// ([`random::interactive`]; none for the other scenes).
 pub fn report(
     md: &str,
     s: &Summary,
