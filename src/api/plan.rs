@@ -22,6 +22,8 @@ use crate::orbits::race::{Serves, race};
 use crate::orbits::several::{NO_RUN, UnitsRun, census_run_units, race_runs};
 use crate::plan::Plan;
 use crate::reduce::harmonic::verify::MOST;
+use crate::reduce::random::design_study;
+use crate::reduce::random::subset::{MAX_SUBSET_RUNS, SUBSET_BELOW};
 use crate::report::text::{count, thousands};
 use crate::sim::harmonic::LifeCurve;
 use crate::sim::{self, Drive, Harmonic, NoProbe, Scene};
@@ -371,6 +373,7 @@ pub fn describe(study: &Study, out: &Path, threads: usize, sample: Option<Sample
         && sm.runs > 0
     {
         describe_time(w, study, &plan, threads, sm);
+        describe_subset(w, study, sm.seconds / sm.runs as f64, threads);
     }
     describe_disk(w, study, &plan, sample);
     s
@@ -545,6 +548,38 @@ fn describe_time(w: &mut String, study: &Study, plan: &Plan, threads: usize, sm:
             fmt_duration(per_case)
         );
     }
+}
+
+/// A random study's reduction by default estimates `p_f` by subset simulation for each design
+/// whose realizations passed the threshold fewer than [`SUBSET_BELOW`] times (at the design
+/// intensity): at most [`MAX_SUBSET_RUNS`] runs a design, which can outnumber the sweep's own.
+/// Its bound in runs and in time at the sample's cost per run (`per_run`, s), on `threads`.
+/// Nothing for a record suite (it draws no normals) or without a threshold.
+fn describe_subset(w: &mut String, study: &Study, per_run: f64, threads: usize) {
+    let Some(r) = study.scene.random() else {
+        return;
+    };
+    if r.threshold.is_none() || !r.draws_normals() {
+        return;
+    }
+    let designs: usize = design_study(study)
+        .axes
+        .iter()
+        .map(|a| a.values.len())
+        .product();
+    let most = designs * MAX_SUBSET_RUNS;
+    let _ = writeln!(
+        w,
+        "subset:         `reduce` estimates p_f by subset simulation for each design whose \
+         realizations pass the threshold fewer than {SUBSET_BELOW} times at the design \
+         intensity: up to {} runs a design, {} for {}, about {} on {} at the sample's cost \
+         (`reduce --subset 0`: none)",
+        thousands(MAX_SUBSET_RUNS as u64),
+        count(most as u64, "run", "runs"),
+        count(designs as u64, "design", "designs"),
+        fmt_duration(most as f64 * per_run / threads.max(1) as f64),
+        count(threads.max(1) as u64, "thread", "threads")
+    );
 }
 
 /// The time estimate's words for a perturbed case's race (its peak alone), empty without one.
@@ -977,6 +1012,38 @@ mod tests {
             ),
             "{line}"
         );
+    }
+
+    /// A random study's plan bounds what `reduce`'s subset simulation may add: 10,000 runs a
+    /// design at the sample's cost (2 x 3 designs, 100 us a run, 2 threads: 60,000 runs,
+    /// 3.0 s); a record suite draws no normals and gets no such line.
+    #[test]
+    fn a_random_plan_bounds_the_subset_simulation_reduce_may_run() {
+        let text = "[study]\nname = \"s\"\n[scene]\nkind = \"random\"\ninput = \"base\"\n\
+                    spectrum = \"kanai-tajimi\"\nomega_g = 15.708\nzeta_g = 0.6\nduration = 20\n\
+                    threshold = 0.05\nS0 = 1e-3\nrealizations = 200\n[sweep]\nm = [0.0, 0.02]\n\
+                    d = [0.01, 0.02, 0.04]\n";
+        let sample = Sample {
+            runs: 100,
+            seconds: 0.01,
+            steady_states: 0,
+            race_seconds: 0.0,
+            race_periods: 0,
+            peak_seconds: 0.0,
+            whole_seconds: 0.0,
+        };
+        let (out, _) = estimate_line(text, sample);
+        let line = out.lines().find(|l| l.starts_with("subset:")).unwrap();
+        assert!(
+            line.contains(
+                "up to 10,000 runs a design, 60,000 runs for 6 designs, about 3.0 s on 2 threads"
+            ),
+            "{line}"
+        );
+        let path = Path::new("configs/seismic-records.toml");
+        let study = Study::parse(path, &std::fs::read_to_string(path).unwrap()).unwrap();
+        let out = describe(&study, Path::new("out"), 2, Some(sample));
+        assert!(!out.contains("subset:"), "{out}");
     }
 
     #[test]
