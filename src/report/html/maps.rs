@@ -10,6 +10,7 @@ use std::fmt::Write;
 use super::hover::{data, hex, title_element};
 use super::markdown::esc;
 use crate::reduce::PointStats;
+use crate::reduce::common::Grid;
 use crate::report::charts::common::map::{MapChart, MapKind};
 use crate::report::charts::plumbing::{heat, minmax, zone_color};
 use crate::report::markdown::f;
@@ -21,29 +22,32 @@ const LEFT: f64 = 90.0;
 const TOP: f64 = 12.0;
 const RIGHT: f64 = 20.0;
 const BOTTOM: f64 = 60.0;
+/// The zone and perfectibility maps' tallest cell (px).
+const CELL_TALL: f64 = 34.0;
 
-/// Cell geometry: axis `a` vertical (its first value at the bottom), `b` horizontal.
-struct Frame {
+/// Cell geometry: axis `a` vertical (its first value at the bottom), `b` horizontal; the risk
+/// maps' too ([`super::numbers`]).
+pub(super) struct Frame {
     na: usize,
     nb: usize,
-    cw: f64,
-    ch: f64,
+    pub cw: f64,
+    pub ch: f64,
 }
 
 impl Frame {
-    fn new(na: usize, nb: usize) -> Frame {
+    /// Square-ish cells at most `tall` px high, the map between 160 and 460 px high.
+    pub fn new(na: usize, nb: usize, tall: f64) -> Frame {
         let cw = (W - LEFT - RIGHT) / nb as f64;
-        // Square-ish cells, the map between 160 and 460 px high.
-        let ch = (cw.min(34.0) * na as f64).clamp(160.0, 460.0) / na as f64;
+        let ch = (cw.min(tall) * na as f64).clamp(160.0, 460.0) / na as f64;
         Frame { na, nb, cw, ch }
     }
 
-    fn height(&self) -> f64 {
+    pub fn height(&self) -> f64 {
         TOP + self.ch * self.na as f64 + BOTTOM
     }
 
     /// Top-left corner of cell `(ia, ib)`.
-    fn at(&self, ia: usize, ib: usize) -> (f64, f64) {
+    pub fn at(&self, ia: usize, ib: usize) -> (f64, f64) {
         (
             LEFT + ib as f64 * self.cw,
             TOP + (self.na - 1 - ia) as f64 * self.ch,
@@ -62,7 +66,7 @@ pub fn map_svg(chart: &MapChart) -> String {
     let s = chart.s;
     let g = &s.grid;
     let (a, b) = (chart.a, chart.b);
-    let fr = Frame::new(g.n(a), g.n(b));
+    let fr = Frame::new(g.n(a), g.n(b), CELL_TALL);
     let h = fr.height();
     let points = chart.points();
     let kind = match chart.kind {
@@ -121,15 +125,13 @@ pub fn map_svg(chart: &MapChart) -> String {
             fr.ch + 3.0
         );
     }
-    o += &axes(chart, &fr);
+    o += &axes(g, (chart.a, chart.b), &fr);
     o.push_str("</svg>\n");
     o
 }
 
 /// Axis ticks, values and descriptions.
-fn axes(chart: &MapChart, fr: &Frame) -> String {
-    let g = &chart.s.grid;
-    let (a, b) = (chart.a, chart.b);
+pub(super) fn axes(g: &Grid, (a, b): (usize, usize), fr: &Frame) -> String {
     let bottom = TOP + fr.ch * fr.na as f64;
     let mut o = format!(
         "<rect class=\"frame\" x=\"{LEFT}\" y=\"{TOP}\" width=\"{:.2}\" height=\"{:.2}\"/>\n",

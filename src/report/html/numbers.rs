@@ -14,6 +14,7 @@
 use std::fmt::Write;
 
 use super::hover::hex;
+use super::maps::{Frame, axes};
 use super::markdown::esc;
 use super::profile::{LEFT, RIGHT, TOP, W, x_axis};
 use crate::reduce::{PointStats, Summary};
@@ -26,8 +27,8 @@ use crate::store::table::axis_column;
 const PANEL: f64 = 280.0;
 /// Below the plot: the ticks and the axis' description.
 const BOTTOM: f64 = 56.0;
-/// The map's cells: square-ish, the map between 160 and 460 px high.
-const CELL_MAX: f64 = 80.0;
+/// The map's tallest cell (px): a risk map has few designs, each labelled with its number.
+const CELL_TALL: f64 = 80.0;
 /// The narrowest cell labelled with its number (`< 0.018`: 7 characters).
 const LABEL_WIDTH: f64 = 50.0;
 
@@ -145,16 +146,10 @@ impl NumberChart<'_> {
     pub fn map_svg(&self, (a, b): (usize, usize), designs: &[u64]) -> String {
         let s = self.s;
         let g = &s.grid;
-        let (na, nb) = (g.n(a), g.n(b));
-        let cw = (W - LEFT - RIGHT) / nb as f64;
-        let ch = (cw.min(CELL_MAX) * na as f64).clamp(160.0, 460.0) / na as f64;
-        let at = |d: u64| {
-            (
-                LEFT + g.index(d, b) as f64 * cw,
-                TOP + (na - 1 - g.index(d, a)) as f64 * ch,
-            )
-        };
-        let h = TOP + ch * na as f64 + BOTTOM;
+        let fr = Frame::new(g.n(a), g.n(b), CELL_TALL);
+        let (cw, ch) = (fr.cw, fr.ch);
+        let at = |d: u64| fr.at(g.index(d, a), g.index(d, b));
+        let h = fr.height();
         let (l0, l1, _) = self.span(designs);
         let mut o = format!(
             "<svg class=\"map\" data-kind=\"{}\" data-axes=\"{} {}\" data-cells=\"{}\" viewBox=\"0 0 {W} {h}\" width=\"{W}\" height=\"{h}\" xmlns=\"http://www.w3.org/2000/svg\" role=\"img\">\n",
@@ -200,53 +195,8 @@ impl NumberChart<'_> {
             cw - 3.0,
             ch - 3.0
         );
-        o += &self.map_axes((a, b), (cw, ch));
+        o += &axes(g, (a, b), &fr);
         o.push_str("</svg>\n");
-        o
-    }
-
-    /// The map's frame, ticks at about ten values of each axis, and the axes' descriptions.
-    fn map_axes(&self, (a, b): (usize, usize), (cw, ch): (f64, f64)) -> String {
-        let g = &self.s.grid;
-        let (na, nb) = (g.n(a), g.n(b));
-        let bottom = TOP + ch * na as f64;
-        let mut o = format!(
-            "<rect class=\"frame\" x=\"{LEFT}\" y=\"{TOP}\" width=\"{:.2}\" height=\"{:.2}\"/>\n",
-            cw * nb as f64,
-            ch * na as f64
-        );
-        let every = |n: usize| n.div_ceil(10).max(1);
-        for ib in (0..nb).filter(|i| i % every(nb) == 0 || *i == nb - 1) {
-            let _ = writeln!(
-                o,
-                "<text class=\"tick\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
-                LEFT + (ib as f64 + 0.5) * cw,
-                bottom + 16.0,
-                fmt_num(g.axes[b].1[ib])
-            );
-        }
-        for ia in (0..na).filter(|i| i % every(na) == 0 || *i == na - 1) {
-            let _ = writeln!(
-                o,
-                "<text class=\"tick\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>",
-                LEFT - 6.0,
-                TOP + (na - 1 - ia) as f64 * ch + ch / 2.0 + 4.0,
-                fmt_num(g.axes[a].1[ia])
-            );
-        }
-        let _ = writeln!(
-            o,
-            "<text class=\"desc\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
-            LEFT + cw * nb as f64 / 2.0,
-            bottom + 40.0,
-            esc(&axis_desc(g.key(b)))
-        );
-        let _ = writeln!(
-            o,
-            "<text class=\"desc\" transform=\"translate(16 {:.2}) rotate(-90)\" text-anchor=\"middle\">{}</text>",
-            TOP + ch * na as f64 / 2.0,
-            esc(&axis_desc(g.key(a)))
-        );
         o
     }
 

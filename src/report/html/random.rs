@@ -100,7 +100,13 @@ fn value_text(v: &Value) -> String {
 }
 
 /// The hover text of a design of a risk chart, one fact a line.
-fn title(rc: &RiskCharts, rs: &RandomSummary, p: &PointStats) -> String {
+/// `pf`: its `p_f` at the design intensity with its interval ([`RandomSummary::design_pf`]).
+fn title(
+    rc: &RiskCharts,
+    rs: &RandomSummary,
+    p: &PointStats,
+    pf: Option<(f64, f64, f64)>,
+) -> String {
     let s = rc.s;
     let mut o = format!("{} (design point {})", design_text(s, p.point), p.point);
     if p.point == rc.anchor {
@@ -117,20 +123,19 @@ fn title(rc: &RiskCharts, rs: &RandomSummary, p: &PointStats) -> String {
             let _ = write!(o, "\n{}: none", rc.n.what);
         }
     }
-    if rs.hazard.is_some() {
-        let lens: Vec<usize> = (0..s.grid.n_axes()).map(|a| s.grid.n(a)).collect();
-        if let Some((v, lo, hi)) = rs.design_pf(p.point, &lens) {
-            let at = rs.intensity.as_ref().map_or(String::new(), |i| {
-                format!(" at {}", axis_value(&i.key, i.values[i.design]))
-            });
-            let _ = write!(
-                o,
-                "\np_f{at}: {} (95 % interval {} – {})",
-                short_or_zero(v),
-                short_or_zero(lo),
-                short_or_zero(hi)
-            );
-        }
+    if rs.hazard.is_some()
+        && let Some((v, lo, hi)) = pf
+    {
+        let at = rs.intensity.as_ref().map_or(String::new(), |i| {
+            format!(" at {}", axis_value(&i.key, i.values[i.design]))
+        });
+        let _ = write!(
+            o,
+            "\np_f{at}: {} (95 % interval {} – {})",
+            short_or_zero(v),
+            short_or_zero(lo),
+            short_or_zero(hi)
+        );
     }
     let r = &s.options.response;
     let _ = write!(
@@ -176,7 +181,8 @@ fn open(rc: &RiskCharts, rs: &RandomSummary, p: &PointStats, tag: &str, attrs: &
             let _ = write!(risk, " data-{name}{suffix}=\"{}\"", num(x));
         }
     };
-    if let Some(pf) = rs.design_pf(p.point, &lens) {
+    let pf = rs.design_pf(p.point, &lens);
+    if let Some(pf) = pf {
         put("p_f", pf);
     }
     if rs.hazard.is_some() {
@@ -189,6 +195,6 @@ fn open(rc: &RiskCharts, rs: &RandomSummary, p: &PointStats, tag: &str, attrs: &
     format!(
         "<{tag}{attrs}{}{risk}><title>{}</title>",
         data(s, p),
-        esc(&title(rc, rs, p))
+        esc(&title(rc, rs, p, pf))
     )
 }
