@@ -29,6 +29,7 @@ import pyarrow.parquet as pq
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.actions.action_builder import ActionBuilder
 from selenium.webdriver.common.by import By
 
 CHROMEDRIVER = os.environ.get("CHROMEDRIVER", "/usr/bin/chromedriver")
@@ -252,17 +253,27 @@ def forced_hovers(drv, page):
             continue
         el = els[len(els) // 2]
         drv.execute_script("arguments[0].scrollIntoView({block: 'center'})", el)
-        ActionChains(drv).move_to_element(el).perform()
         # Targets of neighbouring curves can overlap: the one under the pointer is the one
-        # whose text must show.
-        want = drv.execute_script(
+        # whose text must show. The pointer goes to a whole pixel near the target's centre and
+        # the page is asked what lies under that same pixel (Selenium's own centre of an SVG
+        # element can be half a pixel off the bounding box's, and on the neighbour there).
+        x, y = drv.execute_script(
             """
             const r = arguments[0].getBoundingClientRect();
-            const top = document.elementFromPoint(r.x + r.width / 2, r.y + r.height / 2);
+            return [Math.floor(r.x + r.width / 2), Math.floor(r.y + r.height / 2)];""",
+            el,
+        )
+        pointer = ActionBuilder(drv)
+        pointer.pointer_action.move_to_location(x, y)
+        pointer.perform()
+        want = drv.execute_script(
+            """
+            const top = document.elementFromPoint(arguments[0], arguments[1]);
             const t = top && top.closest('[data-hover]');
             const title = t && t.querySelector(':scope > title');
             return title ? title.textContent : null;""",
-            el,
+            x,
+            y,
         )
         tip = drv.find_element(By.ID, "tip")
         if want is None or not tip.is_displayed() or tip.get_attribute("textContent") != want:
