@@ -3,6 +3,7 @@
 
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use crate::report::charts::plumbing::{
@@ -72,29 +73,47 @@ const KINK: RGBColor = RGBColor(230, 120, 0);
 
 /// Legend keys for the kinds of jumps on the profile, for charts with legend rows.
 pub fn jump_keys(pr: &Profile) -> Vec<(Key, String)> {
-    let mut out = Vec::new();
-    for kind in [JumpKind::Step, JumpKind::Kink] {
-        let mut names: Vec<&str> = pr
-            .jumps
-            .iter()
+    [JumpKind::Step, JumpKind::Kink]
+        .into_iter()
+        .filter_map(|kind| {
+            let names = quantities(pr, pr.jumps.iter().copied(), kind)?;
+            let key = match kind {
+                JumpKind::Step => Key::Line(STEP),
+                JumpKind::Kink => Key::Dashed(KINK),
+            };
+            Some((key, format!("{} of {names}", kind.name())))
+        })
+        .collect()
+}
+
+/// The quantities with a jump of `kind` among `jumps` ([`distinct`]); `None` when there is none.
+/// One line colour stands for a kind, so its legend entry names every quantity it marks.
+fn quantities<'a>(
+    pr: &Profile,
+    jumps: impl Iterator<Item = &'a crate::reduce::Jump>,
+    kind: JumpKind,
+) -> Option<String> {
+    distinct(
+        jumps
             .filter(|j| j.kind == kind)
-            .map(|j| quantity_of(pr.s, j.quantity).0)
-            .collect();
-        names.dedup();
-        if names.is_empty() {
-            continue;
+            .map(|j| quantity_of(pr.s, j.quantity).0),
+    )
+}
+
+/// `names` each once, in the order they first appear, joined ("DI, xmax"); `None` for none.
+fn distinct<'a>(names: impl Iterator<Item = &'a str>) -> Option<String> {
+    let mut out: Vec<&str> = Vec::new();
+    for name in names {
+        if !out.contains(&name) {
+            out.push(name);
         }
-        let key = match kind {
-            JumpKind::Step => Key::Line(STEP),
-            JumpKind::Kink => Key::Dashed(KINK),
-        };
-        out.push((key, format!("{} of {}", kind.name(), names.join(", "))));
     }
-    out
+    (!out.is_empty()).then(|| out.join(", "))
 }
 
 /// Vertical lines at the jumps of the profile (the largest [`MAX_JUMP_LINES`] by size relative
-/// to their kind's largest), steps solid, kinks dashed, one legend entry per kind and quantity.
+/// to their kind's largest), steps solid, kinks dashed, one legend entry per kind naming every
+/// quantity it marks.
 pub fn jump_lines<'a, DB: DrawingBackend + 'a>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
     pr: &Profile,
@@ -108,10 +127,9 @@ where
     jumps.sort_by(|a, b| b.size.abs().total_cmp(&a.size.abs()));
     jumps.truncate(MAX_JUMP_LINES);
     jumps.sort_by(|a, b| a.location.total_cmp(&b.location));
-    let mut seen: Vec<(JumpKind, crate::reduce::Quantity)> = Vec::new();
-    for j in jumps {
+    let mut labelled: Vec<JumpKind> = Vec::new();
+    for j in &jumps {
         let x = pr.at_x(j.location);
-        let (name, _) = quantity_of(pr.s, j.quantity);
         let color = match j.kind {
             JumpKind::Step => STEP.mix(0.8),
             JumpKind::Kink => KINK.mix(0.9),
@@ -128,18 +146,40 @@ where
                 .draw_series(DashedLineSeries::new([(x, y0), (x, y1)], 6, 4, style))
                 .map_err(err)?,
         };
-        if !seen.contains(&(j.kind, j.quantity)) {
-            seen.push((j.kind, j.quantity));
-            let text = format!("{} of {name} (located)", j.kind.name());
-            let text = if n > MAX_JUMP_LINES {
-                format!("{text}; {MAX_JUMP_LINES} largest of {n} jumps")
-            } else {
-                text
-            };
-            series
-                .label(text)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style));
+        if labelled.contains(&j.kind) {
+            continue;
         }
+        labelled.push(j.kind);
+        let names = quantities(pr, jumps.iter().copied(), j.kind).unwrap_or_default();
+        let text = format!("{} of {names} (located)", j.kind.name());
+        let text = if n > MAX_JUMP_LINES {
+            format!("{text}; {MAX_JUMP_LINES} largest of {n} jumps")
+        } else {
+            text
+        };
+        // The key drawn as the line is: solid for a step, dashed for a kink.
+        let (dash, gap) = match j.kind {
+            JumpKind::Step => (18, 1),
+            JumpKind::Kink => (6, 4),
+        };
+        series.label(text).legend(move |(x, y)| {
+            DashedPathElement::new(vec![(x, y), (x + 18, y)], dash, gap, style)
+        });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::distinct;
+
+    #[test]
+    fn a_kinds_legend_names_each_quantity_once_in_order() {
+        // Jumps along the line alternate between the quantities: each is named once (a
+        // `dedup` of neighbours named DI twice).
+        let names = ["DI", "xmax", "DI", "DI", "xmax"];
+        assert_eq!(distinct(names.into_iter()).as_deref(), Some("DI, xmax"));
+        assert_eq!(distinct(["xmax"].into_iter()).as_deref(), Some("xmax"));
+        assert_eq!(distinct(std::iter::empty()), None);
+    }
 }
