@@ -67,6 +67,17 @@ pub(crate) fn prob(p: f64) -> String {
     f(p, digits)
 }
 
+/// A number to `n` significant digits in plain notation (`n` >= 1): `0.250`, `0.0312`, `1.20`;
+/// `0` for zero, and as [`f`] for what is not finite. For values read as measured, not as
+/// computed: an intensity in g, a median capacity.
+pub(crate) fn sig(v: f64, n: i32) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return f(v, 0);
+    }
+    let digits = (n - 1 - v.abs().log10().floor() as i32).max(0) as usize;
+    f(v, digits)
+}
+
 /// A number at fixed precision; `–` for NaN, `∞` for infinities.
 pub(crate) fn f(v: f64, digits: usize) -> String {
     if v.is_finite() {
@@ -132,4 +143,22 @@ pub(crate) fn ranked(s: &Summary) -> Vec<&PointStats> {
     let mut r: Vec<&PointStats> = s.points.iter().filter(|p| p.rank.is_some()).collect();
     r.sort_by_key(|p| p.rank);
     r
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sig;
+
+    #[test]
+    fn significant_digits_in_plain_notation() {
+        assert_eq!(sig(0.249726, 4), "0.2497");
+        assert_eq!(sig(0.25195, 4), "0.2520");
+        assert_eq!(sig(0.219382, 3), "0.219");
+        assert_eq!(sig(0.0312345, 3), "0.0312");
+        assert_eq!(sig(1.2004, 3), "1.20");
+        assert_eq!(sig(12.34, 3), "12.3");
+        assert_eq!(sig(1234.6, 3), "1235");
+        assert_eq!(sig(0.0, 3), "0");
+        assert_eq!(sig(f64::NAN, 3), "–");
+    }
 }
