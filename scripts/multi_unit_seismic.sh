@@ -3,8 +3,8 @@
 # showcase's structure with 10 % added mass over 1, 2, 4 and 8 units, equal and spread
 # clearances, at d = 0.5 and 2 cm; six stripes of Sa(T1), 200 realizations each, capacities by
 # incremental dynamic analysis, designs ranked by annual risk) run and reduced by
-# scripts/showcase.sh, its report.html beside the report. About 18 s on 2 cores
-# (35 s of CPU, dev-profile build; stop 105).
+# scripts/showcase.sh, its report.html beside the report. About 14 s on 2 cores
+# (27 s of CPU, dev-profile build; stop 105).
 # tests/reproduce.rs reruns its costliest design (8 units, d_spread = 0.5, d = 2 cm) alone and
 # checks that design's capacities against the committed ones bit for bit; the whole
 # regeneration is an ignored test there.

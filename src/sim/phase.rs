@@ -515,7 +515,7 @@ impl<'a, M: Motion> EventMap<'a, M> {
 /// simultaneous impact law, sticking per unit.
 impl<'a, M: Motion> EventMap<'a, M> {
     /// A free unit's line from now.
-    fn line_of(&self, u: &UnitState) -> Walls {
+    pub fn line_of(&self, u: &UnitState) -> Walls {
         let (ya, yj, ya_max) = self.carrying.inner_accel(self.t);
         Walls {
             t0: self.t,
@@ -532,11 +532,14 @@ impl<'a, M: Motion> EventMap<'a, M> {
     /// unit searches that unit's walls and the scene's other events; the earliest stop wins
     /// and `solver` becomes that clone. Every unit whose own search stopped at a wall at that
     /// same instant (identical units in step do, bit for bit) takes part in the impact. The
-    /// other clones' steps count toward the cap: `N` units cost at most `N` searches.
+    /// other clones' steps count toward the cap: `N` units cost at most `N` searches. A unit
+    /// whose bit is set in `clear` (it surely reaches neither wall before the watch's limit,
+    /// [`SceneEvents::units_clear`]) is not searched; it follows its line.
     fn find<S: PhaseSolver<Motion = M>>(
         &mut self,
         solver: &mut S,
         watch: &Watch,
+        clear: u64,
     ) -> Result<Event, StepCap> {
         self.lines.clear();
         let start = solver.steps();
@@ -550,6 +553,10 @@ impl<'a, M: Motion> EventMap<'a, M> {
                 continue;
             }
             let walls = self.line_of(&u);
+            if (clear >> i) & 1 == 1 {
+                self.lines.push(Some(Line { walls, hit: None }));
+                continue;
+            }
             let mut clone = solver.clone();
             let found = clone.next_event(&Watch {
                 walls: Some(walls),
@@ -575,7 +582,8 @@ impl<'a, M: Motion> EventMap<'a, M> {
             }
         }
         let Some((winner, ev, t)) = best else {
-            // Every unit is stuck: the main mass carries them all, only separation is watched.
+            // No unit searched: every unit is stuck (the main mass carries them all, only
+            // separation is watched) or clear of its walls; the scene's other events alone.
             return solver.next_event(watch);
         };
         let own = winner.steps() - start;
@@ -871,6 +879,12 @@ pub(crate) trait SceneEvents<'a, S: PhaseSolver> {
     }
     /// The watched time limit is reached; `Some` ends the run.
     fn limit(&mut self, solver: &mut S) -> Option<Outcome>;
+    /// With several units: bit `i` set for each free unit `i` that surely reaches neither wall
+    /// before `watch.t_limit`, whose own search [`EventMap::find`] then skips. None by default
+    /// (every free unit searched).
+    fn units_clear(&self, _watch: &Watch) -> u64 {
+        0
+    }
 }
 
 /// The one event loop: moves `solver` from event to event and applies the event map (impact law
@@ -885,7 +899,8 @@ pub(crate) fn run<'a, S: PhaseSolver, C: SceneEvents<'a, S>>(
         let watch = scene.watch();
         let several = scene.map().several();
         let found = if several {
-            scene.map_mut().find(solver, &watch)
+            let clear = scene.units_clear(&watch);
+            scene.map_mut().find(solver, &watch, clear)
         } else {
             solver.next_event(&watch)
         };
