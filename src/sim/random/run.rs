@@ -584,6 +584,8 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
             if !clear {
                 return false;
             }
+            // (Each line's end evaluated again: a few operations, cheaper than keeping up to
+            // 64 of them from the test.)
             for u in &mut self.map.units {
                 (u.y, u.w, _, _) = line(u.y, u.w, u.half_d).at(dt);
             }
@@ -1239,8 +1241,8 @@ mod tests {
         // Whole intervals of several units, every unit free, are crossed in one step (each
         // unit's gap under the same hull test as one unit's) instead of going through the
         // event loop, one search per unit, and in the event loop a unit the same test keeps
-        // clear until the interval's end is not searched. The same motion to rounding: against the event loop,
-        // 1-s runs (200 intervals, the units set off toward a wall) of 2, 4 and 8 units, equal
+        // clear until the interval's end is not searched. The same motion to rounding: against
+        // the event loop, 1-s runs (200 intervals, the units set off toward a wall) of 2, 4 and 8 units, equal
         // and spread clearances, under ground acceleration, a force and a record at three gains:
         // the same impacts and sticks, every other field within 1e-9 of the event loop's, and
         // fewer steps. (Not the same bits: the event loop re-bases each unit's line at every
@@ -1311,7 +1313,8 @@ mod tests {
             }
         }
         eprintln!(
-            "several units: {fewer} steps fewer over {runs} runs, {impacts} impacts, worst relative {worst:.2e}"
+            "several units: {fewer} steps fewer over {runs} runs, {impacts} impacts, \
+             worst relative {worst:.2e}"
         );
         assert!(impacts > 5 * runs, "{impacts} impacts over {runs} runs");
     }

@@ -11,8 +11,8 @@ use crate::report::charts::plumbing::{
     xy_chart,
 };
 
-use crate::reduce::JumpKind;
 use crate::reduce::common::tables::quantity_of;
+use crate::reduce::{Jump, JumpKind};
 use crate::report::text::axis_desc;
 
 pub struct DiChart<'a>(pub &'a Profile<'a>);
@@ -90,7 +90,7 @@ pub fn jump_keys(pr: &Profile) -> Vec<(Key, String)> {
 /// One line colour stands for a kind, so its legend entry names every quantity it marks.
 fn quantities<'a>(
     pr: &Profile,
-    jumps: impl Iterator<Item = &'a crate::reduce::Jump>,
+    jumps: impl Iterator<Item = &'a Jump>,
     kind: JumpKind,
 ) -> Option<String> {
     distinct(
