@@ -147,10 +147,10 @@ fn design_map_regenerates_the_committed_showcase() {
 
 /// Issue 68: `scripts/multi_unit.sh` regenerates `results/multi-unit/` (the same added mass
 /// over 1, 2, 4 and 8 units, equal and spread clearances, under the harmonic force) the same way:
-/// about 58 minutes of CPU in the release build, so CI reruns a slice of
+/// about 17 minutes of CPU in the release build (stop 106), so CI reruns a slice of
 /// it instead ([`multi_unit_slice_reproduces_the_committed_curves`]).
 #[test]
-#[ignore = "the whole multi-unit showcase (about 3,450 s of CPU); CI reruns a slice of it"]
+#[ignore = "the whole multi-unit showcase (about 1,040 s of CPU); CI reruns a slice of it"]
 fn multi_unit_regenerates_the_committed_showcase() {
     regenerates("multi_unit.sh", "multi-unit");
 }

@@ -28,7 +28,7 @@
 //! two evaluations of the motion fewer per extremum.
 
 use super::linear::Oscillator;
-use super::phase::{Event, Motion, PhaseSolver, StepCap, Wall, Watch, safe_step, toward};
+use super::phase::{Event, Motion, PhaseSolver, Reach, StepCap, Wall, Watch, safe_step, toward};
 
 /// Position, velocity and the next three derivatives at one time (SI).
 #[derive(Clone, Copy, Debug, Default)]
@@ -289,6 +289,14 @@ impl<F: Driven> PhaseSolver for DrivenPhase<F> {
 
     fn add_steps(&mut self, n: u64) {
         self.steps += n;
+    }
+
+    fn reach(&self, _watch: &Watch) -> Option<Reach> {
+        Some(Reach {
+            a: self.jet.a,
+            jerk_max: self.f.bounds(&self.jet)[3],
+            tol_t: self.tol_t,
+        })
     }
 
     fn next_event(&mut self, w: &Watch) -> Result<Event, StepCap> {

@@ -66,7 +66,7 @@ use std::f64::consts::{FRAC_1_PI, PI, TAU};
 use std::ops::ControlFlow;
 
 use super::linear::{Kinematics, Oscillator};
-use super::phase::{Event, PhaseSolver, StepCap, Wall, Walls, Watch, toward};
+use super::phase::{Event, PhaseSolver, Reach, StepCap, Wall, Walls, Watch, toward};
 
 /// Why a search stopped early.
 enum Stop {
@@ -937,6 +937,15 @@ impl PhaseSolver for ExactPhase {
 
     fn closed_form(&self) -> Option<(Oscillator, f64, f64, f64)> {
         Some((self.osc, self.t0, self.x0, self.v0))
+    }
+
+    fn reach(&self, _watch: &Watch) -> Option<Reach> {
+        let Kinematics { x, v, a } = self.kin;
+        Some(Reach {
+            a,
+            jerk_max: self.osc.derivative_bounds(x, v)[3],
+            tol_t: self.tol_t,
+        })
     }
 
     fn next_event(&mut self, w: &Watch) -> Result<Event, StepCap> {

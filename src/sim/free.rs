@@ -369,3 +369,43 @@ impl<'a, P: Probe, S: PhaseSolver<Motion = Oscillator>> SceneEvents<'a, S> for R
         horizon.then(|| self.outcome_at_horizon())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::phase::sparing;
+    use crate::sim::probe::NoProbe;
+
+    #[test]
+    fn several_units_spare_only_searches_that_cannot_win_in_free_decay() {
+        // `EventMap::find`'s spared searches, checked at every call against the search of every
+        // unit from the same point (as in the harmonic scene's test): at a wall the same bits,
+        // elsewhere no sooner.
+        let (mut calls, mut walls, mut later) = (0, 0, 0);
+        let req = Request {
+            peaks: 6,
+            ..Request::default()
+        };
+        for (units, d_spread) in [(2.0, 0.5), (3.0, 0.25), (8.0, 0.75)] {
+            for e in [0.9, 0.6, 0.2] {
+                for (d, m) in [(0.01, 0.02), (0.004, 0.03), (0.03, 0.01)] {
+                    let sys = System {
+                        units,
+                        d_spread,
+                        e,
+                        d,
+                        m,
+                        ..System::TABLE_I
+                    };
+                    let t = sparing::check(|| {
+                        simulate(&sys, &SolverSettings::default(), &req, None, &mut NoProbe);
+                    });
+                    (calls, walls, later) = (calls + t.calls, walls + t.walls, later + t.later);
+                }
+            }
+        }
+        eprintln!("{calls} searches of several units, {walls} at a wall, {later} later");
+        assert!(walls > 500 && calls > walls, "{calls} {walls}");
+        assert!(later * 20 < calls, "{later} of {calls}");
+    }
+}

@@ -138,6 +138,44 @@ impl Walls {
     }
 }
 
+impl Walls {
+    /// The same line and clearance, bit for bit.
+    #[inline]
+    pub fn same(&self, o: &Walls) -> bool {
+        let eq = |a: f64, b: f64| a.to_bits() == b.to_bits();
+        eq(self.y0, o.y0)
+            && eq(self.w, o.w)
+            && eq(self.half_d, o.half_d)
+            && eq(self.t0, o.t0)
+            && eq(self.ya, o.ya)
+            && eq(self.yj, o.yj)
+            && eq(self.ya_max, o.ya_max)
+    }
+
+    /// Whether the gap `y - x` surely stays strictly inside `(-half_d, half_d)` from `t0` until
+    /// `t1`, for a main mass now at `(x, v, a)` whose `|x'''|` stays below `jerk_max`. Taylor's
+    /// theorem at `t0` bounds the gap by its quadratic `g0 + g1 tau + g2 tau^2 / 2` (with
+    /// `g2 = y'' - a`) and a remainder `(jerk_max + |y'''|) tau^3 / 6`; the quadratic's largest
+    /// `|.|` on `[0, tau1]` is at an end or its vertex. A margin of `1e-9` of the sizes covers
+    /// the rounding. `false` when anything is not finite.
+    #[inline]
+    pub fn clear_until(&self, (x, v, a): (f64, f64, f64), jerk_max: f64, t1: f64) -> bool {
+        let tau1 = t1 - self.t0;
+        let (g0, g1, g2) = (self.y0 - x, self.w - v, self.ya - a);
+        let q = |tau: f64| (g0 + tau * (g1 + 0.5 * g2 * tau)).abs();
+        let mut top = q(0.0).max(q(tau1));
+        if g2 != 0.0 {
+            let vertex = -g1 / g2;
+            if vertex > 0.0 && vertex < tau1 {
+                top = top.max(q(vertex));
+            }
+        }
+        let rest = (jerk_max + self.yj.abs()) * tau1 * tau1 * tau1 / 6.0;
+        let margin = 1e-9 * (self.half_d + x.abs() + self.y0.abs());
+        top + rest + margin < self.half_d
+    }
+}
+
 /// What a solver watches during one call of [`PhaseSolver::next_event`]. Each `*_side` is the
 /// sign the quantity has now (`+1`/`-1`); the solver reports when it reaches zero.
 #[derive(Clone, Copy, Debug)]
@@ -173,6 +211,18 @@ pub(crate) enum Event {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct StepCap;
 
+/// The main mass's acceleration now, a bound of its jerk for the rest of the phase, and the
+/// solver's time tolerance ([`PhaseSolver::reach`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Reach {
+    /// `x''` now (m/s^2).
+    pub a: f64,
+    /// A bound of `|x'''|` until the phase ends (m/s^3).
+    pub jerk_max: f64,
+    /// The events' time tolerance (s): a located event lies within it of the true one.
+    pub tol_t: f64,
+}
+
 /// Moves the main mass through one smooth phase (free, or the stuck pair). A clone searches
 /// from the same point on its own: with several units, one clone per unit looks for that
 /// unit's walls ([`run`]).
@@ -189,6 +239,11 @@ pub(crate) trait PhaseSolver: Clone {
     fn steps(&self) -> u64;
     /// Counts `n` more steps (the searches of the other units' clones) toward the step cap.
     fn add_steps(&mut self, n: u64);
+    /// What [`EventMap::find`] needs to spare the searches of several units, when the solver
+    /// has it. `None` (every unit searched to its own stop) by default.
+    fn reach(&self, _watch: &Watch) -> Option<Reach> {
+        None
+    }
     /// The current phase in closed form, when the solver has it: the motion, the phase's
     /// start time and its state there. The free scene then evaluates noise samples itself, by a
     /// constant propagator, instead of stopping the solver at each.
@@ -532,36 +587,73 @@ impl<'a, M: Motion> EventMap<'a, M> {
     /// unit searches that unit's walls and the scene's other events; the earliest stop wins
     /// and `solver` becomes that clone. Every unit whose own search stopped at a wall at that
     /// same instant (identical units in step do, bit for bit) takes part in the impact. The
-    /// other clones' steps count toward the cap: `N` units cost at most `N` searches. A unit
-    /// whose bit is set in `clear` (it surely reaches neither wall before the watch's limit,
-    /// [`SceneEvents::units_clear`]) is not searched; it follows its line.
+    /// other clones' steps count toward the cap. A unit whose bit is set in `clear` (it surely
+    /// reaches neither wall before the watch's limit, [`SceneEvents::units_clear`]) is not
+    /// searched; it follows its line.
+    ///
+    /// The searches are spared where they cannot win: the units are visited nearest first
+    /// ([`EventMap::search_order`]); a unit on the same line as one visited before takes that
+    /// one's stop; once a stop is found, a unit that cannot stop before it ([`spared`]) is
+    /// not searched. The winner's search is always a whole search of its own, so an impact is
+    /// the one the unit's own search finds, bit for bit. What can differ from searching every
+    /// unit is which clone's stop ends a step at an event of the scene's own (an extremum,
+    /// which two clones may place a rounding apart, or one under the floor that each reports
+    /// at the end of its own step): the same motion to rounding.
     fn find<S: PhaseSolver<Motion = M>>(
         &mut self,
         solver: &mut S,
         watch: &Watch,
         clear: u64,
     ) -> Result<Event, StepCap> {
-        self.lines.clear();
+        #[cfg(test)]
+        if let Some(reach) = solver.reach(watch)
+            && sparing::checked()
+        {
+            return self.find_checked(solver, watch, clear, reach);
+        }
+        self.find_sparing(solver, watch, clear, solver.reach(watch))
+    }
+
+    /// [`EventMap::find`], sparing searches with `reach` (every unit searched without).
+    fn find_sparing<S: PhaseSolver<Motion = M>>(
+        &mut self,
+        solver: &mut S,
+        watch: &Watch,
+        clear: u64,
+        reach: Option<Reach>,
+    ) -> Result<Event, StepCap> {
         let start = solver.steps();
-        let mut best: Option<(S, Event, f64)> = None;
+        let (_, x, v) = solver.state();
+        let (order, n) = self.search_order(x, v, clear);
+        let mut best: Option<(S, Event, f64, usize)> = None;
         let mut spent = 0;
         let mut stops = [f64::NAN; MAX_SEVERAL];
-        for (i, stop) in stops.iter_mut().enumerate().take(self.units.len()) {
-            let u = self.units[i];
-            if u.stuck.is_some() {
-                self.lines.push(None);
+        let mut visited = [0usize; MAX_SEVERAL];
+        for (k, &i) in order[..n].iter().enumerate() {
+            let Some(Line { walls, .. }) = self.lines[i] else {
+                continue;
+            };
+            visited[k] = i;
+            // A unit on the same line as one visited before (identical units in step) has
+            // the same search, bit for bit: its stop and wall are that one's.
+            let same = |j: &&usize| self.lines[**j].is_some_and(|l| l.walls.same(&walls));
+            if let Some(&j) = visited[..k].iter().find(same) {
+                stops[i] = stops[j];
+                let hit = self.lines[j].and_then(|l| l.hit);
+                if let Some(l) = self.lines[i].as_mut() {
+                    l.hit = hit;
+                }
                 continue;
             }
-            let walls = self.line_of(&u);
-            if (clear >> i) & 1 == 1 {
-                self.lines.push(Some(Line { walls, hit: None }));
+            let best_t = best.as_ref().map(|b| b.2);
+            if let (Some(tb), Some(r)) = (best_t, reach)
+                && spared(solver, (&walls, watch), (x, v, r), tb, &mut spent)
+            {
                 continue;
             }
+            let walls = Some(walls);
             let mut clone = solver.clone();
-            let found = clone.next_event(&Watch {
-                walls: Some(walls),
-                ..*watch
-            });
+            let found = clone.next_event(&Watch { walls, ..*watch });
             spent += clone.steps() - start;
             let ev = match found {
                 Ok(ev) => ev,
@@ -571,17 +663,20 @@ impl<'a, M: Motion> EventMap<'a, M> {
                 }
             };
             let t = clone.state().0;
-            *stop = t;
-            let hit = match ev {
-                Event::Wall(wall) => Some(wall),
-                _ => None,
-            };
-            self.lines.push(Some(Line { walls, hit }));
-            if best.as_ref().is_none_or(|b| t < b.2) {
-                best = Some((clone, ev, t));
+            stops[i] = t;
+            if let (Event::Wall(wall), Some(l)) = (ev, self.lines[i].as_mut()) {
+                l.hit = Some(wall);
+            }
+            // The earliest stop wins; of equal ones, the lowest unit's (the order of the
+            // searches does not matter).
+            if best
+                .as_ref()
+                .is_none_or(|b| t < b.2 || (t == b.2 && i < b.3))
+            {
+                best = Some((clone, ev, t, i));
             }
         }
-        let Some((winner, ev, t)) = best else {
+        let Some((winner, ev, t, _)) = best else {
             // No unit searched: every unit is stuck (the main mass carries them all, only
             // separation is watched) or clear of its walls; the scene's other events alone.
             return solver.next_event(watch);
@@ -597,6 +692,48 @@ impl<'a, M: Motion> EventMap<'a, M> {
             }
         }
         Ok(ev)
+    }
+
+    /// Every unit's line from now into `self.lines` (`None` while stuck), and the free units
+    /// to search, not in `clear`, nearest first: by the time the gap's line, `y - x` moving at
+    /// `w - v`, takes to reach the wall it moves toward. The first stop found is then usually
+    /// the earliest, and most others are spared ([`spared`]).
+    fn search_order(&mut self, x: f64, v: f64, clear: u64) -> ([usize; MAX_SEVERAL], usize) {
+        self.lines.clear();
+        let mut order = [0usize; MAX_SEVERAL];
+        let mut eta = [f64::INFINITY; MAX_SEVERAL];
+        let mut n = 0;
+        for i in 0..self.units.len() {
+            let u = self.units[i];
+            if u.stuck.is_some() {
+                self.lines.push(None);
+                continue;
+            }
+            let walls = self.line_of(&u);
+            self.lines.push(Some(Line { walls, hit: None }));
+            if (clear >> i) & 1 == 1 {
+                continue;
+            }
+            let (g, g1) = (walls.y0 - x, walls.w - v);
+            let room = walls.half_d - g.abs().min(walls.half_d);
+            let toward = if g1 * g >= 0.0 { g1.abs() } else { 0.0 };
+            let e = if toward > 0.0 {
+                room / toward
+            } else {
+                (walls.half_d + walls.half_d - room) / g1.abs().max(f64::MIN_POSITIVE)
+            };
+            // Insertion by `eta`, ties in unit order.
+            let mut k = n;
+            while k > 0 && eta[k - 1] > e {
+                eta[k] = eta[k - 1];
+                order[k] = order[k - 1];
+                k -= 1;
+            }
+            eta[k] = e;
+            order[k] = i;
+            n += 1;
+        }
+        (order, n)
     }
 
     /// Brings the map to the solver's point: free units on their lines, stuck ones on their
@@ -847,6 +984,121 @@ impl<'a, M: Motion> EventMap<'a, M> {
         self.mirror();
         left
     }
+}
+
+/// Tests: [`EventMap::find`] checked against searching every unit at each call, on this thread.
+#[cfg(test)]
+pub(crate) mod sparing {
+    use std::cell::Cell;
+
+    /// What the check found: calls, those where the spared search stopped elsewhere than the
+    /// full one, and how.
+    #[derive(Clone, Copy, Debug, Default, PartialEq)]
+    pub struct Tally {
+        pub calls: u64,
+        pub walls: u64,
+        /// The full search's stop at an event of the scene (no wall), the spared one later
+        /// (another clone's placing of it, or a wall after it).
+        pub later: u64,
+        /// The largest such delay over the watch's span.
+        pub worst_later: f64,
+    }
+
+    thread_local! {
+        static ON: Cell<Option<Tally>> = const { Cell::new(None) };
+    }
+
+    pub fn checked() -> bool {
+        ON.with(|c| c.get().is_some())
+    }
+
+    /// Runs `f` with every several-units search checked; the tally.
+    pub fn check(f: impl FnOnce()) -> Tally {
+        ON.with(|c| c.set(Some(Tally::default())));
+        f();
+        ON.with(|c| c.take()).expect("on")
+    }
+
+    pub fn add(f: impl FnOnce(&mut Tally)) {
+        ON.with(|c| {
+            let mut t = c.get().expect("on");
+            f(&mut t);
+            c.set(Some(t));
+        });
+    }
+}
+
+#[cfg(test)]
+impl<'a, M: Motion> EventMap<'a, M> {
+    /// [`EventMap::find`] with sparing, checked against the search of every unit from the same
+    /// point: where the full search stops at a wall, the spared one is the same bits (state,
+    /// event, every unit's hit); elsewhere it stops no sooner, at an event of the scene's own.
+    fn find_checked<S: PhaseSolver<Motion = M>>(
+        &mut self,
+        solver: &mut S,
+        watch: &Watch,
+        clear: u64,
+        reach: Reach,
+    ) -> Result<Event, StepCap> {
+        let mut full = solver.clone();
+        let t0 = solver.state().0;
+        let ef = self.find_sparing(&mut full, watch, clear, None);
+        let hits_full: Vec<_> = self.lines.iter().map(|l| l.map(|l| l.hit)).collect();
+        let es = self.find_sparing(solver, watch, clear, Some(reach));
+        let hits: Vec<_> = self.lines.iter().map(|l| l.map(|l| l.hit)).collect();
+        let (Ok(ef), Ok(es)) = (ef, es) else {
+            return es;
+        };
+        let (tf, ts) = (full.state().0, solver.state().0);
+        sparing::add(|t| t.calls += 1);
+        if matches!(ef, Event::Wall(_)) {
+            assert_eq!((ef, hits_full), (es, hits), "at t = {t0}");
+            assert_eq!(full.state(), solver.state(), "at t = {t0}");
+            sparing::add(|t| t.walls += 1);
+        } else if (ef, tf) != (es, ts) || full.state() != solver.state() {
+            assert!(
+                ts >= tf,
+                "{es:?} at {ts} before the full search's {ef:?} at {tf}"
+            );
+            let span = (watch.t_limit - t0).max(f64::MIN_POSITIVE);
+            sparing::add(|t| {
+                t.later += 1;
+                t.worst_later = t.worst_later.max((ts - tf) / span);
+            });
+        }
+        Ok(es)
+    }
+}
+
+/// Whether a unit's search (its `walls` under `watch`, from the solver's point, where the main
+/// mass is at `(x, v)` with `reach`) can be spared because it stops no sooner than `tb`, the
+/// best stop so far, and not at a wall there: it can neither win nor tie. Its gap is clear of its
+/// walls until `tb` ([`Walls::clear_until`]), or a search of its walls alone only as far as `tb`
+/// and a little beyond (the time tolerance a thousand times over; at most the watch's limit)
+/// finds none; its steps count into `spent`. The scene's own events are the winner's search's
+/// to find: it watches them. A unit not spared is searched whole, so that its stop is the one a
+/// search of its own finds.
+fn spared<S: PhaseSolver>(
+    solver: &S,
+    (walls, watch): (&Walls, &Watch),
+    (x, v, r): (f64, f64, Reach),
+    tb: f64,
+    spent: &mut u64,
+) -> bool {
+    if walls.clear_until((x, v, r.a), r.jerk_max, tb) {
+        return true;
+    }
+    let start = solver.steps();
+    let mut clone = solver.clone();
+    let found = clone.next_event(&Watch {
+        walls: Some(*walls),
+        x_side: None,
+        v_side: None,
+        t_limit: (tb + 1e3 * r.tol_t).min(watch.t_limit),
+        ..*watch
+    });
+    *spent += clone.steps() - start;
+    matches!(found, Ok(Event::Limit))
 }
 
 /// The most units a system carries ([`crate::model::MAX_UNITS`]).

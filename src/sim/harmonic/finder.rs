@@ -47,7 +47,9 @@
 use crate::sim::driven::{
     Driven, Jet, Nearest, below_floor, polished_extremum, separation, skip_step,
 };
-use crate::sim::phase::{Event, PhaseSolver, StepCap, Wall, Walls, Watch, safe_step, toward};
+use crate::sim::phase::{
+    Event, PhaseSolver, Reach, StepCap, Wall, Walls, Watch, safe_step, toward,
+};
 
 /// The bracket is tried when the quartic model's root moves by at most this fraction of its
 /// distance under the model's error bound (then `tau_b` is past the root by a margin the bound
@@ -478,6 +480,14 @@ impl<F: Driven> PhaseSolver for Bracketed<F> {
 
     fn add_steps(&mut self, n: u64) {
         self.steps += n;
+    }
+
+    fn reach(&self, watch: &Watch) -> Option<Reach> {
+        Some(Reach {
+            a: self.jet.a,
+            jerk_max: self.f.bounds_over(&self.jet, watch.t_limit - self.t)[3],
+            tol_t: self.tol_t,
+        })
     }
 
     /// [`crate::sim::driven::DrivenPhase`]'s event finder with the bracket of the module doc at
