@@ -266,10 +266,10 @@ fn locate_candidate(
     let xs = &grid.axes[c.axis].1;
     let ys = line_values(grid, q, c.axis, c.line, c.quantity.index());
     let mut values = grid.values(c.line);
-    if let Some(out) = between_estimates(c, xs, &ys, &mut values, ideal) {
+    let k = c.quantity.index();
+    if let Some(out) = between_estimates(c, (xs, &ys), &mut values, ideal, settings.step_tol[k]) {
         return (out, 0, Via::Estimates);
     }
-    let k = c.quantity.index();
     let f = |x: f64| {
         values[c.axis] = x;
         ideal.at(&values).map(|v| v[k])
@@ -340,16 +340,18 @@ impl Found {
 /// A candidate whose every grid point is a statistical estimate ([`IdealCase::interval`]): no
 /// bisection, since a midpoint's estimate carries the same statistical error as the grid's and
 /// a bisection on it follows that noise. When the intervals at the span's two ends do not
-/// overlap, the change is resolved: a step of `q(j) - q(i)` somewhere in the span, reported at
-/// the span's middle with half its width as `location_tol`. When they overlap it is not
-/// resolved by the estimates ([`Outcome::Smooth`]: dropped). `None` when a point of the span is
-/// exact: the candidate is bisected as usual.
+/// overlap and the change `q(j) - q(i)` is at least `step_tol`, the change is resolved: a step
+/// of it somewhere in the span, reported at the span's middle with half its width as
+/// `location_tol`. When they overlap it is not resolved by the estimates, and a smaller change
+/// is no step (a kink candidate's span: a bend is not told at an estimate's resolution); both
+/// [`Outcome::Smooth`], dropped. `None` when a point of the span is exact: the candidate is
+/// bisected as usual.
 fn between_estimates(
     c: &Candidate,
-    xs: &[f64],
-    ys: &[f64],
+    (xs, ys): (&[f64], &[f64]),
     values: &mut [f64],
     ideal: &dyn IdealCase,
+    step_tol: f64,
 ) -> Option<Outcome> {
     let k = c.quantity.index();
     let mut ends = [[f64::NAN; 2]; 2];
@@ -364,7 +366,7 @@ fn between_estimates(
     }
     let [a, b] = ends;
     let overlap = a[0] <= b[1] && b[0] <= a[1];
-    Some(if overlap {
+    Some(if overlap || (ys[c.j] - ys[c.i]).abs() < step_tol {
         Outcome::Smooth
     } else {
         Outcome::Jump {
@@ -521,6 +523,50 @@ mod tests {
             let y = (self.f)(v[0]);
             Some([[f64::NAN; 2], [y - self.half, y + self.half]])
         }
+    }
+
+    #[test]
+    fn between_estimates_a_bend_smaller_than_the_step_tolerance_is_no_step() {
+        // A kink candidate spanning a four-value axis between estimates whose ends' intervals
+        // do not overlap, but whose change end to end is below the step tolerance (the
+        // multi-unit showcase's peaks along d_spread, stop 106): dropped, not a step.
+        struct Bent;
+        fn bend(x: f64) -> f64 {
+            if x < 0.5 {
+                -0.2 * x
+            } else {
+                -0.1 + 0.3 * (x - 0.5)
+            }
+        }
+        impl IdealCase for Bent {
+            fn at(&self, _v: &[f64]) -> Option<[f64; 2]> {
+                Some([UNRESOLVED, UNRESOLVED])
+            }
+            fn interval(&self, v: &[f64]) -> Option<[[f64; 2]; 2]> {
+                let y = bend(v[0]);
+                Some([[y - 1e-4, y + 1e-4], [f64::NAN; 2]])
+            }
+        }
+        let xs = vec![0.0, 0.25, 0.5, 0.75];
+        let grid = Grid::new(vec![("x".into(), xs.clone())]);
+        let settings = JumpSettings {
+            step_tol: [0.5, 0.5],
+            kink_slope: 1.5,
+            locate: 0.01,
+        };
+        let q: Vec<[f64; 2]> = xs.iter().map(|&x| [bend(x), f64::NAN]).collect();
+        let found = find(&grid, &q, &settings, &Bent);
+        assert_eq!((found.candidates, found.estimated), (1, 1), "{found:?}");
+        assert!(found.jumps.is_empty(), "{:?}", found.jumps);
+        assert_eq!((found.dropped, found.sims), (1, 0));
+        // With a tolerance below the change end to end (0.025), the same span is a step.
+        let small = JumpSettings {
+            step_tol: [0.02, 0.02],
+            ..settings
+        };
+        let found = find(&grid, &q, &small, &Bent);
+        assert_eq!(found.jumps.len(), 1, "{found:?}");
+        assert_eq!(found.jumps[0].kind, JumpKind::Step);
     }
 
     #[test]
