@@ -4,7 +4,7 @@
 #
 #   scripts/units_life_validation.sh           brute force (100 blocks of 10^6 periods per point),
 #                                              the estimates (2 points, 20 study seeds, 2 horizons)
-#                                              and the report: about 30 minutes on 2 cores
+#                                              and the report: about 25 minutes on 2 cores
 #   scripts/units_life_validation.sh --report  the report alone, from the committed files
 #   scripts/units_life_validation.sh --check   what CI runs: the report regenerates byte for byte
 #                                              from the committed files, and a slice of the
