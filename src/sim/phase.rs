@@ -136,9 +136,7 @@ impl Walls {
         let w = self.w + tau * (self.ya + 0.5 * tau * self.yj);
         (y, w, self.ya + tau * self.yj, self.yj)
     }
-}
 
-impl Walls {
     /// The same line and clearance, bit for bit.
     #[inline]
     pub fn same(&self, o: &Walls) -> bool {
