@@ -1277,13 +1277,14 @@ mod tests {
         // unit's gap under the same hull test as one unit's) instead of going through the
         // event loop, one search per unit, and in the event loop a unit the same test keeps
         // clear until the interval's end is not searched. The same motion to rounding: against
-        // the event loop, 1-s runs (200 intervals, the units set off toward a wall) of 2, 4 and 8 units, equal
-        // and spread clearances, under ground acceleration, a force and a record at three gains:
-        // the same impacts and sticks, every other field within 1e-9 of the event loop's, and
-        // fewer steps in all (the event loop spares searches too, `EventMap::find`, so a run
-        // may take a few more). (Not the same bits: the event loop re-bases each unit's line at every
-        // event it stops at, the crossing takes it from the interval's start. Impacts amplify
-        // the difference: over 2-s runs a chatter sequence at gain 4 ends with one stick more.)
+        // the event loop, 1-s runs (200 intervals, the units set off toward a wall) of 2, 4 and
+        // 8 units, equal and spread clearances, under ground acceleration, a force and a record
+        // at three gains: the same impacts and sticks, every other field within 1e-9 of the
+        // event loop's, and fewer steps in all (the event loop spares searches too,
+        // `EventMap::find`, so a run may take a few more). (Not the same bits: the event loop
+        // re-bases each unit's line at every event it stops at, the crossing takes it from the
+        // interval's start. Impacts amplify the difference: over 2-s runs a chatter sequence
+        // at gain 4 ends with one stick more.)
         let (mut fewer, mut runs, mut impacts, mut worst) = (0i64, 0u64, 0u64, 0.0f64);
         let settings = SolverSettings::default();
         let req = Request::default();
