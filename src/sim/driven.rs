@@ -296,6 +296,7 @@ impl<F: Driven> PhaseSolver for DrivenPhase<F> {
             a: self.jet.a,
             jerk_max: self.f.bounds(&self.jet)[3],
             tol_t: self.tol_t,
+            closed_form_events: false,
         })
     }
 

@@ -945,6 +945,7 @@ impl PhaseSolver for ExactPhase {
             a,
             jerk_max: self.osc.derivative_bounds(x, v)[3],
             tol_t: self.tol_t,
+            closed_form_events: true,
         })
     }
 

@@ -59,6 +59,8 @@
 //! ([`super::free`]) and the forced scene's sections, window and transient
 //! ([`super::harmonic`]) stay in their modules.
 
+use std::cmp::Ordering;
+
 use serde::Serialize;
 
 use super::linear::Oscillator;
@@ -219,6 +221,10 @@ pub(crate) struct Reach {
     pub jerk_max: f64,
     /// The events' time tolerance (s): a located event lies within it of the true one.
     pub tol_t: f64,
+    /// The scene's own events (`x = 0`, `v = 0`, separation) are found in closed form, at the
+    /// same instant by every clone (the free scene's [`crate::sim::exact`]): a unit's whole
+    /// search then runs no further past such a stop than a short one would ([`spared`]).
+    pub closed_form_events: bool,
 }
 
 /// Moves the main mass through one smooth phase (free, or the stuck pair). A clone searches
@@ -339,6 +345,11 @@ pub(crate) struct EventMap<'a, M> {
     pub carrying: M,
     /// With several units: each unit's line during the current search (`None` while stuck).
     lines: Vec<Option<Line>>,
+    /// With several units: the free units to search and when each is due, nearest first
+    /// ([`EventMap::search_order`]), and each one's stop; kept between searches so that a
+    /// search allocates and clears nothing of the units it does not carry.
+    order: Vec<(f64, usize)>,
+    stops: Vec<f64>,
 }
 
 /// One unit's state in a system of several (model.md §14).
@@ -402,6 +413,8 @@ impl<'a, M: Motion> EventMap<'a, M> {
             impacts: 0,
             sticks: 0,
             lines: Vec::with_capacity(units.len()),
+            order: Vec::with_capacity(units.len()),
+            stops: Vec::with_capacity(units.len()),
             units,
             carried: sys.M,
             carrying: free,
@@ -620,22 +633,39 @@ impl<'a, M: Motion> EventMap<'a, M> {
         clear: u64,
         reach: Option<Reach>,
     ) -> Result<Event, StepCap> {
+        let (_, x, v) = solver.state();
+        let mut order = std::mem::take(&mut self.order);
+        self.search_order(x, v, clear, &mut order);
+        let mut stops = std::mem::take(&mut self.stops);
+        stops.clear();
+        stops.resize(self.units.len(), f64::NAN);
+        let found = self.search_units(solver, (watch, reach), &order, &mut stops);
+        self.order = order;
+        self.stops = stops;
+        found
+    }
+
+    /// The searches of [`EventMap::find_sparing`], the units in `order`, each one's stop into
+    /// `stops`.
+    fn search_units<S: PhaseSolver<Motion = M>>(
+        &mut self,
+        solver: &mut S,
+        (watch, reach): (&Watch, Option<Reach>),
+        order: &[(f64, usize)],
+        stops: &mut [f64],
+    ) -> Result<Event, StepCap> {
         let start = solver.steps();
         let (_, x, v) = solver.state();
-        let (order, n) = self.search_order(x, v, clear);
         let mut best: Option<(S, Event, f64, usize)> = None;
         let mut spent = 0;
-        let mut stops = [f64::NAN; MAX_SEVERAL];
-        let mut visited = [0usize; MAX_SEVERAL];
-        for (k, &i) in order[..n].iter().enumerate() {
+        for (k, &(_, i)) in order.iter().enumerate() {
             let Some(Line { walls, .. }) = self.lines[i] else {
                 continue;
             };
-            visited[k] = i;
             // A unit on the same line as one visited before (identical units in step) has
             // the same search, bit for bit: its stop and wall are that one's.
-            let same = |j: &&usize| self.lines[**j].is_some_and(|l| l.walls.same(&walls));
-            if let Some(&j) = visited[..k].iter().find(same) {
+            let same = |j: &&(f64, usize)| self.lines[j.1].is_some_and(|l| l.walls.same(&walls));
+            if let Some(&(_, j)) = order[..k].iter().find(same) {
                 stops[i] = stops[j];
                 let hit = self.lines[j].and_then(|l| l.hit);
                 if let Some(l) = self.lines[i].as_mut() {
@@ -643,9 +673,14 @@ impl<'a, M: Motion> EventMap<'a, M> {
                 }
                 continue;
             }
-            let best_t = best.as_ref().map(|b| b.2);
-            if let (Some(tb), Some(r)) = (best_t, reach)
-                && spared(solver, (&walls, watch), (x, v, r), tb, &mut spent)
+            // A short search pays where a whole one would run past the best stop
+            // ([`spared`]).
+            let short = |ev: &Event| {
+                matches!(ev, Event::Wall(_)) || !reach.is_some_and(|r| r.closed_form_events)
+            };
+            let best_stop = best.as_ref().map(|b| (b.2, short(&b.1)));
+            if let (Some(stop), Some(r)) = (best_stop, reach)
+                && spared(solver, (&walls, watch), (x, v, r), stop, &mut spent)
             {
                 continue;
             }
@@ -682,7 +717,7 @@ impl<'a, M: Motion> EventMap<'a, M> {
         let own = winner.steps() - start;
         *solver = winner;
         solver.add_steps(spent - own);
-        for (line, stop) in self.lines.iter_mut().zip(stops) {
+        for (line, &stop) in self.lines.iter_mut().zip(stops.iter()) {
             if let Some(l) = line
                 && stop != t
             {
@@ -692,15 +727,13 @@ impl<'a, M: Motion> EventMap<'a, M> {
         Ok(ev)
     }
 
-    /// Every unit's line from now into `self.lines` (`None` while stuck), and the free units
-    /// to search, not in `clear`, nearest first: by the time the gap's line, `y - x` moving at
-    /// `w - v`, takes to reach the wall it moves toward. The first stop found is then usually
-    /// the earliest, and most others are spared ([`spared`]).
-    fn search_order(&mut self, x: f64, v: f64, clear: u64) -> ([usize; MAX_SEVERAL], usize) {
+    /// Every unit's line from now into `self.lines` (`None` while stuck), and into `order` the
+    /// free units to search, not in `clear`, nearest first: by the time the gap's line, `y - x`
+    /// moving at `w - v`, takes to reach the wall it moves toward (with that time). The first
+    /// stop found is then usually the earliest, and most others are spared ([`spared`]).
+    fn search_order(&mut self, x: f64, v: f64, clear: u64, order: &mut Vec<(f64, usize)>) {
         self.lines.clear();
-        let mut order = [0usize; MAX_SEVERAL];
-        let mut eta = [f64::INFINITY; MAX_SEVERAL];
-        let mut n = 0;
+        order.clear();
         for i in 0..self.units.len() {
             let u = self.units[i];
             if u.stuck.is_some() {
@@ -720,18 +753,13 @@ impl<'a, M: Motion> EventMap<'a, M> {
             } else {
                 (walls.half_d + walls.half_d - room) / g1.abs().max(f64::MIN_POSITIVE)
             };
-            // Insertion by `eta`, ties in unit order.
-            let mut k = n;
-            while k > 0 && eta[k - 1] > e {
-                eta[k] = eta[k - 1];
-                order[k] = order[k - 1];
-                k -= 1;
-            }
-            eta[k] = e;
-            order[k] = i;
-            n += 1;
+            // Insertion by the time, ties in unit order.
+            let k = order
+                .iter()
+                .rposition(|&(due, _)| due.partial_cmp(&e) != Some(Ordering::Greater))
+                .map_or(0, |p| p + 1);
+            order.insert(k, (e, i));
         }
-        (order, n)
     }
 
     /// Brings the map to the solver's point: free units on their lines, stuck ones on their
@@ -1071,20 +1099,29 @@ impl<'a, M: Motion> EventMap<'a, M> {
 /// Whether a unit's search (its `walls` under `watch`, from the solver's point, where the main
 /// mass is at `(x, v)` with `reach`) can be spared because it stops no sooner than `tb`, the
 /// best stop so far, and not at a wall there: it can neither win nor tie. Its gap is clear of its
-/// walls until `tb` ([`Walls::clear_until`]), or a search of its walls alone only as far as `tb`
-/// and a little beyond (the time tolerance a thousand times over; at most the watch's limit)
-/// finds none; its steps count into `spent`. The scene's own events are the winner's search's
-/// to find: it watches them. A unit not spared is searched whole, so that its stop is the one a
-/// search of its own finds.
+/// walls until `tb` ([`Walls::clear_until`]), or, when `short`, a search of its walls alone only
+/// as far as `tb` and a little beyond (the time tolerance a thousand times over; at most the
+/// watch's limit) finds none; its steps count into `spent`. The scene's own events are the
+/// winner's search's to find: it watches them.
+///
+/// The short search saves only where the whole one would run past `tb`. Where `tb` is an event
+/// of the scene's own found in closed form ([`Reach::closed_form_events`]), every clone stops
+/// there too, so the short search would cost what the whole one does, and twice that when the
+/// unit wins: the caller passes `short` false there (free decay's 2 units lost 17 % of their
+/// time so, BENCHMARKS.md, "Several units"). A unit not spared is searched whole, so that its
+/// stop is the one a search of its own finds.
 fn spared<S: PhaseSolver>(
     solver: &S,
     (walls, watch): (&Walls, &Watch),
     (x, v, r): (f64, f64, Reach),
-    tb: f64,
+    (tb, short): (f64, bool),
     spent: &mut u64,
 ) -> bool {
     if walls.clear_until((x, v, r.a), r.jerk_max, tb) {
         return true;
+    }
+    if !short {
+        return false;
     }
     let start = solver.steps();
     let mut clone = solver.clone();
@@ -1098,9 +1135,6 @@ fn spared<S: PhaseSolver>(
     *spent += clone.steps() - start;
     matches!(found, Ok(Event::Limit))
 }
-
-/// The most units a system carries ([`crate::model::MAX_UNITS`]).
-const MAX_SEVERAL: usize = 64;
 
 /// A scene on the event map: what it watches and what it makes of the events. `run` calls it;
 /// the optional hooks ([`SceneEvents::arrived`], [`SceneEvents::at_wall`],

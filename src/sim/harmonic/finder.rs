@@ -487,6 +487,7 @@ impl<F: Driven> PhaseSolver for Bracketed<F> {
             a: self.jet.a,
             jerk_max: self.f.bounds_over(&self.jet, watch.t_limit - self.t)[3],
             tol_t: self.tol_t,
+            closed_form_events: false,
         })
     }
 
