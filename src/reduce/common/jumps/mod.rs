@@ -147,9 +147,9 @@ pub struct Found {
     pub dropped: usize,
     pub failed: usize,
     /// Candidates whose every point is a statistical estimate ([`IdealCase::interval`]):
-    /// `estimated_steps` of them were steps beyond both ends' intervals (reported at the
-    /// candidate's own width, not bisected), the others changed within the intervals
-    /// (dropped: not resolved by the estimates).
+    /// `estimated_steps` of them were steps between two neighbours whose intervals part
+    /// (reported at that grid interval, not bisected), the others had no such neighbours
+    /// (dropped: not resolved by the estimates, or a trend).
     pub estimated: usize,
     pub estimated_steps: usize,
     /// Steps whose bisection stopped at a midpoint known only as an estimate ([`UNRESOLVED`]),
@@ -339,13 +339,15 @@ impl Found {
 
 /// A candidate whose every grid point is a statistical estimate ([`IdealCase::interval`]): no
 /// bisection, since a midpoint's estimate carries the same statistical error as the grid's and
-/// a bisection on it follows that noise. When the intervals at the span's two ends do not
-/// overlap and the change `q(j) - q(i)` is at least `step_tol`, the change is resolved: a step
-/// of it somewhere in the span, reported at the span's middle with half its width as
-/// `location_tol`. When they overlap it is not resolved by the estimates, and a smaller change
-/// is no step (a kink candidate's span: a bend is not told at an estimate's resolution); both
-/// [`Outcome::Smooth`], dropped. `None` when a point of the span is exact: the candidate is
-/// bisected as usual.
+/// a bisection on it follows that noise. A step is looked for between neighbours, in each
+/// interval `[x_k, x_{k+1}]` of the span: a step there when the two points' intervals do not
+/// overlap and the change `Δ_k` is not the trend's, `min |Δ_k - s h_k| >= step_tol` over the
+/// secants `s` of the intervals either side (the candidates' own rule; `|Δ_k|` with none).
+/// The largest such change is the step, reported at its interval's middle with half the
+/// interval as `location_tol`. Otherwise the span is [`Outcome::Smooth`], dropped: a change
+/// within the intervals is not resolved by the estimates, and a trend across a long span, or a
+/// bend (a kink candidate's span), is not a step however far its ends lie apart. `None` when a
+/// point of the span is exact: the candidate is bisected as usual.
 fn between_estimates(
     c: &Candidate,
     (xs, ys): (&[f64], &[f64]),
@@ -354,27 +356,39 @@ fn between_estimates(
     step_tol: f64,
 ) -> Option<Outcome> {
     let k = c.quantity.index();
-    let mut ends = [[f64::NAN; 2]; 2];
-    for (i, &x) in xs.iter().enumerate().take(c.j + 1).skip(c.i) {
+    let mut intervals = Vec::with_capacity(c.j + 1 - c.i);
+    for &x in &xs[c.i..=c.j] {
         values[c.axis] = x;
-        let iv = ideal.interval(values)?[k];
-        if i == c.i {
-            ends[0] = iv;
-        } else if i == c.j {
-            ends[1] = iv;
+        intervals.push(ideal.interval(values)?[k]);
+    }
+    let secant = |a: usize| (ys[a + 1] - ys[a]) / (xs[a + 1] - xs[a]);
+    let mut step: Option<(usize, f64)> = None;
+    for (n, pair) in intervals.windows(2).enumerate() {
+        let (a, b) = (pair[0], pair[1]);
+        if a[0] <= b[1] && b[0] <= a[1] {
+            continue;
+        }
+        let i = c.i + n;
+        let (change, h) = (ys[i + 1] - ys[i], xs[i + 1] - xs[i]);
+        let left = (i > 0).then(|| (change - secant(i - 1) * h).abs());
+        let right = (i + 2 < xs.len()).then(|| (change - secant(i + 1) * h).abs());
+        let beyond = match (left, right) {
+            (Some(l), Some(r)) => l.min(r),
+            (Some(one), None) | (None, Some(one)) => one,
+            (None, None) => change.abs(),
+        };
+        if beyond >= step_tol && step.is_none_or(|(_, s)| change.abs() > s.abs()) {
+            step = Some((i, change));
         }
     }
-    let [a, b] = ends;
-    let overlap = a[0] <= b[1] && b[0] <= a[1];
-    Some(if overlap || (ys[c.j] - ys[c.i]).abs() < step_tol {
-        Outcome::Smooth
-    } else {
-        Outcome::Jump {
+    Some(match step {
+        Some((i, size)) => Outcome::Jump {
             kind: JumpKind::Step,
-            location: 0.5 * (xs[c.i] + xs[c.j]),
-            tol: 0.5 * (xs[c.j] - xs[c.i]),
-            size: ys[c.j] - ys[c.i],
-        }
+            location: 0.5 * (xs[i] + xs[i + 1]),
+            tol: 0.5 * (xs[i + 1] - xs[i]),
+            size,
+        },
+        None => Outcome::Smooth,
     })
 }
 
@@ -559,7 +573,9 @@ mod tests {
         assert_eq!((found.candidates, found.estimated), (1, 1), "{found:?}");
         assert!(found.jumps.is_empty(), "{:?}", found.jumps);
         assert_eq!((found.dropped, found.sims), (1, 0));
-        // With a tolerance below the change end to end (0.025), the same span is a step.
+        // With a tolerance below the change between two neighbours beyond the trend before
+        // it (0.075 + 0.05 over [0.5, 0.75]), that interval is a step: at the grid's
+        // resolution a bend that sharp is not told from a step.
         let small = JumpSettings {
             step_tol: [0.02, 0.02],
             ..settings
@@ -567,6 +583,61 @@ mod tests {
         let found = find(&grid, &q, &small, &Bent);
         assert_eq!(found.jumps.len(), 1, "{found:?}");
         assert_eq!(found.jumps[0].kind, JumpKind::Step);
+    }
+
+    #[test]
+    fn between_estimates_a_trend_across_a_long_span_is_no_step() {
+        // A ramp between two flats, every point an estimate within +-0.005: its two bends are
+        // kink candidates that touch and make one span over [0.1, 0.9], whose ends' intervals
+        // lie 0.08 apart, beyond the step tolerance (0.05). No two neighbours part by more
+        // than 0.02, so there is no step: the span is dropped. (Judged by its ends alone,
+        // stop 106's rule, it was a "step" of 0.08.)
+        struct Ramp;
+        fn ramp(x: f64) -> f64 {
+            0.2 * (x.clamp(0.3, 0.7) - 0.3)
+        }
+        impl IdealCase for Ramp {
+            fn at(&self, _v: &[f64]) -> Option<[f64; 2]> {
+                Some([UNRESOLVED, UNRESOLVED])
+            }
+            fn interval(&self, v: &[f64]) -> Option<[[f64; 2]; 2]> {
+                let y = ramp(v[0]);
+                Some([[y - 5e-3, y + 5e-3], [f64::NAN; 2]])
+            }
+        }
+        let xs = grid_1d(0.1, 0.0, 1.0);
+        let grid = Grid::new(vec![("x".into(), xs.clone())]);
+        let settings = JumpSettings {
+            step_tol: [0.05, 0.05],
+            kink_slope: 1.5,
+            locate: 0.01,
+        };
+        let q: Vec<[f64; 2]> = xs.iter().map(|&x| [ramp(x), f64::NAN]).collect();
+        let found = find(&grid, &q, &settings, &Ramp);
+        assert_eq!((found.candidates, found.estimated), (1, 1), "{found:?}");
+        assert!(found.jumps.is_empty(), "{:?}", found.jumps);
+        assert_eq!((found.dropped, found.sims), (1, 0));
+        // A step of 0.1 put into the ramp at 0.55 is found there, to its grid interval.
+        struct Stepped;
+        fn stepped(x: f64) -> f64 {
+            ramp(x) + if x > 0.55 { 0.1 } else { 0.0 }
+        }
+        impl IdealCase for Stepped {
+            fn at(&self, _v: &[f64]) -> Option<[f64; 2]> {
+                Some([UNRESOLVED, UNRESOLVED])
+            }
+            fn interval(&self, v: &[f64]) -> Option<[[f64; 2]; 2]> {
+                let y = stepped(v[0]);
+                Some([[y - 5e-3, y + 5e-3], [f64::NAN; 2]])
+            }
+        }
+        let q: Vec<[f64; 2]> = xs.iter().map(|&x| [stepped(x), f64::NAN]).collect();
+        let found = find(&grid, &q, &settings, &Stepped);
+        assert_eq!(found.jumps.len(), 1, "{found:?}");
+        let j = &found.jumps[0];
+        assert_eq!(j.kind, JumpKind::Step);
+        assert!((j.location - 0.55).abs() < 1e-12 && (j.location_tol - 0.05).abs() < 1e-12);
+        assert!((j.size - (stepped(0.6) - stepped(0.5))).abs() < 1e-12);
     }
 
     #[test]

@@ -150,7 +150,7 @@ fn counts(o: &mut String, s: &Summary, window: bool) {
     if st.estimated > 0 {
         let _ = writeln!(
             o,
-            "{} of the candidates lay between designs whose peaks are estimates: a motion that is not periodic carries the peak at every point of the span, and its amplitude over the design life is known within a 90 % interval. A midpoint's estimate has the same statistical error, so these are not bisected: {} changed beyond both ends' intervals and are reported as steps at the span's own width (`location_tol` is half the span); {} changed within the intervals and are counted among the dropped.\n",
+            "{} of the candidates lay between designs whose peaks are estimates: a motion that is not periodic carries the peak at every point of the span, and its amplitude over the design life is known within a 90 % interval. A midpoint's estimate has the same statistical error, so these are not bisected; a step is looked for between neighbours: {} had two neighbouring designs whose intervals do not overlap and whose change is the step tolerance beyond the trend either side, reported as steps at that grid interval (`location_tol` is half of it); {} had none (a change within the intervals, or a trend or a bend across the span) and are counted among the dropped.\n",
             st.estimated,
             st.estimated_steps,
             st.estimated - st.estimated_steps,
