@@ -350,6 +350,10 @@ pub(crate) struct EventMap<'a, M> {
     /// search allocates and clears nothing of the units it does not carry.
     order: Vec<(f64, usize)>,
     stops: Vec<f64>,
+    /// With several units: the units an impact moves and what it did to each
+    /// ([`EventMap::collide_units`]), kept between impacts so that an impact allocates nothing.
+    hit_units: Vec<(usize, Wall)>,
+    hits: Vec<Hit>,
 }
 
 /// One unit's state in a system of several (model.md §14).
@@ -415,6 +419,8 @@ impl<'a, M: Motion> EventMap<'a, M> {
             lines: Vec::with_capacity(units.len()),
             order: Vec::with_capacity(units.len()),
             stops: Vec::with_capacity(units.len()),
+            hit_units: Vec::with_capacity(units.len()),
+            hits: Vec::with_capacity(units.len()),
             units,
             carried: sys.M,
             carrying: free,
@@ -840,28 +846,47 @@ impl<'a, M: Motion> EventMap<'a, M> {
     /// units', which ride with it unless the impulse moves the main mass away from them: then
     /// they are released first, with the velocity they had). One unit: eq. 3-4. Then the
     /// chatter rule per unit; the units that stick close plastically onto the main mass.
-    /// Returns one [`Hit`] per unit that hit, in unit order.
-    fn collide_units(&mut self) -> Vec<Hit> {
+    /// Leaves one [`Hit`] per unit that hit, in unit order, in `self.hits` (the caller takes
+    /// them and gives the vector back: [`run`]).
+    fn collide_units(&mut self) {
+        let mut hits = std::mem::take(&mut self.hit_units);
+        hits.clear();
+        hits.extend(
+            self.lines
+                .iter()
+                .enumerate()
+                .filter_map(|(i, l)| l.and_then(|l| l.hit).map(|w| (i, w))),
+        );
+        self.collide_these(&hits);
+        self.hit_units = hits;
+    }
+
+    /// [`EventMap::collide_units`] for the units `hits` (unit, wall), in unit order.
+    fn collide_these(&mut self, hits: &[(usize, Wall)]) {
         let (x, v) = (self.s.x, self.s.v);
         let energy = self.energy();
-        let hits: Vec<(usize, Wall)> = self
-            .lines
-            .iter()
-            .enumerate()
-            .filter_map(|(i, l)| l.and_then(|l| l.hit).map(|w| (i, w)))
-            .collect();
-        let befores: Vec<State> = hits
-            .iter()
-            .map(|&(i, _)| State {
+        // Each unit's state just before; the rest of each hit once the law has acted.
+        let mut out = std::mem::take(&mut self.hits);
+        out.clear();
+        out.extend(hits.iter().map(|&(i, wall)| {
+            let before = State {
                 x,
                 v,
                 y: self.units[i].y,
                 w: self.units[i].w,
-            })
-            .collect();
+            };
+            Hit {
+                unit: i,
+                lead: None,
+                wall,
+                before,
+                after: before,
+                stuck: false,
+            }
+        }));
         let law = |units: &[UnitState], carried: f64| {
             let (mut sum, mut mt) = (0.0, carried);
-            for &(i, _) in &hits {
+            for &(i, _) in hits {
                 let u = &units[i];
                 sum += u.m * ((1.0 + u.e) * (u.w - v));
                 mt += u.m;
@@ -872,7 +897,7 @@ impl<'a, M: Motion> EventMap<'a, M> {
         let stuck_side = self.units.iter().find_map(|u| u.stuck).map(Wall::sign);
         if let Some(side) = stuck_side
             && side * dv > 0.0
-            && !self.all_close(&hits, v, dv)
+            && !self.all_close(hits, v, dv)
         {
             // The impulse moves the main mass off the stuck units: they stay behind. (Not when
             // every unit that hit closes onto the main mass by the chatter rule: that is a
@@ -887,7 +912,7 @@ impl<'a, M: Motion> EventMap<'a, M> {
         let va = v + dv;
         self.s.v = va;
         self.impacts += 1;
-        for &(i, wall) in &hits {
+        for &(i, wall) in hits {
             let u = &mut self.units[i];
             // The relative velocity reversed and scaled: `w_i' - v' = -e_i (w_i - v)`.
             u.w = va - u.e * (u.w - v);
@@ -901,36 +926,28 @@ impl<'a, M: Motion> EventMap<'a, M> {
         }
         // The chatter rule per unit, with the acceleration of the main mass as it carries now.
         let relative = self.wall_accel(va);
-        let mut out = Vec::with_capacity(hits.len());
         let mut closing: Option<Wall> = None;
-        for (&(i, wall), before) in hits.iter().zip(befores) {
-            let u = self.units[i];
-            let after = State {
+        for (k, h) in out.iter_mut().enumerate() {
+            let u = self.units[h.unit];
+            h.after = State {
                 x,
                 v: va,
                 y: u.y,
                 w: u.w,
             };
-            let stuck = self.closes(wall, u.e, u.w, va, relative);
-            if stuck {
-                closing = Some(wall);
-                self.units[i].stuck = Some(wall);
+            h.stuck = self.closes(h.wall, u.e, u.w, va, relative);
+            if h.stuck {
+                closing = Some(h.wall);
+                self.units[h.unit].stuck = Some(h.wall);
             }
-            out.push(Hit {
-                unit: i,
-                lead: out.is_empty().then_some(energy),
-                wall,
-                before,
-                after,
-                stuck,
-            });
+            h.lead = (k == 0).then_some(energy);
         }
         if let Some(wall) = closing {
             self.close_onto(wall, &out, va);
         }
         self.carry_stuck();
         self.mirror();
-        out
+        self.hits = out;
     }
 
     /// The plastic closing at `wall` after an impact that left the main mass at `va`: units
@@ -1206,9 +1223,12 @@ pub(crate) fn run<'a, S: PhaseSolver, C: SceneEvents<'a, S>>(
                     return Outcome::EventCap;
                 }
                 if several {
-                    for hit in map.collide_units() {
-                        scene.impacted(&hit);
+                    map.collide_units();
+                    let hits = std::mem::take(&mut map.hits);
+                    for hit in &hits {
+                        scene.impacted(hit);
                     }
+                    scene.map_mut().hits = hits;
                 } else {
                     let hit = map.collide(wall);
                     scene.impacted(&hit);
