@@ -539,12 +539,26 @@ mod tests {
         }
     }
 
+    /// Estimates everywhere of the response (kinks and steps): `at` never resolves, each
+    /// grid value known within `±half` (DI unused: NaN).
+    struct ResponseEstimates<F: Fn(f64) -> f64 + Sync>(F, f64);
+
+    impl<F: Fn(f64) -> f64 + Sync> IdealCase for ResponseEstimates<F> {
+        fn at(&self, _v: &[f64]) -> Option<[f64; 2]> {
+            Some([UNRESOLVED, UNRESOLVED])
+        }
+
+        fn interval(&self, v: &[f64]) -> Option<[[f64; 2]; 2]> {
+            let y = (self.0)(v[0]);
+            Some([[y - self.1, y + self.1], [f64::NAN; 2]])
+        }
+    }
+
     #[test]
     fn between_estimates_a_bend_smaller_than_the_step_tolerance_is_no_step() {
         // A kink candidate spanning a four-value axis between estimates whose ends' intervals
         // do not overlap, but whose change end to end is below the step tolerance (the
         // multi-unit showcase's peaks along d_spread, stop 106): dropped, not a step.
-        struct Bent;
         fn bend(x: f64) -> f64 {
             if x < 0.5 {
                 -0.2 * x
@@ -552,15 +566,7 @@ mod tests {
                 -0.1 + 0.3 * (x - 0.5)
             }
         }
-        impl IdealCase for Bent {
-            fn at(&self, _v: &[f64]) -> Option<[f64; 2]> {
-                Some([UNRESOLVED, UNRESOLVED])
-            }
-            fn interval(&self, v: &[f64]) -> Option<[[f64; 2]; 2]> {
-                let y = bend(v[0]);
-                Some([[y - 1e-4, y + 1e-4], [f64::NAN; 2]])
-            }
-        }
+        let bent = ResponseEstimates(bend, 1e-4);
         let xs = vec![0.0, 0.25, 0.5, 0.75];
         let grid = Grid::new(vec![("x".into(), xs.clone())]);
         let settings = JumpSettings {
@@ -569,7 +575,7 @@ mod tests {
             locate: 0.01,
         };
         let q: Vec<[f64; 2]> = xs.iter().map(|&x| [bend(x), f64::NAN]).collect();
-        let found = find(&grid, &q, &settings, &Bent);
+        let found = find(&grid, &q, &settings, &bent);
         assert_eq!((found.candidates, found.estimated), (1, 1), "{found:?}");
         assert!(found.jumps.is_empty(), "{:?}", found.jumps);
         assert_eq!((found.dropped, found.sims), (1, 0));
@@ -580,7 +586,7 @@ mod tests {
             step_tol: [0.02, 0.02],
             ..settings
         };
-        let found = find(&grid, &q, &small, &Bent);
+        let found = find(&grid, &q, &small, &bent);
         assert_eq!(found.jumps.len(), 1, "{found:?}");
         assert_eq!(found.jumps[0].kind, JumpKind::Step);
     }
@@ -592,18 +598,8 @@ mod tests {
         // lie 0.08 apart, beyond the step tolerance (0.05). No two neighbours part by more
         // than 0.02, so there is no step: the span is dropped. (Judged by its ends alone,
         // stop 106's rule, it was a "step" of 0.08.)
-        struct Ramp;
         fn ramp(x: f64) -> f64 {
             0.2 * (x.clamp(0.3, 0.7) - 0.3)
-        }
-        impl IdealCase for Ramp {
-            fn at(&self, _v: &[f64]) -> Option<[f64; 2]> {
-                Some([UNRESOLVED, UNRESOLVED])
-            }
-            fn interval(&self, v: &[f64]) -> Option<[[f64; 2]; 2]> {
-                let y = ramp(v[0]);
-                Some([[y - 5e-3, y + 5e-3], [f64::NAN; 2]])
-            }
         }
         let xs = grid_1d(0.1, 0.0, 1.0);
         let grid = Grid::new(vec![("x".into(), xs.clone())]);
@@ -613,26 +609,16 @@ mod tests {
             locate: 0.01,
         };
         let q: Vec<[f64; 2]> = xs.iter().map(|&x| [ramp(x), f64::NAN]).collect();
-        let found = find(&grid, &q, &settings, &Ramp);
+        let found = find(&grid, &q, &settings, &ResponseEstimates(ramp, 5e-3));
         assert_eq!((found.candidates, found.estimated), (1, 1), "{found:?}");
         assert!(found.jumps.is_empty(), "{:?}", found.jumps);
         assert_eq!((found.dropped, found.sims), (1, 0));
         // A step of 0.1 put into the ramp at 0.55 is found there, to its grid interval.
-        struct Stepped;
         fn stepped(x: f64) -> f64 {
             ramp(x) + if x > 0.55 { 0.1 } else { 0.0 }
         }
-        impl IdealCase for Stepped {
-            fn at(&self, _v: &[f64]) -> Option<[f64; 2]> {
-                Some([UNRESOLVED, UNRESOLVED])
-            }
-            fn interval(&self, v: &[f64]) -> Option<[[f64; 2]; 2]> {
-                let y = stepped(v[0]);
-                Some([[y - 5e-3, y + 5e-3], [f64::NAN; 2]])
-            }
-        }
         let q: Vec<[f64; 2]> = xs.iter().map(|&x| [stepped(x), f64::NAN]).collect();
-        let found = find(&grid, &q, &settings, &Stepped);
+        let found = find(&grid, &q, &settings, &ResponseEstimates(stepped, 5e-3));
         assert_eq!(found.jumps.len(), 1, "{found:?}");
         let j = &found.jumps[0];
         assert_eq!(j.kind, JumpKind::Step);
