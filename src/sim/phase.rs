@@ -221,9 +221,10 @@ pub(crate) struct Reach {
     pub jerk_max: f64,
     /// The events' time tolerance (s): a located event lies within it of the true one.
     pub tol_t: f64,
-    /// The scene's own events (`x = 0`, `v = 0`, separation) are found in closed form, at the
-    /// same instant by every clone (the free scene's [`crate::sim::exact`]): a unit's whole
-    /// search then runs no further past such a stop than a short one would ([`spared`]).
+    /// The scene's own events (`x = 0`, `v = 0`, separation, and the watch's time limit) are
+    /// found in closed form, at the same instant by every clone (the free scene's
+    /// [`crate::sim::exact`]): a unit's whole search then runs no further past such a stop than
+    /// a short one would ([`spared`]).
     pub closed_form_events: bool,
 }
 
@@ -664,6 +665,9 @@ impl<'a, M: Motion> EventMap<'a, M> {
         let (_, x, v) = solver.state();
         let mut best: Option<(S, Event, f64, usize)> = None;
         let mut spent = 0;
+        // A short search pays where a whole one would run past the best stop ([`spared`]).
+        let closed_form = reach.is_some_and(|r| r.closed_form_events);
+        let short = |ev: &Event| matches!(ev, Event::Wall(_)) || !closed_form;
         for (k, &(_, i)) in order.iter().enumerate() {
             let Some(Line { walls, .. }) = self.lines[i] else {
                 continue;
@@ -679,11 +683,6 @@ impl<'a, M: Motion> EventMap<'a, M> {
                 }
                 continue;
             }
-            // A short search pays where a whole one would run past the best stop
-            // ([`spared`]).
-            let short = |ev: &Event| {
-                matches!(ev, Event::Wall(_)) || !reach.is_some_and(|r| r.closed_form_events)
-            };
             let best_stop = best.as_ref().map(|b| (b.2, short(&b.1)));
             if let (Some(stop), Some(r)) = (best_stop, reach)
                 && spared(solver, (&walls, watch), (x, v, r), stop, &mut spent)
