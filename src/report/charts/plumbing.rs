@@ -297,6 +297,19 @@ pub fn with_headroom(lo: f64, hi: f64, min_span: f64) -> (f64, f64) {
 /// A chart of two linear `f64` axes, as [`xy_chart`] builds it.
 pub type Plot<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
+/// A tick label of a plotters-placed tick on an `f64` axis: plotters' own shortest form (at most
+/// five decimals, never in exponent form) without its trailing `.0`, so that an axis reads `0`,
+/// `0.05`, `0.1`, `1` as the report writes numbers ([`fmt_num`]), not `0.0`, `0.05`, `0.1`, `1.0`.
+/// Set on every axis whose ticks plotters places.
+pub fn tick(v: &f64) -> String {
+    plotters::data::float::FloatPrettyPrinter {
+        allow_scientific: false,
+        min_decimal: 0,
+        max_decimal: 5,
+    }
+    .print(*v)
+}
+
 /// An x–y chart on `area`: its caption, the ranges, a light grid and the axis descriptions.
 /// An x axis over a design axis (`x_grid`, the grid's values; empty for a continuous axis) is
 /// labelled at those values alone, as the report writes them ([`Scale::ticks`]), where it has
@@ -330,6 +343,8 @@ where
     }
     mesh.x_desc(scale.desc(x_desc))
         .y_desc(y_desc)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .label_style(SMALL)
         .axis_desc_style(LABEL)
         .light_line_style(RGBColor(235, 235, 235))
@@ -657,6 +672,8 @@ where
         .disable_mesh()
         .x_labels(if x_ticks.is_empty() { 10 } else { 0 })
         .y_labels(if y_ticks.is_empty() { 10 } else { 0 })
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .x_desc(x_desc)
         .y_desc(y_desc)
         .label_style(SMALL)
@@ -1034,7 +1051,8 @@ mod tests {
                 xy_chart(
                     &root,
                     ("title", TITLE),
-                    (range, 0.0..1.0),
+                    // A y range without whole numbers: its labels are none of the x axis's.
+                    (range, 0.0..0.9),
                     ("x axis", "y axis"),
                     (grid, Scale::Linear),
                 )
@@ -1044,20 +1062,40 @@ mod tests {
             texts(&svg)
         };
         // Units 1, 2, 4, 8: those values alone, as the report writes them (plotters' ticks over
-        // the range read 0.0, 1.0, ..., 9.0, most of them where no design is).
+        // the range read 0, 1, ..., 9, most of them where no design is).
         let labels = draw(-0.2..9.2, &[1.0, 2.0, 4.0, 8.0]);
         let x_numbers: Vec<&String> = labels
             .iter()
             .filter(|l| ["1", "2", "4", "8"].contains(&l.as_str()))
             .collect();
         assert_eq!(x_numbers.len(), 4, "{labels:?}");
-        for absent in ["3", "3.0", "2.0", "9.0"] {
+        for absent in ["3", "3.0", "2.0", "9", "9.0"] {
             assert!(!labels.iter().any(|l| l == absent), "{absent}: {labels:?}");
         }
         // A continuous axis (no grid): plotters' ticks.
         let labels = draw(0.0..20.0, &[]);
         let numbers = labels.iter().filter(|l| l.parse::<f64>().is_ok()).count();
         assert!(numbers >= 2 + 4 + 4, "{labels:?}");
+        // Written as the report writes numbers: `0`, `5`, `0.1`, never `0.0` or `5.0`.
+        assert!(labels.iter().any(|l| l == "0"), "{labels:?}");
+        assert!(!labels.iter().any(|l| l.ends_with(".0")), "{labels:?}");
+    }
+
+    #[test]
+    fn a_tick_reads_as_the_report_writes_numbers() {
+        for (v, label) in [
+            (0.0, "0"),
+            (1.0, "1"),
+            (-3.0, "-3"),
+            (0.05, "0.05"),
+            (0.1 + 0.2, "0.3"),
+            (1.05, "1.05"),
+            (5e-17, "0"),
+            (0.00025, "0.00025"),
+            (1250.0, "1250"),
+        ] {
+            assert_eq!(tick(&v), label, "{v}");
+        }
     }
 
     /// The labels of an SVG with their `x` attribute.
@@ -1113,7 +1151,7 @@ mod tests {
             xy_chart(
                 &root,
                 ("title", TITLE),
-                (a..b, 0.0..1.0),
+                (a..b, 0.0..0.9),
                 ("units (-)", "y axis"),
                 (&xs, scale),
             )

@@ -8,10 +8,10 @@ use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::di::{di_source, jump_keys, jump_lines};
+use super::di::{di_source, drawn_jumps, jump_keys, jump_lines};
 use crate::report::charts::plumbing::{
     BLUE, Chart, GREEN, GREY, Key, LABEL, LEGEND_PITCH, MANY, Profile, RED_LINE, SMALL, TITLE, err,
-    legend_lines, legend_row, minmax, pad, with_headroom, x_ticks_at, zone_color,
+    legend_lines, legend_row, minmax, pad, tick, with_headroom, x_ticks_at, zone_color,
 };
 use crate::report::text::{axis_desc, fmt_num};
 
@@ -157,7 +157,31 @@ where
     Ok(())
 }
 
-/// Shades the zones over `y0..y1` and names those wide enough for their name near the top.
+/// Where a zone's name goes along x, in pixels: centred on its span `(lo, hi)` unless a jump's
+/// line (`lines`) passes through the name (`w` wide, with a gap of [`NAME_GAP`] each side); then
+/// beside the line nearest to the centre on the side with room in the span, clear of every
+/// line. `None` when the span is too narrow for the name, or no place in it is clear of the
+/// lines (the name is then centred on a pale ground, over the line).
+fn name_place(lines: &[i32], (lo, hi): (i32, i32), w: i32) -> Option<i32> {
+    let half = w / 2 + NAME_GAP;
+    let clear = |c: i32| lines.iter().all(|&l| (l - c).abs() > half);
+    let fits = |c: i32| c - half >= lo && c + half <= hi;
+    let centre = (lo + hi) / 2;
+    if clear(centre) {
+        return Some(centre);
+    }
+    lines
+        .iter()
+        .flat_map(|&l| [l - half - 1, l + half + 1])
+        .filter(|&c| fits(c) && clear(c))
+        .min_by_key(|&c| (c - centre).abs())
+}
+
+/// The gap between a zone's name and a jump's line beside it (pixels).
+const NAME_GAP: i32 = 4;
+
+/// Shades the zones over `y0..y1` and names those wide enough for their name near the top,
+/// clear of the jumps' lines where the zone has room ([`name_place`]).
 fn shade_zones<'a, DB: DrawingBackend + 'a>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
     pr: &Profile,
@@ -181,19 +205,34 @@ where
             )))
             .map_err(err)?;
         let px = |x: f64| chart.backend_coord(&(x, y0)).0;
-        let (w, _) = chart
+        let (w, h) = chart
             .plotting_area()
             .estimate_text_size(&name, &font)
             .map_err(err)?;
-        if px(hi) - px(lo) < w as i32 + 4 {
+        let (w, h) = (w as i32, h as i32);
+        if px(hi) - px(lo) < w + 4 {
             continue; // too narrow for its name
         }
+        let lines: Vec<i32> = drawn_jumps(pr)
+            .iter()
+            .map(|j| px(pr.at_x(j.location)))
+            .collect();
+        let centre = (px(lo) + px(hi)) / 2;
+        let at = ((lo + hi) / 2.0, y1 - 0.03 * (y1 - y0));
+        let place = name_place(&lines, (px(lo), px(hi)), w);
+        if place.is_none() {
+            let ground = [(-w / 2 - 2, -1), (w / 2 + 2, h + 1)];
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at(at) + Rectangle::new(ground, WHITE.mix(0.8).filled()),
+                ))
+                .map_err(err)?;
+        }
+        let dx = place.map_or(0, |c| c - centre);
         chart
-            .draw_series(std::iter::once(Text::new(
-                name.clone(),
-                ((lo + hi) / 2.0, y1 - 0.03 * (y1 - y0)),
-                font.clone(),
-            )))
+            .draw_series(std::iter::once(
+                EmptyElement::at(at) + Text::new(name, (dx, 0), font.clone()),
+            ))
             .map_err(err)?;
     }
     Ok(())
@@ -269,6 +308,7 @@ impl DesignChart<'_> {
             mesh.x_labels(0);
         }
         mesh.y_desc("reliability R (–)")
+            .x_label_formatter(&tick)
             .y_labels(8)
             // The headroom for the zone names may pass 1; R never does, so no label there.
             .y_label_formatter(&|v| {
@@ -354,6 +394,8 @@ impl DesignChart<'_> {
         }
         mesh.x_desc(pr.scale.desc(&axis_desc(key)))
             .y_desc("safety factor μn (–)")
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
             .label_style(SMALL)
             .axis_desc_style(LABEL)
             .light_line_style(TRANSPARENT)
@@ -363,6 +405,7 @@ impl DesignChart<'_> {
         chart
             .configure_secondary_axes()
             .y_desc(s.options.damping.label())
+            .y_label_formatter(&tick)
             .label_style(SMALL)
             .axis_desc_style(LABEL)
             .draw()
@@ -413,6 +456,26 @@ impl Chart for DesignChart<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_zone_name_stands_clear_of_the_jump_lines() {
+        // A zone 200 px wide (100..300) and a name 20 px wide: half of it with its gaps is 14.
+        let span = (100, 300);
+        assert_eq!(name_place(&[], span, 20), Some(200));
+        // A line away from the centre leaves the name there.
+        assert_eq!(name_place(&[150], span, 20), Some(200));
+        // A line through the centre (a zone around a jump): the name moves beside it, the
+        // nearer side first, and no line passes within its half-width.
+        for lines in [vec![200], vec![196], vec![205, 230]] {
+            let c = name_place(&lines, span, 20).unwrap();
+            assert!(lines.iter().all(|&l| (l - c).abs() > 14), "{lines:?}: {c}");
+            assert!((100 + 14..=300 - 14).contains(&c), "{lines:?}: {c}");
+            assert!((c - 200).abs() <= 45, "{lines:?}: {c}");
+        }
+        assert!(name_place(&[196], span, 20).unwrap() > 196);
+        // No room beside the line in a narrow zone: no place (centred on a pale ground).
+        assert_eq!(name_place(&[130], (110, 150), 20), None);
+    }
 
     #[test]
     fn reliability_gets_a_tight_range_with_the_threshold() {

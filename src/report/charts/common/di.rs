@@ -111,6 +111,16 @@ fn distinct<'a>(names: impl Iterator<Item = &'a str>) -> Option<String> {
     (!out.is_empty()).then(|| out.join(", "))
 }
 
+/// The jumps [`jump_lines`] draws: the largest [`MAX_JUMP_LINES`] by size, in the order of
+/// their locations.
+pub fn drawn_jumps<'a>(pr: &Profile<'a>) -> Vec<&'a Jump> {
+    let mut jumps = pr.jumps.clone();
+    jumps.sort_by(|a, b| b.size.abs().total_cmp(&a.size.abs()));
+    jumps.truncate(MAX_JUMP_LINES);
+    jumps.sort_by(|a, b| a.location.total_cmp(&b.location));
+    jumps
+}
+
 /// Vertical lines at the jumps of the profile (the largest [`MAX_JUMP_LINES`] by size relative
 /// to their kind's largest), steps solid, kinks dashed, one legend entry per kind naming every
 /// quantity it marks.
@@ -122,11 +132,8 @@ pub fn jump_lines<'a, DB: DrawingBackend + 'a>(
 where
     DB::ErrorType: 'static,
 {
-    let mut jumps = pr.jumps.clone();
-    let n = jumps.len();
-    jumps.sort_by(|a, b| b.size.abs().total_cmp(&a.size.abs()));
-    jumps.truncate(MAX_JUMP_LINES);
-    jumps.sort_by(|a, b| a.location.total_cmp(&b.location));
+    let n = pr.jumps.len();
+    let jumps = drawn_jumps(pr);
     let mut labelled: Vec<JumpKind> = Vec::new();
     for j in &jumps {
         let x = pr.at_x(j.location);

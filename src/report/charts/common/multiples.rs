@@ -6,7 +6,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::report::charts::plumbing::{
-    Chart, SMALL, TITLE, cell_edges, class_color, err, zone_color,
+    Chart, SMALL, TITLE, cell_edges, class_color, err, tick, zone_color,
 };
 
 use crate::reduce::{Class, PointStats, Summary};
@@ -103,6 +103,8 @@ impl ZoneMultiples<'_> {
             .y_desc(axis_desc(g.key(a)))
             .x_labels(4)
             .y_labels(4)
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
             .label_style(("sans-serif", 12))
             .axis_desc_style(("sans-serif", 13))
             .draw()

@@ -8,7 +8,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::report::charts::plumbing::{
-    Chart, Key, LABEL, SMALL, TITLE, err, minmax, pad, plot_builder,
+    Chart, Key, LABEL, SMALL, TITLE, err, minmax, pad, plot_builder, tick,
 };
 
 use crate::orbits::attractors::SteadyKind;
@@ -109,6 +109,7 @@ impl Chart for Bifurcation<'_> {
         chart
             .configure_mesh()
             .y_desc("x(kT), section of each attractor (cm)")
+            .x_label_formatter(&tick)
             // A tick at zero computed as 5e-17 reads as zero.
             .y_label_formatter(&|v: &f64| fmt_num(if v.abs() < 1e-12 { 0.0 } else { *v }))
             .label_style(SMALL)
@@ -160,6 +161,7 @@ impl Bifurcation<'_> {
         chart
             .configure_mesh()
             .x_desc("frequency ratio r = omega / sqrt(K/M) (–)")
+            .x_label_formatter(&tick)
             .y_desc("λ1 per forcing period")
             .y_label_formatter(&|v: &f64| fmt_num(*v))
             .label_style(SMALL)

@@ -10,7 +10,9 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::report::charts::plumbing::{Chart, Key, LABEL, Plot, SMALL, TITLE, err, plot_builder};
+use crate::report::charts::plumbing::{
+    Chart, Key, LABEL, Plot, SMALL, TITLE, err, plot_builder, tick,
+};
 
 use crate::orbits::attractors::SteadyKind;
 use crate::reduce::Summary;
@@ -315,6 +317,7 @@ impl Chart for DesignMap<'_> {
         chart
             .configure_mesh()
             .x_desc("frequency ratio r = omega / sqrt(K/M) (–)")
+            .x_label_formatter(&tick)
             .y_desc(format!("{} ({})", self.key, unit(&self.key)))
             .y_label_formatter(&|v: &f64| fmt_num(*v))
             .label_style(SMALL)

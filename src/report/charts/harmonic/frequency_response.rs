@@ -22,7 +22,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::report::charts::plumbing::{
-    Chart, Hovers, Key, LABEL, SMALL, TITLE, err, minmax, pad, plot_builder,
+    Chart, Hovers, Key, LABEL, SMALL, TITLE, err, minmax, pad, plot_builder, tick,
 };
 
 use crate::reduce::harmonic::{Curve, HarmonicSummary};
@@ -370,6 +370,7 @@ impl Chart for FrequencyResponse<'_> {
             chart
                 .configure_mesh()
                 .x_desc(row.x_desc())
+                .x_label_formatter(&tick)
                 .y_desc("steady amplitude (cm), log scale")
                 .y_labels(8)
                 .y_label_formatter(&|v: &f64| fmt_num(*v))
@@ -387,6 +388,7 @@ impl Chart for FrequencyResponse<'_> {
             chart
                 .configure_mesh()
                 .x_desc(row.x_desc())
+                .x_label_formatter(&tick)
                 .y_desc("steady amplitude (cm)")
                 .y_label_formatter(&|v: &f64| fmt_num(*v))
                 .label_style(SMALL)
@@ -690,6 +692,8 @@ where
     chart
         .configure_mesh()
         .y_desc("impacts per forcing period")
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .label_style(SMALL)
         .axis_desc_style(LABEL)
         .light_line_style(RGBColor(235, 235, 235))
@@ -727,6 +731,7 @@ where
     chart
         .configure_mesh()
         .x_desc(row.x_desc())
+        .x_label_formatter(&tick)
         .y_desc("period (forcing periods)")
         .y_labels(10)
         .y_label_formatter(&|v: &f64| {

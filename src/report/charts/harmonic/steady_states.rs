@@ -14,7 +14,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::report::charts::plumbing::{
-    Chart, Hovers, Key, LABEL, Plot, SMALL, TITLE, err, minmax, pad, plot_builder,
+    Chart, Hovers, Key, LABEL, Plot, SMALL, TITLE, err, minmax, pad, plot_builder, tick,
 };
 
 use crate::orbits::response::Response;
@@ -217,6 +217,7 @@ impl Chart for Branches<'_> {
         chart
             .configure_mesh()
             .x_desc(st.x_name().1)
+            .x_label_formatter(&tick)
             .y_desc("steady amplitude (cm)")
             .y_label_formatter(&|v: &f64| fmt_num(*v))
             .label_style(SMALL)
@@ -538,6 +539,8 @@ impl Chart for Basins<'_> {
             .configure_mesh()
             .x_desc(st.x_name().1)
             .y_desc("share of the starts")
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
             .label_style(SMALL)
             .axis_desc_style(LABEL)
             .light_line_style(RGBColor(235, 235, 235))
