@@ -195,6 +195,11 @@ where
         .into_font()
         .color(&BLACK)
         .pos(Pos::new(HPos::Center, VPos::Top));
+    // The jumps' lines along x, in pixels.
+    let lines: Vec<i32> = drawn_jumps(pr)
+        .iter()
+        .map(|j| chart.backend_coord(&(pr.at_x(j.location), y0)).0)
+        .collect();
     for (lo, hi, z) in pr.zone_spans() {
         let color = zone_color(pr.s, z);
         let name = pr.s.zones[z as usize].name.clone();
@@ -213,10 +218,6 @@ where
         if px(hi) - px(lo) < w + 4 {
             continue; // too narrow for its name
         }
-        let lines: Vec<i32> = drawn_jumps(pr)
-            .iter()
-            .map(|j| px(pr.at_x(j.location)))
-            .collect();
         let centre = (px(lo) + px(hi)) / 2;
         let at = ((lo + hi) / 2.0, y1 - 0.03 * (y1 - y0));
         let place = name_place(&lines, (px(lo), px(hi)), w);
