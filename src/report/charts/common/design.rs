@@ -160,8 +160,9 @@ where
 /// Where a zone's name goes along x, in pixels: centred on its span `(lo, hi)` unless a jump's
 /// line (`lines`) passes through the name (`w` wide, with a gap of [`NAME_GAP`] each side); then
 /// beside the line nearest to the centre on the side with room in the span, clear of every
-/// line. `None` when the span is too narrow for the name, or no place in it is clear of the
-/// lines (the name is then centred on a pale ground, over the line).
+/// line. `None` when a line passes through the centred name and no place beside a line fits in
+/// the span clear of every line (the name is then centred on a pale ground, over the line). The
+/// caller skips a span too narrow for the name before asking.
 fn name_place(lines: &[i32], (lo, hi): (i32, i32), w: i32) -> Option<i32> {
     let half = w / 2 + NAME_GAP;
     let clear = |c: i32| lines.iter().all(|&l| (l - c).abs() > half);
