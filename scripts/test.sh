@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: installs what the tests need (pinned Python packages
-# for the interop and browser tests, Debian's chromium + chromium-driver for the browser test),
-# checks formatting, lints and the docs' links, then runs every test: the Rust suite, then the
-# Python package (python/) built and installed into .venv the way a user does
-# (`pip install ./python`) and its pytest suite, compared against the binary just tested.
+# for the interop and browser tests, Debian's chromium + chromium-driver for the browser test and
+# qemu-user for the processor test), checks formatting, lints and the docs' links, then runs every
+# test: the Rust suite, then the Python package (python/) built and installed into .venv the way a
+# user does (`pip install ./python`) and its pytest suite, compared against the binary just tested.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Each phase's start, in seconds since the script's (BENCHMARKS.md, "CI time", reads them).
@@ -13,17 +13,23 @@ phase() { echo "test.sh: [${SECONDS} s] $*" >&2; }
 # before the first test that needs them (BENCHMARKS.md, "CI time").
 scripts/setup-python.sh &
 python_setup=$!
-# The browser test of the HTML pages (tests/html.rs) drives the system Chromium. Installed as
-# root with apt-get when missing; elsewhere that test says loudly that it skipped.
+# The browser test of the HTML pages (tests/html.rs) drives the system Chromium; the test of the
+# build's processor level (tests/determinism.rs) runs the binary under QEMU's emulation of an
+# older processor. Installed as root with apt-get when missing; elsewhere those tests say loudly
+# that they skipped.
 install_chromium() {
-  if ! { command -v chromium >/dev/null && command -v chromedriver >/dev/null; }; then
+  local missing=()
+  command -v chromium >/dev/null || missing+=(chromium)
+  command -v chromedriver >/dev/null || missing+=(chromium-driver)
+  command -v qemu-x86_64 >/dev/null || missing+=(qemu-user)
+  if [ ${#missing[@]} -gt 0 ]; then
     if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
-      echo "test.sh: installing chromium and chromium-driver with apt-get" >&2
+      echo "test.sh: installing ${missing[*]} with apt-get" >&2
       export DEBIAN_FRONTEND=noninteractive
       apt-get -o DPkg::Lock::Timeout=300 update -qq >&2
-      apt-get -o DPkg::Lock::Timeout=300 install -y -qq --no-install-recommends chromium chromium-driver >/dev/null
+      apt-get -o DPkg::Lock::Timeout=300 install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
     else
-      echo "test.sh: WARNING: chromium/chromium-driver missing and not installable here (not root or no apt-get): the browser test will skip" >&2
+      echo "test.sh: WARNING: ${missing[*]} missing and not installable here (not root or no apt-get): the browser test or the processor test will skip" >&2
     fi
   fi
 }

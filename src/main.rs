@@ -12,6 +12,16 @@ use impactsweep::{
 };
 
 fn main() {
+    // First, before anything compiled for the build's instruction set can run: a processor
+    // without it gets a sentence, not an illegal instruction (`sim::math::MISSING_CPU`).
+    if sim::math::missing_cpu_features() != 0 {
+        let msg = sim::math::MISSING_CPU;
+        // SAFETY: writing a static buffer to standard error.
+        unsafe {
+            libc::write(2, msg.as_ptr().cast(), msg.len());
+        }
+        std::process::exit(error::EXIT_FAILURE);
+    }
     // Output piped into a reader that stops early (`impactsweep reduce DIR | head -1`) ends the
     // process quietly, as it does any Unix filter, instead of a panic on the broken pipe.
     // SAFETY: restoring the default disposition of SIGPIPE before any thread starts.

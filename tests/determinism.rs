@@ -611,3 +611,48 @@ fn a_resume_by_a_build_of_other_numerics_is_refused() {
         String::from_utf8_lossy(&status.stdout)
     );
 }
+
+/// A build for the x86-64-v3 level (`.cargo/config.toml`) on a processor without it says so and
+/// stops with status 1, instead of dying on an illegal instruction (`sim::math::MISSING_CPU`);
+/// on one with it, it runs. The binary runs under QEMU's user-mode emulation of a Nehalem
+/// (SSE4.2, no AVX) and of a Haswell (AVX2, FMA, BMI2). A build for the base level runs on
+/// both. Skips, loudly, without `qemu-x86_64` (`scripts/test.sh` installs Debian's
+/// `qemu-user` as root).
+#[test]
+#[cfg(target_arch = "x86_64")]
+fn an_older_processor_is_told_what_the_build_needs() {
+    let qemu = ["/usr/bin/qemu-x86_64", "/usr/local/bin/qemu-x86_64"]
+        .into_iter()
+        .find(|p| Path::new(p).exists());
+    let Some(qemu) = qemu else {
+        eprintln!(
+            "SKIPPED an_older_processor_is_told_what_the_build_needs: no qemu-x86_64 \
+             (Debian's qemu-user)"
+        );
+        return;
+    };
+    let run = |cpu: &str| {
+        std::process::Command::new(qemu)
+            .args(["-cpu", cpu, env!("CARGO_BIN_EXE_impactsweep"), "--version"])
+            .output()
+            .expect("qemu-x86_64 runs")
+    };
+    let old = run("Nehalem");
+    let stderr = String::from_utf8_lossy(&old.stderr);
+    if cfg!(target_feature = "avx2") {
+        assert_eq!(old.status.code(), Some(1), "on a Nehalem: {stderr}");
+        assert!(
+            stderr.contains("uses the x86-64-v3 instructions")
+                && stderr.contains("RUSTFLAGS= cargo build --release"),
+            "on a Nehalem: {stderr}"
+        );
+    } else {
+        assert!(old.status.success(), "a base build on a Nehalem: {stderr}");
+    }
+    let new = run("Haswell");
+    assert!(
+        new.status.success() && String::from_utf8_lossy(&new.stdout).starts_with("impactsweep"),
+        "on a Haswell: {}",
+        String::from_utf8_lossy(&new.stderr)
+    );
+}

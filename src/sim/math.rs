@@ -15,6 +15,15 @@
 //! resume whose library computes otherwise is refused (docs/run.md, "Determinism across
 //! machines"), so that a dataset's records are always one library's bits; likewise a build whose
 //! own arithmetic moved ([`NUMERICS`]).
+//!
+//! # The processor
+//! On x86-64 the project builds for the x86-64-v3 level (`.cargo/config.toml`: AVX2, FMA, BMI1,
+//! BMI2, F16C, LZCNT, MOVBE; every x86-64 processor since 2013-2015). The compiler then encodes
+//! the same operations in fewer instructions (three-operand forms, wider moves); it never fuses a
+//! multiplication and an addition on its own, so every record has the same bits as a build for
+//! any x86-64 processor (BENCHMARKS.md, "A build for x86-64-v3"). [`MISSING_CPU`] is what the
+//! binary and the Python module say, instead of dying on an illegal instruction, on a processor
+//! without those extensions ([`missing_cpu_features`]).
 
 use std::hint::black_box;
 use std::sync::OnceLock;
@@ -25,6 +34,120 @@ use std::sync::OnceLock;
 /// directory records its writer's ([`crate::store::Manifest::numerics`]), and a resume or a
 /// shard by a build of another version is refused: one dataset, one build's arithmetic.
 pub const NUMERICS: u32 = 1;
+
+/// The message for a processor that lacks an extension this build was compiled to use
+/// ([`missing_cpu_features`]); static, so that nothing compiled for those extensions runs
+/// before it is written.
+pub const MISSING_CPU: &str = "error: this build of impactsweep uses the x86-64-v3 \
+instructions (AVX2, FMA, BMI1, BMI2, F16C, LZCNT, MOVBE) and this processor lacks some of them. \
+Build it for any x86-64 processor with `RUSTFLAGS= cargo build --release` (Python: \
+`RUSTFLAGS= pip install ./python`): the same results, about a tenth slower.\n";
+
+/// Whether the processor lacks an instruction-set extension this build was compiled to use
+/// (`.cargo/config.toml`'s `target-cpu`): a bit per missing group, 0 when the build can run
+/// here (always on other architectures, and for a build without those extensions). Read from
+/// `cpuid` and `xgetbv` (the system saves the vector registers) and tested in assembly of the
+/// base instruction set: `std::arch::is_x86_feature_detected!` answers `true` for a feature
+/// the build was compiled with, without asking the processor, and code the compiler writes
+/// may already use the extensions it checks.
+#[inline(never)]
+pub fn missing_cpu_features() -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let (max, _, _) = cpuid(0);
+        let (_, _, leaf1) = cpuid(1);
+        let leaf7 = if max >= 7 { cpuid(7).1 } else { 0 };
+        let (ext_max, _, _) = cpuid(0x8000_0000);
+        let ext1 = if ext_max >= 0x8000_0001 {
+            cpuid(0x8000_0001).2
+        } else {
+            0
+        };
+        // Leaf 1, ecx: SSE3 0, SSSE3 9, FMA 12, CX16 13, SSE4.1 19, SSE4.2 20, MOVBE 22,
+        // POPCNT 23, XSAVE 26, OSXSAVE 27, AVX 28, F16C 29.
+        let v2 = (1 << 0) | (1 << 9) | (1 << 13) | (1 << 19) | (1 << 20) | (1 << 23);
+        let v3 = (1 << 12) | (1 << 22) | (1 << 26) | (1 << 27) | (1 << 28) | (1 << 29);
+        let mut missing = 0;
+        if cfg!(target_feature = "sse4.2") && !has_all(leaf1, v2) {
+            missing |= 1;
+        }
+        if cfg!(target_feature = "avx2") {
+            // Leaf 7, ebx: BMI1 3, AVX2 5, BMI2 8; leaf 0x8000_0001, ecx: LZCNT 5.
+            let os_saves_ymm = has_all(leaf1, 1 << 27) && has_all(xcr0(), 0b110);
+            if !(has_all(leaf1, v3)
+                && has_all(leaf7, (1 << 3) | (1 << 5) | (1 << 8))
+                && has_all(ext1, 1 << 5)
+                && os_saves_ymm)
+            {
+                missing |= 2;
+            }
+        }
+        missing
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    0
+}
+
+/// `(eax, ebx, ecx)` of `cpuid` at `leaf` (subleaf 0), in registers (`rbx`, which the compiler
+/// keeps, saved around it).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn cpuid(leaf: u32) -> (u32, u32, u32) {
+    let (eax, ebx, ecx): (u32, u32, u32);
+    // SAFETY: `cpuid` is in the base instruction set; it writes eax, ebx, ecx and edx only.
+    unsafe {
+        std::arch::asm!(
+            "mov {b:r}, rbx",
+            "cpuid",
+            "xchg {b:r}, rbx",
+            b = out(reg) ebx,
+            inout("eax") leaf => eax,
+            inout("ecx") 0u32 => ecx,
+            out("edx") _,
+            options(nomem, nostack, preserves_flags),
+        );
+    }
+    (eax, ebx, ecx)
+}
+
+/// Whether every bit of `mask` is set in `reg`, in base instructions (`and`, `cmp`, `sete`).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn has_all(reg: u32, mask: u32) -> bool {
+    let set: u8;
+    // SAFETY: register arithmetic only.
+    unsafe {
+        std::arch::asm!(
+            "and {x:e}, {m:e}",
+            "cmp {x:e}, {m:e}",
+            "sete {r}",
+            x = inout(reg) reg => _,
+            m = in(reg) mask,
+            r = out(reg_byte) set,
+            options(pure, nomem, nostack),
+        );
+    }
+    set != 0
+}
+
+/// The low word of `XCR0` (bits 1 and 2: the system saves the SSE and AVX registers); called
+/// only where `cpuid` reports OSXSAVE.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn xcr0() -> u32 {
+    let eax: u32;
+    // SAFETY: `xgetbv` with ecx = 0 reads XCR0; the caller has checked OSXSAVE first (`&&`).
+    unsafe {
+        std::arch::asm!(
+            "xgetbv",
+            in("ecx") 0u32,
+            out("eax") eax,
+            out("edx") _,
+            options(nomem, nostack),
+        );
+    }
+    eax
+}
 
 /// `(function, argument bits, second argument bits)` where glibc 2.36's FMA and SSE2 codes give
 /// different results (found by evaluating 200,000 pseudo-random arguments with each code,
