@@ -6,9 +6,12 @@
 # 1. Instructions executed (valgrind's cachegrind, `--cache-sim=no`), the whole workload and the
 #    functions that execute the most. A count, not a time: the same binary gives the same count
 #    on any load, so a change of a few per cent shows. It weighs a square root or a division
-#    like an addition, so it is a guide, not a verdict: the x86-64-v3 build executes 12.6 %
-#    fewer instructions and runs the showcase no faster (BENCHMARKS.md). Time a change that
-#    counts fewer on the showcase end to end (scripts/bench_ab.sh) before keeping it.
+#    like an addition, so it is a guide, not a verdict: at stop 56 the x86-64-v3 build executed
+#    12.6 % fewer instructions and ran the showcase no faster on an Intel Xeon (at stop 110,
+#    0.94 of the time on an AMD EPYC; BENCHMARKS.md). Time a change that counts fewer on the
+#    showcase end to end (scripts/bench_ab.sh) before keeping it. Valgrind 3.19 stops on an AVX
+#    instruction of the harmonic scene in an x86-64-v3 build (the project's default on x86-64):
+#    count builds made with `RUSTFLAGS=`.
 # 2. Wall time, both builds at the same time, each pinned to its own core, swapping cores every
 #    round, so a change of the machine's speed falls on both alike. On the 2-core KVM machine of
 #    BENCHMARKS.md one build run alone drifts by +-15 % from run to run; two builds' ratio in a
