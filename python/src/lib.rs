@@ -1184,14 +1184,6 @@ fn keys() -> (Vec<&'static str>, Vec<&'static str>, Vec<&'static str>) {
 
 #[pymodule]
 fn _impactsweep(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    // A processor without the build's instruction set: an ImportError that says so
-    // (`impactsweep::sim::math::MISSING_CPU`), where it can be raised before an illegal
-    // instruction.
-    if impactsweep::sim::math::missing_cpu_features() != 0 {
-        return Err(pyo3::exceptions::PyImportError::new_err(
-            impactsweep::sim::math::MISSING_CPU.trim_end(),
-        ));
-    }
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_random, m)?)?;
     m.add_function(wrap_pyfunction!(random_n_normals, m)?)?;

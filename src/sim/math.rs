@@ -22,8 +22,10 @@
 //! the same operations in fewer instructions (three-operand forms, wider moves); it never fuses a
 //! multiplication and an addition on its own, so every record has the same bits as a build for
 //! any x86-64 processor (BENCHMARKS.md, "A build for x86-64-v3"). [`MISSING_CPU`] is what the
-//! binary and the Python module say, instead of dying on an illegal instruction, on a processor
-//! without those extensions ([`missing_cpu_features`]).
+//! binary says, instead of dying on an illegal instruction, on a processor without those
+//! extensions ([`missing_cpu_features`]). The Python module cannot say it: pyo3's loader, which
+//! runs before any code of ours, already holds such instructions (`vzeroupper`, seen under
+//! QEMU's Nehalem), so there it is an illegal instruction.
 
 use std::hint::black_box;
 use std::sync::OnceLock;
