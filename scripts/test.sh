@@ -17,7 +17,7 @@ python_setup=$!
 # build's processor level (tests/determinism.rs) runs the binary under QEMU's emulation of an
 # older processor. Installed as root with apt-get when missing; elsewhere those tests say loudly
 # that they skipped.
-install_chromium() {
+install_debian_packages() {
   local missing=()
   command -v chromium >/dev/null || missing+=(chromium)
   command -v chromedriver >/dev/null || missing+=(chromium-driver)
@@ -33,8 +33,8 @@ install_chromium() {
     fi
   fi
 }
-install_chromium &
-chromium_setup=$!
+install_debian_packages &
+debian_setup=$!
 export IMPACTSWEEP_PYTHON="$PWD/.venv/bin/python"
 # A build from cold (CI's) gains nothing from incremental compilation's caches and pays for
 # writing them (about 1 GB; the crate's cold test build 336 s -> 314 s without): off for every
@@ -54,7 +54,7 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib --document-private-items
 phase test build
 cargo test --lib --bins --tests --benches --no-run
 wait "$python_setup"
-wait "$chromium_setup"
+wait "$debian_setup"
 phase Rust tests
 # Three test threads on two cores: the real Slurm cluster's test waits on the scheduler for
 # most of its 36 s (6 s of CPU), and a third thread spends that wait (BENCHMARKS.md, "CI time").

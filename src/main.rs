@@ -14,7 +14,7 @@ use impactsweep::{
 fn main() {
     // First, before anything compiled for the build's instruction set can run: a processor
     // without it gets a sentence, not an illegal instruction (`sim::math::MISSING_CPU`).
-    if sim::math::missing_cpu_features() != 0 {
+    if sim::math::cpu_lacks_build_features() {
         let msg = sim::math::MISSING_CPU;
         // SAFETY: writing a static buffer to standard error.
         unsafe {

@@ -23,7 +23,7 @@
 //! multiplication and an addition on its own, so every record has the same bits as a build for
 //! any x86-64 processor (BENCHMARKS.md, "A build for x86-64-v3"). [`MISSING_CPU`] is what the
 //! binary says, instead of dying on an illegal instruction, on a processor without those
-//! extensions ([`missing_cpu_features`]). The Python module cannot say it: pyo3's loader, which
+//! extensions ([`cpu_lacks_build_features`]). The Python module cannot say it: pyo3's loader, which
 //! runs before any code of ours, already holds such instructions (`vzeroupper`, seen under
 //! QEMU's Nehalem), so there it is an illegal instruction.
 
@@ -38,7 +38,7 @@ use std::sync::OnceLock;
 pub const NUMERICS: u32 = 1;
 
 /// The message for a processor that lacks an extension this build was compiled to use
-/// ([`missing_cpu_features`]); static, so that nothing compiled for those extensions runs
+/// ([`cpu_lacks_build_features`]); static, so that nothing compiled for those extensions runs
 /// before it is written.
 pub const MISSING_CPU: &str = "error: this build of impactsweep uses the x86-64-v3 \
 instructions (AVX2, FMA, BMI1, BMI2, F16C, LZCNT, MOVBE) and this processor lacks some of them. \
@@ -46,14 +46,14 @@ Build it for any x86-64 processor with `RUSTFLAGS= cargo build --release` (Pytho
 `RUSTFLAGS= pip install ./python`): the same results, about a tenth slower.\n";
 
 /// Whether the processor lacks an instruction-set extension this build was compiled to use
-/// (`.cargo/config.toml`'s `target-cpu`): a bit per missing group, 0 when the build can run
-/// here (always on other architectures, and for a build without those extensions). Read from
+/// (`.cargo/config.toml`'s `target-cpu`): `false` where the build can run (always on other
+/// architectures, and for a build without those extensions). Read from
 /// `cpuid` and `xgetbv` (the system saves the vector registers) and tested in assembly of the
 /// base instruction set: `std::arch::is_x86_feature_detected!` answers `true` for a feature
 /// the build was compiled with, without asking the processor, and code the compiler writes
 /// may already use the extensions it checks.
 #[inline(never)]
-pub fn missing_cpu_features() -> u32 {
+pub fn cpu_lacks_build_features() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         let (max, _, _) = cpuid(0);
@@ -69,25 +69,19 @@ pub fn missing_cpu_features() -> u32 {
         // POPCNT 23, XSAVE 26, OSXSAVE 27, AVX 28, F16C 29.
         let v2 = (1 << 0) | (1 << 9) | (1 << 13) | (1 << 19) | (1 << 20) | (1 << 23);
         let v3 = (1 << 12) | (1 << 22) | (1 << 26) | (1 << 27) | (1 << 28) | (1 << 29);
-        let mut missing = 0;
-        if cfg!(target_feature = "sse4.2") && !has_all(leaf1, v2) {
-            missing |= 1;
-        }
-        if cfg!(target_feature = "avx2") {
-            // Leaf 7, ebx: BMI1 3, AVX2 5, BMI2 8; leaf 0x8000_0001, ecx: LZCNT 5.
-            let os_saves_ymm = has_all(leaf1, 1 << 27) && has_all(xcr0(), 0b110);
-            if !(has_all(leaf1, v3)
+        let lacks_v2 = cfg!(target_feature = "sse4.2") && !has_all(leaf1, v2);
+        // Leaf 7, ebx: BMI1 3, AVX2 5, BMI2 8; leaf 0x8000_0001, ecx: LZCNT 5.
+        let lacks_v3 = cfg!(target_feature = "avx2")
+            && !(has_all(leaf1, v3)
                 && has_all(leaf7, (1 << 3) | (1 << 5) | (1 << 8))
                 && has_all(ext1, 1 << 5)
-                && os_saves_ymm)
-            {
-                missing |= 2;
-            }
-        }
-        missing
+                // The system saves the vector registers: XCR0, read once `v3` has shown
+                // OSXSAVE.
+                && has_all(xcr0(), 0b110));
+        lacks_v2 || lacks_v3
     }
     #[cfg(not(target_arch = "x86_64"))]
-    0
+    false
 }
 
 /// `(eax, ebx, ecx)` of `cpuid` at `leaf` (subleaf 0), in registers (`rbx`, which the compiler
@@ -133,12 +127,12 @@ fn has_all(reg: u32, mask: u32) -> bool {
 }
 
 /// The low word of `XCR0` (bits 1 and 2: the system saves the SSE and AVX registers); called
-/// only where `cpuid` reports OSXSAVE.
+/// only where `cpuid` reports OSXSAVE (bit 27 of the `v3` mask).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn xcr0() -> u32 {
     let eax: u32;
-    // SAFETY: `xgetbv` with ecx = 0 reads XCR0; the caller has checked OSXSAVE first (`&&`).
+    // SAFETY: `xgetbv` with ecx = 0 reads XCR0; the caller has checked OSXSAVE first.
     unsafe {
         std::arch::asm!(
             "xgetbv",
