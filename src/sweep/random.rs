@@ -6,7 +6,9 @@
 //! never stored; a record's samples are
 //! the study's, shared. A design point's setup ([`RandomRun::new`]: its oscillators, its
 //! propagator over `dt`, its quadratic forms) is prepared once per chunk and shared by its
-//! realizations, which run in parallel on the current rayon pool. Pure: the same plan and chunk
+//! realizations, which run in parallel on the current rayon pool, up to
+//! [`crate::sim::random::LANES`] of one design point side by side ([`RandomRun::run_blocks`]:
+//! each record the run alone's, bit for bit). Pure: the same plan and chunk
 //! give the same rows and bits on any thread count, chunk size or shard split.
 
 use indicatif::ProgressBar;
@@ -14,7 +16,10 @@ use rayon::prelude::*;
 
 use super::simulate::{ChunkRows, SceneRun, row_of};
 use crate::plan::{Plan, RunSpec};
-use crate::sim::random::{GivenNormals, LoadBlock, RandomRun, RandomScene, RealizationRecord, ida};
+use crate::sim::random::{
+    GivenNormals, IntensitySpec, LANES, LoadBlock, OwnIntensity, RandomRecord, RandomRun,
+    RandomScene, RealizationRecord, ida,
+};
 use crate::sim::{NoProbe, Outcome, Probe, Request, Scene};
 use crate::store::RunRow;
 
@@ -46,24 +51,37 @@ impl SceneRun for RealizationRecord {
                 (first, scene, setup)
             })
             .collect();
-        let rows = plan
-            .chunk_runs(k)
+        // Up to `LANES` realizations of one design point at a time, run side by side
+        // (`RandomRun::run_blocks`: each record the run alone's, bit for bit).
+        let ids: Vec<u64> = plan.chunk_runs(k).collect();
+        let groups: Vec<&[u64]> = ids
+            .chunk_by(|a, b| a / n == b / n)
+            .flat_map(|same| same.chunks(LANES))
+            .collect();
+        let rows = groups
             .into_par_iter()
-            .map(|id| {
-                let (p, c) = (id / n, (id % n) as u32);
-                let run = plan.run(p, c);
-                let record = match setups.get((p - points.start) as usize) {
+            .flat_map_iter(|group| {
+                let p = group[0] / n;
+                let runs: Vec<RunSpec> = group
+                    .iter()
+                    .map(|id| plan.run(p, (id % n) as u32))
+                    .collect();
+                let records = match setups.get((p - points.start) as usize) {
                     Some((first, scene, setup)) => {
-                        debug_assert_eq!(run.system, first.system);
-                        realization(plan, &run, scene, setup)
+                        debug_assert!(runs.iter().all(|run| run.system == first.system));
+                        realizations(plan, &runs, scene, setup)
                     }
-                    None => Self::simulate(plan, &run),
+                    None => runs.iter().map(|run| Self::simulate(plan, run)).collect(),
                 };
-                let row = row_of(plan, &run, record);
+                let rows: Vec<RunRow<Self>> = runs
+                    .iter()
+                    .zip(records)
+                    .map(|(run, record)| row_of(plan, run, record))
+                    .collect();
                 if let Some(pb) = progress {
-                    pb.inc(1);
+                    pb.inc(rows.len() as u64);
                 }
-                row
+                rows
             })
             .collect::<Vec<RunRow<Self>>>();
         ChunkRows {
@@ -135,6 +153,22 @@ fn realization(
     )
 }
 
+/// [`realization`] of each of `runs` (realizations of one design point), run side by side
+/// ([`motion_rows`]): the same records, bit for bit.
+fn realizations(
+    plan: &Plan,
+    runs: &[RunSpec],
+    scene: &RandomScene,
+    setup: &RandomRun,
+) -> Vec<RealizationRecord> {
+    let blocks: Vec<LoadBlock> = runs
+        .iter()
+        .map(|run| setup.load(plan.load_stream(run)))
+        .collect();
+    let capacity = design_stripe(plan, scene);
+    motion_rows(setup, &plan.study.request, scene, &blocks, capacity)
+}
+
 /// Whether `scene` (a design point's) lies at the study's design stripe, where a motion's
 /// capacity is searched: every point of a study without stripes.
 fn design_stripe(plan: &Plan, scene: &RandomScene) -> bool {
@@ -187,26 +221,113 @@ pub fn motion_row<P: Probe>(
         return RealizationRecord::new(scene, record);
     };
     let (own, gain) = setup.at_stripe(&spec, scene.im, block);
-    let i0 = own.of(spec.measure);
     let record = setup.run_block(req, block, gain, probe);
-    let amplitude = |r: &crate::sim::random::RandomRecord| {
-        if r.outcome == Outcome::Ok {
-            r.amplitude
-        } else {
-            f64::NAN
+    let capacity = search(scene, &spec, capacity, own, (gain, &record)).map(|mut search| {
+        loop {
+            match search.ask() {
+                ida::Next::Run(g) => search.tell(setup.amplitude_block(req, block, g)),
+                ida::Next::Done(c) => break c,
+            }
         }
+    });
+    stripe_row(scene, (own, gain), record, capacity)
+}
+
+/// [`motion_row`] of each motion of `blocks` with no probe, their runs side by side
+/// ([`RandomRun::run_blocks`]), and their capacity searches' trials too, a round of trials at a
+/// time ([`ida::Search`], [`RandomRun::amplitude_blocks`]): the same records, bit for bit.
+pub fn motion_rows(
+    setup: &RandomRun,
+    req: &Request,
+    scene: &RandomScene,
+    blocks: &[LoadBlock],
+    capacity: bool,
+) -> Vec<RealizationRecord> {
+    let Some(spec) = scene.intensity else {
+        let runs: Vec<(&LoadBlock, f64)> = blocks.iter().map(|b| (b, 1.0)).collect();
+        return setup
+            .run_blocks(req, &runs)
+            .into_iter()
+            .map(|record| RealizationRecord::new(scene, record))
+            .collect();
     };
-    let capacity = match scene.threshold {
-        Some(b) if capacity && i0 > 0.0 => Some(ida::capacity(
-            i0,
-            b,
-            (gain, amplitude(&record)),
-            spec.ida_tol,
-            spec.ida_max,
-            |s| setup.amplitude_block(req, block, s),
-        )),
-        _ => None,
+    let stripes: Vec<(OwnIntensity, f64)> = blocks
+        .iter()
+        .map(|b| setup.at_stripe(&spec, scene.im, b))
+        .collect();
+    let runs: Vec<(&LoadBlock, f64)> = blocks.iter().zip(&stripes).map(|(b, s)| (b, s.1)).collect();
+    let records = setup.run_blocks(req, &runs);
+    let mut searches: Vec<Option<ida::Search>> = stripes
+        .iter()
+        .zip(&records)
+        .map(|(&(own, gain), record)| search(scene, &spec, capacity, own, (gain, record)))
+        .collect();
+    let mut capacities: Vec<Option<ida::Capacity>> = vec![None; blocks.len()];
+    loop {
+        // Every search's next trial, run side by side.
+        let mut asked = Vec::new();
+        for (i, slot) in searches.iter_mut().enumerate() {
+            let Some(search) = slot else { continue };
+            match search.ask() {
+                ida::Next::Run(gain) => asked.push((i, gain)),
+                ida::Next::Done(c) => {
+                    capacities[i] = Some(c);
+                    *slot = None;
+                }
+            }
+        }
+        if asked.is_empty() {
+            break;
+        }
+        let trials: Vec<(&LoadBlock, f64)> = asked.iter().map(|&(i, g)| (&blocks[i], g)).collect();
+        let amplitudes = setup.amplitude_blocks(req, &trials);
+        for (&(i, _), a) in asked.iter().zip(amplitudes) {
+            if let Some(search) = &mut searches[i] {
+                search.tell(a);
+            }
+        }
+    }
+    stripes
+        .into_iter()
+        .zip(records)
+        .zip(capacities)
+        .map(|((stripe, record), capacity)| stripe_row(scene, stripe, record, capacity))
+        .collect()
+}
+
+/// The capacity search of a motion of own intensity `own` first run at `gain` (`record`), where
+/// `capacity` and the scene has a threshold: the search [`motion_row`] runs.
+fn search(
+    scene: &RandomScene,
+    spec: &IntensitySpec,
+    capacity: bool,
+    own: OwnIntensity,
+    (gain, record): (f64, &RandomRecord),
+) -> Option<ida::Search> {
+    let i0 = own.of(spec.measure);
+    let b = scene.threshold.filter(|_| capacity && i0 > 0.0)?;
+    let amplitude = if record.outcome == Outcome::Ok {
+        record.amplitude
+    } else {
+        f64::NAN
     };
+    Some(ida::Search::new(
+        i0,
+        b,
+        (gain, amplitude),
+        spec.ida_tol,
+        spec.ida_max,
+    ))
+}
+
+/// The row of a motion run at its stripe (`(own, gain)`, [`RandomRun::at_stripe`]): `record`
+/// its run there, `capacity` its capacity where it was searched.
+fn stripe_row(
+    scene: &RandomScene,
+    (own, gain): (OwnIntensity, f64),
+    record: RandomRecord,
+    capacity: Option<ida::Capacity>,
+) -> RealizationRecord {
     let mut row = RealizationRecord::new(scene, record);
     row.own = Some(own);
     row.load[5] = Some(gain);

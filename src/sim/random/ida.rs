@@ -59,36 +59,85 @@ pub struct Capacity {
 pub fn capacity(
     own: f64,
     b: f64,
-    (s0, a0): (f64, f64),
+    first: (f64, f64),
     tol: f64,
     ida_max: f64,
     mut amplitude: impl FnMut(f64) -> f64,
 ) -> Capacity {
-    let mut tried: Vec<(f64, f64)> = vec![(s0, a0)];
-    let s_max = ida_max / own;
-    let mut streak = 0u32;
-    let mut prev_hi: Option<bool> = None;
+    let mut search = Search::new(own, b, first, tol, ida_max);
     loop {
-        if tried.iter().any(|t| t.1.is_nan()) {
-            return done(f64::NAN, false, &tried, b);
+        match search.ask() {
+            Next::Run(s) => search.tell(amplitude(s)),
+            Next::Done(c) => return c,
         }
-        let (lo, hi) = ends(&tried, b);
+    }
+}
+
+/// What a [`Search`] asks for next.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Next {
+    /// A run of the motion at this gain; its amplitude goes to [`Search::tell`].
+    Run(f64),
+    /// The search is over.
+    Done(Capacity),
+}
+
+/// [`capacity`]'s search one trial at a time, for callers that run several motions' trials
+/// together (the sweep's realizations side by side): the same trials and the same capacity.
+#[derive(Clone, Debug)]
+pub struct Search {
+    own: f64,
+    b: f64,
+    tol: f64,
+    ida_max: f64,
+    s_max: f64,
+    tried: Vec<Trial>,
+    streak: u32,
+    prev_hi: Option<bool>,
+    /// The gain [`Search::ask`] asked for, until its amplitude is told.
+    pending: Option<f64>,
+}
+
+impl Search {
+    /// The search of [`capacity`] (the same arguments, without the runs).
+    pub fn new(own: f64, b: f64, (s0, a0): (f64, f64), tol: f64, ida_max: f64) -> Search {
+        Search {
+            own,
+            b,
+            tol,
+            ida_max,
+            s_max: ida_max / own,
+            tried: vec![(s0, a0)],
+            streak: 0,
+            prev_hi: None,
+            pending: None,
+        }
+    }
+
+    /// The next run's gain, or the capacity (module doc).
+    pub fn ask(&mut self) -> Next {
+        let (b, tol, own) = (self.b, self.tol, self.own);
+        let tried = &self.tried;
+        if tried.iter().any(|t| t.1.is_nan()) {
+            return Next::Done(done(f64::NAN, false, tried, b));
+        }
+        let (lo, hi) = ends(tried, b);
         let trial = match (lo, hi) {
             (Some((l, _)), Some((h, _))) if h / l <= 1.0 + tol => {
-                return done((l * h).sqrt() * own, false, &tried, b);
+                return Next::Done(done((l * h).sqrt() * own, false, tried, b));
             }
             (Some((l, al)), Some((h, ah))) => {
                 // The end the newest run moved, and how many runs in a row moved it.
                 let moved_hi = tried.last().is_some_and(|t| t.1 > b);
-                streak = if prev_hi == Some(moved_hi) {
-                    streak + 1
+                self.streak = if self.prev_hi == Some(moved_hi) {
+                    self.streak + 1
                 } else {
                     1
                 };
-                prev_hi = Some(moved_hi);
+                self.prev_hi = Some(moved_hi);
                 let pad = (tol / 4.0).ln_1p();
                 let (x0, x1) = (l.ln(), h.ln());
-                if streak >= 3 || x1 - x0 <= 4.0 * pad || al <= 0.0 {
+                if self.streak >= 3 || x1 - x0 <= 4.0 * pad || al <= 0.0 {
                     (0.5 * (x0 + x1)).exp()
                 } else {
                     let (y0, y1) = (al.ln() - b.ln(), ah.ln() - b.ln());
@@ -99,23 +148,34 @@ pub fn capacity(
                 }
             }
             (Some((l, al)), None) => {
-                if l >= s_max * (1.0 - 1e-12) {
-                    return done(ida_max, true, &tried, b);
+                if l >= self.s_max * (1.0 - 1e-12) {
+                    return Next::Done(done(self.ida_max, true, tried, b));
                 }
                 let guess = if al > 0.0 { b / al * 1.02 } else { 4.0 };
-                (l * guess.clamp(1.05, 16.0)).min(s_max)
+                (l * guess.clamp(1.05, 16.0)).min(self.s_max)
             }
             (None, Some((h, ah))) => h * (b / ah / 1.02).clamp(1.0 / 16.0, 1.0 / 1.05),
             (None, None) => unreachable!("the first run is one of the ends"),
         };
         if tried.len() as u32 >= MAX_RUNS {
-            return match (lo, hi) {
-                (Some((l, _)), Some((h, _))) => done((l * h).sqrt() * own, false, &tried, b),
-                (Some(_), None) => done(ida_max, true, &tried, b),
-                _ => done(f64::NAN, false, &tried, b),
-            };
+            return Next::Done(match (lo, hi) {
+                (Some((l, _)), Some((h, _))) => done((l * h).sqrt() * own, false, tried, b),
+                (Some(_), None) => done(self.ida_max, true, tried, b),
+                _ => done(f64::NAN, false, tried, b),
+            });
         }
-        tried.push((trial, amplitude(trial)));
+        self.pending = Some(trial);
+        Next::Run(trial)
+    }
+
+    /// The amplitude (m; NaN for a run that did not end `ok`) of the run [`Search::ask`] asked
+    /// for.
+    pub fn tell(&mut self, amplitude: f64) {
+        let s = self
+            .pending
+            .take()
+            .expect("Search::tell follows a Next::Run of Search::ask");
+        self.tried.push((s, amplitude));
     }
 }
 

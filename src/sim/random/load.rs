@@ -435,6 +435,13 @@ impl<'a, N: Normals> Samples<'a, N> {
         }
     }
 
+    /// Moves on `n` intervals of a block's samples (the lanes' crossing of
+    /// [`super::run`] reads them in place, as [`Samples::next`] would).
+    pub(crate) fn skip(&mut self, n: u64) {
+        debug_assert!(self.block.is_some());
+        self.k += n;
+    }
+
     /// Writes the samples `t_0 .. t_segments` at scale 1 into `out` (emptied first): a record's
     /// up to its end, a random load's all of them, drawn as [`Samples::next`] draws them.
     pub fn fill(mut self, segments: u64, out: &mut Vec<f64>) {

@@ -77,6 +77,7 @@ pub use ida::Capacity;
 pub use intensity::own_intensity;
 pub use load::{GivenNormals, LoadBlock, Normals, RealizationStream};
 pub use measure::{IntensitySpec, Measure, OwnIntensity};
+pub(crate) use run::LANES;
 pub use run::{RandomRun, simulate_random};
 
 /// Where the load acts.

@@ -36,6 +36,11 @@
 //! of an interval's set-up (on the seismic showcase's damped design about half of the
 //! intervals that went to the event loop).
 //!
+//! Runs of one design cross their quiet intervals side by side ([`lanes`],
+//! [`RandomRun::run_blocks`]): the same test and end state for up to four runs in the same
+//! vector instructions, each run handed to its own crossing and the event loop for any other
+//! interval; the same records, bit for bit.
+//!
 //! # Integrals
 //! `int x^2` and `int a^2` over a whole interval of free flight are quadratic forms of the
 //! interval's `u = (x0, v0, f0, f1)` (start state and the load at both ends, N on the main
@@ -86,6 +91,10 @@ use crate::sim::probe::{NoProbe, Probe};
 use crate::sim::record::Outcome;
 use crate::sim::request::Request;
 use crate::sim::settings::SolverSettings;
+
+mod lanes;
+
+pub(crate) use lanes::LANES;
 
 /// The rounding budget of the pieces integrated from their ends: their estimates together at
 /// most this share of the run's integral so far (module doc).
@@ -451,6 +460,10 @@ struct Realization<'a, N: Normals, P: Probe> {
     err_a2: f64,
     /// The run's integrals as last read (a lower bound of today's).
     so_far: [f64; 2],
+    /// Run among lanes ([`lanes`]): at an interval's end the event loop hands the crossing back
+    /// to the lanes (`yielded`) instead of crossing here.
+    yield_cross: bool,
+    yielded: bool,
 }
 
 impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
@@ -493,6 +506,8 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
             err_x2: 0.0,
             err_a2: 0.0,
             so_far: [0.0; 2],
+            yield_cross: false,
+            yielded: false,
         }
     }
 
@@ -998,6 +1013,10 @@ impl<'a, N: Normals, P: Probe> SceneEvents<'a, DrivenPhase<Ramp>> for Realizatio
                 return Some(Outcome::Ok);
             }
             self.k += 1;
+            if self.yield_cross {
+                self.yielded = true;
+                return Some(Outcome::Ok);
+            }
             let load = self.cross();
             self.begin_interval(solver, load);
         }
@@ -1014,7 +1033,7 @@ mod tests {
         Spectrum, own_intensity,
     };
 
-    fn seismic() -> RandomScene {
+    pub(super) fn seismic() -> RandomScene {
         RandomScene {
             input: Input::Base,
             excitation: Excitation::Random(RandomLoad {
@@ -1046,7 +1065,7 @@ mod tests {
         }
     }
 
-    fn damped() -> System {
+    pub(super) fn damped() -> System {
         System {
             M: 1.0,
             m: 0.1,
@@ -1065,7 +1084,7 @@ mod tests {
     }
 
     /// The seismic scene with a record of 700 samples (its end inside the run) for its load.
-    fn record() -> RandomScene {
+    pub(super) fn record() -> RandomScene {
         RandomScene {
             excitation: Excitation::Record(Recorded {
                 values: (0..700)
