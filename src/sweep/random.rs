@@ -222,14 +222,8 @@ pub fn motion_row<P: Probe>(
     };
     let (own, gain) = setup.at_stripe(&spec, scene.im, block);
     let record = setup.run_block(req, block, gain, probe);
-    let capacity = search(scene, &spec, capacity, own, (gain, &record)).map(|mut search| {
-        loop {
-            match search.ask() {
-                ida::Next::Run(g) => search.tell(setup.amplitude_block(req, block, g)),
-                ida::Next::Done(c) => break c,
-            }
-        }
-    });
+    let capacity = search(scene, &spec, capacity, own, (gain, &record))
+        .map(|search| search.finish(|g| setup.amplitude_block(req, block, g)));
     stripe_row(scene, (own, gain), record, capacity)
 }
 

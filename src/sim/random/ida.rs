@@ -62,15 +62,9 @@ pub fn capacity(
     first: (f64, f64),
     tol: f64,
     ida_max: f64,
-    mut amplitude: impl FnMut(f64) -> f64,
+    amplitude: impl FnMut(f64) -> f64,
 ) -> Capacity {
-    let mut search = Search::new(own, b, first, tol, ida_max);
-    loop {
-        match search.ask() {
-            Next::Run(s) => search.tell(amplitude(s)),
-            Next::Done(c) => return c,
-        }
-    }
+    Search::new(own, b, first, tol, ida_max).finish(amplitude)
 }
 
 /// What a [`Search`] asks for next.
@@ -168,8 +162,22 @@ impl Search {
         Next::Run(trial)
     }
 
+    /// The search to its end, `amplitude(s)` running the motion at each gain `s` it asks for
+    /// ([`capacity`]).
+    pub fn finish(mut self, mut amplitude: impl FnMut(f64) -> f64) -> Capacity {
+        loop {
+            match self.ask() {
+                Next::Run(s) => self.tell(amplitude(s)),
+                Next::Done(c) => return c,
+            }
+        }
+    }
+
     /// The amplitude (m; NaN for a run that did not end `ok`) of the run [`Search::ask`] asked
     /// for.
+    ///
+    /// # Panics
+    /// When no run was asked for (a `tell` not after [`Next::Run`]): a caller's mistake.
     pub fn tell(&mut self, amplitude: f64) {
         let s = self
             .pending
