@@ -350,15 +350,27 @@ impl RandomRun {
         probe: &mut P,
         integrals: bool,
     ) -> RandomRecord {
-        let free = Ramp::new(self.free, 0.0, 0.0, self.scene.dt, (0.0, 0.0), false);
-        let mut solver = DrivenPhase::new(&free, self.tol_t, self.settings.max_steps);
-        let mut scene = Realization::new(self, req, samples, probe, free);
-        scene.integrals = integrals;
+        let (mut scene, mut solver) = self.start(req, samples, probe, integrals);
         let load = scene.cross();
         scene.begin_interval(&mut solver, load);
         let outcome = phase::run(&mut scene, &mut solver);
-        let steps = solver.steps() + scene.crossed;
-        scene.finish(outcome, steps)
+        scene.finish(outcome, &solver)
+    }
+
+    /// A run of `samples` at rest before its first interval: its realization and its solver
+    /// ([`RandomRun::run_samples`], and each run of [`lanes`]).
+    fn start<'a, N: Normals, P: Probe>(
+        &'a self,
+        req: &'a Request,
+        samples: Samples<'a, N>,
+        probe: &'a mut P,
+        integrals: bool,
+    ) -> (Realization<'a, N, P>, DrivenPhase<Ramp>) {
+        let free = Ramp::new(self.free, 0.0, 0.0, self.scene.dt, (0.0, 0.0), false);
+        let solver = DrivenPhase::new(&free, self.tol_t, self.settings.max_steps);
+        let mut scene = Realization::new(self, req, samples, probe, free);
+        scene.integrals = integrals;
+        (scene, solver)
     }
 }
 
@@ -857,7 +869,10 @@ impl<'a, N: Normals, P: Probe> Realization<'a, N, P> {
         self.first_passage = Some(self.abs(hi));
     }
 
-    fn finish(self, outcome: Outcome, steps: u64) -> RandomRecord {
+    /// The record of a run that ended with `outcome`, its event loop's `solver` (each crossed
+    /// interval counts as a step).
+    fn finish(self, outcome: Outcome, solver: &DrivenPhase<Ramp>) -> RandomRecord {
+        let steps = solver.steps() + self.crossed;
         let ok = outcome == Outcome::Ok;
         let nan = f64::NAN;
         let duration = self.run.scene.duration;

@@ -16,7 +16,7 @@
 //! (`runs_side_by_side_are_each_run_alone` below).
 
 use super::{LoadBlock, Ramp, Request};
-use super::{NoProbe, Outcome, Phase, PhaseSolver, RandomRecord, RandomRun, Realization, State};
+use super::{NoProbe, Outcome, Phase, RandomRecord, RandomRun, Realization, State};
 use crate::sim::driven::DrivenPhase;
 use crate::sim::phase;
 use crate::sim::random::Input;
@@ -24,26 +24,6 @@ use crate::sim::random::load::GivenNormals;
 
 /// Runs crossed side by side (four `f64` lanes of an AVX register).
 pub(crate) const LANES: usize = 4;
-
-/// What the crossing of a design shares across its runs.
-struct Consts {
-    /// The free part's propagator over `dt`.
-    xx: f64,
-    xv: f64,
-    vx: f64,
-    vv: f64,
-    free_scale: f64,
-    inv_k: f64,
-    c: f64,
-    dt: f64,
-    m_over_k: f64,
-    err4: f64,
-    third: f64,
-    half_d: f64,
-    /// Ground acceleration (the inner mass's line then curves with the load).
-    base: bool,
-    integrals: bool,
-}
 
 /// The crossing state of the lanes: each lane's main and inner mass, the largest `|x|` so far,
 /// its Gram sum and its next interval.
@@ -67,33 +47,44 @@ struct Soa {
 /// (One loop over the lanes without a branch, which the compiler turns into vector
 /// operations.)
 #[inline(always)]
-fn step(c: &Consts, s: &mut Soa, (a, b, gain): Load, can: &[bool; LANES]) -> (u32, u32) {
+fn step(
+    run: &RandomRun,
+    integrals: bool,
+    s: &mut Soa,
+    (a, b, gain): Load,
+    can: &[bool; LANES],
+) -> (u32, u32) {
+    let (dt, third, half_d) = (run.scene.dt, run.third, 0.5 * run.sys.d);
+    let base = run.scene.input == Input::Base;
     let min = |a: f64, b: f64| if a < b { a } else { b };
     let max = |a: f64, b: f64| if a > b { a } else { b };
     let mut pass = [false; LANES];
     let mut wall = [false; LANES];
     for i in 0..LANES {
-        let (q0, qs) = (a[i] * gain[i], ((b[i] - a[i]) / c.dt) * gain[i]);
-        let (f0, sl) = (c.free_scale * q0, c.free_scale * qs);
-        let p1 = sl * c.inv_k;
-        let p0 = (f0 - c.c * p1) * c.inv_k;
+        let (q0, qs) = (a[i] * gain[i], ((b[i] - a[i]) / dt) * gain[i]);
+        let (f0, sl) = (run.free_scale * q0, run.free_scale * qs);
+        let p1 = sl * run.inv_k;
+        let p0 = (f0 - run.sys.C * p1) * run.inv_k;
         let (x0, v0) = (s.x[i], s.v[i]);
         let (h0, g0) = (x0 - p0, v0 - p1);
-        let (xh, vh) = (c.xx * h0 + c.xv * g0, c.vx * h0 + c.vv * g0);
-        let (x1, v1) = (xh + (p0 + p1 * c.dt), vh + p1);
-        let b0 = (h0 * h0 + c.m_over_k * g0 * g0).sqrt();
-        let err = c.err4 * b0;
+        let (xh, vh) = (
+            run.prop.xx * h0 + run.prop.xv * g0,
+            run.prop.vx * h0 + run.prop.vv * g0,
+        );
+        let (x1, v1) = (xh + (p0 + p1 * dt), vh + p1);
+        let b0 = (h0 * h0 + run.m_over_k * g0 * g0).sqrt();
+        let err = run.err4 * b0;
         // The displacement's hull (`hull`, without a NaN).
-        let (p, q) = (x0 + c.third * v0, x1 - c.third * v1);
+        let (p, q) = (x0 + third * v0, x1 - third * v1);
         let nan_x = ((x0 + p) + (q + x1)).is_nan();
         let lo = min(min(x0, p), min(q, x1));
         let hi = max(max(x0, p), max(q, x1));
         let reach = if hi > -lo { hi } else { -lo };
         let below = reach + err < s.amp[i];
         // The inner mass's line over the interval (`Walls::at` from local time 0).
-        let (ya, yj) = if c.base { (-q0, -qs) } else { (0.0, 0.0) };
+        let (ya, yj) = if base { (-q0, -qs) } else { (0.0, 0.0) };
         let (y0, w0) = (s.y[i], s.w[i]);
-        let tau = c.dt - 0.0;
+        let tau = dt - 0.0;
         let line = ya == 0.0 && yj == 0.0;
         let y1 = if line {
             y0 + w0 * tau
@@ -107,20 +98,23 @@ fn step(c: &Consts, s: &mut Soa, (a, b, gain): Load, can: &[bool; LANES]) -> (u3
         };
         // The gap's hull and margin (`line_clear`).
         let (g0, d0, g1, d1) = (y0 - x0, w0 - v0, y1 - x1, w1 - v1);
-        let (p, q) = (g0 + c.third * d0, g1 - c.third * d1);
+        let (p, q) = (g0 + third * d0, g1 - third * d1);
         let nan_g = ((g0 + p) + (q + g1)).is_nan();
         let lo = min(min(g0, p), min(q, g1));
         let hi = max(max(g0, p), max(q, g1));
-        let scale = c.half_d + x0.abs() + x1.abs() + y0.abs() + y1.abs();
+        let scale = half_d + x0.abs() + x1.abs() + y0.abs() + y1.abs();
         let margin = err + 1e-12 * scale;
-        let inside = (hi + margin < c.half_d) & (lo - margin > -c.half_d);
-        let ok = can[i] & below & !nan_x & !nan_g & inside;
+        let inside = (hi + margin < half_d) & (lo - margin > -half_d);
+        // Decided by the same test as the run alone's (no NaN, `|x|` below): crossed, or a wall
+        // within reach.
+        let decided = can[i] & below & !nan_x & !nan_g;
+        let ok = decided & inside;
         pass[i] = ok;
-        wall[i] = can[i] & below & !nan_x & !nan_g & !inside;
+        wall[i] = decided & !inside;
         let keep = |new: f64, old: f64| if ok { new } else { old };
-        if c.integrals {
+        if integrals {
             // `gram_add`'s upper triangle, row by row, of `u = (x0, v0, f0, f1)`.
-            let u = [x0, v0, f0, f0 + sl * c.dt];
+            let u = [x0, v0, f0, f0 + sl * dt];
             let g = &mut s.gram;
             g[0][i] = keep(g[0][i] + u[0] * u[0], g[0][i]);
             g[1][i] = keep(g[1][i] + u[0] * u[1], g[1][i]);
@@ -242,39 +236,21 @@ impl RandomRun {
         integrals: bool,
     ) -> Vec<RandomRecord> {
         debug_assert!(runs.len() <= LANES);
-        let free = Ramp::new(self.free, 0.0, 0.0, self.scene.dt, (0.0, 0.0), false);
         let mut probes: Vec<NoProbe> = runs.iter().map(|_| NoProbe).collect();
         let mut lanes: Vec<Lane<'_>> = runs
             .iter()
             .zip(probes.iter_mut())
             .map(|(&(block, gain), probe)| {
                 let samples = self.block_samples(block, gain);
-                let mut scene = Realization::new(self, req, samples, probe, free);
+                let (mut scene, solver) = self.start(req, samples, probe, integrals);
                 scene.yield_cross = true;
-                scene.integrals = integrals;
                 Lane {
                     scene,
-                    solver: DrivenPhase::new(&free, self.tol_t, self.settings.max_steps),
+                    solver,
                     stage: Stage::Crossing,
                 }
             })
             .collect();
-        let c = Consts {
-            xx: self.prop.xx,
-            xv: self.prop.xv,
-            vx: self.prop.vx,
-            vv: self.prop.vv,
-            free_scale: self.free_scale,
-            inv_k: self.inv_k,
-            c: self.sys.C,
-            dt: self.scene.dt,
-            m_over_k: self.m_over_k,
-            err4: self.err4,
-            third: self.third,
-            half_d: 0.5 * self.sys.d,
-            base: self.scene.input == Input::Base,
-            integrals,
-        };
         // Each lane's samples and gain (an idle lane's empty).
         let mut values: [&[f64]; LANES] = [&[]; LANES];
         let mut gains = [0.0; LANES];
@@ -299,7 +275,7 @@ impl RandomRun {
                     can[i] = true;
                 }
             }
-            let (pass, wall) = step(&c, &mut s, (&a, &b, &gains), &can);
+            let (pass, wall) = step(self, integrals, &mut s, (&a, &b, &gains), &can);
             // The run's last interval and a wall within reach go to the event loop as the
             // run's own crossing sends them (it would test them again and refuse); any other
             // refusal is the run's own crossing's to decide.
@@ -320,8 +296,7 @@ impl RandomRun {
                 let Stage::Done(outcome) = lane.stage else {
                     unreachable!("every lane runs to its end");
                 };
-                let steps = lane.solver.steps() + lane.scene.crossed;
-                lane.scene.finish(outcome, steps)
+                lane.scene.finish(outcome, &lane.solver)
             })
             .collect()
     }
